@@ -1,0 +1,168 @@
+# Makefile: every entry point of the sprayer controller. `make help` lists them; README.md explains.
+.DEFAULT_GOAL := firmware
+SHELL := /bin/bash
+
+V ?= 0
+ifeq ($(V),1)
+Q :=
+else
+Q := @
+endif
+msg = $(if $(Q),@printf '  %-6s %s\n' "$(1)" "$(2)",@true)
+
+BUILD ?= build
+PYTHON ?= .venv/bin/python
+
+# ---- the chip: SDCC 4.2 for the STC12C5A60S2 ------------------------------------------------
+# Memory model: large. The application keeps about 0.5-0.8 KB of state (parameters, the
+# network's weights and momentum terms, measurement windows, the screen buffer); the 128 bytes
+# of directly addressed RAM cannot hold it, the 1 KB of on-chip XRAM can. Large puts every
+# variable there by default (movx, slower) and the few hot ones are placed in __data by hand.
+SDCC ?= sdcc
+SDAR ?= sdar
+CODE_SIZE ?= 61440
+IRAM_SIZE ?= 256
+XRAM_SIZE ?= 1024
+SDCC_MODEL := --model-large
+SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal -Ifirmware $(SDCC_EXTRA)
+SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
+
+FW_LIB_SRC := $(filter-out firmware/main.c,$(wildcard firmware/*.c))
+STC_SRC := $(FW_LIB_SRC) firmware/main.c $(wildcard hal/stc12/*.c)
+STC_DIR := $(BUILD)/stc12
+STC_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(STC_SRC))
+FW_IHX := $(STC_DIR)/sprayer.ihx
+FW_HEX := $(STC_DIR)/sprayer.hex
+HDRS := $(wildcard hal/*.h hal/*/*.h firmware/*.h sim/*.h tests/*.h tests/target/*.h)
+
+# ---- the host: gcc, with the plant model behind hal/host -------------------------------------
+CC ?= cc
+HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
+HOST_INC := -Ihal -Ihal/host -Ifirmware -Isim -Itests -Itests/target
+TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+TEST_LDFLAGS := -fsanitize=address,undefined
+OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -g
+SIM_MAIN := $(wildcard sim/sim_main.c)
+HOST_LIB_SRC := $(FW_LIB_SRC) $(wildcard hal/host/*.c) $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
+TEST_DIR := $(BUILD)/host-test
+OPT_DIR := $(BUILD)/host
+TEST_LIB := $(TEST_DIR)/libsprayer.a
+OPT_LIB := $(OPT_DIR)/libsprayer.a
+UNIT_TESTS := $(patsubst tests/%.c,$(TEST_DIR)/%,$(wildcard tests/test_*.c))
+TEST_HELPERS := $(patsubst %.c,$(TEST_DIR)/%.o,$(wildcard tests/helper_*.c))
+
+# ---- target tests: SDCC build run in s51, against the same program built for the host -------
+UC_DIR := $(BUILD)/ucsim$(if $(SDCC_EXTRA),-variant)
+UC_CFLAGS := $(SDCC_CFLAGS) -DHAL_UCSIM -Itests/target
+UC_LIB_REL := $(patsubst %.c,$(UC_DIR)/%.rel,$(FW_LIB_SRC))
+UC_TT_REL := $(UC_DIR)/tt_common.rel $(UC_DIR)/tt_ucsim.rel
+TT_SRC := $(wildcard tests/target/tt_[a-z]*.c)
+TT_PROGS := $(filter-out tests/target/tt_common.c tests/target/tt_host.c,$(TT_SRC))
+TT_IHX := $(patsubst tests/target/%.c,$(UC_DIR)/%.ihx,$(TT_PROGS))
+TT_HOST := $(patsubst tests/target/%.c,$(TEST_DIR)/target/%,$(TT_PROGS))
+
+.SECONDARY:
+.DELETE_ON_ERROR:
+.PHONY: firmware deps test demo clean flash help host-tests target-tests bench FORCE
+
+help:
+	@echo "make demo      the main job: firmware image + the paper's run in the simulator, metrics and plot"
+	@echo "make test      every test: host unit tests, s51 target tests, firmware build"
+	@echo "make firmware  (default) the STC12C5A60S2 image in $(STC_DIR), with its memory use"
+	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev; .venv)"
+	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
+	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
+	@echo "make clean     remove build/"
+
+# ---- set-up --------------------------------------------------------------------------------
+deps:
+	$(Q)tools/deps.sh
+
+# ---- firmware ---------------------------------------------------------------------------------
+firmware: $(FW_HEX)
+	$(Q)tools/memuse.sh $(STC_DIR)/sprayer $(CODE_SIZE) $(IRAM_SIZE) $(XRAM_SIZE)
+
+$(STC_DIR)/%.rel: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(call msg,SDCC,$<)
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -c $< -o $@
+
+$(FW_IHX): $(STC_REL)
+	$(call msg,LINK,$@)
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $(STC_REL) -o $@ > $(STC_DIR)/link.log 2>&1 || { cat $(STC_DIR)/link.log; rm -f $@; exit 1; }
+	$(Q)if grep -qi "error\|insufficient\|overlap\|exceed" $(STC_DIR)/link.log; then cat $(STC_DIR)/link.log; rm -f $@; exit 1; fi
+
+$(FW_HEX): $(FW_IHX)
+	$(call msg,HEX,$@)
+	$(Q)packihx $< > $@ 2>/dev/null
+
+STCGAL ?= .venv/bin/stcgal
+PORT ?= /dev/ttyUSB0
+STCGAL_OPTS ?= -P stc12 -b 38400
+flash: $(FW_HEX)
+	$(Q)test -x $(STCGAL) || tools/deps.sh
+	$(STCGAL) $(STCGAL_OPTS) -p $(PORT) $(FW_HEX)
+
+# ---- host builds -------------------------------------------------------------------------------
+$(TEST_DIR)/%.o: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(call msg,CC,$<)
+	$(Q)$(CC) $(TEST_CFLAGS) -c $< -o $@
+
+$(OPT_DIR)/%.o: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(call msg,CC,$<)
+	$(Q)$(CC) $(OPT_CFLAGS) -c $< -o $@
+
+$(TEST_LIB): $(patsubst %.c,$(TEST_DIR)/%.o,$(HOST_LIB_SRC))
+	$(Q)rm -f $@ && ar rcs $@ $^
+
+$(OPT_LIB): $(patsubst %.c,$(OPT_DIR)/%.o,$(HOST_LIB_SRC))
+	$(Q)rm -f $@ && ar rcs $@ $^
+
+$(TEST_DIR)/test_%: $(TEST_DIR)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIB)
+	$(call msg,LD,$@)
+	$(Q)$(CC) $(TEST_LDFLAGS) $< $(TEST_HELPERS) $(TEST_LIB) -lcmocka -lm -o $@
+
+host-tests: $(UNIT_TESTS)
+
+# ---- target tests ------------------------------------------------------------------------------
+$(UC_DIR)/%.rel: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(call msg,SDCC,$< [s51])
+	$(Q)$(SDCC) $(UC_CFLAGS) -c $< -o $@
+
+$(UC_DIR)/tt_common.rel: tests/target/tt_common.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(Q)$(SDCC) $(UC_CFLAGS) -c $< -o $@
+
+$(UC_DIR)/tt_ucsim.rel: hal/ucsim/tt_ucsim.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(Q)$(SDCC) $(UC_CFLAGS) -c $< -o $@
+
+$(UC_DIR)/fw.lib: $(UC_LIB_REL)
+	$(Q)rm -f $@ && $(SDAR) -rcs $@ $^
+
+$(UC_DIR)/tt_%.ihx: tests/target/tt_%.c $(UC_DIR)/fw.lib $(UC_TT_REL) $(HDRS)
+	$(call msg,SDCC,$< [s51 program])
+	$(Q)$(SDCC) $(UC_CFLAGS) $(SDCC_LDFLAGS) $< $(UC_TT_REL) -L $(UC_DIR) -l fw.lib -o $@ > $(UC_DIR)/tt_$*.log 2>&1 || { cat $(UC_DIR)/tt_$*.log; exit 1; }
+
+$(TEST_DIR)/target/tt_%: tests/target/tt_%.c $(TEST_DIR)/tests/target/tt_common.o $(TEST_DIR)/tests/target/tt_host.o $(TEST_LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,CC,$< [host twin])
+	$(Q)$(CC) $(TEST_CFLAGS) $< $(TEST_DIR)/tests/target/tt_common.o $(TEST_DIR)/tests/target/tt_host.o $(TEST_LIB) $(TEST_LDFLAGS) -lm -o $@
+
+target-tests: $(TT_IHX) $(TT_HOST)
+
+# ---- everything that is tested -----------------------------------------------------------------
+test:
+	$(Q)tools/deps.sh --quiet
+	$(Q)tools/run_tests.sh
+
+bench: $(TT_IHX) $(TT_HOST)
+	$(Q)tools/bench.sh $(UC_DIR)
+
+clean:
+	rm -rf $(BUILD)
+
+# ==== targets added by later issues go below this line (one block per issue) ==================

@@ -1,0 +1,32 @@
+/* ctl.h: the one interface of the flow controllers: init, bumpless reset, step(setpoint, measured) -> valve drive. */
+#ifndef CTL_H
+#define CTL_H
+
+#include "fixed.h"
+
+/* The controllers, chosen by P_CONTROLLER (keypad), the serial link or a scenario's `controller =`. */
+enum { CTL_PID = 0, CTL_FUZZY_PID = 1, CTL_BP_PID = 2, CTL_BEST = 3, CTL_COUNT };
+
+/* What a controller sees each control period (APP_PERIOD_MS). Flows in L/min x100. */
+typedef struct {
+    int16_t target_lpm_x100;        /* setpoint: the boom flow the dose needs now */
+    int16_t flow_lpm_x100;          /* measured boom flow */
+    uint8_t valve_limit;            /* CTL_AT_* bits: the valve sits at an end stop */
+} ctl_in_t;
+#define CTL_AT_OPEN 1               /* bypass fully open: no more "less flow" */
+#define CTL_AT_CLOSED 2             /* bypass fully closed: no more "more flow" */
+
+/* The output: valve drive for the next period, Q15 signed duty. Positive = more boom flow,
+ * i.e. drive the bypass valve toward closed; negative opens it. */
+
+/* Select a controller (0 when id is unknown and nothing changes) and start it from rest. */
+uint8_t ctl_select(uint8_t id);
+uint8_t ctl_selected(void);
+/* Bumpless transfer: the loop (re)starts from the drive the valve has now (manual -> auto). */
+void ctl_reset(q15_t drive_now);
+/* One control step. */
+q15_t ctl_step(const ctl_in_t *in);
+/* Name of a controller for the console and the logs ("pid", "fuzzy_pid", "bp_pid", ...). */
+const char *ctl_name(uint8_t id);
+
+#endif

@@ -1,0 +1,63 @@
+/* params.h: every setting of the controller in one table: range-checked, with defaults, names and units. */
+#ifndef PARAMS_H
+#define PARAMS_H
+
+#include "compiler.h"
+
+/*
+ * One row per parameter: id, short name (LCD and serial), unit, decimals shown, min, max,
+ * default. Values are uint16 in the unit times 10^decimals. The console's menus, the serial
+ * link, the EEPROM store and the scenario reader all go through this table; nothing else
+ * holds a setting.
+ */
+#define PARAM_TABLE(X)                                                              \
+    X(P_RATE,        "Dose",       "L/ha",  0,    10,  1000,  150)  /* eq. (1) C */      \
+    X(P_NOZZLES,     "Nozzles",    "",      0,     1,    96,   36)  /* eq. (1) m */      \
+    X(P_SPACING,     "Spacing",    "cm",    0,    10,   200,   50)  /* eq. (1) d */      \
+    X(P_SECTIONS,    "Sections",   "",      0,     1,     8,    6)  /* nozzles split evenly */ \
+    X(P_WHEEL,       "Wheel cal",  "mm/p",  1,   100, 30000, 3927)  /* distance a pulse */ \
+    X(P_METER_K,     "Meter K",    "p/L",   1,   100, 60000, 3800)  /* flow meter pulses a litre */ \
+    X(P_MINF_SPEED,  "MinQ speed", "km/h",  1,     0,   100,   40)  /* Table 1 rule below this */ \
+    X(P_GIVEN_SPEED, "Given spd",  "km/h",  1,     0,   300,    0)  /* 0: wheel sensor */ \
+    X(P_CONTROLLER,  "Control",    "",      0,     0,     3,    3)  /* ctl.h CTL_* */    \
+    X(P_MODE,        "Mode",       "",      0,     0,     1,    0)  /* 0 auto, 1 manual */ \
+    X(P_TANK_L,      "Tank size",  "L",     0,    10, 10000, 1000)                      \
+    X(P_TANK_MIN,    "Tank min",   "L",     0,     0,  2000,   30)  /* below: stop spraying */ \
+    X(P_TANK_H,      "Tank hgt",   "mm",    0,   100,  5000, 1200)  /* level sensor span */ \
+    X(P_PSENS_MAX,   "P sensor",   "kPa",   0,   100, 10000, 1600)  /* pressure at 20 mA */ \
+    X(P_P_MAX,       "P max",      "kPa",   0,    50,  2000,  480)  /* over-pressure alarm */ \
+    X(P_P_MIN,       "P start",    "kPa",   0,     0,   500,  100)  /* start-up: check valves open */ \
+    X(P_OFFRATE,     "Off-rate",   "%",     0,     1,    50,   10)  /* alarm above this error */ \
+    X(P_OFFRATE_S,   "Off-rate t", "s",     0,     1,    60,    5)  /* ... for this long */ \
+    X(P_PDEV,        "P dev",      "%",     0,     5,    90,   30)  /* leak / clog: pressure off the nozzle model */ \
+    X(P_NOZZLE_Q3,   "Nozzle Q3",  "L/min", 2,    10,  2000,  118)  /* one nozzle at 3 bar */ \
+    X(P_VALVE_TRAVEL,"Valve time", "s",     1,     5,   600,   40)  /* full stroke of the valve */
+
+#define PARAM_ENUM(id, name, unit, dec, lo, hi, def) id,
+enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
+#undef PARAM_ENUM
+
+#define PARAMS_VERSION 1            /* bump when the table changes: the EEPROM layout follows it */
+
+typedef struct {
+    const char *name;
+    const char *unit;
+    uint8_t decimals;
+    uint16_t min, max, def;
+} param_info_t;
+
+/* The live values, in the table's units. Read them directly: param_v[P_RATE]. */
+extern uint16_t param_v[P_COUNT];
+
+/* Every value back to its default. */
+void params_defaults(void);
+/* Set one value; 0 (and nothing changes) when the id or the value is out of range. */
+uint8_t param_set(uint8_t id, uint16_t v);
+/* 1 when v is within the range of parameter id. */
+uint8_t param_in_range(uint8_t id, uint16_t v);
+/* The table row of a parameter (NULL for a bad id). */
+const param_info_t *param_info(uint8_t id);
+/* Bumped by every change, so readers (controller, target) can tell when to pick values up. */
+extern uint8_t param_generation;
+
+#endif

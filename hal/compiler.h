@@ -1,0 +1,32 @@
+/* compiler.h: SDCC storage keywords on the 8051, mapped away for the host build (as SDCC's testfwk.h does). */
+#ifndef SPRAYER_COMPILER_H
+#define SPRAYER_COMPILER_H
+
+#ifdef __SDCC
+/* SDCC's own compiler.h (SFR/SBIT macros) sits behind this one on the include path. */
+#include_next <compiler.h>
+#define FX_CODE __code
+#define FX_DATA __data
+#define FX_XDATA __xdata
+#else
+#define __code
+#define __data
+#define __idata
+#define __pdata
+#define __xdata
+#define __near
+#define __far
+#define __reentrant
+#define __critical
+#define __at(x)
+#define __interrupt(n)
+#define __using(n)
+#define __bit uint8_t
+#define FX_CODE
+#define FX_DATA
+#define FX_XDATA
+#endif
+
+#include <stdint.h>
+
+#endif

@@ -1,0 +1,77 @@
+/* hal.h: the only interface between the firmware and a machine; one backend per folder, chosen at link time. */
+#ifndef HAL_H
+#define HAL_H
+
+#include "compiler.h"
+
+#if !defined(HAL_STC12) && !defined(HAL_HOST) && !defined(HAL_UCSIM)
+#error "unknown HAL backend: build with -DHAL_STC12, -DHAL_HOST or -DHAL_UCSIM (the Makefile's HAL=stc12|host|ucsim)"
+#endif
+
+/* ---- clocks ------------------------------------------------------------------------------
+ * hal_ms: milliseconds since start, from the 1 ms system tick (wraps after 49 days).
+ * The capture clock is the PCA counter at SYSCLK/12 = 921600 Hz (1.085 us), extended to
+ * 32 bits by counting its overflows (wraps after 77.7 min: use unsigned differences).  */
+#define HAL_SYSCLK_HZ 11059200UL
+#define HAL_PCA_HZ 921600UL
+void hal_init(void);
+uint32_t hal_ms(void);
+uint32_t hal_pca_now(void);
+
+/* ---- pulse inputs (flow meter on PCA capture, wheel on INT0 time-stamped with the PCA) --
+ * take() hands over what arrived since the last take: the number of edges and the 32-bit
+ * PCA time of the newest one (unchanged when count is 0), then starts a new window.     */
+typedef struct {
+    uint16_t count;     /* edges since the previous take */
+    uint32_t last;      /* PCA time of the newest edge */
+} hal_capture_t;
+void hal_flow_capture_take(hal_capture_t *c);
+void hal_wheel_capture_take(hal_capture_t *c);
+
+/* ---- analog inputs: 10-bit ADC (0..1023 over 0..5 V), 4-20 mA through 250 ohm ------------ */
+#define HAL_ADC_PRESSURE 0
+#define HAL_ADC_LEVEL 1
+uint16_t hal_adc_read(uint8_t ch);
+
+/* ---- digital inputs ----------------------------------------------------------------------- */
+#define HAL_SECTIONS_MAX 8
+/* Section switches, bit n set = section n+1 switched on (the operator's boom switches). */
+uint8_t hal_sections(void);
+/* Keypad matrix: drive row (0..3) low, return the 4 column bits, 1 = key pressed. */
+uint8_t hal_keypad_row(uint8_t row);
+
+/* ---- actuators ---------------------------------------------------------------------------- */
+/* Valve H-bridge: dir +1 opens the bypass (less boom flow), -1 closes it, 0 leaves both half
+ * bridges off (coast); duty 0..255 is the PWM on the enable line. Dead time on reversal is
+ * the firmware's job (firmware/valve.c), not the HAL's. */
+#define HAL_VALVE_OPEN 1
+#define HAL_VALVE_CLOSE -1
+#define HAL_VALVE_OFF 0
+void hal_valve_out(int8_t dir, uint8_t duty);
+/* Master boom valve: 1 sprays, 0 shuts the boom. */
+void hal_spray_enable(uint8_t on);
+void hal_buzzer(uint8_t on);
+
+/* ---- serial link (RS232 to the PC) -------------------------------------------------------- */
+#define HAL_UART_BAUD 38400UL
+/* Queue one byte; returns 0 when the transmit buffer is full (the byte is not taken). */
+uint8_t hal_uart_put(uint8_t b);
+/* Next received byte, or -1 when none. */
+int16_t hal_uart_get(void);
+
+/* ---- parameter EEPROM (IAP flash: 2 sectors of 512 bytes, erased bytes read 0xFF) -------- */
+#define HAL_EEPROM_SIZE 1024u
+#define HAL_EEPROM_SECTOR 512u
+uint8_t hal_eeprom_read(uint16_t addr);
+/* Erase the sector that holds addr. */
+void hal_eeprom_erase(uint16_t addr);
+/* Program one byte (can only clear bits); returns 1 when the byte reads back as written. */
+uint8_t hal_eeprom_write(uint16_t addr, uint8_t b);
+
+/* ---- LCD12864 (ST7920, serial mode): one instruction (rs = 0) or data (rs = 1) byte -------- */
+void hal_lcd_write(uint8_t rs, uint8_t b);
+
+/* ---- watchdog (about 1.1 s) ---------------------------------------------------------------- */
+void hal_wdt_kick(void);
+
+#endif

@@ -1,0 +1,242 @@
+/* hal_host.c: the host backend: hal.h over simulated time and the plant's sensor signals. */
+#include <string.h>
+#include "hal_host.h"
+
+hal_host_io_t hal_host_io;
+
+typedef struct {
+    uint32_t t[HAL_HOST_EDGES];     /* PCA time of each edge not yet taken */
+    uint32_t n;                     /* edges waiting */
+    uint32_t last;                  /* PCA time of the newest edge ever */
+} edge_q_t;
+
+static edge_q_t flow_q, wheel_q;
+static uint8_t uart_tx[HAL_HOST_UART_Q];
+static uint32_t tx_head, tx_tail;
+static uint8_t uart_rx[HAL_HOST_UART_Q];
+static uint32_t rx_head, rx_tail;
+static uint8_t eeprom[HAL_EEPROM_SIZE];
+static int32_t eeprom_ops_left = -1;
+static uint8_t eeprom_cut;
+static void (*lcd_sink)(uint8_t rs, uint8_t b);
+
+void hal_host_reset(void)
+{
+    memset(&hal_host_io, 0, sizeof hal_host_io);
+    memset(&flow_q, 0, sizeof flow_q);
+    memset(&wheel_q, 0, sizeof wheel_q);
+    tx_head = tx_tail = rx_head = rx_tail = 0;
+    memset(eeprom, 0xFF, sizeof eeprom);
+    eeprom_ops_left = -1;
+    eeprom_cut = 0;
+    lcd_sink = 0;
+}
+
+void hal_init(void)
+{
+    hal_host_io.valve_dir = HAL_VALVE_OFF;
+    hal_host_io.valve_duty = 0;
+    hal_host_io.spray_on = 0;
+    hal_host_io.buzzer = 0;
+}
+
+void hal_host_set_time_ns(uint64_t t_ns)
+{
+    if (t_ns > hal_host_io.time_ns)
+        hal_host_io.time_ns = t_ns;
+}
+
+uint32_t hal_ms(void)
+{
+    return (uint32_t)(hal_host_io.time_ns / 1000000u);
+}
+
+uint32_t hal_host_pca_of_ns(uint64_t t_ns)
+{
+    /* 921600 Hz: ticks = ns * 921600 / 1e9 = ns * 4608 / 5000000; 64-bit, wraps at 32 bits */
+    return (uint32_t)((t_ns / 5000000u) * 4608u + (t_ns % 5000000u) * 4608u / 5000000u);
+}
+
+uint32_t hal_pca_now(void)
+{
+    return hal_host_pca_of_ns(hal_host_io.time_ns);
+}
+
+static void edge_push(edge_q_t *q, uint64_t t_ns)
+{
+    uint32_t t = hal_host_pca_of_ns(t_ns);
+    if (q->n < HAL_HOST_EDGES)
+        q->t[q->n++] = t;
+    else
+        q->n++;                     /* the count keeps going, as the ISR's would */
+    q->last = t;
+}
+
+void hal_host_flow_edge(uint64_t t_ns)
+{
+    edge_push(&flow_q, t_ns);
+}
+
+void hal_host_wheel_edge(uint64_t t_ns)
+{
+    edge_push(&wheel_q, t_ns);
+}
+
+static void edge_take(edge_q_t *q, hal_capture_t *c)
+{
+    c->count = (uint16_t)(q->n > 0xFFFFu ? 0xFFFFu : q->n);
+    c->last = q->last;
+    q->n = 0;
+}
+
+void hal_flow_capture_take(hal_capture_t *c)
+{
+    edge_take(&flow_q, c);
+}
+
+void hal_wheel_capture_take(hal_capture_t *c)
+{
+    edge_take(&wheel_q, c);
+}
+
+uint16_t hal_adc_read(uint8_t ch)
+{
+    return ch < 8 ? hal_host_io.adc[ch] & 0x3FF : 0;
+}
+
+uint8_t hal_sections(void)
+{
+    return hal_host_io.sections;
+}
+
+uint8_t hal_keypad_row(uint8_t row)
+{
+    return (uint8_t)((hal_host_io.keys >> (4 * (row & 3))) & 0x0F);
+}
+
+void hal_valve_out(int8_t dir, uint8_t duty)
+{
+    if (dir == HAL_VALVE_OFF || duty == 0) {
+        hal_host_io.valve_dir = HAL_VALVE_OFF;
+        hal_host_io.valve_duty = 0;
+    } else {
+        hal_host_io.valve_dir = dir > 0 ? HAL_VALVE_OPEN : HAL_VALVE_CLOSE;
+        hal_host_io.valve_duty = duty;
+    }
+}
+
+void hal_spray_enable(uint8_t on)
+{
+    hal_host_io.spray_on = on ? 1 : 0;
+}
+
+void hal_buzzer(uint8_t on)
+{
+    hal_host_io.buzzer = on ? 1 : 0;
+}
+
+uint8_t hal_uart_put(uint8_t b)
+{
+    uint32_t n = (tx_head + 1) % HAL_HOST_UART_Q;
+    if (n == tx_tail)
+        return 0;
+    uart_tx[tx_head] = b;
+    tx_head = n;
+    return 1;
+}
+
+int16_t hal_uart_get(void)
+{
+    int16_t b;
+    if (rx_tail == rx_head)
+        return -1;
+    b = uart_rx[rx_tail];
+    rx_tail = (rx_tail + 1) % HAL_HOST_UART_Q;
+    return b;
+}
+
+int hal_host_uart_tx_pop(void)
+{
+    int b;
+    if (tx_tail == tx_head)
+        return -1;
+    b = uart_tx[tx_tail];
+    tx_tail = (tx_tail + 1) % HAL_HOST_UART_Q;
+    return b;
+}
+
+void hal_host_uart_rx_push(uint8_t b)
+{
+    uint32_t n = (rx_head + 1) % HAL_HOST_UART_Q;
+    if (n == rx_tail)
+        return;
+    uart_rx[rx_head] = b;
+    rx_head = n;
+}
+
+/* one EEPROM operation may proceed unless the power is (or now goes) out */
+static uint8_t eeprom_power(void)
+{
+    if (eeprom_cut)
+        return 0;
+    if (eeprom_ops_left == 0) {
+        eeprom_cut = 1;
+        return 0;
+    }
+    if (eeprom_ops_left > 0)
+        eeprom_ops_left--;
+    return 1;
+}
+
+uint8_t hal_eeprom_read(uint16_t addr)
+{
+    return addr < HAL_EEPROM_SIZE ? eeprom[addr] : 0xFF;
+}
+
+void hal_eeprom_erase(uint16_t addr)
+{
+    if (addr >= HAL_EEPROM_SIZE || !eeprom_power())
+        return;
+    memset(eeprom + (addr & ~(HAL_EEPROM_SECTOR - 1)), 0xFF, HAL_EEPROM_SECTOR);
+}
+
+uint8_t hal_eeprom_write(uint16_t addr, uint8_t b)
+{
+    if (addr >= HAL_EEPROM_SIZE || !eeprom_power())
+        return 0;
+    eeprom[addr] &= b;              /* flash programming only clears bits */
+    return eeprom[addr] == b;
+}
+
+uint8_t *hal_host_eeprom(void)
+{
+    return eeprom;
+}
+
+void hal_host_eeprom_cut_after(int32_t n)
+{
+    eeprom_ops_left = n;
+    eeprom_cut = 0;
+}
+
+uint8_t hal_host_eeprom_cut(void)
+{
+    return eeprom_cut;
+}
+
+void hal_host_lcd_sink(void (*sink)(uint8_t rs, uint8_t b))
+{
+    lcd_sink = sink;
+}
+
+void hal_lcd_write(uint8_t rs, uint8_t b)
+{
+    if (lcd_sink)
+        lcd_sink(rs, b);
+}
+
+void hal_wdt_kick(void)
+{
+    hal_host_io.wdt_kicks++;
+    hal_host_io.wdt_last_kick_ms = hal_ms();
+}

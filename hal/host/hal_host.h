@@ -1,0 +1,53 @@
+/* hal_host.h: the host backend's boundary to the plant model: actuator outputs in, sensor signals out. */
+#ifndef HAL_HOST_H
+#define HAL_HOST_H
+
+#include "hal.h"
+
+#define HAL_HOST_EDGES 4096         /* pulse edges queued between two takes, at most */
+#define HAL_HOST_UART_Q 4096
+
+/* One plain struct, as ArduPilot's SITL does: the simulator writes the sensor side and reads
+ * the actuator side; the firmware sees it only through hal.h. Simulated time is the only clock. */
+typedef struct {
+    /* simulated time */
+    uint64_t time_ns;
+    /* actuators, written by the firmware */
+    int8_t valve_dir;               /* HAL_VALVE_OPEN / _CLOSE / _OFF */
+    uint8_t valve_duty;             /* 0..255 */
+    uint8_t spray_on;
+    uint8_t buzzer;
+    /* sensors, written by the simulator */
+    uint16_t adc[8];                /* 10-bit counts */
+    uint8_t sections;               /* switch bits */
+    uint16_t keys;                  /* bit 4*row + col set while that key is held */
+    uint8_t wdt_kicks;              /* counts kicks (wraps) so tests can see the loop feeds it */
+    uint32_t wdt_last_kick_ms;
+} hal_host_io_t;
+
+extern hal_host_io_t hal_host_io;
+
+/* Reset the whole backend (time 0, queues and EEPROM erased, actuators off). */
+void hal_host_reset(void);
+/* Advance simulated time (never backwards). */
+void hal_host_set_time_ns(uint64_t t_ns);
+/* PCA time of a simulated instant, as the capture unit would latch it. */
+uint32_t hal_host_pca_of_ns(uint64_t t_ns);
+/* Queue a pulse edge at its exact simulated time (must not lie in the future of time_ns). */
+void hal_host_flow_edge(uint64_t t_ns);
+void hal_host_wheel_edge(uint64_t t_ns);
+
+/* Serial link: bytes the firmware sent, and bytes for it to receive. */
+int hal_host_uart_tx_pop(void);     /* -1 when empty */
+void hal_host_uart_rx_push(uint8_t b);
+
+/* EEPROM: direct access for tests, and a power cut after n more programmed bytes or erases
+ * (-1: never). A cut operation leaves the cell as it was; later ones are lost as well. */
+uint8_t *hal_host_eeprom(void);
+void hal_host_eeprom_cut_after(int32_t n);
+uint8_t hal_host_eeprom_cut(void);   /* 1 once the cut has happened */
+
+/* LCD: the bytes written go to this function (the ST7920 emulator), when set. */
+void hal_host_lcd_sink(void (*sink)(uint8_t rs, uint8_t b));
+
+#endif

@@ -1,0 +1,79 @@
+/* tt_fixed.c: every fixed-point routine on edge and random vectors; s51 and host must print the same. */
+#include "fixed.h"
+#include "tt.h"
+
+static const __code int16_t edges[] = {
+    0, 1, -1, 2, -2, 127, -128, 255, -256, 4095, -4096, 4096, -4097, 16384, -16384,
+    24575, 24576, -24576, -24577, 32766, -32767, 32767, -32768
+};
+#define N_EDGES (sizeof edges / sizeof edges[0])
+#define N_RANDOM 300
+
+static void line(char tag, int16_t a, int16_t b, uint32_t r)
+{
+    tt_putc(tag);
+    tt_putc(' ');
+    tt_hex16((uint16_t)a);
+    tt_putc(' ');
+    tt_hex16((uint16_t)b);
+    tt_putc(' ');
+    tt_hex32(r);
+    tt_putc('\n');
+}
+
+static void all_ops(int16_t a, int16_t b)
+{
+    line('a', a, b, (uint16_t)fx_add_sat(a, b));
+    line('s', a, b, (uint16_t)fx_sub_sat(a, b));
+    line('m', a, b, (uint32_t)fx_mul32(a, b));
+    line('q', a, b, (uint16_t)q15_mul(a, b));
+    line('w', a, b, (uint16_t)q12_mul(a, b));
+    line('x', a, b, (uint16_t)fx_mul_shift(a, b, (uint8_t)(b & 15)));
+    line('t', a, 0, (uint16_t)fx_tanh(a));
+    line('g', a, 0, (uint16_t)fx_sigmoid(a));
+    line('z', a, 0, (uint16_t)fx_sat16((int32_t)a * 3));
+}
+
+int main(void)
+{
+    uint8_t i, j;
+    uint16_t k;
+    volatile int16_t va = 12345, vb = -23456, vx = 5000;
+    volatile int32_t sink32;
+    volatile int16_t sink16;
+    uint32_t c;
+
+    tt_begin();
+    for (i = 0; i < N_EDGES; i++)
+        for (j = 0; j < N_EDGES; j++)
+            all_ops(edges[i], edges[j]);
+    for (k = 0; k < N_RANDOM; k++) {
+        int16_t a = (int16_t)tt_rand16();   /* one statement each: argument order is unspecified */
+        int16_t b = (int16_t)tt_rand16();
+        all_ops(a, b);
+    }
+
+    /* the cost of the building blocks, in machine cycles (stopwatch overhead included) */
+    tt_cycles_start();
+    c = tt_cycles_stop();
+    tt_bench("stopwatch", c);
+    tt_cycles_start();
+    sink32 = fx_mul32(va, vb);
+    tt_bench("fx_mul32", tt_cycles_stop());
+    tt_cycles_start();
+    sink32 = (int32_t)va * vb;
+    tt_bench("mul16x16_32_inline", tt_cycles_stop());
+    tt_cycles_start();
+    sink16 = fx_tanh(vx);
+    tt_bench("fx_tanh", tt_cycles_stop());
+    tt_cycles_start();
+    sink16 = fx_sigmoid(vx);
+    tt_bench("fx_sigmoid", tt_cycles_stop());
+    tt_cycles_start();
+    sink16 = q15_mul(va, vb);
+    tt_bench("q15_mul", tt_cycles_stop());
+    (void)sink32;
+    (void)sink16;
+    tt_end();
+    return 0;
+}

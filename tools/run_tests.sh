@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# run_tests.sh: every test of the project; TAP lines, then one line "N passed, N failed".
+#   host unit tests (cmocka, ASan+UBSan), target tests (s51 vs host, bit for bit), the firmware
+#   build and its memory check, and the script tests in tests/scripts/*.sh (they print TAP lines).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+export MAKEFLAGS="${MAKEFLAGS:-} --no-print-directory"
+JOBS=${JOBS:-$(nproc 2>/dev/null || echo 2)}
+pass=0 fail=0
+log=build/test-logs
+mkdir -p "$log"
+
+tap() {  # count the "ok" / "not ok" lines of a stream, echoing them
+    local line
+    while IFS= read -r line; do
+        case "$line" in
+            "ok "*) pass=$((pass + 1)); echo "$line" ;;
+            "not ok "*) fail=$((fail + 1)); echo "$line" ;;
+            "#"*) echo "$line" ;;
+        esac
+    done
+}
+check() {  # check NAME COMMAND...: one test from a command's exit status
+    local name=$1; shift
+    if "$@" > "$log/$name.log" 2>&1; then
+        pass=$((pass + 1)); echo "ok - $name"
+    else
+        fail=$((fail + 1)); echo "not ok - $name (see $log/$name.log)"; tail -5 "$log/$name.log" | sed 's/^/#   /'
+    fi
+}
+
+echo "# building host tests, target tests and the firmware"
+check build-host-tests make -j"$JOBS" host-tests
+check build-target-tests make -j"$JOBS" target-tests
+check firmware-builds-within-memory make -j"$JOBS" firmware
+grep '^memory:' "$log/firmware-builds-within-memory.log" | sed 's/^/# /'
+
+echo "# host unit tests"
+for t in build/host-test/test_*; do
+    [ -x "$t" ] || continue
+    name=$(basename "$t")
+    out=$(CMOCKA_MESSAGE_OUTPUT=TAP timeout 1800 "$t" 2>&1); rc=$?
+    echo "$out" > "$log/$name.log"
+    before=$((pass + fail))
+    tap < <(echo "$out" | sed -E "s/^(not ok|ok) [0-9]+ - /\1 - $name: /" | grep -E '^(ok|not ok) - ')
+    if [ $rc -ne 0 ] && [ $((pass + fail)) -eq $before ]; then
+        fail=$((fail + 1)); echo "not ok - $name crashed (rc $rc, see $log/$name.log)"
+    elif [ $rc -ne 0 ] && ! echo "$out" | grep -q '^not ok [0-9]'; then
+        fail=$((fail + 1)); echo "not ok - $name exited $rc (see $log/$name.log)"
+    fi
+done
+
+echo "# target tests: the SDCC build in s51 against the host build"
+for ihx in build/ucsim/tt_*.ihx; do
+    [ -f "$ihx" ] || continue
+    name=$(basename "$ihx" .ihx)
+    tap < <(tools/run_target.sh "$ihx" "build/host-test/target/$name" build/ucsim)
+done
+
+echo "# the checks can fail"
+overflow_fails() {  # a code size smaller than the image must stop the build
+    if make firmware BUILD=build/overflow-check CODE_SIZE=4096; then return 1; fi
+    return 0
+}
+check firmware-overflow-fails-the-build overflow_fails
+sabotage_is_caught() {  # fx_mul_shift truncating on the target only must break the comparison
+    make build/ucsim-variant/tt_fixed.ihx SDCC_EXTRA=-DFX_SABOTAGE || return 1
+    ! tools/run_target.sh build/ucsim-variant/tt_fixed.ihx build/host-test/target/tt_fixed build/ucsim-variant
+}
+check target-comparison-catches-a-different-bit sabotage_is_caught
+
+for s in tests/scripts/*.sh; do
+    [ -x "$s" ] || continue
+    echo "# $(basename "$s")"
+    tap < <(timeout 1800 "$s" 2>&1 | tee "$log/$(basename "$s").log")
+done
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
