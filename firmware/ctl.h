@@ -11,6 +11,8 @@ enum { CTL_PID = 0, CTL_FUZZY_PID = 1, CTL_BP_PID = 2, CTL_BEST = 3, CTL_COUNT }
 typedef struct {
     int16_t target_lpm_x100;        /* setpoint: the boom flow the dose needs now */
     int16_t flow_lpm_x100;          /* measured boom flow */
+    uint16_t speed_kmh_x100;        /* ground speed (the target already follows it) */
+    uint16_t pressure_kpa;          /* boom pressure (reacts before the meter does) */
     uint8_t valve_limit;            /* CTL_AT_* bits: the valve sits at an end stop */
 } ctl_in_t;
 #define CTL_AT_OPEN 1               /* bypass fully open: no more "less flow" */
@@ -26,6 +28,8 @@ uint8_t ctl_selected(void);
 void ctl_reset(q15_t drive_now);
 /* One control step. */
 q15_t ctl_step(const ctl_in_t *in);
+/* The gain (0 kp, 1 ki, 2 kd) the controller used in its last step, Q12, for logs and traces. */
+int16_t ctl_gain(uint8_t i);
 /* Name of a controller for the console and the logs ("pid", "fuzzy_pid", "bp_pid", ...). */
 const char *ctl_name(uint8_t id);
 

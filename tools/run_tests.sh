@@ -7,7 +7,9 @@ cd "$(dirname "$0")/.."
 export MAKEFLAGS="${MAKEFLAGS:-} --no-print-directory"
 JOBS=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 pass=0 fail=0
-log=build/test-logs
+B=${BUILD:-build}
+export BUILD=$B
+log=$B/test-logs
 mkdir -p "$log"
 
 tap() {  # count the "ok" / "not ok" lines of a stream, echoing them
@@ -36,7 +38,7 @@ check firmware-builds-within-memory make -j"$JOBS" firmware
 grep '^memory:' "$log/firmware-builds-within-memory.log" | sed 's/^/# /'
 
 echo "# host unit tests"
-for t in build/host-test/test_*; do
+for t in $B/host-test/test_*; do
     [ -x "$t" ] || continue
     name=$(basename "$t")
     out=$(CMOCKA_MESSAGE_OUTPUT=TAP timeout 1800 "$t" 2>&1); rc=$?
@@ -51,21 +53,21 @@ for t in build/host-test/test_*; do
 done
 
 echo "# target tests: the SDCC build in s51 against the host build"
-for ihx in build/ucsim/tt_*.ihx; do
+for ihx in $B/ucsim/tt_*.ihx; do
     [ -f "$ihx" ] || continue
     name=$(basename "$ihx" .ihx)
-    tap < <(tools/run_target.sh "$ihx" "build/host-test/target/$name" build/ucsim)
+    tap < <(tools/run_target.sh "$ihx" "$B/host-test/target/$name" $B/ucsim)
 done
 
 echo "# the checks can fail"
 overflow_fails() {  # a code size smaller than the image must stop the build
-    if make firmware BUILD=build/overflow-check CODE_SIZE=4096; then return 1; fi
+    if make firmware BUILD=$B/overflow-check CODE_SIZE=4096; then return 1; fi
     return 0
 }
 check firmware-overflow-fails-the-build overflow_fails
 sabotage_is_caught() {  # fx_mul_shift truncating on the target only must break the comparison
-    make build/ucsim-variant/tt_fixed.ihx SDCC_EXTRA=-DFX_SABOTAGE || return 1
-    ! tools/run_target.sh build/ucsim-variant/tt_fixed.ihx build/host-test/target/tt_fixed build/ucsim-variant
+    make $B/ucsim-variant/tt_fixed.ihx SDCC_EXTRA=-DFX_SABOTAGE || return 1
+    ! tools/run_target.sh $B/ucsim-variant/tt_fixed.ihx $B/host-test/target/tt_fixed $B/ucsim-variant
 }
 check target-comparison-catches-a-different-bit sabotage_is_caught
 
