@@ -42,7 +42,7 @@ HOST_INC := -Ihal -Ihal/host -Ifirmware -Isim -Itests -Itests/target
 TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 TEST_LDFLAGS := -fsanitize=address,undefined
 OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -g
-SIM_MAIN := $(wildcard sim/sim_main.c)
+SIM_MAIN := $(wildcard sim/*_main.c)
 HOST_LIB_SRC := $(FW_LIB_SRC) $(wildcard hal/host/*.c) $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
 TEST_DIR := $(BUILD)/host-test
 OPT_DIR := $(BUILD)/host
