@@ -74,4 +74,9 @@ void hal_lcd_write(uint8_t rs, uint8_t b);
 /* ---- watchdog (about 1.1 s) ---------------------------------------------------------------- */
 void hal_wdt_kick(void);
 
+#ifdef HAL_STC12
+/* SDCC puts an interrupt vector only where the handler's prototype is seen by main()'s file. */
+#include "stc12/isr.h"
+#endif
+
 #endif
