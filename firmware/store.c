@@ -1,0 +1,140 @@
+/* store.c: parameters in the IAP EEPROM: versioned layout, CRC, two copies written alternately (see store.h). */
+#include "hal.h"
+#include "params.h"
+#include "store.h"
+
+#define STORE_MAGIC 0x5A
+#define HDR_SEQ 3u
+#define HDR_VALUES 5u
+#define CRC_AT (HDR_VALUES + 2u * P_COUNT)
+
+static uint8_t status;              /* STORE_* */
+static uint8_t newest;              /* sector (0, 1) holding the copy loaded or saved last */
+static uint16_t seq;                /* its sequence number */
+
+static const char __code *const __code status_texts[] = {
+    "", "EE: older copy", "EE: defaults", "EE: write error"
+};
+
+static uint16_t crc_byte(uint16_t crc, uint8_t b)
+{
+    uint8_t i;
+    crc ^= (uint16_t)b << 8;
+    for (i = 0; i < 8; i++)
+        crc = (crc & 0x8000u) ? (uint16_t)((crc << 1) ^ 0x1021u) : (uint16_t)(crc << 1);
+    return crc;
+}
+
+static uint16_t read16(uint16_t a)
+{
+    return (uint16_t)(hal_eeprom_read(a) | ((uint16_t)hal_eeprom_read(a + 1u) << 8));
+}
+
+/* 1 when the copy in sector s has the right header, CRC and every value in range. */
+static uint8_t copy_valid(uint8_t s)
+{
+    uint16_t base = s ? HAL_EEPROM_SECTOR : 0u;
+    uint16_t crc = 0xFFFFu;
+    uint16_t i;
+    if (hal_eeprom_read(base) != STORE_MAGIC || hal_eeprom_read(base + 1u) != PARAMS_VERSION ||
+        hal_eeprom_read(base + 2u) != P_COUNT)
+        return 0;
+    for (i = 0; i < CRC_AT; i++)
+        crc = crc_byte(crc, hal_eeprom_read(base + i));
+    if (hal_eeprom_read(base + CRC_AT) != (uint8_t)(crc >> 8) ||
+        hal_eeprom_read(base + CRC_AT + 1u) != (uint8_t)crc)
+        return 0;
+    for (i = 0; i < P_COUNT; i++)
+        if (!param_in_range((uint8_t)i, read16(base + HDR_VALUES + 2u * i)))
+            return 0;
+    return 1;
+}
+
+uint8_t store_load(void)
+{
+    uint8_t v0 = copy_valid(0), v1 = copy_valid(1);
+    uint8_t s, i;
+    uint16_t base;
+    uint8_t both = v0 && v1;
+    uint16_t q0 = read16(HDR_SEQ), q1 = read16(HAL_EEPROM_SECTOR + HDR_SEQ);
+    params_defaults();
+    if (!v0 && !v1) {
+        status = STORE_DEFAULTS;
+        newest = 1;                 /* the first save goes to sector 0 */
+        seq = 0;
+        return status;
+    }
+    if (both)
+        s = ((int16_t)(q1 - q0) > 0) ? 1 : 0;
+    else
+        s = v1 ? 1 : 0;
+    base = s ? HAL_EEPROM_SECTOR : 0u;
+    for (i = 0; i < P_COUNT; i++)
+        param_set(i, read16(base + HDR_VALUES + 2u * i));
+    newest = s;
+    seq = s ? q1 : q0;
+    /* One copy bad. It was the newer one when it shows a started write of the next sequence
+     * (magic there, sequence seq + 1 or not yet programmed): a cut save, the previous values
+     * are loaded and the operator is told. Otherwise (a fresh second sector) all is well. */
+    status = STORE_OK;
+    if (!both) {
+        uint16_t ob = s ? 0u : HAL_EEPROM_SECTOR;
+        uint16_t oq = read16(ob + HDR_SEQ);
+        if (hal_eeprom_read(ob) == STORE_MAGIC && (oq == (uint16_t)(seq + 1u) || oq == 0xFFFFu))
+            status = STORE_OLDER;
+    }
+    return status;
+}
+
+uint8_t store_save(void)
+{
+    uint8_t s = newest ? 0 : 1;
+    uint16_t base = s ? HAL_EEPROM_SECTOR : 0u;
+    uint16_t crc = 0xFFFFu;
+    uint16_t next = (uint16_t)(seq + 1u);
+    uint8_t i, b, ok = 1;
+    hal_eeprom_erase(base);
+    for (i = 0; i < CRC_AT; i++) {
+        if (i == 0)
+            b = STORE_MAGIC;
+        else if (i == 1)
+            b = PARAMS_VERSION;
+        else if (i == 2)
+            b = P_COUNT;
+        else if (i == HDR_SEQ)
+            b = (uint8_t)next;
+        else if (i == HDR_SEQ + 1u)
+            b = (uint8_t)(next >> 8);
+        else if ((i - HDR_VALUES) & 1u)
+            b = (uint8_t)(param_v[(i - HDR_VALUES) >> 1] >> 8);
+        else
+            b = (uint8_t)param_v[(i - HDR_VALUES) >> 1];
+        crc = crc_byte(crc, b);
+        ok &= hal_eeprom_write(base + i, b);
+    }
+    ok &= hal_eeprom_write(base + CRC_AT, (uint8_t)(crc >> 8));
+    ok &= hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)crc);
+    if (ok && copy_valid(s)) {
+        newest = s;
+        seq = next;
+        status = STORE_OK;
+        return 1;
+    }
+    status = STORE_WRITE_ERR;
+    return 0;
+}
+
+uint8_t store_status(void)
+{
+    return status;
+}
+
+void store_status_clear(void)
+{
+    status = STORE_OK;
+}
+
+const char *store_status_text(uint8_t st)
+{
+    return st < 4 ? status_texts[st] : "";
+}

@@ -1,0 +1,332 @@
+/* test_store.c: the parameter store survives a power cut at every byte, rejects corrupt and out-of-range images. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <string.h>
+#include <cmocka.h>
+#include "hal_host.h"
+#include "params.h"
+#include "store.h"
+
+/* An independent twin of the documented layout (store.h), to build images by hand. */
+static uint16_t twin_crc(const uint8_t *p, size_t n)
+{
+    uint16_t crc = 0xFFFF;
+    for (size_t i = 0; i < n; i++) {
+        crc ^= (uint16_t)(p[i] << 8);
+        for (int k = 0; k < 8; k++)
+            crc = (crc & 0x8000) ? (uint16_t)((crc << 1) ^ 0x1021) : (uint16_t)(crc << 1);
+    }
+    return crc;
+}
+
+static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t version)
+{
+    uint8_t *e = hal_host_eeprom() + sector * HAL_EEPROM_SECTOR;
+    size_t n = 5 + 2 * P_COUNT;
+    memset(e, 0xFF, HAL_EEPROM_SECTOR);
+    e[0] = 0x5A;
+    e[1] = version;
+    e[2] = P_COUNT;
+    e[3] = (uint8_t)seq;
+    e[4] = (uint8_t)(seq >> 8);
+    for (int i = 0; i < P_COUNT; i++) {
+        e[5 + 2 * i] = (uint8_t)v[i];
+        e[6 + 2 * i] = (uint8_t)(v[i] >> 8);
+    }
+    uint16_t crc = twin_crc(e, n);
+    e[n] = (uint8_t)(crc >> 8);
+    e[n + 1] = (uint8_t)crc;
+}
+
+/* A set of in-range values that differ from the defaults, numbered by k. */
+static void values_k(uint16_t *v, int k)
+{
+    for (int i = 0; i < P_COUNT; i++) {
+        const param_info_t *pi = param_info((uint8_t)i);
+        uint32_t span = (uint32_t)pi->max - pi->min;
+        v[i] = (uint16_t)(pi->min + (span ? ((uint32_t)k * 7u + (uint32_t)i) % (span + 1) : 0));
+    }
+}
+
+static void set_all(const uint16_t *v)
+{
+    for (int i = 0; i < P_COUNT; i++)
+        assert_true(param_set((uint8_t)i, v[i]));
+}
+
+static int equals(const uint16_t *v)
+{
+    return memcmp(param_v, v, sizeof param_v) == 0;
+}
+
+static void scramble(void)
+{
+    for (int i = 0; i < P_COUNT; i++)
+        param_v[i] = 0xBEEF;
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    params_defaults();
+    return 0;
+}
+
+static void test_store_first_boot_gives_defaults_and_the_alarm(void **state)
+{
+    uint16_t def[P_COUNT];
+    (void)state;
+    params_defaults();
+    memcpy(def, param_v, sizeof def);
+    scramble();
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+    assert_int_equal(store_status(), STORE_DEFAULTS);
+    assert_string_equal(store_status_text(STORE_DEFAULTS), "EE: defaults");
+    assert_true(equals(def));
+}
+
+static void test_store_save_then_load_gives_the_values_back_in_both_sectors(void **state)
+{
+    uint16_t v[P_COUNT];
+    (void)state;
+    store_load();
+    for (int k = 1; k <= 5; k++) {
+        values_k(v, k);
+        set_all(v);
+        assert_true(store_save());
+        scramble();
+        assert_int_equal(store_load(), STORE_OK);
+        assert_true(equals(v));
+    }
+    /* the copies alternate: both sectors hold a copy now */
+    assert_int_equal(hal_host_eeprom()[0], 0x5A);
+    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR], 0x5A);
+}
+
+/* Operations (erase + bytes) one save takes, counted by letting a save run to the end. */
+static int32_t ops_of_a_save(void)
+{
+    int32_t n;
+    for (n = 0; n < 2000; n++) {
+        hal_host_eeprom_cut_after(n);
+        store_save();
+        if (!hal_host_eeprom_cut())
+            break;
+    }
+    hal_host_eeprom_cut_after(-1);
+    return n;
+}
+
+/* k earlier saves, then a save cut after n operations, optionally leaving the cell being
+ * programmed half written; the reboot must load the new values or the previous ones. */
+static int cut_run(int k, int32_t n, int partial, const uint16_t *prev, const uint16_t *next)
+{
+    uint16_t v[P_COUNT];
+    hal_host_reset();
+    params_defaults();
+    store_load();
+    for (int j = 0; j < k; j++) {
+        values_k(v, 100 + j);
+        set_all(j == k - 1 ? prev : v);
+        assert_true(store_save());
+    }
+    /* where the cut save writes: the sector the last good save did not use */
+    int sector = (k % 2 == 1) ? 1 : 0;
+    set_all(next);
+    hal_host_eeprom_cut_after(n);
+    store_save();
+    int was_cut = hal_host_eeprom_cut();
+    if (partial && was_cut && n >= 1) {
+        /* the interrupted byte: the (n-1)th of the copy, some of its zero bits programmed */
+        uint8_t *cell = hal_host_eeprom() + sector * HAL_EEPROM_SECTOR + (n - 1);
+        *cell &= 0xF0 | (uint8_t)(n & 0x0F);
+    }
+    hal_host_eeprom_cut_after(-1);
+    scramble();
+    uint8_t st = store_load();
+    assert_true(equals(next) || equals(prev));
+    if (equals(next))
+        assert_int_equal(st, STORE_OK);
+    else
+        assert_true(st == STORE_OK || st == STORE_OLDER);
+    if (!was_cut)
+        assert_true(equals(next));
+    return equals(next);
+}
+
+static void test_store_power_cut_at_every_byte_leaves_the_newest_or_the_previous_copy(void **state)
+{
+    uint16_t prev[P_COUNT], next[P_COUNT];
+    (void)state;
+    store_load();
+    int32_t ops = ops_of_a_save();
+    assert_int_equal(ops, 1 + STORE_COPY_BYTES);    /* one erase, then every byte */
+    values_k(prev, 1);
+    values_k(next, 2);
+    for (int k = 1; k <= 3; k++)
+        for (int partial = 0; partial <= 1; partial++) {
+            int got_next = 0, got_prev = 0;
+            for (int32_t n = 0; n <= ops; n++) {
+                if (cut_run(k, n, partial, prev, next))
+                    got_next++;
+                else
+                    got_prev++;
+            }
+            /* cut anywhere before the last CRC byte: the previous copy; after it: the new */
+            assert_int_equal(got_prev, ops);
+            assert_int_equal(got_next, 1);
+        }
+}
+
+static void test_store_after_a_cut_the_next_save_is_good(void **state)
+{
+    uint16_t a[P_COUNT], b[P_COUNT], c[P_COUNT];
+    (void)state;
+    values_k(a, 3);
+    values_k(b, 4);
+    values_k(c, 5);
+    cut_run(2, 10, 1, a, b);        /* reboots with a */
+    assert_true(equals(a));
+    assert_int_equal(store_status(), STORE_OLDER);
+    set_all(c);
+    assert_true(store_save());
+    scramble();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(c));
+}
+
+static void test_store_a_corrupt_byte_in_the_newest_copy_loads_the_previous(void **state)
+{
+    uint16_t a[P_COUNT], b[P_COUNT];
+    (void)state;
+    values_k(a, 6);
+    values_k(b, 7);
+    for (size_t at = 0; at < STORE_COPY_BYTES; at++) {
+        hal_host_reset();
+        store_load();
+        set_all(a);
+        assert_true(store_save());   /* sector 0 */
+        set_all(b);
+        assert_true(store_save());   /* sector 1 */
+        hal_host_eeprom()[HAL_EEPROM_SECTOR + at] ^= 0x10;
+        scramble();
+        store_load();
+        assert_true(equals(a));
+    }
+}
+
+static void test_store_a_corrupted_image_boots_to_defaults_with_the_alarm(void **state)
+{
+    uint16_t a[P_COUNT], def[P_COUNT];
+    (void)state;
+    params_defaults();
+    memcpy(def, param_v, sizeof def);
+    values_k(a, 8);
+    store_load();
+    set_all(a);
+    assert_true(store_save());
+    assert_true(store_save());
+    hal_host_eeprom()[7] ^= 0x01;                       /* a value byte in sector 0 */
+    hal_host_eeprom()[HAL_EEPROM_SECTOR + 5] ^= 0x80;   /* and in sector 1 */
+    scramble();
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+    assert_true(equals(def));
+    /* random garbage everywhere, too */
+    uint32_t r = 99;
+    for (unsigned i = 0; i < HAL_EEPROM_SIZE; i++) {
+        r = r * 1103515245u + 12345u;
+        hal_host_eeprom()[i] = (uint8_t)(r >> 16);
+    }
+    scramble();
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+    assert_true(equals(def));
+}
+
+static void test_store_out_of_range_values_in_the_eeprom_are_rejected(void **state)
+{
+    uint16_t a[P_COUNT], b[P_COUNT], def[P_COUNT];
+    (void)state;
+    params_defaults();
+    memcpy(def, param_v, sizeof def);
+    values_k(a, 9);
+    for (int i = 0; i < P_COUNT; i++) {
+        const param_info_t *pi = param_info((uint8_t)i);
+        /* a good older copy, a newer one with a correct CRC but one value out of range */
+        memcpy(b, a, sizeof b);
+        b[i] = pi->max + 1;
+        hal_host_reset();
+        twin_write(0, 10, a, PARAMS_VERSION);
+        twin_write(1, 11, b, PARAMS_VERSION);
+        scramble();
+        store_load();
+        assert_true(equals(a));
+        if (pi->min > 0) {
+            b[i] = pi->min - 1;
+            twin_write(1, 11, b, PARAMS_VERSION);
+            scramble();
+            store_load();
+            assert_true(equals(a));
+        }
+        /* the only copy out of range: defaults and the alarm */
+        hal_host_reset();
+        b[i] = pi->max + 1;
+        twin_write(1, 11, b, PARAMS_VERSION);
+        scramble();
+        assert_int_equal(store_load(), STORE_DEFAULTS);
+        assert_true(equals(def));
+    }
+}
+
+static void test_store_reads_the_documented_layout_and_wraps_the_sequence(void **state)
+{
+    uint16_t a[P_COUNT], b[P_COUNT];
+    (void)state;
+    values_k(a, 10);
+    values_k(b, 11);
+    twin_write(0, 0xFFFF, a, PARAMS_VERSION);
+    twin_write(1, 0x0000, b, PARAMS_VERSION);
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(b));                 /* 0 follows 0xFFFF */
+    twin_write(0, 0x0001, a, PARAMS_VERSION);
+    store_load();
+    assert_true(equals(a));
+    /* the next save goes to the other sector with the next number */
+    assert_true(store_save());
+    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR + 3], 2);
+    /* another layout version is not loaded */
+    hal_host_reset();
+    twin_write(0, 5, a, PARAMS_VERSION + 1);
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+}
+
+static void test_store_a_failed_write_is_reported(void **state)
+{
+    (void)state;
+    store_load();
+    assert_true(store_save());
+    hal_host_eeprom_cut_after(5);
+    assert_false(store_save());
+    assert_int_equal(store_status(), STORE_WRITE_ERR);
+    assert_string_equal(store_status_text(STORE_WRITE_ERR), "EE: write error");
+    store_status_clear();
+    assert_int_equal(store_status(), STORE_OK);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_store_first_boot_gives_defaults_and_the_alarm, setup),
+        cmocka_unit_test_setup(test_store_save_then_load_gives_the_values_back_in_both_sectors, setup),
+        cmocka_unit_test_setup(test_store_power_cut_at_every_byte_leaves_the_newest_or_the_previous_copy, setup),
+        cmocka_unit_test_setup(test_store_after_a_cut_the_next_save_is_good, setup),
+        cmocka_unit_test_setup(test_store_a_corrupt_byte_in_the_newest_copy_loads_the_previous, setup),
+        cmocka_unit_test_setup(test_store_a_corrupted_image_boots_to_defaults_with_the_alarm, setup),
+        cmocka_unit_test_setup(test_store_out_of_range_values_in_the_eeprom_are_rejected, setup),
+        cmocka_unit_test_setup(test_store_reads_the_documented_layout_and_wraps_the_sequence, setup),
+        cmocka_unit_test_setup(test_store_a_failed_write_is_reported, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
