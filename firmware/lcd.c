@@ -1,0 +1,54 @@
+/* lcd.c: ST7920 driver over hal_lcd_write: init sequence, text-mode DDRAM addressing, only changed character pairs sent. */
+#include "hal.h"
+#include "screen.h"
+#include "lcd.h"
+
+/*
+ * ST7920 basic instruction set (RE = 0), as used here:
+ *   0x30  function set: 8-bit interface (serial mode ignores it), basic set
+ *   0x0C  display on, cursor off, blink off
+ *   0x01  clear DDRAM to spaces, address 0 (1.6 ms: hal_lcd_write waits)
+ *   0x06  entry mode: address increments, no shift
+ *   0x80 | a  set DDRAM word address a
+ * Text mode shows 4 lines of 16 half-width characters from 32 DDRAM words of 2 characters:
+ * line 1 = words 0x00-0x07, line 2 = 0x10-0x17, line 3 = 0x08-0x0F, line 4 = 0x18-0x1F.
+ * A word is written high byte (left character) first; writing only the low byte is not
+ * possible, so the screen model marks changes per pair of columns.
+ */
+static __code const uint8_t line_word[4] = {0x00, 0x10, 0x08, 0x18};
+static __code const uint8_t init_seq[5] = {0x30, 0x30, 0x0C, 0x01, 0x06};
+
+static uint8_t ready;               /* init sequence sent */
+
+void lcd_init(void)
+{
+    ready = 0;
+}
+
+void lcd_poll(void)
+{
+    uint8_t row, pair, d, budget = LCD_WORDS_PER_POLL;
+    if (!ready) {
+        if (hal_ms() < LCD_POWERUP_MS)
+            return;
+        for (d = 0; d < sizeof init_seq; d++)
+            hal_lcd_write(0, init_seq[d]);
+        ready = 1;
+        screen_touch_all();
+        return;
+    }
+    for (row = 0; row < 4 && budget; row++) {
+        d = screen_dirty(row);
+        for (pair = 0; pair < 8 && budget; pair++) {
+            if (!(d & (1u << pair)))
+                continue;
+            /* consecutive pairs need no new address: the counter steps after each word */
+            if (pair == 0 || !(d & (1u << (pair - 1))) || budget == LCD_WORDS_PER_POLL)
+                hal_lcd_write(0, (uint8_t)(0x80 | (line_word[row] + pair)));
+            hal_lcd_write(1, (uint8_t)screen_char(row, (uint8_t)(2 * pair)));
+            hal_lcd_write(1, (uint8_t)screen_char(row, (uint8_t)(2 * pair + 1)));
+            screen_take(row, pair);
+            budget--;
+        }
+    }
+}

@@ -1,0 +1,101 @@
+/* screen.c: the screen model: a 4 x 16 character buffer with a changed-bit per character pair, and number formatting. */
+#include "screen.h"
+
+static char buf[SCREEN_ROWS][SCREEN_COLS];
+static uint8_t dirty[SCREEN_ROWS];  /* bit p: columns 2p, 2p+1 changed */
+
+void screen_putc(uint8_t row, uint8_t col, char c)
+{
+    if (row >= SCREEN_ROWS || col >= SCREEN_COLS)
+        return;
+    if (buf[row][col] != c) {
+        buf[row][col] = c;
+        dirty[row] |= (uint8_t)(1u << (col >> 1));
+    }
+}
+
+void screen_clear(void)
+{
+    uint8_t r, c;
+    for (r = 0; r < SCREEN_ROWS; r++)
+        for (c = 0; c < SCREEN_COLS; c++)
+            screen_putc(r, c, ' ');
+}
+
+uint8_t screen_puts(uint8_t row, uint8_t col, const char *s)
+{
+    while (*s && col < SCREEN_COLS)
+        screen_putc(row, col++, *s++);
+    return col;
+}
+
+void screen_pad(uint8_t row, uint8_t col)
+{
+    while (col < SCREEN_COLS)
+        screen_putc(row, col++, ' ');
+}
+
+void screen_line(uint8_t row, const char *s)
+{
+    screen_pad(row, screen_puts(row, 0, s));
+}
+
+uint8_t screen_fmt(char *out, uint32_t v, uint8_t decimals, uint8_t trim)
+{
+    char tmp[11];
+    uint8_t n = 0, len = 0;
+    /* digits, least significant first; at least decimals + 1 of them */
+    do {
+        tmp[n++] = (char)('0' + (uint8_t)(v % 10u));
+        v /= 10u;
+    } while ((v || n <= decimals) && n < sizeof tmp);
+    if (trim)
+        while (decimals && tmp[0] == '0') {
+            uint8_t i;
+            for (i = 0; i + 1 < n; i++)
+                tmp[i] = tmp[i + 1];
+            n--;
+            decimals--;
+        }
+    while (n) {
+        out[len++] = tmp[--n];
+        if (n && n == decimals)
+            out[len++] = '.';
+    }
+    out[len] = 0;
+    return len;
+}
+
+uint8_t screen_num(uint8_t row, uint8_t col, uint8_t width, uint32_t v, uint8_t decimals)
+{
+    char s[12];
+    uint8_t len = screen_fmt(s, v, decimals, 0);
+    uint8_t i;
+    for (i = 0; i < width; i++)
+        screen_putc(row, (uint8_t)(col + i),
+                    len > width ? '#' : (i < width - len ? ' ' : s[i - (width - len)]));
+    return (uint8_t)(col + width);
+}
+
+char screen_char(uint8_t row, uint8_t col)
+{
+    return (row < SCREEN_ROWS && col < SCREEN_COLS) ? buf[row][col] : 0;
+}
+
+uint8_t screen_dirty(uint8_t row)
+{
+    return row < SCREEN_ROWS ? dirty[row] : 0;
+}
+
+void screen_take(uint8_t row, uint8_t pair)
+{
+    if (row < SCREEN_ROWS)
+        dirty[row] &= (uint8_t)~(1u << (pair & 7));
+}
+
+void screen_touch_all(void)
+{
+    uint8_t r;
+    for (r = 0; r < SCREEN_ROWS; r++)
+        dirty[r] = 0xFF;
+}

@@ -1,0 +1,34 @@
+/* screen.h: the screen model: 4 lines of 16 characters the console writes, independent of the LCD's wiring. */
+#ifndef SCREEN_H
+#define SCREEN_H
+
+#include "compiler.h"
+
+#define SCREEN_ROWS 4
+#define SCREEN_COLS 16
+
+/* All spaces (only the characters that change are marked for the LCD). */
+void screen_clear(void);
+void screen_putc(uint8_t row, uint8_t col, char c);
+/* A string from col on, cut at the end of the line; returns the column after it. */
+uint8_t screen_puts(uint8_t row, uint8_t col, const char *s);
+/* A whole line: the string, then spaces to the end. */
+void screen_line(uint8_t row, const char *s);
+/* Spaces from col to the end of the line. */
+void screen_pad(uint8_t row, uint8_t col);
+/* An unsigned number with `decimals` implied decimals, right-aligned in `width` columns
+ * ending at col + width - 1; '#' fills the field when it does not fit. Returns col + width. */
+uint8_t screen_num(uint8_t row, uint8_t col, uint8_t width, uint32_t v, uint8_t decimals);
+/* Format a number like screen_num into buf (no padding, NUL terminated, at most 11 chars);
+ * trim = 1 drops trailing fraction zeros ("10.0" -> "10", "0.10" -> "0.1"). Returns its length. */
+uint8_t screen_fmt(char *buf, uint32_t v, uint8_t decimals, uint8_t trim);
+char screen_char(uint8_t row, uint8_t col);
+
+/* For the LCD driver: the character pairs (ST7920 DDRAM words) changed since they were taken.
+ * Bit p of screen_dirty(row) = columns 2p and 2p+1; screen_take(row, p) clears it. */
+uint8_t screen_dirty(uint8_t row);
+void screen_take(uint8_t row, uint8_t pair);
+/* Mark everything changed (after an LCD reset). */
+void screen_touch_all(void);
+
+#endif
