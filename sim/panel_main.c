@@ -1,0 +1,363 @@
+/* panel_main.c: the virtual operator panel: the firmware's LCD12864 drawn in a terminal, keys from the keyboard, the simulated sprayer in real time. */
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <termios.h>
+#include <time.h>
+#include <unistd.h>
+#include "sim.h"
+#include "hal_host.h"
+#include "st7920_emu.h"
+#include "keypad.h"
+#include "app.h"
+
+/* Without --scenario: a field at a constant 8 km/h for an hour, the defaults of PLANT.md. */
+static const char default_scn[] =
+    "[run]\nduration_s = 3600\n[drive]\n0 0\n5 8\n3600 8\n";
+
+#define KEY_HOLD_MS 80
+#define KEY_GAP_MS 80
+
+static void usage(FILE *f)
+{
+    fputs("usage: panel [--scenario FILE] [--speed X] [--time S] [--keys SEQ] [--screenshot OUT.png]\n"
+          "             [--scale N] [--text]\n"
+          "  the controller's LCD and keypad in the terminal, the simulated sprayer behind them.\n"
+          "  keys: 0-9 A B C D * # as on the keypad (a-d too); arrows up/down = A/B, Enter = D,\n"
+          "        Backspace = C; q quits.\n"
+          "  --speed X     simulated seconds per wall second (1)\n"
+          "  --time S      run S simulated seconds at full speed first\n"
+          "  --keys SEQ    press these keys first ('.' waits 0.5 s)\n"
+          "  --screenshot  after --time and --keys: write the LCD as PNG, print its text, exit\n"
+          "  --text        draw only the 4 text lines (no pixel image)\n"
+          "  without --scenario: 8 km/h for an hour with the defaults\n", f);
+}
+
+/* ---- keys: a queue of keypad presses, each held KEY_HOLD_MS of simulated time --------------- */
+static char keyq[256];
+static int keyq_n;
+static uint64_t key_until_ns;       /* current press or gap ends */
+static int key_phase;               /* 0 idle, 1 held, 2 gap after release */
+
+static void key_push(char k)
+{
+    if (keyq_n < (int)sizeof keyq)
+        keyq[keyq_n++] = k;
+}
+
+static int key_bit(char k)
+{
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++)
+            if (keypad_char((uint8_t)r, (uint8_t)c) == k)
+                return 4 * r + c;
+    return -1;
+}
+
+static void keys_tick(uint64_t t_ns)
+{
+    if (key_phase && t_ns < key_until_ns)
+        return;
+    if (key_phase == 1) {
+        hal_host_io.keys = 0;
+        key_phase = 2;
+        key_until_ns = t_ns + KEY_GAP_MS * 1000000ull;
+        return;
+    }
+    key_phase = 0;
+    if (!keyq_n)
+        return;
+    char k = keyq[0];
+    memmove(keyq, keyq + 1, (size_t)--keyq_n);
+    if (k == '.') {
+        key_phase = 2;
+        key_until_ns = t_ns + 500000000ull;
+        return;
+    }
+    int b = key_bit(k);
+    if (b < 0)
+        return;
+    hal_host_io.keys = (uint16_t)(1u << b);
+    key_phase = 1;
+    key_until_ns = t_ns + KEY_HOLD_MS * 1000000ull;
+}
+
+static int keys_busy(void)
+{
+    return keyq_n || key_phase;
+}
+
+/* ---- the terminal ------------------------------------------------------------------------- */
+static struct termios saved_tio;
+static int raw_on;
+
+static void raw_off(void)
+{
+    if (raw_on) {
+        tcsetattr(0, TCSANOW, &saved_tio);
+        fputs("\033[?25h\033[0m\n", stdout);
+        fflush(stdout);
+        raw_on = 0;
+    }
+}
+
+static void on_signal(int sig)
+{
+    raw_off();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+static int raw_start(void)
+{
+    struct termios t;
+    if (tcgetattr(0, &saved_tio) < 0)
+        return -1;
+    t = saved_tio;
+    t.c_lflag &= (tcflag_t) ~(ICANON | ECHO);
+    t.c_cc[VMIN] = 0;
+    t.c_cc[VTIME] = 0;
+    if (tcsetattr(0, TCSANOW, &t) < 0)
+        return -1;
+    raw_on = 1;
+    atexit(raw_off);
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    fputs("\033[2J\033[?25l", stdout);
+    return 0;
+}
+
+/* Terminal bytes to keypad keys; 1 when the user asked to quit. */
+static int read_keys(void)
+{
+    unsigned char buf[64];
+    ssize_t n = read(0, buf, sizeof buf);
+    for (ssize_t i = 0; i < n; i++) {
+        unsigned char c = buf[i];
+        if (c == 'q' || c == 'Q' || c == 3)
+            return 1;
+        if (c == 27 && i + 2 < n && buf[i + 1] == '[') {
+            if (buf[i + 2] == 'A')
+                key_push('A');
+            else if (buf[i + 2] == 'B')
+                key_push('B');
+            i += 2;
+        } else if (c == 27 || c == 127 || c == 8) {
+            key_push('C');
+        } else if (c == '\r' || c == '\n') {
+            key_push('D');
+        } else if (c >= 'a' && c <= 'd') {
+            key_push((char)(c - 'a' + 'A'));
+        } else if ((c >= '0' && c <= '9') || (c >= 'A' && c <= 'D') || c == '*' || c == '#') {
+            key_push((char)c);
+        }
+    }
+    return 0;
+}
+
+static void term_size(int *cols, int *rows)
+{
+    struct winsize w;
+    *cols = 80;
+    *rows = 24;
+    if (ioctl(1, TIOCGWINSZ, &w) == 0 && w.ws_col && w.ws_row) {
+        *cols = w.ws_col;
+        *rows = w.ws_row;
+    }
+}
+
+/* Pixels as half blocks (2 pixels a cell, 128 x 32 cells) when the terminal is wide enough,
+ * as braille (2 x 4 pixels a cell, 64 x 16) otherwise; then the 4 text lines in a box. */
+static void draw(const sim_t *sim, int text_only)
+{
+    static uint8_t px[ST7920_H][ST7920_W];
+    char line[17];
+    sim_row_t r;
+    int cols, rows, y, x;
+    term_size(&cols, &rows);
+    st7920_emu_render(px);
+    fputs("\033[H", stdout);
+    if (!text_only && cols >= 132 && rows >= 32 + 10) {
+        printf("+"); for (x = 0; x < 128; x++) putchar('-'); printf("+\033[K\n");
+        for (y = 0; y < ST7920_H; y += 2) {
+            putchar('|');
+            for (x = 0; x < ST7920_W; x++) {
+                int u = px[y][x], d = px[y + 1][x];
+                fputs(u && d ? "\u2588" : u ? "\u2580" : d ? "\u2584" : " ", stdout);
+            }
+            printf("|\033[K\n");
+        }
+        printf("+"); for (x = 0; x < 128; x++) putchar('-'); printf("+\033[K\n");
+    } else if (!text_only && rows >= 16 + 10) {
+        printf("+"); for (x = 0; x < 64; x++) putchar('-'); printf("+\033[K\n");
+        for (y = 0; y < ST7920_H; y += 4) {
+            putchar('|');
+            for (x = 0; x < ST7920_W; x += 2) {
+                static const int bit[4][2] = {{0x01, 0x08}, {0x02, 0x10}, {0x04, 0x20}, {0x40, 0x80}};
+                int v = 0;
+                char u[4];
+                for (int dy = 0; dy < 4; dy++)
+                    for (int dx = 0; dx < 2; dx++)
+                        if (px[y + dy][x + dx])
+                            v |= bit[dy][dx];
+                v += 0x2800;        /* U+2800.. in UTF-8: three bytes */
+                u[0] = (char)(0xE0 | (v >> 12));
+                u[1] = (char)(0x80 | ((v >> 6) & 0x3F));
+                u[2] = (char)(0x80 | (v & 0x3F));
+                u[3] = 0;
+                fputs(u, stdout);
+            }
+            printf("|\033[K\n");
+        }
+        printf("+"); for (x = 0; x < 64; x++) putchar('-'); printf("+\033[K\n");
+    }
+    printf("LCD +----------------+\033[K\n");
+    for (y = 0; y < 4; y++) {
+        st7920_emu_line((uint8_t)y, line);
+        printf("    |%s|\033[K\n", line);
+    }
+    printf("    +----------------+\033[K\n");
+    sim_row(sim, &r);
+    printf("t %7.1f s  truth: %5.1f km/h  boom %5.1f L/min  %4.2f bar  valve %3.0f %%  tank %4.0f L\033[K\n",
+           r.t_s, r.v_true_kmh, r.boom_lpm, r.p_bar, 100.0 * r.valve_pos, r.tank_l);
+    printf("keys: 0-9 A(up/menu) B(down) C(back) D(enter) *(ack) #(point, manual/auto)  q quit%s\033[K\n",
+           sim_done(sim) ? "  [scenario over]" : "");
+    fflush(stdout);
+}
+
+static double wall_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* One simulation tick with the key queue; 0 once the scenario is over. */
+static int tick(sim_t *sim)
+{
+    if (sim_done(sim))
+        return 0;
+    keys_tick(sim->t_ns);
+    sim_step(sim);
+    return 1;
+}
+
+int main(int argc, char **argv)
+{
+    const char *scn_path = NULL, *keys = NULL, *shot = NULL;
+    double speed = 1.0, pre_s = 0.0;
+    int scale = 3, text_only = 0;
+    char err[512];
+    scenario_t *s = malloc(sizeof *s);
+    sim_t *sim = malloc(sizeof *sim);
+    if (!s || !sim)
+        return 1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        char *end = NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        }
+        if (!strcmp(a, "--text")) {
+            text_only = 1;
+            continue;
+        }
+        if (!v) {
+            fprintf(stderr, "panel: %s needs a value\n", a);
+            usage(stderr);
+            return 2;
+        }
+        i++;
+        if (!strcmp(a, "--scenario"))
+            scn_path = v;
+        else if (!strcmp(a, "--keys"))
+            keys = v;
+        else if (!strcmp(a, "--screenshot"))
+            shot = v;
+        else if (!strcmp(a, "--speed")) {
+            speed = strtod(v, &end);
+            if (*end || !(speed > 0 && speed <= 1000)) {
+                fprintf(stderr, "panel: --speed '%s' is not a number 0..1000\n", v);
+                return 2;
+            }
+        } else if (!strcmp(a, "--time")) {
+            pre_s = strtod(v, &end);
+            if (*end || !(pre_s >= 0 && pre_s <= 1e6)) {
+                fprintf(stderr, "panel: --time '%s' is not a number of seconds\n", v);
+                return 2;
+            }
+        } else if (!strcmp(a, "--scale")) {
+            scale = (int)strtol(v, &end, 10);
+            if (*end || scale < 1 || scale > 16) {
+                fprintf(stderr, "panel: --scale '%s' is not 1..16\n", v);
+                return 2;
+            }
+        } else {
+            fprintf(stderr, "panel: unknown option '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (scn_path ? scenario_load(s, scn_path, err, sizeof err) < 0
+                 : scenario_parse(s, default_scn, "(panel default)", err, sizeof err) < 0) {
+        fprintf(stderr, "panel: %s\n", err);
+        return 1;
+    }
+    sim_init(sim, s);
+    /* sim_init reset the HAL: connect the display now and start the firmware's LCD afresh */
+    st7920_emu_reset();
+    hal_host_lcd_sink(st7920_emu_write);
+    for (const char *k = keys; k && *k; k++)
+        key_push(*k);
+
+    if (shot) {                     /* batch: time, keys, settle, PNG, text */
+        char line[17];
+        while (sim_time_s(sim) < pre_s && tick(sim))
+            ;
+        while (keys_busy() && tick(sim))
+            ;
+        for (int i = 0; i < 600 && tick(sim); i++)
+            ;
+        if (st7920_emu_png(shot, scale) < 0) {
+            fprintf(stderr, "panel: cannot write %s: %s\n", shot, strerror(errno));
+            return 1;
+        }
+        for (int y = 0; y < 4; y++) {
+            st7920_emu_line((uint8_t)y, line);
+            printf("%s\n", line);
+        }
+        return 0;
+    }
+
+    while (sim_time_s(sim) < pre_s && tick(sim))
+        ;
+    if (!isatty(0) || raw_start() < 0) {
+        fprintf(stderr, "panel: stdin is not a terminal (use --screenshot for batch runs)\n");
+        return 1;
+    }
+    double w0 = wall_s(), t0 = sim_time_s(sim), next_draw = 0;
+    for (;;) {
+        double w = wall_s() - w0;
+        int steps = 0;
+        if (read_keys())
+            break;
+        while (sim_time_s(sim) - t0 < w * speed && steps < 200000 && tick(sim))
+            steps++;
+        if (sim_done(sim))
+            keys_tick(sim->t_ns);
+        if (w >= next_draw) {
+            draw(sim, text_only);
+            next_draw = w + 0.1;
+        }
+        usleep(2000);
+    }
+    raw_off();
+    sim_free(sim);
+    free(s);
+    return 0;
+}

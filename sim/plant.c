@@ -1,0 +1,318 @@
+/* plant.c: the sprayer model of PLANT.md: one implicit step of the line pressure a tick, sensors with exact edge times. */
+#include <math.h>
+#include <string.h>
+#include "plant.h"
+
+#define TWO_PI 6.283185307179586
+
+void plant_params_default(plant_params_t *p)
+{
+    memset(p, 0, sizeof *p);
+#define PLANT_KEY_DEF(key, def, lo, hi, isint) p->key = (def);
+    PLANT_KEYS(PLANT_KEY_DEF)
+#undef PLANT_KEY_DEF
+    p->nozzles = 36;
+    p->spacing_m = 0.5;
+}
+
+void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed)
+{
+    memset(pl, 0, sizeof *pl);
+    pl->p = *p;
+    /* q = K_n sqrt(P - P_check) with 1.18 L/min at 3 bar: K_n = 1.18 / sqrt(3) (check valve
+     * cracking pressure is part of the 3 bar rating: TeeJet rates the tip, we add the check valve) */
+    pl->kn = p->nozzle_lpm_at_3bar / sqrt(3.0) * (1.0 + p->nozzle_wear_pct / 100.0);
+    pl->k_line = p->line_loss_bar_at_50lpm / 2500.0;
+    pl->m_per_pulse = TWO_PI * p->wheel_radius_m / p->wheel_elements;
+    pl->pto_rpm = p->pto_rpm;
+    pl->theta = p->valve_start_pos;
+    pl->motor = p->valve_start_pos;         /* the motor sits in the middle of the backlash gap */
+    pl->cv = plant_cv(pl, pl->theta);
+    pl->cv_theta = pl->theta;
+    pl->open_nozzles = p->nozzles;
+    pl->tank_v = p->tank_start_l;
+    pl->bounce_pct = p->speed_bounce_pct;
+    rng_seed(&pl->rng, seed);
+    pl->pulse_phase = TWO_PI * rng_uniform(&pl->rng);
+    pl->meter_phase = rng_uniform(&pl->rng);
+    pl->wheel_phase = rng_uniform(&pl->rng);
+}
+
+/* Equal percentage with rangeability R, shifted so that Cv(0) = 0 and Cv(1) = valve_cv_open. */
+double plant_cv(const plant_t *pl, double theta)
+{
+    double r = pl->p.valve_rangeability;
+    if (theta <= 0.0)
+        return 0.0;
+    if (theta > 1.0)
+        theta = 1.0;
+    return pl->p.valve_cv_open * (exp((theta - 1.0) * log(r)) - 1.0 / r) / (1.0 - 1.0 / r);
+}
+
+/* Nozzles that pass liquid now: open sections less the clogged ones, none with the boom shut. */
+static int flowing_nozzles(const plant_t *pl)
+{
+    int m = pl->open_nozzles - pl->clogged;
+    return pl->spray_on && m > 0 ? m : 0;
+}
+
+/* Boom coefficient A with the line loss folded in: Q = m K sqrt(P - k Q^2 - Pc) solves to
+ * Q = A sqrt(P - Pc), A = m K / sqrt(1 + (m K)^2 k). */
+static double boom_coef(const plant_t *pl, int m)
+{
+    double a = m * pl->kn;
+    return a / sqrt(1.0 + a * a * pl->k_line);
+}
+
+double plant_boom_flow(const plant_t *pl, double p_bar)
+{
+    double a = boom_coef(pl, pl->open_nozzles - pl->clogged > 0 ? pl->open_nozzles - pl->clogged : 0);
+    return p_bar > pl->p.check_valve_bar ? a * sqrt(p_bar - pl->p.check_valve_bar) : 0.0;
+}
+
+/* The turbine's K curve: the nominal K in its range, falling off below it (PLANT.md):
+ * -3 % at 7.5 L/min, -15 % at 3 L/min, -40 % at 1.5 L/min, nothing below 1.5; linear between
+ * the points, the full K from 15 L/min up. */
+double plant_meter_k(const plant_t *pl, double q)
+{
+    static const double qs[] = {1.5, 3.0, 7.5, 15.0};
+    static const double fs[] = {0.60, 0.85, 0.97, 1.0};
+    double f = 1.0;
+    int i;
+    if (q < qs[0])
+        return 0.0;
+    for (i = 0; i < 3; i++)
+        if (q < qs[i + 1]) {
+            f = fs[i] + (fs[i + 1] - fs[i]) * (q - qs[i]) / (qs[i + 1] - qs[i]);
+            break;
+        }
+    return pl->p.meter_k_ppl * f;
+}
+
+double plant_pump_flow(const plant_t *pl, double p_bar)
+{
+    double slip = 1.0 - pl->p.pump_slip_per_bar * p_bar;
+    return pl->p.pump_lpm_at_540 * pl->pto_now_rpm / 540.0 * (slip > 0.0 ? slip : 0.0);
+}
+
+double plant_speed_kmh(const plant_t *pl)
+{
+    return pl->v_mps * 3.6;
+}
+
+/* One implicit Euler step of C dP/dt = Qin(P) - Qout(P) (flows in L/min, C in L/bar):
+ * f(P) = G (P - P0) - Qp0 (1 - ks P)+ + kr (P - Ps)+ + Cb sqrt(P) + A sqrt(P - Pc)+ + kl sqrt(P)
+ * is strictly increasing with f(0) <= 0, so it has one root in [0, P0 + Qp0/G]: safeguarded
+ * Newton (bisection whenever a step leaves the bracket). */
+typedef struct {
+    double g, p0, qp0, ks, kr, ps, cb, a, pc, kl;
+} line_eq_t;
+
+static double line_f(const line_eq_t *e, double p, double *df)
+{
+    double f = e->g * (p - e->p0), d = e->g;
+    double slip = 1.0 - e->ks * p;
+    if (slip > 0.0) {
+        f -= e->qp0 * slip;
+        d += e->qp0 * e->ks;
+    }
+    if (p > e->ps) {
+        f += e->kr * (p - e->ps);
+        d += e->kr;
+    }
+    if (p > 0.0) {
+        double s = sqrt(p);
+        f += (e->cb + e->kl) * s;
+        d += (e->cb + e->kl) * 0.5 / s;
+    }
+    if (p > e->pc && e->a > 0.0) {
+        double s = sqrt(p - e->pc);
+        f += e->a * s;
+        d += e->a * 0.5 / s;
+    }
+    *df = d;
+    return f;
+}
+
+static double line_solve(const line_eq_t *e)
+{
+    double lo = 0.0, hi = e->p0 + e->qp0 / e->g + 1e-12;
+    double x = e->p0, d, f;
+    int i;
+    if (x < lo || x > hi)
+        x = 0.5 * (lo + hi);
+    for (i = 0; i < 60; i++) {
+        double xn;
+        f = line_f(e, x, &d);
+        if (f > 0.0)
+            hi = x;
+        else
+            lo = x;
+        xn = x - f / d;
+        if (!(xn > lo && xn < hi))
+            xn = 0.5 * (lo + hi);
+        if (fabs(xn - x) < 1e-11)
+            return xn;
+        x = xn;
+    }
+    return x;
+}
+
+/* Emit the edges of a pulse train whose phase (in pulses) goes from ph to ph + n over the tick. */
+static uint64_t emit(plant_t *pl, double *phase, double n, uint64_t t0, uint32_t dt_ns,
+                     plant_edge_fn fn, double bounce_pct)
+{
+    double ph = *phase, end = ph + n;
+    uint64_t count = 0;
+    double k;
+    for (k = floor(ph) + 1.0; k <= end; k += 1.0) {
+        uint64_t te = t0 + (uint64_t)((k - ph) / n * dt_ns + 0.5);
+        if (te > t0 + dt_ns)
+            te = t0 + dt_ns;
+        if (te <= t0)
+            te = t0 + 1;
+        count++;
+        if (fn)
+            fn(te);
+        if (bounce_pct > 0.0 && rng_uniform(&pl->rng) * 100.0 < bounce_pct) {
+            uint64_t tb = te + PLANT_BOUNCE_NS;
+            if (tb > t0 + dt_ns)
+                tb = t0 + dt_ns;
+            count++;
+            if (fn)
+                fn(tb);
+        }
+    }
+    *phase = end - floor(end);
+    return count;
+}
+
+static uint16_t adc_of_ma(plant_t *pl, double ma, double noise_lsb)
+{
+    double c = ma * PLANT_ADC_PER_MA;
+    if (noise_lsb > 0.0)
+        c += noise_lsb * rng_normal(&pl->rng);
+    c = floor(c + 0.5);
+    return (uint16_t)(c < 0.0 ? 0.0 : c > 1023.0 ? 1023.0 : c);
+}
+
+static void step_tractor(plant_t *pl, double dt)
+{
+    const plant_params_t *p = &pl->p;
+    double acc = (pl->v_cmd_kmh / 3.6 - pl->v_mps) / p->tractor_lag_s;
+    if (acc > p->tractor_accel_max)
+        acc = p->tractor_accel_max;
+    if (acc < -p->tractor_accel_max)
+        acc = -p->tractor_accel_max;
+    pl->v_mps += acc * dt;
+    if (pl->v_mps < 0.0)
+        pl->v_mps = 0.0;
+    pl->dist_m += pl->v_mps * dt;
+}
+
+/* The DC gear motor: no motion below the stiction duty, drive/T_travel above it; the valve
+ * follows the motor across a backlash gap and stops hard at both ends. */
+static void step_valve(plant_t *pl, double drive, double dt)
+{
+    const plant_params_t *p = &pl->p;
+    double half = 0.5 * p->valve_backlash;
+    pl->drive = drive;
+    if (pl->valve_stuck || fabs(drive) < p->valve_stiction_duty || drive == 0.0)
+        return;
+    pl->motor += drive * dt / p->valve_travel_s;
+    if (pl->motor > pl->theta + half)
+        pl->theta = pl->motor - half;
+    else if (pl->motor < pl->theta - half)
+        pl->theta = pl->motor + half;
+    if (pl->theta > 1.0) {
+        pl->theta = 1.0;
+        pl->motor = 1.0 + half;     /* the motor stalls against the stop */
+    } else if (pl->theta < 0.0) {
+        pl->theta = 0.0;
+        pl->motor = -half;
+    }
+}
+
+void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
+{
+    const plant_params_t *p = &pl->p;
+    double dt = dt_ns * 1e-9;
+    uint64_t t0 = pl->t_ns;
+    double drive = in->drive > 1.0 ? 1.0 : in->drive < -1.0 ? -1.0 : in->drive;
+    line_eq_t e;
+    double dry, puls;
+    int m;
+
+    pl->spray_on = in->spray_on ? 1 : 0;
+    step_tractor(pl, dt);
+    step_valve(pl, drive, dt);
+    if (pl->theta != pl->cv_theta) {
+        pl->cv = plant_cv(pl, pl->theta);
+        pl->cv_theta = pl->theta;
+    }
+
+    /* PTO: coupled to the throttle (n follows the commanded speed) or fixed */
+    pl->pto_now_rpm = p->pto_coupled >= 0.5 ? pl->pto_rpm * pl->v_cmd_kmh / p->v_rated_kmh : pl->pto_rpm;
+    /* 3 diaphragms: pulsation at 3 n / 60 Hz, after the air chamber */
+    pl->pulse_phase += TWO_PI * 3.0 * pl->pto_now_rpm / 60.0 * dt;
+    if (pl->pulse_phase > TWO_PI)
+        pl->pulse_phase -= TWO_PI * floor(pl->pulse_phase / TWO_PI);
+    puls = 1.0 + p->pump_pulsation_pct / 100.0 * sin(pl->pulse_phase);
+    dry = pl->tank_v / PLANT_DRY_L;
+    dry = dry > 1.0 ? 1.0 : dry < 0.0 ? 0.0 : dry;
+
+    m = flowing_nozzles(pl);
+    e.g = p->line_compliance_l_per_bar * 60.0 / dt;
+    e.p0 = pl->p_bar;
+    e.qp0 = p->pump_lpm_at_540 * pl->pto_now_rpm / 540.0 * puls * dry;
+    e.ks = p->pump_slip_per_bar;
+    e.kr = p->relief_lpm_per_bar;
+    e.ps = p->relief_bar;
+    e.cb = pl->cv;
+    e.a = m > 0 ? boom_coef(pl, m) : 0.0;
+    e.pc = p->check_valve_bar;
+    e.kl = pl->spray_on ? pl->leak_lpm / sqrt(PLANT_LEAK_REF_BAR) : 0.0;
+    pl->p_bar = line_solve(&e);
+
+    {
+        double P = pl->p_bar, s = sqrt(P), slip = 1.0 - e.ks * P;
+        pl->q_pump = e.qp0 * (slip > 0.0 ? slip : 0.0);
+        pl->q_relief = P > e.ps ? e.kr * (P - e.ps) : 0.0;
+        pl->q_bypass = e.cb * s;
+        pl->q_leak = e.kl * s;
+        pl->q_boom = P > e.pc ? e.a * sqrt(P - e.pc) : 0.0;
+        pl->q_meter = pl->q_boom + pl->q_leak;
+    }
+    pl->tank_v -= pl->q_meter * dt / 60.0;
+    if (pl->tank_v < 0.0)
+        pl->tank_v = 0.0;
+
+    pl->t_ns = t0 + dt_ns;
+
+    /* flow meter: rotor lag, then pulses at K(q) q */
+    if (p->meter_lag_s > 0.0)
+        pl->q_rotor += (pl->q_meter - pl->q_rotor) * (1.0 - exp(-dt / p->meter_lag_s));
+    else
+        pl->q_rotor = pl->q_meter;
+    if (!pl->meter_fail) {
+        double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor / 60.0 * dt;
+        if (n > 0.0)
+            pl->flow_pulses += emit(pl, &pl->meter_phase, n, t0, dt_ns, pl->flow_edge, 0.0);
+    }
+    /* wheel: slip makes the wheel turn faster than the ground goes */
+    if (!pl->speed_fail && pl->v_mps > 0.0) {
+        double n = pl->v_mps * (1.0 + p->wheel_slip_pct / 100.0) * dt / pl->m_per_pulse;
+        if (n > 0.0)
+            pl->wheel_pulses += emit(pl, &pl->wheel_phase, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
+    }
+    /* 4-20 mA loops into the 10-bit ADC */
+    {
+        double ma = 4.0 + 16.0 * pl->p_bar / PLANT_PSENS_BAR;
+        if (ma > 21.0)
+            ma = 21.0;                  /* the transmitter's output saturates just above 20 mA */
+        if (pl->psens_open)
+            ma = 0.0;
+        pl->adc_pressure = adc_of_ma(pl, ma, p->pressure_noise_lsb);
+        pl->adc_level = adc_of_ma(pl, 4.0 + 16.0 * pl->tank_v / p->tank_l, p->level_noise_lsb);
+    }
+}

@@ -1,0 +1,132 @@
+/* plant.h: the sprayer behind the host HAL: tractor, PTO pump, relief and bypass valves, boom, tank and sensors (PLANT.md). */
+#ifndef SIM_PLANT_H
+#define SIM_PLANT_H
+
+#include <stdint.h>
+#include "rng.h"
+
+/*
+ * Every physical key of a scenario's [plant] section: X(key, default, min, max, integer).
+ * The key carries its unit. Defaults and reasons are in ../shared/PLANT.md; the two keys
+ * marked "extra" are not in PLANT.md's list and default to what PLANT.md implies.
+ */
+#define PLANT_KEYS(X)                                                                     \
+    X(pump_lpm_at_540,           120,   0,     2000,   0)                                 \
+    X(pump_slip_per_bar,         0.01,  0,     0.15,   0)                                 \
+    X(pump_pulsation_pct,        4,     0,     50,     0)                                 \
+    X(pto_coupled,               1,     0,     1,      1)                                 \
+    X(pto_rpm,                   540,   0,     1500,   0)                                 \
+    X(v_rated_kmh,               11,    1,     60,     0)                                 \
+    X(relief_bar,                5.0,   0.5,   50,     0)                                 \
+    X(relief_lpm_per_bar,        200,   1,     10000,  0)                                 \
+    X(valve_cv_open,             120,   0,     2000,   0)                                 \
+    X(valve_rangeability,        30,    1.5,   1000,   0)                                 \
+    X(valve_travel_s,            4,     0.1,   600,    0)                                 \
+    X(valve_stiction_duty,       0.2,   0,     0.99,   0)                                 \
+    X(valve_backlash,            0.02,  0,     0.5,    0)                                 \
+    X(valve_start_pos,           0,     0,     1,      0)                                 \
+    X(line_compliance_l_per_bar, 0.03,  0.001, 10,     0)                                 \
+    X(line_loss_bar_at_50lpm,    0.025, 0,     5,      0)  /* extra: k_line = this/50^2 */ \
+    X(nozzle_lpm_at_3bar,        1.18,  0.05,  20,     0)                                 \
+    X(check_valve_bar,           0.3,   0,     5,      0)                                 \
+    X(nozzle_wear_pct,           0,     -50,   200,    0)                                 \
+    X(tank_l,                    1000,  1,     100000, 0)                                 \
+    X(tank_height_m,             1.2,   0.1,   10,     0)                                 \
+    X(tank_start_l,              1000,  0,     100000, 0)                                 \
+    X(meter_k_ppl,               380,   1,     10000,  0)                                 \
+    X(meter_lag_s,               0.03,  0,     5,      0)                                 \
+    X(wheel_elements,            12,    1,     1000,   1)                                 \
+    X(wheel_radius_m,            0.75,  0.05,  5,      0)                                 \
+    X(wheel_slip_pct,            0,     -50,   50,     0)                                 \
+    X(speed_bounce_pct,          0,     0,     100,    0)                                 \
+    X(pressure_noise_lsb,        1,     0,     100,    0)                                 \
+    X(level_noise_lsb,           1,     0,     100,    0)  /* extra: the level's ADC noise */ \
+    X(tractor_lag_s,             1,     0.01,  60,     0)                                 \
+    X(tractor_accel_max,         0.5,   0.01,  20,     0)
+
+#define PLANT_KEY_FIELD(key, def, lo, hi, isint) double key;
+typedef struct {
+    PLANT_KEYS(PLANT_KEY_FIELD)
+    /* the boom, from the operator's [config] (the plant has what the console is told) */
+    int nozzles;                    /* nozzles on the boom */
+    double spacing_m;               /* nozzle spacing */
+} plant_params_t;
+#undef PLANT_KEY_FIELD
+
+/* Fixed properties of the model that are not scenario keys. */
+#define PLANT_PSENS_BAR 16.0        /* pressure sensor: 4-20 mA over 0-16 bar */
+#define PLANT_ADC_PER_MA 51.15      /* 250 ohm into a 10-bit ADC at 5 V: 1023 * 0.25 / 5 counts a mA */
+#define PLANT_LEAK_REF_BAR 3.0      /* a leak of X L/min is an orifice that passes X L/min at 3 bar */
+#define PLANT_DRY_L 2.0             /* the pump loses its suction over the last 2 L in the tank */
+#define PLANT_BOUNCE_NS 500000u     /* a bounce pulse follows its real one after 0.5 ms */
+
+/* What the firmware drives (through the host HAL). */
+typedef struct {
+    double drive;                   /* valve motor: signed duty in [-1, 1], + opens the bypass */
+    int spray_on;                   /* master boom valve */
+} plant_in_t;
+
+typedef void (*plant_edge_fn)(uint64_t t_ns);
+
+typedef struct {
+    plant_params_t p;
+    /* derived constants (plant_init) */
+    double kn;                      /* nozzle coefficient L/min/sqrt(bar), wear included */
+    double k_line;                  /* bar/(L/min)^2 */
+    double m_per_pulse;             /* true distance a wheel pulse: 2 pi r / N */
+    /* time */
+    uint64_t t_ns;
+    /* tractor */
+    double v_cmd_kmh;               /* driver's command (the sim sets it from [drive]) */
+    double v_mps;                   /* true ground speed */
+    double dist_m;                  /* true distance travelled */
+    /* pump and PTO */
+    double pto_rpm;                 /* rated (coupled) or fixed (uncoupled) PTO speed */
+    double pto_now_rpm;             /* PTO speed this tick */
+    double pulse_phase;             /* pulsation phase, rad */
+    /* valve */
+    double theta;                   /* bypass valve position 0 closed .. 1 open */
+    double motor;                   /* motor side of the backlash, in stroke units */
+    double cv;                      /* Cv(theta), L/min/sqrt(bar) */
+    double cv_theta;                /* the theta cv was computed for */
+    double drive;                   /* drive applied this tick (after the HAL) */
+    /* line */
+    double p_bar;                   /* line pressure at the boom */
+    double q_pump, q_relief, q_bypass, q_boom, q_leak;   /* L/min over the last tick */
+    double q_meter;                 /* through the flow meter: boom + leak */
+    int spray_on;
+    /* boom */
+    int open_nozzles;               /* nozzles in the open sections */
+    int clogged;                    /* nozzles that pass nothing (of the open ones) */
+    double leak_lpm;                /* leak after the meter, L/min at 3 bar */
+    double tank_v;                  /* litres in the tank */
+    /* sensors */
+    double q_rotor;                 /* turbine rotor's flow (lagged), L/min */
+    double meter_phase, wheel_phase;   /* fraction of the next pulse */
+    uint64_t flow_pulses, wheel_pulses;  /* pulses sent so far */
+    uint16_t adc_pressure, adc_level;    /* 10-bit counts */
+    double bounce_pct;
+    /* faults */
+    int meter_fail, speed_fail, psens_open, valve_stuck;
+    /* where the edges go (NULL: only counted) */
+    plant_edge_fn flow_edge, wheel_edge;
+    rng_t rng;
+} plant_t;
+
+/* The defaults of PLANT.md (36 nozzles at 50 cm). */
+void plant_params_default(plant_params_t *p);
+/* Start a plant at rest at time 0: tank at tank_start_l, valve at valve_start_pos, all nozzles
+ * open, line pressure 0; the seed drives the sensor noise, the pulsation phase and bounce. */
+void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed);
+/* Advance the plant by dt_ns: tractor, valve, pressure (implicit step), tank, then the sensors;
+ * edges inside the tick go to the edge functions with their exact times in (t, t + dt]. */
+void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns);
+
+/* Pieces of the model, for tests and the trace (no side effects). */
+double plant_cv(const plant_t *pl, double theta);            /* bypass valve, L/min/sqrt(bar) */
+double plant_boom_flow(const plant_t *pl, double p_bar);     /* nozzles' total at boom pressure */
+double plant_meter_k(const plant_t *pl, double q_lpm);       /* the meter's true pulses a litre at q */
+double plant_pump_flow(const plant_t *pl, double p_bar);     /* without pulsation, this tick's PTO */
+double plant_speed_kmh(const plant_t *pl);                   /* true ground speed */
+
+#endif

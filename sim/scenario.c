@@ -1,0 +1,598 @@
+/* scenario.c: the strict reader of scenario files: every error names file, line and key, and nothing half-read runs. */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "scenario.h"
+#include "ctl.h"
+
+/* [config] keys: what the operator sets on the console, in the unit the key names, and the
+ * factor to the parameter's stored unit (params.h). */
+typedef struct {
+    const char *key;
+    uint8_t id;
+    double scale;
+} cfg_key_t;
+
+static const cfg_key_t cfg_keys[] = {
+    {"rate_l_ha", P_RATE, 1},
+    {"nozzles", P_NOZZLES, 1},
+    {"spacing_cm", P_SPACING, 1},
+    {"sections", P_SECTIONS, 1},
+    {"meter_cal_ppl", P_METER_K, 10},               /* stored in 0.1 p/L */
+    {"wheel_m_per_pulse", P_WHEEL, 10000},          /* stored in 0.1 mm */
+    {"min_flow_speed_kmh", P_MINF_SPEED, 10},
+    {"given_speed_kmh", P_GIVEN_SPEED, 10},
+    {"tank_min_l", P_TANK_MIN, 1},
+    {"valve_travel_s", P_VALVE_TRAVEL, 10},         /* what the firmware believes */
+    {"nozzle_lpm_at_3bar", P_NOZZLE_Q3, 100},
+};
+#define N_CFG (sizeof cfg_keys / sizeof cfg_keys[0])
+
+typedef struct {
+    const char *key;
+    double lo, hi;
+    int isint;
+} plant_key_t;
+
+#define PLANT_KEY_ROW(key, def, lo, hi, isint) {#key, lo, hi, isint},
+static const plant_key_t plant_keys[] = { PLANT_KEYS(PLANT_KEY_ROW) };
+#undef PLANT_KEY_ROW
+#define N_PLANT (sizeof plant_keys / sizeof plant_keys[0])
+
+static double *plant_field(plant_params_t *p, size_t i)
+{
+    size_t k = 0;
+#define PLANT_KEY_PTR(key, def, lo, hi, isint) if (k++ == i) return &p->key;
+    PLANT_KEYS(PLANT_KEY_PTR)
+#undef PLANT_KEY_PTR
+    return NULL;
+}
+
+typedef struct {
+    const char *name;
+    int arg;
+} ev_info_t;
+#define SCN_EV_ROW(id, name, arg) {name, arg},
+static const ev_info_t ev_info[EV_COUNT] = { SCN_EVENTS(SCN_EV_ROW) };
+#undef SCN_EV_ROW
+
+const char *scenario_event_name(int kind)
+{
+    return kind >= 0 && kind < EV_COUNT ? ev_info[kind].name : "?";
+}
+
+/* ---- errors --------------------------------------------------------------------------------- */
+typedef struct {
+    const char *name;
+    char *err;
+    size_t errlen;
+} ctx_t;
+
+static int fail(const ctx_t *c, int line, const char *key, const char *fmt, ...)
+{
+    char msg[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (c->err && c->errlen) {
+        if (line > 0)
+            snprintf(c->err, c->errlen, "%s:%d: key '%s': %s", c->name, line, key, msg);
+        else
+            snprintf(c->err, c->errlen, "%s: key '%s': %s", c->name, key, msg);
+    }
+    return -1;
+}
+
+/* A plain decimal number (sign, digits, point, exponent) and nothing else: no hex, inf or nan. */
+static int parse_num(const char *s, double *v)
+{
+    const char *p = s;
+    char *end;
+    int digits = 0;
+    if (*p == '+' || *p == '-')
+        p++;
+    while (isdigit((unsigned char)*p) || *p == '.') {
+        digits += isdigit((unsigned char)*p) != 0;
+        p++;
+    }
+    if (!digits)
+        return -1;
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            p++;
+        if (!isdigit((unsigned char)*p))
+            return -1;
+        while (isdigit((unsigned char)*p))
+            p++;
+    }
+    if (*p)
+        return -1;
+    errno = 0;
+    *v = strtod(s, &end);
+    if (*end || errno == ERANGE || !isfinite(*v))
+        return -1;
+    return 0;
+}
+
+static int is_whole(double v)
+{
+    return fabs(v - floor(v + 0.5)) < 1e-9 * (fabs(v) > 1 ? fabs(v) : 1);
+}
+
+static char *trim(char *s)
+{
+    char *e;
+    while (*s && isspace((unsigned char)*s))
+        s++;
+    e = s + strlen(s);
+    while (e > s && isspace((unsigned char)e[-1]))
+        *--e = 0;
+    return s;
+}
+
+/* ---- controllers ------------------------------------------------------------------------------ */
+int scenario_controller_id(const char *name)
+{
+    int id;
+    if (strcmp(name, "best") == 0)
+        return CTL_BEST;
+    for (id = 0; id < CTL_COUNT; id++)
+        if (strcmp(name, ctl_name((uint8_t)id)) == 0)
+            return id;
+    return -1;
+}
+
+static void controller_names(char *buf, size_t n)
+{
+    int id;
+    size_t k = 0;
+    buf[0] = 0;
+    for (id = 0; id < CTL_COUNT && k < n; id++)
+        k += (size_t)snprintf(buf + k, n - k, "%s, ", ctl_name((uint8_t)id));
+    if (k < n)
+        snprintf(buf + k, n - k, "best");
+}
+
+int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t errlen)
+{
+    int id = scenario_controller_id(name);
+    char names[128];
+    if (id < 0) {
+        controller_names(names, sizeof names);
+        if (err && errlen)
+            snprintf(err, errlen, "unknown controller '%s' (one of: %s)", name, names);
+        return -1;
+    }
+    s->param[P_CONTROLLER] = (uint16_t)id;
+    return 0;
+}
+
+/* ---- defaults --------------------------------------------------------------------------------- */
+void scenario_default(scenario_t *s, const char *name)
+{
+    uint8_t i;
+    memset(s, 0, sizeof *s);
+    snprintf(s->name, sizeof s->name, "%s", name ? name : "scenario");
+    s->duration_s = 300;
+    s->seed = 7;
+    for (i = 0; i < P_COUNT; i++)
+        s->param[i] = param_info(i)->def;
+    plant_params_default(&s->plant);
+}
+
+int scenario_nozzles_per_section(const scenario_t *s)
+{
+    return s->param[P_NOZZLES] / s->param[P_SECTIONS];
+}
+
+/* ---- sections -------------------------------------------------------------------------------- */
+enum { SEC_NONE, SEC_RUN, SEC_CONFIG, SEC_PLANT, SEC_DRIVE, SEC_EVENTS };
+static const char *const sec_names[] = {"", "run", "config", "plant", "drive", "events"};
+
+#define MAX_KEYS 64
+typedef struct {
+    int sec;
+    char key[40];
+} seen_t;
+
+static int run_key(const ctx_t *c, scenario_t *s, int line, const char *key, const char *val)
+{
+    double v;
+    if (strcmp(key, "duration_s") == 0) {
+        if (parse_num(val, &v) < 0)
+            return fail(c, line, key, "'%s' is not a number", val);
+        if (v <= 0 || v > 1e6)
+            return fail(c, line, key, "%g out of range (0, 1000000] s", v);
+        s->duration_s = v;
+        return 0;
+    }
+    if (strcmp(key, "seed") == 0) {
+        const char *p;
+        char *end;
+        unsigned long long u;
+        for (p = val; *p; p++)
+            if (!isdigit((unsigned char)*p))
+                return fail(c, line, key, "'%s' is not a whole number 0..2^64-1", val);
+        errno = 0;
+        u = strtoull(val, &end, 10);
+        if (errno == ERANGE || *end || !*val)
+            return fail(c, line, key, "'%s' is not a whole number 0..2^64-1", val);
+        s->seed = (uint64_t)u;
+        return 0;
+    }
+    return fail(c, line, key, "unknown key in [run] (keys: duration_s, seed)");
+}
+
+static int config_key(const ctx_t *c, scenario_t *s, int line, const char *key, const char *val)
+{
+    size_t i;
+    double v, scaled;
+    if (strcmp(key, "controller") == 0) {
+        char msg[200];
+        if (scenario_set_controller(s, val, msg, sizeof msg) < 0)
+            return fail(c, line, key, "%s", msg);
+        return 0;
+    }
+    for (i = 0; i < N_CFG; i++)
+        if (strcmp(key, cfg_keys[i].key) == 0)
+            break;
+    if (i == N_CFG)
+        return fail(c, line, key, "unknown key in [config]");
+    if (parse_num(val, &v) < 0)
+        return fail(c, line, key, "'%s' is not a number", val);
+    scaled = v * cfg_keys[i].scale;
+    {
+        const param_info_t *pi = param_info(cfg_keys[i].id);
+        double lo = pi->min / cfg_keys[i].scale, hi = pi->max / cfg_keys[i].scale;
+        if (scaled < pi->min - 1e-9 || scaled > pi->max + 1e-9)
+            return fail(c, line, key, "%g out of the firmware's range %g..%g %s", v, lo, hi, pi->unit);
+        if (!is_whole(scaled))
+            return fail(c, line, key, "%g has more decimals than the firmware keeps (steps of %g)",
+                        v, 1.0 / cfg_keys[i].scale);
+        s->param[cfg_keys[i].id] = (uint16_t)floor(scaled + 0.5);
+    }
+    return 0;
+}
+
+static int plant_key(const ctx_t *c, scenario_t *s, int line, const char *key, const char *val)
+{
+    size_t i;
+    double v;
+    for (i = 0; i < N_PLANT; i++)
+        if (strcmp(key, plant_keys[i].key) == 0)
+            break;
+    if (i == N_PLANT)
+        return fail(c, line, key, "unknown key in [plant]");
+    if (parse_num(val, &v) < 0)
+        return fail(c, line, key, "'%s' is not a number", val);
+    if (v < plant_keys[i].lo || v > plant_keys[i].hi)
+        return fail(c, line, key, "%g out of range %g..%g", v, plant_keys[i].lo, plant_keys[i].hi);
+    if (plant_keys[i].isint && !is_whole(v))
+        return fail(c, line, key, "%g is not a whole number", v);
+    *plant_field(&s->plant, i) = v;
+    return 0;
+}
+
+/* Split a row into at most 4 whitespace-separated words; returns their count (4: too many). */
+static int words(char *s, char *w[4])
+{
+    int n = 0;
+    char *p = s;
+    while (*p && n < 4) {
+        while (*p && isspace((unsigned char)*p))
+            p++;
+        if (!*p)
+            break;
+        w[n++] = p;
+        while (*p && !isspace((unsigned char)*p))
+            p++;
+        if (*p)
+            *p++ = 0;
+    }
+    return n;
+}
+
+static int drive_row(const ctx_t *c, scenario_t *s, int line, char *row)
+{
+    char *w[4];
+    double t, v;
+    int n = words(row, w);
+    if (n != 2)
+        return fail(c, line, "drive", "a row is 'time_s speed_kmh' (%d words here)", n);
+    if (parse_num(w[0], &t) < 0)
+        return fail(c, line, "drive", "time '%s' is not a number", w[0]);
+    if (parse_num(w[1], &v) < 0)
+        return fail(c, line, "drive", "speed '%s' is not a number", w[1]);
+    if (t < 0)
+        return fail(c, line, "drive", "time %g is negative", t);
+    if (s->n_drive > 0 && t < s->drive[s->n_drive - 1].t_s)
+        return fail(c, line, "drive", "time goes backwards (%g after %g)", t, s->drive[s->n_drive - 1].t_s);
+    if (v < 0 || v > 60)
+        return fail(c, line, "drive", "speed %g out of range 0..60 km/h", v);
+    if (s->n_drive >= SCN_MAX_DRIVE)
+        return fail(c, line, "drive", "more than %d rows", SCN_MAX_DRIVE);
+    s->drive[s->n_drive].t_s = t;
+    s->drive[s->n_drive].kmh = v;
+    s->n_drive++;
+    return 0;
+}
+
+static int event_row(const ctx_t *c, scenario_t *s, int line, char *row)
+{
+    char *w[4];
+    double t, v = 0;
+    int n = words(row, w), k;
+    if (n < 2 || n > 3)
+        return fail(c, line, "events", "a row is 'time_s event [value]' (%d words here)", n);
+    if (parse_num(w[0], &t) < 0)
+        return fail(c, line, "events", "time '%s' is not a number", w[0]);
+    for (k = 0; k < EV_COUNT; k++)
+        if (strcmp(w[1], ev_info[k].name) == 0)
+            break;
+    if (k == EV_COUNT)
+        return fail(c, line, w[1], "unknown event");
+    if (t < 0)
+        return fail(c, line, w[1], "time %g is negative", t);
+    if (s->n_events > 0 && t < s->events[s->n_events - 1].t_s)
+        return fail(c, line, w[1], "time goes backwards (%g after %g)", t, s->events[s->n_events - 1].t_s);
+    if (ev_info[k].arg && n != 3)
+        return fail(c, line, w[1], "needs a value");
+    if (!ev_info[k].arg && n != 2)
+        return fail(c, line, w[1], "takes no value ('%s' given)", w[2]);
+    if (n == 3 && parse_num(w[2], &v) < 0)
+        return fail(c, line, w[1], "value '%s' is not a number", w[2]);
+    if (s->n_events >= SCN_MAX_EVENTS)
+        return fail(c, line, w[1], "more than %d events", SCN_MAX_EVENTS);
+    s->events[s->n_events].t_s = t;
+    s->events[s->n_events].kind = k;
+    s->events[s->n_events].value = v;
+    s->events[s->n_events].line = line;
+    s->n_events++;
+    return 0;
+}
+
+int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, size_t n)
+{
+    int noz = s->param[P_NOZZLES], sec = s->param[P_SECTIONS];
+#define BAD(...) do { if (msg && n) snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
+    if (kind < 0 || kind >= EV_COUNT)
+        BAD("unknown event");
+    switch (kind) {
+    case EV_SECTIONS_OPEN:
+        if (!is_whole(v) || v < 0 || v > noz)
+            BAD("%g is not a number of nozzles 0..%d", v, noz);
+        if ((int)floor(v + 0.5) % (noz / sec) != 0)
+            BAD("%g nozzles is not a whole number of sections (%d nozzles each)", v, noz / sec);
+        break;
+    case EV_RATE:
+        if (!is_whole(v) || v < 0 || v > 65535 || !param_in_range(P_RATE, (uint16_t)floor(v + 0.5)))
+            BAD("%g out of the firmware's range %u..%u L/ha (whole numbers)", v,
+                param_info(P_RATE)->min, param_info(P_RATE)->max);
+        break;
+    case EV_GIVEN_SPEED:
+        if (v < 0 || v > 6553 || !is_whole(v * 10) || !param_in_range(P_GIVEN_SPEED, (uint16_t)floor(v * 10 + 0.5)))
+            BAD("%g out of the firmware's range 0..%g km/h in steps of 0.1", v, param_info(P_GIVEN_SPEED)->max / 10.0);
+        break;
+    case EV_PTO_RPM:
+        if (v < 0 || v > 1500)
+            BAD("%g out of range 0..1500 rpm", v);
+        break;
+    case EV_BOUNCE:
+        if (v < 0 || v > 100)
+            BAD("%g out of range 0..100 %%", v);
+        break;
+    case EV_LEAK:
+        if (v < 0 || v > 200)
+            BAD("%g out of range 0..200 L/min", v);
+        break;
+    case EV_CLOG:
+        if (!is_whole(v) || v < 0 || v > noz)
+            BAD("%g is not a number of nozzles 0..%d", v, noz);
+        break;
+    case EV_TANK:
+        if (v < 0 || v > s->plant.tank_l)
+            BAD("%g out of range 0..%g L (tank_l)", v, s->plant.tank_l);
+        break;
+    default:
+        if (v != 0)
+            BAD("takes no value");
+        break;
+    }
+#undef BAD
+    return 0;
+}
+
+/* Checks that need the whole file: the boom's sections, the tank, the events' values. */
+static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, int tank_line)
+{
+    int noz = s->param[P_NOZZLES], sec = s->param[P_SECTIONS], i;
+    if (noz % sec != 0)
+        return fail(c, nozzles_line, nozzles_line ? "nozzles" : "sections",
+                    "%d nozzles do not split evenly over %d sections", noz, sec);
+    if (s->plant.tank_start_l > s->plant.tank_l)
+        return fail(c, tank_line, "tank_start_l", "%g L is more than the tank holds (tank_l %g)",
+                    s->plant.tank_start_l, s->plant.tank_l);
+    for (i = 0; i < s->n_events; i++) {
+        const scn_event_t *e = &s->events[i];
+        char msg[200];
+        if (e->t_s > s->duration_s)
+            return fail(c, e->line, ev_info[e->kind].name, "at %g s, after the end of the run (duration_s %g)",
+                        e->t_s, s->duration_s);
+        if (scenario_event_check(s, e->kind, e->value, msg, sizeof msg) < 0)
+            return fail(c, e->line, ev_info[e->kind].name, "%s", msg);
+    }
+    s->plant.nozzles = noz;
+    s->plant.spacing_m = s->param[P_SPACING] / 100.0;
+    return 0;
+}
+
+int scenario_parse(scenario_t *out, const char *text, const char *name, char *err, size_t errlen)
+{
+    static scenario_t tmp;          /* large: built aside, copied to out only when all is well */
+    ctx_t c;
+    seen_t seen[MAX_KEYS];
+    int n_seen = 0, sec = SEC_NONE, line = 0, nozzles_line = 0, tank_line = 0, rc = 0;
+    size_t len = strlen(text);
+    char *buf, *p;
+    int sec_seen[6] = {0};
+
+    c.name = name ? name : "scenario";
+    c.err = err;
+    c.errlen = errlen;
+    if (err && errlen)
+        err[0] = 0;
+    scenario_default(&tmp, c.name);
+    buf = malloc(len + 1);
+    if (!buf)
+        return fail(&c, 0, "-", "out of memory");
+    memcpy(buf, text, len + 1);
+
+    for (p = buf; rc == 0 && p && *p;) {
+        char *nl = strchr(p, '\n'), *s, *hash, *eq;
+        if (nl)
+            *nl = 0;
+        line++;
+        s = p;
+        p = nl ? nl + 1 : NULL;
+        hash = strchr(s, '#');
+        if (hash)
+            *hash = 0;
+        s = trim(s);
+        if (!*s)
+            continue;
+        if (*s == '[') {
+            char *close = strchr(s, ']');
+            int k;
+            if (!close || close[1])
+                { rc = fail(&c, line, s, "a section header is '[name]' alone on its line"); break; }
+            *close = 0;
+            for (k = 1; k <= SEC_EVENTS; k++)
+                if (strcmp(trim(s + 1), sec_names[k]) == 0)
+                    break;
+            if (k > SEC_EVENTS)
+                { rc = fail(&c, line, s + 1, "unknown section (run, config, plant, drive, events)"); break; }
+            if (sec_seen[k])
+                { rc = fail(&c, line, s + 1, "section given twice"); break; }
+            sec_seen[k] = 1;
+            sec = k;
+            continue;
+        }
+        if (sec == SEC_NONE)
+            { rc = fail(&c, line, s, "comes before any [section]"); break; }
+        if (sec == SEC_DRIVE) {
+            rc = drive_row(&c, &tmp, line, s);
+            continue;
+        }
+        if (sec == SEC_EVENTS) {
+            rc = event_row(&c, &tmp, line, s);
+            continue;
+        }
+        eq = strchr(s, '=');
+        if (!eq)
+            { rc = fail(&c, line, s, "expected 'key = value'"); break; }
+        *eq = 0;
+        {
+            char *key = trim(s), *val = trim(eq + 1);
+            int i;
+            if (!*key)
+                { rc = fail(&c, line, "", "a value without a key"); break; }
+            if (!*val)
+                { rc = fail(&c, line, key, "missing value"); break; }
+            for (i = 0; i < n_seen; i++)
+                if (seen[i].sec == sec && strcmp(seen[i].key, key) == 0)
+                    break;
+            if (i < n_seen)
+                { rc = fail(&c, line, key, "given twice in [%s]", sec_names[sec]); break; }
+            if (n_seen < MAX_KEYS && strlen(key) < sizeof seen[0].key) {
+                seen[n_seen].sec = sec;
+                strcpy(seen[n_seen].key, key);
+                n_seen++;
+            }
+            if (sec == SEC_RUN)
+                rc = run_key(&c, &tmp, line, key, val);
+            else if (sec == SEC_CONFIG) {
+                rc = config_key(&c, &tmp, line, key, val);
+                if (strcmp(key, "nozzles") == 0 || (strcmp(key, "sections") == 0 && !nozzles_line))
+                    nozzles_line = line;
+            } else {
+                rc = plant_key(&c, &tmp, line, key, val);
+                if (strcmp(key, "tank_start_l") == 0 || (strcmp(key, "tank_l") == 0 && !tank_line))
+                    tank_line = line;
+            }
+        }
+    }
+    free(buf);
+    if (rc == 0)
+        rc = check_whole(&c, &tmp, nozzles_line, tank_line);
+    if (rc == 0)
+        *out = tmp;
+    return rc;
+}
+
+int scenario_load(scenario_t *s, const char *path, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    char *text;
+    size_t n;
+    int rc;
+    if (!f) {
+        if (err && errlen)
+            snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    text = malloc(SCN_MAX_BYTES + 1);
+    if (!text) {
+        fclose(f);
+        if (err && errlen)
+            snprintf(err, errlen, "%s: out of memory", path);
+        return -1;
+    }
+    n = fread(text, 1, SCN_MAX_BYTES + 1, f);
+    if (ferror(f) || n > SCN_MAX_BYTES) {
+        fclose(f);
+        free(text);
+        if (err && errlen)
+            snprintf(err, errlen, "%s: %s", path, n > SCN_MAX_BYTES ? "larger than 1 MB" : "read error");
+        return -1;
+    }
+    fclose(f);
+    text[n] = 0;
+    if (memchr(text, 0, n)) {
+        free(text);
+        if (err && errlen)
+            snprintf(err, errlen, "%s: not a text file (NUL byte)", path);
+        return -1;
+    }
+    rc = scenario_parse(s, text, path, err, errlen);
+    free(text);
+    return rc;
+}
+
+double scenario_drive_kmh(const scenario_t *s, double t)
+{
+    int lo = 0, hi = s->n_drive - 1;
+    const scn_drive_t *d = s->drive;
+    if (s->n_drive == 0)
+        return 0.0;
+    if (t < d[0].t_s)
+        return d[0].kmh;
+    if (t >= d[hi].t_s)
+        return d[hi].kmh;
+    /* the last row with t_s <= t (so a step's second row wins at its own time) */
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (d[mid].t_s <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    if (d[hi].t_s == d[lo].t_s)
+        return d[hi].kmh;
+    return d[lo].kmh + (d[hi].kmh - d[lo].kmh) * (t - d[lo].t_s) / (d[hi].t_s - d[lo].t_s);
+}

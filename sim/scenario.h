@@ -1,0 +1,87 @@
+/* scenario.h: the scenario file of PLANT.md ([run] [config] [plant] [drive] [events]), read strictly. */
+#ifndef SIM_SCENARIO_H
+#define SIM_SCENARIO_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "plant.h"
+#include "params.h"
+
+#define SCN_MAX_DRIVE 4096
+#define SCN_MAX_EVENTS 1024
+#define SCN_MAX_BYTES (1u << 20)     /* a scenario file larger than 1 MB is refused */
+
+/* Events of the [events] section: `time_s name [value]`. */
+#define SCN_EVENTS(X)                                                           \
+    X(EV_SECTIONS_OPEN,      "sections_open",           1)  /* N nozzles open */  \
+    X(EV_RATE,               "rate_l_ha",               1)  /* param_set(P_RATE) */ \
+    X(EV_GIVEN_SPEED,        "given_speed_kmh",         1)  /* param_set(P_GIVEN_SPEED), 0: wheel */ \
+    X(EV_PTO_RPM,            "pto_rpm",                 1)                         \
+    X(EV_METER_FAIL,         "meter_fail",              0)                         \
+    X(EV_METER_RESTORE,      "meter_restore",           0)                         \
+    X(EV_SPEED_FAIL,         "speed_sensor_fail",       0)                         \
+    X(EV_SPEED_RESTORE,      "speed_sensor_restore",    0)                         \
+    X(EV_PSENS_OPEN,         "pressure_sensor_open",    0)                         \
+    X(EV_PSENS_RESTORE,      "pressure_sensor_restore", 0)                         \
+    X(EV_VALVE_STUCK,        "valve_stuck",             0)                         \
+    X(EV_VALVE_FREE,         "valve_free",              0)                         \
+    X(EV_BOUNCE,             "speed_bounce_pct",        1)                         \
+    X(EV_LEAK,               "leak_lpm",                1)  /* after the meter, at 3 bar */ \
+    X(EV_CLOG,               "clog_nozzles",            1)                         \
+    X(EV_TANK,               "tank_l",                  1)  /* refill to X litres */
+
+#define SCN_EV_ENUM(id, name, arg) id,
+enum { SCN_EVENTS(SCN_EV_ENUM) EV_COUNT };
+#undef SCN_EV_ENUM
+
+typedef struct {
+    double t_s;
+    double kmh;                     /* commanded speed */
+} scn_drive_t;
+
+typedef struct {
+    double t_s;
+    int kind;                       /* EV_* */
+    double value;                   /* 0 when the event takes none */
+    int line;                       /* where it stands in the file */
+} scn_event_t;
+
+typedef struct {
+    char name[256];                 /* file name, for messages */
+    /* [run] */
+    double duration_s;              /* default 300 */
+    uint64_t seed;                  /* default 7 */
+    /* [config]: the firmware parameters the operator set, in params.h units, all valid */
+    uint16_t param[P_COUNT];        /* starts at the firmware's defaults */
+    /* [plant] (nozzles and spacing follow [config]) */
+    plant_params_t plant;
+    /* [drive]: time-ordered, linear between rows, two rows at one time make a step */
+    int n_drive;
+    scn_drive_t drive[SCN_MAX_DRIVE];
+    /* [events]: time-ordered */
+    int n_events;
+    scn_event_t events[SCN_MAX_EVENTS];
+} scenario_t;
+
+/* Read a scenario file. 0 on success; -1 with "file:line: key 'k': what is wrong" in err (and
+ * the scenario must not be run) on any error: unknown section or key, a key given twice, a
+ * bad or missing number, a value out of range, time going backwards, an unknown event. */
+int scenario_load(scenario_t *s, const char *path, char *err, size_t errlen);
+/* The same from text in memory; name stands for the file in messages. */
+int scenario_parse(scenario_t *s, const char *text, const char *name, char *err, size_t errlen);
+/* A scenario of defaults only (what an empty file gives). */
+void scenario_default(scenario_t *s, const char *name);
+/* Controller by name: ctl_name(id) of any id, or "best" (CTL_BEST). -1 when unknown. */
+int scenario_controller_id(const char *name);
+/* Change the controller after loading (the program's --controller); -1 and err when unknown. */
+int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t errlen);
+/* The driver's commanded speed at time t (km/h). */
+double scenario_drive_kmh(const scenario_t *s, double t_s);
+/* 0 when an event's value is valid for this scenario; -1 and why in msg otherwise. */
+int scenario_event_check(const scenario_t *s, int kind, double value, char *msg, size_t n);
+/* The name of an event kind. */
+const char *scenario_event_name(int kind);
+/* Nozzles a section holds (param NOZZLES / SECTIONS; the reader checks it divides). */
+int scenario_nozzles_per_section(const scenario_t *s);
+
+#endif

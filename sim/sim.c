@@ -1,0 +1,267 @@
+/* sim.c: the lock-step loop: scenario events and driver, the plant, the host HAL, app_poll(), metrics and trace. */
+#include <math.h>
+#include <string.h>
+#include <time.h>
+#include "sim.h"
+#include "hal_host.h"
+#include "params.h"
+#include "app.h"
+#include "ctl.h"
+
+/* The application's alarm codes; until app.c provides them an alarm is named by its bit. */
+extern const char *app_alarm_code(uint8_t bit) __attribute__((weak));
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void apply_params(const scenario_t *s)
+{
+    uint8_t i;
+    for (i = 0; i < P_COUNT; i++)
+        param_set(i, s->param[i]);          /* all were range-checked by the reader */
+}
+
+static void set_sections(sim_t *sim, int open_nozzles)
+{
+    int nps = scenario_nozzles_per_section(sim->scn);
+    int on = open_nozzles / nps;
+    sim->plant.open_nozzles = open_nozzles;
+    hal_host_io.sections = (uint8_t)((1u << on) - 1u);
+}
+
+void sim_init(sim_t *sim, const scenario_t *s)
+{
+    memset(sim, 0, sizeof *sim);
+    sim->scn = s;
+    sim->end_ns = (uint64_t)(s->duration_s * 1e9 + 0.5);
+    hal_host_reset();
+    plant_init(&sim->plant, &s->plant, s->seed);
+    sim->plant.flow_edge = hal_host_flow_edge;
+    sim->plant.wheel_edge = hal_host_wheel_edge;
+    set_sections(sim, s->plant.nozzles);
+    hal_host_io.adc[HAL_ADC_PRESSURE] = sim->plant.adc_pressure;
+    hal_host_io.adc[HAL_ADC_LEVEL] = sim->plant.adc_level;
+    metrics_init(&sim->metrics, SIM_SAMPLE_S);
+    sim->next_sample_ns = (uint64_t)(SIM_SAMPLE_S * 1e9 + 0.5);
+
+    /* the firmware as at power-on, with the operator's settings */
+    params_defaults();
+    apply_params(s);
+    hal_init();
+    app_init();
+    apply_params(s);
+}
+
+int sim_event(sim_t *sim, int kind, double v)
+{
+    plant_t *pl = &sim->plant;
+    if (scenario_event_check(sim->scn, kind, v, NULL, 0) < 0)
+        return -1;
+    switch (kind) {
+    case EV_SECTIONS_OPEN: set_sections(sim, (int)floor(v + 0.5)); break;
+    case EV_RATE: param_set(P_RATE, (uint16_t)floor(v + 0.5)); break;
+    case EV_GIVEN_SPEED: param_set(P_GIVEN_SPEED, (uint16_t)floor(v * 10 + 0.5)); break;
+    case EV_PTO_RPM: pl->pto_rpm = v; break;
+    case EV_METER_FAIL: pl->meter_fail = 1; break;
+    case EV_METER_RESTORE: pl->meter_fail = 0; break;
+    case EV_SPEED_FAIL: pl->speed_fail = 1; break;
+    case EV_SPEED_RESTORE: pl->speed_fail = 0; break;
+    case EV_PSENS_OPEN: pl->psens_open = 1; break;
+    case EV_PSENS_RESTORE: pl->psens_open = 0; break;
+    case EV_VALVE_STUCK: pl->valve_stuck = 1; break;
+    case EV_VALVE_FREE: pl->valve_stuck = 0; break;
+    case EV_BOUNCE: pl->bounce_pct = v; break;
+    case EV_LEAK: pl->leak_lpm = v; break;
+    case EV_CLOG: pl->clogged = (int)floor(v + 0.5); break;
+    case EV_TANK: pl->tank_v = v; break;
+    default: return -1;
+    }
+    return 0;
+}
+
+int sim_event_name(sim_t *sim, const char *name, double value)
+{
+    int k;
+    for (k = 0; k < EV_COUNT; k++)
+        if (strcmp(name, scenario_event_name(k)) == 0)
+            return sim_event(sim, k, value);
+    return -1;
+}
+
+static const char *alarm_code(uint8_t bit, char *buf, size_t n)
+{
+    const char *c = app_alarm_code ? app_alarm_code(bit) : NULL;
+    if (c && *c)
+        return c;
+    snprintf(buf, n, "ALARM_%u", bit);
+    return buf;
+}
+
+void sim_step(sim_t *sim)
+{
+    const scenario_t *s = sim->scn;
+    plant_t *pl = &sim->plant;
+    uint64_t t1 = sim->t_ns + SIM_TICK_NS;
+    plant_in_t in;
+    double dt = SIM_TICK_NS * 1e-9;
+
+    while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= (double)t1) {
+        const scn_event_t *e = &s->events[sim->next_event++];
+        sim_event(sim, e->kind, e->value);          /* checked when the file was read */
+    }
+    pl->v_cmd_kmh = scenario_drive_kmh(s, t1 * 1e-9);
+    in.drive = hal_host_io.valve_dir * (hal_host_io.valve_duty / 255.0);
+    in.spray_on = hal_host_io.spray_on;
+
+    hal_host_set_time_ns(t1);
+    plant_step(pl, &in, SIM_TICK_NS);
+    sim->t_ns = t1;
+    hal_host_io.adc[HAL_ADC_PRESSURE] = pl->adc_pressure;
+    hal_host_io.adc[HAL_ADC_LEVEL] = pl->adc_level;
+
+    app_poll();
+
+    if (app_status.alarms & ~sim->prev_alarms) {
+        unsigned rise = app_status.alarms & ~sim->prev_alarms;
+        uint8_t b;
+        char buf[16];
+        for (b = 0; b < 16; b++)
+            if (rise & (1u << b))
+                metrics_alarm(&sim->metrics, t1 * 1e-9, alarm_code(b, buf, sizeof buf));
+    }
+    sim->prev_alarms = app_status.alarms;
+
+    metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
+                param_v[P_RATE], pl->p_bar, pl->spray_on);
+    sim->acc_meter += pl->q_meter;
+    sim->acc_boom += pl->q_boom;
+    sim->acc_n++;
+    if (t1 >= sim->next_sample_ns) {
+        sim->flow_true_lpm = sim->acc_meter / sim->acc_n;
+        sim->boom_lpm = sim->acc_boom / sim->acc_n;
+        sim->acc_meter = sim->acc_boom = 0;
+        sim->acc_n = 0;
+        metrics_sample(&sim->metrics, app_status.target_lpm_x100 / 100.0, sim->flow_true_lpm);
+        sim->next_sample_ns += (uint64_t)(SIM_SAMPLE_S * 1e9 + 0.5);
+    }
+    if (sim->csv && t1 >= sim->next_csv_ns) {
+        sim_row_t r;
+        sim_row(sim, &r);
+        sim_csv_row(sim->csv, &r);
+        sim->next_csv_ns += sim->csv_period_ns;
+    }
+}
+
+void sim_run(sim_t *sim, double until_s)
+{
+    uint64_t until = until_s <= 0 ? 0 : (uint64_t)(until_s * 1e9 + 0.5);
+    double w0 = now_s();
+    if (until > sim->end_ns)
+        until = sim->end_ns;
+    while (sim->t_ns + SIM_TICK_NS <= until)
+        sim_step(sim);
+    sim->wall_s += now_s() - w0;
+}
+
+int sim_done(const sim_t *sim)
+{
+    return sim->t_ns + SIM_TICK_NS > sim->end_ns;
+}
+
+double sim_time_s(const sim_t *sim)
+{
+    return sim->t_ns * 1e-9;
+}
+
+void sim_row(const sim_t *sim, sim_row_t *r)
+{
+    const plant_t *pl = &sim->plant;
+    memset(r, 0, sizeof *r);
+    r->t_s = sim->t_ns * 1e-9;
+    r->v_cmd_kmh = pl->v_cmd_kmh;
+    r->v_true_kmh = plant_speed_kmh(pl);
+    r->v_meas_kmh = app_status.speed_kmh_x100 / 100.0;
+    r->target_lpm = app_status.target_lpm_x100 / 100.0;
+    r->flow_meas_lpm = app_status.flow_lpm_x100 / 100.0;
+    r->flow_true_lpm = sim->flow_true_lpm;
+    r->boom_lpm = sim->boom_lpm;
+    r->pump_lpm = pl->q_pump;
+    r->bypass_lpm = pl->q_bypass;
+    r->relief_lpm = pl->q_relief;
+    r->p_bar = pl->p_bar;
+    r->p_meas_kpa = app_status.pressure_kpa;
+    r->adc_pressure = hal_host_io.adc[HAL_ADC_PRESSURE];
+    r->adc_level = hal_host_io.adc[HAL_ADC_LEVEL];
+    r->valve_pos = pl->theta;
+    r->valve_drive = pl->drive;
+    r->ctl_drive = app_status.drive / 32768.0;
+    r->kp = app_status.gain[0] / 4096.0;
+    r->ki = app_status.gain[1] / 4096.0;
+    r->kd = app_status.gain[2] / 4096.0;
+    r->tank_l = pl->tank_v;
+    r->tank_meas_l = app_status.tank_l;
+    r->pto_rpm = pl->pto_now_rpm;
+    r->spray_on = hal_host_io.spray_on;
+    r->open_nozzles = pl->open_nozzles;
+    r->sections = hal_host_io.sections;
+    r->alarms = app_status.alarms;
+}
+
+void sim_csv_header(FILE *f)
+{
+    fputs("t_s,v_cmd_kmh,v_true_kmh,v_meas_kmh,target_lpm,flow_meas_lpm,flow_true_lpm,boom_lpm,"
+          "pump_lpm,bypass_lpm,relief_lpm,p_bar,p_meas_kpa,adc_pressure,adc_level,valve_pos,valve_drive,"
+          "ctl_drive,kp,ki,kd,tank_l,tank_meas_l,pto_rpm,spray_on,open_nozzles,sections,alarms\n", f);
+}
+
+void sim_csv_row(FILE *f, const sim_row_t *r)
+{
+    fprintf(f, "%.3f,%.4f,%.4f,%.2f,%.2f,%.2f,%.4f,%.4f,%.3f,%.3f,%.3f,%.4f,%.0f,%d,%d,%.5f,%.4f,"
+               "%.5f,%.4f,%.4f,%.4f,%.3f,%.0f,%.1f,%d,%d,%d,0x%04x\n",
+            r->t_s, r->v_cmd_kmh, r->v_true_kmh, r->v_meas_kmh, r->target_lpm, r->flow_meas_lpm,
+            r->flow_true_lpm, r->boom_lpm, r->pump_lpm, r->bypass_lpm, r->relief_lpm, r->p_bar,
+            r->p_meas_kpa, r->adc_pressure, r->adc_level, r->valve_pos, r->valve_drive, r->ctl_drive,
+            r->kp, r->ki, r->kd, r->tank_l, r->tank_meas_l, r->pto_rpm, r->spray_on, r->open_nozzles,
+            r->sections, r->alarms);
+}
+
+void sim_trace_csv(sim_t *sim, FILE *f, double period_s)
+{
+    sim->csv = f;
+    if (!f)
+        return;
+    sim->csv_period_ns = (uint64_t)((period_s > 0.001 ? period_s : 0.001) * 1e9 + 0.5);
+    sim->next_csv_ns = sim->t_ns + sim->csv_period_ns;
+    sim_csv_header(f);
+}
+
+void sim_finish(sim_t *sim, metrics_result_t *r)
+{
+    metrics_finish(&sim->metrics, r);
+}
+
+void sim_json(const sim_t *sim, const metrics_result_t *r, FILE *f)
+{
+    char extra[512];
+    const char *name = sim->scn->name;
+    char clean[256];
+    size_t i, k = 0;
+    for (i = 0; name[i] && k + 2 < sizeof clean; i++) {
+        if (name[i] == '"' || name[i] == '\\')
+            clean[k++] = '\\';
+        clean[k++] = (char)((unsigned char)name[i] < 32 ? '?' : name[i]);
+    }
+    clean[k] = 0;
+    snprintf(extra, sizeof extra, "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,",
+             clean, ctl_name((uint8_t)param_v[P_CONTROLLER]), (unsigned long long)sim->scn->seed);
+    metrics_json(f, &sim->metrics, r, extra, sim->wall_s);
+}
+
+void sim_free(sim_t *sim)
+{
+    metrics_free(&sim->metrics);
+}

@@ -1,0 +1,117 @@
+/* sim.h: the simulator: the firmware application (app.h) in lock-step with the plant model, events, trace and metrics. */
+#ifndef SIM_SIM_H
+#define SIM_SIM_H
+
+/*
+ * How to use it (one simulation per process at a time: the firmware and the host HAL are
+ * single instances):
+ *
+ *     scenario_t *s = malloc(sizeof *s);          // large (the drive table): not on a small stack
+ *     char err[256];
+ *     if (scenario_load(s, "scenarios/paper_dynamic_150.scn", err, sizeof err) < 0) { puts(err); exit(1); }
+ *     sim_t *sim = malloc(sizeof *sim);
+ *     sim_init(sim, s);                           // HAL reset, plant at rest, firmware params, app_init()
+ *     sim_trace_csv(sim, csv_file, 0.1);          // optional: one CSV row every 0.1 s
+ *     sim_run(sim, 60.0);                         // up to t = 60 s (or sim_step() tick by tick)
+ *     sim_event(sim, EV_METER_FAIL, 0);           // apply an event now (scenario.h SCN_EVENTS)
+ *     sim_run(sim, s->duration_s);
+ *     metrics_result_t r; sim_finish(sim, &r);    // the metrics of PLANT.md
+ *     sim_json(sim, &r, stdout);                  // ... as one JSON line
+ *     sim_free(sim);
+ *
+ * One tick (SIM_TICK_NS = 1 ms) of sim_step, in this order:
+ *   1. the scenario's events due at or before the tick's end are applied;
+ *   2. the driver's command for the tick is read from [drive];
+ *   3. the firmware's outputs in hal_host_io (valve_dir, valve_duty, spray_on) drive the plant;
+ *   4. the plant advances one tick; the simulated clock (hal_host_set_time_ns) moves to the
+ *      tick's end, then the pulse edges of the tick reach hal_host_flow_edge/_wheel_edge with
+ *      their exact times, and hal_host_io.adc[HAL_ADC_PRESSURE], [HAL_ADC_LEVEL] are updated;
+ *   5. app_poll() runs once (it does its control step when APP_PERIOD_MS has passed);
+ *   6. metrics and the trace take the tick.
+ * Firmware parameters from [config] are set with param_set() before and again after app_init()
+ * (so an app that loads its parameters from the erased EEPROM in app_init still gets them, and
+ * param_generation says they changed). The section switches (hal_host_io.sections) start with
+ * every section on; `sections_open N` switches on the first N / (nozzles / sections) sections.
+ */
+
+#include <stdint.h>
+#include <stdio.h>
+#include "scenario.h"
+#include "plant.h"
+#include "metrics.h"
+
+#define SIM_TICK_NS 1000000u        /* plant step: 1 ms */
+#define SIM_SAMPLE_S 0.1            /* target/flow samples for the step metrics (= APP_PERIOD_MS) */
+
+/* Everything the trace holds at one instant: the truth, the firmware's view, the controller. */
+typedef struct {
+    double t_s;
+    double v_cmd_kmh, v_true_kmh;   /* driver's command, true ground speed */
+    double v_meas_kmh;              /* firmware: app_status.speed_kmh_x100 */
+    double target_lpm;              /* firmware: target boom flow */
+    double flow_meas_lpm;           /* firmware: measured flow */
+    double flow_true_lpm;           /* truth: through the meter (nozzles + leak), mean over the last sample period */
+    double boom_lpm;                /* truth: out of the nozzles, mean over the last sample period */
+    double pump_lpm, bypass_lpm, relief_lpm;  /* truth, this tick */
+    double p_bar;                   /* truth: line pressure at the boom */
+    double p_meas_kpa;              /* firmware: app_status.pressure_kpa */
+    int adc_pressure, adc_level;    /* what the ADC reads now */
+    double valve_pos;               /* truth: bypass valve 0 closed .. 1 open */
+    double valve_drive;             /* HAL output as the plant takes it: [-1, 1], + opens the bypass */
+    double ctl_drive;               /* firmware: controller output, + = more boom flow, [-1, 1) */
+    double kp, ki, kd;              /* firmware: gains of the last step */
+    double tank_l;                  /* truth */
+    double tank_meas_l;             /* firmware: app_status.tank_l */
+    double pto_rpm;
+    int spray_on;                   /* master boom valve as the firmware set it */
+    int open_nozzles;               /* truth: nozzles in the open sections */
+    int sections;                   /* switch bits the firmware reads */
+    unsigned alarms;                /* firmware: app_status.alarms */
+} sim_row_t;
+
+typedef struct {
+    const scenario_t *scn;          /* must outlive the simulation */
+    plant_t plant;
+    metrics_t metrics;
+    uint64_t t_ns;                  /* simulated time (= hal_host_io.time_ns) */
+    uint64_t end_ns;                /* duration_s of the scenario */
+    int next_event;                 /* index into scn->events */
+    unsigned prev_alarms;
+    /* mean flows over the current sample period */
+    double acc_meter, acc_boom;
+    uint32_t acc_n;
+    double flow_true_lpm, boom_lpm; /* the last period's means */
+    uint64_t next_sample_ns;
+    /* trace */
+    FILE *csv;
+    uint64_t csv_period_ns, next_csv_ns;
+    double wall_s;                  /* wall time spent in sim_step so far */
+} sim_t;
+
+/* Start a simulation of scenario s at time 0 (resets the host HAL and the firmware). */
+void sim_init(sim_t *sim, const scenario_t *s);
+/* One plant tick of SIM_TICK_NS and one app_poll(). */
+void sim_step(sim_t *sim);
+/* Step until the simulated time reaches until_s (never past the scenario's end). */
+void sim_run(sim_t *sim, double until_s);
+/* 1 once the scenario's duration is over. */
+int sim_done(const sim_t *sim);
+double sim_time_s(const sim_t *sim);
+/* Apply an event now (kinds and values as in [events]); -1 when the value is not valid for
+ * this scenario (nothing changes), 0 when applied. */
+int sim_event(sim_t *sim, int kind, double value);
+/* The same by the event's name ("meter_fail", "leak_lpm", ...); -1 for an unknown name too. */
+int sim_event_name(sim_t *sim, const char *name, double value);
+/* Fill a trace row with the state now. */
+void sim_row(const sim_t *sim, sim_row_t *row);
+/* Write the CSV header now and one row every period_s from here on (f == NULL stops). */
+void sim_trace_csv(sim_t *sim, FILE *f, double period_s);
+void sim_csv_header(FILE *f);
+void sim_csv_row(FILE *f, const sim_row_t *r);
+/* The metrics of the run so far (steps, zones, dose...). */
+void sim_finish(sim_t *sim, metrics_result_t *r);
+/* The metrics as one JSON line, with the scenario's name, controller and seed first. */
+void sim_json(const sim_t *sim, const metrics_result_t *r, FILE *f);
+void sim_free(sim_t *sim);
+
+#endif

@@ -1,0 +1,135 @@
+/* sim_main.c: the simulator program: run a scenario, write the trace, print the metrics as one JSON line last. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "sim.h"
+
+static void usage(FILE *f)
+{
+    fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
+          "           [--zones OUT.csv]\n"
+          "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
+          "  prints the metrics of PLANT.md as one JSON object on the last line.\n"
+          "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n", f);
+}
+
+static int parse_u64(const char *s, unsigned long long *v)
+{
+    char *end;
+    if (!*s || *s == '-' || *s == '+')
+        return -1;
+    errno = 0;
+    *v = strtoull(s, &end, 10);
+    return (*end || errno) ? -1 : 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL;
+    unsigned long long seed = 0;
+    int have_seed = 0, i;
+    double period = 0.1;
+    char err[512];
+    scenario_t *s;
+    sim_t *sim;
+    FILE *csv = NULL;
+    metrics_result_t r;
+
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        }
+        if (!v) {
+            fprintf(stderr, "sim: %s needs a value\n", a);
+            usage(stderr);
+            return 2;
+        }
+        if (!strcmp(a, "--scenario"))
+            scn_path = v;
+        else if (!strcmp(a, "--controller"))
+            controller = v;
+        else if (!strcmp(a, "--csv"))
+            csv_path = v;
+        else if (!strcmp(a, "--zones"))
+            zones_path = v;
+        else if (!strcmp(a, "--seed")) {
+            if (parse_u64(v, &seed) < 0) {
+                fprintf(stderr, "sim: --seed '%s' is not a whole number 0..2^64-1\n", v);
+                return 2;
+            }
+            have_seed = 1;
+        } else if (!strcmp(a, "--trace-period")) {
+            char *end;
+            period = strtod(v, &end);
+            if (*end || !(period >= 0.001 && period <= 3600)) {
+                fprintf(stderr, "sim: --trace-period '%s' is not a number of seconds 0.001..3600\n", v);
+                return 2;
+            }
+        } else {
+            fprintf(stderr, "sim: unknown option '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+        i++;
+    }
+    if (!scn_path) {
+        fprintf(stderr, "sim: --scenario FILE is required\n");
+        usage(stderr);
+        return 2;
+    }
+    s = malloc(sizeof *s);
+    sim = malloc(sizeof *sim);
+    if (!s || !sim) {
+        fprintf(stderr, "sim: out of memory\n");
+        return 1;
+    }
+    if (scenario_load(s, scn_path, err, sizeof err) < 0) {
+        fprintf(stderr, "sim: %s\n", err);
+        return 1;
+    }
+    if (controller && scenario_set_controller(s, controller, err, sizeof err) < 0) {
+        fprintf(stderr, "sim: --controller: %s\n", err);
+        return 1;
+    }
+    if (have_seed)
+        s->seed = seed;
+    if (csv_path) {
+        csv = fopen(csv_path, "w");
+        if (!csv) {
+            fprintf(stderr, "sim: cannot write %s: %s\n", csv_path, strerror(errno));
+            return 1;
+        }
+    }
+    sim_init(sim, s);
+    if (csv)
+        sim_trace_csv(sim, csv, period);
+    sim_run(sim, s->duration_s);
+    sim_finish(sim, &r);
+    if (csv && fclose(csv) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", csv_path, strerror(errno));
+        return 1;
+    }
+    if (zones_path) {
+        FILE *z = fopen(zones_path, "w");
+        if (!z) {
+            fprintf(stderr, "sim: cannot write %s: %s\n", zones_path, strerror(errno));
+            return 1;
+        }
+        metrics_zones_csv(z, &sim->metrics);
+        if (fclose(z) != 0) {
+            fprintf(stderr, "sim: error writing %s: %s\n", zones_path, strerror(errno));
+            return 1;
+        }
+    }
+    printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.0fx real time)\n", s->name, r.sim_s,
+           sim->wall_s, sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0);
+    sim_json(sim, &r, stdout);
+    sim_free(sim);
+    free(sim);
+    free(s);
+    return 0;
+}
