@@ -205,3 +205,20 @@ demo:
 # simulated seconds per wall second for the paper's run (one process, one core; best of 3)
 bench-sim: $(SIM_BIN)
 	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn
+
+# ---- issue 6: console ---------------------------------------------------------------------------
+# make panel [PANEL_SCENARIO=file] [PANEL_ARGS="--speed 2 ..."]: the LCD12864 and the keypad in the
+# terminal, the firmware against the simulated sprayer in real time (sim/panel_main.c; q quits).
+# make screenshots: the run screen and a menu as PNG in docs/ (the README shows them).
+PANEL_BIN := $(OPT_DIR)/bin/panel
+PANEL_SCENARIO ?=
+PANEL_ARGS ?=
+.PHONY: panel screenshots
+
+panel: $(PANEL_BIN)
+	$(Q)$(PANEL_BIN) $(if $(PANEL_SCENARIO),--scenario $(PANEL_SCENARIO)) $(PANEL_ARGS)
+
+screenshots: $(PANEL_BIN)
+	@mkdir -p docs
+	$(Q)$(PANEL_BIN) --time 40 --keys "*" --screenshot docs/panel_run.png
+	$(Q)$(PANEL_BIN) --time 40 --keys "*.....ABBBBD" --screenshot docs/panel_menu.png

@@ -312,13 +312,12 @@ int main(int argc, char **argv)
     /* sim_init reset the HAL: connect the display now and start the firmware's LCD afresh */
     st7920_emu_reset();
     hal_host_lcd_sink(st7920_emu_write);
-    for (const char *k = keys; k && *k; k++)
-        key_push(*k);
-
     if (shot) {                     /* batch: time, keys, settle, PNG, text */
         char line[17];
         while (sim_time_s(sim) < pre_s && tick(sim))
             ;
+        for (const char *k = keys; k && *k; k++)
+            key_push(*k);
         while (keys_busy() && tick(sim))
             ;
         for (int i = 0; i < 600 && tick(sim); i++)
@@ -336,6 +335,8 @@ int main(int argc, char **argv)
 
     while (sim_time_s(sim) < pre_s && tick(sim))
         ;
+    for (const char *k = keys; k && *k; k++)
+        key_push(*k);
     if (!isatty(0) || raw_start() < 0) {
         fprintf(stderr, "panel: stdin is not a terminal (use --screenshot for batch runs)\n");
         return 1;
