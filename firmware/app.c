@@ -1,21 +1,293 @@
-/* app.c: the main loop's scheduler: one control step every APP_PERIOD_MS, the watchdog fed while it runs. */
+/* app.c: the main loop: every APP_PERIOD_MS measure, target, control, drive the valve, diagnose, log; the watchdog fed while healthy. */
 #include "hal.h"
+#include "params.h"
+#include "ctl.h"
 #include "app.h"
+#include "speed.h"
+#include "flow.h"
+#include "analog.h"
+#include "target.h"
+#include "valve.h"
+#include "diag.h"
+#include "totals.h"
+#include "serial.h"
 
-static uint32_t next_ms;
+/*
+ * One control step (app_step) every APP_PERIOD_MS from hal_ms():
+ *   measure: wheel speed, meter flow, pressure and level (speed.c, flow.c, analog.c)
+ *   target:  eq. (1) with Table 1's minimum flow, the given speed when set (target.c)
+ *   spray:   the master valve is open when sections are on, the tank is above its minimum,
+ *            and (auto) the machine moves; it shuts at standstill, on an empty tank
+ *   drive:   start-up closes the bypass at full duty until the line reaches P_P_MIN (the
+ *            paper's start), then the controller (bumpless, ctl_reset); over-pressure forces
+ *            the valve open; manual mode only jogs; with the flow meter lost the controller
+ *            gets the nozzle model's flow from the pressure (diag.c)
+ *   diagnose, totals, a log line every 1000 ms (serial.c), the buzzer while alarms are unacked.
+ * The watchdog is kicked after a step that ran on time (less than one period late) while no
+ * internal fault is latched; a step late by a whole period or more is not rescheduled back to
+ * back (the schedule restarts from now) and that step does not kick.
+ */
+#define APP_PRIME_MAX_PERIODS 100u  /* start-up closing gives up after 10 s */
+#define APP_JOG_PERIODS 3u          /* a jog drives 0.3 s ... */
+#define APP_JOG_DRIVE Q15(0.6)      /* ... at 60 % duty */
+#define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
+#define APP_LOG_PERIODS (1000u / APP_PERIOD_MS)
+
+app_status_t app_status;
+
+static struct {
+    uint32_t next_ms;
+    uint16_t overruns;              /* steps late by a period or more */
+    uint8_t prime;                  /* periods of start-up closing left (0: done) */
+    uint8_t jog;                    /* periods of jog left */
+    int8_t jog_dir;
+    uint8_t ctl_id;                 /* P_CONTROLLER the controller was selected for */
+    uint8_t was_manual;
+    uint8_t log_div;
+    uint8_t internal;
+} ap;
 
 void app_init(void)
 {
+    params_defaults();
     hal_valve_out(HAL_VALVE_OFF, 0);
     hal_spray_enable(0);
-    next_ms = hal_ms() + APP_PERIOD_MS;
+    hal_buzzer(0);
+    speed_init();
+    flow_init();
+    analog_init();
+    target_init();
+    valve_init();
+    diag_init();
+    totals_init();
+    serial_init();
+    ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
+    ctl_select(ap.ctl_id);
+    ap.overruns = 0;
+    ap.prime = 0;
+    ap.jog = 0;
+    ap.jog_dir = 0;
+    ap.was_manual = 0;
+    ap.log_div = 0;
+    ap.internal = 0;
+    app_status.speed_kmh_x100 = 0;
+    app_status.target_lpm_x100 = 0;
+    app_status.flow_lpm_x100 = 0;
+    app_status.pressure_kpa = 0;
+    app_status.tank_l = 0;
+    app_status.applied_l_ha_x10 = 0;
+    app_status.drive = 0;
+    app_status.gain[0] = app_status.gain[1] = app_status.gain[2] = 0;
+    app_status.alarms = 0;
+    app_status.alarms_unacked = 0;
+    app_status.spraying = 0;
+    app_status.manual = 0;
+    app_status.open_nozzles = 0;
+    app_status.job_area_m2 = app_status.job_volume_ml = 0;
+    app_status.life_area_m2 = app_status.life_volume_ml = 0;
+    ap.next_ms = hal_ms() + APP_PERIOD_MS;
+}
+
+/* Every parameter inside its range, or RAM is not what it should be. */
+static uint8_t params_sane(void)
+{
+    uint8_t i;
+    for (i = 0; i < P_COUNT; i++)
+        if (!param_in_range(i, param_v[i]))
+            return 0;
+    return 1;
+}
+
+static void app_step(void)
+{
+    uint16_t v_meas, v, p;
+    int16_t q_meter, q_used, target;
+    uint8_t sections, open, want, manual, meter_lost, overp;
+    uint16_t g;
+    q15_t drive;
+    ctl_in_t in;
+    const totals_t *t;
+
+    if (!params_sane()) {
+        ap.internal = 1;
+        diag_internal_fault();
+    }
+    /* the controller the operator chose */
+    if ((uint8_t)param_v[P_CONTROLLER] != ap.ctl_id) {
+        ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
+        ctl_select(ap.ctl_id);
+        ctl_reset(app_status.drive);
+    }
+
+    /* measure */
+    v_meas = speed_step();
+    q_meter = flow_step();
+    analog_step();
+    p = analog_pressure_kpa();
+    sections = hal_sections();
+    target_update(sections);
+    open = target_open_nozzles();
+    diag_set_nozzles(open);
+    v = target_speed_x100(v_meas);
+    target = open ? target_flow_x100(v) : 0;
+    manual = param_v[P_MODE] != 0;
+    app_status.manual = manual;
+
+    /* the flow the loop follows: the meter, or the nozzle model when the meter is lost */
+    meter_lost = (diag_alarms() >> AL_METER_LOST) & 1u;
+    q_used = q_meter;
+    if (meter_lost && analog_pressure_ok())
+        q_used = diag_nozzle_flow_x100(p, open);
+
+    /* spray or not */
+    want = open && !((diag_alarms() >> AL_TANK_LOW) & 1u) && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
+           && (manual || v > 0) && !ap.internal;
+    if (want != app_status.spraying) {
+        app_status.spraying = want;
+        hal_spray_enable(want);
+        if (want) {
+            ap.prime = (!manual && analog_pressure_ok() && p < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
+            ctl_reset(0);
+        }
+    }
+    if (manual != ap.was_manual) {
+        ap.was_manual = manual;
+        if (!manual)
+            ctl_reset(app_status.drive);    /* bumpless: the loop starts from the drive now */
+        ap.jog = 0;
+    }
+
+    /* drive */
+    overp = analog_pressure_ok() && p > param_v[P_P_MAX];
+    drive = 0;
+    if (manual) {
+        if (ap.jog) {
+            ap.jog--;
+            drive = ap.jog_dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
+        }
+    } else if (app_status.spraying) {
+        if (ap.prime) {
+            ap.prime--;
+            if (p >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok())
+                ap.prime = 0;
+            else
+                drive = Q15_MAX;
+            if (!ap.prime)
+                ctl_reset(drive);
+        }
+        if (!ap.prime) {
+            in.target_lpm_x100 = target;
+            in.flow_lpm_x100 = q_used;
+            in.speed_kmh_x100 = v;
+            in.pressure_kpa = p;
+            in.valve_limit = valve_limit() | (overp ? CTL_AT_CLOSED : 0);
+            drive = ctl_step(&in);
+        }
+    }
+    if (overp && drive > -APP_RELIEVE_DRIVE)
+        drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
+    valve_set(drive);
+
+    /* totals: the area the open boom covers while it sprays, the volume it sprays */
+    totals_step(app_status.spraying ? v : 0, app_status.spraying ? target_width_cm() : 0,
+                app_status.spraying ? q_used : 0);
+
+    /* status */
+    app_status.speed_kmh_x100 = v;
+    app_status.target_lpm_x100 = target;
+    app_status.flow_lpm_x100 = q_used;
+    app_status.pressure_kpa = p;
+    app_status.tank_l = analog_tank_l();
+    app_status.drive = valve_applied();
+    app_status.gain[0] = ctl_gain(0);
+    app_status.gain[1] = ctl_gain(1);
+    app_status.gain[2] = ctl_gain(2);
+    app_status.open_nozzles = open;
+
+    /* diagnose (reads app_status) */
+    g = diag_step(app_status.spraying && !ap.prime);
+    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
+    app_status.alarms = g;
+    hal_buzzer(app_status.alarms_unacked != 0);
+
+    t = totals_get();
+    app_status.job_volume_ml = t->job_ml;
+    app_status.life_area_m2 = t->life_m2;
+    app_status.life_volume_ml = t->life_ml;
+
+    /* once a second: the divisions of the display values, and the log line */
+    if (++ap.log_div >= APP_LOG_PERIODS) {
+        ap.log_div = 0;
+        app_status.job_area_m2 = totals_job_m2();
+        app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
+        serial_log_request();
+    }
 }
 
 void app_poll(void)
 {
     uint32_t now = hal_ms();
-    if ((int32_t)(now - next_ms) < 0)
+    uint8_t late;
+
+    valve_poll(now);
+    serial_poll();
+    if ((int32_t)(now - ap.next_ms) < 0)
         return;
-    next_ms += APP_PERIOD_MS;
-    hal_wdt_kick();
+    late = (now - ap.next_ms) >= APP_PERIOD_MS;
+    if (late) {
+        ap.overruns++;
+        ap.next_ms = now + APP_PERIOD_MS;
+    } else {
+        ap.next_ms += APP_PERIOD_MS;
+    }
+    app_step();
+    if (!late && !ap.internal)
+        hal_wdt_kick();
+}
+
+void app_jog(int8_t dir)
+{
+    if (!app_status.manual || dir == 0)
+        return;
+    ap.jog_dir = dir;
+    ap.jog = APP_JOG_PERIODS;
+}
+
+void app_alarm_ack(void)
+{
+    app_status.alarms_unacked = 0;
+    hal_buzzer(0);
+}
+
+void app_totals_reset(void)
+{
+    totals_job_reset();
+    app_status.job_area_m2 = 0;
+    app_status.job_volume_ml = 0;
+    app_status.applied_l_ha_x10 = 0;
+}
+
+const char *app_alarm_code(uint8_t bit)
+{
+    return diag_code(bit);
+}
+
+const char *app_alarm_text(uint8_t bit)
+{
+    return diag_text(bit);
+}
+
+uint32_t app_wheel_pulses(void)
+{
+    return speed_pulses();
+}
+
+uint32_t app_flow_pulses(void)
+{
+    return flow_pulses();
+}
+
+uint16_t app_overruns(void)
+{
+    return ap.overruns;
 }

@@ -50,5 +50,7 @@ const char *app_alarm_text(uint8_t bit);
 /* Running pulse totals since start, for the calibration procedures (100 m, tank method). */
 uint32_t app_wheel_pulses(void);
 uint32_t app_flow_pulses(void);
+/* Control steps that ran a whole period or more late, since start. */
+uint16_t app_overruns(void);
 
 #endif

@@ -1,0 +1,55 @@
+/* diag.h: the alarms: each with a bit, a code, an LCD text and a serial message, and the rules that raise and clear them. */
+#ifndef DIAG_H
+#define DIAG_H
+
+#include "compiler.h"
+
+/* Alarm bits (app_status.alarms). */
+enum {
+    AL_TANK_LOW = 0,    /* tank below P_TANK_MIN: spraying stops */
+    AL_PUMP_DRY,        /* tank empty (<= 1 % of P_TANK_L): the PTO pump runs dry, disengage it */
+    AL_LEAK,            /* pressure low for the measured flow (leak after the meter) */
+    AL_CLOG,            /* pressure high for the measured flow (clogged nozzles) */
+    AL_METER_LOST,      /* no meter pulses while the pressure says liquid flows: pressure fallback */
+    AL_SPEED_LOST,      /* wheel pulses stopped at working speed: set a given speed */
+    AL_PSENS,           /* pressure sensor open or short */
+    AL_LSENS,           /* level sensor open */
+    AL_OVERPRESSURE,    /* pressure above P_P_MAX: the valve is opened */
+    AL_OFFRATE,         /* flow off the target by more than P_OFFRATE % for P_OFFRATE_S */
+    AL_VALVE_STOP,      /* the valve sits at an end stop and the controller wants more */
+    AL_METER_NOISE,     /* flow meter pulses faster than the meter can make */
+    AL_WHEEL_NOISE,     /* wheel pulses faster than 60 km/h */
+    AL_INTERNAL,        /* a parameter out of its range in RAM: latched, the watchdog resets */
+    AL_COUNT
+};
+
+/* Persistence and hysteresis, in control periods (100 ms). */
+#define DIAG_TANK_PERIODS 10u       /* 1 s below the minimum */
+#define DIAG_PDEV_PERIODS 20u       /* leak/clog: 2 s off the nozzle model */
+#define DIAG_METER_PERIODS 10u      /* 1 s without meter flow while the pressure says flow */
+#define DIAG_SPEED_PERIODS 20u      /* 2 s without a wheel pulse after working speed */
+#define DIAG_OVERP_PERIODS 3u       /* 0.3 s above P_P_MAX */
+#define DIAG_VALVE_PERIODS 30u      /* 3 s refused at a stop */
+#define DIAG_CLEAR_PERIODS 10u      /* 1 s without the cause clears an alarm */
+#define DIAG_P_CHECK_KPA 30u        /* anti-drip check valves open at 0.3 bar (nozzle model) */
+#define DIAG_MODEL_MIN_X100 500     /* leak/clog/meter rules need 5 L/min or more */
+
+void diag_init(void);
+/* One period, after the application has filled app_status for it: evaluate every rule
+ * (the inputs: app_status, the sensors' ok flags, the pulse modules' quiet counters and
+ * glitch counts, the valve's refusals); `settled`: the boom sprays and start-up is over.
+ * Returns the active alarm bits. */
+uint16_t diag_step(uint8_t settled) __reentrant;
+uint16_t diag_alarms(void);
+/* The flow the nozzles pass at this pressure, q = n Q3 / sqrt(3 bar) * sqrt(P - P_check), L/min x100. */
+int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant;
+/* The pressure the nozzle model needs for this flow, kPa (0 with no nozzles). */
+uint16_t diag_nozzle_pressure_kpa(int16_t flow_x100, uint8_t open_nozzles) __reentrant;
+/* Nozzles the model uses (set by the application each period). */
+void diag_set_nozzles(uint8_t open_nozzles) __reentrant;
+/* Latch the internal fault. */
+void diag_internal_fault(void);
+const char *diag_code(uint8_t bit);
+const char *diag_text(uint8_t bit);
+
+#endif

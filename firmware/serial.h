@@ -1,0 +1,39 @@
+/* serial.h: the RS232 link to the PC: a log line every second, alarm messages, and checked line commands. */
+#ifndef SERIAL_H
+#define SERIAL_H
+
+#include "compiler.h"
+
+/*
+ * Every line the controller sends ends in "*HH\r\n", HH the XOR of the bytes before '*' in
+ * hex (NMEA style), so the PC can reject a garbled line:
+ *   LOG <t_ms> <speed km/h x100> <pressure kPa> <target L/min x100> <flow L/min x100> <alarms hex>
+ *   ALM <code> <LCD text>          an alarm was raised
+ *   CLR <code>                     an alarm cleared
+ *   OK ...   /   ERR <reason>      the reply to a command
+ * Commands from the PC, one a line (CR or LF ends it), at most SERIAL_LINE_MAX characters,
+ * upper-case words and plain decimal numbers separated by single spaces; an optional "*HH"
+ * checksum is verified when present:
+ *   GET <id>          OK <id> <value>          (id: row of params.h)
+ *   SET <id> <value>  OK <id> <value>          ERR RANGE when param_set refuses, ERR ID
+ *   CTL <n>           OK CTL <n>               choose the controller (P_CONTROLLER)
+ *   ACK               OK ACK                   acknowledge the alarms
+ *   TOT               OK TOT <job dm^2> <job ml> <L/ha x10>
+ *   LIF               OK LIF <life m^2> <life ml>
+ *   RST               OK RST                   zero the job totals
+ *   PUL               OK PUL <wheel pulses> <meter pulses>   (calibration)
+ *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
+ *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
+ * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / LONG / CHAR.
+ * A command line that stalls unfinished for 3 s is dropped (the log lines go on).
+ */
+#define SERIAL_LINE_MAX 31
+#define SERIAL_TX_MAX 56           /* one buffer for the line in and the line out */
+
+void serial_init(void);
+/* From the main loop: receive, answer, send what is pending (never waits for the UART). */
+void serial_poll(void) __reentrant;
+/* Ask for a log line (the application does it every 1000 ms). */
+void serial_log_request(void);
+
+#endif

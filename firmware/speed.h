@@ -1,0 +1,42 @@
+/* speed.h: ground speed from the wheel pulses by timing their periods (PCA time stamps), not by counting in a window. */
+#ifndef SPEED_H
+#define SPEED_H
+
+#include "compiler.h"
+
+/*
+ * Each control period takes the edges that arrived (count n, PCA time of the newest) and
+ * measures v = distance_per_pulse * n / (t_newest - t_previous_newest): the mean speed over
+ * the last n whole pulse intervals, whatever the window. Resolution: the PCA tick (1.085 us)
+ * against a pulse interval of 0.128 s at 11 km/h is 1e-5, below the 0.01 km/h of the
+ * result and the 2e-4 of um_muldiv. Latency: the estimate is the mean over the last pulse
+ * interval(s), so it describes the instant half an interval before the newest edge, plus up
+ * to one control period (at 4 km/h with the default wheel: 0.35 s intervals, ~0.3 s mean).
+ * When pulses stop, the speed can be at most what the pulse that has not come yet allows
+ * (one pulse distance over the time since the last edge), so it falls as 1/t; below
+ * SPEED_ZERO_X100 it is zero (standstill), i.e. 2.8 s after the last pulse with the default
+ * 0.3927 m a pulse. A window whose mean period means more than SPEED_MAX_X100 is a glitch
+ * (bounce, interference): rejected and counted. Rises are limited to SPEED_SLEW_X100 a
+ * period (3 m/s^2, six times what a tractor does) so a single extra edge cannot kick the
+ * target; falls are not limited (the 1/t bound is physical).
+ * The distance per pulse is P_WHEEL (0.1 mm); its 100 m calibration counts
+ * speed_pulses() over a measured 100 m: P_WHEEL = 1000000 / pulses.
+ */
+#define SPEED_ZERO_X100 50u         /* 0.5 km/h: below this, standstill */
+#define SPEED_MAX_X100 6000u        /* 60 km/h: faster pulses are glitches */
+#define SPEED_SLEW_X100 108u        /* 3 m/s^2 over 100 ms = 1.08 km/h */
+#define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
+
+void speed_init(void);
+/* One control period: take the wheel edges, return the speed in km/h x100. */
+uint16_t speed_step(void) __reentrant;
+uint16_t speed_kmh_x100(void);
+/* Wheel pulses since start (calibration), glitch windows since start. */
+uint32_t speed_pulses(void);
+uint16_t speed_glitches(void);
+/* Control periods since the last wheel pulse (saturates at 65535). */
+uint16_t speed_quiet_periods(void);
+/* The speed measured when the last pulse came (for the speed-sensor-lost rule). */
+uint16_t speed_at_last_pulse_x100(void);
+
+#endif

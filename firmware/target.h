@@ -1,0 +1,31 @@
+/* target.h: the target boom flow, eq. (1), from the open nozzles, the minimum-flow rule of Table 1, and the speed used. */
+#ifndef TARGET_H
+#define TARGET_H
+
+#include "compiler.h"
+
+/*
+ * q1 [L/min] = C * v * d * m / 60000 (eq. 1): C = P_RATE L/ha, v km/h, d = P_SPACING cm,
+ * m = the nozzles of the switched-on sections. P_NOZZLES are split over P_SECTIONS as
+ * evenly as they go (the first N % S sections carry one more); section switch bits at or
+ * beyond P_SECTIONS are ignored.
+ * Table 1: above 0 and below P_MINF_SPEED the target is the flow of P_MINF_SPEED; at
+ * standstill it is 0. P_GIVEN_SPEED > 0 replaces the wheel sensor (bench tests, sensor lost).
+ * Per period: one 32x16 product; the constants are recomputed when a parameter or the
+ * section switches change.
+ */
+void target_init(void);
+/* Pick up parameter and section-switch changes (call once a period before the others). */
+void target_update(uint8_t sections) __reentrant;
+/* The speed the target follows: the given speed when set, else the measured one. */
+uint16_t target_speed_x100(uint16_t measured_x100) __reentrant;
+uint8_t target_speed_given(void);
+/* Eq. (1) with Table 1's rule, L/min x100 (saturates at 327.67). */
+int16_t target_flow_x100(uint16_t speed_x100) __reentrant;
+uint8_t target_open_nozzles(void);
+/* Nozzles of section s (0-based), for the console. */
+uint8_t target_section_nozzles(uint8_t s) __reentrant;
+/* Working width of the open sections, cm. */
+uint16_t target_width_cm(void);
+
+#endif

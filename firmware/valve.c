@@ -1,0 +1,189 @@
+/* valve.c: H-bridge direction and PWM for the bypass valve, dead time on reversal, end-stop estimate. */
+#include "hal.h"
+#include "params.h"
+#include "ctl.h"
+#include "valve.h"
+
+static struct {
+    int32_t oneway;                 /* Q15 strokes driven one way since the last reversal */
+    int32_t over;                   /* Q15 strokes driven past the estimated end */
+    uint16_t pos;                   /* Q15, 0 closed; VALVE_POS_UNKNOWN */
+    q15_t applied;                  /* drive of the current period */
+    q15_t rate;                     /* Q15 stroke per period at full duty: 0.1 s / travel */
+    uint16_t off_ms;                /* low 16 bits of hal_ms() when the bridge went off */
+    int8_t out_dir;                 /* what the bridge does now */
+    int8_t last_dir;                /* the last direction it drove */
+    int8_t want_dir;
+    uint8_t want_duty;
+    uint8_t limit;                  /* CTL_AT_* */
+    uint8_t blocked;                /* periods refused in a row */
+    uint8_t refused;                /* this period's demand was refused */
+    int8_t mv_dir;                  /* direction of the last moving drive: + closes */
+    uint8_t gen;
+} va;
+
+static void valve_derive(void) __reentrant
+{
+    /* one period at full duty moves APP_PERIOD (100 ms) / (P_VALVE_TRAVEL x 100 ms) strokes */
+    va.rate = (q15_t)(32768UL / param_v[P_VALVE_TRAVEL]);
+    va.gen = param_generation;
+}
+
+static void bridge(int8_t dir, uint8_t duty, uint16_t now) __reentrant
+{
+    if (dir == HAL_VALVE_OFF || duty == 0) {
+        if (va.out_dir != HAL_VALVE_OFF)
+            va.off_ms = now;
+        va.out_dir = HAL_VALVE_OFF;
+        hal_valve_out(HAL_VALVE_OFF, 0);
+        return;
+    }
+    va.out_dir = dir;
+    va.last_dir = dir;
+    hal_valve_out(dir, duty);
+}
+
+/* Drive the bridge toward what was asked, honouring the dead time. */
+static void apply(uint16_t now) __reentrant
+{
+    if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {
+        bridge(HAL_VALVE_OFF, 0, now);
+    } else if (va.want_dir == va.out_dir) {
+        bridge(va.want_dir, va.want_duty, now);
+    } else if (va.out_dir != HAL_VALVE_OFF) {
+        bridge(HAL_VALVE_OFF, 0, now);      /* reversal: off first */
+    } else if (va.want_dir == va.last_dir || (uint16_t)(now - va.off_ms) >= VALVE_DEAD_MS) {
+        bridge(va.want_dir, va.want_duty, now);
+    }
+}
+
+void valve_init(void)
+{
+    va.oneway = 0;
+    va.over = 0;
+    va.pos = VALVE_POS_UNKNOWN;
+    va.applied = 0;
+    va.off_ms = 0;
+    va.out_dir = HAL_VALVE_OFF;
+    va.last_dir = HAL_VALVE_OFF;
+    va.want_dir = HAL_VALVE_OFF;
+    va.want_duty = 0;
+    va.limit = 0;
+    va.blocked = 0;
+    va.refused = 0;
+    va.mv_dir = 0;
+    hal_valve_out(HAL_VALVE_OFF, 0);
+    valve_derive();
+}
+
+/* Integrate the last period's drive into the position estimate and the stop detection. */
+static void integrate(void) __reentrant
+{
+    q15_t d = va.applied;
+    int32_t step;
+    int8_t dir;
+
+    if (d == 0)
+        return;
+    dir = d > 0 ? 1 : -1;                   /* + closes */
+    if (d < 0)
+        d = (q15_t)(d == Q15_MIN ? Q15_MAX : -d);
+    if (d < VALVE_MOVE_Q15)
+        return;                             /* stiction: it does not move */
+    step = ((int32_t)d * va.rate + 16384) >> 15;
+    if (dir != va.mv_dir) {                 /* moving the other way: off the other stop */
+        va.mv_dir = dir;
+        va.oneway = 0;
+        va.over = 0;
+        va.limit &= (uint8_t)~(dir > 0 ? CTL_AT_OPEN : CTL_AT_CLOSED);
+    }
+    va.oneway += step;
+    if (va.pos != VALVE_POS_UNKNOWN) {
+        if (dir > 0) {
+            if ((int32_t)va.pos <= step) {
+                va.over += step - va.pos;
+                va.pos = 0;
+            } else {
+                va.pos -= (uint16_t)step;
+            }
+        } else if ((int32_t)va.pos + step >= 32767) {
+            va.over += (int32_t)va.pos + step - 32767;
+            va.pos = 32767;
+        } else {
+            va.pos += (uint16_t)step;
+        }
+    }
+    if (va.oneway >= VALVE_ONEWAY_Q15 || va.over >= VALVE_OVER_Q15) {
+        va.limit |= dir > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;
+        va.pos = dir > 0 ? 0 : 32767;
+        va.oneway = VALVE_ONEWAY_Q15;
+        va.over = VALVE_OVER_Q15;
+    }
+}
+
+void valve_set(q15_t drive) __reentrant
+{
+    uint8_t bit;
+    uint16_t mag;
+
+    if (va.gen != param_generation)
+        valve_derive();
+    integrate();
+
+    va.refused = 0;
+    if (drive != 0) {
+        bit = drive > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;
+        if (va.limit & bit) {
+            if (++va.blocked >= VALVE_RETRY_PERIODS) {
+                /* try again for a little: the estimate may have run ahead of the valve */
+                va.blocked = 0;
+                va.limit &= (uint8_t)~bit;
+                va.oneway = VALVE_ONEWAY_Q15 - VALVE_RETRY_Q15;
+                va.over = VALVE_OVER_Q15 - VALVE_RETRY_Q15;
+            } else {
+                drive = 0;
+                va.refused = 1;
+            }
+        } else {
+            va.blocked = 0;
+        }
+    }
+    va.applied = drive;
+    if (drive == 0) {
+        va.want_dir = HAL_VALVE_OFF;
+        va.want_duty = 0;
+    } else {
+        mag = drive > 0 ? (uint16_t)drive : drive == Q15_MIN ? 32767u : (uint16_t)-drive;
+        va.want_dir = drive > 0 ? HAL_VALVE_CLOSE : HAL_VALVE_OPEN;
+        va.want_duty = (uint8_t)(mag >> 7);
+        if (va.want_duty == 0)
+            va.want_duty = 1;
+    }
+    apply((uint16_t)hal_ms());
+}
+
+void valve_poll(uint32_t now_ms) __reentrant
+{
+    if (va.out_dir != va.want_dir)
+        apply((uint16_t)now_ms);
+}
+
+uint8_t valve_limit(void)
+{
+    return va.limit;
+}
+
+q15_t valve_applied(void)
+{
+    return va.applied;
+}
+
+uint16_t valve_position(void)
+{
+    return va.pos;
+}
+
+uint8_t valve_refused(void)
+{
+    return va.refused;
+}

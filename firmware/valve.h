@@ -1,0 +1,45 @@
+/* valve.h: the bypass valve's H-bridge drive: direction, PWM duty, dead time on reversal, end stops from an estimated position. */
+#ifndef VALVE_H
+#define VALVE_H
+
+#include "fixed.h"
+
+/*
+ * Drive: Q15 signed, + = more boom flow = bypass toward closed (HAL_VALVE_CLOSE), duty =
+ * |drive| >> 7. A reversal first switches both half bridges off for VALVE_DEAD_MS (the motor
+ * stops, no shoot-through), counted in milliseconds by valve_poll() from the main loop.
+ * End stops (the valve has no limit switches): the position is estimated by integrating
+ * the drive that moves the motor (|duty| >= VALVE_MOVE_Q15, below it stiction holds it) over
+ * each period divided by the full-stroke time P_VALVE_TRAVEL. The valve is at a stop when
+ *  - it has been driven one way by more than VALVE_ONEWAY_Q15 (1.2 strokes) since it last
+ *    moved the other way, or
+ *  - its estimated position is known (after a stop was found once) and it has been driven
+ *    VALVE_OVER_Q15 (0.15 stroke) past the estimated end.
+ * It is then not driven that way any more (valve_limit() reports CTL_AT_CLOSED/CTL_AT_OPEN
+ * to the controller); a drive the other way frees it at once. A blocked demand that goes on
+ * for VALVE_RETRY_PERIODS gets VALVE_RETRY_Q15 (0.05 stroke) of travel to try again, in case
+ * the estimate ran ahead of the valve (stiction): at most 1/25 of the time against a stop.
+ */
+#define VALVE_DEAD_MS 20u
+#define VALVE_MOVE_Q15 Q15(0.15)
+#define VALVE_ONEWAY_Q15 39322L     /* 1.2 strokes */
+#define VALVE_OVER_Q15 4915L        /* 0.15 stroke */
+#define VALVE_RETRY_Q15 1638L       /* 0.05 stroke */
+#define VALVE_RETRY_PERIODS 50u     /* 5 s */
+#define VALVE_POS_UNKNOWN 0xFFFFu
+
+void valve_init(void);
+/* Once a period: the drive for the next period (the previous one is integrated first). */
+void valve_set(q15_t drive) __reentrant;
+/* From the main loop as often as it turns: ends the dead time. */
+void valve_poll(uint32_t now_ms) __reentrant;
+/* CTL_AT_* bits. */
+uint8_t valve_limit(void);
+/* The drive actually applied after the stop logic, Q15. */
+q15_t valve_applied(void);
+/* Estimated position, Q15 of the stroke, 0 = closed; VALVE_POS_UNKNOWN before a stop was found. */
+uint16_t valve_position(void);
+/* 1 when this period's demand was refused (the valve is at that stop). */
+uint8_t valve_refused(void);
+
+#endif
