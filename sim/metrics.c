@@ -87,11 +87,9 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
 void metrics_sample(metrics_t *m, double target_lpm, double flow_lpm)
 {
     if (m->n_samples + 1 > m->cap_samples) {
-        int cap = m->cap_samples;
+        int cap = m->cap_samples;   /* both arrays grow to the same capacity */
         m->target = grow(m->target, &cap, m->n_samples + 1, sizeof *m->target);
-        cap = m->cap_samples;
         m->flow = grow(m->flow, &m->cap_samples, m->n_samples + 1, sizeof *m->flow);
-        (void)cap;
     }
     m->target[m->n_samples] = target_lpm;
     m->flow[m->n_samples] = flow_lpm;
@@ -227,7 +225,7 @@ int metrics_find_steps(const double *T, const double *Y, int n, double dt, metri
         for (k = kb; k <= k1; k++)
             prog[k] = (Y[k] - from) / ch;
         c10 = crossing(prog, kb, k1, 0.1);
-        c90 = c10 < 0 ? -1 : crossing(prog, (int)ceil(c10), k1, 0.9);
+        c90 = c10 < 0 ? -1 : crossing(prog, kb, k1, 0.9);
         st.t_s = k0 * dt;
         st.from_lpm = from;
         st.to_lpm = to;

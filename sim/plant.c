@@ -233,6 +233,26 @@ static void step_valve(plant_t *pl, double drive, double dt)
     }
 }
 
+void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns)
+{
+    double dt = dt_ns * 1e-9, lag = pl->p.meter_lag_s;
+    pl->q_rotor = lag > 0.0 ? pl->q_rotor + (q_lpm - pl->q_rotor) * (1.0 - exp(-dt / lag)) : q_lpm;
+    if (!pl->meter_fail) {
+        double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor / 60.0 * dt;
+        if (n > 0.0)
+            pl->flow_pulses += emit(pl, &pl->meter_phase, n, t0, dt_ns, pl->flow_edge, 0.0);
+    }
+}
+
+void plant_wheel_step(plant_t *pl, double v_mps, uint64_t t0, uint32_t dt_ns)
+{
+    if (!pl->speed_fail && v_mps > 0.0) {
+        double n = v_mps * (1.0 + pl->p.wheel_slip_pct / 100.0) * (dt_ns * 1e-9) / pl->m_per_pulse;
+        if (n > 0.0)
+            pl->wheel_pulses += emit(pl, &pl->wheel_phase, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
+    }
+}
+
 void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
 {
     const plant_params_t *p = &pl->p;
@@ -289,22 +309,8 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
 
     pl->t_ns = t0 + dt_ns;
 
-    /* flow meter: rotor lag, then pulses at K(q) q */
-    if (p->meter_lag_s > 0.0)
-        pl->q_rotor += (pl->q_meter - pl->q_rotor) * (1.0 - exp(-dt / p->meter_lag_s));
-    else
-        pl->q_rotor = pl->q_meter;
-    if (!pl->meter_fail) {
-        double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor / 60.0 * dt;
-        if (n > 0.0)
-            pl->flow_pulses += emit(pl, &pl->meter_phase, n, t0, dt_ns, pl->flow_edge, 0.0);
-    }
-    /* wheel: slip makes the wheel turn faster than the ground goes */
-    if (!pl->speed_fail && pl->v_mps > 0.0) {
-        double n = pl->v_mps * (1.0 + p->wheel_slip_pct / 100.0) * dt / pl->m_per_pulse;
-        if (n > 0.0)
-            pl->wheel_pulses += emit(pl, &pl->wheel_phase, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
-    }
+    plant_meter_step(pl, pl->q_meter, t0, dt_ns);
+    plant_wheel_step(pl, pl->v_mps, t0, dt_ns);
     /* 4-20 mA loops into the 10-bit ADC */
     {
         double ma = 4.0 + 16.0 * pl->p_bar / PLANT_PSENS_BAR;

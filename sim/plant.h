@@ -122,6 +122,12 @@ void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed);
  * edges inside the tick go to the edge functions with their exact times in (t, t + dt]. */
 void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns);
 
+/* The sensors' pulse trains alone (plant_step calls them with the line flow and the ground
+ * speed of the tick): the turbine rotor follows q with its lag and pulses at K(q) q; the
+ * wheel pulses every 2 pi r / N of its (slipping) travel, bounce adds extra pulses. */
+void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0_ns, uint32_t dt_ns);
+void plant_wheel_step(plant_t *pl, double v_mps, uint64_t t0_ns, uint32_t dt_ns);
+
 /* Pieces of the model, for tests and the trace (no side effects). */
 double plant_cv(const plant_t *pl, double theta);            /* bypass valve, L/min/sqrt(bar) */
 double plant_boom_flow(const plant_t *pl, double p_bar);     /* nozzles' total at boom pressure */

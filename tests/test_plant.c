@@ -1,0 +1,394 @@
+/* test_plant.c: the plant model against numbers worked out by hand from PLANT.md's formulas and defaults. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <math.h>
+#include <cmocka.h>
+#include "plant.h"
+
+#define TICK 1000000u                           /* 1 ms */
+
+static plant_t pl;
+
+/* A plant with PLANT.md's defaults, pulsation and sensor noise off unless a test wants them. */
+static void setup(double theta0, int coupled, double pto_rpm)
+{
+    plant_params_t p;
+    plant_params_default(&p);
+    p.pump_pulsation_pct = 0;
+    p.pressure_noise_lsb = 0;
+    p.level_noise_lsb = 0;
+    p.valve_start_pos = theta0;
+    p.pto_coupled = coupled;
+    p.pto_rpm = pto_rpm;
+    plant_init(&pl, &p, 1);
+}
+
+static void run(double seconds, double drive, int spray)
+{
+    plant_in_t in = {drive, spray};
+    long n = lround(seconds * 1000.0), i;
+    for (i = 0; i < n; i++)
+        plant_step(&pl, &in, TICK);
+}
+
+#define assert_within(x, want, tol) do { double x_ = (x), w_ = (want), t_ = (tol); \
+    if (!(fabs(x_ - w_) <= t_)) fail_msg("%s = %.6f, want %.6f +- %.6f", #x, x_, w_, t_); } while (0)
+
+/*
+ * Sanity point 11 km/h (PLANT.md), fixed 540 rpm PTO, by hand:
+ *   boom 150 L/ha * 11 km/h * 50 cm * 36 / 60000 = 49.5 L/min, 1.375 L/min a nozzle;
+ *   K_n = 1.18/sqrt(3) = 0.68127; nozzle pressure = (1.375/0.68127)^2 + 0.3 = 4.0736 + 0.3 = 4.3736;
+ *   line loss 0.025 bar at 50 L/min -> 0.025*(49.5/50)^2 = 0.0245: boom P = 4.398 bar ("about 4.4").
+ *   pump 120 * (1 - 0.01*4.398) = 114.72 L/min; bypass takes 114.72 - 49.5 = 65.22 L/min
+ *   -> Cv = 65.22/sqrt(4.398) = 31.10; equal % (R 30) shifted: (30^(th-1) - 1/30)/(1 - 1/30) = 31.10/120
+ *   -> 30^(th-1) = 0.2592*0.96667 + 0.03333 = 0.28388 -> th = 1 + ln(0.28388)/ln(30) = 0.62978.
+ * Held at that position the line must settle at 4.40 bar and 49.5 L/min (within 2 %).
+ */
+static void test_plant_sanity_11kmh_pressure_and_flow(void **state)
+{
+    (void)state;
+    setup(0.62978, 0, 540);
+    run(3.0, 0, 1);
+    assert_within(pl.p_bar, 4.398, 0.02 * 4.398);
+    assert_within(pl.q_boom, 49.5, 0.02 * 49.5);
+    assert_within(pl.q_boom / 36, 1.375, 0.02 * 1.375);
+}
+
+/*
+ * Sanity point 4 km/h, PTO coupled: boom 18 L/min, 0.5 L/min a nozzle;
+ *   nozzle P = (0.5/0.68127)^2 + 0.3 = 0.5386 + 0.3 = 0.8386, + line loss 0.025*(18/50)^2 = 0.0032
+ *   -> 0.8419 bar ("about 0.84"). PTO 540*4/11 = 196.36 rpm: pump 120*196.36/540 = 43.636 L/min,
+ *   slip (1 - 0.008419) -> 43.269; bypass 25.269 L/min at sqrt(0.8419) = 0.91755 -> Cv 27.540
+ *   -> 30^(th-1) = 0.22950*0.96667 + 0.03333 = 0.25518 -> th = 1 + ln(0.25518)/3.40120 = 0.59838.
+ */
+static void test_plant_sanity_4kmh_coupled(void **state)
+{
+    (void)state;
+    setup(0.59838, 1, 540);
+    pl.v_cmd_kmh = 4.0;
+    pl.v_mps = 4.0 / 3.6;
+    run(3.0, 0, 1);
+    assert_within(pl.pto_now_rpm, 196.36, 0.01);
+    assert_within(pl.p_bar, 0.8419, 0.02 * 0.8419);
+    assert_within(pl.q_boom, 18.0, 0.02 * 18.0);
+}
+
+/*
+ * With a fixed PTO the valve must travel about a third of its stroke between 11 and 4 km/h:
+ * at 4 km/h, 540 rpm: pump 120*(1 - 0.008419) = 118.99; bypass 100.99 L/min at 0.91755
+ * -> Cv 110.06 -> 30^(th-1) = 0.91719*0.96667 + 0.03333 = 0.91995 -> th = 0.97547
+ * (0.3457 of the stroke above the 11 km/h position 0.62978: 1.38 s at full drive).
+ * With the PTO coupled, 0.59838 against 0.62978: 0.031 of the stroke ("barely moves").
+ */
+static void test_plant_fixed_pto_4kmh_needs_a_third_of_the_stroke(void **state)
+{
+    (void)state;
+    setup(0.97547, 0, 540);
+    run(3.0, 0, 1);
+    assert_within(pl.q_boom, 18.0, 0.02 * 18.0);
+    assert_within(pl.p_bar, 0.8419, 0.02 * 0.8419);
+}
+
+/* PTO coupling: n = 540 * v_cmd / 11; at 5.5 km/h 270 rpm, pump at 0 bar 120*270/540 = 60 L/min,
+ * at 2 bar 60*(1 - 0.02) = 58.8. Uncoupled: 540 rpm whatever the speed: 120 L/min. */
+static void test_plant_pto_coupling_scales_the_pump(void **state)
+{
+    (void)state;
+    setup(1.0, 1, 540);
+    pl.v_cmd_kmh = 5.5;
+    run(0.01, 0, 1);
+    assert_within(pl.pto_now_rpm, 270.0, 1e-9);
+    assert_within(plant_pump_flow(&pl, 0.0), 60.0, 1e-9);
+    assert_within(plant_pump_flow(&pl, 2.0), 58.8, 1e-9);
+    setup(1.0, 0, 540);
+    pl.v_cmd_kmh = 5.5;
+    run(0.01, 0, 1);
+    assert_within(plant_pump_flow(&pl, 0.0), 120.0, 1e-9);
+}
+
+/* Pulsation: 3 diaphragms at 540 rpm give 3*540/60 = 27 Hz, +-4 %: in 1 s the pump flow (slip
+ * taken out) crosses its mean upwards 27 times (+-1 for the phase) and spans 120*0.96..120*1.04. */
+static void test_plant_pump_pulsation_27hz_4pct(void **state)
+{
+    double lo = 1e9, hi = 0, prev = 0;
+    int i, up = 0;
+    plant_in_t in = {0, 1};
+    (void)state;
+    setup(0.62978, 0, 540);
+    pl.p.pump_pulsation_pct = 4;
+    run(1.0, 0, 1);
+    for (i = 0; i < 1000; i++) {
+        double q;
+        plant_step(&pl, &in, TICK);
+        q = pl.q_pump / (1.0 - 0.01 * pl.p_bar) - 120.0;
+        lo = fmin(lo, q);
+        hi = fmax(hi, q);
+        if (i > 0 && prev < 0 && q >= 0)
+            up++;
+        prev = q;
+    }
+    assert_true(up >= 26 && up <= 28);
+    assert_within(hi, 4.8, 0.05);
+    assert_within(lo, -4.8, 0.05);
+}
+
+/* Relief valve: bypass shut (th 0), boom shut, 540 rpm: 120*(1 - 0.01 P) = 200*(P - 5)
+ * -> 1120 = 201.2 P -> P = 5.5666 bar, relief flow 200*0.5666 = 113.3 L/min. */
+static void test_plant_relief_valve_caps_pressure(void **state)
+{
+    (void)state;
+    setup(0.0, 0, 540);
+    run(1.0, 0, 0);
+    assert_within(pl.p_bar, 5.5666, 0.001);
+    assert_within(pl.q_relief, 113.32, 0.1);
+    assert_within(pl.q_boom, 0.0, 0.0);
+}
+
+/* Check valves: pressurise the line with the bypass shut, then stop the pump. The nozzles drain
+ * it down to their cracking pressure 0.3 bar and hold it there (no other way out); no flow. */
+static void test_plant_check_valves_hold_0_3_bar(void **state)
+{
+    (void)state;
+    setup(0.0, 0, 540);
+    run(1.0, 0, 1);
+    assert_true(pl.p_bar > 5.0);
+    pl.pto_rpm = 0;
+    run(5.0, 0, 1);
+    assert_within(pl.p_bar, 0.3, 0.002);
+    assert_true(pl.q_boom < 0.2);
+    run(5.0, 0, 1);
+    assert_within(pl.q_boom, 0.0, 1e-3);
+    /* the nozzle law directly: nothing at 0.29 bar; at 0.55 bar 36 * 0.68127 * sqrt(0.25) = 12.26
+     * L/min less the line loss: 12.26/sqrt(1 + 24.526^2 * 1e-5) = 12.223 */
+    assert_within(plant_boom_flow(&pl, 0.29), 0.0, 0.0);
+    assert_within(plant_boom_flow(&pl, 0.55), 12.223, 0.01);
+}
+
+/* Valve travel: 4 s full stroke. Starting closed with the motor in the middle of the 2 % gap,
+ * full drive takes up 1 % first (0.04 s): at 2 s th = (2 - 0.04)/4 = 0.49; at 4 s 0.99; the
+ * end stop holds it at 1 from 4.04 s on. */
+static void test_plant_valve_travel_time_and_end_stop(void **state)
+{
+    (void)state;
+    setup(0.0, 0, 540);
+    run(2.0, 1.0, 1);
+    assert_within(pl.theta, 0.49, 1e-6);
+    run(2.0, 1.0, 1);
+    assert_within(pl.theta, 0.99, 1e-6);
+    run(1.0, 1.0, 1);
+    assert_within(pl.theta, 1.0, 0.0);
+    /* half duty (128/255 = 0.50196) back, 0.12549 a second: the motor pushed the valve open, so
+     * it crosses the whole 2 % gap first: after 2 s th = 1 - (0.25098 - 0.02) = 0.76902 */
+    run(2.0, -128.0 / 255.0, 1);
+    assert_within(pl.theta, 0.76902, 1e-4);
+}
+
+/* Stiction: below 20 % duty nothing moves; at 21 % it moves 0.21/4 per second. From 0.5:
+ * 0.19 for 10 s stays at 0.5; 0.21 for 4 s: motor +0.21, less the half gap 0.01 -> 0.70. */
+static void test_plant_valve_stiction(void **state)
+{
+    (void)state;
+    setup(0.5, 0, 540);
+    run(10.0, 0.19, 1);
+    assert_within(pl.theta, 0.5, 0.0);
+    run(10.0, -0.19, 1);
+    assert_within(pl.theta, 0.5, 0.0);
+    run(4.0, 0.21, 1);
+    assert_within(pl.theta, 0.70, 1e-6);
+}
+
+/* Backlash 2 %: from 0.5, +1 for 1 s -> 0.5 + 0.25 - 0.01 = 0.74; reversing, -1 for 1 s: the motor
+ * crosses the whole gap (0.02) before the valve follows -> 0.74 - (0.25 - 0.02) = 0.51. */
+static void test_plant_valve_backlash_on_reversal(void **state)
+{
+    (void)state;
+    setup(0.5, 0, 540);
+    run(1.0, 1.0, 1);
+    assert_within(pl.theta, 0.74, 1e-6);
+    run(1.0, -1.0, 1);
+    assert_within(pl.theta, 0.51, 1e-6);
+}
+
+static void test_plant_valve_stuck_does_not_move(void **state)
+{
+    (void)state;
+    setup(0.3, 0, 540);
+    pl.valve_stuck = 1;
+    run(2.0, 1.0, 1);
+    assert_within(pl.theta, 0.3, 0.0);
+}
+
+/* Meter K curve (PLANT.md): 380 p/L in range, -3 % at 7.5 L/min, -15 % at 3, none below 1.5.
+ * Pulses in 10 s at steady flow (after the rotor has settled): 380*0.85*3/60*10 = 161.5 at
+ * 3 L/min; 380*0.97*7.5/60*10 = 460.75 at 7.5; 380*30/60*10 = 1900 at 30; 0 at 1.4. */
+static uint64_t meter_pulses(double q, double seconds)
+{
+    uint64_t t = 0, n0;
+    long i;
+    setup(0.5, 0, 540);
+    for (i = 0; i < 1000; i++, t += TICK)
+        plant_meter_step(&pl, q, t, TICK);
+    n0 = pl.flow_pulses;
+    for (i = 0; i < lround(seconds * 1000); i++, t += TICK)
+        plant_meter_step(&pl, q, t, TICK);
+    return pl.flow_pulses - n0;
+}
+
+static void test_plant_meter_falls_off_below_its_range(void **state)
+{
+    (void)state;
+    assert_within(plant_meter_k(&pl, 30.0), 380.0, 1e-9);
+    assert_within(plant_meter_k(&pl, 7.5), 368.6, 1e-9);
+    assert_within(plant_meter_k(&pl, 3.0), 323.0, 1e-9);
+    assert_within(plant_meter_k(&pl, 1.4), 0.0, 0.0);
+    assert_within((double)meter_pulses(3.0, 10), 161.5, 1.0);
+    assert_within((double)meter_pulses(7.5, 10), 460.75, 1.0);
+    assert_within((double)meter_pulses(30.0, 10), 1900.0, 1.0);
+    assert_within((double)meter_pulses(1.4, 10), 0.0, 0.0);
+}
+
+/* Rotor lag 30 ms: after a step 0 -> 30 L/min the rotor's flow is 30*(1 - e^-1) = 18.96 L/min at
+ * 30 ms; pulses in the first 100 ms are about 380/60*30*(0.1 - 0.03*(1 - e^(-0.1/0.03))) = 13.5
+ * (19 without lag; the fall-off below 15 L/min takes off a little more). */
+static void test_plant_meter_rotor_lags(void **state)
+{
+    uint64_t t = 0;
+    int i;
+    (void)state;
+    setup(0.5, 0, 540);
+    for (i = 0; i < 30; i++, t += TICK)
+        plant_meter_step(&pl, 30.0, t, TICK);
+    assert_within(pl.q_rotor, 18.964, 0.01);
+    for (; i < 100; i++, t += TICK)
+        plant_meter_step(&pl, 30.0, t, TICK);
+    assert_true(pl.flow_pulses >= 11 && pl.flow_pulses <= 14);
+}
+
+/* Wheel: 2*pi*0.75/12 = 0.39270 m a pulse; 11 km/h = 3.05556 m/s -> 7.7808 pulses/s, 778.1 in
+ * 100 s, evenly spaced 0.39270/3.05556 = 128.52 ms apart; slip 10 % -> 855.9. */
+static uint64_t edges[1200];
+static int n_edges;
+static void edge(uint64_t t_ns)
+{
+    if (n_edges < 1200)
+        edges[n_edges] = t_ns;
+    n_edges++;
+}
+
+static void test_plant_wheel_pulses_slip_and_bounce(void **state)
+{
+    uint64_t t = 0;
+    long i;
+    (void)state;
+    setup(0.5, 0, 540);
+    pl.wheel_edge = edge;
+    n_edges = 0;
+    for (i = 0; i < 100000; i++, t += TICK)
+        plant_wheel_step(&pl, 11 / 3.6, t, TICK);
+    assert_within((double)pl.wheel_pulses, 778.1, 1.0);
+    for (i = 2; i < 700; i++)
+        assert_within((double)(edges[i] - edges[i - 1]), 128.52e6, 1.0e3);
+
+    setup(0.5, 0, 540);
+    pl.p.wheel_slip_pct = 10;
+    for (i = 0, t = 0; i < 100000; i++, t += TICK)
+        plant_wheel_step(&pl, 11 / 3.6, t, TICK);
+    assert_within((double)pl.wheel_pulses, 855.9, 1.0);
+
+    /* bounce 50 %: one extra pulse for half of the 778 real ones: 1167 +- 4 sd (sd sqrt(778/4) = 14) */
+    setup(0.5, 0, 540);
+    pl.bounce_pct = 50;
+    for (i = 0, t = 0; i < 100000; i++, t += TICK)
+        plant_wheel_step(&pl, 11 / 3.6, t, TICK);
+    assert_within((double)pl.wheel_pulses, 1167.0, 56.0);
+}
+
+/* Tractor: 0 -> 11 km/h command: (3.0556 - v)/1 s exceeds 0.5 m/s2 until v = 2.5556, so for the
+ * first 5.11 s the speed grows at 0.5 m/s2: 1.000 m/s at 2 s; then the lag: 3.0556 - 0.5 e^-(t-5.111). */
+static void test_plant_tractor_lag_and_acceleration_limit(void **state)
+{
+    (void)state;
+    setup(0.5, 1, 540);
+    pl.v_cmd_kmh = 11;
+    run(2.0, 0, 1);
+    assert_within(pl.v_mps, 1.0, 1e-3);
+    run(5.111, 0, 1);                           /* t = 7.111: two lag times after the limit ended */
+    assert_within(pl.v_mps, 3.05556 - 0.5 * exp(-2.0), 0.003);     /* 2.98789 */
+}
+
+/* Sensors: P 4 bar -> 4 + 16*4/16 = 8 mA -> 8*250 ohm = 2 V -> 2/5*1023 = 409.2 -> 409; an open
+ * loop reads 0; a full tank 20 mA -> 1023, half 12 mA -> 613.8 -> 614. */
+static void test_plant_sensors_4_20_ma_into_the_adc(void **state)
+{
+    plant_in_t in = {0, 0};
+    (void)state;
+    setup(0.0, 0, 0);
+    pl.p_bar = 4.0;
+    pl.p.check_valve_bar = 5.0;                 /* nothing drains: the line keeps its 4 bar */
+    plant_step(&pl, &in, TICK);
+    assert_within(pl.p_bar, 4.0, 1e-9);
+    assert_int_equal(pl.adc_pressure, 409);
+    assert_int_equal(pl.adc_level, 1023);
+    pl.tank_v = 500;
+    pl.psens_open = 1;
+    plant_step(&pl, &in, TICK);
+    assert_int_equal(pl.adc_pressure, 0);
+    assert_int_equal(pl.adc_level, 614);
+}
+
+/* Noise: 1 LSB Gaussian: over 20000 reads at 8 mA the mean is 409.2 (+-0.05) and the sd about
+ * sqrt(1 + 1/12) = 1.04 (rounding adds 1/12 LSB^2). */
+static void test_plant_pressure_noise_is_1_lsb(void **state)
+{
+    plant_in_t in = {0, 0};
+    double s = 0, ss = 0;
+    int i;
+    (void)state;
+    setup(0.0, 0, 0);
+    pl.p.pressure_noise_lsb = 1;
+    pl.p.check_valve_bar = 5.0;
+    pl.p_bar = 4.0;
+    for (i = 0; i < 20000; i++) {
+        plant_step(&pl, &in, TICK);
+        s += pl.adc_pressure;
+        ss += (double)pl.adc_pressure * pl.adc_pressure;
+    }
+    assert_within(s / 20000, 409.2, 0.05);
+    assert_within(sqrt(ss / 20000 - (s / 20000) * (s / 20000)), 1.04, 0.05);
+}
+
+/* The tank drains by what leaves the boom: 49.5 L/min for 60 s = 49.5 L. */
+static void test_plant_tank_drains_by_the_boom_flow(void **state)
+{
+    (void)state;
+    setup(0.62978, 0, 540);
+    run(60.0, 0, 1);
+    assert_within(pl.tank_v, 1000 - 49.5, 0.02 * 49.5);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_plant_sanity_11kmh_pressure_and_flow),
+        cmocka_unit_test(test_plant_sanity_4kmh_coupled),
+        cmocka_unit_test(test_plant_fixed_pto_4kmh_needs_a_third_of_the_stroke),
+        cmocka_unit_test(test_plant_pto_coupling_scales_the_pump),
+        cmocka_unit_test(test_plant_pump_pulsation_27hz_4pct),
+        cmocka_unit_test(test_plant_relief_valve_caps_pressure),
+        cmocka_unit_test(test_plant_check_valves_hold_0_3_bar),
+        cmocka_unit_test(test_plant_valve_travel_time_and_end_stop),
+        cmocka_unit_test(test_plant_valve_stiction),
+        cmocka_unit_test(test_plant_valve_backlash_on_reversal),
+        cmocka_unit_test(test_plant_valve_stuck_does_not_move),
+        cmocka_unit_test(test_plant_meter_falls_off_below_its_range),
+        cmocka_unit_test(test_plant_meter_rotor_lags),
+        cmocka_unit_test(test_plant_wheel_pulses_slip_and_bounce),
+        cmocka_unit_test(test_plant_tractor_lag_and_acceleration_limit),
+        cmocka_unit_test(test_plant_sensors_4_20_ma_into_the_adc),
+        cmocka_unit_test(test_plant_pressure_noise_is_1_lsb),
+        cmocka_unit_test(test_plant_tank_drains_by_the_boom_flow),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
