@@ -409,11 +409,11 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
 }
 
 /* Checks that need the whole file: the boom's sections, the tank, the events' values. */
-static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, int tank_line)
+static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const char *nozzles_key, int tank_line)
 {
     int noz = s->param[P_NOZZLES], sec = s->param[P_SECTIONS], i;
     if (noz % sec != 0)
-        return fail(c, nozzles_line, nozzles_line ? "nozzles" : "sections",
+        return fail(c, nozzles_line, nozzles_key,
                     "%d nozzles do not split evenly over %d sections", noz, sec);
     if (s->plant.tank_start_l > s->plant.tank_l)
         return fail(c, tank_line, "tank_start_l", "%g L is more than the tank holds (tank_l %g)",
@@ -438,6 +438,7 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
     ctx_t c;
     seen_t seen[MAX_KEYS];
     int n_seen = 0, sec = SEC_NONE, line = 0, nozzles_line = 0, tank_line = 0, rc = 0;
+    const char *nozzles_key = "nozzles";
     size_t len = strlen(text);
     char *buf, *p;
     int sec_seen[6] = {0};
@@ -518,18 +519,20 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
                 rc = run_key(&c, &tmp, line, key, val);
             else if (sec == SEC_CONFIG) {
                 rc = config_key(&c, &tmp, line, key, val);
-                if (strcmp(key, "nozzles") == 0 || (strcmp(key, "sections") == 0 && !nozzles_line))
-                    nozzles_line = line;
+                if (strcmp(key, "nozzles") == 0 || strcmp(key, "sections") == 0) {
+                    nozzles_line = line;        /* the later of the two is named */
+                    nozzles_key = strcmp(key, "nozzles") == 0 ? "nozzles" : "sections";
+                }
             } else {
                 rc = plant_key(&c, &tmp, line, key, val);
-                if (strcmp(key, "tank_start_l") == 0 || (strcmp(key, "tank_l") == 0 && !tank_line))
+                if (strcmp(key, "tank_start_l") == 0 || strcmp(key, "tank_l") == 0)
                     tank_line = line;
             }
         }
     }
     free(buf);
     if (rc == 0)
-        rc = check_whole(&c, &tmp, nozzles_line, tank_line);
+        rc = check_whole(&c, &tmp, nozzles_line, nozzles_key, tank_line);
     if (rc == 0)
         *out = tmp;
     return rc;

@@ -1,0 +1,270 @@
+/* test_scenario.c: the scenario reader: a good file, every kind of bad file (named by file, line and key), PLANT.md's example. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+#include "scenario.h"
+#include "ctl.h"
+
+static scenario_t s;
+static char err[512];
+
+static const char good[] =
+    "# a scenario with every section\n"
+    "[run]\n"
+    "duration_s = 120   # two minutes\n"
+    "seed = 18446744073709551615\n"
+    "\n"
+    "[config]\n"
+    "controller = pid\n"
+    "rate_l_ha = 125\n"
+    "nozzles = 24\n"
+    "spacing_cm = 75\n"
+    "sections = 4\n"
+    "meter_cal_ppl = 372.5\n"
+    "wheel_m_per_pulse = 0.4012\n"
+    "min_flow_speed_kmh = 3.5\n"
+    "given_speed_kmh = 6.5\n"
+    "[plant]\n"
+    "  valve_travel_s = 12   \n"
+    "pto_coupled = 0\n"
+    "pto_rpm = 1000\n"
+    "meter_k_ppl = 390\n"
+    "wheel_slip_pct = 3.5\n"
+    "tank_start_l = 400\n"
+    "[drive]\n"
+    "0 0\n"
+    "10 8\n"
+    "10 6      # a step\n"
+    "20 6\n"
+    "[events]\n"
+    "30 sections_open 12\n"
+    "40 meter_fail\n"
+    "50 rate_l_ha 100\n"
+    "60 leak_lpm 2.5\n";
+
+/* Every value lands where it belongs, in the firmware's units: 372.5 p/L -> 3725 (0.1 p/L),
+ * 0.4012 m -> 4012 (0.1 mm), 3.5 km/h -> 35, 6.5 km/h -> 65. */
+static void test_scenario_good_file(void **state)
+{
+    (void)state;
+    assert_int_equal(scenario_parse(&s, good, "good.scn", err, sizeof err), 0);
+    assert_string_equal(err, "");
+    assert_true(s.duration_s == 120.0);
+    assert_true(s.seed == 18446744073709551615ull);
+    assert_int_equal(s.param[P_CONTROLLER], CTL_PID);
+    assert_int_equal(s.param[P_RATE], 125);
+    assert_int_equal(s.param[P_NOZZLES], 24);
+    assert_int_equal(s.param[P_SPACING], 75);
+    assert_int_equal(s.param[P_SECTIONS], 4);
+    assert_int_equal(s.param[P_METER_K], 3725);
+    assert_int_equal(s.param[P_WHEEL], 4012);
+    assert_int_equal(s.param[P_MINF_SPEED], 35);
+    assert_int_equal(s.param[P_GIVEN_SPEED], 65);
+    assert_true(s.plant.valve_travel_s == 12.0);
+    assert_true(s.plant.pto_coupled == 0.0);
+    assert_true(s.plant.pto_rpm == 1000.0);
+    assert_true(s.plant.meter_k_ppl == 390.0);
+    assert_true(s.plant.wheel_slip_pct == 3.5);
+    assert_true(s.plant.tank_start_l == 400.0);
+    assert_true(s.plant.relief_bar == 5.0);          /* untouched keys keep PLANT.md's default */
+    assert_int_equal(s.plant.nozzles, 24);
+    assert_true(s.plant.spacing_m == 0.75);
+    assert_int_equal(s.n_drive, 4);
+    assert_int_equal(s.n_events, 4);
+    assert_int_equal(s.events[0].kind, EV_SECTIONS_OPEN);
+    assert_true(s.events[0].value == 12.0);
+    assert_int_equal(s.events[0].line, 29);
+    assert_int_equal(s.events[1].kind, EV_METER_FAIL);
+    assert_true(s.events[3].value == 2.5);
+    assert_int_equal(scenario_nozzles_per_section(&s), 6);
+    /* the driver: linear between rows, the second row at one time wins (a step) */
+    assert_true(scenario_drive_kmh(&s, 5) == 4.0);
+    assert_true(scenario_drive_kmh(&s, 9.999) > 7.99);
+    assert_true(scenario_drive_kmh(&s, 10) == 6.0);
+    assert_true(scenario_drive_kmh(&s, 500) == 6.0);
+}
+
+/* An empty file is all defaults: 300 s, seed 7, the firmware's parameter defaults, PLANT.md's plant. */
+static void test_scenario_empty_file_is_the_defaults(void **state)
+{
+    (void)state;
+    assert_int_equal(scenario_parse(&s, "# nothing\n\n", "empty.scn", err, sizeof err), 0);
+    assert_true(s.duration_s == 300.0);
+    assert_true(s.seed == 7);
+    assert_int_equal(s.param[P_RATE], 150);
+    assert_int_equal(s.param[P_CONTROLLER], CTL_BEST);
+    assert_true(s.plant.pump_lpm_at_540 == 120.0);
+    assert_true(s.plant.valve_travel_s == 4.0);
+    assert_true(s.plant.nozzle_lpm_at_3bar == 1.18);
+    assert_int_equal(s.n_drive, 0);
+    assert_true(scenario_drive_kmh(&s, 10) == 0.0);
+}
+
+/* One bad file: refused, the message names file, line and key, and the scenario is untouched. */
+static void bad(const char *text, const char *where)
+{
+    s.duration_s = 12345;                       /* a marker: nothing may be written on a refusal */
+    if (scenario_parse(&s, text, "bad.scn", err, sizeof err) != -1)
+        fail_msg("accepted: %s", text);
+    if (!strstr(err, where))
+        fail_msg("message '%s' does not contain '%s'", err, where);
+    assert_true(s.duration_s == 12345);
+}
+
+static void test_scenario_unknown_keys_and_sections(void **state)
+{
+    (void)state;
+    bad("[plant]\npump_lpm = 100\n", "bad.scn:2: key 'pump_lpm': unknown key in [plant]");
+    bad("[config]\nrate = 100\n", "bad.scn:2: key 'rate': unknown key in [config]");
+    bad("[run]\nduration = 100\n", "bad.scn:2: key 'duration': unknown key in [run]");
+    bad("[run]\n[sprayer]\n", "bad.scn:2: key 'sprayer': unknown section");
+    bad("duration_s = 10\n[run]\n", "bad.scn:1: key 'duration_s = 10': comes before any [section]");
+    bad("[run]\n[plant]\n[run]\n", "bad.scn:3: key 'run': section given twice");
+    bad("[run\n", "bad.scn:1: key '[run': a section header");
+    bad("[plant]\nvalve_travel_s 4\n", "bad.scn:2: key 'valve_travel_s 4': expected 'key = value'");
+    bad("[config]\ncontroller = magic\n", "bad.scn:2: key 'controller': unknown controller 'magic'");
+}
+
+static void test_scenario_missing_and_bad_numbers(void **state)
+{
+    (void)state;
+    bad("[config]\nrate_l_ha =\n", "bad.scn:2: key 'rate_l_ha': missing value");
+    bad("[config]\nrate_l_ha = # none\n", "bad.scn:2: key 'rate_l_ha': missing value");
+    bad("[config]\n = 5\n", "bad.scn:2: key '': a value without a key");
+    bad("[config]\nrate_l_ha = 15O\n", "bad.scn:2: key 'rate_l_ha': '15O' is not a number");
+    bad("[plant]\n\nvalve_travel_s = nan\n", "bad.scn:3: key 'valve_travel_s': 'nan' is not a number");
+    bad("[plant]\nvalve_travel_s = 0x10\n", "key 'valve_travel_s': '0x10' is not a number");
+    bad("[plant]\nvalve_travel_s = 1e999\n", "key 'valve_travel_s': '1e999' is not a number");
+    bad("[plant]\nvalve_travel_s = 4 s\n", "key 'valve_travel_s': '4 s' is not a number");
+    bad("[run]\nseed = -1\n", "bad.scn:2: key 'seed': '-1' is not a whole number");
+    bad("[run]\nseed = 18446744073709551616\n", "key 'seed'");
+    bad("[plant]\nwheel_elements = 12.5\n", "key 'wheel_elements': 12.5 is not a whole number");
+}
+
+static void test_scenario_values_out_of_range(void **state)
+{
+    (void)state;
+    bad("[config]\nrate_l_ha = 5000\n", "bad.scn:2: key 'rate_l_ha': 5000 out of the firmware's range 10..1000 L/ha");
+    bad("[config]\nnozzles = 0\n", "key 'nozzles': 0 out of the firmware's range");
+    bad("[config]\ngiven_speed_kmh = 31\n", "key 'given_speed_kmh': 31 out of the firmware's range 0..30 km/h");
+    bad("[config]\nmeter_cal_ppl = 380.05\n", "key 'meter_cal_ppl': 380.05 has more decimals than the firmware keeps");
+    bad("[plant]\nvalve_travel_s = -1\n", "bad.scn:2: key 'valve_travel_s': -1 out of range");
+    bad("[plant]\npto_coupled = 2\n", "key 'pto_coupled': 2 out of range 0..1");
+    bad("[run]\nduration_s = 0\n", "key 'duration_s': 0 out of range");
+    bad("[config]\nrate_l_ha = 100\nrate_l_ha = 120\n", "bad.scn:3: key 'rate_l_ha': given twice in [config]");
+    bad("[config]\nnozzles = 35\n", "bad.scn:2: key 'nozzles': 35 nozzles do not split evenly over 6 sections");
+    bad("[plant]\ntank_l = 500\n", "key 'tank_start_l': 1000 L is more than the tank holds");
+}
+
+static void test_scenario_drive_rows(void **state)
+{
+    (void)state;
+    bad("[drive]\n0 0\n10 5\n9 6\n", "bad.scn:4: key 'drive': time goes backwards (9 after 10)");
+    bad("[drive]\n0 0 1\n", "bad.scn:2: key 'drive': a row is 'time_s speed_kmh' (3 words here)");
+    bad("[drive]\n0\n", "bad.scn:2: key 'drive': a row is 'time_s speed_kmh' (1 words here)");
+    bad("[drive]\n0 fast\n", "bad.scn:2: key 'drive': speed 'fast' is not a number");
+    bad("[drive]\n0 70\n", "bad.scn:2: key 'drive': speed 70 out of range 0..60 km/h");
+    bad("[drive]\n-1 5\n", "bad.scn:2: key 'drive': time -1 is negative");
+}
+
+static void test_scenario_event_rows(void **state)
+{
+    (void)state;
+    bad("[events]\n10 meter_explodes\n", "bad.scn:2: key 'meter_explodes': unknown event");
+    bad("[events]\n10 meter_fail\n5 meter_restore\n", "bad.scn:3: key 'meter_restore': time goes backwards (5 after 10)");
+    bad("[events]\n10 sections_open\n", "bad.scn:2: key 'sections_open': needs a value");
+    bad("[events]\n10 meter_fail 3\n", "bad.scn:2: key 'meter_fail': takes no value ('3' given)");
+    bad("[events]\n10 leak_lpm lots\n", "bad.scn:2: key 'leak_lpm': value 'lots' is not a number");
+    bad("[events]\n10 sections_open 25\n",
+        "bad.scn:2: key 'sections_open': 25 nozzles is not a whole number of sections (6 nozzles each)");
+    bad("[events]\n10 sections_open 42\n", "bad.scn:2: key 'sections_open': 42 is not a number of nozzles 0..36");
+    bad("[events]\n10 rate_l_ha 2000\n", "bad.scn:2: key 'rate_l_ha': 2000 out of the firmware's range 10..1000");
+    bad("[events]\n10 given_speed_kmh 6.55\n", "bad.scn:2: key 'given_speed_kmh': 6.55 out of the firmware's range");
+    bad("[events]\n10 tank_l 1200\n", "bad.scn:2: key 'tank_l': 1200 out of range 0..1000 L");
+    bad("[events]\n10 clog_nozzles 1.5\n", "key 'clog_nozzles': 1.5 is not a number of nozzles");
+    bad("[run]\nduration_s = 60\n[events]\n61 meter_fail\n",
+        "bad.scn:4: key 'meter_fail': at 61 s, after the end of the run (duration_s 60)");
+    /* checks that need the whole file see [config] written after [events] */
+    bad("[events]\n10 sections_open 6\n[config]\nsections = 4\nnozzles = 36\n",
+        "bad.scn:2: key 'sections_open': 6 nozzles is not a whole number of sections (9 nozzles each)");
+    bad("[events]\n10 sections_open 6\n[config]\nsections = 5\n",
+        "bad.scn:4: key 'sections': 36 nozzles do not split evenly over 5 sections");
+}
+
+/* The controller by any name ctl_name() gives, or "best"; the override of the program. */
+static void test_scenario_controller_names(void **state)
+{
+    int id;
+    char text[128];
+    (void)state;
+    for (id = 0; id < CTL_COUNT; id++) {
+        snprintf(text, sizeof text, "[config]\ncontroller = %s\n", ctl_name((uint8_t)id));
+        assert_int_equal(scenario_parse(&s, text, "c.scn", err, sizeof err), 0);
+        assert_int_equal(s.param[P_CONTROLLER], id);
+    }
+    assert_int_equal(scenario_parse(&s, "[config]\ncontroller = best\n", "c.scn", err, sizeof err), 0);
+    assert_int_equal(s.param[P_CONTROLLER], CTL_BEST);
+    assert_int_equal(scenario_set_controller(&s, "bp_pid", err, sizeof err), 0);
+    assert_int_equal(s.param[P_CONTROLLER], CTL_BP_PID);
+    assert_int_equal(scenario_set_controller(&s, "nope", err, sizeof err), -1);
+    assert_non_null(strstr(err, "unknown controller 'nope'"));
+    assert_int_equal(s.param[P_CONTROLLER], CTL_BP_PID);
+}
+
+/* Files: a missing one is named; the example of PLANT.md, copied verbatim, loads as written. */
+static void test_scenario_files(void **state)
+{
+    (void)state;
+    assert_int_equal(scenario_load(&s, "scenarios/no_such_file.scn", err, sizeof err), -1);
+    assert_non_null(strstr(err, "scenarios/no_such_file.scn: cannot open"));
+    assert_int_equal(scenario_load(&s, "scenarios/plant_md_example.scn", err, sizeof err), 0);
+    assert_true(s.duration_s == 300 && s.seed == 7);
+    assert_int_equal(s.param[P_CONTROLLER], CTL_BP_PID);
+    assert_int_equal(s.param[P_METER_K], 3800);
+    assert_int_equal(s.param[P_WHEEL], 3927);
+    assert_int_equal(s.param[P_MINF_SPEED], 40);
+    assert_int_equal(s.n_drive, 3);
+    assert_true(scenario_drive_kmh(&s, 32.5) == 7.5);  /* 4 + (11 - 4) * 27.5/55 */
+    assert_int_equal(s.n_events, 2);
+    assert_int_equal(s.events[0].kind, EV_SECTIONS_OPEN);
+    assert_int_equal(s.events[1].kind, EV_METER_FAIL);
+    assert_int_equal(s.events[1].line, 21);
+}
+
+/* Every scenario the project ships loads. */
+static void test_scenario_project_files_load(void **state)
+{
+    static const char *const files[] = {
+        "scenarios/paper_dynamic_100.scn", "scenarios/paper_dynamic_125.scn", "scenarios/paper_dynamic_150.scn",
+        "scenarios/paper_dynamic_100_fixed_pto.scn", "scenarios/paper_dynamic_125_fixed_pto.scn",
+        "scenarios/paper_dynamic_150_fixed_pto.scn", "scenarios/target_step_100.scn",
+        "scenarios/target_step_125.scn", "scenarios/target_step_150.scn", "scenarios/field_3220m_100.scn",
+        "scenarios/field_3220m_125.scn", "scenarios/field_3220m_150.scn",
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof files / sizeof files[0]; i++)
+        if (scenario_load(&s, files[i], err, sizeof err) != 0)
+            fail_msg("%s", err);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_scenario_good_file),
+        cmocka_unit_test(test_scenario_empty_file_is_the_defaults),
+        cmocka_unit_test(test_scenario_unknown_keys_and_sections),
+        cmocka_unit_test(test_scenario_missing_and_bad_numbers),
+        cmocka_unit_test(test_scenario_values_out_of_range),
+        cmocka_unit_test(test_scenario_drive_rows),
+        cmocka_unit_test(test_scenario_event_rows),
+        cmocka_unit_test(test_scenario_controller_names),
+        cmocka_unit_test(test_scenario_files),
+        cmocka_unit_test(test_scenario_project_files_load),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
