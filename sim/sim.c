@@ -8,9 +8,6 @@
 #include "app.h"
 #include "ctl.h"
 
-/* The application's alarm codes; until app.c provides them an alarm is named by its bit. */
-extern const char *app_alarm_code(uint8_t bit) __attribute__((weak));
-
 static double now_s(void)
 {
     struct timespec ts;
@@ -94,7 +91,7 @@ int sim_event_name(sim_t *sim, const char *name, double value)
 
 static const char *alarm_code(uint8_t bit, char *buf, size_t n)
 {
-    const char *c = app_alarm_code ? app_alarm_code(bit) : NULL;
+    const char *c = app_alarm_code(bit);
     if (c && *c)
         return c;
     snprintf(buf, n, "ALARM_%u", bit);

@@ -1,0 +1,190 @@
+/* test_sim.c: the lock-step simulator: determinism by seed, events, exact edge times, PLANT.md's example run unchanged. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+#include "sim.h"
+#include "hal_host.h"
+#include "params.h"
+#include "ctl.h"
+
+static scenario_t scn;
+static sim_t sim;
+static char err[512];
+
+#define ROWS 300                                /* 30 s at one row every 0.1 s */
+static sim_row_t ra[ROWS], rb[ROWS];
+
+static void load(const char *path)
+{
+    if (scenario_load(&scn, path, err, sizeof err) != 0)
+        fail_msg("%s", err);
+}
+
+/* 30 s of a scenario, one row every 100 ms. */
+static void record(sim_row_t *rows)
+{
+    int i;
+    sim_init(&sim, &scn);
+    for (i = 0; i < ROWS; i++) {
+        sim_run(&sim, (i + 1) * 0.1);
+        sim_row(&sim, &rows[i]);
+    }
+    sim_free(&sim);
+}
+
+/* Same scenario, same seed: the same trace bit for bit (every double of every row). */
+static void test_sim_same_seed_same_trace_bit_for_bit(void **state)
+{
+    (void)state;
+    load("scenarios/paper_dynamic_150.scn");
+    record(ra);
+    record(rb);
+    assert_int_equal(memcmp(ra, rb, sizeof ra), 0);
+    assert_true(ra[ROWS - 1].v_true_kmh > 5.0);          /* the run did something */
+    assert_true(ra[ROWS - 1].p_bar > 0.5);
+}
+
+/* Another seed: the sensor noise differs (the ADC reads), the driver's commands do not. */
+static void test_sim_other_seed_other_noise(void **state)
+{
+    int i, differ = 0;
+    (void)state;
+    load("scenarios/paper_dynamic_150.scn");
+    record(ra);
+    scn.seed = 8;
+    record(rb);
+    for (i = 0; i < ROWS; i++) {
+        assert_true(ra[i].v_cmd_kmh == rb[i].v_cmd_kmh);
+        differ += ra[i].adc_pressure != rb[i].adc_pressure || ra[i].adc_level != rb[i].adc_level;
+    }
+    /* 1 LSB of noise on two channels: most of 300 pairs of reads differ somewhere */
+    assert_true(differ > ROWS / 2);
+}
+
+/* Every edge the plant hands over lies inside the tick just simulated: after the clock moved to
+ * its end, never in the future of the HAL's time. */
+static uint64_t tick_start;
+static unsigned long n_flow, n_wheel, late;
+static void flow_edge(uint64_t t)
+{
+    late += t <= tick_start || t > hal_host_io.time_ns;
+    n_flow++;
+    hal_host_flow_edge(t);
+}
+static void wheel_edge(uint64_t t)
+{
+    late += t <= tick_start || t > hal_host_io.time_ns;
+    n_wheel++;
+    hal_host_wheel_edge(t);
+}
+
+static void test_sim_edges_carry_times_inside_their_tick(void **state)
+{
+    int i;
+    (void)state;
+    load("scenarios/paper_dynamic_150.scn");
+    sim_init(&sim, &scn);
+    sim.plant.flow_edge = flow_edge;
+    sim.plant.wheel_edge = wheel_edge;
+    n_flow = n_wheel = late = 0;
+    for (i = 0; i < 20000; i++) {
+        tick_start = sim.t_ns;
+        sim_step(&sim);
+    }
+    sim_free(&sim);
+    assert_true(n_flow > 1000);
+    assert_true(n_wheel > 50);
+    assert_int_equal(late, 0);
+}
+
+/* Events applied now, checked like the file's; a bad one changes nothing. */
+static void test_sim_events_now(void **state)
+{
+    (void)state;
+    load("scenarios/paper_dynamic_150.scn");
+    sim_init(&sim, &scn);
+    assert_int_equal(hal_host_io.sections, 0x3F);        /* 6 sections, all on at start */
+    assert_int_equal(sim.plant.open_nozzles, 36);
+    assert_int_equal(sim_event(&sim, EV_SECTIONS_OPEN, 25), -1);
+    assert_int_equal(sim.plant.open_nozzles, 36);
+    assert_int_equal(sim_event(&sim, EV_SECTIONS_OPEN, 12), 0);
+    assert_int_equal(sim.plant.open_nozzles, 12);
+    assert_int_equal(hal_host_io.sections, 0x03);
+    assert_int_equal(sim_event_name(&sim, "leak_lpm", 2.5), 0);
+    assert_true(sim.plant.leak_lpm == 2.5);
+    assert_int_equal(sim_event_name(&sim, "rate_l_ha", 100), 0);
+    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(sim_event_name(&sim, "given_speed_kmh", 6.5), 0);
+    assert_int_equal(param_v[P_GIVEN_SPEED], 65);
+    assert_int_equal(sim_event_name(&sim, "rate_l_ha", 5), -1);
+    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(sim_event_name(&sim, "meter_fail", 0), 0);
+    assert_int_equal(sim.plant.meter_fail, 1);
+    assert_int_equal(sim_event_name(&sim, "no_such_event", 0), -1);
+    sim_free(&sim);
+}
+
+/* The example of PLANT.md, verbatim: runs to its end; the sections event opens 24 nozzles (4 of
+ * the 6 switches) at 100 s, the meter sends nothing after 150 s; the JSON line has every key
+ * PLANT.md names. */
+static void test_sim_plant_md_example_runs_unchanged(void **state)
+{
+    metrics_result_t r;
+    uint64_t pulses;
+    static const char *const keys[] = {
+        "\"applied_l_ha\":", "\"dose_error_pct\":", "\"dose_error_all_pct\":", "\"cv_pct\":", "\"cv_all_pct\":",
+        "\"zone_error_min_pct\":", "\"zone_error_max_pct\":", "\"steps\":[", "\"overshoot_mean_pct\":",
+        "\"overshoot_max_pct\":", "\"settle_mean_s\":", "\"settle_max_s\":", "\"pressure_min_bar\":",
+        "\"pressure_max_bar\":", "\"volume_l\":", "\"area_ha\":", "\"alarms\":[", "\"sim_s\":", "\"wall_s\":",
+        "\"t_s\":", "\"from_lpm\":", "\"to_lpm\":", "\"rise_s\":", "\"overshoot_pct\":", "\"settle_5pct_s\":",
+        "\"settle_2pct_s\":", "\"sse_pct\":",
+    };
+    char *buf = NULL;
+    size_t len = 0, i;
+    FILE *f;
+    (void)state;
+    load("scenarios/plant_md_example.scn");
+    sim_init(&sim, &scn);
+    assert_string_equal(ctl_name((uint8_t)param_v[P_CONTROLLER]), "bp_pid");
+    sim_run(&sim, 99.9);
+    assert_int_equal(sim.plant.open_nozzles, 36);
+    sim_run(&sim, 100.1);
+    assert_int_equal(sim.plant.open_nozzles, 24);
+    assert_int_equal(hal_host_io.sections, 0x0F);
+    sim_run(&sim, 150.1);
+    pulses = sim.plant.flow_pulses;
+    sim_run(&sim, 300);
+    assert_true(sim_done(&sim));
+    assert_true(sim.plant.flow_pulses == pulses);
+    sim_finish(&sim, &r);
+    assert_true(r.sim_s > 299.99 && r.sim_s < 300.01);
+    assert_true(r.volume_l > 10);
+    f = open_memstream(&buf, &len);
+    assert_non_null(f);
+    sim_json(&sim, &r, f);
+    fclose(f);
+    for (i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (!strstr(buf, keys[i]))
+            fail_msg("%s missing from %s", keys[i], buf);
+    assert_non_null(strstr(buf, "\"controller\":\"bp_pid\""));
+    assert_int_equal(strchr(buf, '\n') - buf, (long)len - 1);   /* one line */
+    free(buf);
+    sim_free(&sim);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sim_same_seed_same_trace_bit_for_bit),
+        cmocka_unit_test(test_sim_other_seed_other_noise),
+        cmocka_unit_test(test_sim_edges_carry_times_inside_their_tick),
+        cmocka_unit_test(test_sim_events_now),
+        cmocka_unit_test(test_sim_plant_md_example_runs_unchanged),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
