@@ -11,6 +11,7 @@ static struct {
     uint16_t v_x100;
     uint16_t v_pulse_x100;  /* speed at the last pulse */
     uint16_t quiet;         /* periods since the last pulse */
+    uint8_t since;          /* periods since the estimate was last measured (slew allowance) */
     uint16_t glitches;
     uint8_t have_edge;
     uint8_t gen;
@@ -33,6 +34,7 @@ void speed_init(void)
     sp.quiet = 0xFFFF;
     sp.glitches = 0;
     sp.have_edge = 0;
+    sp.since = 0;
     speed_derive();
 }
 
@@ -44,6 +46,8 @@ uint16_t speed_step(void) __reentrant
     if (sp.gen != param_generation)
         speed_derive();
     hal_wheel_capture_take(&c);
+    if (sp.since < 255)
+        sp.since++;
     if (c.count) {
         sp.pulses += c.count;
         sp.quiet = 0;
@@ -52,9 +56,11 @@ uint16_t speed_step(void) __reentrant
             if (c.last == sp.last_pca || v > SPEED_MAX_X100) {
                 sp.glitches++;
             } else {
-                if (v > (uint32_t)sp.v_x100 + SPEED_SLEW_X100)
-                    v = (uint32_t)sp.v_x100 + SPEED_SLEW_X100;
+                /* the rise allowed since the last measurement, period by period */
+                if (v > (uint32_t)sp.v_x100 + (uint32_t)SPEED_SLEW_X100 * sp.since)
+                    v = (uint32_t)sp.v_x100 + (uint32_t)SPEED_SLEW_X100 * sp.since;
                 sp.v_x100 = (uint16_t)v;
+                sp.since = 0;
             }
         }
         sp.last_pca = c.last;

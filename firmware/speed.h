@@ -11,13 +11,14 @@
  * against a pulse interval of 0.128 s at 11 km/h is 1e-5, below the 0.01 km/h of the
  * result and the 2e-4 of um_muldiv. Latency: the estimate is the mean over the last pulse
  * interval(s), so it describes the instant half an interval before the newest edge, plus up
- * to one control period (at 4 km/h with the default wheel: 0.35 s intervals, ~0.3 s mean).
+ * to one control period (at 4 km/h with the default wheel: 0.35 s intervals, ~0.3 s mean);
+ * a change of speed is fully seen once one whole interval at the new speed has ended.
  * When pulses stop, the speed can be at most what the pulse that has not come yet allows
  * (one pulse distance over the time since the last edge), so it falls as 1/t; below
  * SPEED_ZERO_X100 it is zero (standstill), i.e. 2.8 s after the last pulse with the default
  * 0.3927 m a pulse. A window whose mean period means more than SPEED_MAX_X100 is a glitch
- * (bounce, interference): rejected and counted. Rises are limited to SPEED_SLEW_X100 a
- * period (3 m/s^2, six times what a tractor does) so a single extra edge cannot kick the
+ * (bounce, interference): rejected and counted. Rises are limited to SPEED_SLEW_X100 for
+ * each period since the last measurement (3 m/s^2, six times what a tractor does) so a single extra edge cannot kick the
  * target; falls are not limited (the 1/t bound is physical).
  * The distance per pulse is P_WHEEL (0.1 mm); its 100 m calibration counts
  * speed_pulses() over a measured 100 m: P_WHEEL = 1000000 / pulses.

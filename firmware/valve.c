@@ -52,7 +52,8 @@ static void apply(uint16_t now) __reentrant
         bridge(va.want_dir, va.want_duty, now);
     } else if (va.out_dir != HAL_VALVE_OFF) {
         bridge(HAL_VALVE_OFF, 0, now);      /* reversal: off first */
-    } else if (va.want_dir == va.last_dir || (uint16_t)(now - va.off_ms) >= VALVE_DEAD_MS) {
+    } else if (va.last_dir == HAL_VALVE_OFF || va.want_dir == va.last_dir ||
+               (uint16_t)(now - va.off_ms) >= VALVE_DEAD_MS) {
         bridge(va.want_dir, va.want_duty, now);
     }
 }

@@ -1,0 +1,367 @@
+/* test_measure.c: speed and flow from pulse periods, the 4-20 mA inputs, and the divide-free arithmetic under them. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <cmocka.h>
+#include "hal_host.h"
+#include "params.h"
+#include "umath.h"
+#include "speed.h"
+#include "flow.h"
+#include "analog.h"
+
+#define PERIOD_NS 100000000ull
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    params_defaults();
+    speed_init();
+    flow_init();
+    analog_init();
+    return 0;
+}
+
+/* Pulse trains: edges every period_ns from next_ns, pushed up to the period's end. */
+typedef struct {
+    double next_ns, period_ns;
+    int on;
+} train_t;
+
+static uint64_t now_ns;
+
+static void advance(train_t *wheel, train_t *meter)
+{
+    now_ns += PERIOD_NS;
+    hal_host_set_time_ns(now_ns);
+    while (wheel && wheel->on && wheel->next_ns <= (double)now_ns) {
+        hal_host_wheel_edge((uint64_t)wheel->next_ns);
+        wheel->next_ns += wheel->period_ns;
+    }
+    while (meter && meter->on && meter->next_ns <= (double)now_ns) {
+        hal_host_flow_edge((uint64_t)meter->next_ns);
+        meter->next_ns += meter->period_ns;
+    }
+}
+
+static double wheel_period_ns(double kmh)
+{
+    return 0.3927 / (kmh / 3.6) * 1e9;
+}
+
+static double meter_period_ns(double lpm)
+{
+    return 60.0 / (380.0 * lpm) * 1e9;
+}
+
+static uint32_t rng = 99;
+static uint32_t rnd(void)
+{
+    rng = rng * 1664525u + 1013904223u;
+    return rng;
+}
+
+/* a * n / d against the exact quotient: within 2e-4 (plus the integer's rounding) everywhere */
+static void test_umath_muldiv_is_within_2e_4_of_the_quotient(void **state)
+{
+    double worst = 0;
+    (void)state;
+    for (int i = 0; i < 200000; i++) {
+        uint32_t a = rnd() >> (rnd() % 32), d = (rnd() >> (rnd() % 32)) | 1u;
+        uint16_t n = (uint16_t)(rnd() >> (16 + rnd() % 16));
+        double exact = (double)a * n / d;
+        uint32_t r = um_muldiv(a, n, d);
+        if (exact >= 4294967295.0) {
+            assert_true(r == 0xFFFFFFFFu);
+        } else {
+            assert_true(fabs(r - exact) <= 0.5 + exact * 2e-4);
+            if (exact >= 1e5 && fabs(r - exact) / exact > worst)
+                worst = fabs(r - exact) / exact;
+        }
+    }
+    printf("# um_muldiv worst relative error %.2e\n", worst);
+    assert_true(worst < 2e-4);
+    assert_true(um_muldiv(5, 3, 0) == 0xFFFFFFFFu);
+    assert_true(um_muldiv(0, 3, 7) == 0);
+    for (uint32_t x = 0; x < 200000; x += 7)
+        assert_int_equal(um_sqrt32(x), (int)floor(sqrt((double)x)));
+    assert_int_equal(um_sqrt32(0xFFFFFFFFu), 65535);
+    assert_true(um_mul32x16_shr16(0xFFFFFFFFu, 65535) == 0xFFFEFFFFu);
+}
+
+/* 4, 7 and 11 km/h with the default 0.3927 m a pulse: within 1 LSB (0.01 km/h) every period
+ * after the second pulse, though at 4 km/h a period holds 0 or 1 pulse */
+static void test_speed_is_measured_from_periods_at_4_7_11_kmh(void **state)
+{
+    static const double kmh[] = {4.0, 7.0, 11.0};
+    (void)state;
+    for (size_t k = 0; k < 3; k++) {
+        train_t w = {0};
+        setup(NULL);
+        now_ns = 0;
+        hal_host_set_time_ns(0);
+        w.on = 1;
+        w.next_ns = 50e6;
+        w.period_ns = wheel_period_ns(kmh[k]);
+        int worst = 0;
+        for (int i = 0; i < 100; i++) {
+            advance(&w, NULL);
+            uint16_t v = speed_step();
+            if ((double)now_ns > 50e6 + 2 * w.period_ns + 1.5e9) { /* past the 3 m/s^2 slew from rest */
+                int e = abs((int)v - (int)lround(kmh[k] * 100));
+                if (e > worst)
+                    worst = e;
+            }
+        }
+        printf("# speed %.0f km/h: worst error %d x 0.01 km/h\n", kmh[k], worst);
+        assert_true(worst <= 1);
+    }
+}
+
+static void test_speed_falls_as_the_missing_pulse_allows_and_is_zero_at_standstill(void **state)
+{
+    train_t w = {0};
+    (void)state;
+    now_ns = 0;
+    hal_host_set_time_ns(0);
+    w.on = 1;
+    w.next_ns = 10e6;
+    w.period_ns = wheel_period_ns(7.0);
+    for (int i = 0; i < 30; i++) {
+        advance(&w, NULL);
+        speed_step();
+    }
+    assert_true(abs(speed_kmh_x100() - 700) <= 1);
+    double last_edge = w.next_ns - w.period_ns;
+    w.on = 0;
+    uint16_t prev = speed_kmh_x100();
+    int zero_at = -1;
+    for (int i = 0; i < 40; i++) {
+        advance(&w, NULL);
+        uint16_t v = speed_step();
+        double bound = 0.3927 * 3.6 / (((double)now_ns - last_edge) * 1e-9) * 100.0;
+        assert_true(v <= prev);                 /* never rises without a pulse */
+        assert_true(v <= bound + 1.0);          /* at most what the missing pulse allows */
+        prev = v;
+        if (v == 0 && zero_at < 0)
+            zero_at = i;
+    }
+    /* 0.5 km/h = 0.3927 m in 2.83 s: zero by then */
+    assert_true(zero_at >= 0);
+    assert_true(((double)(zero_at + 1) * 1e8 + (double)now_ns - 40e8 - last_edge) < 2.95e9);
+    assert_true(speed_quiet_periods() >= 40);
+}
+
+/* latency: the old-speed pulse still due, one interval at the new speed, the period */
+static void test_speed_follows_a_change_within_two_pulse_intervals(void **state)
+{
+    train_t w = {0};
+    (void)state;
+    now_ns = 0;
+    w.on = 1;
+    w.next_ns = 10e6;
+    w.period_ns = wheel_period_ns(4.0);
+    for (int i = 0; i < 40; i++) {
+        advance(&w, NULL);
+        speed_step();
+    }
+    w.period_ns = wheel_period_ns(6.0);     /* 1.5 km/h a period would be a slew, this is a step */
+    int t_ok = -1;
+    for (int i = 0; i < 20; i++) {
+        advance(&w, NULL);
+        if (abs(speed_step() - 600) <= 1 && t_ok < 0)
+            t_ok = i + 1;
+    }
+    printf("# speed step 4 -> 6 km/h: measured after %d periods (0.35 s + 0.24 s of pulse intervals)\n", t_ok);
+    assert_true(t_ok > 0 && t_ok * 1e8 <= wheel_period_ns(4.0) + wheel_period_ns(6.0) + 2e8);
+}
+
+static void test_speed_rejects_a_burst_of_impossible_pulses(void **state)
+{
+    train_t w = {0};
+    (void)state;
+    now_ns = 0;
+    w.on = 1;
+    w.next_ns = 10e6;
+    w.period_ns = wheel_period_ns(7.0);
+    for (int i = 0; i < 30; i++) {
+        advance(&w, NULL);
+        speed_step();
+    }
+    uint16_t g0 = speed_glitches();
+    now_ns += PERIOD_NS;
+    hal_host_set_time_ns(now_ns);
+    for (int i = 0; i < 40; i++)                /* 40 edges in 4 ms: 14000 km/h */
+        hal_host_wheel_edge(now_ns - 5000000 + (uint64_t)i * 100000);
+    uint16_t v = speed_step();
+    assert_int_equal(speed_glitches(), g0 + 1);
+    assert_true(v <= 701);
+}
+
+/* 12, 30, 50 L/min at 380 p/L: every period within 0.1 % (+1 LSB) once two windows are in */
+static void test_flow_is_measured_from_periods_at_12_30_50_lpm(void **state)
+{
+    static const double lpm[] = {12.0, 30.0, 50.0};
+    (void)state;
+    for (size_t k = 0; k < 3; k++) {
+        train_t m = {0};
+        setup(NULL);
+        now_ns = 0;
+        hal_host_set_time_ns(0);
+        m.on = 1;
+        m.next_ns = 3e6;
+        m.period_ns = meter_period_ns(lpm[k]);
+        double worst = 0;
+        for (int i = 0; i < 50; i++) {
+            advance(NULL, &m);
+            int16_t q = flow_step();
+            if (i >= 2) {
+                double e = fabs(q - lpm[k] * 100) / (lpm[k] * 100);
+                if (e > worst)
+                    worst = e;
+            }
+        }
+        printf("# flow %.0f L/min: worst error %.3f %%\n", lpm[k], worst * 100);
+        assert_true(worst <= 0.001 + 1.0 / (lpm[k] * 100));
+    }
+}
+
+static void test_flow_rejects_glitches_and_reads_zero_when_pulses_stop(void **state)
+{
+    train_t m = {0};
+    (void)state;
+    now_ns = 0;
+    m.on = 1;
+    m.next_ns = 1e6;
+    m.period_ns = meter_period_ns(30.0);
+    for (int i = 0; i < 10; i++) {
+        advance(NULL, &m);
+        flow_step();
+    }
+    /* a burst of 500 edges in 1 ms (interference) on top of the real ones */
+    now_ns += PERIOD_NS;
+    hal_host_set_time_ns(now_ns);
+    while (m.next_ns <= (double)now_ns - 2e6) {
+        hal_host_flow_edge((uint64_t)m.next_ns);
+        m.next_ns += m.period_ns;
+    }
+    for (int i = 0; i < 500; i++)
+        hal_host_flow_edge(now_ns - 1000000 + (uint64_t)i * 2000);
+    uint16_t g0 = flow_glitches();
+    int16_t q = flow_step();
+    assert_int_equal(flow_glitches(), g0 + 1);
+    assert_true(abs(q - 3000) <= 4);
+    m.on = 0;
+    int zero_at = -1;
+    for (int i = 0; i < 15; i++) {
+        advance(NULL, &m);
+        if (flow_step() == 0 && zero_at < 0)
+            zero_at = i + 1;
+    }
+    assert_true(zero_at > 0 && zero_at <= (int)FLOW_ZERO_PERIODS + 1);
+    /* calibration counts every edge, the rejected ones too: 1.1 s of 190 p/s and the burst */
+    uint32_t p = flow_pulses();
+    assert_true(p >= 205 + 500 && p <= 212 + 500);
+}
+
+static uint16_t counts_of_ma(double ma)
+{
+    double c = ma * 0.250 / 5.0 * 1023.0;
+    return (uint16_t)(c > 1023 ? 1023 : lround(c));
+}
+
+static void adc(double p_ma, double l_ma)
+{
+    hal_host_io.adc[HAL_ADC_PRESSURE] = counts_of_ma(p_ma);
+    hal_host_io.adc[HAL_ADC_LEVEL] = counts_of_ma(l_ma);
+}
+
+static void steps(int n)
+{
+    for (int i = 0; i < n; i++)
+        analog_step();
+}
+
+/* the corrected eq. (5): 4 mA is 0 MPa (the paper's printed form reads 0.4 MPa there) */
+static void test_analog_4ma_reads_0_mpa_and_the_span_is_linear(void **state)
+{
+    (void)state;
+    adc(4.0, 12.0);
+    steps(20);
+    assert_true(analog_pressure_kpa() <= 1);    /* 204.6 counts: 205 reads 0.8 kPa, < 1 count (1.96 kPa) */
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 204;
+    steps(1);
+    assert_int_equal(analog_pressure_kpa(), 0);
+    for (double ma = 4.5; ma < 19.95; ma += 0.5) {
+        adc(ma, 12.0);
+        steps(1);
+        double expect = 1600.0 * (counts_of_ma(ma) / 1023.0 * 20.0 - 4.0) / 16.0;
+        assert_true(fabs(analog_pressure_kpa() - expect) <= 1.0);
+    }
+    adc(12.0, 12.0);
+    steps(1);
+    assert_true(abs(analog_pressure_kpa() - 800) <= 2);
+    assert_true(analog_pressure_ok());
+    assert_true(abs(analog_tank_l() - 500) <= 2);
+    assert_int_equal(analog_kpa_of_sum(4 * 1023), 1600);
+}
+
+static void test_analog_3_5ma_is_an_open_sensor_fault(void **state)
+{
+    (void)state;
+    adc(8.0, 12.0);
+    steps(5);
+    uint16_t good = analog_pressure_kpa();
+    assert_true(abs(good - 400) <= 2);
+    adc(3.5, 12.0);                             /* 179 counts */
+    steps(ANALOG_FAULT_PERIODS - 1);
+    assert_true(analog_pressure_ok());          /* not yet: one reading is not a fault */
+    steps(1);
+    assert_false(analog_pressure_ok());
+    assert_int_equal(analog_pressure_fault(), ANALOG_FAULT_OPEN);
+    assert_int_equal(analog_pressure_kpa(), good);   /* the last good value is held */
+    adc(0.0, 12.0);
+    steps(3);
+    assert_false(analog_pressure_ok());
+    adc(3.7, 12.0);                             /* within the sensor's tolerance: 0, no fault */
+    steps(ANALOG_OK_PERIODS);
+    assert_true(analog_pressure_ok());
+    assert_int_equal(analog_pressure_kpa(), 0);
+}
+
+static void test_analog_a_saturated_pressure_input_is_a_short(void **state)
+{
+    (void)state;
+    adc(25.0, 20.0);                            /* 1023 counts on both */
+    steps(ANALOG_FAULT_PERIODS);
+    assert_false(analog_pressure_ok());
+    assert_int_equal(analog_pressure_fault(), ANALOG_FAULT_SHORT);
+    assert_true(analog_level_ok());             /* full scale on the level is a full tank */
+    assert_true(abs(analog_tank_l() - 1000) <= 1);
+    adc(10.0, 2.0);
+    steps(ANALOG_FAULT_PERIODS);
+    assert_true(!analog_level_ok());
+    assert_int_equal(analog_level_fault(), ANALOG_FAULT_OPEN);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_umath_muldiv_is_within_2e_4_of_the_quotient),
+        cmocka_unit_test_setup(test_speed_is_measured_from_periods_at_4_7_11_kmh, setup),
+        cmocka_unit_test_setup(test_speed_falls_as_the_missing_pulse_allows_and_is_zero_at_standstill, setup),
+        cmocka_unit_test_setup(test_speed_follows_a_change_within_two_pulse_intervals, setup),
+        cmocka_unit_test_setup(test_speed_rejects_a_burst_of_impossible_pulses, setup),
+        cmocka_unit_test_setup(test_flow_is_measured_from_periods_at_12_30_50_lpm, setup),
+        cmocka_unit_test_setup(test_flow_rejects_glitches_and_reads_zero_when_pulses_stop, setup),
+        cmocka_unit_test_setup(test_analog_4ma_reads_0_mpa_and_the_span_is_linear, setup),
+        cmocka_unit_test_setup(test_analog_3_5ma_is_an_open_sensor_fault, setup),
+        cmocka_unit_test_setup(test_analog_a_saturated_pressure_input_is_a_short, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

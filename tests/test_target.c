@@ -1,0 +1,113 @@
+/* test_target.c: eq. (1) with the paper's numbers (Table 3), the minimum-flow rule (Table 1), sections, standstill, given speed. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <cmocka.h>
+#include "hal_host.h"
+#include "params.h"
+#include "target.h"
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    params_defaults();
+    target_init();
+    target_update(0x3F);                        /* 6 sections of 6: all 36 nozzles */
+    return 0;
+}
+
+/* Table 3: given speed 6/7/8 km/h at 100/125/150 L/ha, 36 nozzles at 50 cm: 18.0 ... 36.0 L/min */
+static void test_target_table3_flows_18_to_36_lpm(void **state)
+{
+    static const struct { uint16_t rate, kmh; int16_t lpm_x100; } t3[] = {
+        {100, 6, 1800}, {100, 7, 2100}, {100, 8, 2400},
+        {125, 6, 2250}, {125, 7, 2625}, {125, 8, 3000},
+        {150, 6, 2700}, {150, 7, 3150}, {150, 8, 3600},
+    };
+    (void)state;
+    assert_int_equal(target_open_nozzles(), 36);
+    for (size_t i = 0; i < sizeof t3 / sizeof t3[0]; i++) {
+        assert_true(param_set(P_RATE, t3[i].rate));
+        assert_true(param_set(P_GIVEN_SPEED, t3[i].kmh * 10));
+        target_update(0x3F);
+        uint16_t v = target_speed_x100(0);      /* the wheel says standing: masked */
+        assert_int_equal(v, t3[i].kmh * 100);
+        assert_int_equal(target_flow_x100(v), t3[i].lpm_x100);
+    }
+}
+
+/* Table 1: below 4 km/h and above 0 the line keeps the 4 km/h flow: 12 / 15 / 18 L/min */
+static void test_target_table1_minimum_flow_below_4_kmh(void **state)
+{
+    static const struct { uint16_t rate; int16_t lpm_x100; } t1[] = {{100, 1200}, {125, 1500}, {150, 1800}};
+    (void)state;
+    for (size_t i = 0; i < 3; i++) {
+        assert_true(param_set(P_RATE, t1[i].rate));
+        target_update(0x3F);
+        for (uint16_t v = 1; v < 400; v += 37)
+            assert_int_equal(target_flow_x100(v), t1[i].lpm_x100);
+        assert_int_equal(target_flow_x100(400), t1[i].lpm_x100);
+        assert_true(target_flow_x100(500) > t1[i].lpm_x100);   /* above it eq. (1) again */
+        assert_int_equal(target_flow_x100(0), 0);              /* standstill: nothing */
+    }
+    /* the threshold is a parameter */
+    assert_true(param_set(P_MINF_SPEED, 60));
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(300), 2700);             /* 150 L/ha at 6 km/h */
+    assert_true(param_set(P_MINF_SPEED, 0));
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(300), 1350);             /* rule off: eq. (1) */
+}
+
+static void test_target_counts_the_nozzles_of_the_switched_on_sections(void **state)
+{
+    (void)state;
+    target_update(0x0F);                        /* 4 of 6 sections: 24 nozzles */
+    assert_int_equal(target_open_nozzles(), 24);
+    assert_int_equal(target_width_cm(), 1200);
+    assert_int_equal(target_flow_x100(1100), 3300);            /* 150 L/ha, 11 km/h, 24 nozzles */
+    target_update(0xC0);                        /* switches beyond P_SECTIONS count nothing */
+    assert_int_equal(target_open_nozzles(), 0);
+    assert_int_equal(target_flow_x100(1100), 0);
+    assert_true(param_set(P_SECTIONS, 5));      /* 36 over 5: 8 7 7 7 7 */
+    target_update(0x01);
+    assert_int_equal(target_open_nozzles(), 8);
+    target_update(0x1F);
+    assert_int_equal(target_open_nozzles(), 36);
+    target_update(0x02);
+    assert_int_equal(target_open_nozzles(), 7);
+}
+
+/* eq. (1) over the whole range against the double formula: within 1 LSB (0.01 L/min) */
+static void test_target_eq1_matches_the_formula_over_the_range(void **state)
+{
+    (void)state;
+    for (uint16_t rate = 10; rate <= 1000; rate += 33)
+        for (uint16_t sp = 10; sp <= 200; sp += 47) {
+            assert_true(param_set(P_RATE, rate));
+            assert_true(param_set(P_SPACING, sp));
+            target_update(0x3F);
+            for (uint16_t v = 400; v <= 3000; v += 123) {
+                double q = rate * (v / 100.0) * sp * 36 / 60000.0 * 100.0;
+                int16_t t = target_flow_x100(v);
+                if (q >= 32767)
+                    assert_int_equal(t, 32767);
+                else
+                    assert_true(t - q <= 1.0 && q - t <= 1.0);
+            }
+        }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_target_table3_flows_18_to_36_lpm, setup),
+        cmocka_unit_test_setup(test_target_table1_minimum_flow_below_4_kmh, setup),
+        cmocka_unit_test_setup(test_target_counts_the_nozzles_of_the_switched_on_sections, setup),
+        cmocka_unit_test_setup(test_target_eq1_matches_the_formula_over_the_range, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
