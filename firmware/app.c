@@ -11,6 +11,8 @@
 #include "diag.h"
 #include "totals.h"
 #include "serial.h"
+#include "store.h"
+#include "console.h"
 
 /*
  * One control step (app_step) every APP_PERIOD_MS from hal_ms():
@@ -49,7 +51,7 @@ static struct {
 
 void app_init(void)
 {
-    params_defaults();
+    store_load();                   /* the EEPROM's parameters, or the defaults and a message */
     hal_valve_out(HAL_VALVE_OFF, 0);
     hal_spray_enable(0);
     hal_buzzer(0);
@@ -86,6 +88,7 @@ void app_init(void)
     app_status.job_area_m2 = app_status.job_volume_ml = 0;
     app_status.life_area_m2 = app_status.life_volume_ml = 0;
     ap.next_ms = hal_ms() + APP_PERIOD_MS;
+    console_init();
 }
 
 /* Every parameter inside its range, or RAM is not what it should be. */
@@ -231,6 +234,7 @@ void app_poll(void)
 
     valve_poll(now);
     serial_poll();
+    console_poll();
     if ((int32_t)(now - ap.next_ms) < 0)
         return;
     late = (now - ap.next_ms) >= APP_PERIOD_MS;

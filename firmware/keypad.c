@@ -10,15 +10,15 @@ static __code const char keymap[16] = {
 };
 
 #define NO_KEY 0xFF
-static uint32_t next_scan_ms;
-static uint32_t repeat_ms;          /* when the held key repeats next */
+static uint16_t next_scan_ms;       /* low 16 bits of hal_ms(): the intervals are short */
+static uint16_t repeat_ms;          /* when the held key repeats next */
 static uint8_t reading;             /* key index seen in the last scans, NO_KEY for none */
 static uint8_t same;                /* scans in a row that saw it */
 static uint8_t held;                /* the debounced key */
 
 void keypad_init(void)
 {
-    next_scan_ms = hal_ms();
+    next_scan_ms = (uint16_t)hal_ms();
     reading = NO_KEY;
     held = NO_KEY;
     same = 0;
@@ -53,9 +53,9 @@ static uint8_t repeats(char c)
 
 char keypad_poll(void)
 {
-    uint32_t now = hal_ms();
+    uint16_t now = (uint16_t)hal_ms();
     uint8_t k;
-    if ((int32_t)(now - next_scan_ms) < 0)
+    if ((int16_t)(now - next_scan_ms) < 0)
         return KEY_NONE;
     next_scan_ms = now + KEYPAD_SCAN_MS;
     k = scan();
@@ -75,7 +75,7 @@ char keypad_poll(void)
         repeat_ms = now + KEYPAD_DELAY_MS;
         return keymap[k];
     }
-    if (k != NO_KEY && repeats(keymap[k]) && (int32_t)(now - repeat_ms) >= 0) {
+    if (k != NO_KEY && repeats(keymap[k]) && (int16_t)(now - repeat_ms) >= 0) {
         repeat_ms += KEYPAD_REPEAT_MS;
         return keymap[k];
     }

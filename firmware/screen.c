@@ -40,41 +40,35 @@ void screen_line(uint8_t row, const char *s)
     screen_pad(row, screen_puts(row, 0, s));
 }
 
+char screen_scratch[12];
+
 uint8_t screen_fmt(char *out, uint32_t v, uint8_t decimals, uint8_t trim)
 {
-    char tmp[11];
-    uint8_t n = 0, len = 0;
-    /* digits, least significant first; at least decimals + 1 of them */
+    uint8_t n = 0, d = 0, i, j;
+    char c;
+    /* digits least significant first (at least decimals + 1), the point, then reversed */
     do {
-        tmp[n++] = (char)('0' + (uint8_t)(v % 10u));
+        out[n++] = (char)('0' + (uint8_t)(v % 10u));
         v /= 10u;
-    } while ((v || n <= decimals) && n < sizeof tmp);
-    if (trim)
-        while (decimals && tmp[0] == '0') {
-            uint8_t i;
-            for (i = 0; i + 1 < n; i++)
-                tmp[i] = tmp[i + 1];
-            n--;
-            decimals--;
-        }
-    while (n) {
-        out[len++] = tmp[--n];
-        if (n && n == decimals)
-            out[len++] = '.';
+        if (++d == decimals)
+            out[n++] = '.';
+    } while (v || d <= decimals);
+    out[n] = 0;
+    if (!decimals)
+        trim = 0;
+    for (i = 0, j = n - 1; i < j; i++, j--) {
+        c = out[i];
+        out[i] = out[j];
+        out[j] = c;
     }
-    out[len] = 0;
-    return len;
-}
-
-uint8_t screen_num(uint8_t row, uint8_t col, uint8_t width, uint32_t v, uint8_t decimals)
-{
-    char s[12];
-    uint8_t len = screen_fmt(s, v, decimals, 0);
-    uint8_t i;
-    for (i = 0; i < width; i++)
-        screen_putc(row, (uint8_t)(col + i),
-                    len > width ? '#' : (i < width - len ? ' ' : s[i - (width - len)]));
-    return (uint8_t)(col + width);
+    if (trim) {
+        while (out[n - 1] == '0')
+            n--;
+        if (out[n - 1] == '.')
+            n--;
+        out[n] = 0;
+    }
+    return n;
 }
 
 char screen_char(uint8_t row, uint8_t col)

@@ -16,10 +16,10 @@ uint8_t screen_puts(uint8_t row, uint8_t col, const char *s);
 void screen_line(uint8_t row, const char *s);
 /* Spaces from col to the end of the line. */
 void screen_pad(uint8_t row, uint8_t col);
-/* An unsigned number with `decimals` implied decimals, right-aligned in `width` columns
- * ending at col + width - 1; '#' fills the field when it does not fit. Returns col + width. */
-uint8_t screen_num(uint8_t row, uint8_t col, uint8_t width, uint32_t v, uint8_t decimals);
-/* Format a number like screen_num into buf (no padding, NUL terminated, at most 11 chars);
+/* A buffer for one formatted number, shared by the console's modules (saves XRAM). */
+extern char screen_scratch[12];
+/* An unsigned number with `decimals` implied decimals into buf (NUL terminated, at most 11
+ * characters: "392.7", "0.05");
  * trim = 1 drops trailing fraction zeros ("10.0" -> "10", "0.10" -> "0.1"). Returns its length. */
 uint8_t screen_fmt(char *buf, uint32_t v, uint8_t decimals, uint8_t trim);
 char screen_char(uint8_t row, uint8_t col);

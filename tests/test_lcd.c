@@ -163,19 +163,20 @@ static void test_lcd_png_has_the_signature_and_size(void **state)
     assert_int_equal((hdr[20] << 24) | (hdr[21] << 16) | (hdr[22] << 8) | hdr[23], (64 + 8) * 2);
 }
 
-static void test_screen_numbers_are_right_aligned_with_their_decimals(void **state)
+static void test_screen_numbers_are_formatted_with_their_decimals(void **state)
 {
     char s[12];
     (void)state;
-    screen_num(0, 0, 6, 3927, 1);
-    screen_num(0, 6, 4, 5, 2);
-    screen_num(0, 10, 3, 12345, 0);                 /* does not fit: ### */
-    screen_num(0, 13, 3, 0, 0);
-    char line[17];
-    for (int i = 0; i < 16; i++)
-        line[i] = screen_char(0, (uint8_t)i);
-    line[16] = 0;
-    assert_string_equal(line, " 392.70.05###  0");
+    assert_int_equal(screen_fmt(s, 3927, 1, 0), 5);
+    assert_string_equal(s, "392.7");
+    screen_fmt(s, 5, 2, 0);
+    assert_string_equal(s, "0.05");
+    screen_fmt(s, 0, 0, 0);
+    assert_string_equal(s, "0");
+    screen_fmt(s, 0, 1, 1);
+    assert_string_equal(s, "0");
+    screen_fmt(s, 1230, 2, 1);
+    assert_string_equal(s, "12.3");
     assert_int_equal(screen_fmt(s, 100, 1, 1), 2);
     assert_string_equal(s, "10");
     screen_fmt(s, 10, 2, 1);
@@ -198,7 +199,7 @@ int main(void)
         cmocka_unit_test_setup(test_lcd_render_draws_the_font_glyph_at_its_cell, setup),
         cmocka_unit_test_setup(test_lcd_font_has_a_distinct_glyph_for_every_printable_character, setup),
         cmocka_unit_test_setup(test_lcd_png_has_the_signature_and_size, setup),
-        cmocka_unit_test_setup(test_screen_numbers_are_right_aligned_with_their_decimals, setup),
+        cmocka_unit_test_setup(test_screen_numbers_are_formatted_with_their_decimals, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,33 @@
+/* console.h: the operator console: run screen, parameter menus, calibrations, totals, alarms, on the LCD12864 and keypad. */
+#ifndef CONSOLE_H
+#define CONSOLE_H
+
+#include "compiler.h"
+#include "params.h"
+
+/*
+ * Keys (keypad.h has the matrix):
+ *   run screen   A menu, B totals page, # manual <-> auto, * acknowledge alarms,
+ *                2 / 8 jog the valve in manual mode (more / less flow; held: repeats)
+ *   menu         A previous item, B next item, D open the item, C back to the run screen
+ *   number entry 0-9 digits, # decimal point, D accept (refused with "Range lo..hi" when out
+ *                of range: the old value stays), C clear the entry, C again back to the menu
+ *   choice       A / B step through the choices, D accept, C back
+ *   calibration  D start / stop / save, C cancel
+ *   totals       D "Reset job? D=yes", D again resets the job totals, C back
+ * Every accepted change goes through param_set() and is written to the EEPROM (store.h).
+ */
+#define CONSOLE_REDRAW_MS 250       /* the run screen's refresh */
+#define CONSOLE_MSG_MS 2500         /* how long a message stays on the bottom line */
+
+/* Menu entries after the parameters (their index in the menu is P_COUNT + n). */
+#define MENU_CAL_SPEED (P_COUNT + 0)
+#define MENU_CAL_TANK (P_COUNT + 1)
+#define MENU_TOTALS (P_COUNT + 2)
+#define MENU_COUNT (P_COUNT + 3)
+
+void console_init(void);
+/* From the main loop: keypad scan, key handling, screen refresh, LCD update. */
+void console_poll(void);
+
+#endif

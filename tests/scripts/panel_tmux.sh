@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# panel_tmux.sh: `make panel` under tmux: change the dose through the keypad menus, see the flow target follow; the PNG screenshot decodes.
+set -u
+cd "$(dirname "$0")/../.."
+B=${BUILD:-build}
+export BUILD=$B
+tmp=$(mktemp -d)
+sock="panel-test-$$"
+T="tmux -L $sock"
+cleanup() { $T kill-server 2>/dev/null; rm -rf "$tmp"; }
+trap cleanup EXIT
+ok() { echo "ok - panel: $1"; }
+nok() { echo "not ok - panel: $1"; [ -n "${2:-}" ] && echo "$2" | sed 's/^/#   /'; }
+
+# a field at a constant 8 km/h: 150 L/ha x 8 km/h x 18 m / 600 = 36 L/min at the default dose
+cat > "$tmp/const8.scn" <<'EOF'
+[run]
+duration_s = 3600
+[drive]
+0    8
+3600 8
+EOF
+
+if ! out=$(make --no-print-directory "$B/host/bin/panel" 2>&1); then
+    nok "builds" "$(echo "$out" | tail -5)"; exit 0
+fi
+ok "builds"
+command -v tmux >/dev/null || { nok "tmux is installed (tools/deps.sh)"; exit 0; }
+
+# the LCD's text box, one line: "|...16 chars...|"
+lcd_line() { $T capture-pane -p -t panel 2>/dev/null | grep -E '^    \|.{16}\|$' | sed -n "$1p" | cut -c6-21; }
+wait_for() {  # wait_for REGEX SECONDS: until the pane shows it
+    local i
+    for ((i = 0; i < $2 * 10; i++)); do
+        $T capture-pane -p -t panel 2>/dev/null | grep -qE "$1" && return 0
+        sleep 0.1
+    done
+    return 1
+}
+keys() { local k; for k in "$@"; do $T send-keys -t panel -l "$k"; sleep 0.3; done; }
+target() { lcd_line 2 | sed -nE 's/^Q *([0-9.]+)>.*/\1/p'; }
+measured() { lcd_line 2 | sed -nE 's/^Q *[0-9.]+> *([0-9.]+)L\/mn$/\1/p'; }
+
+$T new-session -d -s panel -x 120 -y 50 \
+    "make --no-print-directory panel PANEL_SCENARIO=$tmp/const8.scn PANEL_ARGS='--speed 4'; sleep 30"
+if wait_for 'km/h' 30; then ok "runs under tmux and shows the run screen"; else
+    nok "runs under tmux and shows the run screen" "$($T capture-pane -p -t panel | tail -20)"; exit 0; fi
+# the pixel image is drawn too (braille or half blocks above the text box)
+if $T capture-pane -p -t panel | grep -q '[⠁-⣿▀▄█]'; then ok "draws the 128x64 pixels"; else nok "draws the 128x64 pixels"; fi
+
+keys '*'                              # acknowledge the first-boot EEPROM message
+sleep 6                               # 24 s simulated: up to speed, flow settled
+before=$(target)
+if [ -n "$before" ] && awk "BEGIN{exit !($before > 30 && $before < 42)}"; then
+    ok "target flow at 150 L/ha and 8 km/h is $before L/min (36 expected)"
+else
+    nok "target flow at 150 L/ha and 8 km/h (got '$before', 36 expected)" "$($T capture-pane -p -t panel)"
+fi
+
+keys A                                # menu, entry 1: Dose
+if [ "$(lcd_line 2)" = "Dose            " ]; then ok "A opens the menu at Dose"; else nok "A opens the menu at Dose" "$($T capture-pane -p -t panel)"; fi
+keys D 1 5 0 0 D                      # out of range: refused
+sleep 0.5
+if [ "$(lcd_line 4)" = "Range 10..1000  " ]; then ok "1500 L/ha is refused with 'Range 10..1000'"; else nok "1500 L/ha is refused" "$(lcd_line 4)"; fi
+keys 3 0 0 D                          # 300 L/ha
+sleep 0.5
+if lcd_line 3 | grep -q '300 L/ha' && [ "$(lcd_line 4)" = "Saved           " ]; then ok "300 L/ha is accepted and saved"; else
+    nok "300 L/ha is accepted and saved" "$($T capture-pane -p -t panel)"; fi
+keys C                                # back to the run screen
+sleep 2
+after=$(target)
+if [ -n "$after" ] && [ -n "$before" ] && awk "BEGIN{r = $after / $before; exit !(r > 1.95 && r < 2.05)}"; then
+    ok "the flow target follows the dose: $before -> $after L/min"
+else
+    nok "the flow target follows the dose ($before -> '$after', twice expected)" "$($T capture-pane -p -t panel)"
+fi
+sleep 8                               # 32 s simulated for the valve and the controller
+m=$(measured); a2=$(target)
+if [ -n "$m" ] && [ -n "$a2" ] && awk "BEGIN{e = ($m - $a2) / $a2; exit !(e > -0.1 && e < 0.1)}"; then
+    ok "the measured flow follows: $m L/min for $a2"
+else
+    nok "the measured flow follows within 10 % ('$m' for '$a2')" "$($T capture-pane -p -t panel | tail -12)"
+fi
+
+keys q
+sleep 1
+if $T capture-pane -p -t panel | grep -q 'km/h' && ! pgrep -f "$B/host/bin/panel --scenario $tmp" >/dev/null; then
+    ok "q quits"
+else
+    nok "q quits"
+fi
+
+# the screenshot for the README: a PNG that decodes to the LCD image
+if out=$("$B/host/bin/panel" --scenario "$tmp/const8.scn" --time 5 --keys 'A' --screenshot "$tmp/menu.png" 2>&1) &&
+   echo "$out" | head -1 | grep -q '^Menu ' &&
+   .venv/bin/python - "$tmp/menu.png" <<'EOF'
+import sys
+from PIL import Image
+im = Image.open(sys.argv[1]).convert("RGB")
+assert im.size == ((128 + 8) * 3, (64 + 8) * 3), im.size
+colours = set(im.getdata())
+assert len(colours) == 2, colours
+dark = sum(1 for p in im.getdata() if p == (0x1E, 0x2A, 0x14))
+assert dark > 500, dark
+EOF
+then ok "--screenshot writes a PNG of the LCD that decodes"; else nok "--screenshot writes a PNG of the LCD that decodes" "$out"; fi

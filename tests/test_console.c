@@ -1,0 +1,512 @@
+/* test_console.c: every menu driven through key sequences on the running application; stored values and screen text checked. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <string.h>
+#include <stdlib.h>
+#include <math.h>
+#include <cmocka.h>
+#include "hal_host.h"
+#include "st7920_emu.h"
+#include "params.h"
+#include "app.h"
+#include "ctl.h"
+#include "store.h"
+#include "screen.h"
+#include "keypad.h"
+#include "console.h"
+#include "sim.h"
+
+static uint64_t now_ns;
+static uint32_t wheel_every_ms, flow_every_ms; /* pulse generators, 0 = off */
+static uint32_t wheel_sent, flow_sent;
+static sim_t *sim_active;           /* when set, the plant model runs the time (sim_step) */
+
+/* Run the main loop for ms of simulated time, one app_poll() every 1 ms. */
+static void run_ms(uint32_t ms)
+{
+    for (uint32_t i = 0; i < ms && sim_active; i++)
+        sim_step(sim_active);
+    for (uint32_t i = 0; i < ms && !sim_active; i++) {
+        now_ns += 1000000u;
+        hal_host_set_time_ns(now_ns);
+        uint32_t t = (uint32_t)(now_ns / 1000000u);
+        if (wheel_every_ms && t % wheel_every_ms == 0) {
+            hal_host_wheel_edge(now_ns);
+            wheel_sent++;
+        }
+        if (flow_every_ms && t % flow_every_ms == 0) {
+            hal_host_flow_edge(now_ns);
+            flow_sent++;
+        }
+        app_poll();
+    }
+}
+
+static void press(char k)
+{
+    static const char map[] = "123A456B789C*0#D";
+    const char *p = strchr(map, k);
+    assert_non_null(p);
+    hal_host_io.keys = (uint16_t)(1u << (p - map));
+    run_ms(60);
+    hal_host_io.keys = 0;
+    run_ms(60);
+}
+
+static void keys(const char *s)
+{
+    while (*s)
+        press(*s++);
+}
+
+/* A screen line as the LCD shows it (the emulator), checked against the screen model. */
+static const char *lcd(uint8_t row)
+{
+    static char out[4][17];
+    char model[17];
+    run_ms(CONSOLE_REDRAW_MS + 50);
+    st7920_emu_line(row, out[row]);
+    for (int c = 0; c < 16; c++)
+        model[c] = screen_char(row, (uint8_t)c);
+    model[16] = 0;
+    assert_string_equal(out[row], model);
+    return out[row];
+}
+
+static void boot(void)
+{
+    wheel_every_ms = flow_every_ms = 0;
+    hal_host_set_time_ns(0);
+    st7920_emu_reset();
+    hal_host_lcd_sink(st7920_emu_write);
+    hal_init();
+    app_init();
+    run_ms(200);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    now_ns = 0;
+    sim_active = NULL;
+    boot();
+    return 0;
+}
+
+/* Independent formatting of a value for typing: "392.7" */
+static void typed(char *out, uint32_t v, uint8_t dec)
+{
+    if (!dec) {
+        sprintf(out, "%u", (unsigned)v);
+        return;
+    }
+    uint32_t p = dec == 1 ? 10 : 100;
+    sprintf(out, "%u#%0*u", (unsigned)(v / p), dec, (unsigned)(v % p));
+}
+
+static void trimmed(char *out, uint32_t v, uint8_t dec)
+{
+    char s[16];
+    sprintf(s, "%.*f", dec, dec == 2 ? v / 100.0 : dec == 1 ? v / 10.0 : (double)v);
+    if (strchr(s, '.')) {
+        size_t n = strlen(s);
+        while (s[n - 1] == '0')
+            s[--n] = 0;
+        if (s[n - 1] == '.')
+            s[--n] = 0;
+    }
+    strcpy(out, s);
+}
+
+/* From the run screen to menu entry i. */
+static void to_item(uint8_t i)
+{
+    press('C');
+    press('C');
+    press('C');
+    press('A');
+    for (uint8_t k = 0; k < i; k++)
+        press('B');
+    char title[17];
+    snprintf(title, sizeof title, "Menu %2u/%u", i + 1u, (unsigned)MENU_COUNT);
+    char want[48];
+    snprintf(want, sizeof want, "%16s", title + 5);
+    memcpy(want, "Menu ", 5);
+    assert_string_equal(lcd(0), want);
+}
+
+static void eeprom_snapshot(uint8_t *buf)
+{
+    memcpy(buf, hal_host_eeprom(), HAL_EEPROM_SIZE);
+}
+
+/* The values in the EEPROM, as a reboot would load them. */
+static uint16_t stored(uint8_t id)
+{
+    uint16_t live[P_COUNT], v;
+    memcpy(live, param_v, sizeof live);
+    store_load();
+    v = param_v[id];
+    memcpy(param_v, live, sizeof live);
+    return v;
+}
+
+static void test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_controller(void **state)
+{
+    (void)state;
+    store_status_clear();
+    run_ms(3000);
+    const char *l0 = lcd(0);
+    assert_non_null(strstr(l0, "km/h"));
+    assert_non_null(strstr(l0, "AUTO"));
+    assert_non_null(strstr(lcd(1), "L/mn"));
+    assert_int_equal(lcd(1)[0], 'Q');
+    assert_non_null(strstr(lcd(2), "L/ha"));
+    assert_non_null(strstr(lcd(2), "bar"));
+    const char *l3 = lcd(3);
+    if (!app_status.alarms) {
+        assert_int_equal(l3[0], 'T');
+        assert_non_null(strstr(l3, ctl_name(ctl_selected())));
+    } else {
+        assert_non_null(strstr(l3, app_alarm_text((uint8_t)__builtin_ctz(app_status.alarms))));
+    }
+    assert_int_equal(st7920_emu_stats()->unsupported, 0);
+}
+
+static void test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged(void **state)
+{
+    (void)state;
+    assert_int_equal(store_status(), STORE_DEFAULTS);
+    assert_string_equal(lcd(3), "!EE: defaults   ");
+    press('*');
+    assert_int_equal(store_status(), STORE_OK);
+    assert_string_equal(lcd(3), "EE: seen        ");
+}
+
+static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range(void **state)
+{
+    static uint8_t before[HAL_EEPROM_SIZE], after[HAL_EEPROM_SIZE];
+    char s[24], want[48], lo[12], hi[12];
+    (void)state;
+    for (uint8_t id = 0; id < P_COUNT; id++) {
+        if (id == P_CONTROLLER || id == P_MODE)
+            continue;
+        const param_info_t *pi = param_info(id);
+        to_item(id);
+        assert_string_equal(lcd(1), (snprintf(want, sizeof want, "%-16s", pi->name), want));
+        /* a new value in range: stored and shown */
+        uint16_t v = param_v[id] != pi->max ? pi->max : pi->min;
+        press('D');
+        typed(s, v, pi->decimals);
+        keys(s);
+        press('D');
+        assert_int_equal(param_v[id], v);
+        assert_int_equal(stored(id), v);
+        assert_string_equal(lcd(3), "Saved           ");
+        /* out of range above, below, and a number too long for any parameter */
+        trimmed(lo, pi->min, pi->decimals);
+        trimmed(hi, pi->max, pi->decimals);
+        snprintf(want, sizeof want, "Range %s..%s", lo, hi);
+        assert_true(strlen(want) <= 16);
+        uint32_t bad[3] = {(uint32_t)pi->max + 1, pi->min ? pi->min - 1u : 0xFFFFFFFFu, 9999999};
+        press('D');
+        for (int b = 0; b < 3; b++) {
+            if (bad[b] == 0xFFFFFFFFu)
+                continue;
+            eeprom_snapshot(before);
+            if (b == 2)
+                strcpy(s, "9999999");
+            else
+                typed(s, bad[b], pi->decimals);
+            keys(s);
+            press('D');
+            const char *l3 = lcd(3);
+            char w16[64];
+            snprintf(w16, sizeof w16, "%-16s", want);
+            assert_string_equal(l3, w16);
+            assert_int_equal(param_v[id], v);       /* the old value stays */
+            eeprom_snapshot(after);
+            assert_memory_equal(before, after, HAL_EEPROM_SIZE);  /* nothing written */
+            assert_non_null(strstr(lcd(0), pi->name)); /* still editing */
+        }
+        press('C');
+        assert_int_equal(param_v[id], v);
+    }
+}
+
+static void test_console_entry_takes_the_parameter_decimals_only(void **state)
+{
+    (void)state;
+    to_item(P_WHEEL);
+    press('D');
+    keys("392#75");                 /* one decimal only: the 5 is refused */
+    assert_string_equal(lcd(3), "1 decimal only  ");
+    assert_string_equal(lcd(2), "new 392.7_ mm/p ");
+    press('D');
+    assert_int_equal(param_v[P_WHEEL], 3927);
+    to_item(P_NOZZLES);
+    press('D');
+    keys("2#");
+    assert_string_equal(lcd(3), "Whole numbers   ");
+    keys("4");
+    press('C');                     /* clears the entry */
+    assert_string_equal(lcd(2), "new _           ");
+    keys("48");
+    press('D');
+    assert_int_equal(param_v[P_NOZZLES], 48);
+    assert_int_equal(stored(P_NOZZLES), 48);
+    to_item(P_NOZZLE_Q3);
+    press('D');
+    keys("1#2");                    /* 1.2 L/min = 120 in hundredths */
+    press('D');
+    assert_int_equal(param_v[P_NOZZLE_Q3], 120);
+    /* an empty entry leaves the value as it was */
+    press('D');
+    press('D');
+    assert_int_equal(param_v[P_NOZZLE_Q3], 120);
+}
+
+static void test_console_controller_and_mode_are_chosen_by_name(void **state)
+{
+    char want[48];
+    (void)state;
+    uint16_t c0 = param_v[P_CONTROLLER];
+    to_item(P_CONTROLLER);
+    snprintf(want, sizeof want, "%16s", ctl_name((uint8_t)c0));
+    assert_string_equal(lcd(2), want);
+    press('D');
+    press('A');
+    uint8_t next = (uint8_t)((c0 + 1) % CTL_COUNT);
+    snprintf(want, sizeof want, "new %12s", ctl_name(next));
+    assert_string_equal(lcd(2), want);
+    press('D');
+    assert_int_equal(param_v[P_CONTROLLER], next);
+    assert_int_equal(stored(P_CONTROLLER), next);
+    /* every controller can be reached, B goes back */
+    press('D');
+    for (int i = 0; i < CTL_COUNT; i++)
+        press('B');
+    press('D');
+    assert_int_equal(param_v[P_CONTROLLER], next);
+    /* manual / auto from the menu */
+    to_item(P_MODE);
+    press('D');
+    press('A');
+    assert_string_equal(lcd(2), "new       Manual");
+    press('D');
+    assert_int_equal(param_v[P_MODE], 1);
+    assert_int_equal(stored(P_MODE), 1);
+    /* and # on the run screen */
+    press('C');
+    press('#');
+    assert_int_equal(param_v[P_MODE], 0);
+    assert_int_equal(stored(P_MODE), 0);
+    run_ms(300);
+    assert_non_null(strstr(lcd(0), "AUTO"));
+    press('#');
+    run_ms(300);
+    assert_int_equal(param_v[P_MODE], 1);
+    assert_non_null(strstr(lcd(0), "MANUAL"));
+}
+
+static void test_console_speed_calibration_over_100_m(void **state)
+{
+    (void)state;
+    to_item(MENU_CAL_SPEED);
+    assert_string_equal(lcd(1), "Speed cal 100 m ");
+    press('D');
+    assert_string_equal(lcd(2), "D: start count  ");
+    press('D');
+    wheel_every_ms = 20;            /* 250 pulses over the 100 m */
+    uint32_t w0 = wheel_sent;
+    run_ms(5000);
+    wheel_every_ms = 0;
+    run_ms(300);
+    uint32_t n = wheel_sent - w0;
+    press('D');
+    char want[48];
+    snprintf(want, sizeof want, "Pulses%10u", (unsigned)n);
+    assert_string_equal(lcd(1), want);
+    uint16_t k = (uint16_t)(1000000u / n);
+    snprintf(want, sizeof want, "New %u.%u mm/p", k / 10, k % 10);
+    char w16[64];
+    snprintf(w16, sizeof w16, "New %12s", want + 4);
+    assert_string_equal(lcd(2), w16);
+    press('D');
+    assert_int_equal(param_v[P_WHEEL], k);
+    assert_int_equal(stored(P_WHEEL), k);
+    /* too few pulses for the range (over 3000 mm a pulse): refused, old value kept */
+    to_item(MENU_CAL_SPEED);
+    press('D');
+    press('D');
+    wheel_every_ms = 200;
+    run_ms(4000);                   /* about 20 pulses */
+    wheel_every_ms = 0;
+    run_ms(300);
+    press('D');
+    assert_string_equal(lcd(3), "Range 10..3000  ");
+    assert_int_equal(param_v[P_WHEEL], k);
+    /* cancelled half way: nothing changes */
+    press('D');
+    press('C');
+    assert_int_equal(param_v[P_WHEEL], k);
+}
+
+static void test_console_meter_calibration_by_the_tank_method(void **state)
+{
+    char want[48];
+    (void)state;
+    to_item(MENU_CAL_TANK);
+    press('D');
+    press('D');
+    flow_every_ms = 2;              /* 500 pulses a second */
+    uint32_t f0 = flow_sent;
+    run_ms(8000);
+    flow_every_ms = 0;
+    run_ms(300);
+    uint32_t n = flow_sent - f0;
+    press('D');
+    assert_string_equal(lcd(2), "Litres _        ");
+    keys("0");
+    press('D');
+    assert_string_equal(lcd(3), "Litres? >0      ");
+    keys("999");                    /* K would be about 4 p/L: refused */
+    press('D');
+    assert_string_equal(lcd(3), "Range 10..6000  ");
+    assert_int_equal(param_v[P_METER_K], 3800);
+    keys("10#5");
+    press('D');
+    uint16_t k = (uint16_t)((uint64_t)n * 100u / 105u);
+    snprintf(want, sizeof want, "%u.%u p/L", k / 10, k % 10);
+    char w16[64];
+    snprintf(w16, sizeof w16, "New %12s", want);
+    assert_string_equal(lcd(2), w16);
+    press('D');
+    assert_int_equal(param_v[P_METER_K], k);
+    assert_int_equal(stored(P_METER_K), k);
+}
+
+/* The number in a screen line after a label, as the operator reads it. */
+static double number_after(const char *line, const char *label)
+{
+    const char *p = strstr(line, label);
+    assert_non_null(p);
+    return atof(p + strlen(label));
+}
+
+static void test_console_totals_show_and_reset_the_job(void **state)
+{
+    char err[256];
+    (void)state;
+    /* the real sprayer: 8 km/h with the 18 m boom for a minute */
+    scenario_t *s = malloc(sizeof *s);
+    sim_t *sim = malloc(sizeof *sim);
+    assert_non_null(s);
+    assert_non_null(sim);
+    assert_int_equal(scenario_parse(s, "[run]\nduration_s = 600\n[drive]\n0 8\n600 8\n", "totals", err, sizeof err), 0);
+    sim_init(sim, s);
+    st7920_emu_reset();
+    hal_host_lcd_sink(st7920_emu_write);
+    sim_active = sim;
+    run_ms(60000);
+    press('*');
+    uint32_t area = app_status.job_area_m2, vol = app_status.job_volume_ml;
+    assert_true(area > 1000 && vol > 10000);   /* about 0.2 ha, 30 L */
+    press('B');
+    const char *l0 = lcd(0);
+    assert_true(fabs(number_after(l0, "Job") - app_status.job_area_m2 / 10000.0) < 0.011);
+    assert_non_null(strstr(l0, " ha"));
+    assert_true(fabs(number_after(lcd(1), "Job") - app_status.job_volume_ml / 1000.0) < 2.0);
+    assert_true(fabs(number_after(lcd(2), "Life") - app_status.life_area_m2 / 10000.0) < 0.011);
+    uint32_t life_ml = app_status.life_volume_ml;
+    press('D');
+    assert_string_equal(lcd(3), "Reset job? D=yes");
+    press('D');
+    assert_string_equal(lcd(3), "Job reset       ");
+    /* the job starts again from nothing (a second of spraying at most); the life totals go on */
+    assert_true(app_status.job_volume_ml < vol / 20);
+    assert_true(app_status.job_area_m2 < area / 20);
+    assert_true(app_status.life_volume_ml >= life_ml);
+    assert_true(number_after(lcd(0), "Job") < 0.01);
+    /* from the menu too; C instead of the second D keeps the totals */
+    run_ms(5000);
+    vol = app_status.job_volume_ml;
+    assert_true(vol > 1000);
+    to_item(MENU_TOTALS);
+    press('D');
+    press('D');
+    press('C');
+    assert_true(app_status.job_volume_ml >= vol);
+    sim_active = NULL;
+    sim_free(sim);
+    free(sim);
+    free(s);
+}
+
+static void test_console_star_acknowledges_alarms(void **state)
+{
+    (void)state;
+    store_status_clear();
+    run_ms(3000);
+    app_status.alarms_unacked = app_status.alarms ? app_status.alarms : 1;
+    press('*');
+    run_ms(APP_PERIOD_MS * 2);
+    assert_int_equal(app_status.alarms_unacked, 0);
+}
+
+static void test_console_jog_only_in_manual_mode(void **state)
+{
+    (void)state;
+    store_status_clear();
+    press('2');
+    assert_string_equal(lcd(3), "Jog: manual only");
+    press('#');
+    run_ms(300);
+    assert_true(app_status.manual);
+    int moved = 0;
+    hal_host_io.keys = 1u << 1;     /* hold 2: repeats */
+    for (int i = 0; i < 800; i++) {
+        run_ms(1);
+        moved |= hal_host_io.valve_dir != HAL_VALVE_OFF;
+    }
+    hal_host_io.keys = 0;
+    run_ms(100);
+    assert_true(moved);
+}
+
+static void test_console_a_reboot_keeps_every_setting(void **state)
+{
+    (void)state;
+    to_item(P_RATE);
+    press('D');
+    keys("220");
+    press('D');
+    assert_int_equal(param_v[P_RATE], 220);
+    boot();                         /* power off and on: the EEPROM stays */
+    assert_int_equal(param_v[P_RATE], 220);
+    assert_int_equal(store_status(), STORE_OK);
+    to_item(P_RATE);
+    assert_string_equal(lcd(2), "        220 L/ha");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_controller, setup),
+        cmocka_unit_test_setup(test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged, setup),
+        cmocka_unit_test_setup(test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range, setup),
+        cmocka_unit_test_setup(test_console_entry_takes_the_parameter_decimals_only, setup),
+        cmocka_unit_test_setup(test_console_controller_and_mode_are_chosen_by_name, setup),
+        cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
+        cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),
+        cmocka_unit_test_setup(test_console_totals_show_and_reset_the_job, setup),
+        cmocka_unit_test_setup(test_console_star_acknowledges_alarms, setup),
+        cmocka_unit_test_setup(test_console_jog_only_in_manual_mode, setup),
+        cmocka_unit_test_setup(test_console_a_reboot_keeps_every_setting, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
