@@ -149,10 +149,10 @@ static double line_solve(const line_eq_t *e)
         else
             lo = x;
         xn = x - f / d;
+        if (fabs(xn - x) < 1e-12)
+            return xn;              /* converged (before the bracket test: xn may sit on lo) */
         if (!(xn > lo && xn < hi))
             xn = 0.5 * (lo + hi);
-        if (fabs(xn - x) < 1e-11)
-            return xn;
         x = xn;
     }
     return x;
