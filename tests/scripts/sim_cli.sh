@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# sim_cli.sh: the simulator program and its tools from the outside: JSON last line, seeds, refusals, make sim, plots.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+B=${BUILD:-build}
+SIM=$B/host/bin/sim
+PY=.venv/bin/python
+[ -x "$PY" ] || PY=python3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+ok() { echo "ok - sim_cli: $1"; }
+nok() { echo "not ok - sim_cli: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
+
+if ! make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1; then
+    nok "the simulator builds" "$(cat "$tmp/build.log")"
+    exit 0
+fi
+ok "the simulator builds"
+
+# a short run of the paper's scenario: 30 s
+sed 's/^duration_s = .*/duration_s = 30/' scenarios/paper_dynamic_150.scn > "$tmp/short.scn"
+
+out=$("$SIM" --scenario "$tmp/short.scn" --csv "$tmp/a.csv" --zones "$tmp/z.csv" 2>&1); rc=$?
+keys="applied_l_ha dose_error_pct dose_error_all_pct cv_pct cv_all_pct zone_error_min_pct zone_error_max_pct steps overshoot_mean_pct overshoot_max_pct settle_mean_s settle_max_s pressure_min_bar pressure_max_bar volume_l area_ha alarms sim_s wall_s"
+if [ $rc -eq 0 ] && echo "$out" | tail -n 1 | $PY -c "
+import json, sys
+m = json.loads(sys.stdin.read())
+missing = [k for k in sys.argv[1].split() if k not in m]
+assert not missing, missing
+assert abs(m['sim_s'] - 30) < 0.01, m['sim_s']
+for s in m['steps']:
+    for k in ('t_s', 'from_lpm', 'to_lpm', 'rise_s', 'overshoot_pct', 'settle_5pct_s', 'settle_2pct_s', 'sse_pct'):
+        assert k in s, k
+" "$keys" > "$tmp/json.log" 2>&1; then
+    ok "the last line is one JSON object with PLANT.md's keys"
+else
+    nok "the last line is one JSON object with PLANT.md's keys" "$out $(cat "$tmp/json.log")"
+fi
+
+# the trace has what the issue lists
+hdr=$(head -n 1 "$tmp/a.csv")
+miss=""
+for c in v_true_kmh v_meas_kmh target_lpm flow_meas_lpm flow_true_lpm p_bar valve_pos valve_drive kp ki kd tank_l alarms; do
+    echo ",$hdr," | grep -q ",$c," || miss="$miss $c"
+done
+rows=$(($(wc -l < "$tmp/a.csv") - 1))
+if [ -z "$miss" ] && [ "$rows" -eq 300 ]; then ok "the trace CSV has 300 rows (0.1 s) and every column"; else nok "trace CSV" "missing:$miss rows:$rows"; fi
+
+"$SIM" --scenario "$tmp/short.scn" --csv "$tmp/b.csv" > /dev/null 2>&1
+"$SIM" --scenario "$tmp/short.scn" --csv "$tmp/c.csv" --seed 99 > /dev/null 2>&1
+if cmp -s "$tmp/a.csv" "$tmp/b.csv"; then ok "the same seed writes the same trace byte for byte"; else nok "same seed, same trace"; fi
+if ! cmp -s "$tmp/a.csv" "$tmp/c.csv"; then ok "--seed 99 changes the trace"; else nok "--seed changes the trace"; fi
+
+# refusals: a bad file names file, line and key, exits non-zero and prints no JSON
+printf '[run]\nduration_s = 30\n[config]\nrate_l_ha = 5000\n' > "$tmp/bad.scn"
+out=$("$SIM" --scenario "$tmp/bad.scn" 2>&1); rc=$?
+if [ $rc -ne 0 ] && echo "$out" | grep -q "bad.scn:4: key 'rate_l_ha'" && ! echo "$out" | grep -q '^{'; then
+    ok "a bad scenario is refused with file, line and key, nothing runs"
+else
+    nok "bad scenario refused" "rc $rc: $out"
+fi
+out=$("$SIM" --scenario "$tmp/short.scn" --controller magic 2>&1); rc=$?
+if [ $rc -ne 0 ] && echo "$out" | grep -q "unknown controller 'magic'" && ! echo "$out" | grep -q '^{'; then
+    ok "an unknown controller is refused"
+else
+    nok "unknown controller refused" "rc $rc: $out"
+fi
+out=$("$SIM" --scenario "$tmp/short.scn" --seed -3 2>&1); rc=$?
+if [ $rc -ne 0 ] && echo "$out" | grep -q "seed"; then ok "a bad --seed is refused"; else nok "bad --seed refused" "$out"; fi
+out=$("$SIM" --scenario "$tmp/none.scn" 2>&1); rc=$?
+if [ $rc -ne 0 ] && echo "$out" | grep -q "none.scn: cannot open"; then ok "a missing scenario is named"; else nok "missing scenario" "$out"; fi
+
+# make sim with a controller and a CSV
+out=$(make -s --no-print-directory sim BUILD="$B" SCENARIO="$tmp/short.scn" CONTROLLER=pid CSV="$tmp/m.csv" 2>&1); rc=$?
+if [ $rc -eq 0 ] && echo "$out" | tail -n 1 | grep -q '"controller":"pid"' && [ -s "$tmp/m.csv" ]; then
+    ok "make sim SCENARIO=.. CONTROLLER=pid CSV=.. runs that controller and writes the trace"
+else
+    nok "make sim" "$out"
+fi
+
+# plots: PNG files from the trace and the zones; a CSV without the columns is refused
+if $PY tools/plot.py flow "$tmp/a.csv" "$tmp/f.png" > /dev/null 2>&1 && $PY tools/plot.py zones "$tmp/z.csv" "$tmp/z.png" --rate 150 > /dev/null 2>&1 \
+   && [ "$(head -c 4 "$tmp/f.png" | tail -c 3)" = "PNG" ] && [ "$(head -c 4 "$tmp/z.png" | tail -c 3)" = "PNG" ]; then
+    ok "tools/plot.py draws the flow and zone plots"
+else
+    nok "tools/plot.py draws the flow and zone plots"
+fi
+printf 'a,b\n1,2\n' > "$tmp/x.csv"
+out=$($PY tools/plot.py flow "$tmp/x.csv" "$tmp/x.png" 2>&1); rc=$?
+if [ $rc -ne 0 ] && echo "$out" | grep -q "lacks the column" && [ ! -e "$tmp/x.png" ]; then ok "plot.py refuses a CSV without its columns"; else nok "plot.py refuses bad CSV" "$out"; fi
