@@ -178,11 +178,11 @@ void hal_buzzer(uint8_t on)
 }
 
 /* ---- UART 1 from the BRT generator in 1T mode: 11059200 / 32 / 9 = 38400 baud ------------- */
-#define UART_TXQ 64
-#define UART_RXQ 32
-static volatile uint8_t txq[UART_TXQ];
+#define UART_TXQ 48
+#define UART_RXQ 24
+static volatile __idata uint8_t txq[UART_TXQ];   /* queues in idata: the 1 KB XRAM is the scarce one */
 static volatile uint8_t tx_head, tx_tail, tx_busy;
-static volatile uint8_t rxq[UART_RXQ];
+static volatile __idata uint8_t rxq[UART_RXQ];
 static volatile uint8_t rx_head, rx_tail;
 
 void stc12_uart_isr(void) __interrupt(4)
