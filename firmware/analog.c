@@ -113,12 +113,12 @@ void analog_step(void) __reentrant
     s = read4(HAL_ADC_LEVEL, &sat);
     if (judge(&an.l, s < ANALOG_OPEN_SUM ? ANALOG_FAULT_OPEN : 0)) {
         l = scale(s, an.kl);
-        /* the tank's surface moves with the machine: first order, 0.8 s */
+        /* the tank's surface moves with the machine: first order, 0.4 s */
         if (!an.level_init) {
             an.level_f = (uint32_t)l << 4;
             an.level_init = 1;
         } else {
-            an.level_f = an.level_f - (an.level_f >> 3) + ((uint32_t)l << 1);
+            an.level_f = an.level_f - (an.level_f >> 2) + ((uint32_t)l << 2);
         }
         an.l.value = (uint16_t)((an.level_f + 8u) >> 4);
     }

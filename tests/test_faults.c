@@ -1,0 +1,420 @@
+/* test_faults.c: the firmware against the simulated sprayer: each fault detected in a stated time, the valve and pressure kept safe, recovery; measurement error against the plant's truth. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+#include "sim.h"
+#include "hal_host.h"
+#include "app.h"
+#include "diag.h"
+#include "params.h"
+
+static scenario_t scn;
+static sim_t sim;
+
+/* What a run saw from `from_s` on (the fault's time). */
+typedef struct {
+    double from_s;
+    double first[AL_COUNT];         /* first time each alarm was active after from_s, -1 never */
+    double p_max_bar;               /* truth, after from_s */
+    double stop_drive_s;            /* valve driven while it sits at an end stop (truth) */
+    double boom_l, target_l;        /* integrals over [win0, win1) */
+    double win0, win1;
+    double spray_on_s;              /* time the boom valve was open after from_s */
+    double boom_after_l;            /* volume out of the nozzles after from_s */
+} run_t;
+
+static int sim_live;
+
+static void start_drive(const char *events, const char *extra_config, const char *plant, const char *drive)
+{
+    static char text[4096];
+    char err[256];
+    snprintf(text, sizeof text,
+             "[run]\nduration_s = 400\nseed = 3\n[config]\ncontroller = pid\n%s\n[plant]\n%s\n"
+             "[drive]\n%s\n[events]\n%s\n", extra_config, plant, drive, events);
+    if (sim_live)
+        sim_free(&sim);
+    sim_live = 0;
+    if (scenario_parse(&scn, text, "test_faults", err, sizeof err) != 0)
+        fail_msg("scenario: %s", err);
+    sim_init(&sim, &scn);
+    sim_live = 1;
+}
+
+/* accelerate to kmh in 5 s and hold it */
+static void start(const char *events, const char *extra_config, const char *plant, double kmh)
+{
+    char drive[64];
+    snprintf(drive, sizeof drive, "0 0\n5 %g\n400 %g", kmh, kmh);
+    start_drive(events, extra_config, plant, drive);
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    if (sim_live)
+        sim_free(&sim);
+    sim_live = 0;
+    return 0;
+}
+
+static void run_init(run_t *r, double from_s)
+{
+    memset(r, 0, sizeof *r);
+    r->from_s = from_s;
+    for (int i = 0; i < AL_COUNT; i++)
+        r->first[i] = -1;
+    r->win0 = r->win1 = -1;
+}
+
+/* step to t_s, sampling the trace every 10 ms */
+static void run_to(run_t *r, double t_s)
+{
+    sim_row_t row;
+    while (sim_time_s(&sim) < t_s - 1e-9) {
+        for (int i = 0; i < 10; i++)
+            sim_step(&sim);
+        sim_row(&sim, &row);
+        if (row.t_s < r->from_s)
+            continue;
+        for (int b = 0; b < AL_COUNT; b++)
+            if ((row.alarms >> b) & 1u && r->first[b] < 0)
+                r->first[b] = row.t_s;
+        if (row.p_bar > r->p_max_bar)
+            r->p_max_bar = row.p_bar;
+        if ((row.valve_pos <= 1e-6 && row.valve_drive < 0) || (row.valve_pos >= 1 - 1e-6 && row.valve_drive > 0))
+            r->stop_drive_s += 0.01;
+        if (row.t_s >= r->win0 && row.t_s < r->win1) {
+            r->boom_l += row.boom_lpm * 0.01 / 60;
+            r->target_l += row.target_lpm * 0.01 / 60;
+        }
+        if (row.spray_on)
+            r->spray_on_s += 0.01;
+        r->boom_after_l += row.boom_lpm * 0.01 / 60;
+    }
+}
+
+static double detect_s(const run_t *r, int bit)
+{
+    return r->first[bit] < 0 ? 1e9 : r->first[bit] - r->from_s;
+}
+
+static int active(int bit)
+{
+    return (app_status.alarms >> bit) & 1u;
+}
+
+/* mean |flow - target| / target over the next seconds, %, from the firmware's own view */
+static double follow_error_pct(double seconds)
+{
+    sim_row_t row;
+    double e = 0;
+    int n = 0;
+    double t_end = sim_time_s(&sim) + seconds;
+    while (sim_time_s(&sim) < t_end - 1e-9) {
+        for (int i = 0; i < 100; i++)
+            sim_step(&sim);
+        sim_row(&sim, &row);
+        if (row.target_lpm > 0) {
+            e += fabs(row.boom_lpm - row.target_lpm) / row.target_lpm;
+            n++;
+        }
+    }
+    return n ? 100 * e / n : 1e9;
+}
+
+#define RELIEF_BAR 5.0
+
+/* meter lost: detected within 2 s, the pressure fallback holds the dose within 5 %,
+ * back on the meter within 3 s of its return */
+static void test_faults_meter_lost_falls_back_to_pressure_and_holds_the_dose(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 meter_fail\n140 meter_restore", "", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    run_init(&r, 40);
+    r.win0 = 50;
+    r.win1 = 140;
+    run_to(&r, 140);
+    double dose_err = 100 * (r.boom_l / r.target_l - 1);
+    printf("# meter lost: detected after %.2f s, dose with the pressure fallback %+.2f %% "
+           "(40-140 s window 50-140 s), p max %.2f bar, %.2f s driven into a stop\n",
+           detect_s(&r, AL_METER_LOST), dose_err, r.p_max_bar, r.stop_drive_s);
+    assert_true(detect_s(&r, AL_METER_LOST) <= 2.0);
+    assert_true(fabs(dose_err) <= 5.0);
+    assert_true(r.p_max_bar < RELIEF_BAR);
+    assert_true(r.stop_drive_s <= 0.5);
+    assert_true(active(AL_METER_LOST));
+    run_init(&r, 140);
+    run_to(&r, 143);
+    assert_false(active(AL_METER_LOST));
+    double e = follow_error_pct(20);
+    printf("# meter back: mean flow error %.2f %% over 20 s\n", e);
+    assert_true(e <= 3.0);
+}
+
+/* speed sensor lost at 7 km/h: alarm within 2.5 s, the boom shuts as the speed estimate
+ * falls to zero (no speed, no dose: nothing is sprayed on a guess); the given speed or the
+ * sensor's return resumes spraying */
+static void test_faults_speed_sensor_lost_alarms_and_spraying_resumes(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 speed_sensor_fail\n70 speed_sensor_restore", "", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    run_init(&r, 40);
+    run_to(&r, 70);
+    printf("# speed sensor lost: alarm after %.2f s, boom open %.2f s of the 30 s, p max %.2f bar\n",
+           detect_s(&r, AL_SPEED_LOST), r.spray_on_s, r.p_max_bar);
+    assert_true(detect_s(&r, AL_SPEED_LOST) <= 2.5);
+    assert_true(r.spray_on_s <= 3.5);
+    assert_false(app_status.spraying);
+    assert_true(r.p_max_bar < RELIEF_BAR);
+    assert_true(r.stop_drive_s <= 0.5);
+    run_init(&r, 70);
+    run_to(&r, 75);
+    assert_true(app_status.spraying);
+    assert_false(active(AL_SPEED_LOST));
+    double e = follow_error_pct(20);
+    printf("# speed back: mean flow error %.2f %% over 20 s\n", e);
+    assert_true(e <= 3.0);
+}
+
+/* pressure sensor open: fault within 0.5 s, the flow loop goes on on the meter */
+static void test_faults_pressure_sensor_open_is_a_fault_and_control_goes_on(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 pressure_sensor_open\n80 pressure_sensor_restore", "", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    run_init(&r, 40);
+    run_to(&r, 41);
+    double e = follow_error_pct(30);
+    printf("# pressure sensor open: fault after %.2f s, flow error meanwhile %.2f %%\n",
+           detect_s(&r, AL_PSENS), e);
+    assert_true(detect_s(&r, AL_PSENS) <= 0.5);
+    assert_true(e <= 3.0);
+    run_to(&r, 80);
+    run_init(&r, 80);
+    run_to(&r, 82.5);
+    assert_false(active(AL_PSENS));
+    assert_true(r.p_max_bar < RELIEF_BAR);
+}
+
+/* a leak after the meter of 12 L/min at 3 bar at 11 km/h (49.5 L/min): LEAK within 4 s */
+static void test_faults_leak_after_the_meter_is_seen_in_the_pressure(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 leak_lpm 12\n80 leak_lpm 0", "", "pto_coupled = 0", 11);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    assert_false(active(AL_LEAK));              /* no false alarm while all is well */
+    assert_false(active(AL_CLOG));
+    run_init(&r, 40);
+    run_to(&r, 80);
+    printf("# leak 12 L/min: alarm after %.2f s, p max %.2f bar\n", detect_s(&r, AL_LEAK), r.p_max_bar);
+    assert_true(detect_s(&r, AL_LEAK) <= 4.0);
+    assert_true(detect_s(&r, AL_CLOG) > 100);
+    assert_true(r.p_max_bar < RELIEF_BAR);
+    run_init(&r, 80);
+    run_to(&r, 88);
+    assert_false(active(AL_LEAK));
+}
+
+/* 12 of 36 nozzles clogged at 7 km/h: CLOG within 4 s */
+static void test_faults_clogged_nozzles_raise_the_pressure_alarm(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 clog_nozzles 12\n80 clog_nozzles 0", "", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    run_init(&r, 40);
+    run_to(&r, 80);
+    printf("# 12 nozzles clogged: alarm after %.2f s, p max %.2f bar\n", detect_s(&r, AL_CLOG), r.p_max_bar);
+    assert_true(detect_s(&r, AL_CLOG) <= 4.0);
+    assert_true(detect_s(&r, AL_LEAK) > 100);
+    assert_true(r.p_max_bar < RELIEF_BAR);
+    run_init(&r, 80);
+    run_to(&r, 88);
+    assert_false(active(AL_CLOG));
+}
+
+/* tank below its minimum (a sudden drop from 980 L to 25 L: the level filter's 0.4 s time
+ * constant takes 2.1 s to come down, then 1 s of persistence) stops spraying within 3.5 s;
+ * an empty tank sprays nothing and the dry pump has its alarm within 2.5 s; a refill
+ * resumes spraying */
+static void test_faults_empty_tank_sprays_nothing_and_the_dry_pump_alarms(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 tank_l 25\n60 tank_l 0\n80 tank_l 600", "tank_min_l = 30", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    assert_true(app_status.spraying);
+    run_init(&r, 40);
+    run_to(&r, 60);
+    printf("# tank 25 L (< 30 L): alarm after %.2f s, boom open %.2f s more\n",
+           detect_s(&r, AL_TANK_LOW), r.spray_on_s);
+    assert_true(detect_s(&r, AL_TANK_LOW) <= 3.5);
+    assert_true(r.spray_on_s <= 3.5);
+    assert_false(hal_host_io.spray_on);
+    run_init(&r, 60);
+    run_to(&r, 80);
+    printf("# tank empty: pump-dry alarm after %.2f s, %.3f L out of the nozzles, p max %.2f bar\n",
+           detect_s(&r, AL_PUMP_DRY), r.boom_after_l, r.p_max_bar);
+    assert_true(detect_s(&r, AL_PUMP_DRY) <= 2.5);
+    assert_true(r.boom_after_l < 0.01);
+    assert_true(r.spray_on_s == 0);
+    assert_true(r.p_max_bar < RELIEF_BAR);
+    assert_true(active(AL_PUMP_DRY) && active(AL_TANK_LOW));
+    run_init(&r, 80);
+    run_to(&r, 85);
+    assert_true(app_status.spraying);
+    assert_false(active(AL_TANK_LOW) || active(AL_PUMP_DRY));
+    double e = follow_error_pct(20);
+    printf("# refilled: mean flow error %.2f %% over 20 s\n", e);
+    assert_true(e <= 3.0);
+}
+
+/* the valve stuck at 11 km/h, then a third of the boom shut: the line pressure rises past
+ * P_P_MAX (4.8 bar) to the relief valve: OVERPRESSURE within 0.5 s of the crossing; freed,
+ * the valve is opened and the alarm clears */
+static void test_faults_over_pressure_with_a_stuck_valve(void **state)
+{
+    run_t r;
+    sim_row_t row;
+    (void)state;
+    start("40 valve_stuck\n41 sections_open 24\n60 valve_free", "", "pto_coupled = 0", 11);
+    run_init(&r, 0);
+    run_to(&r, 41);
+    double t_cross = -1;
+    run_init(&r, 41);
+    while (sim_time_s(&sim) < 60 - 1e-9) {
+        run_to(&r, sim_time_s(&sim) + 0.01);
+        sim_row(&sim, &row);
+        if (t_cross < 0 && row.p_meas_kpa > 480)
+            t_cross = row.t_s;
+    }
+    printf("# stuck valve, 24 nozzles: pressure above 4.8 bar at %.2f s, OVERPRESSURE at %.2f s, "
+           "p max %.2f bar (the relief valve's)\n", t_cross, r.first[AL_OVERPRESSURE], r.p_max_bar);
+    assert_true(t_cross > 0);
+    assert_true(r.first[AL_OVERPRESSURE] >= 0 && r.first[AL_OVERPRESSURE] - t_cross <= 0.5);
+    run_init(&r, 60);
+    run_to(&r, 75);
+    printf("# valve freed: p max %.2f bar after 60 s\n", r.p_max_bar);
+    assert_false(active(AL_OVERPRESSURE));
+    run_init(&r, 75);
+    run_to(&r, 80);
+    assert_true(r.p_max_bar < 4.8);
+    double e = follow_error_pct(20);
+    printf("# valve freed: mean flow error %.2f %% over 20 s\n", e);
+    assert_true(e <= 3.0);
+}
+
+/* the valve stuck, then the tractor slows from 11 to 6 km/h: the flow stays, the target
+ * falls; OFF_RATE within P_OFFRATE_S (5 s) + 0.5 s of the error passing P_OFFRATE (10 %) */
+static void test_faults_off_rate_when_the_flow_cannot_follow(void **state)
+{
+    run_t r;
+    sim_row_t row;
+    (void)state;
+    start_drive("40 valve_stuck\n70 valve_free", "", "pto_coupled = 0", "0 0\n5 11\n45 11\n50 6\n400 6");
+    run_init(&r, 0);
+    run_to(&r, 40);
+    assert_false(active(AL_OFFRATE));
+    double t_cross = -1;
+    run_init(&r, 40);
+    while (sim_time_s(&sim) < 70 - 1e-9) {
+        run_to(&r, sim_time_s(&sim) + 0.1);
+        sim_row(&sim, &row);
+        if (t_cross < 0 && fabs(row.flow_meas_lpm - row.target_lpm) > 0.1 * row.target_lpm)
+            t_cross = row.t_s;
+    }
+    printf("# stuck valve, 11 -> 6 km/h: error above 10 %% at %.2f s, OFF_RATE at %.2f s\n", t_cross,
+           r.first[AL_OFFRATE]);
+    assert_true(t_cross > 0);
+    assert_true(r.first[AL_OFFRATE] - t_cross >= 4.5 && r.first[AL_OFFRATE] - t_cross <= 5.5);
+    run_init(&r, 70);
+    run_to(&r, 85);
+    assert_false(active(AL_OFFRATE));
+}
+
+/* speed and flow against the plant's truth: 4, 7, 11 km/h; 12, 30, 50 L/min */
+static void test_faults_measurement_error_against_the_truth(void **state)
+{
+    static const double kmh[] = {4, 7, 11};
+    static const double lpm[] = {12, 30, 50};
+    sim_row_t row;
+    (void)state;
+    for (int k = 0; k < 3; k++) {
+        start("", "", "pto_coupled = 0", kmh[k]);
+        double se = 0, emax = 0;
+        int n = 0;
+        while (sim_time_s(&sim) < 40) {
+            for (int i = 0; i < 100; i++)
+                sim_step(&sim);
+            sim_row(&sim, &row);
+            if (row.t_s < 20)
+                continue;
+            double e = row.v_meas_kmh - row.v_true_kmh;
+            se += e;
+            if (fabs(e) > emax)
+                emax = fabs(e);
+            n++;
+        }
+        printf("# speed %2.0f km/h: mean error %+.3f %%, worst %.3f %% (20 s, every 0.1 s)\n", kmh[k],
+               100 * se / n / kmh[k], 100 * emax / kmh[k]);
+        assert_true(emax / kmh[k] <= 0.005);
+    }
+    /* 100 L/ha with 36 nozzles: q = 3 v, given speeds 4, 10, 16.67 km/h */
+    for (int k = 0; k < 3; k++) {
+        char cfg[128];
+        snprintf(cfg, sizeof cfg, "rate_l_ha = 100\ngiven_speed_kmh = %.1f", lpm[k] / 3.0);
+        start("", cfg, "pto_coupled = 0", 0);
+        double se = 0, emax = 0;
+        int n = 0;
+        while (sim_time_s(&sim) < 40) {
+            for (int i = 0; i < 100; i++)
+                sim_step(&sim);
+            sim_row(&sim, &row);
+            if (row.t_s < 20)
+                continue;
+            double e = (row.flow_meas_lpm - row.flow_true_lpm) / row.flow_true_lpm;
+            se += e;
+            if (fabs(e) > emax)
+                emax = fabs(e);
+            n++;
+        }
+        printf("# flow %2.0f L/min: mean error %+.3f %%, worst %.3f %% (20 s, every 0.1 s)\n",
+               lpm[k], 100 * se / n, 100 * emax);
+        assert_true(fabs(se / n) <= 0.01);
+        assert_true(emax <= 0.03);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_faults_meter_lost_falls_back_to_pressure_and_holds_the_dose),
+        cmocka_unit_test(test_faults_speed_sensor_lost_alarms_and_spraying_resumes),
+        cmocka_unit_test(test_faults_pressure_sensor_open_is_a_fault_and_control_goes_on),
+        cmocka_unit_test(test_faults_leak_after_the_meter_is_seen_in_the_pressure),
+        cmocka_unit_test(test_faults_clogged_nozzles_raise_the_pressure_alarm),
+        cmocka_unit_test(test_faults_empty_tank_sprays_nothing_and_the_dry_pump_alarms),
+        cmocka_unit_test(test_faults_over_pressure_with_a_stuck_valve),
+        cmocka_unit_test(test_faults_off_rate_when_the_flow_cannot_follow),
+        cmocka_unit_test(test_faults_measurement_error_against_the_truth),
+    };
+    return cmocka_run_group_tests(tests, NULL, teardown);
+}
