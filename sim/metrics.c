@@ -58,6 +58,13 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
     m->vol_l += vol;
     m->area_m2 += area;
     m->expect_l += expect;
+    if (spraying) {
+        if (!m->p_seen_any || p_bar < m->p_min_any)
+            m->p_min_any = p_bar;
+        if (!m->p_seen_any || p_bar > m->p_max_any)
+            m->p_max_any = p_bar;
+        m->p_seen_any = 1;
+    }
     if (v_mps * 3.6 >= METRICS_MIN_KMH) {
         m->vol4_l += vol;
         m->area4_m2 += area;
@@ -268,8 +275,8 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
     r->applied_l_ha = m->area_m2 > 0 ? m->vol_l / r->area_ha : NAN;
     r->dose_error_pct = m->expect4_l > 0 ? (m->vol4_l / m->expect4_l - 1.0) * 100.0 : NAN;
     r->dose_error_all_pct = m->expect_l > 0 ? (m->vol_l / m->expect_l - 1.0) * 100.0 : NAN;
-    r->pressure_min_bar = m->p_seen ? m->p_min : NAN;
-    r->pressure_max_bar = m->p_seen ? m->p_max : NAN;
+    r->pressure_min_bar = m->p_seen ? m->p_min : m->p_seen_any ? m->p_min_any : NAN;
+    r->pressure_max_bar = m->p_seen ? m->p_max : m->p_seen_any ? m->p_max_any : NAN;
 
     /* zones: the ratio applied / expected, so a change of rate or width does not count as spread */
     r->zone_error_min_pct = r->zone_error_max_pct = NAN;

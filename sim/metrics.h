@@ -39,8 +39,10 @@ typedef struct {
     /* totals (whole run) and the part with v >= 4 km/h */
     double vol_l, area_m2, expect_l;
     double vol4_l, area4_m2, expect4_l;
-    double p_min, p_max;            /* while spraying at v >= 4 km/h */
+    double p_min, p_max;            /* while spraying at v >= 4 km/h ... */
     int p_seen;
+    double p_min_any, p_max_any;    /* ... or, for a run that never gets there, while spraying */
+    int p_seen_any;
     double sim_s;
     /* zones: the one being crossed, and the finished ones */
     double zone_dist_m;

@@ -149,13 +149,13 @@ static double line_solve(const line_eq_t *e)
         else
             lo = x;
         xn = x - f / d;
-        if (fabs(xn - x) < 1e-12)
-            return xn;              /* converged (before the bracket test: xn may sit on lo) */
+        if (fabs(xn - x) < 1e-12)   /* converged (tested before the bracket: xn may sit on lo) */
+            return xn < lo ? lo : xn > hi ? hi : xn;
         if (!(xn > lo && xn < hi))
             xn = 0.5 * (lo + hi);
         x = xn;
     }
-    return x;
+    return x < 0.0 ? 0.0 : x;
 }
 
 /* Emit the edges of a pulse train whose phase (in pulses) goes from ph to ph + n over the tick. */

@@ -166,6 +166,21 @@ static void test_plant_check_valves_hold_0_3_bar(void **state)
     assert_within(plant_boom_flow(&pl, 0.55), 12.223, 0.01);
 }
 
+/* Pump stopped with the bypass open: the line empties to 0 bar through the valve (which has no
+ * check valve), never below, and every flow stays a number. */
+static void test_plant_line_drains_to_zero_through_the_open_bypass(void **state)
+{
+    (void)state;
+    setup(1.0, 0, 540);
+    run(1.0, 0, 1);
+    assert_true(pl.p_bar > 0.5);
+    pl.pto_rpm = 0;
+    run(3.0, 0, 1);
+    assert_true(pl.p_bar >= 0.0 && pl.p_bar < 1e-6);
+    assert_true(isfinite(pl.q_bypass) && isfinite(pl.q_boom) && isfinite(pl.tank_v));
+    assert_within(pl.q_pump, 0.0, 0.0);
+}
+
 /* Valve travel: 4 s full stroke. Starting closed with the motor in the middle of the 2 % gap,
  * full drive takes up 1 % first (0.04 s): at 2 s th = (2 - 0.04)/4 = 0.49; at 4 s 0.99; the
  * end stop holds it at 1 from 4.04 s on. */
@@ -378,6 +393,7 @@ int main(void)
         cmocka_unit_test(test_plant_pump_pulsation_27hz_4pct),
         cmocka_unit_test(test_plant_relief_valve_caps_pressure),
         cmocka_unit_test(test_plant_check_valves_hold_0_3_bar),
+        cmocka_unit_test(test_plant_line_drains_to_zero_through_the_open_bypass),
         cmocka_unit_test(test_plant_valve_travel_time_and_end_stop),
         cmocka_unit_test(test_plant_valve_stiction),
         cmocka_unit_test(test_plant_valve_backlash_on_reversal),
