@@ -209,7 +209,8 @@ bench-sim: $(SIM_BIN)
 # ---- issue 6: console ---------------------------------------------------------------------------
 # make panel [PANEL_SCENARIO=file] [PANEL_ARGS="--speed 2 ..."]: the LCD12864 and the keypad in the
 # terminal, the firmware against the simulated sprayer in real time (sim/panel_main.c; q quits).
-# make screenshots: the run screen and a menu as PNG in docs/ (the README shows them).
+# make screenshots: the run screen, a menu and a refused entry as PNG in docs/ (the README shows
+# them; the panel writes uncompressed PNG, Pillow recompresses).
 PANEL_BIN := $(OPT_DIR)/bin/panel
 PANEL_SCENARIO ?=
 PANEL_ARGS ?=
@@ -220,5 +221,7 @@ panel: $(PANEL_BIN)
 
 screenshots: $(PANEL_BIN)
 	@mkdir -p docs
-	$(Q)$(PANEL_BIN) --time 40 --keys "*" --screenshot docs/panel_run.png
-	$(Q)$(PANEL_BIN) --time 40 --keys "*.....ABBBBD" --screenshot docs/panel_menu.png
+	$(Q)$(PANEL_BIN) --time 40 --keys "*......" --screenshot docs/panel_run.png
+	$(Q)$(PANEL_BIN) --time 40 --keys "*......ABBBB" --screenshot docs/panel_menu.png
+	$(Q)$(PANEL_BIN) --time 40 --keys "*......AD1500D" --screenshot docs/panel_refused.png
+	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png
