@@ -16,7 +16,7 @@ static struct {
     int8_t want_dir;
     uint8_t want_duty;
     uint8_t limit;                  /* CTL_AT_* */
-    uint8_t blocked;                /* periods refused in a row */
+    uint8_t blocked;                /* periods a stop has been believed */
     uint8_t refused;                /* this period's demand was refused */
     int8_t mv_dir;                  /* direction of the last moving drive: + closes */
     uint8_t gen;
@@ -131,22 +131,24 @@ void valve_set(q15_t drive) __reentrant
         valve_derive();
     integrate();
 
+    /* a stop found stays believed for VALVE_RETRY_PERIODS, then the controller (which is told
+     * valve_limit() and asks nothing against it) may try VALVE_RETRY_Q15 more */
+    if (va.limit) {
+        if (++va.blocked >= VALVE_RETRY_PERIODS) {
+            va.blocked = 0;
+            va.limit = 0;
+            va.oneway = VALVE_ONEWAY_Q15 - VALVE_RETRY_Q15;
+            va.over = VALVE_OVER_Q15 - VALVE_RETRY_Q15;
+        }
+    } else {
+        va.blocked = 0;
+    }
     va.refused = 0;
     if (drive != 0) {
         bit = drive > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;
         if (va.limit & bit) {
-            if (++va.blocked >= VALVE_RETRY_PERIODS) {
-                /* try again for a little: the estimate may have run ahead of the valve */
-                va.blocked = 0;
-                va.limit &= (uint8_t)~bit;
-                va.oneway = VALVE_ONEWAY_Q15 - VALVE_RETRY_Q15;
-                va.over = VALVE_OVER_Q15 - VALVE_RETRY_Q15;
-            } else {
-                drive = 0;
-                va.refused = 1;
-            }
-        } else {
-            va.blocked = 0;
+            drive = 0;
+            va.refused = 1;
         }
     }
     va.applied = drive;

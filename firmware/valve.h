@@ -16,16 +16,18 @@
  *  - its estimated position is known (after a stop was found once) and it has been driven
  *    VALVE_OVER_Q15 (0.15 stroke) past the estimated end.
  * It is then not driven that way any more (valve_limit() reports CTL_AT_CLOSED/CTL_AT_OPEN
- * to the controller); a drive the other way frees it at once. A blocked demand that goes on
- * for VALVE_RETRY_PERIODS gets VALVE_RETRY_Q15 (0.05 stroke) of travel to try again, in case
- * the estimate ran ahead of the valve (stiction): at most 1/25 of the time against a stop.
+ * to the controller); a drive the other way frees it at once. After VALVE_RETRY_PERIODS the
+ * stop is forgotten with VALVE_RETRY_Q15 (0.1 stroke) of travel left to try again, in case
+ * the estimate ran ahead of the valve (stiction, a valve that stuck for a while): at full
+ * duty 4 periods in 24 against a stop that is real, and a valve whose estimate was wrong
+ * gets back 0.1 stroke every 2.4 s.
  */
 #define VALVE_DEAD_MS 20u
 #define VALVE_MOVE_Q15 Q15(0.15)
 #define VALVE_ONEWAY_Q15 39322L     /* 1.2 strokes */
 #define VALVE_OVER_Q15 4915L        /* 0.15 stroke */
-#define VALVE_RETRY_Q15 1638L       /* 0.05 stroke */
-#define VALVE_RETRY_PERIODS 50u     /* 5 s */
+#define VALVE_RETRY_Q15 3277L       /* 0.1 stroke */
+#define VALVE_RETRY_PERIODS 20u     /* 2 s */
 #define VALVE_POS_UNKNOWN 0xFFFFu
 
 void valve_init(void);
