@@ -383,6 +383,40 @@ static void test_plant_tank_drains_by_the_boom_flow(void **state)
     assert_within(pl.tank_v, 1000 - 49.5, 0.02 * 49.5);
 }
 
+/* Tank empty: the pump loses its suction over the last 2 L (linearly): with 1 L left it delivers
+ * half, 120 * 0.5 = 60 L/min (before slip); with none, nothing, and the boom runs dry. */
+static void test_plant_empty_tank_stops_the_pump(void **state)
+{
+    plant_in_t in = {0, 1};
+    (void)state;
+    setup(0.62978, 0, 540);
+    run(1.0, 0, 1);
+    pl.tank_v = 1.0;
+    plant_step(&pl, &in, TICK);
+    assert_within(pl.q_pump / (1.0 - 0.01 * pl.p_bar), 60.0, 0.05);
+    pl.tank_v = 0.0;
+    run(2.0, 0, 1);
+    assert_within(pl.q_pump, 0.0, 0.0);
+    assert_within(pl.q_boom, 0.0, 1e-6);
+    assert_within(pl.tank_v, 0.0, 0.0);
+}
+
+/* Leak after the meter: an orifice passing X L/min at 3 bar, X sqrt(P/3); the meter sees nozzles
+ * plus leak. Clogged nozzles pass nothing: 6 of 36 clogged at 4.398 bar leave 30 * 0.681273 =
+ * 20.4382 L/min/sqrt(bar): 20.4382 * sqrt(4.098) / sqrt(1 + 20.4382^2 * 1e-5) = 41.288 L/min. */
+static void test_plant_leak_and_clogged_nozzles(void **state)
+{
+    (void)state;
+    setup(0.62978, 0, 540);
+    pl.leak_lpm = 3.0;
+    run(2.0, 0, 1);
+    assert_within(pl.q_leak, 3.0 * sqrt(pl.p_bar / 3.0), 1e-9);
+    assert_within(pl.q_meter, pl.q_boom + pl.q_leak, 1e-12);
+    assert_true(pl.p_bar < 4.398 - 0.1);        /* the leak takes pressure away from the nozzles */
+    pl.clogged = 6;
+    assert_within(plant_boom_flow(&pl, 4.398), 41.288, 0.005);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -405,6 +439,8 @@ int main(void)
         cmocka_unit_test(test_plant_sensors_4_20_ma_into_the_adc),
         cmocka_unit_test(test_plant_pressure_noise_is_1_lsb),
         cmocka_unit_test(test_plant_tank_drains_by_the_boom_flow),
+        cmocka_unit_test(test_plant_empty_tank_stops_the_pump),
+        cmocka_unit_test(test_plant_leak_and_clogged_nozzles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
