@@ -235,6 +235,38 @@ static void test_scenario_files(void **state)
     assert_int_equal(s.events[1].line, 21);
 }
 
+/* Every [plant] key PLANT.md lists, at the default it states, and every event it lists. */
+static void test_scenario_every_key_and_event_of_plant_md(void **state)
+{
+    static const char text[] =
+        "[plant]\n"
+        "pump_lpm_at_540 = 120\npump_slip_per_bar = 0.01\npump_pulsation_pct = 4\npto_coupled = 1\n"
+        "pto_rpm = 540\nv_rated_kmh = 11\nrelief_bar = 5.0\nrelief_lpm_per_bar = 200\nvalve_cv_open = 120\n"
+        "valve_rangeability = 30\nvalve_travel_s = 4\nvalve_stiction_duty = 0.2\nvalve_backlash = 0.02\n"
+        "valve_start_pos = 0\nline_compliance_l_per_bar = 0.03\nnozzle_lpm_at_3bar = 1.18\n"
+        "check_valve_bar = 0.3\nnozzle_wear_pct = 0\ntank_l = 1000\ntank_height_m = 1.2\n"
+        "tank_start_l = 1000\nmeter_k_ppl = 380\nmeter_lag_s = 0.03\nwheel_elements = 12\n"
+        "wheel_radius_m = 0.75\nwheel_slip_pct = 0\nspeed_bounce_pct = 0\npressure_noise_lsb = 1\n"
+        "tractor_lag_s = 1\ntractor_accel_max = 0.5\n"
+        "[config]\ngiven_speed_kmh = 0\n"
+        "[events]\n"
+        "1 sections_open 24\n2 rate_l_ha 125\n3 pto_rpm 450\n4 meter_fail\n5 meter_restore\n"
+        "6 speed_sensor_fail\n7 speed_sensor_restore\n8 pressure_sensor_open\n9 pressure_sensor_restore\n"
+        "10 valve_stuck\n11 valve_free\n12 speed_bounce_pct 5\n13 leak_lpm 2\n14 clog_nozzles 3\n"
+        "15 tank_l 500\n16 given_speed_kmh 7\n";
+    plant_params_t def;
+    (void)state;
+    if (scenario_parse(&s, text, "all.scn", err, sizeof err) != 0)
+        fail_msg("%s", err);
+    plant_params_default(&def);
+    /* the values PLANT.md states are the model's defaults, key by key */
+#define SAME(key, d, lo, hi, isint) if (s.plant.key != def.key) fail_msg("%s: %g, default %g", #key, s.plant.key, def.key);
+    PLANT_KEYS(SAME)
+#undef SAME
+    assert_int_equal(s.n_events, 16);
+    assert_int_equal(s.events[15].kind, EV_GIVEN_SPEED);
+}
+
 /* Every scenario the project ships loads. */
 static void test_scenario_project_files_load(void **state)
 {
@@ -264,6 +296,7 @@ int main(void)
         cmocka_unit_test(test_scenario_event_rows),
         cmocka_unit_test(test_scenario_controller_names),
         cmocka_unit_test(test_scenario_files),
+        cmocka_unit_test(test_scenario_every_key_and_event_of_plant_md),
         cmocka_unit_test(test_scenario_project_files_load),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
