@@ -240,8 +240,13 @@ static void answer(void) __reentrant
         tx_s("OK JOG");
         return;
     }
-    if (*p) {                       /* the rest take no argument */
-        reply_err(n == 3 || (n > 3 && line[3] == ' ') ? "ARG" : "CMD");
+    if (!(word_is(line, "ACK") || word_is(line, "RST") || word_is(line, "TOT") ||
+          word_is(line, "LIF") || word_is(line, "PUL") || word_is(line, "SAV"))) {
+        reply_err("CMD");
+        return;
+    }
+    if (*p) {                       /* these take no argument */
+        reply_err("ARG");
         return;
     }
     if (word_is(line, "ACK")) {
@@ -323,29 +328,37 @@ static void compose_next(void) __reentrant
     }
 }
 
+/* Hand the line being sent to the UART as far as it takes it; 1 when all of it went. */
+static uint8_t drain(void) __reentrant
+{
+    while (se.tx_i < se.n) {
+        if (!hal_uart_put((uint8_t)se.buf[se.tx_i]))
+            return 0;
+        se.tx_i++;
+    }
+    se.n = 0;
+    se.state = S_RX;
+    return 1;
+}
+
 void serial_poll(void) __reentrant
 {
     int16_t b;
 
-    if (se.state == S_TX) {
-        while (se.tx_i < se.n) {
-            if (!hal_uart_put((uint8_t)se.buf[se.tx_i]))
-                return;
-            se.tx_i++;
-        }
-        se.n = 0;
-        se.state = S_RX;
-    }
+    if (se.state == S_TX && !drain())
+        return;
     while ((b = hal_uart_get()) >= 0) {
         if (b == '\r' || b == '\n') {
             if (se.state != S_RX) {
                 reply_err(se.state == S_RX_LONG ? "LONG" : "CHAR");
                 tx_end();
+                drain();
                 return;
             }
             if (se.n) {
                 answer();
                 tx_end();
+                drain();
                 return;
             }
         } else if (se.state == S_RX) {
@@ -365,4 +378,6 @@ void serial_poll(void) __reentrant
         se.state = S_RX;
     }
     compose_next();
+    if (se.state == S_TX)
+        drain();
 }
