@@ -23,30 +23,123 @@
  * is the integrator, the excess is dropped, never stored), and nothing is asked or
  * accumulated against an end stop that valve_limit reports.
  *
- * Control step cost: see `make bench` (tests/target/tt_ctl_*.c).
+ * Control step cost: see `make bench` (tests/target/tt_ctl_*.c). Internals for the tests: ctl_int.h.
  */
 
-#define CTL_STICTION Q15(0.2)       /* the valve's break-away duty */
-#define CTL_E_MAX 16000             /* errors clamped to +-160 L/min (x100) */
+#include "ctl_int.h"
+
+/* ---- a 16x16 -> 32 signed multiply: four MUL AB on the 8051 (~60 cycles against ~230 for
+ * SDCC's general 32-bit multiply); the same exact product on the host ------------------------ */
+#if defined(__SDCC)
+/* operands and product in direct RAM; only A, B, DPTR and PSW are touched (SDCC keeps live
+ * values in R0-R7 across a call to a function of the same file it believes leaves them alone) */
+static __data int16_t mul_a, mul_b;
+static __data int32_t mul_r;
+static int32_t mul_ab(void) __naked
+{
+    __asm
+        mov a,_mul_a
+        mov b,_mul_b
+        mul ab
+        mov _mul_r,a
+        mov (_mul_r + 1),b
+        mov a,(_mul_a + 1)
+        mov b,_mul_b
+        mul ab
+        add a,(_mul_r + 1)
+        mov (_mul_r + 1),a
+        mov a,b
+        addc a,#0
+        mov (_mul_r + 2),a
+        mov a,_mul_a
+        mov b,(_mul_b + 1)
+        mul ab
+        add a,(_mul_r + 1)
+        mov (_mul_r + 1),a
+        mov a,b
+        addc a,(_mul_r + 2)
+        mov (_mul_r + 2),a
+        clr a
+        rlc a
+        mov (_mul_r + 3),a
+        mov a,(_mul_a + 1)
+        mov b,(_mul_b + 1)
+        mul ab
+        add a,(_mul_r + 2)
+        mov (_mul_r + 2),a
+        mov a,b
+        addc a,(_mul_r + 3)
+        mov (_mul_r + 3),a
+        mov a,(_mul_a + 1)
+        jnb acc.7,00001$
+        clr c
+        mov a,(_mul_r + 2)
+        subb a,_mul_b
+        mov (_mul_r + 2),a
+        mov a,(_mul_r + 3)
+        subb a,(_mul_b + 1)
+        mov (_mul_r + 3),a
+00001$:
+        mov a,(_mul_b + 1)
+        jnb acc.7,00002$
+        clr c
+        mov a,(_mul_r + 2)
+        subb a,_mul_a
+        mov (_mul_r + 2),a
+        mov a,(_mul_r + 3)
+        subb a,(_mul_a + 1)
+        mov (_mul_r + 3),a
+00002$:
+        mov dpl,_mul_r
+        mov dph,(_mul_r + 1)
+        mov b,(_mul_r + 2)
+        mov a,(_mul_r + 3)
+        ret
+    __endasm;
+}
+/* mul_acc += mul_a * mul_b: the dot products keep their sum in direct RAM */
+static __data int32_t mul_acc;
+static void mac_ab(void) __naked
+{
+    __asm
+        lcall _mul_ab
+        mov a,_mul_acc
+        add a,_mul_r
+        mov _mul_acc,a
+        mov a,(_mul_acc + 1)
+        addc a,(_mul_r + 1)
+        mov (_mul_acc + 1),a
+        mov a,(_mul_acc + 2)
+        addc a,(_mul_r + 2)
+        mov (_mul_acc + 2),a
+        mov a,(_mul_acc + 3)
+        addc a,(_mul_r + 3)
+        mov (_mul_acc + 3),a
+        ret
+    __endasm;
+}
+#define MUL(a, b) (mul_a = (a), mul_b = (b), mul_ab())
+#define MAC(a, b) do { mul_a = (a); mul_b = (b); mac_ab(); } while (0)
+#else
+static int32_t mul_acc;
+#define MUL(a, b) ((int32_t)(int16_t)(a) * (int16_t)(b))
+#define MAC(a, b) (mul_acc += (int32_t)(int16_t)(a) * (int16_t)(b))
+#endif
 
 /* ---- state shared by all controllers -------------------------------------------------- */
 static uint8_t ctl_id = CTL_BEST;
 static uint8_t ctl_first;           /* 1: the next step starts from rest (no P/D kick) */
 static uint8_t ctl_gen;             /* param_generation the derived constants belong to */
 static int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
+static int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
+static int16_t ctl_inv_travel;      /* Q15: 1 / ctl_travel */
 static q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
 static q15_t ctl_last;              /* Q15: last drive sent */
 static uint8_t ctl_sat;             /* 1: the last drive was cut (limit or end stop) */
 static int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
 
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */
-typedef struct {
-    int16_t e1, e2;                 /* x100 L/min: e(k-1), e(k-2) */
-} pid_state_t;
-
-static union {
-    pid_state_t pid;
-} st;
+ctl_state_t ctl_st;
 
 static const __code char nm_pid[] = "pid";
 static const __code char nm_fuzzy[] = "fuzzy_pid";
@@ -64,53 +157,33 @@ const char *ctl_name(uint8_t id)
     }
 }
 
-/* Constants derived from parameters, recomputed when a parameter changes (outside the law). */
+uint8_t ctl_saturated(void)
+{
+    return ctl_sat;
+}
+
+q15_t ctl_carry_now(void)
+{
+    return ctl_carry;
+}
+
+int16_t ctl_drive_factor(void)
+{
+    return ctl_kf;
+}
+
+/* Constants derived from parameters: recomputed when a parameter changes (the one divide is
+ * here, not in the control law). */
 static void ctl_derive(void)
 {
     uint32_t t = param_v[P_VALVE_TRAVEL];
+    if (t < 1)
+        t = 40;
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
     ctl_kf = (int16_t)((t * 839u + 8u) >> 4);       /* Q8 of T * 0.2048 (839/4096 = 0.20483) */
+    ctl_travel = (int16_t)t;
+    ctl_inv_travel = (int16_t)((32768u + t / 2u) / t);
     ctl_gen = param_generation;
-}
-
-static void pid_reset(void)
-{
-    st.pid.e1 = 0;
-    st.pid.e2 = 0;
-}
-
-void ctl_reset(q15_t drive_now)
-{
-    ctl_first = 1;
-    ctl_carry = 0;
-    ctl_last = drive_now;
-    ctl_sat = 0;
-    ctl_derive();
-    switch (ctl_id) {
-    default:
-        pid_reset();
-        break;
-    }
-}
-
-uint8_t ctl_select(uint8_t id)
-{
-    if (id >= CTL_COUNT)
-        return 0;
-    ctl_id = id;
-    ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
-    ctl_reset(0);
-    return 1;
-}
-
-uint8_t ctl_selected(void)
-{
-    return ctl_id;
-}
-
-int16_t ctl_gain(uint8_t i)
-{
-    return i < 3 ? ctl_k[i] : 0;
 }
 
 static int16_t clamp_e(int16_t e)
@@ -122,14 +195,22 @@ static int16_t clamp_e(int16_t e)
     return e;
 }
 
-/* The output stage: du (Q12 x100 L/min, 32 bit) -> drive, with pulse accumulation and limits. */
-static q15_t ctl_out(int32_t du, uint8_t limit)
+static int16_t clamp16(int16_t x, int16_t lo, int16_t hi)
 {
-    int16_t s4;                     /* du in Q4 */
-    int32_t d;                      /* Q15 drive requested, plus the carry */
+    return x < lo ? lo : x > hi ? hi : x;
+}
 
-    s4 = fx_sat16((du + 128) >> 8);
-    d = ((int32_t)s4 * ctl_kf + 128) >> 8;
+/* du (Q12, x100 L/min of flow-equivalent) -> Q15 drive, 32 bit, not yet limited. */
+static int32_t du_to_drive(int32_t du)
+{
+    int16_t s4 = fx_sat16((du + 128) >> 8);        /* du in Q4 */
+    return (MUL(s4, ctl_kf) + 128) >> 8;
+}
+
+/* The output stage of pid, fuzzy_pid and bp_pid: pulse accumulation below stiction, drive
+ * limit and end stops (anti-windup: what the valve cannot do is dropped). */
+static q15_t ctl_out(int32_t d, uint8_t limit)
+{
     d += ctl_carry;
     ctl_sat = 0;
     if (d > 32767) {
@@ -153,31 +234,511 @@ static q15_t ctl_out(int32_t du, uint8_t limit)
     return (q15_t)d;
 }
 
-/* ---- pid: eq. (7) with the paper's gains --------------------------------------------------- */
-#define PID_KP Q12(1.2)
-#define PID_KI Q12(0.2)
-#define PID_KD Q12(0.8)
+/* ---- pid: eq. (7) ------------------------------------------------------------------------- */
+/* du of eq. (7) with gains in Q12; e, e1, e2 in x100 L/min. */
+static int32_t pid_law(int16_t e, int16_t e1, int16_t e2, int16_t kp, int16_t ki, int16_t kd)
+{
+    int16_t d2e = fx_sat16((int32_t)e - 2 * (int32_t)e1 + e2);
+    int16_t de = (int16_t)(e - e1);                 /* |e| <= CTL_E_MAX: no overflow */
+    int32_t du = MUL(kp, de);
+    du += MUL(ki, e);
+    du += MUL(kd, d2e);
+    return du;
+}
 
 static q15_t pid_step(const ctl_in_t *in)
 {
-    int16_t e;                      /* x100 L/min */
-    int32_t du;                     /* Q12 x100 L/min */
-    int16_t d2e;                    /* x100 L/min: e - 2 e1 + e2 */
+    int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
+    int32_t du;
 
-    e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
     if (ctl_first) {
-        st.pid.e1 = e;
-        st.pid.e2 = e;
+        ctl_st.pid.e1 = e;
+        ctl_st.pid.e2 = e;
         ctl_first = 0;
     }
-    d2e = fx_sat16((int32_t)e - 2 * (int32_t)st.pid.e1 + st.pid.e2);
-    du = (int32_t)PID_KP * (int16_t)(e - st.pid.e1) + (int32_t)PID_KI * e + (int32_t)PID_KD * d2e;
-    st.pid.e2 = st.pid.e1;
-    st.pid.e1 = e;
+    du = pid_law(e, ctl_st.pid.e1, ctl_st.pid.e2, PID_KP, PID_KI, PID_KD);
+    ctl_st.pid.e2 = ctl_st.pid.e1;
+    ctl_st.pid.e1 = e;
     ctl_k[0] = PID_KP;
     ctl_k[1] = PID_KI;
     ctl_k[2] = PID_KD;
-    return ctl_out(du, in->valve_limit);
+    return ctl_out(du_to_drive(du), in->valve_limit);
+}
+
+/* ---- fuzzy_pid: the classic self-tuning fuzzy PID ----------------------------------------
+ * Error e and its change ec, each on seven levels NB NM NS ZO PS PM PB (-3..3) with triangular
+ * memberships; product inference and singleton outputs, so the centroid is the bilinear blend
+ * of the four active rules (the weights add up to 1: no divide). */
+#define NB -3
+#define NM -2
+#define NS -1
+#define ZO 0
+#define PS 1
+#define PM 2
+#define PB 3
+const __code int8_t fz_tab[3][7][7] = {
+    {   /* dKp */
+        {PB, PB, PM, PM, PS, ZO, ZO}, {PB, PB, PM, PS, PS, ZO, NS}, {PM, PM, PM, PS, ZO, NS, NS},
+        {PM, PM, PS, ZO, NS, NM, NM}, {PS, PS, ZO, NS, NS, NM, NM}, {PS, ZO, NS, NM, NM, NM, NB},
+        {ZO, ZO, NM, NM, NM, NB, NB}},
+    {   /* dKi */
+        {NB, NB, NM, NM, NS, ZO, ZO}, {NB, NB, NM, NS, NS, ZO, ZO}, {NB, NM, NS, NS, ZO, PS, PS},
+        {NM, NM, NS, ZO, PS, PM, PM}, {NM, NS, ZO, PS, PS, PM, PB}, {ZO, ZO, PS, PS, PM, PB, PB},
+        {ZO, ZO, PS, PM, PM, PB, PB}},
+    {   /* dKd */
+        {PS, NS, NB, NB, NB, NM, PS}, {PS, NS, NB, NM, NM, NS, ZO}, {ZO, NS, NM, NM, NS, NS, ZO},
+        {ZO, NS, NS, NS, NS, NS, ZO}, {ZO, ZO, ZO, ZO, ZO, ZO, ZO}, {PB, NS, PS, PS, PS, PS, PB},
+        {PB, PM, PM, PM, PS, PS, PB}},
+};
+
+/* Level position of x (x100 L/min) at `unit` per level, Q8, 0 .. 6*256-1 (NB .. PB). */
+static uint16_t fz_level(int16_t x, int16_t unit)
+{
+    int32_t q = ((int32_t)clamp16(x, -3 * unit, 3 * unit) * 256) ;
+    int16_t l;
+    /* q / unit without a divide: unit is 100 or 50, multiply by 65536/unit */
+    if (unit == FZ_E_LEVEL)
+        l = (int16_t)((q * 655L + 32768L) >> 16);   /* 65536 / 100 = 655.36 */
+    else
+        l = (int16_t)((q * 1311L + 32768L) >> 16);  /* 65536 / 50 = 1310.72 */
+    l += 3 * 256;
+    if (l < 0)
+        l = 0;
+    if (l > 6 * 256 - 1)
+        l = 6 * 256 - 1;
+    return (uint16_t)l;
+}
+
+static q15_t fz_step(const ctl_in_t *in)
+{
+    int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
+    uint16_t le, lc;
+    uint8_t i, j, t, fe, fc;
+    int16_t r0, r1;
+    int32_t d;
+    int16_t k[3];
+    static const __code int16_t k0[3] = {PID_KP, PID_KI, PID_KD};
+    static const __code int16_t qk[3] = {FZ_QP, FZ_QI, FZ_QD};
+
+    if (ctl_first) {
+        ctl_st.fz.e1 = e;
+        ctl_st.fz.e2 = e;
+        ctl_first = 0;
+    }
+    le = fz_level(e, FZ_E_LEVEL);
+    lc = fz_level((int16_t)(e - ctl_st.fz.e1), FZ_EC_LEVEL);
+    i = (uint8_t)(le >> 8);
+    fe = (uint8_t)le;
+    j = (uint8_t)(lc >> 8);
+    fc = (uint8_t)lc;
+    for (t = 0; t < 3; t++) {
+        /* blend along ec on rows i and i+1, then along e: level in Q16 */
+        r0 = (int16_t)fz_tab[t][i][j] * (int16_t)(256 - fc) + (int16_t)fz_tab[t][i][j + 1] * fc;
+        r1 = (int16_t)fz_tab[t][i + 1][j] * (int16_t)(256 - fc) + (int16_t)fz_tab[t][i + 1][j + 1] * fc;
+        d = MUL(r0, 256 - fe) + MUL(r1, fe);                    /* level, Q16 */
+        d = (MUL(fx_sat16((d + 128) >> 8), qk[t]) + 128) >> 8;  /* Q12 gain change */
+        k[t] = fx_sat16(k0[t] + d);
+        if (k[t] < 0)
+            k[t] = 0;
+        ctl_k[t] = k[t];
+    }
+    d = pid_law(e, ctl_st.fz.e1, ctl_st.fz.e2, k[0], k[1], k[2]);
+    ctl_st.fz.e2 = ctl_st.fz.e1;
+    ctl_st.fz.e1 = e;
+    return ctl_out(du_to_drive(d), in->valve_limit);
+}
+
+/* ---- bp_pid: the paper's network ------------------------------------------------------------
+ * Faithful parts: inputs target, measured flow, error and a bias; 5 tanh hidden nodes; kp, ki,
+ * kd = (1 + tanh)/2 of 3 outputs; cost E = e^2 / 2; gradients through the incremental law with
+ * sgn(dy/du) = +1 (closing the bypass always raises boom flow); eta 0.2, momentum 0.05;
+ * initial weights uniform in [-0.5, 0.5) from a seeded xorshift16; every weight its own update
+ * (not the MATLAB version's single scalar for the output layer), g'(net) = 2K(1-K) at the net
+ * input (the MATLAB version evaluates it at K).
+ * Deviations for a real plant and a small CPU, each needed:
+ *  - inputs normalised: flows / 50 L/min, error / 5 L/min clamped to +-3 (Q12);
+ *  - the gains act on the normalised law of pid (100 L/min a stroke), so K in [0, 1);
+ *  - weights bounded to +-4 (BP_WMAX);
+ *  - learning frozen while the valve is at an end stop or the drive was cut at its limit, and
+ *    while the loop is off (ctl_reset restarts from rest, the weights are kept);
+ *  - one update is spread over three periods (output layer; hidden rows 0-2; rows 3-4, from
+ *    the deltas and inputs of the first): each weight learns at 3.3 Hz, which keeps the step
+ *    under 10,000 machine cycles; the hidden deltas use the output weights just updated, as
+ *    the reference MATLAB code does;
+ *  - weight changes below 1 LSB of Q12 (2.4e-4) vanish: no learning for errors under ~0.3 L/min. */
+static uint16_t bp_rng;
+
+static uint16_t bp_rand(void)
+{
+    bp_rng ^= (uint16_t)(bp_rng << 7);
+    bp_rng ^= (uint16_t)(bp_rng >> 9);
+    bp_rng ^= (uint16_t)(bp_rng << 8);
+    return bp_rng;
+}
+
+static void bp_init(void)
+{
+    uint8_t i, j;
+    bp_rng = BP_SEED;
+    for (i = 0; i < BP_HID; i++)
+        for (j = 0; j < BP_IN; j++) {
+            ctl_st.bp.w[i][j] = (int16_t)(bp_rand() & 0x0FFFu) - 2048;
+            ctl_st.bp.dw[i][j] = 0;
+        }
+    for (i = 0; i < BP_OUT; i++)
+        for (j = 0; j < BP_HID; j++) {
+            ctl_st.bp.v[i][j] = (int16_t)(bp_rand() & 0x0FFFu) - 2048;
+            ctl_st.bp.dv[i][j] = 0;
+        }
+    ctl_st.bp.phase = 0;
+}
+
+/* alpha * d with shifts: d/16 - d/64 + d/256 = 0.0508 d (alpha 0.05 within 2 %) */
+static int16_t bp_mom(int16_t d)
+{
+    return (int16_t)((d >> 4) - (d >> 6) + (d >> 8));
+}
+
+/* n weights w += grad(eg, in[j]) + momentum, bounded; dw keeps the change made. */
+static void bp_upd_row(__xdata int16_t *w, __xdata int16_t *dw, int16_t eg, const __xdata int16_t *in,
+                       uint8_t n, uint8_t shift15)
+{
+    uint8_t j;
+    int16_t d, nw;
+    for (j = 0; j < n; j++) {
+        if (shift15)
+            d = (int16_t)((MUL(eg, in[j]) + 16384) >> 15);
+        else
+            d = fx_sat16((MUL(eg, in[j]) + 2048) >> 12);
+        d = fx_add_sat(d, bp_mom(dw[j]));
+        nw = clamp16(fx_add_sat(w[j], d), -BP_WMAX, BP_WMAX);
+        dw[j] = nw - w[j];
+        w[j] = nw;
+    }
+}
+
+static q15_t bp_step(const ctl_in_t *in)
+{
+    __xdata bp_state_t *b = &ctl_st.bp;
+    int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
+    __xdata int16_t x[BP_IN];       /* Q12 */
+    int16_t n, dn[BP_OUT], de[BP_OUT];
+    int16_t eg;                     /* Q12: eta * delta */
+    int32_t du;
+    uint8_t i, j, learn;
+    __xdata int16_t *wp;
+    q15_t out;
+
+    x[0] = 4096;
+    x[1] = (int16_t)((MUL(clamp16(in->target_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
+    x[2] = (int16_t)((MUL(clamp16(in->flow_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
+    n = (int16_t)((MUL(clamp16(e, -BP_E_CLAMP, BP_E_CLAMP), BP_E_NORM) + 1024) >> 11);
+    x[3] = n;
+    if (ctl_first) {                /* from rest: no kick, no learning from stale history */
+        b->e1 = b->e2 = e;
+        b->n1 = b->n2 = n;
+        b->phase = 0;
+        ctl_first = 0;
+    }
+
+    /* forward */
+    wp = &b->w[0][0];
+    for (i = 0; i < BP_HID; i++) {
+        mul_acc = 2048;             /* rounding of the >> 12 */
+        for (j = 0; j < BP_IN; j++)
+            MAC(*wp++, x[j]);
+        b->o[i] = fx_tanh(fx_sat16(mul_acc >> 12));
+    }
+    wp = &b->v[0][0];
+    for (i = 0; i < BP_OUT; i++) {
+        mul_acc = 16384;
+        for (j = 0; j < BP_HID; j++)
+            MAC(*wp++, b->o[j]);
+        /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined) */
+        b->k[i] = fx_sat16((32769L + fx_tanh(fx_sat16(mul_acc >> 15))) >> 1);
+        ctl_k[i] = (b->k[i] + 4) >> 3;
+    }
+
+    /* the incremental law */
+    de[0] = (int16_t)(e - b->e1);
+    de[1] = e;
+    de[2] = fx_sat16((int32_t)e - 2 * (int32_t)b->e1 + b->e2);
+    du = 0;
+    for (i = 0; i < BP_OUT; i++)
+        du += (MUL(b->k[i], de[i]) + 4) >> 3;       /* Q15 * x100 -> Q12 x100 */
+    out = ctl_out(du_to_drive(du), in->valve_limit);
+
+    /* learning, frozen while saturated or at an end stop; spread over three periods */
+    learn = !ctl_sat && !in->valve_limit;
+    if (!learn) {
+        b->phase = 0;               /* a frozen update is dropped, the next one starts afresh */
+    } else if (b->phase == 0) {
+        dn[0] = n - b->n1;
+        dn[1] = n;
+        dn[2] = fx_sat16((int32_t)n - 2 * (int32_t)b->n1 + b->n2);
+        for (i = 0; i < BP_OUT; i++) {
+            /* delta_l = e * sgn * d(du)/dK_l * g'(net_l), g' = 2K(1-K) */
+            int16_t gp = (int16_t)((MUL(b->k[i], (int16_t)(32767 - b->k[i])) + 8192) >> 14);   /* Q15 */
+            int16_t t = fx_sat16((MUL(n, dn[i]) + 2048) >> 12);                                  /* Q12 */
+            b->dl[i] = fx_sat16((MUL(t, gp) + 16384) >> 15);                                    /* Q12 */
+            eg = (int16_t)((MUL(b->dl[i], BP_ETA) + 2048) >> 12);
+            bp_upd_row(&b->v[i][0], &b->dv[i][0], eg, b->o, BP_HID, 1);
+        }
+        for (j = 0; j < BP_IN; j++)
+            b->x[j] = x[j];
+        for (j = 0; j < BP_HID; j++)
+            b->oh[j] = b->o[j];
+        b->phase = 1;
+    } else {
+        /* hidden deltas (with the output weights just updated, as the reference code does),
+         * rows 0..2 on phase 1, rows 3..4 on phase 2 */
+        i = b->phase == 1 ? 0 : 3;
+        j = b->phase == 1 ? 3 : BP_HID;
+        for (; i < j; i++) {
+            int16_t one_m = (int16_t)(32767 - ((MUL(b->oh[i], b->oh[i]) + 16384) >> 15));   /* Q15 1 - O^2 */
+            uint8_t l;
+            mul_acc = 2048;
+            for (l = 0; l < BP_OUT; l++)
+                MAC(b->dl[l], b->v[l][i]);
+            eg = fx_sat16((MUL(fx_sat16(mul_acc >> 12), one_m) + 16384) >> 15);
+            eg = (int16_t)((MUL(eg, BP_ETA) + 2048) >> 12);
+            bp_upd_row(&b->w[i][0], &b->dw[i][0], eg, b->x, BP_IN, 0);
+        }
+        b->phase = b->phase == 1 ? 2 : 0;
+    }
+    b->e2 = b->e1;
+    b->e1 = e;
+    b->n2 = b->n1;
+    b->n1 = n;
+    return out;
+}
+
+/* ---- ffmap: the project's own controller (`best`) ------------------------------------------
+ * A position servo on an estimate of the valve's closure, which nothing measures: p_hat is
+ * our own drive integrated (motion = duty / T_travel a period), reset at the end stops that
+ * valve_limit reports. The reference closure p_ref moves by
+ *  - feed-forward: map(target now) - map(target before): the target flow is known from speed
+ *    and dose before the meter sees any change, and the learned map says how far the valve
+ *    must go for it (flow -> closure, linear between nodes 5.12 L/min apart; until a node is
+ *    learned it follows the default slope of 1 stroke per 100 L/min);
+ *  - feedback: an incremental PI (P on the measurement, so a target change does not kick it
+ *    twice) in the same normalised units as pid.
+ * The servo drives |p_ref - p_hat| * T_travel, takes up the 2 % backlash after a reversal
+ * before it counts motion, and sends either nothing or at least the break-away duty 0.2 (moves
+ * under half the smallest real move are not made: a deadband against hunting).
+ * The map learns where the loop is calm (target steady, error < 6 %), pulling the two nodes
+ * around the target toward p_hat; frozen at end stops and at drive limit. */
+#define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
+#define FM_KI Q12(0.25)
+#define FM_LEAD Q15(0.5)            /* p_ref stays within this of p_hat (anti-windup) */
+#define FM_CALM 5                   /* periods of calm before the map learns */
+#define FM_LR_SHIFT 2               /* map learning rate 1/4 a calm period */
+#define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
+
+static void fm_init(void)
+{
+    uint8_t i;
+    for (i = 0; i < FM_NODES; i++)
+        ctl_st.fm.node[i] = (int16_t)(i * FM_DEF_SLOPE);
+    ctl_st.fm.seen = 0;
+    ctl_st.fm.p_hat = Q15(0.5);
+    ctl_st.fm.p_ref = Q15(0.5);
+    ctl_st.fm.takeup = 0;
+    ctl_st.fm.dir = 0;
+    ctl_st.fm.calm = 0;
+}
+
+/* map(q): closure for a target flow, Q15 stroke. */
+static int16_t fm_map(int16_t q)
+{
+    uint8_t i;
+    uint16_t f;
+    int16_t a;
+    if (q < 0)
+        q = 0;
+    if (q >= (FM_NODES - 1) << FM_BIN_SHIFT)
+        return ctl_st.fm.node[FM_NODES - 1];
+    i = (uint8_t)(q >> FM_BIN_SHIFT);
+    f = (uint16_t)q & ((1u << FM_BIN_SHIFT) - 1u);  /* 0..511 */
+    a = ctl_st.fm.node[i];
+    return (int16_t)(a + ((MUL((int16_t)(ctl_st.fm.node[i + 1] - a), (int16_t)f) + 256) >> FM_BIN_SHIFT));
+}
+
+static void fm_learn(int16_t q)
+{
+    fm_state_t *m = &ctl_st.fm;
+    uint8_t i, near, j;
+    int16_t f, err, d0, d1, shift;
+    uint32_t bit, mask;
+    if (q < 0 || q >= (FM_NODES - 1) << FM_BIN_SHIFT)
+        return;
+    i = (uint8_t)(q >> FM_BIN_SHIFT);
+    f = (int16_t)((uint16_t)q & ((1u << FM_BIN_SHIFT) - 1u));
+    near = f < (1 << (FM_BIN_SHIFT - 1)) ? i : (uint8_t)(i + 1);
+    err = fx_sub_sat(m->p_hat, fm_map(q));
+    d0 = (int16_t)((MUL(err, (int16_t)((1 << FM_BIN_SHIFT) - f)) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1)))
+                   >> (FM_BIN_SHIFT + FM_LR_SHIFT));
+    d1 = (int16_t)((MUL(err, f) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1))) >> (FM_BIN_SHIFT + FM_LR_SHIFT));
+    shift = near == i ? d0 : d1;
+    m->node[i] = fx_add_sat(m->node[i], d0);
+    m->node[i + 1] = fx_add_sat(m->node[i + 1], d1);
+    bit = 1;
+    for (j = 0; j < near; j++)
+        bit <<= 1;
+    if (!(m->seen & bit)) {
+        /* a first visit: the unlearned nodes move with it, keeping the default shape */
+        mask = 1;
+        for (j = 0; j < FM_NODES; j++) {
+            if (j != i && j != i + 1 && !(m->seen & mask))
+                m->node[j] = fx_add_sat(m->node[j], shift);
+            mask <<= 1;
+        }
+        m->seen |= bit;
+    }
+}
+
+static q15_t fm_step(const ctl_in_t *in)
+{
+    fm_state_t *m = &ctl_st.fm;
+    int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
+    int16_t y = in->flow_lpm_x100;
+    int16_t q = in->target_lpm_x100;
+    int32_t du, d;
+    int16_t need, mv, c, dq, aq;
+    int8_t s;
+
+    if (ctl_first) {
+        m->y1 = y;
+        m->t1 = q;
+        m->p_ref = m->p_hat;
+        m->calm = 0;
+        ctl_first = 0;
+    }
+    /* end stops calibrate the estimate */
+    if (in->valve_limit & CTL_AT_CLOSED)
+        m->p_hat = 32767;
+    else if (in->valve_limit & CTL_AT_OPEN)
+        m->p_hat = 0;
+
+    /* feed-forward from the map, feedback from the flow */
+    d = (int32_t)fm_map(q) - fm_map(m->t1);
+    du = MUL(FM_KP, fx_sat16((int32_t)m->y1 - y));
+    du += MUL(FM_KI, e);
+    d += (MUL(fx_sat16((du + 128) >> 8), 26844) + 65536L) >> 17;   /* du_q4 * 0.2048 = Q15 stroke */
+    d += m->p_ref;
+    if (d > (int32_t)m->p_hat + FM_LEAD)
+        d = (int32_t)m->p_hat + FM_LEAD;
+    if (d < (int32_t)m->p_hat - FM_LEAD)
+        d = (int32_t)m->p_hat - FM_LEAD;
+    if (d > 32767)
+        d = 32767;
+    if (d < 0)
+        d = 0;
+    m->p_ref = (int16_t)d;
+    if (((in->valve_limit & CTL_AT_CLOSED) && m->p_ref > m->p_hat)
+        || ((in->valve_limit & CTL_AT_OPEN) && m->p_ref < m->p_hat))
+        m->p_ref = m->p_hat;
+
+    /* the servo: the move still needed, plus the backlash to take up on a reversal */
+    need = m->p_ref - m->p_hat;
+    s = need > 0 ? 1 : need < 0 ? -1 : 0;
+    if (s != 0 && s != m->dir)
+        c = FM_BACKLASH;
+    else
+        c = m->takeup;
+    d = MUL(need + (s < 0 ? -c : c), ctl_travel);  /* Q15 drive */
+    ctl_sat = 0;
+    if (d > 32767) {
+        d = 32767;
+        ctl_sat = 1;
+    } else if (d < -32767) {
+        d = -32767;
+        ctl_sat = 1;
+    }
+    if (d < CTL_STICTION && d > -CTL_STICTION)
+        d = (d >= CTL_STICTION / 2) ? CTL_STICTION : (d <= -CTL_STICTION / 2) ? -CTL_STICTION : 0;
+    if ((d > 0 && (in->valve_limit & CTL_AT_CLOSED)) || (d < 0 && (in->valve_limit & CTL_AT_OPEN))) {
+        d = 0;
+        ctl_sat = 1;
+    }
+
+    /* account the motion: backlash first, then the valve */
+    if (d != 0) {
+        s = d > 0 ? 1 : -1;
+        if (s != m->dir) {
+            m->takeup = FM_BACKLASH;
+            m->dir = s;
+        }
+        mv = (int16_t)((MUL((int16_t)(d > 0 ? d : -d), ctl_inv_travel) + 16384) >> 15);   /* Q15 stroke */
+        c = mv < m->takeup ? mv : m->takeup;
+        m->takeup -= c;
+        mv -= c;
+        m->p_hat = (int16_t)clamp16(fx_add_sat(m->p_hat, s > 0 ? mv : (int16_t)-mv), 0, 32767);
+    }
+
+    /* learning the map where the loop is calm */
+    dq = (int16_t)(q - m->t1);
+    aq = dq < 0 ? (int16_t)-dq : dq;
+    if ((int32_t)aq * 64 <= q && (int32_t)(e < 0 ? -e : e) * 16 <= q && q > 0 && !ctl_sat && !in->valve_limit) {
+        if (m->calm < 255)
+            m->calm++;
+    } else {
+        m->calm = 0;
+    }
+    if (m->calm >= FM_CALM)
+        fm_learn(q);
+
+    m->y1 = y;
+    m->t1 = q;
+    ctl_k[0] = FM_KP;
+    ctl_k[1] = FM_KI;
+    ctl_k[2] = 0;
+    ctl_last = (q15_t)d;
+    return (q15_t)d;
+}
+
+/* ---- the interface ------------------------------------------------------------------------ */
+void ctl_reset(q15_t drive_now)
+{
+    ctl_first = 1;
+    ctl_carry = 0;
+    ctl_last = drive_now;
+    ctl_sat = 0;
+    ctl_derive();
+}
+
+uint8_t ctl_select(uint8_t id)
+{
+    if (id >= CTL_COUNT)
+        return 0;
+    ctl_id = id;
+    ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
+    switch (id) {
+    case CTL_PID:
+        ctl_st.pid.e1 = ctl_st.pid.e2 = 0;
+        break;
+    case CTL_FUZZY_PID:
+        ctl_st.fz.e1 = ctl_st.fz.e2 = 0;
+        break;
+    case CTL_BP_PID:
+        bp_init();
+        break;
+    default:
+        fm_init();
+        break;
+    }
+    ctl_reset(0);
+    return 1;
+}
+
+uint8_t ctl_selected(void)
+{
+    return ctl_id;
+}
+
+int16_t ctl_gain(uint8_t i)
+{
+    return i < 3 ? ctl_k[i] : 0;
 }
 
 q15_t ctl_step(const ctl_in_t *in)
@@ -185,7 +746,13 @@ q15_t ctl_step(const ctl_in_t *in)
     if (ctl_gen != param_generation || ctl_kf == 0)
         ctl_derive();
     switch (ctl_id) {
-    default:
+    case CTL_PID:
         return pid_step(in);
+    case CTL_FUZZY_PID:
+        return fz_step(in);
+    case CTL_BP_PID:
+        return bp_step(in);
+    default:
+        return fm_step(in);
     }
 }

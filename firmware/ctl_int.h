@@ -1,0 +1,90 @@
+/* ctl_int.h: the controllers' internal states and constants, for ctl.c and the tests (twins, target runs). */
+#ifndef CTL_INT_H
+#define CTL_INT_H
+
+#include "ctl.h"
+
+/* ---- common ---------------------------------------------------------------------------- */
+#define CTL_FLOW_SCALE_LPM 100      /* L/min of boom flow per full valve stroke (normalisation) */
+#define CTL_STICTION Q15(0.2)       /* the valve's break-away duty */
+#define CTL_E_MAX 16000             /* errors clamped to +-160 L/min (x100) */
+
+/* ---- pid: eq. (7), the paper's gains ----------------------------------------------------- */
+#define PID_KP Q12(1.2)
+#define PID_KI Q12(0.2)
+#define PID_KD Q12(0.8)
+typedef struct {
+    int16_t e1, e2;                 /* x100 L/min: e(k-1), e(k-2) */
+} pid_state_t;
+
+/* ---- fuzzy_pid: gains kp0 + QP * dKp(e, ec) ... with dK in [-3, 3] from the rule tables ----- */
+#define FZ_E_LEVEL 100              /* x100 L/min of error per fuzzy level (PB = 3 L/min) */
+#define FZ_EC_LEVEL 50              /* x100 L/min of error change a period per level */
+#define FZ_QP Q12(0.2)              /* gain change per level */
+#define FZ_QI Q12(0.05)
+#define FZ_QD Q12(0.2)
+typedef struct {
+    int16_t e1, e2;                 /* x100 L/min */
+} fz_state_t;
+
+/* ---- bp_pid: 3(+bias)-5-3 network --------------------------------------------------------- */
+#define BP_IN 4
+#define BP_HID 5
+#define BP_OUT 3
+#define BP_ETA Q12(0.2)
+#define BP_ALPHA Q12(0.05)
+#define BP_WMAX Q12(4.0)            /* weight bound (a deviation: keeps tanh out of its flat tails) */
+#define BP_SEED 0x2020u             /* initial weights: xorshift16 from this seed */
+#define BP_Q_NORM 26844             /* flows to the network: q / 50 L/min, Q12: x100 * 0.8192 (Q15 const) */
+#define BP_E_NORM 16777             /* error: e / 5 L/min, Q12: x100 * 8.192 (Q11 const) */
+#define BP_E_CLAMP 1500             /* error input clamped to +-15 L/min (x100) */
+typedef struct {
+    int16_t w[BP_HID][BP_IN];       /* Q12 input -> hidden, column 0 = bias */
+    int16_t v[BP_OUT][BP_HID];      /* Q12 hidden -> output */
+    int16_t dw[BP_HID][BP_IN];      /* Q12 last change of w (momentum) */
+    int16_t dv[BP_OUT][BP_HID];     /* Q12 last change of v */
+    int16_t x[BP_IN];               /* Q12 inputs of the step whose hidden update is pending */
+    int16_t o[BP_HID];              /* Q15 hidden outputs */
+    int16_t k[BP_OUT];              /* Q15 kp, ki, kd */
+    int16_t dl[BP_OUT];             /* Q12 output deltas of the update in progress */
+    int16_t oh[BP_HID];             /* Q15 hidden outputs of the update in progress */
+    int16_t e1, e2;                 /* x100 L/min */
+    int16_t n1, n2;                 /* Q12 normalised error e(k-1), e(k-2) */
+    uint8_t phase;                  /* 0: output layer learns, 1: hidden rows 0-2, 2: rows 3-4 */
+} bp_state_t;
+
+/* ---- ffmap (the project's own, `best`): position servo + learned flow->position map ------ */
+#define FM_NODES 17                 /* map nodes every FM_BIN of target flow: 0 .. 81.9 L/min */
+#define FM_BIN_SHIFT 9              /* node spacing 512 x100 = 5.12 L/min */
+#define FM_BACKLASH Q15(0.02)       /* stroke lost on a reversal (taken up before counting) */
+typedef struct {
+    int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow */
+    uint32_t seen;                  /* bit n: node n learned from the loop */
+    int16_t p_hat;                  /* Q15 closure estimated by integrating our own drive */
+    int16_t p_ref;                  /* Q15 closure the servo drives to */
+    int16_t takeup;                 /* Q15 backlash still to take up (sign = direction) */
+    int16_t y1;                     /* x100 last measured flow */
+    int16_t t1;                     /* x100 last target */
+    int8_t dir;                     /* +1 / -1 direction of the last motion */
+    uint8_t calm;                   /* periods the target has been steady and the error small */
+} fm_state_t;
+
+typedef union {
+    pid_state_t pid;
+    fz_state_t fz;
+    bp_state_t bp;
+    fm_state_t fm;
+} ctl_state_t;
+
+/* The live state (read by the tests; only ctl.c writes it). */
+extern ctl_state_t ctl_st;
+/* 1 when the last drive was cut: drive limit or end stop (learning is frozen then). */
+uint8_t ctl_saturated(void);
+/* Q15 sub-stiction drive accumulated by the output stage of pid / fuzzy_pid / bp_pid. */
+q15_t ctl_carry_now(void);
+/* Drive per unit of du (Q8, from P_VALVE_TRAVEL): drive = (du_q12 >> 8) * kf >> 8. */
+int16_t ctl_drive_factor(void);
+/* The fuzzy rule tables (rows e NB..PB, columns ec NB..PB, values -3..3). */
+extern const __code int8_t fz_tab[3][7][7];
+
+#endif

@@ -1,0 +1,140 @@
+/* tt_ctl.c: every controller on recorded input sequences and a long closed-loop learning run with an integer toy plant; s51 and host must print the same bits; cycles per control step. */
+#include "ctl_int.h"
+#include "params.h"
+#include "tt.h"
+
+/* A deterministic integer plant: closure p (Q15) moved by the drive at 1/40 stroke a period
+ * above 20 % duty, boom flow = the pump's share through the closure, a one-period lag, meter
+ * noise of +-0.3 L/min, end stops reported as valve_limit. */
+static int16_t pl_p, pl_q;
+static uint16_t pl_pump;            /* x100 L/min through a closed bypass */
+
+static void plant(q15_t drive, ctl_in_t *in)
+{
+    int32_t p = pl_p;
+    int16_t qss, noise;
+    if (drive >= Q15(0.2) || drive <= -Q15(0.2))
+        p += ((int32_t)drive * 819 + 16384) >> 15;
+    if (p > 32767)
+        p = 32767;
+    if (p < 0)
+        p = 0;
+    pl_p = (int16_t)p;
+    qss = (int16_t)(((int32_t)pl_p * pl_pump) >> 15);
+    pl_q += (int16_t)((qss - pl_q) >> 1);
+    noise = (int16_t)(tt_rand16() & 63u) - 32;
+    in->flow_lpm_x100 = pl_q + noise;
+    in->valve_limit = pl_p == 32767 ? CTL_AT_CLOSED : pl_p == 0 ? CTL_AT_OPEN : 0;
+}
+
+static uint32_t cyc_max, cyc_sum;
+
+static q15_t timed_step(const ctl_in_t *in)
+{
+    q15_t d;
+    uint32_t c;
+    tt_cycles_start();
+    d = ctl_step(in);
+    c = tt_cycles_stop();
+    if (c > cyc_max)
+        cyc_max = c;
+    cyc_sum += c;
+    return d;
+}
+
+/* One line a step: drive, the three gains. */
+static void out_line(q15_t d)
+{
+    tt_hex16((uint16_t)d);
+    tt_putc(' ');
+    tt_hex16((uint16_t)ctl_gain(0));
+    tt_hex16((uint16_t)ctl_gain(1));
+    tt_hex16((uint16_t)ctl_gain(2));
+    tt_putc('\n');
+}
+
+/* A checksum of the active controller's state words (no padding bytes: the hosts' layouts differ). */
+static uint16_t state_sum(uint8_t id)
+{
+    const int16_t *w;
+    uint16_t s = 0, i, n;
+    switch (id) {
+    case CTL_PID: w = &ctl_st.pid.e1; n = 2; break;
+    case CTL_FUZZY_PID: w = &ctl_st.fz.e1; n = 2; break;
+    case CTL_BP_PID: w = &ctl_st.bp.w[0][0]; n = 2 * (BP_IN * BP_HID + BP_OUT * BP_HID); break;
+    default: w = &ctl_st.fm.node[0]; n = FM_NODES; break;
+    }
+    for (i = 0; i < n; i++)
+        s = (uint16_t)((s << 1) | (s >> 15)) ^ (uint16_t)w[i];
+    if (id == CTL_BEST)
+        s ^= (uint16_t)ctl_st.fm.p_hat ^ (uint16_t)ctl_st.fm.p_ref ^ (uint16_t)ctl_st.fm.takeup;
+    return s;
+}
+
+static const __code char *const bench_names[CTL_COUNT] = {
+    "ctl_step_pid_max", "ctl_step_fuzzy_pid_max", "ctl_step_bp_pid_max", "ctl_step_ffmap_max"};
+
+int main(void)
+{
+    uint8_t id;
+    uint16_t k, n_long;
+    ctl_in_t in;
+    q15_t d;
+    uint16_t r;
+
+    tt_begin();
+    params_defaults();
+    for (id = 0; id < CTL_COUNT; id++) {
+        tt_puts(ctl_name(id));
+        tt_putc('\n');
+        /* recorded input sequence: random targets, flows, limits (open loop) */
+        ctl_select(id);
+        for (k = 0; k < 120; k++) {
+            r = tt_rand16();
+            in.target_lpm_x100 = (int16_t)(1500 + (r & 4095u));
+            r = tt_rand16();
+            in.flow_lpm_x100 = (int16_t)(in.target_lpm_x100 + (int16_t)(r & 1023u) - 512);
+            in.speed_kmh_x100 = 700;
+            in.pressure_kpa = 300;
+            r = tt_rand16();
+            in.valve_limit = (r & 0x700u) == 0 ? (uint8_t)((r & 1u) + 1u) : 0;
+            d = ctl_step(&in);
+            out_line(d);
+        }
+        /* long closed-loop run on the toy plant: target steps every 5 s, learning on */
+        ctl_select(id);
+        pl_p = Q15(0.5);
+        pl_q = 3000;
+        pl_pump = 6000;
+        in.flow_lpm_x100 = 3000;
+        in.valve_limit = 0;
+        in.target_lpm_x100 = 3000;
+        cyc_max = 0;
+        cyc_sum = 0;
+        n_long = id == CTL_BP_PID ? 3000 : 1000;
+        for (k = 0; k < n_long; k++) {
+            if (k % 50 == 0) {
+                r = tt_rand16();
+                in.target_lpm_x100 = (int16_t)(1800 + (r & 2047u));
+            }
+            if (k == n_long / 2)
+                pl_pump = 5000;     /* the plant changes under the controller */
+            d = timed_step(&in);
+            plant(d, &in);
+            if (k % 100 == 99) {
+                tt_hex16((uint16_t)k);
+                tt_putc(' ');
+                tt_hex16((uint16_t)pl_p);
+                tt_putc(' ');
+                tt_hex16((uint16_t)in.flow_lpm_x100);
+                tt_putc(' ');
+                tt_hex16(state_sum(id));
+                tt_putc(' ');
+                out_line(d);
+            }
+        }
+        tt_bench(bench_names[id], cyc_max);
+    }
+    tt_end();
+    return 0;
+}
