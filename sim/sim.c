@@ -98,6 +98,22 @@ static const char *alarm_code(uint8_t bit, char *buf, size_t n)
     return buf;
 }
 
+/* The driver's command at t (time only moves forward): scenario_drive_kmh with a cursor. */
+static double drive_kmh(sim_t *sim, double t)
+{
+    const scenario_t *s = sim->scn;
+    const scn_drive_t *d = s->drive;
+    int i;
+    if (s->n_drive == 0)
+        return 0.0;
+    while (sim->drive_row + 1 < s->n_drive && d[sim->drive_row + 1].t_s <= t)
+        sim->drive_row++;
+    i = sim->drive_row;
+    if (t < d[0].t_s || i + 1 >= s->n_drive)
+        return d[i].kmh;
+    return d[i].kmh + (d[i + 1].kmh - d[i].kmh) * (t - d[i].t_s) / (d[i + 1].t_s - d[i].t_s);
+}
+
 void sim_step(sim_t *sim)
 {
     const scenario_t *s = sim->scn;
@@ -110,7 +126,7 @@ void sim_step(sim_t *sim)
         const scn_event_t *e = &s->events[sim->next_event++];
         sim_event(sim, e->kind, e->value);          /* checked when the file was read */
     }
-    pl->v_cmd_kmh = scenario_drive_kmh(s, t1 * 1e-9);
+    pl->v_cmd_kmh = drive_kmh(sim, t1 * 1e-9);
     in.drive = hal_host_io.valve_dir * (hal_host_io.valve_duty / 255.0);
     in.spray_on = hal_host_io.spray_on;
 

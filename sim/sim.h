@@ -76,6 +76,7 @@ typedef struct {
     uint64_t t_ns;                  /* simulated time (= hal_host_io.time_ns) */
     uint64_t end_ns;                /* duration_s of the scenario */
     int next_event;                 /* index into scn->events */
+    int drive_row;                  /* the last [drive] row at or before now (a cursor) */
     unsigned prev_alarms;
     /* mean flows over the current sample period */
     double acc_meter, acc_boom;
