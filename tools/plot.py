@@ -94,6 +94,10 @@ def plot_zones(args):
     if args.rate:
         ax[0].set_title("expected %.3f L per 5 m zone at %g L/ha with an 18 m boom" % (args.rate * 18 * 5 / 1e4, args.rate),
                         fontsize=9)
+    exp = sorted(e for e in c["expect_l"] if e == e and e > 0)
+    if exp:                         # zoom on the spread: from half the expected volume up
+        top = max([v for v in vol if v == v] + [exp[-1]])
+        ax[0].set_ylim(0.5 * exp[len(exp) // 2], 1.05 * top)
     ax[0].set_ylabel("volume per 5 m, L")
     ax[0].legend(loc="lower right", fontsize=8)
     ax[0].grid(alpha=0.3)
