@@ -28,6 +28,11 @@
 
 #include "ctl_int.h"
 
+/* CTL_SHARED: locals and compiler temporaries of the non-network controllers go on the stack
+ * (__reentrant), so the controllers share those bytes (only one runs) instead of each holding
+ * its own in the scarce internal RAM and XRAM. */
+#define CTL_SHARED __reentrant
+
 /* ---- a 16x16 -> 32 signed multiply: four MUL AB on the 8051 (~60 cycles against ~230 for
  * SDCC's general 32-bit multiply); the same exact product on the host ------------------------ */
 #if defined(__SDCC)
@@ -136,6 +141,7 @@ static int16_t ctl_inv_travel;      /* Q15: 1 / ctl_travel */
 static q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
 static q15_t ctl_last;              /* Q15: last drive sent */
 static uint8_t ctl_sat;             /* 1: the last drive was cut (limit or end stop) */
+static const ctl_in_t *in;          /* the inputs of the step in progress */
 static int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
 
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */
@@ -176,13 +182,12 @@ int16_t ctl_drive_factor(void)
  * here, not in the control law). */
 static void ctl_derive(void)
 {
-    uint32_t t = param_v[P_VALVE_TRAVEL];
-    if (t < 1)
-        t = 40;
+    ctl_travel = (int16_t)param_v[P_VALVE_TRAVEL];
+    if (ctl_travel < 1)
+        ctl_travel = 40;
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
-    ctl_kf = (int16_t)((t * 839u + 8u) >> 4);       /* Q8 of T * 0.2048 (839/4096 = 0.20483) */
-    ctl_travel = (int16_t)t;
-    ctl_inv_travel = (int16_t)((32768u + t / 2u) / t);
+    ctl_kf = (int16_t)(((uint32_t)ctl_travel * 839u + 8u) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
+    ctl_inv_travel = (int16_t)((32768UL + (uint16_t)ctl_travel / 2u) / (uint16_t)ctl_travel);
     ctl_gen = param_generation;
 }
 
@@ -235,18 +240,21 @@ static q15_t ctl_out(int32_t d, uint8_t limit)
 }
 
 /* ---- pid: eq. (7) ------------------------------------------------------------------------- */
-/* du of eq. (7) with gains in Q12; e, e1, e2 in x100 L/min. */
-static int32_t pid_law(int16_t e, int16_t e1, int16_t e2, int16_t kp, int16_t ki, int16_t kd)
+/* du of eq. (7) with the gains of ctl_k (Q12) and the history of pid (fuzzy_pid has the same
+ * layout); e, e1, e2 in x100 L/min. Shifts the history. */
+static int32_t pid_law(int16_t e) CTL_SHARED
 {
-    int16_t d2e = fx_sat16((int32_t)e - 2 * (int32_t)e1 + e2);
-    int16_t de = (int16_t)(e - e1);                 /* |e| <= CTL_E_MAX: no overflow */
-    int32_t du = MUL(kp, de);
-    du += MUL(ki, e);
-    du += MUL(kd, d2e);
+    int16_t d2e = fx_sat16((int32_t)e - 2 * (int32_t)ctl_st.pid.e1 + ctl_st.pid.e2);
+    int16_t de = (int16_t)(e - ctl_st.pid.e1);      /* |e| <= CTL_E_MAX: no overflow */
+    int32_t du = MUL(ctl_k[0], de);
+    du += MUL(ctl_k[1], e);
+    du += MUL(ctl_k[2], d2e);
+    ctl_st.pid.e2 = ctl_st.pid.e1;
+    ctl_st.pid.e1 = e;
     return du;
 }
 
-static q15_t pid_step(const ctl_in_t *in)
+static q15_t pid_step(void) CTL_SHARED
 {
     int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
     int32_t du;
@@ -256,12 +264,10 @@ static q15_t pid_step(const ctl_in_t *in)
         ctl_st.pid.e2 = e;
         ctl_first = 0;
     }
-    du = pid_law(e, ctl_st.pid.e1, ctl_st.pid.e2, PID_KP, PID_KI, PID_KD);
-    ctl_st.pid.e2 = ctl_st.pid.e1;
-    ctl_st.pid.e1 = e;
     ctl_k[0] = PID_KP;
     ctl_k[1] = PID_KI;
     ctl_k[2] = PID_KD;
+    du = pid_law(e);
     return ctl_out(du_to_drive(du), in->valve_limit);
 }
 
@@ -292,7 +298,7 @@ const __code int8_t fz_tab[3][7][7] = {
 };
 
 /* Level position of x (x100 L/min) at `unit` per level, Q8, 0 .. 6*256-1 (NB .. PB). */
-static uint16_t fz_level(int16_t x, int16_t unit)
+static uint16_t fz_level(int16_t x, int16_t unit) CTL_SHARED
 {
     int32_t q = ((int32_t)clamp16(x, -3 * unit, 3 * unit) * 256) ;
     int16_t l;
@@ -309,14 +315,13 @@ static uint16_t fz_level(int16_t x, int16_t unit)
     return (uint16_t)l;
 }
 
-static q15_t fz_step(const ctl_in_t *in)
+static q15_t fz_step(void) CTL_SHARED
 {
     int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
     uint16_t le, lc;
     uint8_t i, j, t, fe, fc;
     int16_t r0, r1;
     int32_t d;
-    int16_t k[3];
     static const __code int16_t k0[3] = {PID_KP, PID_KI, PID_KD};
     static const __code int16_t qk[3] = {FZ_QP, FZ_QI, FZ_QD};
 
@@ -337,14 +342,11 @@ static q15_t fz_step(const ctl_in_t *in)
         r1 = (int16_t)fz_tab[t][i + 1][j] * (int16_t)(256 - fc) + (int16_t)fz_tab[t][i + 1][j + 1] * fc;
         d = MUL(r0, 256 - fe) + MUL(r1, fe);                    /* level, Q16 */
         d = (MUL(fx_sat16((d + 128) >> 8), qk[t]) + 128) >> 8;  /* Q12 gain change */
-        k[t] = fx_sat16(k0[t] + d);
-        if (k[t] < 0)
-            k[t] = 0;
-        ctl_k[t] = k[t];
+        ctl_k[t] = fx_sat16(k0[t] + d);
+        if (ctl_k[t] < 0)
+            ctl_k[t] = 0;
     }
-    d = pid_law(e, ctl_st.fz.e1, ctl_st.fz.e2, k[0], k[1], k[2]);
-    ctl_st.fz.e2 = ctl_st.fz.e1;
-    ctl_st.fz.e1 = e;
+    d = pid_law(e);
     return ctl_out(du_to_drive(d), in->valve_limit);
 }
 
@@ -358,7 +360,9 @@ static q15_t fz_step(const ctl_in_t *in)
  * Deviations for a real plant and a small CPU, each needed:
  *  - inputs normalised: flows / 50 L/min, error / 5 L/min clamped to +-3 (Q12);
  *  - the gains act on the normalised law of pid (100 L/min a stroke), so K in [0, 1);
- *  - weights bounded to +-4 (BP_WMAX);
+ *  - weights bounded to +-4 (BP_WMAX); the momentum term remembers the last change saturated
+ *    to +-127 LSB (0.031: larger single changes are rare) to save 35 bytes of the 1 KB XRAM;
+ *    alpha * dw is d/16 - d/64 + d/256 = 0.0508 dw;
  *  - learning frozen while the valve is at an end stop or the drive was cut at its limit, and
  *    while the loop is off (ctl_reset restarts from rest, the weights are kept);
  *  - one update is spread over three periods (output layer; hidden rows 0-2; rows 3-4, from
@@ -394,35 +398,48 @@ static void bp_init(void)
 }
 
 /* alpha * d with shifts: d/16 - d/64 + d/256 = 0.0508 d (alpha 0.05 within 2 %) */
-static int16_t bp_mom(int16_t d)
+static int16_t bp_mom(int8_t d8)
 {
+    int16_t d = d8;
     return (int16_t)((d >> 4) - (d >> 6) + (d >> 8));
 }
 
-/* n weights w += grad(eg, in[j]) + momentum, bounded; dw keeps the change made. */
-static void bp_upd_row(__xdata int16_t *w, __xdata int16_t *dw, int16_t eg, const __xdata int16_t *in,
-                       uint8_t n, uint8_t shift15)
+/* One row of weights: w += eta*delta*input + momentum, bounded; dw keeps the change made.
+ * layer 0: output row `row` (inputs: the hidden outputs, Q15); 1: hidden row (inputs x, Q12). */
+static void bp_upd_row(uint8_t layer, uint8_t row, int16_t eg)
 {
-    uint8_t j;
-    int16_t d, nw;
+    uint8_t j, n;
+    int16_t d, nw, w;
+    n = layer ? BP_IN : BP_HID;
     for (j = 0; j < n; j++) {
-        if (shift15)
-            d = (int16_t)((MUL(eg, in[j]) + 16384) >> 15);
-        else
-            d = fx_sat16((MUL(eg, in[j]) + 2048) >> 12);
-        d = fx_add_sat(d, bp_mom(dw[j]));
-        nw = clamp16(fx_add_sat(w[j], d), -BP_WMAX, BP_WMAX);
-        dw[j] = nw - w[j];
-        w[j] = nw;
+        if (layer) {
+            d = fx_sat16((MUL(eg, ctl_st.bp.x[j]) + 2048) >> 12);
+            d = fx_add_sat(d, bp_mom(ctl_st.bp.dw[row][j]));
+            w = ctl_st.bp.w[row][j];
+        } else {
+            d = (int16_t)((MUL(eg, ctl_st.bp.oh[j]) + 16384) >> 15);
+            d = fx_add_sat(d, bp_mom(ctl_st.bp.dv[row][j]));
+            w = ctl_st.bp.v[row][j];
+        }
+        nw = clamp16(fx_add_sat(w, d), -BP_WMAX, BP_WMAX);
+        d = clamp16((int16_t)(nw - w), -127, 127);
+        if (layer) {
+            ctl_st.bp.dw[row][j] = (int8_t)d;
+            ctl_st.bp.w[row][j] = nw;
+        } else {
+            ctl_st.bp.dv[row][j] = (int8_t)d;
+            ctl_st.bp.v[row][j] = nw;
+        }
     }
 }
 
-static q15_t bp_step(const ctl_in_t *in)
+static q15_t bp_step(void)
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
-    __xdata int16_t x[BP_IN];       /* Q12 */
-    int16_t n, dn[BP_OUT], de[BP_OUT];
+    __xdata int16_t *x = b->xs;     /* Q12 */
+    __xdata int16_t *dn = b->dn, *de = b->de;
+    int16_t n;
     int16_t eg;                     /* Q12: eta * delta */
     int32_t du;
     uint8_t i, j, learn;
@@ -481,13 +498,15 @@ static q15_t bp_step(const ctl_in_t *in)
             int16_t gp = (int16_t)((MUL(b->k[i], (int16_t)(32767 - b->k[i])) + 8192) >> 14);   /* Q15 */
             int16_t t = fx_sat16((MUL(n, dn[i]) + 2048) >> 12);                                  /* Q12 */
             b->dl[i] = fx_sat16((MUL(t, gp) + 16384) >> 15);                                    /* Q12 */
-            eg = (int16_t)((MUL(b->dl[i], BP_ETA) + 2048) >> 12);
-            bp_upd_row(&b->v[i][0], &b->dv[i][0], eg, b->o, BP_HID, 1);
         }
         for (j = 0; j < BP_IN; j++)
             b->x[j] = x[j];
         for (j = 0; j < BP_HID; j++)
             b->oh[j] = b->o[j];
+        for (i = 0; i < BP_OUT; i++) {
+            eg = (int16_t)((MUL(b->dl[i], BP_ETA) + 2048) >> 12);
+            bp_upd_row(0, i, eg);
+        }
         b->phase = 1;
     } else {
         /* hidden deltas (with the output weights just updated, as the reference code does),
@@ -502,7 +521,7 @@ static q15_t bp_step(const ctl_in_t *in)
                 MAC(b->dl[l], b->v[l][i]);
             eg = fx_sat16((MUL(fx_sat16(mul_acc >> 12), one_m) + 16384) >> 15);
             eg = (int16_t)((MUL(eg, BP_ETA) + 2048) >> 12);
-            bp_upd_row(&b->w[i][0], &b->dw[i][0], eg, b->x, BP_IN, 0);
+            bp_upd_row(1, i, eg);
         }
         b->phase = b->phase == 1 ? 2 : 0;
     }
@@ -540,7 +559,7 @@ static void fm_init(void)
     uint8_t i;
     for (i = 0; i < FM_NODES; i++)
         ctl_st.fm.node[i] = (int16_t)(i * FM_DEF_SLOPE);
-    ctl_st.fm.seen = 0;
+    ctl_st.fm.seen[0] = ctl_st.fm.seen[1] = ctl_st.fm.seen[2] = 0;
     ctl_st.fm.p_hat = Q15(0.5);
     ctl_st.fm.p_ref = Q15(0.5);
     ctl_st.fm.takeup = 0;
@@ -549,7 +568,7 @@ static void fm_init(void)
 }
 
 /* map(q): closure for a target flow, Q15 stroke. */
-static int16_t fm_map(int16_t q)
+static int16_t fm_map(int16_t q) CTL_SHARED
 {
     uint8_t i;
     uint16_t f;
@@ -564,12 +583,13 @@ static int16_t fm_map(int16_t q)
     return (int16_t)(a + ((MUL((int16_t)(ctl_st.fm.node[i + 1] - a), (int16_t)f) + 256) >> FM_BIN_SHIFT));
 }
 
-static void fm_learn(int16_t q)
+static const __code uint8_t fm_bit[8] = {1, 2, 4, 8, 16, 32, 64, 128};
+
+static void fm_learn(int16_t q) CTL_SHARED
 {
     fm_state_t *m = &ctl_st.fm;
     uint8_t i, near, j;
     int16_t f, err, d0, d1, shift;
-    uint32_t bit, mask;
     if (q < 0 || q >= (FM_NODES - 1) << FM_BIN_SHIFT)
         return;
     i = (uint8_t)(q >> FM_BIN_SHIFT);
@@ -582,22 +602,16 @@ static void fm_learn(int16_t q)
     shift = near == i ? d0 : d1;
     m->node[i] = fx_add_sat(m->node[i], d0);
     m->node[i + 1] = fx_add_sat(m->node[i + 1], d1);
-    bit = 1;
-    for (j = 0; j < near; j++)
-        bit <<= 1;
-    if (!(m->seen & bit)) {
+    if (!(m->seen[near >> 3] & fm_bit[near & 7])) {
         /* a first visit: the unlearned nodes move with it, keeping the default shape */
-        mask = 1;
-        for (j = 0; j < FM_NODES; j++) {
-            if (j != i && j != i + 1 && !(m->seen & mask))
+        for (j = 0; j < FM_NODES; j++)
+            if (j != i && j != i + 1 && !(m->seen[j >> 3] & fm_bit[j & 7]))
                 m->node[j] = fx_add_sat(m->node[j], shift);
-            mask <<= 1;
-        }
-        m->seen |= bit;
+        m->seen[near >> 3] |= fm_bit[near & 7];
     }
 }
 
-static q15_t fm_step(const ctl_in_t *in)
+static q15_t fm_step(void) CTL_SHARED
 {
     fm_state_t *m = &ctl_st.fm;
     int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
@@ -741,18 +755,19 @@ int16_t ctl_gain(uint8_t i)
     return i < 3 ? ctl_k[i] : 0;
 }
 
-q15_t ctl_step(const ctl_in_t *in)
+q15_t ctl_step(const ctl_in_t *step_in)
 {
+    in = step_in;
     if (ctl_gen != param_generation || ctl_kf == 0)
         ctl_derive();
     switch (ctl_id) {
     case CTL_PID:
-        return pid_step(in);
+        return pid_step();
     case CTL_FUZZY_PID:
-        return fz_step(in);
+        return fz_step();
     case CTL_BP_PID:
-        return bp_step(in);
+        return bp_step();
     default:
-        return fm_step(in);
+        return fm_step();
     }
 }

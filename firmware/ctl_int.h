@@ -41,8 +41,11 @@ typedef struct {
 typedef struct {
     int16_t w[BP_HID][BP_IN];       /* Q12 input -> hidden, column 0 = bias */
     int16_t v[BP_OUT][BP_HID];      /* Q12 hidden -> output */
-    int16_t dw[BP_HID][BP_IN];      /* Q12 last change of w (momentum) */
-    int16_t dv[BP_OUT][BP_HID];     /* Q12 last change of v */
+    int8_t dw[BP_HID][BP_IN];       /* Q12 last change of w (momentum), saturated to +-127 */
+    int8_t dv[BP_OUT][BP_HID];      /* Q12 last change of v */
+    int16_t xs[BP_IN];              /* scratch of the step: this period's inputs, Q12 */
+    int16_t de[BP_OUT];             /* scratch: the law's e - e1, e, e - 2e1 + e2 (x100) */
+    int16_t dn[BP_OUT];             /* scratch: the same of the normalised error (Q12) */
     int16_t x[BP_IN];               /* Q12 inputs of the step whose hidden update is pending */
     int16_t o[BP_HID];              /* Q15 hidden outputs */
     int16_t k[BP_OUT];              /* Q15 kp, ki, kd */
@@ -59,7 +62,7 @@ typedef struct {
 #define FM_BACKLASH Q15(0.02)       /* stroke lost on a reversal (taken up before counting) */
 typedef struct {
     int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow */
-    uint32_t seen;                  /* bit n: node n learned from the loop */
+    uint8_t seen[3];                /* bit n: node n learned from the loop */
     int16_t p_hat;                  /* Q15 closure estimated by integrating our own drive */
     int16_t p_ref;                  /* Q15 closure the servo drives to */
     int16_t takeup;                 /* Q15 backlash still to take up (sign = direction) */

@@ -61,11 +61,19 @@ static uint16_t state_sum(uint8_t id)
     switch (id) {
     case CTL_PID: w = &ctl_st.pid.e1; n = 2; break;
     case CTL_FUZZY_PID: w = &ctl_st.fz.e1; n = 2; break;
-    case CTL_BP_PID: w = &ctl_st.bp.w[0][0]; n = 2 * (BP_IN * BP_HID + BP_OUT * BP_HID); break;
+    case CTL_BP_PID: w = &ctl_st.bp.w[0][0]; n = BP_IN * BP_HID; break;
     default: w = &ctl_st.fm.node[0]; n = FM_NODES; break;
     }
     for (i = 0; i < n; i++)
         s = (uint16_t)((s << 1) | (s >> 15)) ^ (uint16_t)w[i];
+    if (id == CTL_BP_PID) {
+        for (i = 0; i < BP_OUT * BP_HID; i++) {
+            s = (uint16_t)((s << 1) | (s >> 15)) ^ (uint16_t)(&ctl_st.bp.v[0][0])[i];
+            s ^= (uint8_t)(&ctl_st.bp.dv[0][0])[i];
+        }
+        for (i = 0; i < BP_IN * BP_HID; i++)
+            s = (uint16_t)((s << 1) | (s >> 15)) ^ (uint8_t)(&ctl_st.bp.dw[0][0])[i];
+    }
     if (id == CTL_BEST)
         s ^= (uint16_t)ctl_st.fm.p_hat ^ (uint16_t)ctl_st.fm.p_ref ^ (uint16_t)ctl_st.fm.takeup;
     return s;
