@@ -76,7 +76,7 @@ void metrics_free(metrics_t *m);
  * set rate, the boom pressure and whether the boom sprays. Zones are split exactly at 5 m. */
 void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, double width_m,
                  double rate_l_ha, double p_bar, int spraying);
-/* One sample (every sample_dt_s) of the target and the actual flow, for the steps. */
+/* One sample (every sample_dt_s, the first at time 0) of the target and the actual flow. */
 void metrics_sample(metrics_t *m, double target_lpm, double flow_lpm);
 /* An alarm raised at t. */
 void metrics_alarm(metrics_t *m, double t_s, const char *code);

@@ -51,6 +51,8 @@ void sim_init(sim_t *sim, const scenario_t *s)
     hal_init();
     app_init();
     apply_params(s);
+    /* sample k of the step series is at k * SIM_SAMPLE_S: the first one now */
+    metrics_sample(&sim->metrics, app_status.target_lpm_x100 / 100.0, 0.0);
 }
 
 int sim_event(sim_t *sim, int kind, double v)

@@ -178,6 +178,28 @@ static void test_sim_plant_md_example_runs_unchanged(void **state)
     sim_free(&sim);
 }
 
+/* The given-speed bench scenario: true steps of the target at 40, 80, 120 and 160 s. By hand,
+ * eq. (1) at 150 L/ha, 50 cm, 36 nozzles: 6 km/h 27.0 L/min, 8 km/h 36.0, 7 km/h 31.5; the steps'
+ * times count from the step itself. */
+static void test_sim_target_steps_found_where_the_scenario_puts_them(void **state)
+{
+    static const double t[] = {40, 80, 120, 160}, from[] = {27, 36, 31.5, 27}, to[] = {36, 31.5, 27, 36};
+    metrics_result_t r;
+    int i;
+    (void)state;
+    load("scenarios/target_step_150.scn");
+    sim_init(&sim, &scn);
+    sim_run(&sim, scn.duration_s);
+    sim_finish(&sim, &r);
+    assert_int_equal(r.n_steps, 4);
+    for (i = 0; i < 4; i++) {
+        assert_true(r.steps[i].t_s > t[i] - 1e-9 && r.steps[i].t_s < t[i] + 0.1 + 1e-9);
+        assert_true(r.steps[i].from_lpm > from[i] - 0.011 && r.steps[i].from_lpm < from[i] + 0.011);
+        assert_true(r.steps[i].to_lpm > to[i] - 0.011 && r.steps[i].to_lpm < to[i] + 0.011);
+    }
+    sim_free(&sim);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -186,6 +208,7 @@ int main(void)
         cmocka_unit_test(test_sim_edges_carry_times_inside_their_tick),
         cmocka_unit_test(test_sim_events_now),
         cmocka_unit_test(test_sim_plant_md_example_runs_unchanged),
+        cmocka_unit_test(test_sim_target_steps_found_where_the_scenario_puts_them),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
