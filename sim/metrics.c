@@ -35,6 +35,7 @@ void metrics_free(metrics_t *m)
     free(m->target);
     free(m->flow);
     free(m->alarms);
+    free(m->steps);
     memset(m, 0, sizeof *m);
 }
 
@@ -262,8 +263,6 @@ int metrics_find_steps(const double *T, const double *Y, int n, double dt, metri
 }
 
 /* ---- the figures -------------------------------------------------------------------------------- */
-static metrics_step_t *steps_buf;   /* of the last metrics_finish: one run at a time per process */
-
 void metrics_finish(metrics_t *m, metrics_result_t *r)
 {
     int i, n4 = 0, nall = 0;
@@ -313,26 +312,26 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
     r->cv_all_pct = CV(nall, sall, ssall);
 #undef CV
 
-    free(steps_buf);
-    steps_buf = NULL;
+    free(m->steps);
+    m->steps = NULL;
     r->n_steps = metrics_find_steps(m->target, m->flow, m->n_samples, m->sample_dt_s, NULL, 0);
     if (r->n_steps > 0) {
-        steps_buf = malloc(sizeof *steps_buf * (size_t)r->n_steps);
-        if (!steps_buf) {
+        m->steps = malloc(sizeof *m->steps * (size_t)r->n_steps);
+        if (!m->steps) {
             fprintf(stderr, "metrics: out of memory\n");
             abort();
         }
-        metrics_find_steps(m->target, m->flow, m->n_samples, m->sample_dt_s, steps_buf, r->n_steps);
+        metrics_find_steps(m->target, m->flow, m->n_samples, m->sample_dt_s, m->steps, r->n_steps);
     }
-    r->steps = steps_buf;
+    r->steps = m->steps;
     r->overshoot_mean_pct = r->overshoot_max_pct = r->settle_mean_s = r->settle_max_s = NAN;
     if (r->n_steps > 0) {
         double so = 0, ss = 0, mo = 0, ms = 0;
         for (i = 0; i < r->n_steps; i++) {
-            so += steps_buf[i].overshoot_pct;
-            ss += steps_buf[i].settle_5pct_s;
-            mo = fmax(mo, steps_buf[i].overshoot_pct);
-            ms = fmax(ms, steps_buf[i].settle_5pct_s);
+            so += m->steps[i].overshoot_pct;
+            ss += m->steps[i].settle_5pct_s;
+            mo = fmax(mo, m->steps[i].overshoot_pct);
+            ms = fmax(ms, m->steps[i].settle_5pct_s);
         }
         r->overshoot_mean_pct = so / r->n_steps;
         r->overshoot_max_pct = mo;

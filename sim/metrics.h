@@ -53,6 +53,8 @@ typedef struct {
     double sample_dt_s;
     double *target, *flow;
     int n_samples, cap_samples;
+    /* the steps found by metrics_finish */
+    metrics_step_t *steps;
     /* alarms */
     metrics_alarm_t *alarms;
     int n_alarms, cap_alarms;
