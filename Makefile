@@ -225,3 +225,10 @@ screenshots: $(PANEL_BIN)
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......ABBBB" --screenshot docs/panel_menu.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......AD1500D" --screenshot docs/panel_refused.png
 	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png
+
+# ---- issue 4: controllers ------------------------------------------------------------------------
+# make compare: pid, fuzzy_pid, bp_pid and best on the same plant and seed (target steps, the
+# paper's dynamic run coupled and with a fixed PTO), beside the paper's Table 2 and section 5.1.
+.PHONY: compare
+compare: $(SIM_BIN)
+	$(Q)python3 tools/compare.py $(SIM_BIN)
