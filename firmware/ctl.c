@@ -297,21 +297,21 @@ const __code int8_t fz_tab[3][7][7] = {
         {PB, PM, PM, PM, PS, PS, PB}},
 };
 
-/* Level position of x (x100 L/min) at `unit` per level, Q8, 0 .. 6*256-1 (NB .. PB). */
+/* Level position of x (x100 L/min) at `unit` per level, Q8, 0 .. 6*256 (NB .. PB). */
 static uint16_t fz_level(int16_t x, int16_t unit) CTL_SHARED
 {
-    int32_t q = ((int32_t)clamp16(x, -3 * unit, 3 * unit) * 256) ;
+    int32_t q = clamp16(x, -3 * unit, 3 * unit);
     int16_t l;
-    /* q / unit without a divide: unit is 100 or 50, multiply by 65536/unit */
+    /* x * 256 / unit without a divide: unit is 100 or 50 -> x * 2.56 or 5.12, Q16 constants */
     if (unit == FZ_E_LEVEL)
-        l = (int16_t)((q * 655L + 32768L) >> 16);   /* 65536 / 100 = 655.36 */
+        l = (int16_t)((q * 167772L + 32768L) >> 16);    /* 2.56 * 65536 */
     else
-        l = (int16_t)((q * 1311L + 32768L) >> 16);  /* 65536 / 50 = 1310.72 */
+        l = (int16_t)((q * 335544L + 32768L) >> 16);    /* 5.12 * 65536 */
     l += 3 * 256;
     if (l < 0)
         l = 0;
-    if (l > 6 * 256 - 1)
-        l = 6 * 256 - 1;
+    if (l > 6 * 256)
+        l = 6 * 256;
     return (uint16_t)l;
 }
 
@@ -319,7 +319,8 @@ static q15_t fz_step(void) CTL_SHARED
 {
     int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
     uint16_t le, lc;
-    uint8_t i, j, t, fe, fc;
+    uint8_t i, j, t;
+    uint16_t fe, fc;
     int16_t r0, r1;
     int32_t d;
     static const __code int16_t k0[3] = {PID_KP, PID_KI, PID_KD};
@@ -333,14 +334,22 @@ static q15_t fz_step(void) CTL_SHARED
     le = fz_level(e, FZ_E_LEVEL);
     lc = fz_level((int16_t)(e - ctl_st.fz.e1), FZ_EC_LEVEL);
     i = (uint8_t)(le >> 8);
-    fe = (uint8_t)le;
+    fe = le & 255u;
+    if (i == 6) {                   /* PB itself: the last interval at its end */
+        i = 5;
+        fe = 256;
+    }
     j = (uint8_t)(lc >> 8);
-    fc = (uint8_t)lc;
+    fc = lc & 255u;
+    if (j == 6) {
+        j = 5;
+        fc = 256;
+    }
     for (t = 0; t < 3; t++) {
         /* blend along ec on rows i and i+1, then along e: level in Q16 */
-        r0 = (int16_t)fz_tab[t][i][j] * (int16_t)(256 - fc) + (int16_t)fz_tab[t][i][j + 1] * fc;
-        r1 = (int16_t)fz_tab[t][i + 1][j] * (int16_t)(256 - fc) + (int16_t)fz_tab[t][i + 1][j + 1] * fc;
-        d = MUL(r0, 256 - fe) + MUL(r1, fe);                    /* level, Q16 */
+        r0 = (int16_t)fz_tab[t][i][j] * (int16_t)(256 - fc) + (int16_t)fz_tab[t][i][j + 1] * (int16_t)fc;
+        r1 = (int16_t)fz_tab[t][i + 1][j] * (int16_t)(256 - fc) + (int16_t)fz_tab[t][i + 1][j + 1] * (int16_t)fc;
+        d = MUL(r0, (int16_t)(256 - fe)) + MUL(r1, (int16_t)fe);    /* level, Q16 */
         d = (MUL(fx_sat16((d + 128) >> 8), qk[t]) + 128) >> 8;  /* Q12 gain change */
         ctl_k[t] = fx_sat16(k0[t] + d);
         if (ctl_k[t] < 0)
@@ -547,10 +556,19 @@ static q15_t bp_step(void)
  * under half the smallest real move are not made: a deadband against hunting).
  * The map learns where the loop is calm (target steady, error < 6 %), pulling the two nodes
  * around the target toward p_hat; frozen at end stops and at drive limit. */
+#ifndef FM_KP
 #define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
+#endif
+#ifndef FM_KI
 #define FM_KI Q12(0.25)
+#endif
 #define FM_LEAD Q15(0.5)            /* p_ref stays within this of p_hat (anti-windup) */
+#ifndef FM_LEARN
+#define FM_LEARN 1                  /* the map learns (0: default slope only) */
+#endif
+#ifndef FM_CALM
 #define FM_CALM 5                   /* periods of calm before the map learns */
+#endif
 #define FM_LR_SHIFT 2               /* map learning rate 1/4 a calm period */
 #define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
 
@@ -596,6 +614,14 @@ static void fm_learn(int16_t q) CTL_SHARED
     f = (int16_t)((uint16_t)q & ((1u << FM_BIN_SHIFT) - 1u));
     near = f < (1 << (FM_BIN_SHIFT - 1)) ? i : (uint8_t)(i + 1);
     err = fx_sub_sat(m->p_hat, fm_map(q));
+    if (!(m->seen[0] | m->seen[1] | m->seen[2])) {
+        /* the first point learned anchors the whole default curve */
+        for (j = 0; j < FM_NODES; j++)
+            m->node[j] = fx_add_sat(m->node[j], err);
+        near = f < (1 << (FM_BIN_SHIFT - 1)) ? i : (uint8_t)(i + 1);
+        m->seen[near >> 3] |= fm_bit[near & 7];
+        return;
+    }
     d0 = (int16_t)((MUL(err, (int16_t)((1 << FM_BIN_SHIFT) - f)) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1)))
                    >> (FM_BIN_SHIFT + FM_LR_SHIFT));
     d1 = (int16_t)((MUL(err, f) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1))) >> (FM_BIN_SHIFT + FM_LR_SHIFT));
@@ -699,7 +725,7 @@ static q15_t fm_step(void) CTL_SHARED
     } else {
         m->calm = 0;
     }
-    if (m->calm >= FM_CALM)
+    if (FM_LEARN && m->calm >= FM_CALM)
         fm_learn(q);
 
     m->y1 = y;
