@@ -557,12 +557,18 @@ static q15_t bp_step(void)
  * The map learns where the loop is calm (target steady, error < 6 %), pulling the two nodes
  * around the target toward p_hat; frozen at end stops and at drive limit. */
 #ifndef FM_KP
-#define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
+#define FM_KP Q12(0.4)              /* feedback gains on the pid normalisation */
 #endif
 #ifndef FM_KI
 #define FM_KI Q12(0.25)
 #endif
 #define FM_LEAD Q15(0.5)            /* p_ref stays within this of p_hat (anti-windup) */
+#ifndef FM_REV_MIN
+#define FM_REV_MIN Q15(0.004)       /* smallest move worth a reversal */
+#endif
+#ifndef FM_SEEN_ONLY
+#define FM_SEEN_ONLY 0              /* 1: feed-forward only between learned nodes */
+#endif
 #ifndef FM_LEARN
 #define FM_LEARN 1                  /* the map learns (0: default slope only) */
 #endif
@@ -602,6 +608,21 @@ static int16_t fm_map(int16_t q) CTL_SHARED
 }
 
 static const __code uint8_t fm_bit[8] = {1, 2, 4, 8, 16, 32, 64, 128};
+
+/* 1 when the map around flow q rests on learned nodes (or the default slope is trusted). */
+static uint8_t fm_known(int16_t q) CTL_SHARED
+{
+#if !FM_SEEN_ONLY
+    (void)q;
+    return 1;
+#else
+    uint8_t i;
+    if (q < 0 || q >= (FM_NODES - 1) << FM_BIN_SHIFT)
+        return 0;
+    i = (uint8_t)(q >> FM_BIN_SHIFT);
+    return (ctl_st.fm.seen[i >> 3] & fm_bit[i & 7]) && (ctl_st.fm.seen[(i + 1) >> 3] & fm_bit[(i + 1) & 7]);
+#endif
+}
 
 static void fm_learn(int16_t q) CTL_SHARED
 {
@@ -661,7 +682,7 @@ static q15_t fm_step(void) CTL_SHARED
         m->p_hat = 0;
 
     /* feed-forward from the map, feedback from the flow */
-    d = (int32_t)fm_map(q) - fm_map(m->t1);
+    d = fm_known(q) && fm_known(m->t1) ? (int32_t)fm_map(q) - fm_map(m->t1) : 0;
     du = MUL(FM_KP, fx_sat16((int32_t)m->y1 - y));
     du += MUL(FM_KI, e);
     d += (MUL(fx_sat16((du + 128) >> 8), 26844) + 65536L) >> 17;   /* du_q4 * 0.2048 = Q15 stroke */
@@ -682,6 +703,8 @@ static q15_t fm_step(void) CTL_SHARED
     /* the servo: the move still needed, plus the backlash to take up on a reversal */
     need = m->p_ref - m->p_hat;
     s = need > 0 ? 1 : need < 0 ? -1 : 0;
+    if (s != 0 && s != m->dir && (need < 0 ? -need : need) < FM_REV_MIN)
+        s = 0, need = 0;            /* hysteresis: a reversal (and its take-up) must be worth it */
     if (s != 0 && s != m->dir)
         c = FM_BACKLASH;
     else
