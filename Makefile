@@ -81,6 +81,7 @@ deps:
 # ---- firmware ---------------------------------------------------------------------------------
 firmware: $(FW_HEX)
 	$(Q)tools/memuse.sh $(STC_DIR)/sprayer $(CODE_SIZE) $(IRAM_SIZE) $(XRAM_SIZE)
+	$(Q)python3 tools/stackdepth.py $(STC_DIR) --free $$(sed -n 's/.*with \([0-9]*\) bytes available.*/\1/p' $(STC_DIR)/sprayer.mem)
 
 $(STC_DIR)/%.rel: %.c $(HDRS)
 	@mkdir -p $(dir $@)

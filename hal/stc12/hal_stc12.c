@@ -178,17 +178,17 @@ void hal_buzzer(uint8_t on)
 }
 
 /* ---- UART 1 from the BRT generator in 1T mode: 11059200 / 32 / 9 = 38400 baud ------------- */
-#define UART_TXQ 48
-#define UART_RXQ 24
-static volatile __idata uint8_t txq[UART_TXQ];   /* queues in idata: the 1 KB XRAM is the scarce one */
+#define UART_TXQ 16     /* powers of two: the index wraps with a mask, not a divide */
+#define UART_RXQ 16
+static volatile uint8_t txq[UART_TXQ];   /* short queues: serial.c refills as they drain */
 static volatile uint8_t tx_head, tx_tail, tx_busy;
-static volatile __idata uint8_t rxq[UART_RXQ];
+static volatile uint8_t rxq[UART_RXQ];
 static volatile uint8_t rx_head, rx_tail;
 
 void stc12_uart_isr(void) __interrupt(4)
 {
     if (RI) {
-        uint8_t n = (uint8_t)((rx_head + 1) % UART_RXQ);
+        uint8_t n = (uint8_t)((rx_head + 1) & (UART_RXQ - 1));
         RI = 0;
         if (n != rx_tail) {         /* a full queue drops the byte; the frame check catches it */
             rxq[rx_head] = SBUF;
@@ -199,7 +199,7 @@ void stc12_uart_isr(void) __interrupt(4)
         TI = 0;
         if (tx_tail != tx_head) {
             SBUF = txq[tx_tail];
-            tx_tail = (uint8_t)((tx_tail + 1) % UART_TXQ);
+            tx_tail = (uint8_t)((tx_tail + 1) & (UART_TXQ - 1));
         } else {
             tx_busy = 0;
         }
@@ -208,7 +208,7 @@ void stc12_uart_isr(void) __interrupt(4)
 
 uint8_t hal_uart_put(uint8_t b)
 {
-    uint8_t n = (uint8_t)((tx_head + 1) % UART_TXQ);
+    uint8_t n = (uint8_t)((tx_head + 1) & (UART_TXQ - 1));
     if (n == tx_tail)
         return 0;
     ES = 0;
@@ -229,7 +229,7 @@ int16_t hal_uart_get(void)
     if (rx_tail == rx_head)
         return -1;
     b = rxq[rx_tail];
-    rx_tail = (uint8_t)((rx_tail + 1) % UART_RXQ);
+    rx_tail = (uint8_t)((rx_tail + 1) & (UART_RXQ - 1));
     return b;
 }
 

@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""stackdepth.py DIR: worst-case depth of the 8051 hardware stack of the SDCC image built in DIR.
+
+Reads every SDCC .asm under DIR, walks each function linearly keeping the bytes it has on the
+stack (push/pop, `mov a,sp / add a,#n / mov sp,a` frames of reentrant functions, the 2-byte
+return address of every lcall/acall) and takes the call graph's deepest path. Interrupt handlers
+add their own deepest path on top of the main program's: low-priority handlers cannot nest, the
+high-priority PCA handler can preempt one of them. Library routines (mul/div support, generic
+pointer access) are not in DIR: each is counted as LIB_BYTES. Recursion is reported as an error.
+Prints the depth in bytes; with --free N exits 1 when the depth exceeds N.
+"""
+import glob
+import os
+import re
+import sys
+
+LIB_BYTES = 8           # a support routine: return address plus a few pushes (generous)
+HIGH_PRIORITY = {"_stc12_pca_isr"}
+
+
+def parse(dirname):
+    funcs = {}
+    for path in glob.glob(os.path.join(dirname, "**", "*.asm"), recursive=True):
+        cur = None
+        pending_sp = False
+        for line in open(path, errors="replace"):
+            s = line.split(";")[0].strip()
+            if line.startswith(";\t function ") or line.startswith(";\tfunction "):
+                name = "_" + line.split("function", 1)[1].strip()
+                cur = {"depth": 0, "max": 0, "calls": []}
+                funcs[name] = cur
+                continue
+            if cur is None or not s:
+                continue
+            op = s.split()[0]
+            if op == "push":
+                cur["depth"] += 1
+                cur["max"] = max(cur["max"], cur["depth"])
+            elif op == "pop" or s.replace(" ", "").replace("\t", "") == "decsp":
+                cur["depth"] = max(0, cur["depth"] - 1)
+            elif s.replace(" ", "").replace("\t", "") == "incsp":
+                cur["depth"] += 1
+                cur["max"] = max(cur["max"], cur["depth"])
+            elif s.replace(" ", "").replace("\t", "") == "mova,sp":
+                pending_sp = True
+                continue
+            elif pending_sp and re.match(r"add\s+a,#(0x[0-9a-fA-F]+|\d+)", s):
+                n = int(re.match(r"add\s+a,#(0x[0-9a-fA-F]+|\d+)", s).group(1), 0)
+                if n < 0x80:             # a frame being made (negative adds release it)
+                    cur["frame"] = cur.get("frame", 0) + n
+                    cur["depth"] += n
+                    cur["max"] = max(cur["max"], cur["depth"])
+                else:
+                    cur["depth"] = max(0, cur["depth"] - (256 - n))
+            elif op in ("lcall", "acall", "ljmp", "sjmp", "ajmp"):
+                target = s.split()[1].strip()
+                if target.startswith("_") or target.startswith("__"):
+                    tail = op.endswith("jmp")
+                    cur["calls"].append((target, cur["depth"] + (0 if tail else 2)))
+            elif s.replace(" ", "").replace("\t", "") == "mov_bp,sp":
+                cur["bp"] = cur["depth"]
+            elif s.replace(" ", "").replace("\t", "") == "movsp,_bp":
+                cur["depth"] = cur.get("bp", cur["depth"])
+            elif op in ("ret", "reti"):
+                cur["depth"] = 0
+            pending_sp = False
+    return funcs
+
+
+def deepest(funcs, name, memo, path):
+    if name in memo:
+        return memo[name]
+    if name in path:
+        raise SystemExit("stackdepth: recursion through " + " -> ".join(path + [name]))
+    f = funcs.get(name)
+    if f is None:
+        return LIB_BYTES if name.startswith("__") or name not in funcs else 0
+    best = f["max"]
+    for callee, at in f["calls"]:
+        if callee == name or not (callee in funcs or callee.startswith("__")):
+            continue                  # a jump to a local label of the same function
+        best = max(best, at + deepest(funcs, callee, memo, path + [name]))
+    memo[name] = best
+    return best
+
+
+def main():
+    args = sys.argv[1:]
+    limit = None
+    if "--free" in args:
+        i = args.index("--free")
+        limit = int(args[i + 1])
+        del args[i:i + 2]
+    funcs = parse(args[0])
+    memo = {}
+    main_depth = 2 + deepest(funcs, "_main", memo, [])        # the reset's call into main
+    isrs = [n for n in funcs if n.endswith("_isr")]
+    low = [2 + deepest(funcs, n, memo, []) for n in isrs if n not in HIGH_PRIORITY]
+    high = [2 + deepest(funcs, n, memo, []) for n in isrs if n in HIGH_PRIORITY]
+    total = main_depth + max(low or [0]) + max(high or [0])
+    print("stack: worst case %d B (main %d, deepest low-priority interrupt %d, high-priority %d)"
+          % (total, main_depth, max(low or [0]), max(high or [0])))
+    if limit is not None and total > limit:
+        print("stack: OVERFLOW: %d B needed, %d B free" % (total, limit))
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
