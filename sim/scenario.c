@@ -453,6 +453,8 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
     if (!buf)
         return fail(&c, 0, "-", "out of memory");
     memcpy(buf, text, len + 1);
+    if ((unsigned char)buf[0] == 0xEF && (unsigned char)buf[1] == 0xBB && (unsigned char)buf[2] == 0xBF)
+        memmove(buf, buf + 3, len - 2);     /* a UTF-8 byte order mark (editors on Windows) */
 
     for (p = buf; rc == 0 && p && *p;) {
         char *nl = strchr(p, '\n'), *s, *hash, *eq;

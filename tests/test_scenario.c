@@ -88,6 +88,17 @@ static void test_scenario_good_file(void **state)
     assert_true(scenario_drive_kmh(&s, 500) == 6.0);
 }
 
+/* Windows line ends and a UTF-8 byte order mark are read like plain text. */
+static void test_scenario_crlf_and_bom(void **state)
+{
+    (void)state;
+    assert_int_equal(scenario_parse(&s, "\xEF\xBB\xBF[run]\r\nduration_s = 60\r\n[drive]\r\n0\t5\r\n",
+                                    "win.scn", err, sizeof err), 0);
+    assert_true(s.duration_s == 60);
+    assert_int_equal(s.n_drive, 1);
+    assert_true(s.drive[0].kmh == 5);
+}
+
 /* An empty file is all defaults: 300 s, seed 7, the firmware's parameter defaults, PLANT.md's plant. */
 static void test_scenario_empty_file_is_the_defaults(void **state)
 {
@@ -289,6 +300,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scenario_good_file),
         cmocka_unit_test(test_scenario_empty_file_is_the_defaults),
+        cmocka_unit_test(test_scenario_crlf_and_bom),
         cmocka_unit_test(test_scenario_unknown_keys_and_sections),
         cmocka_unit_test(test_scenario_missing_and_bad_numbers),
         cmocka_unit_test(test_scenario_values_out_of_range),
