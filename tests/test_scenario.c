@@ -286,7 +286,7 @@ static void test_scenario_project_files_load(void **state)
         "scenarios/paper_dynamic_100_fixed_pto.scn", "scenarios/paper_dynamic_125_fixed_pto.scn",
         "scenarios/paper_dynamic_150_fixed_pto.scn", "scenarios/target_step_100.scn",
         "scenarios/target_step_125.scn", "scenarios/target_step_150.scn", "scenarios/field_3220m_100.scn",
-        "scenarios/field_3220m_125.scn", "scenarios/field_3220m_150.scn",
+        "scenarios/field_3220m_125.scn", "scenarios/field_3220m_150.scn", "scenarios/faults_150.scn",
     };
     size_t i;
     (void)state;

@@ -137,6 +137,23 @@ def field(rate):
             "[events]\n") % (rate, dist, end, rate, drive_table(rows))
 
 
+def faults(rate):
+    """Every fault of PLANT.md once, at a steady 8 km/h: what the alarms must catch."""
+    ev = [(60, "leak_lpm 12"), (90, "leak_lpm 0"), (120, "clog_nozzles 6"), (150, "clog_nozzles 0"),
+          (180, "pressure_sensor_open"), (200, "pressure_sensor_restore"), (220, "valve_stuck"),
+          (230, "rate_l_ha %d" % (rate - 25)), (250, "valve_free"), (260, "speed_sensor_fail"),
+          (280, "speed_sensor_restore"), (300, "speed_bounce_pct 30"), (320, "speed_bounce_pct 0"),
+          (340, "meter_fail"), (360, "meter_restore"), (380, "tank_l 20")]
+    return ("# Faults at %d L/ha, 8 km/h, PTO coupled: a leak after the meter, clogged nozzles, the\n"
+            "# pressure sensor open, the valve stuck (with a rate change), the wheel sensor lost and\n"
+            "# bouncing, the meter lost, the tank nearly empty. Made by tools/gen_scenarios.py.\n"
+            "[run]\nduration_s = 420\nseed = 3\n"
+            "[config]\nrate_l_ha = %d\nnozzles = 36\nspacing_cm = 50\n"
+            "[plant]\npto_coupled = 1\n"
+            "[drive]\n0 0\n2 0\n12 8\n"
+            "[events]\n%s") % (rate, rate, "".join("%-5d %s\n" % e for e in ev))
+
+
 def main():
     os.makedirs(OUT, exist_ok=True)
     for r in RATES:
@@ -144,6 +161,7 @@ def main():
         write("paper_dynamic_%d_fixed_pto.scn" % r, dynamic(r, False))
         write("target_step_%d.scn" % r, target_step(r))
         write("field_3220m_%d.scn" % r, field(r))
+    write("faults_150.scn", faults(150))
 
 
 if __name__ == "__main__":
