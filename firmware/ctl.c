@@ -123,10 +123,130 @@ static void mac_ab(void) __naked
         ret
     __endasm;
 }
+/* mul_acc += sum of n products w[j] * x[j], w at the xdata address in mul_a, x at the one in
+ * mul_b (int16 each, contiguous): the network's dot products, ~105 cycles a term against ~150
+ * through mac_ab. The registers it uses are saved (SDCC believes a naked callee leaves them). */
+static void dot_ab(uint8_t n) __naked
+{
+    (void)n;
+    __asm
+        push ar0
+        push ar1
+        push ar2
+        push ar3
+        push ar4
+        push ar5
+        push ar6
+        push ar7
+        mov _mul_r,dpl
+00010$:
+        mov dpl,_mul_a
+        mov dph,(_mul_a + 1)
+        movx a,@dptr
+        mov r0,a
+        inc dptr
+        movx a,@dptr
+        mov r1,a
+        inc dptr
+        mov _mul_a,dpl
+        mov (_mul_a + 1),dph
+        mov dpl,_mul_b
+        mov dph,(_mul_b + 1)
+        movx a,@dptr
+        mov r6,a
+        inc dptr
+        movx a,@dptr
+        mov r7,a
+        inc dptr
+        mov _mul_b,dpl
+        mov (_mul_b + 1),dph
+        mov a,r0
+        mov b,r6
+        mul ab
+        mov r2,a
+        mov r3,b
+        mov a,r1
+        mov b,r6
+        mul ab
+        add a,r3
+        mov r3,a
+        clr a
+        addc a,b
+        mov r4,a
+        mov a,r0
+        mov b,r7
+        mul ab
+        add a,r3
+        mov r3,a
+        mov a,b
+        addc a,r4
+        mov r4,a
+        clr a
+        rlc a
+        mov r5,a
+        mov a,r1
+        mov b,r7
+        mul ab
+        add a,r4
+        mov r4,a
+        mov a,b
+        addc a,r5
+        mov r5,a
+        mov a,r1
+        jnb acc.7,00011$
+        clr c
+        mov a,r4
+        subb a,r6
+        mov r4,a
+        mov a,r5
+        subb a,r7
+        mov r5,a
+00011$:
+        mov a,r7
+        jnb acc.7,00012$
+        clr c
+        mov a,r4
+        subb a,r0
+        mov r4,a
+        mov a,r5
+        subb a,r1
+        mov r5,a
+00012$:
+        mov a,r2
+        add a,_mul_acc
+        mov _mul_acc,a
+        mov a,r3
+        addc a,(_mul_acc + 1)
+        mov (_mul_acc + 1),a
+        mov a,r4
+        addc a,(_mul_acc + 2)
+        mov (_mul_acc + 2),a
+        mov a,r5
+        addc a,(_mul_acc + 3)
+        mov (_mul_acc + 3),a
+        djnz _mul_r,00010$
+        pop ar7
+        pop ar6
+        pop ar5
+        pop ar4
+        pop ar3
+        pop ar2
+        pop ar1
+        pop ar0
+        ret
+    __endasm;
+}
 #define MUL(a, b) (mul_a = (a), mul_b = (b), mul_ab())
 #define MAC(a, b) do { mul_a = (a); mul_b = (b); mac_ab(); } while (0)
+#define DOT(w, x, n) do { mul_a = (int16_t)(uint16_t)(w); mul_b = (int16_t)(uint16_t)(x); dot_ab(n); } while (0)
 #else
 static int32_t mul_acc;
+static void dot_c(const int16_t *w, const int16_t *x, uint8_t n)
+{
+    while (n--)
+        mul_acc += (int32_t)*w++ * *x++;
+}
+#define DOT(w, x, n) dot_c(w, x, n)
 #define MUL(a, b) ((int32_t)(int16_t)(a) * (int16_t)(b))
 #define MAC(a, b) (mul_acc += (int32_t)(int16_t)(a) * (int16_t)(b))
 #endif
@@ -374,10 +494,15 @@ static q15_t fz_step(void) CTL_SHARED
  *    alpha * dw is d/16 - d/64 + d/256 = 0.0508 dw;
  *  - learning frozen while the valve is at an end stop or the drive was cut at its limit, and
  *    while the loop is off (ctl_reset restarts from rest, the weights are kept);
- *  - one update is spread over three periods (output layer; hidden rows 0-2; rows 3-4, from
- *    the deltas and inputs of the first): each weight learns at 3.3 Hz, which keeps the step
- *    under 10,000 machine cycles; the hidden deltas use the output weights just updated, as
- *    the reference MATLAB code does;
+ *  - the network's work is spread over BP_PHASES = 6 periods (ctl_int.h): hidden layer forward;
+ *    output layer forward (new gains) and the output deltas of that period's error; then two
+ *    rows of weights a period (output rows first, then the hidden rows, whose deltas use the
+ *    output weights just updated, as the reference MATLAB code does). So the gains are renewed
+ *    every 6 periods (0.6 s) while learning and every 2 while frozen, and every weight learns at
+ *    1.67 Hz: the price of keeping every step under 10,000 machine cycles (worst 9,279 in s51,
+ *    was 28,363 with the update over 3 periods). The dot products run in assembly (dot_ab),
+ *    the weight update in 16-bit C; g(net) starts at 0.5 until the first forward pass;
+ *  - the delta of the hidden outputs of period k (phase 0) meets the error of period k+1 (phase 1);
  *  - weight changes below 1 LSB of Q12 (2.4e-4) vanish: no learning for errors under ~0.3 L/min. */
 static uint16_t bp_rng;
 
@@ -403,42 +528,58 @@ static void bp_init(void)
             ctl_st.bp.v[i][j] = (int16_t)(bp_rand() & 0x0FFFu) - 2048;
             ctl_st.bp.dv[i][j] = 0;
         }
+    for (i = 0; i < BP_OUT; i++)
+        ctl_st.bp.k[i] = 16384;     /* g(0) = 0.5 until the first forward pass */
     ctl_st.bp.phase = 0;
 }
 
-/* alpha * d with shifts: d/16 - d/64 + d/256 = 0.0508 d (alpha 0.05 within 2 %) */
-static int16_t bp_mom(int8_t d8)
-{
-    int16_t d = d8;
-    return (int16_t)((d >> 4) - (d >> 6) + (d >> 8));
-}
-
 /* One row of weights: w += eta*delta*input + momentum, bounded; dw keeps the change made.
- * layer 0: output row `row` (inputs: the hidden outputs, Q15); 1: hidden row (inputs x, Q12). */
+ * layer 0: output row `row` (inputs: the hidden outputs, Q15); 1: hidden row (inputs x, Q12).
+ * 16-bit arithmetic wherever the ranges allow it (|w| <= BP_WMAX, |momentum| <= 8), one
+ * 16x16 multiply a weight, pointers walked: ~300 machine cycles a weight. */
 static void bp_upd_row(uint8_t layer, uint8_t row, int16_t eg)
 {
-    uint8_t j, n;
-    int16_t d, nw, w;
-    n = layer ? BP_IN : BP_HID;
-    for (j = 0; j < n; j++) {
+    uint8_t n;
+    int16_t d, mom, w0, nw, dd;
+    /* in direct RAM: the large model would give these 10 B of the nearly full XRAM */
+    static __data int32_t p;
+    static __xdata int16_t *__data w, *__data xin;
+    static __xdata int8_t *__data dw;
+    if (layer) {
+        n = BP_IN;
+        w = &ctl_st.bp.w[row][0];
+        dw = &ctl_st.bp.dw[row][0];
+        xin = ctl_st.bp.x;
+    } else {
+        n = BP_HID;
+        w = &ctl_st.bp.v[row][0];
+        dw = &ctl_st.bp.dv[row][0];
+        xin = ctl_st.bp.oh;
+    }
+    while (n--) {
+        p = MUL(eg, *xin++);
         if (layer) {
-            d = fx_sat16((MUL(eg, ctl_st.bp.x[j]) + 2048) >> 12);
-            d = fx_add_sat(d, bp_mom(ctl_st.bp.dw[row][j]));
-            w = ctl_st.bp.w[row][j];
+            p = (p + 2048) >> 12;
+            d = p > 32767 ? 32767 : p < -32768L ? -32768 : (int16_t)p;
         } else {
-            d = (int16_t)((MUL(eg, ctl_st.bp.oh[j]) + 16384) >> 15);
-            d = fx_add_sat(d, bp_mom(ctl_st.bp.dv[row][j]));
-            w = ctl_st.bp.v[row][j];
+            d = (int16_t)((p + 16384) >> 15);
         }
-        nw = clamp16(fx_add_sat(w, d), -BP_WMAX, BP_WMAX);
-        d = clamp16((int16_t)(nw - w), -127, 127);
-        if (layer) {
-            ctl_st.bp.dw[row][j] = (int8_t)d;
-            ctl_st.bp.w[row][j] = nw;
-        } else {
-            ctl_st.bp.dv[row][j] = (int8_t)d;
-            ctl_st.bp.v[row][j] = nw;
-        }
+        mom = *dw;
+        mom = (int16_t)((mom >> 4) - (mom >> 6) + (mom >> 8));   /* alpha * dw, 0.0508 */
+        if (mom > 0 && d > 32767 - mom)
+            d = 32767;
+        else if (mom < 0 && d < -32767 - 1 - mom)
+            d = -32768;
+        else
+            d += mom;
+        w0 = *w;
+        if (d >= 0)
+            nw = w0 > BP_WMAX - d ? BP_WMAX : w0 + d;
+        else
+            nw = w0 < -BP_WMAX - d ? -BP_WMAX : w0 + d;
+        dd = nw > w0 + 127 ? 127 : nw < w0 - 127 ? -127 : nw - w0;
+        *w++ = nw;
+        *dw++ = (int8_t)dd;
     }
 }
 
@@ -455,11 +596,7 @@ static q15_t bp_step(void)
     __xdata int16_t *wp;
     q15_t out;
 
-    x[0] = 4096;
-    x[1] = (int16_t)((MUL(clamp16(in->target_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
-    x[2] = (int16_t)((MUL(clamp16(in->flow_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
     n = (int16_t)((MUL(clamp16(e, -BP_E_CLAMP, BP_E_CLAMP), BP_E_NORM) + 1024) >> 11);
-    x[3] = n;
     if (ctl_first) {                /* from rest: no kick, no learning from stale history */
         b->e1 = b->e2 = e;
         b->n1 = b->n2 = n;
@@ -467,23 +604,33 @@ static q15_t bp_step(void)
         ctl_first = 0;
     }
 
-    /* forward */
-    wp = &b->w[0][0];
-    for (i = 0; i < BP_HID; i++) {
-        mul_acc = 2048;             /* rounding of the >> 12 */
-        for (j = 0; j < BP_IN; j++)
-            MAC(*wp++, x[j]);
-        b->o[i] = fx_tanh(fx_sat16(mul_acc >> 12));
+    /* forward: the hidden layer on phase 0, the output layer (new gains) on phase 1; the
+     * gains are held in between */
+    if (b->phase == 0) {
+        x[0] = 4096;
+        x[1] = (int16_t)((MUL(clamp16(in->target_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
+        x[2] = (int16_t)((MUL(clamp16(in->flow_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
+        x[3] = n;
+        wp = &b->w[0][0];
+        for (i = 0; i < BP_HID; i++) {
+            mul_acc = 2048;             /* rounding of the >> 12 */
+            DOT(wp, x, BP_IN);
+            wp += BP_IN;
+            b->o[i] = fx_tanh(fx_sat16(mul_acc >> 12));
+        }
+    } else if (b->phase == 1) {
+        wp = &b->v[0][0];
+        for (i = 0; i < BP_OUT; i++) {
+            mul_acc = 16384;
+            DOT(wp, b->o, BP_HID);
+            wp += BP_HID;
+            /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined): (32769 + t) >> 1 in 16 bits */
+            eg = fx_tanh(fx_sat16(mul_acc >> 15));
+            b->k[i] = eg == 32767 ? 32767 : (int16_t)((uint16_t)((uint16_t)eg + 32769u) >> 1);
+        }
     }
-    wp = &b->v[0][0];
-    for (i = 0; i < BP_OUT; i++) {
-        mul_acc = 16384;
-        for (j = 0; j < BP_HID; j++)
-            MAC(*wp++, b->o[j]);
-        /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined) */
-        b->k[i] = fx_sat16((32769L + fx_tanh(fx_sat16(mul_acc >> 15))) >> 1);
+    for (i = 0; i < BP_OUT; i++)
         ctl_k[i] = (b->k[i] + 4) >> 3;
-    }
 
     /* the incremental law */
     de[0] = (int16_t)(e - b->e1);
@@ -494,11 +641,15 @@ static q15_t bp_step(void)
         du += (MUL(b->k[i], de[i]) + 4) >> 3;       /* Q15 * x100 -> Q12 x100 */
     out = ctl_out(du_to_drive(du), in->valve_limit);
 
-    /* learning, frozen while saturated or at an end stop; spread over three periods */
+    /* learning, frozen while saturated or at an end stop; one update spread over BP_PHASES periods */
     learn = !ctl_sat && !in->valve_limit;
     if (!learn) {
-        b->phase = 0;               /* a frozen update is dropped, the next one starts afresh */
+        /* a frozen update is dropped, the next one starts afresh; the forward pass goes on */
+        b->phase = b->phase == 0 ? 1 : 0;
     } else if (b->phase == 0) {
+        b->phase = 1;
+    } else if (b->phase == 1) {
+        /* the output deltas of this sample; its inputs and hidden outputs kept for the update */
         dn[0] = n - b->n1;
         dn[1] = n;
         dn[2] = fx_sat16((int32_t)n - 2 * (int32_t)b->n1 + b->n2);
@@ -512,27 +663,27 @@ static q15_t bp_step(void)
             b->x[j] = x[j];
         for (j = 0; j < BP_HID; j++)
             b->oh[j] = b->o[j];
-        for (i = 0; i < BP_OUT; i++) {
-            eg = (int16_t)((MUL(b->dl[i], BP_ETA) + 2048) >> 12);
-            bp_upd_row(0, i, eg);
-        }
-        b->phase = 1;
+        b->phase = 2;
     } else {
-        /* hidden deltas (with the output weights just updated, as the reference code does),
-         * rows 0..2 on phase 1, rows 3..4 on phase 2 */
-        i = b->phase == 1 ? 0 : 3;
-        j = b->phase == 1 ? 3 : BP_HID;
-        for (; i < j; i++) {
-            int16_t one_m = (int16_t)(32767 - ((MUL(b->oh[i], b->oh[i]) + 16384) >> 15));   /* Q15 1 - O^2 */
-            uint8_t l;
-            mul_acc = 2048;
-            for (l = 0; l < BP_OUT; l++)
-                MAC(b->dl[l], b->v[l][i]);
-            eg = fx_sat16((MUL(fx_sat16(mul_acc >> 12), one_m) + 16384) >> 15);
-            eg = (int16_t)((MUL(eg, BP_ETA) + 2048) >> 12);
-            bp_upd_row(1, i, eg);
+        /* two units a period: units 0-2 the output rows, 3-7 the hidden rows (their deltas
+         * with the output weights just updated, as the reference code does) */
+        j = (uint8_t)((b->phase - 2) << 1);
+        for (i = j; i < j + 2; i++) {
+            if (i < BP_OUT) {
+                eg = (int16_t)((MUL(b->dl[i], BP_ETA) + 2048) >> 12);
+                bp_upd_row(0, i, eg);
+            } else {
+                uint8_t h = (uint8_t)(i - BP_OUT), l;
+                int16_t one_m = (int16_t)(32767 - ((MUL(b->oh[h], b->oh[h]) + 16384) >> 15));   /* Q15 1 - O^2 */
+                mul_acc = 2048;
+                for (l = 0; l < BP_OUT; l++)
+                    MAC(b->dl[l], b->v[l][h]);
+                eg = fx_sat16((MUL(fx_sat16(mul_acc >> 12), one_m) + 16384) >> 15);
+                eg = (int16_t)((MUL(eg, BP_ETA) + 2048) >> 12);
+                bp_upd_row(1, h, eg);
+            }
         }
-        b->phase = b->phase == 1 ? 2 : 0;
+        b->phase = b->phase == BP_PHASES - 1 ? 0 : (uint8_t)(b->phase + 1);
     }
     b->e2 = b->e1;
     b->e1 = e;

@@ -123,45 +123,60 @@ static void bp_weights(double w[5][4], double v[3][5])
             v[i][j] = ctl_st.bp.v[i][j] / 4096.0;
 }
 
-/* bp forward pass against the twin from the same weights: hidden outputs within 12 LSB of Q15
- * (net input rounded to Q12: 4 LSB, tanh table 2 LSB, inputs' scaling 1e-4), gains within 12
- * LSB of Q15; the output layer's change within 3.5 LSB of Q12 + 5 % of it (the gradient and
- * eta*delta rounded to Q12, the momentum's shifts floor: up to 2 LSB). */
+/* bp forward pass against the twin from the same weights: hidden outputs (phase 0) within 12
+ * LSB of Q15 (net input rounded to Q12: 4 LSB, tanh table 2 LSB, inputs' scaling 1e-4), gains
+ * (phase 1, from the hidden outputs held) within 12 LSB of Q15; the output layer's change,
+ * made on phases 2 and 3 from the deltas of phase 1, within 3.5 LSB of Q12 + 5 % of it (the
+ * gradient and eta*delta rounded to Q12, the momentum's shifts floor: up to 2 LSB). */
 static void test_ctl_bp_matches_twin(void **state)
 {
     (void)state;
     double wo = 0, wk = 0, wdv = 0;
+    int checked = 0, have = 0;
+    double dv[3][5], ok[5], kf[3];
+    int16_t v0[3][5];
+    int8_t dv0[3][5];
     ctl_select(CTL_BP_PID);
     for (int k = 0; k < 6000; k++) {
         int t = rnd(1500, 5000), f = t + rnd(-600, 600);
         ctl_in_t in = mk(t, f, 0);
         double w[5][4], v[3][5], o[5], kk[3];
-        int16_t v0[3][5];
-        int8_t dv0[3][5];
         uint8_t phase = ctl_st.bp.phase;
         int16_t n1 = ctl_st.bp.n1, n2 = ctl_st.bp.n2;
         bp_weights(w, v);
-        memcpy(v0, ctl_st.bp.v, sizeof v0);
-        memcpy(dv0, ctl_st.bp.dv, sizeof dv0);
         ctl_step(&in);
-        ctltw_bp_forward(w, v, t / 100.0, f / 100.0, o, kk);
-        for (int i = 0; i < 5; i++) {
-            double err = fabs(ctl_st.bp.o[i] - o[i] * 32768);
-            wo = err > wo ? err : wo;
-            assert_true(err <= 12.0);
+        if (phase == 0) {
+            ctltw_bp_forward(w, v, t / 100.0, f / 100.0, o, kk);
+            for (int i = 0; i < 5; i++) {
+                double err = fabs(ctl_st.bp.o[i] - o[i] * 32768);
+                wo = err > wo ? err : wo;
+                assert_true(err <= 12.0);
+            }
         }
-        for (int i = 0; i < 3; i++) {
-            double err = fabs(ctl_st.bp.k[i] - kk[i] * 32768);
-            wk = err > wk ? err : wk;
-            assert_true(err <= 12.0);
+        if (phase == 1) {
+            for (int l = 0; l < 3; l++) {
+                double a = 0;
+                for (int j = 0; j < 5; j++)
+                    a += v[l][j] * ctl_st.bp.o[j] / 32768.0;
+                double err = fabs(ctl_st.bp.k[l] - (1 + tanh(a)) / 2 * 32768);
+                wk = err > wk ? err : wk;
+                assert_true(err <= 12.0);
+            }
         }
-        if (phase == 0 && k > 0 && !ctl_saturated()) {
-            double dv[3][5], n = ctl_st.bp.xs[3] / 4096.0;
-            double ok[5];
+        if (phase == 1 && ctl_st.bp.phase == 2 && k > 1) {
+            double n = ctl_st.bp.n1 / 4096.0;
             for (int j = 0; j < 5; j++)
                 ok[j] = ctl_st.bp.o[j] / 32768.0;
-            double kf[3] = {ctl_st.bp.k[0] / 32768.0, ctl_st.bp.k[1] / 32768.0, ctl_st.bp.k[2] / 32768.0};
+            for (int l = 0; l < 3; l++)
+                kf[l] = ctl_st.bp.k[l] / 32768.0;
             ctltw_bp_dv(kf, ok, n, n1 / 4096.0, n2 / 4096.0, dv);
+            memcpy(v0, ctl_st.bp.v, sizeof v0);
+            memcpy(dv0, ctl_st.bp.dv, sizeof dv0);
+            have = 1;
+        } else if (ctl_st.bp.phase != 3 && !(phase == 3 && ctl_st.bp.phase == 4)) {
+            have = 0;
+        }
+        if (have && phase == 3 && ctl_st.bp.phase == 4) {
             for (int i = 0; i < 3; i++)
                 for (int j = 0; j < 5; j++) {
                     double want = dv[i][j] * 4096 + 0.0508 * dv0[i][j];
@@ -172,9 +187,13 @@ static void test_ctl_bp_matches_twin(void **state)
                     wdv = err > wdv ? err : wdv;
                     assert_true(err <= 3.5 + 0.05 * fabs(want));
                 }
+            checked++;
+            have = 0;
         }
     }
-    print_message("bp_pid: worst hidden %.1f, gain %.1f LSB of Q15; weight change %.2f LSB of Q12\n", wo, wk, wdv);
+    assert_true(checked > 10);      /* saturation drops many updates; these were complete */
+    print_message("bp_pid: worst hidden %.1f, gain %.1f LSB of Q15; weight change %.2f LSB of Q12 (%d updates)\n",
+                  wo, wk, wdv, checked);
 }
 
 /* Anti-windup: against an end stop nothing is driven or stored; when the error turns, the

@@ -28,17 +28,21 @@ static void plant(q15_t drive, ctl_in_t *in)
 }
 
 static uint32_t cyc_max, cyc_sum;
+static uint32_t cyc_ph[BP_PHASES];          /* bp_pid: worst step of each learning phase */
 
 static q15_t timed_step(const ctl_in_t *in)
 {
     q15_t d;
     uint32_t c;
+    uint8_t ph = ctl_selected() == CTL_BP_PID ? ctl_st.bp.phase : 0;
     tt_cycles_start();
     d = ctl_step(in);
     c = tt_cycles_stop();
     if (c > cyc_max)
         cyc_max = c;
     cyc_sum += c;
+    if (ph < BP_PHASES && c > cyc_ph[ph])
+        cyc_ph[ph] = c;
     return d;
 }
 
@@ -142,6 +146,14 @@ int main(void)
             }
         }
         tt_bench(bench_names[id], cyc_max);
+        if (id == CTL_BP_PID) {
+            tt_bench("ctl_step_bp_pid_phase0_max", cyc_ph[0]);
+            tt_bench("ctl_step_bp_pid_phase1_max", cyc_ph[1]);
+            tt_bench("ctl_step_bp_pid_phase2_max", cyc_ph[2]);
+            tt_bench("ctl_step_bp_pid_phase3_max", cyc_ph[3]);
+            tt_bench("ctl_step_bp_pid_phase4_max", cyc_ph[4]);
+            tt_bench("ctl_step_bp_pid_phase5_max", cyc_ph[5]);
+        }
     }
     tt_end();
     return 0;
