@@ -4,14 +4,16 @@
 #include <stdlib.h>
 #include <string.h>
 #include "sim.h"
+#include "hal_host.h"
 
 static void usage(FILE *f)
 {
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
-          "           [--zones OUT.csv]\n"
+          "           [--zones OUT.csv] [--serial OUT.txt]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
           "  prints the metrics of PLANT.md as one JSON object on the last line.\n"
-          "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n", f);
+          "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n"
+          "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n", f);
 }
 
 static int parse_u64(const char *s, unsigned long long *v)
@@ -27,6 +29,8 @@ static int parse_u64(const char *s, unsigned long long *v)
 int main(int argc, char **argv)
 {
     const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL;
+    const char *serial_path = NULL;
+    FILE *serial = NULL;
     unsigned long long seed = 0;
     int have_seed = 0, i;
     double period = 0.1;
@@ -56,6 +60,8 @@ int main(int argc, char **argv)
             csv_path = v;
         else if (!strcmp(a, "--zones"))
             zones_path = v;
+        else if (!strcmp(a, "--serial"))
+            serial_path = v;
         else if (!strcmp(a, "--seed")) {
             if (parse_u64(v, &seed) < 0) {
                 fprintf(stderr, "sim: --seed '%s' is not a whole number 0..2^64-1\n", v);
@@ -104,10 +110,32 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    if (serial_path) {
+        serial = fopen(serial_path, "w");
+        if (!serial) {
+            fprintf(stderr, "sim: cannot write %s: %s\n", serial_path, strerror(errno));
+            return 1;
+        }
+    }
     sim_init(sim, s);
     if (csv)
         sim_trace_csv(sim, csv, period);
-    sim_run(sim, s->duration_s);
+    if (serial) {
+        /* run in 0.1 s slices and take what the UART sent in each (the host queue holds 4 KB) */
+        double t;
+        int b;
+        for (t = 0.1; !sim_done(sim); t += 0.1) {
+            sim_run(sim, t < s->duration_s ? t : s->duration_s);
+            while ((b = hal_host_uart_tx_pop()) >= 0)
+                fputc(b, serial);
+        }
+        if (fclose(serial) != 0) {
+            fprintf(stderr, "sim: error writing %s: %s\n", serial_path, strerror(errno));
+            return 1;
+        }
+    } else {
+        sim_run(sim, s->duration_s);
+    }
     sim_finish(sim, &r);
     if (csv && fclose(csv) != 0) {
         fprintf(stderr, "sim: error writing %s: %s\n", csv_path, strerror(errno));
