@@ -701,17 +701,20 @@ static q15_t bp_step(void)
  *    must go for it (flow -> closure, linear between nodes 5.12 L/min apart; until a node is
  *    learned it follows the default slope of 1 stroke per 100 L/min);
  *  - feedback: an incremental PI (P on the measurement, so a target change does not kick it
- *    twice) in the same normalised units as pid.
+ *    twice) in the same normalised units as pid. The integral is held while the servo still
+ *    travels (|p_ref + feed-forward - p_hat| >= FM_IGATE): the valve integrates already, and
+ *    an integral that keeps counting the error while the valve is on its way (4 s a stroke)
+ *    winds up and overshoots (42 % on the target steps before; the hold allows ki 0.5).
  * The servo drives |p_ref - p_hat| * T_travel, takes up the 2 % backlash after a reversal
  * before it counts motion, and sends either nothing or at least the break-away duty 0.2 (moves
  * under half the smallest real move are not made: a deadband against hunting).
  * The map learns where the loop is calm (target steady, error < 6 %), pulling the two nodes
  * around the target toward p_hat; frozen at end stops and at drive limit. */
 #ifndef FM_KP
-#define FM_KP Q12(0.4)              /* feedback gains on the pid normalisation */
+#define FM_KP Q12(0.55)             /* feedback gains on the pid normalisation */
 #endif
 #ifndef FM_KI
-#define FM_KI Q12(0.25)
+#define FM_KI Q12(0.5)
 #endif
 #define FM_LEAD Q15(0.5)            /* p_ref stays within this of p_hat (anti-windup) */
 #ifndef FM_REV_MIN
@@ -725,6 +728,9 @@ static q15_t bp_step(void)
 #endif
 #ifndef FM_CALM
 #define FM_CALM 5                   /* periods of calm before the map learns */
+#endif
+#ifndef FM_IGATE
+#define FM_IGATE Q15(0.02)          /* integral only while |p_ref - p_hat| is under this */
 #endif
 #define FM_LR_SHIFT 2               /* map learning rate 1/4 a calm period */
 #define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
@@ -835,7 +841,9 @@ static q15_t fm_step(void) CTL_SHARED
     /* feed-forward from the map, feedback from the flow */
     d = fm_known(q) && fm_known(m->t1) ? (int32_t)fm_map(q) - fm_map(m->t1) : 0;
     du = MUL(FM_KP, fx_sat16((int32_t)m->y1 - y));
-    du += MUL(FM_KI, e);
+    need = fx_sat16(d + m->p_ref - m->p_hat);   /* the servo still travelling: no integral (it would wind up) */
+    if (need < FM_IGATE && need > -FM_IGATE)
+        du += MUL(FM_KI, e);
     d += (MUL(fx_sat16((du + 128) >> 8), 26844) + 65536L) >> 17;   /* du_q4 * 0.2048 = Q15 stroke */
     d += m->p_ref;
     if (d > (int32_t)m->p_hat + FM_LEAD)
