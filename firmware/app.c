@@ -20,7 +20,8 @@
  *   target:  eq. (1) with Table 1's minimum flow, the given speed when set (target.c)
  *   spray:   the master valve is open when sections are on, the tank is above its minimum,
  *            and (auto) the machine moves; it shuts at standstill, on an empty tank
- *   drive:   start-up closes the bypass at full duty until the line reaches P_P_MIN (the
+ *   drive:   with the boom shut the bypass valve is parked open (no pressure build-up through
+ *            the relief valve); start-up closes the bypass at full duty until the line reaches P_P_MIN (the
  *            paper's start), then the controller (bumpless, ctl_reset); over-pressure forces
  *            the valve open; manual mode only jogs; with the flow meter lost the controller
  *            gets the nozzle model's flow from the pressure (diag.c)
@@ -47,6 +48,7 @@ static struct {
     uint8_t was_manual;
     uint8_t log_div;
     uint8_t internal;
+    uint8_t parked;                 /* boom shut and the bypass found at its open stop */
 } ap;
 
 void app_init(void)
@@ -186,7 +188,17 @@ static void app_step(void)
             in.valve_limit = valve_limit() | (overp ? CTL_AT_CLOSED : 0);
             drive = ctl_step(&in);
         }
+    } else {
+        /* boom shut (standstill, no section on, empty tank): park the bypass open, so the pump
+         * circulates to the tank at low pressure instead of through the relief valve, and the
+         * next start rises to its target from below (the start-up then closes it, as the paper) */
+        if ((valve_limit() & CTL_AT_OPEN)
+            || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9)))
+            ap.parked = 1;                  /* open enough (or at the stop): stay, no retries */
+        drive = ap.parked ? 0 : -Q15_MAX;
     }
+    if (app_status.spraying || manual)
+        ap.parked = 0;
     if (overp && drive > -APP_RELIEVE_DRIVE)
         drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
     valve_set(drive);

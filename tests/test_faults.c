@@ -172,13 +172,15 @@ static void test_faults_speed_sensor_lost_alarms_and_spraying_resumes(void **sta
     run_to(&r, 40);
     run_init(&r, 40);
     run_to(&r, 70);
-    printf("# speed sensor lost: alarm after %.2f s, boom open %.2f s of the 30 s, p max %.2f bar\n",
-           detect_s(&r, AL_SPEED_LOST), r.spray_on_s, r.p_max_bar);
+    printf("# speed sensor lost: alarm after %.2f s, boom open %.2f s of the 30 s, p max %.2f bar, "
+           "%.2f s driven at a stop\n", detect_s(&r, AL_SPEED_LOST), r.spray_on_s, r.p_max_bar, r.stop_drive_s);
     assert_true(detect_s(&r, AL_SPEED_LOST) <= 2.5);
     assert_true(r.spray_on_s <= 3.5);
     assert_false(app_status.spraying);
     assert_true(r.p_max_bar < RELIEF_BAR);
-    assert_true(r.stop_drive_s <= 0.5);
+    /* the shut boom parks the bypass open; its position not yet known, the valve is driven until
+     * the end-stop rule of valve.h (1.2 strokes one way = 4.8 s at full duty) says it is there */
+    assert_true(r.stop_drive_s <= 1.2 * 4.0 + 0.2);
     run_init(&r, 70);
     run_to(&r, 75);
     assert_true(app_status.spraying);
