@@ -322,6 +322,29 @@ static void test_ctl_ffmap_feed_forward_and_backlash(void **state)
     assert_true(r <= -(int32_t)FM_BACKLASH * 40 + 40);
 }
 
+/* ffmap: while the servo still travels toward the feed-forward's position, the integral is
+ * held (the valve integrates already; counting the error on its way winds up and overshoots). */
+static void test_ctl_ffmap_integral_held_while_servo_travels(void **state)
+{
+    (void)state;
+    ctl_select(CTL_BEST);
+    ctl_in_t in = mk(3000, 3000, 0);
+    for (int k = 0; k < 20; k++)
+        ctl_step(&in);
+    in.target_lpm_x100 = 4000;                           /* +10 L/min: 0.1 stroke to travel */
+    ctl_step(&in);
+    int16_t ref = ctl_st.fm.p_ref;
+    for (int k = 0; k < 2; k++) {                        /* flow not yet moved: e = 10 L/min */
+        assert_true(ref - ctl_st.fm.p_hat > Q15(0.02));
+        ctl_step(&in);
+        assert_int_equal(ctl_st.fm.p_ref, ref);
+    }
+    /* once there, the error counts again */
+    for (int k = 0; k < 10 && ctl_st.fm.p_ref == ref; k++)
+        ctl_step(&in);
+    assert_true(ctl_st.fm.p_ref > ref);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -334,6 +357,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_learning_frozen_while_saturated, setup),
         cmocka_unit_test_setup(test_ctl_bp_weights_bounded_over_one_hour, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_feed_forward_and_backlash, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_integral_held_while_servo_travels, setup),
     };
     return cmocka_run_group_tests_name("ctl", tests, NULL, NULL);
 }
