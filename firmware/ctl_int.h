@@ -65,6 +65,10 @@ typedef struct {
 #define FM_NODES 17                 /* map nodes every FM_BIN of target flow: 0 .. 81.9 L/min */
 #define FM_BIN_SHIFT 9              /* node spacing 512 x100 = 5.12 L/min */
 #define FM_BACKLASH Q15(0.02)       /* stroke lost on a reversal (taken up before counting) */
+#ifndef FM_WARM
+#define FM_WARM 200                 /* periods (20 s) after a (re)start before the map learns: the
+                                     * pump may still spin up (coupled PTO) and the line prime */
+#endif
 typedef struct {
     int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow */
     uint8_t seen[3];                /* bit n: node n learned from the loop */
@@ -75,6 +79,7 @@ typedef struct {
     int16_t t1;                     /* x100 last target */
     int8_t dir;                     /* +1 / -1 direction of the last motion */
     uint8_t calm;                   /* periods the target has been steady and the error small */
+    uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM (no learning before) */
 } fm_state_t;
 
 typedef union {

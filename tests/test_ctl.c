@@ -267,6 +267,10 @@ static void test_ctl_learning_frozen_while_saturated(void **state)
         ctl_step(&in);
     assert_memory_equal(fb.node, ctl_st.fm.node, sizeof fb.node);
     in.valve_limit = 0;
+    ctl_reset(0);
+    for (int k = 0; k < FM_WARM; k++)       /* no learning in the first FM_WARM periods after a (re)start */
+        ctl_step(&in);
+    assert_memory_equal(fb.node, ctl_st.fm.node, sizeof fb.node);
     for (int k = 0; k < 100; k++)
         ctl_step(&in);
     assert_true(memcmp(fb.node, ctl_st.fm.node, sizeof fb.node) != 0);
