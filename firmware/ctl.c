@@ -715,7 +715,7 @@ static q15_t bp_step(void)
  * that gives a flow is nearly constant). Learning from the start-up made coupled CV 1.73 %
  * (0.92 % without) and the target-step overshoot 11.6 % (6-7 % without). */
 #ifndef FM_KP
-#define FM_KP Q12(0.55)             /* feedback gains on the pid normalisation */
+#define FM_KP Q12(0.5)              /* feedback gains on the pid normalisation */
 #endif
 #ifndef FM_KI
 #define FM_KI Q12(0.5)
