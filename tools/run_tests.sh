@@ -35,7 +35,7 @@ echo "# building host tests, target tests and the firmware"
 check build-host-tests make -j"$JOBS" host-tests
 check build-target-tests make -j"$JOBS" target-tests
 check firmware-builds-within-memory make -j"$JOBS" firmware
-grep '^memory:' "$log/firmware-builds-within-memory.log" | sed 's/^/# /'
+grep -E '^(memory|stack):' "$log/firmware-builds-within-memory.log" | sed 's/^/# /'
 
 echo "# host unit tests"
 for t in $B/host-test/test_*; do
