@@ -72,6 +72,11 @@ help:
 	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev; .venv)"
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
 	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
+	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
+	@echo "make compare   the four controllers on the same plant and seeds, beside the paper"
+	@echo "make bench-sim simulated seconds per wall second of the paper's run"
+	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
+	@echo "make screenshots  the run screen and a menu as PNG in docs/"
 	@echo "make clean     remove build/"
 
 # ---- set-up --------------------------------------------------------------------------------
