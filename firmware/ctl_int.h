@@ -80,6 +80,7 @@ typedef struct {
     int8_t dir;                     /* +1 / -1 direction of the last motion */
     uint8_t calm;                   /* periods the target has been steady and the error small */
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM (no learning before) */
+    uint8_t rest;                   /* 1: the flow is within the deadband, feedback off (hysteresis) */
 } fm_state_t;
 
 typedef union {

@@ -349,6 +349,51 @@ static void test_ctl_ffmap_integral_held_while_servo_travels(void **state)
     assert_true(ctl_st.fm.p_ref > ref);
 }
 
+/* ffmap: a deadband with hysteresis. Within target/256 the servo stops where it is and only a
+ * slow integral acts (no hunting between break-away pulses and backlash take-ups); beyond
+ * target/128, or while the target moves, the full feedback is back. */
+static void test_ctl_ffmap_deadband_hysteresis(void **state)
+{
+    (void)state;
+    ctl_select(CTL_BEST);
+    ctl_in_t in = mk(4500, 4500, 0);
+    for (int k = 0; k < 20; k++)
+        assert_int_equal(ctl_step(&in), 0);
+    assert_int_equal(ctl_st.fm.rest, 1);
+    /* 0.6 % low (between 4500/256 and 4500/128): it stays at rest; no P on the measurement,
+     * only the slow integral creeps the reference (the dose is not left biased), so the servo
+     * makes a break-away pulse now and then (the first with the backlash take-up) */
+    in.flow_lpm_x100 = 4473;
+    int moves = 0;
+    for (int k = 0; k < 30; k++) {
+        q15_t dd = ctl_step(&in);
+        assert_int_equal(ctl_st.fm.rest, 1);
+        assert_true(dd >= 0);
+        if (k < 4)
+            assert_int_equal(dd, 0);
+        if (dd != 0) {
+            moves++;
+            if (moves > 1)
+                assert_int_equal(dd, CTL_STICTION);
+        }
+    }
+    assert_true(moves >= 2 && moves <= 5);
+    /* 1 % low: beyond the outer band, the feedback re-engages and drives */
+    in.flow_lpm_x100 = 4455;
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.rest, 0);
+    /* back within the inner band: rest again, the servo stops where it is */
+    in.flow_lpm_x100 = 4495;
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.rest, 1);
+    assert_true(abs(ctl_st.fm.p_ref - ctl_st.fm.p_hat) < 8);
+    /* a moving target (2 % a period) wakes the loop even with no error */
+    in.target_lpm_x100 = 4590;
+    in.flow_lpm_x100 = 4590;
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.rest, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -362,6 +407,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_bp_weights_bounded_over_one_hour, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_feed_forward_and_backlash, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_integral_held_while_servo_travels, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_deadband_hysteresis, setup),
     };
     return cmocka_run_group_tests_name("ctl", tests, NULL, NULL);
 }
