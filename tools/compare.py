@@ -14,6 +14,7 @@ SCENARIOS = [
     ("target_step_150", "target steps (given speed 6/8/7 km/h, PTO 540 rpm)"),
     ("paper_dynamic_150", "paper's dynamic following, 150 L/ha, 4-11 km/h, PTO coupled"),
     ("paper_dynamic_150_fixed_pto", "paper's dynamic following, 150 L/ha, 4-11 km/h, PTO fixed 540 rpm"),
+    ("field_3220m_150", "field run of 3220 m, 150 L/ha: start, headland slow-downs, stop (cf. Table 4)"),
 ]
 # the paper's figures: Table 2 (simulated step) and section 5.1 / Table 4 (field, 150 L/ha)
 PAPER_T2 = {"pid": (0.30, 50.9, 1.21), "fuzzy_pid": (0.64, 18.2, 0.94), "bp_pid": (0.25, 1.30, 0.26)}
@@ -72,14 +73,18 @@ def main():
         v = m.get(k)
         v = abs(v) if k == "dose_error_pct" and v is not None else v
         print("  %-20s %8s  goal <= %-5s %s" % (k, f(v), g, "met" if v is not None and v <= g else "NOT met"))
-    keys = ["dose_error_pct", "cv_pct", "overshoot_mean_pct", "settle_mean_s"]
+    # every figure printed above, in the sense "smaller is better" (magnitudes for signed ones)
+    keys = ["dose_error_pct", "cv_pct", "cv_all_pct", "zone_error_min_pct", "zone_error_max_pct",
+            "overshoot_mean_pct", "overshoot_max_pct", "settle_mean_s"]
     worse = []
     for scn, _ in SCENARIOS:
-        for k in keys:
-            b, n = res[scn]["best"].get(k), res[scn]["bp_pid"].get(k)
-            if b is None or n is None:
+        both = {c: dict(res[scn][c], rise_mean_s=mean_rise(res[scn][c]), sse_mean_abs_pct=mean_abs_sse(res[scn][c]))
+                for c in ("best", "bp_pid")}
+        for k in keys + (["rise_mean_s", "sse_mean_abs_pct"] if scn.startswith("target_step") else []):
+            b, n = both["best"].get(k), both["bp_pid"].get(k)
+            if not isinstance(b, (int, float)) or not isinstance(n, (int, float)):
                 continue
-            if (abs(b) if k == "dose_error_pct" else b) > (abs(n) if k == "dose_error_pct" else n):
+            if round(abs(b), 2) > round(abs(n), 2):
                 worse.append("%s/%s %.3g > %.3g" % (scn, k, b, n))
     print("best at least as good as bp_pid on every metric: %s" % ("yes" if not worse else "no: " + "; ".join(worse)))
     if "--json" in sys.argv:
