@@ -53,7 +53,8 @@ static struct {
 
 void app_init(void)
 {
-    store_load();                   /* the EEPROM's parameters, or the defaults and a message */
+    totals_init();
+    store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
     hal_valve_out(HAL_VALVE_OFF, 0);
     hal_spray_enable(0);
     hal_buzzer(0);
@@ -63,7 +64,6 @@ void app_init(void)
     target_init();
     valve_init();
     diag_init();
-    totals_init();
     serial_init();
     ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
     ctl_select(ap.ctl_id);
@@ -150,6 +150,8 @@ static void app_step(void)
     if (want != app_status.spraying) {
         app_status.spraying = want;
         hal_spray_enable(want);
+        if (!want)
+            store_save();               /* the boom shut after spraying: keep the lifetime totals */
         if (want) {
             ap.prime = (!manual && analog_pressure_ok() && p < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
             ctl_reset(0);

@@ -37,7 +37,7 @@
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 1            /* bump when the table changes: the EEPROM layout follows it */
+#define PARAMS_VERSION 2            /* bump when the table or the EEPROM record changes (2: lifetime totals) */
 
 typedef struct {
     const char *name;

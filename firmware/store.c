@@ -2,11 +2,13 @@
 #include "hal.h"
 #include "params.h"
 #include "store.h"
+#include "totals.h"
 
 #define STORE_MAGIC 0x5A
 #define HDR_SEQ 3u
 #define HDR_VALUES 5u
-#define CRC_AT (HDR_VALUES + 2u * P_COUNT)
+#define HDR_LIFE (HDR_VALUES + 2u * P_COUNT)
+#define CRC_AT (HDR_LIFE + 8u)
 
 static uint8_t status;              /* STORE_* */
 static uint8_t newest;              /* sector (0, 1) holding the copy loaded or saved last */
@@ -30,6 +32,11 @@ static uint16_t read16(uint16_t a)
     return (uint16_t)(hal_eeprom_read(a) | ((uint16_t)hal_eeprom_read(a + 1u) << 8));
 }
 
+static uint32_t read32(uint16_t a)
+{
+    return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
+}
+
 /* 1 when the copy in sector s has the right header, CRC and every value in range. */
 static uint8_t copy_valid(uint8_t s)
 {
@@ -50,7 +57,7 @@ static uint8_t copy_valid(uint8_t s)
     return 1;
 }
 
-uint8_t store_load(void)
+uint8_t store_load(void) __reentrant
 {
     uint8_t v0 = copy_valid(0), v1 = copy_valid(1);
     uint8_t s, i;
@@ -71,6 +78,7 @@ uint8_t store_load(void)
     base = s ? HAL_EEPROM_SECTOR : 0u;
     for (i = 0; i < P_COUNT; i++)
         param_set(i, read16(base + HDR_VALUES + 2u * i));
+    totals_set_life(read32(base + HDR_LIFE), read32(base + HDR_LIFE + 4u));
     newest = s;
     seq = s ? q1 : q0;
     /* One copy bad. It was the newer one when it shows a started write of the next sequence
@@ -86,13 +94,14 @@ uint8_t store_load(void)
     return status;
 }
 
-uint8_t store_save(void)
+uint8_t store_save(void) __reentrant
 {
     uint8_t s = newest ? 0 : 1;
     uint16_t base = s ? HAL_EEPROM_SECTOR : 0u;
     uint16_t crc = 0xFFFFu;
     uint16_t next = (uint16_t)(seq + 1u);
     uint8_t i, b, ok = 1;
+    const totals_t *t = totals_get();
     hal_eeprom_erase(base);
     for (i = 0; i < CRC_AT; i++) {
         if (i == 0)
@@ -105,6 +114,10 @@ uint8_t store_save(void)
             b = (uint8_t)next;
         else if (i == HDR_SEQ + 1u)
             b = (uint8_t)(next >> 8);
+        else if (i >= HDR_LIFE + 4u)
+            b = (uint8_t)(t->life_ml >> (8u * (i - HDR_LIFE - 4u)));
+        else if (i >= HDR_LIFE)
+            b = (uint8_t)(t->life_m2 >> (8u * (i - HDR_LIFE)));
         else if ((i - HDR_VALUES) & 1u)
             b = (uint8_t)(param_v[(i - HDR_VALUES) >> 1] >> 8);
         else

@@ -49,6 +49,12 @@ void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __re
     }
 }
 
+void totals_set_life(uint32_t m2, uint32_t ml)
+{
+    to.t.life_m2 = m2;
+    to.t.life_ml = ml;
+}
+
 const totals_t *totals_get(void)
 {
     return &to.t;

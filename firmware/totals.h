@@ -9,7 +9,9 @@
  * while the boom sprays. Both carry their fractions (area in 1/65536 cm^2, volume in 2^-20 ml),
  * so nothing is lost to rounding over a long job. The applied dose (L/ha x10 = ml * 10000 /
  * dm^2) divides once a second, outside the control step.
- * The lifetime totals live in RAM since power-up (the EEPROM layout is the store's).
+ * The lifetime totals are kept in the EEPROM record with the parameters (store.c): loaded at
+ * start, saved when the boom shuts after it has sprayed (app.c), so a power cut loses at most
+ * the run since the boom last shut.
  */
 typedef struct {
     uint32_t job_dm2;               /* job area, 0.01 m^2 */
@@ -24,6 +26,8 @@ void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __re
 /* Zero the job totals. */
 void totals_job_reset(void);
 const totals_t *totals_get(void);
+/* The lifetime totals read back from the EEPROM (store_load). */
+void totals_set_life(uint32_t m2, uint32_t ml);
 uint32_t totals_job_m2(void);
 /* Applied dose of the job, L/ha x10 (0 before 1 m^2), saturates at 65535. */
 uint16_t totals_applied_l_ha_x10(void) __reentrant;

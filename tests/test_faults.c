@@ -8,6 +8,8 @@
 #include <string.h>
 #include <cmocka.h>
 #include "sim.h"
+#include "store.h"
+#include "totals.h"
 #include "hal_host.h"
 #include "app.h"
 #include "diag.h"
@@ -406,6 +408,29 @@ static void test_faults_measurement_error_against_the_truth(void **state)
     }
 }
 
+/* the lifetime totals survive a power cut: the boom shutting at the stop saves them with the
+ * parameters; a restart (totals zeroed, the EEPROM read) finds what was sprayed */
+static void test_faults_lifetime_totals_are_saved_when_the_boom_shuts(void **state)
+{
+    run_t r;
+    uint32_t ml, m2;
+    (void)state;
+    start_drive("", "", "pto_coupled = 0", "0 0\n5 7\n40 7\n41 0\n400 0");
+    run_init(&r, 0);
+    run_to(&r, 50);
+    assert_false(app_status.spraying);
+    ml = totals_get()->life_ml;
+    m2 = totals_get()->life_m2;
+    printf("# boom shut at the stop: %u ml over %u m^2 sprayed and saved\n", (unsigned)ml, (unsigned)m2);
+    /* 7 km/h for about 35 s at 31.5 L/min: more than 15 L, 400 m^2 (at least) */
+    assert_true(ml > 15000u && m2 > 400u);
+    totals_init();
+    assert_int_equal(totals_get()->life_ml, 0);
+    assert_int_equal(store_load(), STORE_OK);
+    assert_int_equal(totals_get()->life_ml, ml);
+    assert_int_equal(totals_get()->life_m2, m2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -418,6 +443,7 @@ int main(void)
         cmocka_unit_test(test_faults_over_pressure_with_a_stuck_valve),
         cmocka_unit_test(test_faults_off_rate_when_the_flow_cannot_follow),
         cmocka_unit_test(test_faults_measurement_error_against_the_truth),
+        cmocka_unit_test(test_faults_lifetime_totals_are_saved_when_the_boom_shuts),
     };
     return cmocka_run_group_tests(tests, NULL, teardown);
 }
