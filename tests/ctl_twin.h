@@ -2,6 +2,8 @@
 #ifndef CTL_TWIN_H
 #define CTL_TWIN_H
 
+#include "ctl_int.h"
+
 /* eq. (7) increment in valve stroke for errors in L/min and gains as plain numbers. */
 double ctltw_pid_du_stroke(double e, double e1, double e2, double kp, double ki, double kd);
 /* The drive (fraction of full duty) that moves the valve du_stroke in one period of a valve
@@ -14,5 +16,145 @@ void ctltw_bp_forward(const double w[5][4], const double v[3][5], double target_
                       double o[5], double k[3]);
 /* bp_pid's output-layer change for one step: dv = eta * delta_l * o_j (momentum excluded). */
 void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, double n2, double dv[3][5]);
+
+/* ---- ffmap (`best`): one step of the position servo with its learned map ----------------------
+ * Closures (node, p_hat, p_ref, takeup) as fractions of the stroke (0 open .. 1 bypass closed),
+ * flows in L/min, speeds in km/h; plain double arithmetic, no rounding and no Q formats. */
+
+/* ffmap's constants as plain numbers. The FM_* of ctl.c are private to ctl.c (only
+ * FM_NODES, FM_BIN_SHIFT, FM_BACKLASH and FM_WARM are in ctl_int.h), so their values are
+ * repeated here, each with the #define it comes from; where a build overrides one with -D (the
+ * #ifndef defaults of ctl.c), the twin follows it. test_ctl.c checks kp and ki against
+ * ctl_gain(), the ctl_int.h ones against their Q15 values, and the rest shows up as a mismatch. */
+#ifdef FM_KP
+#define CTLTW_FM_KP (FM_KP / 4096.0)
+#else
+#define CTLTW_FM_KP 0.6                 /* ctl.c FM_KP Q12(0.6) */
+#endif
+#ifdef FM_KI
+#define CTLTW_FM_KI (FM_KI / 4096.0)
+#else
+#define CTLTW_FM_KI 0.5                 /* ctl.c FM_KI Q12(0.5) */
+#endif
+#define CTLTW_FM_LEAD 0.5               /* ctl.c FM_LEAD Q15(0.5) */
+#ifdef FM_REV_MIN
+#define CTLTW_FM_REV_MIN (FM_REV_MIN / 32768.0)
+#else
+#define CTLTW_FM_REV_MIN 0.004          /* ctl.c FM_REV_MIN Q15(0.004) */
+#endif
+#ifdef FM_SEEN_ONLY
+#define CTLTW_FM_SEEN_ONLY FM_SEEN_ONLY
+#else
+#define CTLTW_FM_SEEN_ONLY 0            /* ctl.c FM_SEEN_ONLY */
+#endif
+#ifdef FM_LEARN
+#define CTLTW_FM_LEARN FM_LEARN
+#else
+#define CTLTW_FM_LEARN 1                /* ctl.c FM_LEARN */
+#endif
+#ifdef FM_CALM
+#define CTLTW_FM_CALM FM_CALM
+#else
+#define CTLTW_FM_CALM 5                 /* ctl.c FM_CALM */
+#endif
+#ifdef FM_IGATE
+#define CTLTW_FM_IGATE (FM_IGATE / 32768.0)
+#else
+#define CTLTW_FM_IGATE 0.02             /* ctl.c FM_IGATE Q15(0.02) */
+#endif
+#ifdef FM_DB_IN
+#define CTLTW_FM_DB_IN (1 << FM_DB_IN)
+#else
+#define CTLTW_FM_DB_IN 256              /* ctl.c FM_DB_IN 8: rest once |e| <= target / 256 */
+#endif
+#ifdef FM_DB_OUT
+#define CTLTW_FM_DB_OUT (1 << FM_DB_OUT)
+#else
+#define CTLTW_FM_DB_OUT 128             /* ctl.c FM_DB_OUT 7: wake beyond target / 128 */
+#endif
+#ifdef FM_DB_STOP
+#define CTLTW_FM_DB_STOP FM_DB_STOP
+#else
+#define CTLTW_FM_DB_STOP 1              /* ctl.c FM_DB_STOP */
+#endif
+#ifdef FM_REST_KI
+#define CTLTW_FM_REST_KI (FM_REST_KI / 4096.0)
+#else
+#define CTLTW_FM_REST_KI 0.25           /* ctl.c FM_REST_KI Q12(0.25) */
+#endif
+#ifdef FM_MINF_GATE
+#define CTLTW_FM_MINF_GATE FM_MINF_GATE
+#else
+#define CTLTW_FM_MINF_GATE 1            /* ctl.c FM_MINF_GATE */
+#endif
+#define CTLTW_FM_LR 0.25                /* ctl.c FM_LR_SHIFT 2: learning rate 1/4 */
+#define CTLTW_FM_BIN ((1 << FM_BIN_SHIFT) / 100.0)     /* node spacing, L/min (5.12) */
+#define CTLTW_FM_BACKLASH 0.02          /* ctl_int.h FM_BACKLASH Q15(0.02) */
+#define CTLTW_STICTION 0.2              /* ctl_int.h CTL_STICTION Q15(0.2) */
+#define CTLTW_E_MAX (CTL_E_MAX / 100.0) /* errors clamped to +-160 L/min */
+/* fm_step holds the PI increment in an int16 of 1/16 x100 L/min (fx_sat16 of du_q4): at most
+ * 32767/16 x100 L/min of flow-equivalent, 0.2048 stroke a period. Part of the algorithm as
+ * built (it cuts increments beyond about 20 L/min-equivalent), so the twin has it too. */
+#define CTLTW_FM_DU_MAX (32767.0 / 16.0 / 100.0 / CTL_FLOW_SCALE_LPM)
+
+typedef struct {
+    double node[FM_NODES];          /* closure for the target flow of each node (FM_BIN apart) */
+    unsigned long seen;             /* bit n: node n learned */
+    double p_hat, p_ref, takeup;    /* stroke */
+    double y1, t1;                  /* L/min: last measured flow, last target */
+    int dir;                        /* +1 / -1 / 0: direction of the last motion */
+    int calm, warm, rest;
+    int first;                      /* 1: the loop (re)starts with this step (ctl_reset before it) */
+} ctltw_fm_t;
+
+typedef struct {
+    double target, flow;            /* L/min */
+    double speed, minf_speed;       /* km/h: ground speed and P_MINF_SPEED */
+    int limit;                      /* CTL_AT_* */
+    double travel;                  /* periods for a full stroke at full duty (P_VALVE_TRAVEL) */
+} ctltw_fm_in_t;
+
+/* Decisions the fixed-point rounding can tip. The twin follows, step by step, the interval in
+ * which the firmware's value minus its own can lie (the map's interpolation and the PI
+ * increment rounded, the gains in Q12, the closed stop and the stroke's top at 32767, the
+ * backlash at 655/32768; ref_lo .. drive_hi below) and flags a step where a closure or a drive
+ * it compares with a threshold may lie on the other side of the firmware's threshold (the Q15
+ * constant) within that interval. Flows and speeds need none: the firmware's are exact (x100
+ * integers) and the twin keeps their ties (ctltw_gt in the .c). */
+#define CTLTW_B_IGATE 0x01u         /* |p_ref + feed-forward - p_hat| against FM_IGATE */
+#define CTLTW_B_REV 0x02u           /* a reversal's |need| against FM_REV_MIN; need's sign (see .c) */
+#define CTLTW_B_STICTION 0x04u      /* |drive| against half the break-away duty (0 or 0.2) */
+#define CTLTW_B_SAT 0x08u           /* |drive| against full duty while the calm counter hangs on
+                                     * the saturation flag: only the calm counter and the map may differ */
+#define CTLTW_B_SERVO (CTLTW_B_IGATE | CTLTW_B_REV | CTLTW_B_STICTION)     /* the drive may differ */
+/* The branches the step took (coverage for the tests). */
+#define CTLTW_P_REST 0x001u         /* inside the deadband: the slow integral only */
+#define CTLTW_P_INTEGRAL 0x002u     /* outside it, servo near its goal: P and I */
+#define CTLTW_P_HELD 0x004u         /* outside it, servo travelling: P only */
+#define CTLTW_P_REVERSAL 0x008u     /* a reversal with its backlash take-up */
+#define CTLTW_P_HYST 0x010u         /* a reversal too small to make (FM_REV_MIN) */
+#define CTLTW_P_ROUNDED 0x020u      /* a drive under the break-away duty rounded to 0 or 0.2 */
+#define CTLTW_P_SAT 0x040u          /* drive cut (full duty or end stop) */
+#define CTLTW_P_ENDSTOP 0x080u      /* an end stop reported */
+#define CTLTW_P_LEARN 0x100u        /* the map learned */
+#define CTLTW_P_ANCHOR 0x200u       /* ... its first point: the whole curve moved */
+#define CTLTW_P_VISIT 0x400u        /* ... a node's first visit: the unlearned nodes moved with it */
+#define CTLTW_P_LEADCUT 0x800u      /* p_ref held within FM_LEAD of p_hat or within the stroke */
+#define CTLTW_P_DUCUT 0x1000u       /* the PI increment cut at CTLTW_FM_DU_MAX */
+#define CTLTW_P_TAKEUP 0x2000u      /* backlash still pending after a step (T_travel over 50 periods) */
+typedef struct {
+    double drive;                   /* fraction of full duty, + toward closed */
+    int sat;                        /* what ctl_saturated() reports after the step */
+    int sat_edge;                   /* the firmware's drive may lie across full duty: sat may differ */
+    double ref_lo, ref_hi;          /* stroke: what the firmware's p_ref minus the twin's can be */
+    double drive_lo, drive_hi;      /* duty: the same for the drive (a flagged branch aside) */
+    unsigned border;                /* CTLTW_B_* */
+    unsigned path;                  /* CTLTW_P_* */
+} ctltw_fm_out_t;
+
+/* The twin's state from the firmware's (Q15 closures, x100 L/min flows); first as above. */
+void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first);
+/* One step of ffmap (fm_step of ctl.c) on the twin's state. */
+ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in);
 
 #endif

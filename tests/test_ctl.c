@@ -394,6 +394,233 @@ static void test_ctl_ffmap_deadband_hysteresis(void **state)
     assert_int_equal(ctl_st.fm.rest, 0);
 }
 
+/* ---- ffmap against its double-precision twin ----------------------------------------------- */
+/* A toy plant in integers: the bypass valve (closure Q15, full stroke in T_travel periods at
+ * full duty, 1.5 % backlash of its own, end stops), a convex closure -> boom flow curve on a
+ * pump that follows the ground speed, a lag of a few periods and a noisy meter. */
+typedef struct {
+    int32_t pos;                    /* Q15 closure */
+    int32_t slack;                  /* Q15 backlash still to take up */
+    int dir;
+    int32_t flow;                   /* x100 L/min in the boom */
+} fm_toy_t;
+
+static uint32_t fm_rng = 1u;        /* its own sequence: the other tests' inputs stay as they were */
+static int fm_rnd(int lo, int hi)
+{
+    fm_rng = fm_rng * 1103515245u + 12345u;
+    return lo + (int)((fm_rng >> 16) % (uint32_t)(hi - lo + 1));
+}
+
+static void fm_toy_move(fm_toy_t *p, q15_t d, int travel)
+{
+    int s = d > 0 ? 1 : -1;
+    int32_t mv = ((int32_t)abs(d) + travel / 2) / travel, take;
+    if (d == 0)
+        return;
+    if (s != p->dir) {
+        p->slack = 492;
+        p->dir = s;
+    }
+    take = mv < p->slack ? mv : p->slack;
+    p->slack -= take;
+    p->pos += s * (mv - take);
+    p->pos = p->pos < 0 ? 0 : p->pos > 32767 ? 32767 : p->pos;
+}
+
+static int fm_toy_flow(fm_toy_t *p, int speed_x100)
+{
+    int32_t pump = 5000 + 4 * speed_x100;                               /* 56 .. 94 L/min */
+    int32_t g = (p->pos * (9830 + ((22938 * p->pos) >> 15))) >> 15;     /* boom share, Q15 */
+    p->flow += ((pump * g >> 15) - p->flow) / 3;
+    return (int)p->flow;
+}
+
+/* ffmap against the twin (tests/helper_ctl_twin.c), step by step from the same state: 6000
+ * periods of the toy plant under target steps and ramps, targets that follow the speed or lie
+ * out of reach (0, beyond the last node), speeds above and below P_MINF_SPEED, meter noise and
+ * dropouts, end-stop flags (at the stops, and early near them: a switch, the relief's
+ * overpressure), a restart half-way onto a slower valve (T_travel 40, then 64 periods: backlash
+ * left to take up between steps); the map learns (warm-up passed). On each step:
+ *  - p_ref and the drive lie within the twin's interval of the firmware's rounding for that
+ *    step (the map's lookups and the PI increment rounded, kp in Q12, the closed stop and the
+ *    stroke's top at 32767, the backlash at 655/32768; the drive is need times T_travel, a
+ *    product the firmware makes exactly);
+ *  - closures (p_ref, p_hat, takeup, every node) within FM_TOL_LSB LSB of Q15 stroke (p_ref's
+ *    interval reaches about 3.3 LSB; p_hat adds the move's rounding), the drive within
+ *    (FM_TOL_LSB + 0.5) * T_travel LSB of Q15 duty (need's error and the backlash's, times
+ *    T_travel);
+ *  - rest, dir, calm, warm, seen and the saturation flag equal.
+ * Borderlines: where that interval lets the firmware's closure or drive lie across a threshold
+ * from the twin's (integral gate, smallest reversal, half the break-away duty) the step is
+ * skipped and counted (under 1 %); where only the saturation flag may differ while the loop is
+ * calm, the step is compared without the calm counter and the map (also under 1 %). */
+#define FM_TOL_LSB 4.0
+#define FM_STEPS 6000
+static void test_ctl_ffmap_matches_twin(void **state)
+{
+    (void)state;
+    fm_toy_t toy = {Q15(0.5), 0, 0, 0};
+    int travel = (int)param_v[P_VALVE_TRAVEL];
+    double tol_drive = (FM_TOL_LSB + 0.5) * travel;
+    double w_drive = 0, w_drive_stroke = 0, w_ref = 0, w_hat = 0, w_take = 0, w_node = 0, b_ref = 0, b_drive = 0;
+    unsigned paths = 0;
+    int skipped = 0, partial = 0, compared = 0, sat_edges = 0, kinds[4] = {0};
+    int learned = 0, rested = 0, slow = 0, forced = 0, force_left = 0;
+    int target = 3000, seg_left = 0, seg_kind = 0, ramp_from = 0, ramp_to = 0, seg_len = 1;
+    int speed = 700, rate = 8, first = 1;
+    uint8_t force_flag = 0;
+
+    assert_int_equal(Q15(CTLTW_FM_BACKLASH), FM_BACKLASH);
+    assert_int_equal(Q15(CTLTW_STICTION), CTL_STICTION);
+    assert_int_equal(travel, 40);
+    ctl_select(CTL_BEST);
+    for (int k = 0; k < FM_STEPS; k++) {
+        /* the inputs: segments of steps, ramps and speed-following targets */
+        if (seg_left == 0) {
+            seg_len = seg_left = fm_rnd(100, 300);
+            seg_kind = fm_rnd(0, 9);
+            speed = fm_rnd(0, 3) == 0 ? fm_rnd(200, 390) : fm_rnd(410, 1000);
+            ramp_from = target;
+            ramp_to = fm_rnd(1500, 7500);
+            rate = fm_rnd(5, 10);
+            if (seg_kind <= 2)
+                target = fm_rnd(1200, 7600);
+            else if (seg_kind == 6)
+                target = fm_rnd(0, 1) ? 0 : fm_rnd(8200, 9000);    /* nothing, or beyond the last node */
+        }
+        seg_left--;
+        if (seg_kind == 3 || seg_kind == 4) {
+            target = ramp_from + (ramp_to - ramp_from) * (seg_len - seg_left) / seg_len;
+        } else if (seg_kind >= 7) {
+            speed += fm_rnd(-4, 4);
+            speed = speed < 150 ? 150 : speed > 1100 ? 1100 : speed;
+            target = speed * rate;
+        }
+        if (speed < (int)param_v[P_MINF_SPEED] * 10)
+            slow++;
+        int flow = fm_toy_flow(&toy, speed) + fm_rnd(-12, 12) + (fm_rnd(0, 99) == 0 ? fm_rnd(-150, 150) : 0);
+        if (fm_rnd(0, 299) == 0)
+            flow = 0;               /* the meter's pulses lost for a period: a jump the P term cuts */
+        uint8_t limit = toy.pos >= 32767 ? CTL_AT_CLOSED : toy.pos <= 0 ? CTL_AT_OPEN : 0;
+        if (force_left == 0 && (toy.pos > Q15(0.85) || toy.pos < Q15(0.15)) && fm_rnd(0, 49) == 0) {
+            force_left = fm_rnd(1, 4);
+            force_flag = toy.pos > Q15(0.5) ? CTL_AT_CLOSED : CTL_AT_OPEN;
+        }
+        if (force_left > 0) {
+            limit |= force_flag;    /* near a stop: a switch that trips early, the relief's overpressure */
+            force_left--;
+            forced++;
+        }
+        if (k == FM_STEPS / 2) {
+            /* a restart (warm-up again, the map kept) and a slower valve: 6.4 s a stroke, so a
+             * reversal's full-duty period (1/64 stroke) leaves backlash to take up */
+            assert_int_equal(param_set(P_VALVE_TRAVEL, 64), 1);
+            travel = 64;
+            tol_drive = (FM_TOL_LSB + 0.5) * travel;
+            ctl_reset(0);
+            first = 1;
+        }
+        ctl_in_t in = mk(target, flow, limit);
+        in.speed_kmh_x100 = (uint16_t)speed;
+
+        /* the twin from the same state, one step */
+        ctltw_fm_t tw;
+        ctltw_fm_in_t ti = {target / 100.0, flow / 100.0, speed / 100.0, param_v[P_MINF_SPEED] / 10.0,
+                            limit, travel};
+        /* fm_map takes the difference of two neighbouring nodes in an int16: it wraps if the
+         * learning leaves them more than a stroke apart (a node driven under 0 beside one near
+         * 1, as end-stop flags anywhere mid-stroke make). The run must not go there. */
+        for (int j = 0; j + 1 < FM_NODES; j++)
+            if (abs(ctl_st.fm.node[j + 1] - ctl_st.fm.node[j]) > 32767)
+                fail_msg("ffmap step %d: nodes %d and %d differ by more than fm_map's int16 holds (%d, %d)", k, j,
+                         j + 1, ctl_st.fm.node[j], ctl_st.fm.node[j + 1]);
+        ctltw_fm_load(&tw, &ctl_st.fm, first);
+        ctltw_fm_out_t o = ctltw_fm_step(&tw, &ti);
+        q15_t d = ctl_step(&in);
+        first = 0;
+        fm_toy_move(&toy, d, travel);
+        if (k == 0) {
+            assert_int_equal(ctl_gain(0), Q12(CTLTW_FM_KP));
+            assert_int_equal(ctl_gain(1), Q12(CTLTW_FM_KI));
+        }
+        for (int b = 0; b < 4; b++)
+            kinds[b] += o.border >> b & 1u;
+        if (o.border & CTLTW_B_SERVO) {
+            skipped++;              /* the drive itself may differ: nothing to compare */
+            continue;
+        }
+        /* the saturation flag near full duty while calm: the servo is compared, the calm counter
+         * and the map (the step's last act) are not */
+        int map_too = !(o.border & CTLTW_B_SAT);
+        partial += !map_too;
+        compared++;
+        sat_edges += o.sat_edge;
+        paths |= o.path;
+        learned += (o.path & CTLTW_P_LEARN) != 0;
+        rested += (o.path & CTLTW_P_REST) != 0;
+
+        const fm_state_t *m = &ctl_st.fm;
+        double ed = fabs(d - o.drive * 32768), er = fabs(m->p_ref - tw.p_ref * 32768);
+        double eh = fabs(m->p_hat - tw.p_hat * 32768), et = fabs(m->takeup - tw.takeup * 32768), en = 0;
+        unsigned long seen = 0;
+        for (int j = 0; j < FM_NODES; j++) {
+            double a = fabs(m->node[j] - tw.node[j] * 32768);
+            en = a > en ? a : en;
+            if (m->seen[j >> 3] & (1u << (j & 7)))
+                seen |= 1ul << j;
+        }
+        if (!map_too) {
+            en = 0;
+            seen = tw.seen;
+        }
+        /* the intervals of the firmware's rounding, which decide the borderlines, hold */
+        double dr = m->p_ref - tw.p_ref * 32768, dd = d - o.drive * 32768;
+        if (dr < o.ref_lo * 32768 - 1e-6 || dr > o.ref_hi * 32768 + 1e-6 || dd < o.drive_lo * 32768 - 1e-6
+            || dd > o.drive_hi * 32768 + 1e-6)
+            fail_msg("ffmap step %d: p_ref %d twin %.2f (%.2f .. %.2f LSB), drive %d twin %.2f (%.2f .. %.2f LSB)", k,
+                     m->p_ref, tw.p_ref * 32768, o.ref_lo * 32768, o.ref_hi * 32768, d, o.drive * 32768,
+                     o.drive_lo * 32768, o.drive_hi * 32768);
+        double wr = fmax(-o.ref_lo, o.ref_hi) * 32768, wd = fmax(-o.drive_lo, o.drive_hi) * 32768;
+        b_ref = wr > b_ref ? wr : b_ref;
+        b_drive = wd > b_drive ? wd : b_drive;
+        if (ed > tol_drive || er > FM_TOL_LSB || eh > FM_TOL_LSB || et > FM_TOL_LSB || en > FM_TOL_LSB
+            || m->rest != tw.rest || m->dir != tw.dir || m->warm != tw.warm || (map_too && m->calm != tw.calm)
+            || seen != tw.seen || (!o.sat_edge && ctl_saturated() != o.sat))
+            fail_msg("ffmap step %d (target %d flow %d speed %d limit %d): drive %d twin %.1f, p_ref %d twin %.1f, "
+                     "p_hat %d twin %.1f, takeup %d twin %.1f, worst node %.2f LSB, rest %d/%d dir %d/%d calm %d/%d "
+                     "warm %d/%d seen %lx/%lx sat %d/%d (path %x border %x)",
+                     k, target, flow, speed, limit, d, o.drive * 32768, m->p_ref, tw.p_ref * 32768, m->p_hat,
+                     tw.p_hat * 32768, m->takeup, tw.takeup * 32768, en, m->rest, tw.rest, m->dir, tw.dir, m->calm,
+                     tw.calm, m->warm, tw.warm, seen, tw.seen, ctl_saturated(), o.sat, o.path, o.border);
+        w_drive = ed > w_drive ? ed : w_drive;
+        w_drive_stroke = ed / travel > w_drive_stroke ? ed / travel : w_drive_stroke;
+        w_ref = er > w_ref ? er : w_ref;
+        w_hat = eh > w_hat ? eh : w_hat;
+        w_take = et > w_take ? et : w_take;
+        w_node = en > w_node ? en : w_node;
+    }
+    print_message("ffmap: worst drive %.2f LSB of Q15 duty (%.2f LSB of stroke a period; tolerance %.1f), p_ref %.2f, "
+                  "p_hat %.2f, takeup %.2f, node %.2f LSB of Q15 (tolerance %.0f)\n",
+                  w_drive, w_drive_stroke, FM_TOL_LSB + 0.5, w_ref, w_hat, w_take, w_node, FM_TOL_LSB);
+    print_message("ffmap: the rounding's intervals held on every step compared (widest p_ref %.2f, drive %.2f LSB)\n",
+                  b_ref, b_drive);
+    print_message("ffmap: borderline: %d of %d steps skipped (integral gate %d, reversal %d, stiction %d), %d compared "
+                  "without calm and map (full duty while calm); saturation flag left out on %d\n",
+                  skipped, FM_STEPS, kinds[0], kinds[1], kinds[2], partial, sat_edges);
+    print_message("ffmap: %d steps learned, %d at rest, %d below P_MINF_SPEED, %d with a forced end stop\n", learned,
+                  rested, slow, forced);
+    assert_true(skipped * 100 < FM_STEPS);
+    assert_true(partial * 100 < FM_STEPS);
+    assert_int_equal(compared + skipped, FM_STEPS);
+    /* the run went through every branch of the step */
+    const unsigned all = CTLTW_P_REST | CTLTW_P_INTEGRAL | CTLTW_P_HELD | CTLTW_P_REVERSAL | CTLTW_P_HYST
+                         | CTLTW_P_ROUNDED | CTLTW_P_SAT | CTLTW_P_ENDSTOP | CTLTW_P_LEARN | CTLTW_P_ANCHOR
+                         | CTLTW_P_VISIT | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP;
+    assert_int_equal(paths & all, all);
+    assert_true(learned > 100 && rested > 100 && slow > 100 && forced > 10);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -408,6 +635,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_feed_forward_and_backlash, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_integral_held_while_servo_travels, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_deadband_hysteresis, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_matches_twin, setup),
     };
     return cmocka_run_group_tests_name("ctl", tests, NULL, NULL);
 }
