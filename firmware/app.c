@@ -187,7 +187,7 @@ static void app_step(void)
             in.flow_lpm_x100 = q_used;
             in.speed_kmh_x100 = v;
             in.pressure_kpa = p;
-            in.valve_limit = valve_limit() | (overp ? CTL_AT_CLOSED : 0);
+            in.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
             drive = ctl_step(&in);
         }
     } else {
@@ -204,6 +204,7 @@ static void app_step(void)
     if (overp && drive > -APP_RELIEVE_DRIVE)
         drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
     valve_set(drive);
+    ctl_applied(valve_applied(), valve_limit());   /* what the valve got, overrides included */
 
     /* totals: the area the open boom covers while it sprays, the volume it sprays */
     totals_step(app_status.spraying ? v : 0, app_status.spraying ? target_width_cm() : 0,

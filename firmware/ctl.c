@@ -767,8 +767,10 @@ static q15_t bp_step(void)
 #ifndef FM_MINF_GATE
 #define FM_MINF_GATE 1              /* 1: no learning below P_MINF_SPEED (Table 1 holds the target there) */
 #endif
+#ifndef FM_HOLD
+#define FM_HOLD 3                   /* periods the integral waits after a feed-forward move */
+#endif
 #define FM_LR_SHIFT 2               /* map learning rate 1/4 a calm period */
-#define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
 
 static void fm_init(void)
 {
@@ -783,6 +785,10 @@ static void fm_init(void)
     ctl_st.fm.calm = 0;
     ctl_st.fm.warm = 0;
     ctl_st.fm.rest = 0;
+    ctl_st.fm.pend = 0;
+    ctl_st.fm.hold = 0;
+    ctl_st.fm.off = 0;
+    ctl_st.fm.cal = 0;
 }
 
 /* map(q): closure for a target flow, Q15 stroke. */
@@ -794,11 +800,13 @@ static int16_t fm_map(int16_t q) CTL_SHARED
     if (q < 0)
         q = 0;
     if (q >= (FM_NODES - 1) << FM_BIN_SHIFT)
-        return ctl_st.fm.node[FM_NODES - 1];
+        return fx_add_sat(ctl_st.fm.off, ctl_st.fm.node[FM_NODES - 1]);
     i = (uint8_t)(q >> FM_BIN_SHIFT);
     f = (uint16_t)q & ((1u << FM_BIN_SHIFT) - 1u);  /* 0..511 */
     a = ctl_st.fm.node[i];
-    return (int16_t)(a + ((MUL((int16_t)(ctl_st.fm.node[i + 1] - a), (int16_t)f) + 256) >> FM_BIN_SHIFT));
+    /* nodes more than a stroke apart (the estimate's frame is +-1 stroke) would wrap as int16 */
+    return fx_sat16((int32_t)ctl_st.fm.off + a
+                    + ((MUL(fx_sat16((int32_t)ctl_st.fm.node[i + 1] - a), (int16_t)f) + 256) >> FM_BIN_SHIFT));
 }
 
 static const __code uint8_t fm_bit[8] = {1, 2, 4, 8, 16, 32, 64, 128};
@@ -820,9 +828,9 @@ static uint8_t fm_known(int16_t q) CTL_SHARED
 
 static void fm_learn(int16_t q) CTL_SHARED
 {
-    fm_state_t *m = &ctl_st.fm;
-    uint8_t i, near, j;
-    int16_t f, err, d0, d1, shift;
+    __xdata fm_state_t *m = &ctl_st.fm;
+    uint8_t i, near;
+    int16_t f, err, d0, d1;
     if (q < 0 || q >= (FM_NODES - 1) << FM_BIN_SHIFT)
         return;
     i = (uint8_t)(q >> FM_BIN_SHIFT);
@@ -830,45 +838,78 @@ static void fm_learn(int16_t q) CTL_SHARED
     near = f < (1 << (FM_BIN_SHIFT - 1)) ? i : (uint8_t)(i + 1);
     err = fx_sub_sat(m->p_hat, fm_map(q));
     if (!(m->seen[0] | m->seen[1] | m->seen[2])) {
-        /* the first point learned anchors the whole default curve */
-        for (j = 0; j < FM_NODES; j++)
-            m->node[j] = fx_add_sat(m->node[j], err);
-        near = f < (1 << (FM_BIN_SHIFT - 1)) ? i : (uint8_t)(i + 1);
-        m->seen[near >> 3] |= fm_bit[near & 7];
-        return;
+        m->off = fx_add_sat(m->off, err);   /* the first point learned anchors the whole default curve */
+    } else {
+        /* the two nodes around q move toward the estimate, each by its share (rate 1/4) */
+        d0 = (int16_t)((MUL(err, (int16_t)((1 << FM_BIN_SHIFT) - f)) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1)))
+                       >> (FM_BIN_SHIFT + FM_LR_SHIFT));
+        d1 = (int16_t)((MUL(err, f) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1))) >> (FM_BIN_SHIFT + FM_LR_SHIFT));
+        m->node[i] = fx_add_sat(m->node[i], d0);
+        m->node[i + 1] = fx_add_sat(m->node[i + 1], d1);
     }
-    d0 = (int16_t)((MUL(err, (int16_t)((1 << FM_BIN_SHIFT) - f)) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1)))
-                   >> (FM_BIN_SHIFT + FM_LR_SHIFT));
-    d1 = (int16_t)((MUL(err, f) + (1L << (FM_BIN_SHIFT + FM_LR_SHIFT - 1))) >> (FM_BIN_SHIFT + FM_LR_SHIFT));
-    shift = near == i ? d0 : d1;
-    m->node[i] = fx_add_sat(m->node[i], d0);
-    m->node[i + 1] = fx_add_sat(m->node[i + 1], d1);
-    if (!(m->seen[near >> 3] & fm_bit[near & 7])) {
-        /* a first visit: the unlearned nodes move with it, keeping the default shape */
-        uint8_t b = 1, k = 0, sb = ctl_st.fm.seen[0];
-        for (j = 0; j < FM_NODES; j++) {
-            if (!(sb & b) && j != i && j != i + 1)
-                ctl_st.fm.node[j] = fx_add_sat(ctl_st.fm.node[j], shift);
-            b <<= 1;
-            if (!b) {
-                b = 1;
-                sb = ctl_st.fm.seen[++k];
-            }
-        }
-        m->seen[near >> 3] |= fm_bit[near & 7];
+    m->seen[near >> 3] |= fm_bit[near & 7];
+}
+
+/* An end stop tells where the valve is: the estimate jumps there, and the reference and the
+ * map (learned in the estimate's frame) move with it, so nothing learned is lost. */
+static void fm_calibrate(int16_t at) CTL_SHARED
+{
+    __xdata fm_state_t *m = &ctl_st.fm;
+    int16_t sh = fx_sub_sat(at, m->p_hat);
+    m->cal = 1;
+    if (!sh)
+        return;
+    m->p_hat = at;
+    m->p_ref = fx_add_sat(m->p_ref, sh);
+    m->off = fx_add_sat(m->off, sh);    /* the map's nodes are kept relative to m->off */
+}
+
+/* The valve got drive d for one period: move the estimate (the backlash is taken up first).
+ * Below the break-away duty the valve does not move. */
+static void fm_account(q15_t d) CTL_SHARED
+{
+    __xdata fm_state_t *m = &ctl_st.fm;
+    int16_t mv, c;
+    int8_t s;
+    if (d < CTL_STICTION && d > -CTL_STICTION)
+        return;
+    if (d == Q15_MIN)
+        d = -Q15_MAX;               /* -32768 has no int16 magnitude */
+    s = d > 0 ? 1 : -1;
+    if (s != m->dir) {
+        m->takeup = FM_BACKLASH;
+        m->dir = s;
+    }
+    mv = (int16_t)((MUL((int16_t)(d > 0 ? d : -d), ctl_inv_travel) + 16384) >> 15);   /* Q15 stroke */
+    c = mv < m->takeup ? mv : m->takeup;
+    m->takeup -= c;
+    mv -= c;
+    m->p_hat = fx_add_sat(m->p_hat, s > 0 ? mv : (int16_t)-mv);
+    /* driven past a stop that nobody reported: the estimate was that much ahead of the valve
+     * (a stop believed early, stiction): the valve is at most at the stop, the frame moves
+     * (once a real stop has set the frame; before, its origin is only where it started) */
+    if (m->cal) {
+        if (m->p_hat > FM_AT_CLOSED)
+            fm_calibrate(FM_AT_CLOSED);
+        else if (m->p_hat < FM_AT_OPEN)
+            fm_calibrate(FM_AT_OPEN);
     }
 }
 
 static q15_t fm_step(void) CTL_SHARED
 {
-    fm_state_t *m = &ctl_st.fm;
+    __xdata fm_state_t *m = &ctl_st.fm;
     int16_t e = clamp_e(in->target_lpm_x100 - in->flow_lpm_x100);
     int16_t y = in->flow_lpm_x100;
     int16_t q = in->target_lpm_x100;
-    int32_t du, d;
-    int16_t need, mv, c, dq, aq;
+    int32_t du, d, k;
+    int16_t need, c, dq, aq, band;
     int8_t s;
 
+    if (m->pend) {
+        m->pend = 0;
+        fm_account(ctl_last);       /* nobody said what the valve got: what we asked */
+    }
     if (ctl_first) {
         m->y1 = y;
         m->t1 = q;
@@ -876,27 +917,43 @@ static q15_t fm_step(void) CTL_SHARED
         m->calm = 0;
         m->warm = 0;
         m->rest = 0;
+        m->hold = 0;
         ctl_first = 0;
     }
-    /* end stops calibrate the estimate */
+    /* end stops calibrate the estimate (over-pressure, CTL_NO_CLOSE, is not a stop) */
     if (in->valve_limit & CTL_AT_CLOSED)
-        m->p_hat = 32767;
+        fm_calibrate(FM_AT_CLOSED);
     else if (in->valve_limit & CTL_AT_OPEN)
-        m->p_hat = 0;
+        fm_calibrate(FM_AT_OPEN);
 
-    /* feed-forward from the map, feedback from the flow */
+    /* feed-forward from the map */
     d = fm_known(q) && fm_known(m->t1) ? (int32_t)fm_map(q) - fm_map(m->t1) : 0;
+    dq = (int16_t)(q - m->t1);
+    band = q >> FM_DB_IN;
+    /* ... only the way the target went (a map folded by a coupled PTO's low-speed points would
+     * open the bypass on a rising target), and only while the flow is not already past the
+     * target that way (a coupled PTO's pump follows the throttle before the tractor does: on a
+     * slow-down the flow has already dropped below the still-high target, and a feed-forward
+     * that opens the bypass for the lower target would push it further down) */
+    if ((dq > 0 && d < 0) || (dq < 0 && d > 0) || (d > 0 && e < -band) || (d < 0 && e > band))
+        d = 0;
+    /* a move bigger than one period at full duty: the meter shows it 2-3 periods later, so the
+     * integral waits (it would count the error the move is still removing, and overshoot) */
+    if (d > ctl_inv_travel || d < -ctl_inv_travel)
+        m->hold = FM_HOLD;
+    else if (m->hold)
+        m->hold--;
+
     /* deadband with hysteresis: within target >> FM_DB_IN the feedback rests (no limit cycle
      * of backlash take-ups and break-away pulses); it re-engages beyond target >> FM_DB_OUT */
     c = e < 0 ? (int16_t)-e : e;
-    dq = (int16_t)(q - m->t1);
     aq = dq < 0 ? (int16_t)-dq : dq;
     if (((int32_t)aq << 6) > q)
         m->rest = 0;                /* the target moves (as for learning, |dq| > q/64): the loop follows it */
     else if (m->rest) {
         if (c > (q >> FM_DB_OUT))
             m->rest = 0;
-    } else if (c <= (q >> FM_DB_IN) && q > 0) {
+    } else if (c <= band && q > 0) {
         m->rest = 1;
         if (FM_DB_STOP)
             m->p_ref = m->p_hat;
@@ -904,9 +961,19 @@ static q15_t fm_step(void) CTL_SHARED
     if (m->rest) {
         du = FM_REST_KI ? MUL(FM_REST_KI, e) : 0;   /* inside the band: a slow integral only */
     } else {
-        du = MUL(FM_KP, fx_sat16((int32_t)m->y1 - y));
+        /* P on the measurement, plus the part of the target's change the feed-forward does not
+         * cover (FM_COVER: flow per stroke of the default slope): with a learned map that
+         * follows the plant (fixed PTO) nothing is added and a step is not kicked twice; where
+         * the map is flat (coupled PTO: the valve's place hardly depends on the flow) P acts on
+         * the whole error and the flow follows a changing target */
+        k = dq - ((MUL(fx_sat16(d), FM_COVER) + 16384) >> 15);
+        if (dq >= 0)
+            k = k < 0 ? 0 : k > dq ? dq : k;
+        else
+            k = k > 0 ? 0 : k < dq ? dq : k;
+        du = MUL(FM_KP, fx_sat16((int32_t)m->y1 - y + k));
         need = fx_sat16(d + m->p_ref - m->p_hat);   /* the servo still travelling: no integral (it would wind up) */
-        if (need < FM_IGATE && need > -FM_IGATE)
+        if (need < FM_IGATE && need > -FM_IGATE && !m->hold)
             du += MUL(FM_KI, e);
     }
     d += (MUL(fx_sat16((du + 128) >> 8), 26844) + 65536L) >> 17;   /* du_q4 * 0.2048 = Q15 stroke */
@@ -915,22 +982,20 @@ static q15_t fm_step(void) CTL_SHARED
         d = (int32_t)m->p_hat + FM_LEAD;
     if (d < (int32_t)m->p_hat - FM_LEAD)
         d = (int32_t)m->p_hat - FM_LEAD;
-    if (d > 32767)
-        d = 32767;
-    if (d < 0)
-        d = 0;
-    m->p_ref = (int16_t)d;
-    if (((in->valve_limit & CTL_AT_CLOSED) && m->p_ref > m->p_hat)
+    m->p_ref = fx_sat16(d);         /* the estimate's frame: +-1 stroke around where it started */
+    if (((in->valve_limit & CTL_CLOSE_BLOCKED) && m->p_ref > m->p_hat)
         || ((in->valve_limit & CTL_AT_OPEN) && m->p_ref < m->p_hat))
         m->p_ref = m->p_hat;
 
     /* the servo: the move still needed, plus the backlash to take up on a reversal */
-    need = m->p_ref - m->p_hat;
+    need = fx_sub_sat(m->p_ref, m->p_hat);
     s = need > 0 ? 1 : need < 0 ? -1 : 0;
     if (s != 0 && s != m->dir && (need < 0 ? -need : need) < FM_REV_MIN)
         s = 0, need = 0;            /* hysteresis: a reversal (and its take-up) must be worth it */
     if (s != 0 && s != m->dir)
         c = FM_BACKLASH;
+    else if (s == 0)
+        c = 0;                      /* nothing to do: no take-up either */
     else
         c = m->takeup;
     d = MUL(need + (s < 0 ? -c : c), ctl_travel);  /* Q15 drive */
@@ -944,24 +1009,11 @@ static q15_t fm_step(void) CTL_SHARED
     }
     if (d < CTL_STICTION && d > -CTL_STICTION)
         d = (d >= CTL_STICTION / 2) ? CTL_STICTION : (d <= -CTL_STICTION / 2) ? -CTL_STICTION : 0;
-    if ((d > 0 && (in->valve_limit & CTL_AT_CLOSED)) || (d < 0 && (in->valve_limit & CTL_AT_OPEN))) {
+    if ((d > 0 && (in->valve_limit & CTL_CLOSE_BLOCKED)) || (d < 0 && (in->valve_limit & CTL_AT_OPEN))) {
         d = 0;
         ctl_sat = 1;
     }
-
-    /* account the motion: backlash first, then the valve */
-    if (d != 0) {
-        s = d > 0 ? 1 : -1;
-        if (s != m->dir) {
-            m->takeup = FM_BACKLASH;
-            m->dir = s;
-        }
-        mv = (int16_t)((MUL((int16_t)(d > 0 ? d : -d), ctl_inv_travel) + 16384) >> 15);   /* Q15 stroke */
-        c = mv < m->takeup ? mv : m->takeup;
-        m->takeup -= c;
-        mv -= c;
-        m->p_hat = (int16_t)clamp16(fx_add_sat(m->p_hat, s > 0 ? mv : (int16_t)-mv), 0, 32767);
-    }
+    m->pend = 1;                    /* accounted by ctl_applied() (or the next step) */
 
     /* learning the map where the loop is calm */
     if (((int32_t)aq << 6) <= q && ((int32_t)(e < 0 ? -e : e) << 4) <= q && q > 0 && !ctl_sat && !in->valve_limit
@@ -986,6 +1038,18 @@ static q15_t fm_step(void) CTL_SHARED
 }
 
 /* ---- the interface ------------------------------------------------------------------------ */
+void ctl_applied(q15_t drive, uint8_t limit)
+{
+    if (ctl_id != CTL_BEST)
+        return;
+    ctl_st.fm.pend = 0;
+    if (limit & CTL_AT_CLOSED)
+        fm_calibrate(FM_AT_CLOSED);
+    else if (limit & CTL_AT_OPEN)
+        fm_calibrate(FM_AT_OPEN);
+    fm_account(drive);
+}
+
 void ctl_reset(q15_t drive_now)
 {
     ctl_first = 1;

@@ -17,6 +17,9 @@ typedef struct {
 } ctl_in_t;
 #define CTL_AT_OPEN 1               /* bypass fully open: no more "less flow" */
 #define CTL_AT_CLOSED 2             /* bypass fully closed: no more "more flow" */
+#define CTL_NO_CLOSE 4              /* closing refused (over-pressure) with the valve NOT at a stop:
+                                     * like CTL_AT_CLOSED for anti-windup, but no end-stop calibration */
+#define CTL_CLOSE_BLOCKED (CTL_AT_CLOSED | CTL_NO_CLOSE)
 
 /* The output: valve drive for the next period, Q15 signed duty. Positive = more boom flow,
  * i.e. drive the bypass valve toward closed; negative opens it. */
@@ -26,6 +29,12 @@ uint8_t ctl_select(uint8_t id);
 uint8_t ctl_selected(void);
 /* Bumpless transfer: the loop (re)starts from the drive the valve has now (manual -> auto). */
 void ctl_reset(q15_t drive_now);
+/* What the valve really got this period, after the application's overrides (over-pressure
+ * relief, manual jog, priming, parking) and the stop logic, and the stops it is at (CTL_AT_*
+ * from the valve's own estimate, not over-pressure): called every period, stepping or not. A
+ * controller that estimates the valve's position (ffmap) integrates this drive, not its own
+ * demand, and calibrates at the stops; without the call it assumes its demand was applied. */
+void ctl_applied(q15_t drive, uint8_t limit);
 /* One control step. */
 q15_t ctl_step(const ctl_in_t *in);
 /* The gain (0 kp, 1 ki, 2 kd) the controller used in its last step, Q12, for logs and traces. */

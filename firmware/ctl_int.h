@@ -65,12 +65,22 @@ typedef struct {
 #define FM_NODES 17                 /* map nodes every FM_BIN of target flow: 0 .. 81.9 L/min */
 #define FM_BIN_SHIFT 9              /* node spacing 512 x100 = 5.12 L/min */
 #define FM_BACKLASH Q15(0.02)       /* stroke lost on a reversal (taken up before counting) */
+/* Where the end stops put the estimate (Q15 of the stroke, 1 = closed): the closed stop below
+ * the int16 top, so an early "closed" report leaves room to go on closing when the valve's
+ * stop logic lets it retry (at 32767 the reference could not pass the estimate and the loop
+ * stopped short of its target for good) */
+#define FM_AT_CLOSED 28672
+#define FM_AT_OPEN (FM_AT_CLOSED - 32768)
+#define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
+/* x100 L/min a Q15 stroke moves at the default slope (Q15): 512 * 32768 / FM_DEF_SLOPE */
+#define FM_COVER 9998
 #ifndef FM_WARM
 #define FM_WARM 200                 /* periods (20 s) after a (re)start before the map learns: the
                                      * pump may still spin up (coupled PTO) and the line prime */
 #endif
 typedef struct {
-    int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow */
+    int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow, less off */
+    int16_t off;                    /* Q15: the frame of the nodes (an end stop's calibration moves it) */
     uint8_t seen[3];                /* bit n: node n learned from the loop */
     int16_t p_hat;                  /* Q15 closure estimated by integrating our own drive */
     int16_t p_ref;                  /* Q15 closure the servo drives to */
@@ -81,6 +91,9 @@ typedef struct {
     uint8_t calm;                   /* periods the target has been steady and the error small */
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM (no learning before) */
     uint8_t rest;                   /* 1: the flow is within the deadband, feedback off (hysteresis) */
+    uint8_t pend;                   /* 1: the last drive is not yet accounted in p_hat (see ctl_applied) */
+    uint8_t hold;                   /* periods the integral still waits after a big feed-forward move */
+    uint8_t cal;                    /* 1: an end stop has set the estimate's frame */
 } fm_state_t;
 
 typedef union {

@@ -21,8 +21,8 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
  * Closures (node, p_hat, p_ref, takeup) as fractions of the stroke (0 open .. 1 bypass closed),
  * flows in L/min, speeds in km/h; plain double arithmetic, no rounding and no Q formats. */
 
-/* ffmap's constants as plain numbers. The FM_* of ctl.c are private to ctl.c (only
- * FM_NODES, FM_BIN_SHIFT, FM_BACKLASH and FM_WARM are in ctl_int.h), so their values are
+/* ffmap's constants as plain numbers. The FM_* of ctl.c are private to ctl.c (only FM_NODES,
+ * FM_BIN_SHIFT, FM_BACKLASH, FM_DEF_SLOPE, FM_COVER and FM_WARM are in ctl_int.h), so their values are
  * repeated here, each with the #define it comes from; where a build overrides one with -D (the
  * #ifndef defaults of ctl.c), the twin follows it. test_ctl.c checks kp and ki against
  * ctl_gain(), the ctl_int.h ones against their Q15 values, and the rest shows up as a mismatch. */
@@ -87,9 +87,16 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
 #else
 #define CTLTW_FM_MINF_GATE 1            /* ctl.c FM_MINF_GATE */
 #endif
+#ifdef FM_HOLD
+#define CTLTW_FM_HOLD FM_HOLD
+#else
+#define CTLTW_FM_HOLD 3                 /* ctl.c FM_HOLD: periods the integral waits after a big feed-forward */
+#endif
 #define CTLTW_FM_LR 0.25                /* ctl.c FM_LR_SHIFT 2: learning rate 1/4 */
 #define CTLTW_FM_BIN ((1 << FM_BIN_SHIFT) / 100.0)     /* node spacing, L/min (5.12) */
 #define CTLTW_FM_BACKLASH 0.02          /* ctl_int.h FM_BACKLASH Q15(0.02) */
+#define CTLTW_FM_COVER (FM_COVER / 100.0)  /* ctl_int.h FM_COVER: L/min a stroke moves on the default
+                                         * slope (FM_DEF_SLOPE), 99.98 */
 #define CTLTW_STICTION 0.2              /* ctl_int.h CTL_STICTION Q15(0.2) */
 #define CTLTW_E_MAX (CTL_E_MAX / 100.0) /* errors clamped to +-160 L/min */
 /* fm_step holds the PI increment in an int16 of 1/16 x100 L/min (fx_sat16 of du_q4): at most
@@ -97,36 +104,54 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
  * built (it cuts increments beyond about 20 L/min-equivalent), so the twin has it too. */
 #define CTLTW_FM_DU_MAX (32767.0 / 16.0 / 100.0 / CTL_FLOW_SCALE_LPM)
 
+/* The closures are kept in the estimate's frame, which is no longer cut to the stroke: p_hat
+ * and p_ref may leave 0 .. 1 between end-stop calibrations. As int16 of Q15 in the firmware they
+ * (and the map's frame off, its nodes, a node difference, a lookup, an error learned) saturate
+ * at -1 and at 32767/32768 (CTLTW_FM_TOP). The stops calibrate the estimate to FM_AT_CLOSED
+ * (0.875) and FM_AT_OPEN (-0.125): the frame has room above the closed end, so an early
+ * "closed" report does not leave the reference stuck at the int16 top. */
+#define CTLTW_FM_TOP (32767.0 / 32768.0)
+/* where the end stops calibrate the estimate (ctl_int.h FM_AT_CLOSED / FM_AT_OPEN) */
+#define CTLTW_FM_CLOSED (FM_AT_CLOSED / 32768.0)
+#define CTLTW_FM_OPEN (FM_AT_OPEN / 32768.0)
 typedef struct {
-    double node[FM_NODES];          /* closure for the target flow of each node (FM_BIN apart) */
+    double node[FM_NODES];          /* closure for the target flow of each node (FM_BIN apart), less off */
+    double off;                     /* the frame of the nodes: map = off + interpolated nodes */
     unsigned long seen;             /* bit n: node n learned */
     double p_hat, p_ref, takeup;    /* stroke */
     double y1, t1;                  /* L/min: last measured flow, last target */
     int dir;                        /* +1 / -1 / 0: direction of the last motion */
-    int calm, warm, rest;
+    int calm, warm, rest, hold, cal;
+    int pend;                       /* 1: the last drive is not yet accounted in p_hat */
+    double last;                    /* the drive the controller sent last (ctl.c ctl_last), duty */
     int first;                      /* 1: the loop (re)starts with this step (ctl_reset before it) */
 } ctltw_fm_t;
 
 typedef struct {
     double target, flow;            /* L/min */
     double speed, minf_speed;       /* km/h: ground speed and P_MINF_SPEED */
-    int limit;                      /* CTL_AT_* */
+    int limit;                      /* CTL_AT_* and CTL_NO_CLOSE */
     double travel;                  /* periods for a full stroke at full duty (P_VALVE_TRAVEL) */
 } ctltw_fm_in_t;
 
 /* Decisions the fixed-point rounding can tip. The twin follows, step by step, the interval in
- * which the firmware's value minus its own can lie (the map's interpolation and the PI
- * increment rounded, the gains in Q12, the closed stop and the stroke's top at 32767, the
- * backlash at 655/32768; ref_lo .. drive_hi below) and flags a step where a closure or a drive
- * it compares with a threshold may lie on the other side of the firmware's threshold (the Q15
- * constant) within that interval. Flows and speeds need none: the firmware's are exact (x100
- * integers) and the twin keeps their ties (ctltw_gt in the .c). */
+ * which the firmware's value minus its own can lie (the map's interpolation, the feed-forward's
+ * flow and the PI increment rounded, the gains in Q12, full duty at 32767, the backlash at
+ * 655/32768, 1/T_travel at round(32768/T), the moves a drive makes rounded to an LSB; *_lo ..
+ * *_hi below) and flags a step where a closure or a drive it compares with a
+ * threshold may lie on the other side of the firmware's threshold (the Q15 constant) within that
+ * interval. Flows and speeds need none: the firmware's are exact (x100 integers) and the twin
+ * keeps their ties (ctltw_gt in the .c); nor do the drives accounted (the firmware's, exact). */
 #define CTLTW_B_IGATE 0x01u         /* |p_ref + feed-forward - p_hat| against FM_IGATE */
-#define CTLTW_B_REV 0x02u           /* a reversal's |need| against FM_REV_MIN; need's sign (see .c) */
+#define CTLTW_B_REV 0x02u           /* a reversal's |need| against FM_REV_MIN */
 #define CTLTW_B_STICTION 0x04u      /* |drive| against half the break-away duty (0 or 0.2) */
 #define CTLTW_B_SAT 0x08u           /* |drive| against full duty while the calm counter hangs on
                                      * the saturation flag: only the calm counter and the map may differ */
-#define CTLTW_B_SERVO (CTLTW_B_IGATE | CTLTW_B_REV | CTLTW_B_STICTION)     /* the drive may differ */
+#define CTLTW_B_HOLD 0x10u          /* |feed-forward| against one period at full duty (1 / T_travel) */
+#define CTLTW_B_ZERO 0x20u          /* need's sign with backlash pending (a step without direction
+                                     * takes none up) */
+#define CTLTW_B_SERVO (CTLTW_B_IGATE | CTLTW_B_REV | CTLTW_B_STICTION | CTLTW_B_HOLD | CTLTW_B_ZERO)
+#define CTLTW_B_KINDS 6
 /* The branches the step took (coverage for the tests). */
 #define CTLTW_P_REST 0x001u         /* inside the deadband: the slow integral only */
 #define CTLTW_P_INTEGRAL 0x002u     /* outside it, servo near its goal: P and I */
@@ -134,27 +159,44 @@ typedef struct {
 #define CTLTW_P_REVERSAL 0x008u     /* a reversal with its backlash take-up */
 #define CTLTW_P_HYST 0x010u         /* a reversal too small to make (FM_REV_MIN) */
 #define CTLTW_P_ROUNDED 0x020u      /* a drive under the break-away duty rounded to 0 or 0.2 */
-#define CTLTW_P_SAT 0x040u          /* drive cut (full duty or end stop) */
+#define CTLTW_P_SAT 0x040u          /* drive cut (full duty, end stop or over-pressure) */
 #define CTLTW_P_ENDSTOP 0x080u      /* an end stop reported */
-#define CTLTW_P_LEARN 0x100u        /* the map learned */
-#define CTLTW_P_ANCHOR 0x200u       /* ... its first point: the whole curve moved */
-#define CTLTW_P_VISIT 0x400u        /* ... a node's first visit: the unlearned nodes moved with it */
-#define CTLTW_P_LEADCUT 0x800u      /* p_ref held within FM_LEAD of p_hat or within the stroke */
+#define CTLTW_P_LEARN 0x100u        /* the map learned: the two nodes around the target */
+#define CTLTW_P_ANCHOR 0x200u       /* ... its first point: the frame (off) moved */
+#define CTLTW_P_CALIB 0x400u        /* an end stop moved the estimate, p_ref and the map's frame */
+#define CTLTW_P_LEADCUT 0x800u      /* p_ref held within FM_LEAD of p_hat */
 #define CTLTW_P_DUCUT 0x1000u       /* the PI increment cut at CTLTW_FM_DU_MAX */
-#define CTLTW_P_TAKEUP 0x2000u      /* backlash still pending after a step (T_travel over 50 periods) */
+#define CTLTW_P_TAKEUP 0x2000u      /* backlash still pending in the servo's drive */
+#define CTLTW_P_HOLDSET 0x4000u     /* a feed-forward over a period's full-duty move: the integral waits */
+#define CTLTW_P_HOLDING 0x8000u     /* servo near its goal, integral waiting (hold) */
+#define CTLTW_P_GATED 0x10000u      /* feed-forward dropped: against the target's change or the flow */
+#define CTLTW_P_COVER 0x20000u      /* P adds part of the target's change (0 < k < dq or dq < k < 0) */
+#define CTLTW_P_PEND 0x40000u       /* the last drive accounted at the step's start (no ctl_applied) */
+#define CTLTW_P_MOVED 0x80000u      /* a drive accounted moved the estimate */
+#define CTLTW_P_STILL 0x100000u     /* a drive accounted under the break-away duty: no move */
+#define CTLTW_P_NOCLOSE 0x200000u   /* over-pressure (CTL_NO_CLOSE alone) held p_ref or cut a closing drive */
+#define CTLTW_P_FRAME 0x400000u     /* p_hat or p_ref outside 0 .. 1 (the frame beyond the stroke) */
 typedef struct {
-    double drive;                   /* fraction of full duty, + toward closed */
+    double drive;                   /* fraction of full duty, + toward closed (ctltw_fm_applied: the drive given) */
     int sat;                        /* what ctl_saturated() reports after the step */
     int sat_edge;                   /* the firmware's drive may lie across full duty: sat may differ */
     double ref_lo, ref_hi;          /* stroke: what the firmware's p_ref minus the twin's can be */
+    double hat_lo, hat_hi;          /* ... p_hat's */
+    double take_lo, take_hi;        /* ... takeup's */
+    double off_lo, off_hi;          /* ... off's (off_iv 1: checked; 0 after a saturated lookup learned) */
+    int off_iv;
     double drive_lo, drive_hi;      /* duty: the same for the drive (a flagged branch aside) */
     unsigned border;                /* CTLTW_B_* */
     unsigned path;                  /* CTLTW_P_* */
 } ctltw_fm_out_t;
 
-/* The twin's state from the firmware's (Q15 closures, x100 L/min flows); first as above. */
-void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first);
+/* The twin's state from the firmware's (Q15 closures, x100 L/min flows) and ctl.c's ctl_last
+ * (last: what ctl_step returned last, or the drive ctl_reset was given); first as above. */
+void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t last);
 /* One step of ffmap (fm_step of ctl.c) on the twin's state. */
 ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in);
+/* ctl_applied(drive, limit): the valve got drive (duty) this period and sits at the stops in
+ * limit (CTL_AT_*): calibration there, then the motion accounted. */
+ctltw_fm_out_t ctltw_fm_applied(ctltw_fm_t *m, double drive, int limit, double travel);
 
 #endif

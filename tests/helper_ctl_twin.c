@@ -1,5 +1,6 @@
 /* helper_ctl_twin.c: double-precision twins of the controllers, the references of tests/test_ctl.c. */
 #include <math.h>
+#include <string.h>
 #include "ctl_twin.h"
 #include "ctl_int.h"
 
@@ -75,7 +76,9 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
 }
 
 /* ---- ffmap --------------------------------------------------------------------------------- */
-void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first)
+#define LSB (1 / 32768.0)
+
+void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t last)
 {
     tw->seen = 0;
     for (int j = 0; j < FM_NODES; j++) {
@@ -83,6 +86,7 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first)
         if (fm->seen[j >> 3] & (1u << (j & 7)))
             tw->seen |= 1ul << j;
     }
+    tw->off = fm->off / 32768.0;
     tw->p_hat = fm->p_hat / 32768.0;
     tw->p_ref = fm->p_ref / 32768.0;
     tw->takeup = fm->takeup / 32768.0;
@@ -92,6 +96,10 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first)
     tw->calm = fm->calm;
     tw->warm = fm->warm;
     tw->rest = fm->rest;
+    tw->hold = fm->hold;
+    tw->cal = fm->cal;
+    tw->pend = fm->pend;
+    tw->last = last / 32768.0;
     tw->first = first;
 }
 
@@ -129,11 +137,33 @@ static int ctltw_tips_abs(double x, ctltw_iv_t err, double thr, double thr_f)
     return ctltw_tips(x, err, thr, thr_f) || ctltw_tips(x, err, -thr, -thr_f);
 }
 
-/* a node holds an int16: closures saturate at -1 and 1 */
-static double ctltw_node_sat(double x)
+/* x's sign against the firmware's (0 a sign of its own; both exactly 0 is no tip) */
+static int ctltw_tips_sign(double x, ctltw_iv_t err)
 {
-    return ctltw_clamp(x, -1.0, 1.0);
+    if (x == 0 && err.lo == 0 && err.hi == 0)
+        return 0;
+    return ctltw_tips(x, err, 0, 0);
 }
+
+/* int16 closures saturate at -1 and at the closed stop (CTLTW_FM_TOP) */
+static double ctltw_sat(double x)
+{
+    return ctltw_clamp(x, -1.0, CTLTW_FM_TOP);
+}
+
+/* lo .. hi clear of both int16 ends */
+static int ctltw_in16(double lo, double hi)
+{
+    return lo > -1.0 + 1e-12 && hi < CTLTW_FM_TOP - 1e-12;
+}
+
+/* The firmware's closures minus the twin's through a step (intervals), and whether off's holds. */
+typedef struct {
+    ctltw_iv_t ph, ref, rel, tk, off;   /* p_hat, p_ref, p_ref - p_hat, takeup, off */
+    int off_ok;
+} ctltw_fm_err_t;
+
+static const ctltw_fm_err_t ctltw_fm_exact = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, 1};
 
 /* the bin of target flow q (node i, fraction f from it to node i+1); a target exactly on a node
  * or half-way stays there (see ctltw_gt). 0 beyond the last node. */
@@ -151,14 +181,19 @@ static int ctltw_fm_bin(double q, int *i, double *f)
     return 1;
 }
 
-/* map(q): closure for a target flow, linear between nodes, the last node beyond them */
-static double ctltw_fm_map(const ctltw_fm_t *m, double q)
+/* map(q) before its int16 cut: off plus the nodes interpolated (their difference an int16), the
+ * last node beyond them. r: the firmware's minus the twin's, from the firmware's rounding of the
+ * interpolation (half up to an LSB; none on a node). */
+static double ctltw_fm_map_u(const ctltw_fm_t *m, double q, ctltw_iv_t *r)
 {
     int i;
     double f;
-    if (!ctltw_fm_bin(q, &i, &f))
-        return m->node[FM_NODES - 1];
-    return m->node[i] + (m->node[i + 1] - m->node[i]) * f;
+    if (!ctltw_fm_bin(q, &i, &f)) {
+        *r = ctltw_iv(0, 0);
+        return m->off + m->node[FM_NODES - 1];
+    }
+    *r = f == 0 ? ctltw_iv(0, 0) : ctltw_iv(-0.5 * LSB, 0.5 * LSB);
+    return m->off + m->node[i] + ctltw_sat(m->node[i + 1] - m->node[i]) * f;
 }
 
 /* fm_known: the map around q rests on learned nodes (always, unless FM_SEEN_ONLY) */
@@ -173,166 +208,387 @@ static int ctltw_fm_known(const ctltw_fm_t *m, double q)
     return (m->seen >> i & 1u) && (m->seen >> (i + 1) & 1u);
 }
 
-/* fm_learn: pull the two nodes around q toward p_hat (weights by distance, rate FM_LR); the
- * very first point moves the whole default curve; a node's first visit moves the unlearned
- * nodes (but the two) with it. */
-static void ctltw_fm_learn(ctltw_fm_t *m, double q, ctltw_fm_out_t *o)
+/* the feed-forward map(q) - map(t1), and e_d, the firmware's minus it: the lookups' rounding
+ * (off, the same in both, cancels unless a lookup may saturate) */
+static double ctltw_fm_ff(const ctltw_fm_t *m, double q, const ctltw_fm_err_t *er, ctltw_iv_t *e_d)
 {
-    double f, err, d0, d1, shift;
+    ctltw_iv_t r1, r2;
+    double u1, u2, d, l1, h1, l2, h2;
+    int i;
+    double f;
+    *e_d = ctltw_iv(0, 0);
+    if (!(ctltw_fm_known(m, q) && ctltw_fm_known(m, m->t1)))
+        return 0;
+    u1 = ctltw_fm_map_u(m, q, &r1);
+    u2 = ctltw_fm_map_u(m, m->t1, &r2);
+    d = ctltw_sat(u1) - ctltw_sat(u2);
+    if (!ctltw_gt(fabs(q - m->t1), 0) || (!ctltw_fm_bin(q, &i, &f) && !ctltw_fm_bin(m->t1, &i, &f)))
+        return d;                   /* the same lookup twice: exactly 0 */
+    l1 = u1 + er->off.lo + r1.lo;
+    h1 = u1 + er->off.hi + r1.hi;
+    l2 = u2 + er->off.lo + r2.lo;
+    h2 = u2 + er->off.hi + r2.hi;
+    if (ctltw_in16(l1, h1) && ctltw_in16(l2, h2) && ctltw_in16(u1, u1) && ctltw_in16(u2, u2))
+        *e_d = ctltw_iv(r1.lo - r2.hi, r1.hi - r2.lo);
+    else
+        *e_d = ctltw_iv(ctltw_sat(l1) - ctltw_sat(h2) - d, ctltw_sat(h1) - ctltw_sat(l2) - d);
+    return d;
+}
+
+/* the feed-forward only the way the target went, and not while the flow is already past the
+ * target that way (up/down: the target rose/fell; over/under: the flow is above/below the
+ * target by more than the band). Monotone in d. */
+static double ctltw_fm_gate(double d, int up, int down, int over, int under)
+{
+    if ((up && d < 0) || (down && d > 0) || (d > 0 && over) || (d < 0 && under))
+        return 0;
+    return d;
+}
+
+/* The inputs of the PI increment. */
+typedef struct {
+    int rest, integral;
+    double e, dy, dq;               /* L/min: error, y1 - y, target's change */
+} ctltw_fm_pi_t;
+
+/* The PI increment, stroke, for the flow K the feed-forward covers: inside the band the slow
+ * integral; outside it P on the measurement plus the part k of the target's change the
+ * feed-forward does not cover (between 0 and dq), the integral when asked. bg (L/min) is added
+ * before the cut at CTLTW_FM_DU_MAX (the Q12 gains' error, for the firmware's ends). k: that
+ * part; raw: the increment before the cut, L/min. Decreasing in K. */
+static double ctltw_fm_du(const ctltw_fm_pi_t *p, double K, double bg, double *kk, double *raw)
+{
+    double du, k = 0;
+    if (p->rest) {
+        du = CTLTW_FM_REST_KI * p->e;
+    } else {
+        k = p->dq - K;
+        k = ctltw_gt(0, p->dq) ? ctltw_clamp(k, p->dq, 0) : ctltw_clamp(k, 0, p->dq);
+        du = CTLTW_FM_KP * ctltw_clamp(p->dy + k, -327.68, 327.67) + (p->integral ? CTLTW_FM_KI * p->e : 0);
+    }
+    du += bg;
+    if (kk)
+        *kk = k;
+    if (raw)
+        *raw = du;
+    return ctltw_clamp(du / CTL_FLOW_SCALE_LPM, -CTLTW_FM_DU_MAX, CTLTW_FM_DU_MAX);
+}
+
+/* 1 / T_travel as the firmware holds it (ctl_inv_travel, Q15) */
+static double ctltw_inv_travel_f(double travel)
+{
+    int t = (int)travel;
+    if (t < 1)
+        t = 40;
+    return ((32768 + t / 2) / t) * LSB;
+}
+
+/* fm_account: the valve got drive dr (duty) for a period; below the break-away duty it does not
+ * move; a change of direction takes up the backlash first. The errors: the firmware's move
+ * rounded to an LSB with 1/T_travel in Q15, the backlash at 655/32768. */
+static void ctltw_fm_calibrate(ctltw_fm_t *m, double at, ctltw_fm_err_t *er, ctltw_fm_out_t *o);
+static void ctltw_fm_account(ctltw_fm_t *m, double dr, double travel, ctltw_fm_err_t *er, ctltw_fm_out_t *o)
+{
+    double mv, xs, tk, c, mr, lo, hi, tk_lo, tk_hi, mr_lo, mr_hi, ph0 = m->p_hat;
+    ctltw_iv_t e_mv;
+    int s;
+    if (fabs(dr) < CTLTW_STICTION) {
+        if (dr != 0)
+            o->path |= CTLTW_P_STILL;
+        return;
+    }
+    o->path |= CTLTW_P_MOVED;
+    s = dr > 0 ? 1 : -1;
+    if (s != m->dir) {
+        m->takeup = CTLTW_FM_BACKLASH;
+        double eb = Q15(CTLTW_FM_BACKLASH) * LSB - CTLTW_FM_BACKLASH;     /* the firmware's is 655/32768 */
+        er->tk = ctltw_iv(eb, eb);
+        m->dir = s;
+    }
+    mv = fabs(dr) / travel;
+    xs = fabs(dr) * ctltw_inv_travel_f(travel);    /* the firmware's product, before its rounding */
+    e_mv = ctltw_iv(xs - 0.5 * LSB - mv, xs + 0.5 * LSB - mv);
+    tk = m->takeup;
+    c = mv < tk ? mv : tk;
+    m->takeup = tk - c;
+    mr = mv - c;
+    tk_lo = fmax(tk + er->tk.lo - (mv + e_mv.hi), 0);
+    tk_hi = fmax(tk + er->tk.hi - (mv + e_mv.lo), 0);
+    mr_lo = fmax(mv + e_mv.lo - (tk + er->tk.hi), 0);
+    mr_hi = fmax(mv + e_mv.hi - (tk + er->tk.lo), 0);
+    er->tk = ctltw_iv(tk_lo - m->takeup, tk_hi - m->takeup);
+    m->p_hat = ctltw_sat(ph0 + s * mr);
+    lo = s > 0 ? ctltw_sat(ph0 + er->ph.lo + mr_lo) : ctltw_sat(ph0 + er->ph.lo - mr_hi);
+    hi = s > 0 ? ctltw_sat(ph0 + er->ph.hi + mr_hi) : ctltw_sat(ph0 + er->ph.hi - mr_lo);
+    er->ph = ctltw_iv(lo - m->p_hat, hi - m->p_hat);
+    er->rel = ctltw_iv(er->ref.lo - er->ph.hi, er->ref.hi - er->ph.lo);    /* p_ref stays */
+    /* past a stop nobody reported: the frame moves so the estimate is at the stop */
+    if (m->cal && m->p_hat > CTLTW_FM_CLOSED)
+        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, er, o);
+    else if (m->cal && m->p_hat < CTLTW_FM_OPEN)
+        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, er, o);
+}
+
+/* fm_calibrate: at an end stop (at) the estimate jumps there, p_ref and the map's frame move
+ * with it. */
+static void ctltw_fm_calibrate(ctltw_fm_t *m, double at, ctltw_fm_err_t *er, ctltw_fm_out_t *o)
+{
+    double ph0 = m->p_hat, ref0 = m->p_ref, off0 = m->off, sh = ctltw_sat(at - ph0);
+    double fl = at - (ph0 + er->ph.hi), fh = at - (ph0 + er->ph.lo);     /* the firmware's at - p_hat */
+    double sh_lo = ctltw_sat(fl), sh_hi = ctltw_sat(fh);
+    ctltw_iv_t ref = er->ref;
+    m->cal = 1;
+    if (sh != 0)
+        o->path |= CTLTW_P_CALIB;
+    m->p_hat = at;
+    m->p_ref = ctltw_sat(ref0 + sh);
+    m->off = ctltw_sat(off0 + sh);
+    er->ph = ctltw_iv(0, 0);
+    if (ctltw_in16(fl, fh) && ctltw_in16(at - ph0, at - ph0) && ctltw_in16(ref0 + ref.lo + sh_lo, ref0 + ref.hi + sh_hi)
+        && ctltw_in16(ref0 + sh, ref0 + sh)) {
+        /* nothing saturates: p_ref - p_hat is kept exactly */
+        er->ref = ctltw_iv(er->ph.lo + er->rel.lo, er->ph.hi + er->rel.hi);
+    } else {
+        er->ref = ctltw_iv(ctltw_sat(ref0 + ref.lo + sh_lo) - m->p_ref, ctltw_sat(ref0 + ref.hi + sh_hi) - m->p_ref);
+        er->rel = ctltw_iv(er->ref.lo - er->ph.hi, er->ref.hi - er->ph.lo);
+    }
+    er->off = ctltw_iv(ctltw_sat(off0 + er->off.lo + sh_lo) - m->off, ctltw_sat(off0 + er->off.hi + sh_hi) - m->off);
+}
+
+/* fm_learn: the very first point moves the frame (off: the whole default curve); later ones pull
+ * the two nodes around q toward p_hat (weights by distance, rate FM_LR); the nearer node is
+ * marked learned. */
+static void ctltw_fm_learn(ctltw_fm_t *m, double q, ctltw_fm_err_t *er, ctltw_fm_out_t *o)
+{
+    double f, u, err, d0, d1, off0 = m->off;
+    ctltw_iv_t r;
     int i, near;
     if (q < 0 || !ctltw_fm_bin(q, &i, &f))
         return;
     near = f < 0.5 ? i : i + 1;
-    err = m->p_hat - ctltw_fm_map(m, q);
+    u = ctltw_fm_map_u(m, q, &r);
+    err = ctltw_sat(m->p_hat - ctltw_sat(u));
     o->path |= CTLTW_P_LEARN;
     if (!m->seen) {
-        for (int j = 0; j < FM_NODES; j++)
-            m->node[j] = ctltw_node_sat(m->node[j] + err);
-        m->seen |= 1ul << near;
+        m->off = ctltw_sat(off0 + err);
         o->path |= CTLTW_P_ANCHOR;
-        return;
+        /* the firmware's off + (p_hat - (off + nodes)): p_hat less the nodes' part as it rounds it */
+        if (ctltw_in16(u - 4 * LSB, u + 4 * LSB) && ctltw_in16(m->p_hat - u - 4 * LSB, m->p_hat - u + 4 * LSB)
+            && ctltw_in16(off0 + err - 4 * LSB, off0 + err + 4 * LSB))
+            er->off = ctltw_iv(er->ph.lo - r.hi, er->ph.hi - r.lo);
+        else
+            er->off_ok = 0;
+    } else {
+        d0 = err * (1 - f) * CTLTW_FM_LR;
+        d1 = err * f * CTLTW_FM_LR;
+        m->node[i] = ctltw_sat(m->node[i] + d0);
+        m->node[i + 1] = ctltw_sat(m->node[i + 1] + d1);
     }
-    d0 = err * (1 - f) * CTLTW_FM_LR;
-    d1 = err * f * CTLTW_FM_LR;
-    shift = near == i ? d0 : d1;
-    m->node[i] = ctltw_node_sat(m->node[i] + d0);
-    m->node[i + 1] = ctltw_node_sat(m->node[i + 1] + d1);
-    if (!(m->seen >> near & 1u)) {
-        for (int j = 0; j < FM_NODES; j++)
-            if (!(m->seen >> j & 1u) && j != i && j != i + 1)
-                m->node[j] = ctltw_node_sat(m->node[j] + shift);
-        m->seen |= 1ul << near;
-        o->path |= CTLTW_P_VISIT;
-    }
+    m->seen |= 1ul << near;
 }
 
 /* fm_step's output stage on a drive: cut at full duty, the break-away rounding, the end stops'
- * cut. full, brk, half: full duty, the break-away duty and its half as the step holds them (the
- * firmware's, to see where its drive lands). Monotone in x. */
+ * (and over-pressure's) cut. full, brk, half: full duty, the break-away duty and its half as the
+ * step holds them (the firmware's, to see where its drive lands). Monotone in x. */
 static double ctltw_fm_out(double x, int limit, double full, double brk, double half)
 {
     x = ctltw_clamp(x, -full, full);
     if (x < brk && x > -brk)
         x = x >= half ? brk : x <= -half ? -brk : 0;
-    if ((x > 0 && (limit & CTL_AT_CLOSED)) || (x < 0 && (limit & CTL_AT_OPEN)))
+    if ((x > 0 && (limit & CTL_CLOSE_BLOCKED)) || (x < 0 && (limit & CTL_AT_OPEN)))
         x = 0;
     return x;
 }
 
+/* the servo's move: x (the new p_ref less p_hat before the cuts) within FM_LEAD, p_ref an int16
+ * (p_hat at ph), held at p_hat against a stop or over-pressure. Monotone (in x up, in ph down). */
+static double ctltw_fm_need(double x, double ph, int limit)
+{
+    x = ctltw_clamp(ctltw_clamp(x, -CTLTW_FM_LEAD, CTLTW_FM_LEAD), -1 - ph, CTLTW_FM_TOP - ph);
+    if ((limit & CTL_CLOSE_BLOCKED) && x > 0)
+        x = 0;
+    if ((limit & CTL_AT_OPEN) && x < 0)
+        x = 0;
+    return x;
+}
+
+static void ctltw_fm_frame(const ctltw_fm_t *m, ctltw_fm_out_t *o, const ctltw_fm_err_t *er)
+{
+    if (m->p_hat < 0 || m->p_hat > 1 || m->p_ref < 0 || m->p_ref > 1)
+        o->path |= CTLTW_P_FRAME;
+    o->ref_lo = er->ref.lo;
+    o->ref_hi = er->ref.hi;
+    o->hat_lo = er->ph.lo;
+    o->hat_hi = er->ph.hi;
+    o->take_lo = er->tk.lo;
+    o->take_hi = er->tk.hi;
+    o->off_lo = er->off.lo;
+    o->off_hi = er->off.hi;
+    o->off_iv = er->off_ok;
+}
+
+ctltw_fm_out_t ctltw_fm_applied(ctltw_fm_t *m, double drive, int limit, double travel)
+{
+    ctltw_fm_out_t o;
+    ctltw_fm_err_t er = ctltw_fm_exact;
+    memset(&o, 0, sizeof o);
+    m->pend = 0;
+    if (limit & CTL_AT_CLOSED)
+        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o);
+    else if (limit & CTL_AT_OPEN)
+        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o);
+    ctltw_fm_account(m, drive, travel, &er, &o);
+    ctltw_fm_frame(m, &o, &er);
+    o.drive = drive;
+    return o;
+}
+
 ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
 {
-    ctltw_fm_out_t o = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    const double lsb = 1 / 32768.0;
-    double q = in->target, y = in->flow;
+    ctltw_fm_out_t o;
+    ctltw_fm_err_t er = ctltw_fm_exact;
+    ctltw_fm_pi_t pi;
+    const double lsb = LSB;
+    double q = in->target, y = in->flow, T = in->travel;
     double e = ctltw_clamp(q - y, -CTLTW_E_MAX, CTLTW_E_MAX), ae = fabs(e);
-    double d, du, hi, lo, need, c, e_c = 0, pre, drive, mv, ph, b_du;
-    ctltw_iv_t e_ff, e_ref0, e_d, e_ref, e_need, e_pre;
+    double d, g, dq, band, du, raw, k, bg = 0, r, rb, need, need0, c, pre, drive, rel, xr, xl, xh;
+    ctltw_iv_t e_d, e_need, e_c, e_pre;
     int s, moving, calm_if;
+    memset(&o, 0, sizeof o);
 
+    /* the drive sent last, if nobody said what the valve got */
+    if (m->pend) {
+        m->pend = 0;
+        o.path |= CTLTW_P_PEND;
+        ctltw_fm_account(m, m->last, T, &er, &o);
+    }
     if (m->first) {
         m->y1 = y;
         m->t1 = q;
         m->p_ref = m->p_hat;
-        m->calm = m->warm = m->rest = 0;
+        er.ref = er.ph;
+        er.rel = ctltw_iv(0, 0);
+        m->calm = m->warm = m->rest = m->hold = 0;
         m->first = 0;
     }
-    /* end stops calibrate the estimate (the firmware's closed end is 32767, an LSB under 1) */
+    /* end stops calibrate the estimate; over-pressure (CTL_NO_CLOSE) is not a stop */
     if (in->limit & CTL_AT_CLOSED)
-        m->p_hat = 1.0;
+        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o);
     else if (in->limit & CTL_AT_OPEN)
-        m->p_hat = 0.0;
-    ph = in->limit & CTL_AT_CLOSED ? -lsb : 0;
-    e_ref0 = ctltw_iv(0, 0);        /* the state comes from the firmware's: p_ref is exact */
-    if (in->limit)
+        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o);
+    if (in->limit & (CTL_AT_CLOSED | CTL_AT_OPEN))
         o.path |= CTLTW_P_ENDSTOP;
 
-    /* feed-forward: how far the map says the valve must go for the target's change (the
-     * firmware rounds two lookups to half an LSB each; none while the target holds) */
-    d = ctltw_fm_known(m, q) && ctltw_fm_known(m, m->t1) ? ctltw_fm_map(m, q) - ctltw_fm_map(m, m->t1) : 0;
-    e_ff = ctltw_gt(fabs(q - m->t1), 0) ? ctltw_iv(-lsb, lsb) : ctltw_iv(0, 0);
+    /* feed-forward: how far the map says the valve must go for the target's change, only the
+     * way the target went and not while the flow is past the target that way */
+    d = ctltw_fm_ff(m, q, &er, &e_d);
+    dq = q - m->t1;
+    band = q / CTLTW_FM_DB_IN;
+    {
+        int up = ctltw_gt(dq, 0), down = ctltw_gt(0, dq), over = ctltw_gt(-e, band), under = ctltw_gt(e, band);
+        g = ctltw_fm_gate(d, up, down, over, under);
+        e_d = ctltw_iv(ctltw_fm_gate(d + e_d.lo, up, down, over, under) - g,
+                       ctltw_fm_gate(d + e_d.hi, up, down, over, under) - g);
+        if (g != d)
+            o.path |= CTLTW_P_GATED;
+        d = g;
+    }
+    /* a move over one period at full duty: the integral waits FM_HOLD periods */
+    if (ctltw_tips_abs(d, e_d, 1 / T, ctltw_inv_travel_f(T)))
+        o.border |= CTLTW_B_HOLD;
+    if (fabs(d) > 1 / T) {
+        m->hold = CTLTW_FM_HOLD;
+        o.path |= CTLTW_P_HOLDSET;
+    } else if (m->hold) {
+        m->hold--;
+    }
 
     /* deadband with hysteresis; a moving target (|dq| > q / 64) wakes the loop */
-    moving = ctltw_gt(fabs(q - m->t1) * 64, q);
+    moving = ctltw_gt(fabs(dq) * 64, q);
     if (moving) {
         m->rest = 0;
     } else if (m->rest) {
         if (ctltw_gt(ae, q / CTLTW_FM_DB_OUT))
             m->rest = 0;
-    } else if (!ctltw_gt(ae, q / CTLTW_FM_DB_IN) && ctltw_gt(q, 0)) {
+    } else if (!ctltw_gt(ae, band) && ctltw_gt(q, 0)) {
         m->rest = 1;
         if (CTLTW_FM_DB_STOP) {
             m->p_ref = m->p_hat;
-            e_ref0 = ctltw_iv(ph, ph);
+            er.ref = er.ph;
+            er.rel = ctltw_iv(0, 0);
         }
     }
 
-    /* the PI increment in stroke: P on the measurement, the integral held while the servo
-     * still travels; inside the band the slow integral alone */
+    /* the PI increment in stroke: P on the measurement and on the part of the target's change
+     * the feed-forward leaves, the integral while the servo is near its goal and no big
+     * feed-forward move is under way; inside the band the slow integral alone */
+    rel = m->p_ref - m->p_hat;
+    pi.rest = m->rest;
+    pi.e = e;
+    pi.dy = m->y1 - y;
+    pi.dq = dq;
+    pi.integral = 0;
     if (m->rest) {
-        du = CTLTW_FM_REST_KI * e;
-        b_du = fabs(CTLTW_FM_REST_KI - Q12(CTLTW_FM_REST_KI) / 4096.0) * ae;
         o.path |= CTLTW_P_REST;
     } else {
-        double g = d + m->p_ref - m->p_hat, dy = ctltw_clamp(m->y1 - y, -327.67, 327.67);
-        du = CTLTW_FM_KP * dy;
-        b_du = fabs(CTLTW_FM_KP - Q12(CTLTW_FM_KP) / 4096.0) * fabs(dy);
-        if (ctltw_tips_abs(g, ctltw_iv(e_ff.lo - ph, e_ff.hi - ph), CTLTW_FM_IGATE, Q15(CTLTW_FM_IGATE) * lsb))
+        ctltw_iv_t e_g = ctltw_iv(e_d.lo + er.rel.lo, e_d.hi + er.rel.hi);
+        g = ctltw_sat(d + rel);
+        if (!m->hold && ctltw_tips_abs(g, e_g, CTLTW_FM_IGATE, Q15(CTLTW_FM_IGATE) * lsb))
             o.border |= CTLTW_B_IGATE;
-        if (fabs(g) < CTLTW_FM_IGATE) {
-            du += CTLTW_FM_KI * e;
-            b_du += fabs(CTLTW_FM_KI - Q12(CTLTW_FM_KI) / 4096.0) * ae;
-            o.path |= CTLTW_P_INTEGRAL;
-        } else {
-            o.path |= CTLTW_P_HELD;
-        }
+        pi.integral = fabs(g) < CTLTW_FM_IGATE && !m->hold;
+        o.path |= pi.integral ? CTLTW_P_INTEGRAL : fabs(g) < CTLTW_FM_IGATE ? CTLTW_P_HOLDING : CTLTW_P_HELD;
     }
-    /* the increment's rounding: the gains in Q12 (above, in L/min; nothing of it once both cut
-     * the increment), du to Q4 (0.1 LSB) and the stroke to an LSB (0.5), 26844 / 2^17 for
-     * 0.2048 (1.7e-5 of it) */
-    du /= CTL_FLOW_SCALE_LPM;
-    b_du /= CTL_FLOW_SCALE_LPM;
-    if (fabs(du) > CTLTW_FM_DU_MAX) {
-        if (fabs(du) - b_du > CTLTW_FM_DU_MAX)
-            b_du = 0;
-        du = ctltw_clamp(du, -CTLTW_FM_DU_MAX, CTLTW_FM_DU_MAX);
+    du = ctltw_fm_du(&pi, ctltw_sat(d) * CTLTW_FM_COVER, 0, &k, &raw);
+    if (!m->rest && fabs(k) > 1e-9 && fabs(k - dq) > 1e-9)
+        o.path |= CTLTW_P_COVER;
+    if (fabs(raw) / CTL_FLOW_SCALE_LPM > CTLTW_FM_DU_MAX)
         o.path |= CTLTW_P_DUCUT;
+    /* The firmware's increment: its feed-forward (e_d) through the covered flow, rounded to an
+     * x100 L/min (r; exact for a feed-forward exactly 0), the gains in Q12 (bg, L/min), du to Q4
+     * (0.1 LSB) and the stroke to an LSB (0.5), 26844 / 2^17 for 0.2048 (1.7e-5 of it; rb, none
+     * where the firmware's increment is exactly 0). d + du grows with d (P takes back 0.6 of a
+     * feed-forward change), so its ends are at d's: both are tried. */
+    r = d == 0 && e_d.lo == 0 && e_d.hi == 0 ? 0 : 0.005;
+    if (m->rest) {
+        bg = fabs(CTLTW_FM_REST_KI - Q12(CTLTW_FM_REST_KI) / 4096.0) * ae;
+    } else {
+        double kerr = CTLTW_FM_COVER * fmax(-e_d.lo, e_d.hi) + r;
+        bg = fabs(CTLTW_FM_KP - Q12(CTLTW_FM_KP) / 4096.0) * fmin(fabs(pi.dy + k) + kerr, 327.68);
+        if (pi.integral)
+            bg += fabs(CTLTW_FM_KI - Q12(CTLTW_FM_KI) / 4096.0) * ae;
     }
-    b_du += 0.61 * lsb + 1.7e-5 * fabs(du);
-    d += du + m->p_ref;
-    e_d = ctltw_iv(e_ff.lo - b_du + e_ref0.lo, e_ff.hi + b_du + e_ref0.hi);
-
-    /* p_ref within FM_LEAD of p_hat and within the stroke; the firmware's cuts (p_hat and the
-     * top of the stroke as it holds them) applied to the ends of its possible d */
-    hi = m->p_hat + CTLTW_FM_LEAD < 1 ? m->p_hat + CTLTW_FM_LEAD : 1;
-    lo = m->p_hat - CTLTW_FM_LEAD > 0 ? m->p_hat - CTLTW_FM_LEAD : 0;
-    if (d > hi || d < lo)
-        o.path |= CTLTW_P_LEADCUT;
-    m->p_ref = ctltw_clamp(d, lo, hi);
     {
-        double hi_f = hi + (hi == 1 ? -lsb : ph), lo_f = lo + (lo > 0 ? ph : 0);
-        e_ref = ctltw_iv(ctltw_clamp(d + e_d.lo, lo_f, hi_f) - m->p_ref,
-                         ctltw_clamp(d + e_d.hi, lo_f, hi_f) - m->p_ref);
+        double dd[2] = {d + e_d.lo, d + e_d.hi}, lo[2], hi[2], rw[4];
+        for (int j = 0; j < 2; j++) {
+            lo[j] = dd[j] + ctltw_fm_du(&pi, ctltw_sat(dd[j]) * CTLTW_FM_COVER + r, -bg, NULL, &rw[2 * j]);
+            hi[j] = dd[j] + ctltw_fm_du(&pi, ctltw_sat(dd[j]) * CTLTW_FM_COVER - r, bg, NULL, &rw[2 * j + 1]);
+        }
+        rb = rw[0] == 0 && rw[1] == 0 && rw[2] == 0 && rw[3] == 0 ? 0 : 0.61 * lsb + 1.7e-5 * fabs(du) + 1e-12;
+        xl = fmin(lo[0], lo[1]) - rb + rel + er.rel.lo;
+        xh = fmax(hi[0], hi[1]) + rb + rel + er.rel.hi;
     }
-    if (((in->limit & CTL_AT_CLOSED) && m->p_ref > m->p_hat) || ((in->limit & CTL_AT_OPEN) && m->p_ref < m->p_hat)) {
-        m->p_ref = m->p_hat;        /* (not reached: p_ref is within the stroke and p_hat at its end) */
-        e_ref = ctltw_iv(ph, ph);
-    }
-    o.ref_lo = e_ref.lo;
-    o.ref_hi = e_ref.hi;
+    xr = d + du + rel;
 
-    /* the servo: the move still needed, plus the backlash to take up on a reversal */
-    need = m->p_ref - m->p_hat;
-    e_need = ctltw_iv(e_ref.lo - ph, e_ref.hi - ph);
+    /* p_ref within FM_LEAD of p_hat, an int16, held at p_hat against a stop (or over-pressure) */
+    if (xr > CTLTW_FM_LEAD || xr < -CTLTW_FM_LEAD)
+        o.path |= CTLTW_P_LEADCUT;
+    need0 = ctltw_fm_need(xr, m->p_hat, 0);
+    need = ctltw_fm_need(xr, m->p_hat, in->limit);
+    if (need != need0 && (in->limit & CTL_NO_CLOSE) && !(in->limit & CTL_AT_CLOSED))
+        o.path |= CTLTW_P_NOCLOSE;
+    e_need = ctltw_iv(ctltw_fm_need(xl, m->p_hat + er.ph.hi, in->limit) - need,
+                      ctltw_fm_need(xh, m->p_hat + er.ph.lo, in->limit) - need);
+    m->p_ref = m->p_hat + need;
+    er.ref = ctltw_iv(er.ph.lo + e_need.lo, er.ph.hi + e_need.hi);
+
+    /* the servo: the move still needed, plus the backlash to take up on a reversal (or still
+     * pending); nothing to do, no take-up either */
     s = need > 0 ? 1 : need < 0 ? -1 : 0;
     if (s != 0 && s != m->dir && ctltw_tips_abs(need, e_need, CTLTW_FM_REV_MIN, Q15(CTLTW_FM_REV_MIN) * lsb))
         o.border |= CTLTW_B_REV;
-    /* As ctl.c has it, a step without a direction (need 0, or a reversal too small) takes up
-     * the backlash still pending with a positive drive whatever the last direction: after an
-     * opening motion (dir -1) a need just under 0 drives -takeup, one of 0 +takeup. (Every
-     * reversal's drive takes up the whole backlash unless it is cut at full duty with
-     * T_travel over 50 periods, so takeup is 0 between steps at the default 40.) */
-    if (m->dir < 0 && m->takeup > 0 && ctltw_tips(need, e_need, 0, 0))
-        o.border |= CTLTW_B_REV;
+    /* need against 0 where it decides whether the pending backlash is taken up */
+    if (m->dir != 0 && m->takeup + er.tk.hi > 1e-12 && ctltw_tips_sign(need, e_need))
+        o.border |= CTLTW_B_ZERO;
     if (s != 0 && s != m->dir && fabs(need) < CTLTW_FM_REV_MIN) {
         s = 0;
         need = 0;
@@ -340,18 +596,25 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         o.path |= CTLTW_P_HYST;
     }
     if (s != 0 && s != m->dir) {
+        double eb = s * (Q15(CTLTW_FM_BACKLASH) * lsb - CTLTW_FM_BACKLASH);  /* the firmware's is 655/32768 */
         c = CTLTW_FM_BACKLASH;
-        e_c = s * (Q15(CTLTW_FM_BACKLASH) * lsb - CTLTW_FM_BACKLASH);      /* the firmware's is 655/32768 */
+        e_c = ctltw_iv(eb, eb);
         o.path |= CTLTW_P_REVERSAL;
+    } else if (s == 0) {
+        c = 0;
+        e_c = ctltw_iv(0, 0);
     } else {
         c = m->takeup;
+        e_c = s > 0 ? er.tk : ctltw_iv(-er.tk.hi, -er.tk.lo);
+        if (c > 0)
+            o.path |= CTLTW_P_TAKEUP;
     }
-    pre = (need + (s < 0 ? -c : c)) * in->travel;
+    pre = (need + (s < 0 ? -c : c)) * T;
     /* the firmware's product is exact: its error is need's and the backlash's, times T_travel */
-    e_pre = ctltw_iv((e_need.lo + e_c) * in->travel, (e_need.hi + e_c) * in->travel);
+    e_pre = ctltw_iv((e_need.lo + e_c.lo) * T, (e_need.hi + e_c.hi) * T);
 
     /* full duty at most; under the break-away duty a move of at least half of it is made at
-     * it, a smaller none; nothing against an end stop */
+     * it, a smaller none; nothing against an end stop, no closing under over-pressure */
     o.sat_edge = ctltw_tips_abs(pre, e_pre, 1, 1);
     o.sat = pre > 1 || pre < -1;
     drive = ctltw_fm_out(pre, 0, 1, CTLTW_STICTION, CTLTW_STICTION / 2);
@@ -361,7 +624,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         if (pre != 0)
             o.path |= CTLTW_P_ROUNDED;
     }
-    if ((drive > 0 && (in->limit & CTL_AT_CLOSED)) || (drive < 0 && (in->limit & CTL_AT_OPEN))) {
+    if ((drive > 0 && (in->limit & CTL_CLOSE_BLOCKED)) || (drive < 0 && (in->limit & CTL_AT_OPEN))) {
+        if (drive > 0 && (in->limit & CTL_NO_CLOSE) && !(in->limit & CTL_AT_CLOSED))
+            o.path |= CTLTW_P_NOCLOSE;
         drive = 0;
         o.sat = 1;
     }
@@ -372,24 +637,12 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         o.drive_lo = ctltw_fm_out(pre + e_pre.lo, in->limit, full, brk, half) - drive;
         o.drive_hi = ctltw_fm_out(pre + e_pre.hi, in->limit, full, brk, half) - drive;
     }
+    /* the drive is accounted when the valve has had it (ctltw_fm_applied, or the next step) */
+    m->pend = 1;
+    m->last = drive;
 
-    /* account the motion: backlash first, then the valve */
-    if (drive != 0) {
-        s = drive > 0 ? 1 : -1;
-        if (s != m->dir) {
-            m->takeup = CTLTW_FM_BACKLASH;
-            m->dir = s;
-        }
-        mv = fabs(drive) / in->travel;
-        c = mv < m->takeup ? mv : m->takeup;
-        m->takeup -= c;
-        mv -= c;
-        m->p_hat = ctltw_clamp(m->p_hat + s * mv, 0, 1);
-    }
-    if (m->takeup > 0)
-        o.path |= CTLTW_P_TAKEUP;
-
-    /* learning where the loop is calm: target steady, |e| <= q / 16, nothing cut, fast enough */
+    /* learning where the loop is calm: target steady, |e| <= q / 16, nothing cut, no stop or
+     * over-pressure, fast enough */
     calm_if = !moving && !ctltw_gt(ae * 16, q) && ctltw_gt(q, 0) && !in->limit
               && (!CTLTW_FM_MINF_GATE || !ctltw_gt(in->minf_speed, in->speed));
     if (calm_if && o.sat_edge)
@@ -403,10 +656,11 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     if (m->warm < FM_WARM)
         m->warm++;
     else if (CTLTW_FM_LEARN && m->calm >= CTLTW_FM_CALM)
-        ctltw_fm_learn(m, q, &o);
+        ctltw_fm_learn(m, q, &er, &o);
 
     m->y1 = y;
     m->t1 = q;
     o.drive = drive;
+    ctltw_fm_frame(m, &o, &er);
     return o;
 }

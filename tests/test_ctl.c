@@ -262,18 +262,25 @@ static void test_ctl_learning_frozen_while_saturated(void **state)
     fm_state_t fb;
     ctl_select(CTL_BEST);
     in = mk(3000, 3000, CTL_AT_OPEN);
+    ctl_step(&in);                          /* the stop calibrates the estimate: the map's frame moves with it */
     memcpy(&fb, &ctl_st.fm, sizeof fb);
     for (int k = 0; k < 100; k++)
         ctl_step(&in);
+    /* the map: its nodes, their frame and what it has seen */
     assert_memory_equal(fb.node, ctl_st.fm.node, sizeof fb.node);
+    assert_int_equal(fb.off, ctl_st.fm.off);
+    assert_memory_equal(fb.seen, ctl_st.fm.seen, sizeof fb.seen);
     in.valve_limit = 0;
     ctl_reset(0);
     for (int k = 0; k < FM_WARM; k++)       /* no learning in the first FM_WARM periods after a (re)start */
         ctl_step(&in);
     assert_memory_equal(fb.node, ctl_st.fm.node, sizeof fb.node);
+    assert_int_equal(fb.off, ctl_st.fm.off);
+    assert_memory_equal(fb.seen, ctl_st.fm.seen, sizeof fb.seen);
     for (int k = 0; k < 100; k++)
         ctl_step(&in);
-    assert_true(memcmp(fb.node, ctl_st.fm.node, sizeof fb.node) != 0);
+    assert_true(memcmp(fb.seen, ctl_st.fm.seen, sizeof fb.seen) != 0);    /* it learned */
+    assert_true(fb.off != ctl_st.fm.off || memcmp(fb.node, ctl_st.fm.node, sizeof fb.node) != 0);
 }
 
 /* One hour (36000 periods) of noisy, saturating, sign-changing inputs: every weight stays
@@ -436,43 +443,140 @@ static int fm_toy_flow(fm_toy_t *p, int speed_x100)
     return (int)p->flow;
 }
 
-/* ffmap against the twin (tests/helper_ctl_twin.c), step by step from the same state: 6000
- * periods of the toy plant under target steps and ramps, targets that follow the speed or lie
- * out of reach (0, beyond the last node), speeds above and below P_MINF_SPEED, meter noise and
- * dropouts, end-stop flags (at the stops, and early near them: a switch, the relief's
- * overpressure), a restart half-way onto a slower valve (T_travel 40, then 64 periods: backlash
- * left to take up between steps); the map learns (warm-up passed). On each step:
- *  - p_ref and the drive lie within the twin's interval of the firmware's rounding for that
- *    step (the map's lookups and the PI increment rounded, kp in Q12, the closed stop and the
- *    stroke's top at 32767, the backlash at 655/32768; the drive is need times T_travel, a
- *    product the firmware makes exactly);
- *  - closures (p_ref, p_hat, takeup, every node) within FM_TOL_LSB LSB of Q15 stroke (p_ref's
- *    interval reaches about 3.3 LSB; p_hat adds the move's rounding), the drive within
- *    (FM_TOL_LSB + 0.5) * T_travel LSB of Q15 duty (need's error and the backlash's, times
- *    T_travel);
- *  - rest, dir, calm, warm, seen and the saturation flag equal.
- * Borderlines: where that interval lets the firmware's closure or drive lie across a threshold
- * from the twin's (integral gate, smallest reversal, half the break-away duty) the step is
- * skipped and counted (under 1 %); where only the saturation flag may differ while the loop is
- * calm, the step is compared without the calm counter and the map (also under 1 %). */
+static uint8_t fm_toy_stops(const fm_toy_t *p)
+{
+    return p->pos >= 32767 ? CTL_AT_CLOSED : p->pos <= 0 ? CTL_AT_OPEN : 0;
+}
+
 #define FM_TOL_LSB 4.0
-#define FM_STEPS 6000
+#define FM_STEPS 12000
+#define FM_RELIEVE Q15(0.5)         /* app.c APP_RELIEVE_DRIVE: over-pressure opens the bypass at 50 % */
+#define FM_JOG Q15(0.6)             /* app.c APP_JOG_DRIVE */
+
+typedef struct {
+    double drive, drive_stroke, ref, hat, take, node, off;  /* worst |firmware - twin|, LSB */
+    double b_ref, b_hat, b_drive;   /* widest rounding interval (half-width), LSB */
+} fm_worst_t;
+
+static double fm_wmax(double w, double x)
+{
+    return x > w ? x : w;
+}
+
+/* an interval of the firmware's rounding (x firmware - twin, LSB; lo .. hi stroke or duty) holds */
+static int fm_in(double x, double lo, double hi)
+{
+    return x >= lo * 32768 - 1e-6 && x <= hi * 32768 + 1e-6;
+}
+
+/* The firmware's state after a step or a ctl_applied against the twin's: p_ref, p_hat, takeup
+ * (and off, where the twin carries it) inside the intervals of the firmware's rounding; they,
+ * every node and off within FM_TOL_LSB of Q15 stroke; dir, rest, warm, hold, pend (and, map_too,
+ * calm and seen) equal. */
+static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw_fm_t *tw, const ctltw_fm_out_t *o,
+                       int map_too, fm_worst_t *w)
+{
+    double dr = f->p_ref - tw->p_ref * 32768, dh = f->p_hat - tw->p_hat * 32768, dt = f->takeup - tw->takeup * 32768;
+    double doff = f->off - tw->off * 32768, en = 0;
+    unsigned long seen = 0;
+    for (int j = 0; j < FM_NODES; j++) {
+        en = fm_wmax(en, fabs(f->node[j] - tw->node[j] * 32768));
+        if (f->seen[j >> 3] & (1u << (j & 7)))
+            seen |= 1ul << j;
+    }
+    if (!map_too) {
+        en = doff = 0;
+        seen = tw->seen;
+    }
+    if (!fm_in(dr, o->ref_lo, o->ref_hi) || !fm_in(dh, o->hat_lo, o->hat_hi) || !fm_in(dt, o->take_lo, o->take_hi)
+        || (map_too && o->off_iv && !fm_in(doff, o->off_lo, o->off_hi)))
+        fail_msg("ffmap %s %d: outside the rounding: p_ref %d twin %.2f (%.2f .. %.2f LSB), p_hat %d twin %.2f "
+                 "(%.2f .. %.2f), takeup %d twin %.2f (%.2f .. %.2f), off %d twin %.2f (%.2f .. %.2f%s)",
+                 what, k, f->p_ref, tw->p_ref * 32768, o->ref_lo * 32768, o->ref_hi * 32768, f->p_hat,
+                 tw->p_hat * 32768, o->hat_lo * 32768, o->hat_hi * 32768, f->takeup, tw->takeup * 32768,
+                 o->take_lo * 32768, o->take_hi * 32768, f->off, tw->off * 32768, o->off_lo * 32768,
+                 o->off_hi * 32768, o->off_iv ? "" : ", not carried");
+    if (fabs(dr) > FM_TOL_LSB || fabs(dh) > FM_TOL_LSB || fabs(dt) > FM_TOL_LSB || fabs(doff) > FM_TOL_LSB
+        || en > FM_TOL_LSB || f->dir != tw->dir || f->rest != tw->rest || f->warm != tw->warm || f->hold != tw->hold || f->cal != tw->cal
+        || f->pend != tw->pend || (map_too && f->calm != tw->calm) || seen != tw->seen)
+        fail_msg("ffmap %s %d: p_ref %d twin %.1f, p_hat %d twin %.1f, takeup %d twin %.1f, off %d twin %.1f, worst "
+                 "node %.2f LSB, dir %d/%d rest %d/%d warm %d/%d hold %d/%d pend %d/%d calm %d/%d seen %lx/%lx "
+                 "(path %x border %x)",
+                 what, k, f->p_ref, tw->p_ref * 32768, f->p_hat, tw->p_hat * 32768, f->takeup, tw->takeup * 32768,
+                 f->off, tw->off * 32768, en, f->dir, tw->dir, f->rest, tw->rest, f->warm, tw->warm, f->hold,
+                 tw->hold, f->pend, tw->pend, f->calm, tw->calm, seen, tw->seen, o->path, o->border);
+    w->ref = fm_wmax(w->ref, fabs(dr));
+    w->hat = fm_wmax(w->hat, fabs(dh));
+    w->take = fm_wmax(w->take, fabs(dt));
+    w->off = fm_wmax(w->off, fabs(doff));
+    w->node = fm_wmax(w->node, en);
+    w->b_ref = fm_wmax(w->b_ref, fmax(-o->ref_lo, o->ref_hi) * 32768);
+    w->b_hat = fm_wmax(w->b_hat, fmax(-o->hat_lo, o->hat_hi) * 32768);
+}
+
+/* ctl_applied(da, limit) on the firmware and on the twin (loaded from the firmware's state),
+ * compared; the toy valve gets da. Returns the twin's paths. */
+static unsigned fm_applied(int k, q15_t da, uint8_t limit, q15_t last, int travel, fm_toy_t *toy, fm_worst_t *w)
+{
+    ctltw_fm_t ta;
+    ctltw_fm_load(&ta, &ctl_st.fm, 0, last);
+    ctltw_fm_out_t oa = ctltw_fm_applied(&ta, da / 32768.0, limit, travel);
+    ctl_applied(da, limit);
+    fm_compare("applied", k, &ctl_st.fm, &ta, &oa, 1, w);
+    fm_toy_move(toy, da, travel);
+    return oa.path;
+}
+
+/* ffmap against the twin (tests/helper_ctl_twin.c), step by step from the same state: 12000
+ * periods of the toy plant under target steps (large, and around one period's full travel, the
+ * integral's hold threshold) and ramps, targets that follow the speed or lie
+ * out of reach (0, beyond the last node), speeds above and below P_MINF_SPEED, meter noise and
+ * dropouts, end-stop flags (at the stops, and early near them: a stop the valve's estimate
+ * finds too soon), over-pressure (CTL_NO_CLOSE), a restart half-way onto a slower valve
+ * (T_travel 40, then 64 periods: backlash left to take up between steps) and two manual
+ * interludes (jogs, then a bumpless restart); the map learns (warm-up passed). Each segment
+ * runs, at random,
+ *  - the controller alone: its drive is accounted at the start of the next step (pend);
+ *  - as app.c: ctl_applied(what the valve got, its stops) after every step, the step seeing
+ *    the stops a period late; the valve gets the over-pressure relief (-50 % whatever was
+ *    asked), now and then half the drive (a weak supply), nothing against a stop it is at
+ *    (refused); the manual jogs are ctl_applied alone.
+ * On each step:
+ *  - p_ref, p_hat, takeup, off and the drive lie within the twin's interval of the firmware's
+ *    rounding for that step (the map's lookups, the covered flow and the PI increment rounded,
+ *    kp in Q12, the backlash at 655/32768, 1/T_travel in Q15 and each move rounded; the drive is
+ *    need times T_travel, a product the firmware makes exactly);
+ *  - closures (p_ref, p_hat, takeup, off, every node) within FM_TOL_LSB LSB of Q15 stroke, the
+ *    drive within (FM_TOL_LSB + 0.5) * T_travel LSB of Q15 duty (need's error and the
+ *    backlash's, times T_travel);
+ *  - rest, dir, hold, pend, calm, warm, seen and the saturation flag equal.
+ * Each ctl_applied is compared the same way (twin loaded from the state after the step).
+ * Borderlines: where that interval lets the firmware's closure or drive lie across a threshold
+ * from the twin's (integral gate, one period's full-duty move, smallest reversal, need's sign
+ * with backlash pending, half the break-away duty) the step is skipped and counted (under
+ * 1 %); where only the saturation flag may differ while the loop is calm, the step is compared
+ * without the calm counter and the map (also under 1 %). */
 static void test_ctl_ffmap_matches_twin(void **state)
 {
     (void)state;
     fm_toy_t toy = {Q15(0.5), 0, 0, 0};
+    fm_worst_t w;
     int travel = (int)param_v[P_VALVE_TRAVEL];
     double tol_drive = (FM_TOL_LSB + 0.5) * travel;
-    double w_drive = 0, w_drive_stroke = 0, w_ref = 0, w_hat = 0, w_take = 0, w_node = 0, b_ref = 0, b_drive = 0;
-    unsigned paths = 0;
-    int skipped = 0, partial = 0, compared = 0, sat_edges = 0, kinds[4] = {0};
-    int learned = 0, rested = 0, slow = 0, forced = 0, force_left = 0;
-    int target = 3000, seg_left = 0, seg_kind = 0, ramp_from = 0, ramp_to = 0, seg_len = 1;
-    int speed = 700, rate = 8, first = 1;
-    uint8_t force_flag = 0;
+    unsigned paths = 0, paths_app = 0;
+    int skipped = 0, partial = 0, compared = 0, sat_edges = 0, kinds[CTLTW_B_KINDS] = {0};
+    int learned = 0, rested = 0, slow = 0, forced = 0, force_left = 0, overp_left = 0, overp_steps = 0;
+    int applied = 0, relief = 0, weak = 0, refused = 0, jogs = 0, calib_app = 0, pend_moves = 0, frame = 0;
+    int target = 3000, seg_left = 0, seg_kind = 0, ramp_from = 0, ramp_to = 0, seg_len = 1, seg_app = 0;
+    int speed = 700, rate = 8, first = 1, held_restarts = 0, out_of_reach = 0;
+    uint8_t force_flag = 0, prev_stops = 0;     /* the valve's stops the period before */
+    q15_t last = 0;
 
+    memset(&w, 0, sizeof w);
     assert_int_equal(Q15(CTLTW_FM_BACKLASH), FM_BACKLASH);
     assert_int_equal(Q15(CTLTW_STICTION), CTL_STICTION);
+    assert_int_equal(FM_DEF_SLOPE, Q15(CTLTW_FM_BIN / CTL_FLOW_SCALE_LPM));   /* 5.12 L/min a 0.0512 stroke */
+    assert_int_equal(FM_COVER, (1L << FM_BIN_SHIFT) * 32768L / FM_DEF_SLOPE);
     assert_int_equal(travel, 40);
     ctl_select(CTL_BEST);
     for (int k = 0; k < FM_STEPS; k++) {
@@ -480,16 +584,19 @@ static void test_ctl_ffmap_matches_twin(void **state)
         if (seg_left == 0) {
             seg_len = seg_left = fm_rnd(100, 300);
             seg_kind = fm_rnd(0, 9);
+            seg_app = fm_rnd(0, 1);
             speed = fm_rnd(0, 3) == 0 ? fm_rnd(200, 390) : fm_rnd(410, 1000);
             ramp_from = target;
             ramp_to = fm_rnd(1500, 7500);
             rate = fm_rnd(5, 10);
-            if (seg_kind <= 2)
+            if (seg_kind <= 1)
                 target = fm_rnd(1200, 7600);
             else if (seg_kind == 6)
-                target = fm_rnd(0, 1) ? 0 : fm_rnd(8200, 9000);    /* nothing, or beyond the last node */
+                target = ++out_of_reach & 1 ? 0 : fm_rnd(8200, 9000);  /* nothing, or beyond the last node */
         }
         seg_left--;
+        if ((seg_kind == 2 || seg_kind == 5) && seg_left % 30 == 0)
+            target += (target > 4500 ? -1 : 1) * fm_rnd(300, 1500);    /* steps around one period's full travel */
         if (seg_kind == 3 || seg_kind == 4) {
             target = ramp_from + (ramp_to - ramp_from) * (seg_len - seg_left) / seg_len;
         } else if (seg_kind >= 7) {
@@ -497,30 +604,66 @@ static void test_ctl_ffmap_matches_twin(void **state)
             speed = speed < 150 ? 150 : speed > 1100 ? 1100 : speed;
             target = speed * rate;
         }
+        if (k + 1 == FM_STEPS / 4 || k + 1 == FM_STEPS / 2 || k + 1 == 3 * FM_STEPS / 4)
+            target += target > 5000 ? -2500 : 2500;     /* a step just before a restart: it comes with hold */
         if (speed < (int)param_v[P_MINF_SPEED] * 10)
             slow++;
+        if (k == FM_STEPS / 4 || k == FM_STEPS / 2 || k == 3 * FM_STEPS / 4)
+            held_restarts += ctl_st.fm.hold > 0;
+        if (k == FM_STEPS / 4 || k == 3 * FM_STEPS / 4) {
+            /* manual: jogs (ctl_applied alone, the valve's stops refused), then a bumpless restart
+             * from the drive the valve has */
+            int n = fm_rnd(20, 40), dir = toy.pos > Q15(0.5) ? 1 : -1;    /* toward the nearer stop */
+            q15_t da = 0;
+            for (int j = 0; j < n; j++) {
+                uint8_t stops = fm_toy_stops(&toy);
+                da = j % 10 < 6 ? (q15_t)(dir * FM_JOG) : 0;
+                if ((da > 0 && (stops & CTL_AT_CLOSED)) || (da < 0 && (stops & CTL_AT_OPEN))) {
+                    da = 0;
+                    refused++;
+                }
+                paths_app |= fm_applied(k, da, stops, last, travel, &toy, &w);
+                fm_toy_flow(&toy, speed);
+                applied++;
+                jogs++;
+            }
+            ctl_reset(da);
+            last = da;
+            first = 1;
+        }
         int flow = fm_toy_flow(&toy, speed) + fm_rnd(-12, 12) + (fm_rnd(0, 99) == 0 ? fm_rnd(-150, 150) : 0);
         if (fm_rnd(0, 299) == 0)
             flow = 0;               /* the meter's pulses lost for a period: a jump the P term cuts */
-        uint8_t limit = toy.pos >= 32767 ? CTL_AT_CLOSED : toy.pos <= 0 ? CTL_AT_OPEN : 0;
-        if (force_left == 0 && (toy.pos > Q15(0.85) || toy.pos < Q15(0.15)) && fm_rnd(0, 49) == 0) {
+        uint8_t stops = fm_toy_stops(&toy), early = 0;
+        if (force_left == 0 && (toy.pos > Q15(0.85) || toy.pos < Q15(0.15)) && fm_rnd(0, 24) == 0) {
             force_left = fm_rnd(1, 4);
             force_flag = toy.pos > Q15(0.5) ? CTL_AT_CLOSED : CTL_AT_OPEN;
         }
         if (force_left > 0) {
-            limit |= force_flag;    /* near a stop: a switch that trips early, the relief's overpressure */
+            early = force_flag;     /* near a stop: the valve's estimate finds it too soon */
             force_left--;
             forced++;
         }
+        if (overp_left == 0 && fm_rnd(0, 149) == 0)
+            overp_left = fm_rnd(2, 12);
+        int overp = overp_left > 0;
+        if (overp) {
+            overp_left--;
+            overp_steps++;
+        }
         if (k == FM_STEPS / 2) {
             /* a restart (warm-up again, the map kept) and a slower valve: 6.4 s a stroke, so a
-             * reversal's full-duty period (1/64 stroke) leaves backlash to take up */
+             * reversal's full-duty period (1/64 stroke) leaves backlash to take up; without
+             * ctl_applied the last step's drive, still pending, is replaced by ctl_reset's 0 */
             assert_int_equal(param_set(P_VALVE_TRAVEL, 64), 1);
             travel = 64;
             tol_drive = (FM_TOL_LSB + 0.5) * travel;
             ctl_reset(0);
+            last = 0;
             first = 1;
         }
+        /* as app.c the step sees the stops (the valve's, early ones too) a period late */
+        uint8_t limit = (uint8_t)((seg_app ? prev_stops : stops | early) | (overp ? CTL_NO_CLOSE : 0));
         ctl_in_t in = mk(target, flow, limit);
         in.speed_kmh_x100 = (uint16_t)speed;
 
@@ -528,23 +671,44 @@ static void test_ctl_ffmap_matches_twin(void **state)
         ctltw_fm_t tw;
         ctltw_fm_in_t ti = {target / 100.0, flow / 100.0, speed / 100.0, param_v[P_MINF_SPEED] / 10.0,
                             limit, travel};
-        /* fm_map takes the difference of two neighbouring nodes in an int16: it wraps if the
-         * learning leaves them more than a stroke apart (a node driven under 0 beside one near
-         * 1, as end-stop flags anywhere mid-stroke make). The run must not go there. */
-        for (int j = 0; j + 1 < FM_NODES; j++)
-            if (abs(ctl_st.fm.node[j + 1] - ctl_st.fm.node[j]) > 32767)
-                fail_msg("ffmap step %d: nodes %d and %d differ by more than fm_map's int16 holds (%d, %d)", k, j,
-                         j + 1, ctl_st.fm.node[j], ctl_st.fm.node[j + 1]);
-        ctltw_fm_load(&tw, &ctl_st.fm, first);
+        ctltw_fm_load(&tw, &ctl_st.fm, first, last);
         ctltw_fm_out_t o = ctltw_fm_step(&tw, &ti);
         q15_t d = ctl_step(&in);
+        uint8_t sat = ctl_saturated();
+        fm_state_t after = ctl_st.fm;
         first = 0;
-        fm_toy_move(&toy, d, travel);
+        last = d;
+        prev_stops = (uint8_t)(stops | early);
         if (k == 0) {
             assert_int_equal(ctl_gain(0), Q12(CTLTW_FM_KP));
             assert_int_equal(ctl_gain(1), Q12(CTLTW_FM_KI));
         }
-        for (int b = 0; b < 4; b++)
+
+        /* the valve: what the controller asked, or (as app.c) what it got, told with ctl_applied */
+        if (seg_app) {
+            q15_t da = d;
+            uint8_t lim_a = (uint8_t)(stops | early);
+            if (overp && da > -FM_RELIEVE) {
+                da = -FM_RELIEVE;
+                relief++;
+            } else if (fm_rnd(0, 29) == 0 && d != 0) {
+                da = (q15_t)(d / 2);
+                weak++;
+            }
+            if ((da > 0 && (lim_a & CTL_AT_CLOSED)) || (da < 0 && (lim_a & CTL_AT_OPEN))) {
+                da = 0;
+                refused++;
+            }
+            unsigned pa = fm_applied(k, da, lim_a, d, travel, &toy, &w);
+            paths_app |= pa;
+            calib_app += (pa & CTLTW_P_CALIB) != 0;
+            frame += (pa & CTLTW_P_FRAME) != 0;
+            applied++;
+        } else {
+            fm_toy_move(&toy, d, travel);
+        }
+
+        for (int b = 0; b < CTLTW_B_KINDS; b++)
             kinds[b] += o.border >> b & 1u;
         if (o.border & CTLTW_B_SERVO) {
             skipped++;              /* the drive itself may differ: nothing to compare */
@@ -559,66 +723,52 @@ static void test_ctl_ffmap_matches_twin(void **state)
         paths |= o.path;
         learned += (o.path & CTLTW_P_LEARN) != 0;
         rested += (o.path & CTLTW_P_REST) != 0;
+        pend_moves += (o.path & (CTLTW_P_PEND | CTLTW_P_MOVED)) == (CTLTW_P_PEND | CTLTW_P_MOVED);
+        frame += (o.path & CTLTW_P_FRAME) != 0;
 
-        const fm_state_t *m = &ctl_st.fm;
-        double ed = fabs(d - o.drive * 32768), er = fabs(m->p_ref - tw.p_ref * 32768);
-        double eh = fabs(m->p_hat - tw.p_hat * 32768), et = fabs(m->takeup - tw.takeup * 32768), en = 0;
-        unsigned long seen = 0;
-        for (int j = 0; j < FM_NODES; j++) {
-            double a = fabs(m->node[j] - tw.node[j] * 32768);
-            en = a > en ? a : en;
-            if (m->seen[j >> 3] & (1u << (j & 7)))
-                seen |= 1ul << j;
-        }
-        if (!map_too) {
-            en = 0;
-            seen = tw.seen;
-        }
-        /* the intervals of the firmware's rounding, which decide the borderlines, hold */
-        double dr = m->p_ref - tw.p_ref * 32768, dd = d - o.drive * 32768;
-        if (dr < o.ref_lo * 32768 - 1e-6 || dr > o.ref_hi * 32768 + 1e-6 || dd < o.drive_lo * 32768 - 1e-6
-            || dd > o.drive_hi * 32768 + 1e-6)
-            fail_msg("ffmap step %d: p_ref %d twin %.2f (%.2f .. %.2f LSB), drive %d twin %.2f (%.2f .. %.2f LSB)", k,
-                     m->p_ref, tw.p_ref * 32768, o.ref_lo * 32768, o.ref_hi * 32768, d, o.drive * 32768,
+        double dd = d - o.drive * 32768, ed = fabs(dd);
+        if (!fm_in(dd, o.drive_lo, o.drive_hi))
+            fail_msg("ffmap step %d: drive %d twin %.2f (%.2f .. %.2f LSB)", k, d, o.drive * 32768,
                      o.drive_lo * 32768, o.drive_hi * 32768);
-        double wr = fmax(-o.ref_lo, o.ref_hi) * 32768, wd = fmax(-o.drive_lo, o.drive_hi) * 32768;
-        b_ref = wr > b_ref ? wr : b_ref;
-        b_drive = wd > b_drive ? wd : b_drive;
-        if (ed > tol_drive || er > FM_TOL_LSB || eh > FM_TOL_LSB || et > FM_TOL_LSB || en > FM_TOL_LSB
-            || m->rest != tw.rest || m->dir != tw.dir || m->warm != tw.warm || (map_too && m->calm != tw.calm)
-            || seen != tw.seen || (!o.sat_edge && ctl_saturated() != o.sat))
-            fail_msg("ffmap step %d (target %d flow %d speed %d limit %d): drive %d twin %.1f, p_ref %d twin %.1f, "
-                     "p_hat %d twin %.1f, takeup %d twin %.1f, worst node %.2f LSB, rest %d/%d dir %d/%d calm %d/%d "
-                     "warm %d/%d seen %lx/%lx sat %d/%d (path %x border %x)",
-                     k, target, flow, speed, limit, d, o.drive * 32768, m->p_ref, tw.p_ref * 32768, m->p_hat,
-                     tw.p_hat * 32768, m->takeup, tw.takeup * 32768, en, m->rest, tw.rest, m->dir, tw.dir, m->calm,
-                     tw.calm, m->warm, tw.warm, seen, tw.seen, ctl_saturated(), o.sat, o.path, o.border);
-        w_drive = ed > w_drive ? ed : w_drive;
-        w_drive_stroke = ed / travel > w_drive_stroke ? ed / travel : w_drive_stroke;
-        w_ref = er > w_ref ? er : w_ref;
-        w_hat = eh > w_hat ? eh : w_hat;
-        w_take = et > w_take ? et : w_take;
-        w_node = en > w_node ? en : w_node;
+        if (ed > tol_drive || (!o.sat_edge && sat != o.sat))
+            fail_msg("ffmap step %d (target %d flow %d speed %d limit %d): drive %d twin %.1f, sat %d/%d "
+                     "(path %x border %x)", k, target, flow, speed, limit, d, o.drive * 32768, sat, o.sat, o.path,
+                     o.border);
+        fm_compare("step", k, &after, &tw, &o, map_too, &w);
+        w.b_drive = fm_wmax(w.b_drive, fmax(-o.drive_lo, o.drive_hi) * 32768);
+        w.drive = fm_wmax(w.drive, ed);
+        w.drive_stroke = fm_wmax(w.drive_stroke, ed / travel);
     }
     print_message("ffmap: worst drive %.2f LSB of Q15 duty (%.2f LSB of stroke a period; tolerance %.1f), p_ref %.2f, "
-                  "p_hat %.2f, takeup %.2f, node %.2f LSB of Q15 (tolerance %.0f)\n",
-                  w_drive, w_drive_stroke, FM_TOL_LSB + 0.5, w_ref, w_hat, w_take, w_node, FM_TOL_LSB);
-    print_message("ffmap: the rounding's intervals held on every step compared (widest p_ref %.2f, drive %.2f LSB)\n",
-                  b_ref, b_drive);
-    print_message("ffmap: borderline: %d of %d steps skipped (integral gate %d, reversal %d, stiction %d), %d compared "
-                  "without calm and map (full duty while calm); saturation flag left out on %d\n",
-                  skipped, FM_STEPS, kinds[0], kinds[1], kinds[2], partial, sat_edges);
-    print_message("ffmap: %d steps learned, %d at rest, %d below P_MINF_SPEED, %d with a forced end stop\n", learned,
-                  rested, slow, forced);
+                  "p_hat %.2f, takeup %.2f, off %.2f, node %.2f LSB of Q15 (tolerance %.0f)\n",
+                  w.drive, w.drive_stroke, FM_TOL_LSB + 0.5, w.ref, w.hat, w.take, w.off, w.node, FM_TOL_LSB);
+    print_message("ffmap: the rounding's intervals held on every step and ctl_applied compared (widest p_ref %.2f, "
+                  "p_hat %.2f, drive %.2f LSB)\n", w.b_ref, w.b_hat, w.b_drive);
+    print_message("ffmap: borderline: %d of %d steps skipped (integral gate %d, reversal %d, stiction %d, hold %d, "
+                  "take-up sign %d), %d compared without calm and map (full duty while calm); saturation flag left "
+                  "out on %d\n", skipped, FM_STEPS, kinds[0], kinds[1], kinds[2], kinds[4], kinds[5], partial,
+                  sat_edges);
+    print_message("ffmap: %d steps learned, %d at rest, %d below P_MINF_SPEED, %d with an early end stop, %d under "
+                  "over-pressure, %d pending drives accounted, %d outside the stroke\n", learned, rested, slow, forced,
+                  overp_steps, pend_moves, frame);
+    print_message("ffmap: %d ctl_applied compared (%d jogs, %d relief, %d weak, %d refused; %d calibrated); %d of 3 "
+                  "restarts with the integral on hold\n",
+                  applied, jogs, relief, weak, refused, calib_app, held_restarts);
     assert_true(skipped * 100 < FM_STEPS);
     assert_true(partial * 100 < FM_STEPS);
     assert_int_equal(compared + skipped, FM_STEPS);
-    /* the run went through every branch of the step */
+    /* the run went through every branch of the step, and of ctl_applied */
     const unsigned all = CTLTW_P_REST | CTLTW_P_INTEGRAL | CTLTW_P_HELD | CTLTW_P_REVERSAL | CTLTW_P_HYST
                          | CTLTW_P_ROUNDED | CTLTW_P_SAT | CTLTW_P_ENDSTOP | CTLTW_P_LEARN | CTLTW_P_ANCHOR
-                         | CTLTW_P_VISIT | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP;
-    assert_int_equal(paths & all, all);
-    assert_true(learned > 100 && rested > 100 && slow > 100 && forced > 10);
+                         | CTLTW_P_CALIB | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP | CTLTW_P_HOLDSET
+                         | CTLTW_P_HOLDING | CTLTW_P_GATED | CTLTW_P_COVER | CTLTW_P_PEND | CTLTW_P_MOVED
+                         | CTLTW_P_NOCLOSE | CTLTW_P_FRAME;
+    const unsigned all_app = CTLTW_P_CALIB | CTLTW_P_MOVED | CTLTW_P_STILL;
+    if ((paths & all) != all || (paths_app & all_app) != all_app)
+        fail_msg("ffmap: branches not taken: step %x, ctl_applied %x", all & ~paths, all_app & ~paths_app);
+    assert_true(learned > 100 && rested > 100 && slow > 100 && forced > 10 && overp_steps > 100);
+    assert_true(pend_moves > 100 && relief > 50 && weak > 20 && refused >= 5 && calib_app >= 5 && applied > 1000);
+    assert_true(held_restarts > 0);
 }
 
 int main(void)

@@ -1,84 +1,94 @@
 #!/usr/bin/env python3
-"""seeds.py: best against bp_pid over seeds, counting the metric checks where best is worse.
+"""seeds.py: best against bp_pid over many seeds and every scenario family, figure by figure.
 
-usage: seeds.py [SIM_BIN] [--seeds 1-7] [--own] [-v]
-SIM_BIN defaults to build/rob/host/bin/sim. For each scenario and seed, both controllers run
-on the same plant; the checks are dose_error_pct (abs), cv_pct, overshoot_mean_pct and
-settle_mean_s where present, and for the target steps (only) the mean rise, overshoot and settling
-(settle_5pct_s) of the JSON's "steps". --own adds the scenarios' own seeds. Prints the
-worse-count (and with -v every check); stdlib only.
+usage: seeds.py SIM_BIN [--seeds A-B] [-v]
+One seed is one draw of the plant's noise (pump pulsation phase, sensor noise, meter and wheel
+pulse timing); a single run can favour either controller by luck. For each scenario below and
+each seed (default 1-8) both controllers run on the same plant; the figures of PLANT.md are
+averaged over the seeds, and best's mean is compared with bp_pid's on every figure (dose error
+as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
+table and the count of figures where best's mean is worse; -v also prints the per-seed values
+of those. Two runs at a time; stdlib only.
 """
 import json
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 
-SCENARIOS = ["target_step_150", "paper_dynamic_150", "paper_dynamic_150_fixed_pto"]
-KEYS = ["dose_error_pct", "cv_pct", "overshoot_mean_pct", "settle_mean_s"]
+SCENARIOS = [
+    "target_step_100", "target_step_125", "target_step_150",
+    "paper_dynamic_100", "paper_dynamic_125", "paper_dynamic_150",
+    "paper_dynamic_100_fixed_pto", "paper_dynamic_125_fixed_pto", "paper_dynamic_150_fixed_pto",
+    "field_3220m_100", "field_3220m_125", "field_3220m_150",
+]
+FIELD = ["dose_error_pct", "cv_pct", "cv_all_pct", "zone_error_min_pct", "zone_error_max_pct",
+         "overshoot_mean_pct", "overshoot_max_pct", "settle_mean_s"]
+STEP = ["rise_mean_s", "overshoot_mean_pct", "overshoot_max_pct", "settle_mean_s", "sse_mean_abs_pct"]
+SHORT = {"dose_error_pct": "|dose|%", "cv_pct": "cv%", "cv_all_pct": "cv_all%",
+         "zone_error_min_pct": "|zmin|%", "zone_error_max_pct": "zmax%", "overshoot_mean_pct": "ovs%",
+         "overshoot_max_pct": "ovs_max%", "settle_mean_s": "settle_s", "rise_mean_s": "rise_s",
+         "sse_mean_abs_pct": "|sse|%"}
 
 
-def run(sim, scn, ctl, seed):
-    cmd = [sim, "--scenario", "scenarios/%s.scn" % scn, "--controller", ctl]
-    if seed is not None:
-        cmd += ["--seed", str(seed)]
+def run(job):
+    sim, scn, ctl, seed = job
+    cmd = [sim, "--scenario", "scenarios/%s.scn" % scn, "--controller", ctl, "--seed", str(seed)]
     out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
 
-def mean(xs):
-    xs = [x for x in xs if x is not None]
-    return sum(xs) / len(xs) if xs else None
-
-
-def metrics(m, steps):
-    r = {}
-    for k in KEYS:
-        v = m.get(k)
-        if v is not None:
-            r[k] = abs(v) if k == "dose_error_pct" else v
-    st = m.get("steps") or []
-    if st and steps:
-        r["step_rise"] = mean([s.get("rise_s") for s in st])
-        r["step_ovs"] = mean([s.get("overshoot_pct") for s in st])
-        r["step_settle"] = mean([s.get("settle_5pct_s") for s in st])
-    return {k: v for k, v in r.items() if v is not None}
+def figure(m, k):
+    if k == "rise_mean_s":
+        r = [s["rise_s"] for s in m.get("steps", []) if s.get("rise_s") is not None]
+        return sum(r) / len(r) if r else None
+    if k == "sse_mean_abs_pct":
+        r = [abs(s["sse_pct"]) for s in m.get("steps", []) if s.get("sse_pct") is not None]
+        return sum(r) / len(r) if r else None
+    v = m.get(k)
+    if v is None:
+        return None
+    return abs(v) if k in ("dose_error_pct", "zone_error_min_pct") else v
 
 
 def main():
     args = sys.argv[1:]
-    sim = next((a for a in args if not a.startswith("-") and "/" in a), "build/rob/host/bin/sim")
-    seeds = list(range(1, 8))
-    if "--seeds" in args:
-        a, _, b = args[args.index("--seeds") + 1].partition("-")
-        seeds = list(range(int(a), int(b or a) + 1))
-    if "--own" in args:
-        seeds = [None] + seeds
+    if not args or args[0].startswith("-"):
+        print(__doc__.strip(), file=sys.stderr)
+        return 2
+    sim = args[0]
     verbose = "-v" in args
+    seeds = list(range(1, 9))
+    if "--seeds" in args:
+        a, b = args[args.index("--seeds") + 1].split("-")
+        seeds = list(range(int(a), int(b) + 1))
+    jobs = [(sim, s, c, seed) for s in SCENARIOS for c in ("best", "bp_pid") for seed in seeds]
+    with ThreadPoolExecutor(2) as ex:
+        res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
+    print("best against bp_pid: means over seeds %d-%d (same plant, same seed for both)" % (seeds[0], seeds[-1]))
     worse, total = [], 0
-    sums = {}
-    for scn in SCENARIOS:
-        for seed in seeds:
-            b = metrics(run(sim, scn, "best", seed), scn.startswith("target_step"))
-            n = metrics(run(sim, scn, "bp_pid", seed), scn.startswith("target_step"))
-            for k in b:
-                if k not in n:
-                    continue
-                total += 1
-                s = sums.setdefault((scn, k), [0.0, 0.0])
-                s[0] += b[k]
-                s[1] += n[k]
-                bad = b[k] > n[k]
-                if bad:
-                    worse.append("%s/%s/seed %s: %.4g > %.4g" % (scn, k, seed, b[k], n[k]))
-                if verbose:
-                    print("%-28s %-18s seed %-4s best %9.4f bp_pid %9.4f %s" % (scn, k, seed, b[k], n[k],
-                                                                               "WORSE" if bad else ""))
-    print("sums over seeds (best / bp_pid):")
-    for (scn, k), (sb, sn) in sums.items():
-        print("  %-28s %-18s %9.3f %9.3f %s" % (scn, k, sb, sn, "*" if sb > sn else ""))
-    for w in worse:
-        print("worse: " + w)
-    print("best worse than bp_pid on %d of %d checks" % (len(worse), total))
+    for s in SCENARIOS:
+        keys = STEP if s.startswith("target_step") else FIELD
+        cells = []
+        for k in keys:
+            va = [figure(res[(s, "best", sd)], k) for sd in seeds]
+            vb = [figure(res[(s, "bp_pid", sd)], k) for sd in seeds]
+            if any(v is None for v in va + vb):
+                continue
+            ma, mb = sum(va) / len(va), sum(vb) / len(vb)
+            total += 1
+            bad = ma > mb * (1 + 1e-6) + 1e-12
+            cells.append("%s %.3g/%.3g%s" % (SHORT[k], ma, mb, " WORSE" if bad else ""))
+            if bad:
+                worse.append((s, k, ma, mb, va, vb))
+        print("  %-28s %s" % (s, "; ".join(cells)))
+    print("best worse than bp_pid on %d of %d mean figures%s" % (len(worse), total, ":" if worse else ""))
+    for s, k, ma, mb, va, vb in worse:
+        print("  %s/%s: %.4g > %.4g (%+.2g %%)" % (s, k, ma, mb, 100 * (ma - mb) / mb if mb else float("inf")))
+        if verbose:
+            print("    best   " + " ".join("%.4g" % v for v in va))
+            print("    bp_pid " + " ".join("%.4g" % v for v in vb))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

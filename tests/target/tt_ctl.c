@@ -37,6 +37,7 @@ static q15_t timed_step(const ctl_in_t *in)
     uint8_t ph = ctl_selected() == CTL_BP_PID ? ctl_st.bp.phase : 0;
     tt_cycles_start();
     d = ctl_step(in);
+    ctl_applied(d, in->valve_limit);    /* as app.c does each period: the valve got what was asked */
     c = tt_cycles_stop();
     if (c > cyc_max)
         cyc_max = c;
