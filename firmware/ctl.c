@@ -694,42 +694,54 @@ static q15_t bp_step(void)
 
 /* ---- ffmap: the project's own controller (`best`) ------------------------------------------
  * A position servo on an estimate of the valve's closure, which nothing measures: p_hat is
- * our own drive integrated (motion = duty / T_travel a period), reset at the end stops that
- * valve_limit reports. The reference closure p_ref moves by
+ * the drive the valve really got, integrated (motion = duty / T_travel a period, the 2 %
+ * backlash taken up first, nothing below the break-away duty). The application reports that
+ * drive every period with ctl_applied(): its own over-pressure relief, priming, parking and
+ * jogging included (without the call the controller assumes its demand was applied). Real end
+ * stops (valve_limit) calibrate the estimate: closed at FM_AT_CLOSED (0.875), open at
+ * FM_AT_OPEN (-0.125), so there is room above "closed": an early closed report cannot pin the
+ * reference at the int16 top (it did, and the loop stopped short of its target). Once a stop
+ * has set the frame, an estimate driven past a stop nobody reported takes the frame along.
+ * Over-pressure refuses closing (CTL_NO_CLOSE) but is not a stop: reported as CTL_AT_CLOSED it
+ * pinned the estimate at "closed" while the relief drive opened the valve 0.6 of its stroke.
+ * The reference closure p_ref moves by
  *  - feed-forward: map(target now) - map(target before): the target flow is known from speed
  *    and dose before the meter sees any change, and the learned map says how far the valve
- *    must go for it (flow -> closure, linear between nodes 5.12 L/min apart; until a node is
- *    learned it follows the default slope of 1 stroke per 100 L/min);
- *  - feedback: an incremental PI (P on the measurement, so a target change does not kick it
- *    twice) in the same normalised units as pid. The integral is held while the servo still
- *    travels (|p_ref + feed-forward - p_hat| >= FM_IGATE): the valve integrates already, and
- *    an integral that keeps counting the error while the valve is on its way (4 s a stroke)
- *    winds up and overshoots (42 % on the target steps before; the hold allows ki 0.5).
- * The servo drives |p_ref - p_hat| * T_travel, takes up the 2 % backlash after a reversal
- * before it counts motion, and sends either nothing or at least the break-away duty 0.2 (moves
- * under half the smallest real move are not made: a deadband against hunting).
+ *    must go for it (flow -> closure, linear between nodes 5.12 L/min apart, the first point
+ *    learned anchoring the default slope of 1 stroke per 100 L/min). Gated: only the way the
+ *    target went, and not when the flow is already past the target that way by more than the
+ *    deadband. With the PTO coupled to the throttle the pump changes at once and the tractor,
+ *    so the target, a second later; a feed-forward that opened the bypass for a falling target
+ *    while the flow had already fallen below it doubled the dip (worst zone -11 % at 100 and
+ *    125 L/ha over seeds 1-8, now -4 / -3 %), and the low-speed points of a coupled map made it
+ *    open the bypass on a rising target;
+ *  - feedback: an incremental PI in the same normalised units as pid. P acts on the measurement
+ *    plus the part of the target's change the feed-forward does not cover (at the default
+ *    slope, FM_COVER): with a map that follows the plant (fixed PTO) a step is not kicked
+ *    twice; where the map is flat (coupled PTO) P acts on the whole error and the flow follows
+ *    a moving target. The integral is held while the servo still travels (|p_ref + ff - p_hat|
+ *    >= FM_IGATE: the valve integrates already, and an integral that counts the error while the
+ *    valve is on its way winds up), and for FM_HOLD periods (0.3 s, the meter's delay) after a
+ *    feed-forward move bigger than one period at full duty: it counted the error the move was
+ *    still removing (target-step overshoot 13-16 % at 100/125 L/ha, now 5-6 %).
+ * The servo drives |p_ref - p_hat| * T_travel, takes up the backlash after a reversal, and
+ * sends either nothing or at least the break-away duty 0.2 (moves under half the smallest real
+ * move are not made: a deadband against hunting).
  * Deadband with hysteresis (DESIGN.md): once |e| <= target/256 (0.4 %) with the target steady,
  * the servo stops where it is and only a slow integral (ki/2, no P on the noisy measurement)
  * acts until |e| > target/128 (0.8 %) or the target moves. Before, the 0.005-stroke smallest
- * move (0.2 duty a period) and the 2 % backlash made a +-0.4 L/min limit cycle at high flows
- * (full-duty take-up pulses then break-away pulses); the slow integral keeps the dose unbiased.
- * Where one break-away pulse moves the flow by more than the band (about 0.9 L/min = 2 % at
- * 45 L/min on the paper's run), a slow dither between two positions remains, with 40 % of the
- * former drive periods (paper's run, 110-125/180-200/240-260 s: 107 instead of 269 of 553);
- * a band wider than that resolution costs dose and CV (tried: 0.8/1.6 %, 0.8/3.1 %). With kp
- * 0.6: seeds 1-7 of tools/seeds.py worse than bp_pid on 20 of 91 checks (31 before),
- * target-step overshoot 7.5 -> 5.0 %.
+ * move (0.2 duty a period) and the 2 % backlash made a +-0.4 L/min limit cycle at high flows;
+ * where one break-away pulse moves the flow by more than the band (about 0.9 L/min = 2 % at
+ * 45 L/min), a slow dither between two positions remains; a band wider than that resolution
+ * costs dose and CV (tried: 0.8/1.6 %, 0.8/3.1 %).
  * The map learns where the loop is calm (target steady, error < 6 %), pulling the two nodes
- * around the target toward p_hat; frozen at end stops and at drive limit, and for FM_WARM
- * periods (20 s) after every (re)start: the start now rises from a parked-open valve while a
- * coupled PTO spins the pump up, and a map point learned then is wrong (coupled: the closure
- * that gives a flow is nearly constant). Learning from the start-up made coupled CV 1.73 %
- * (0.92 % without) and the target-step overshoot 11.6 % (6-7 % without).
- * No learning below P_MINF_SPEED either (FM_MINF_GATE): Table 1 holds the target at the 4 km/h
- * flow there while a coupled PTO slows the pump, so the closure learned for 18 L/min at 3 km/h
- * (much more closed) made the map fold back, and its feed-forward opened the bypass on every
- * re-acceleration (field run zones -12 %). Field run CV 1.52 -> 0.55 %, zone error -12.6/+17.1
- * -> -3.98/+9.02 %; other runs unchanged (they stay at 4 km/h or more). */
+ * around the target toward p_hat (nodes kept relative to a frame offset, so anchoring the first
+ * point and a stop's calibration are one addition each); frozen at end stops, under
+ * over-pressure and at drive limit, for FM_WARM periods (20 s) after every (re)start (the start
+ * rises from a parked-open valve while a coupled PTO spins the pump up: a point learned then is
+ * wrong), and below P_MINF_SPEED (Table 1 holds the target at the 4 km/h flow while a coupled
+ * PTO slows the pump: the map folded back). `make compare` then tools/seeds.py: best against
+ * bp_pid, means over seeds 1-8 of 12 scenarios: better on 72 of 87 figures (README). */
 #ifndef FM_KP
 #define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
 #endif
