@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """seeds.py: best against bp_pid over many seeds and every scenario family, figure by figure.
 
-usage: seeds.py SIM_BIN [--seeds A-B] [-v]
+usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--four]
 One seed is one draw of the plant's noise (pump pulsation phase, sensor noise, meter and wheel
 pulse timing); a single run can favour either controller by luck. For each scenario below and
 each seed (default 1-8) both controllers run on the same plant; the figures of PLANT.md are
 averaged over the seeds, and best's mean is compared with bp_pid's on every figure (dose error
 as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
 table and the count of figures where best's mean is worse; -v also prints the per-seed values
-of those. Two runs at a time; stdlib only.
+of those. --four: instead, the means of all four controllers on the 150 L/ha scenarios (the
+paper's ordering, without the luck of one seed). Two runs at a time; stdlib only.
 """
 import json
 import subprocess
@@ -50,6 +51,28 @@ def figure(m, k):
     return abs(v) if k in ("dose_error_pct", "zone_error_min_pct") else v
 
 
+def four(sim, seeds):
+    scns = ["target_step_150", "paper_dynamic_150", "paper_dynamic_150_fixed_pto", "field_3220m_150"]
+    ctls = ["pid", "fuzzy_pid", "bp_pid", "best"]
+    jobs = [(sim, s, c, seed) for s in scns for c in ctls for seed in seeds]
+    with ThreadPoolExecutor(2) as ex:
+        res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
+    print("the four controllers: means over seeds %d-%d" % (seeds[0], seeds[-1]))
+    for s in scns:
+        keys = (["rise_mean_s", "overshoot_mean_pct", "settle_mean_s", "sse_mean_abs_pct"] if s.startswith("target")
+                else ["dose_error_pct", "cv_pct", "zone_error_min_pct", "zone_error_max_pct", "overshoot_mean_pct",
+                      "settle_mean_s"])
+        print("  %s" % s)
+        print("    %-10s" % "" + "".join("%11s" % SHORT[k] for k in keys))
+        for c in ctls:
+            vals = []
+            for k in keys:
+                v = [figure(res[(s, c, sd)], k) for sd in seeds]
+                vals.append(sum(v) / len(v) if all(x is not None for x in v) else float("nan"))
+            print("    %-10s" % c + "".join("%11.3f" % v for v in vals))
+    return 0
+
+
 def main():
     args = sys.argv[1:]
     if not args or args[0].startswith("-"):
@@ -61,6 +84,8 @@ def main():
     if "--seeds" in args:
         a, b = args[args.index("--seeds") + 1].split("-")
         seeds = list(range(int(a), int(b) + 1))
+    if "--four" in args:
+        return four(sim, seeds)
     jobs = [(sim, s, c, seed) for s in SCENARIOS for c in ("best", "bp_pid") for seed in seeds]
     with ThreadPoolExecutor(2) as ex:
         res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
