@@ -71,6 +71,15 @@ typedef struct {
  * stopped short of its target for good) */
 #define FM_AT_CLOSED 28672
 #define FM_AT_OPEN (FM_AT_CLOSED - 32768)
+/* Gain schedule (tools/gen_fmgain.py writes the tables): g = FM_GS_K (1/Q_v + (1 - Pc/P)/Q_b),
+ * 80 L/min a stroke over the stroke's effect on the boom flow, clamped */
+extern const FX_CODE int16_t fm_inv_cv[17];     /* 4096 / Cv(o), o = k/16 */
+extern const FX_CODE int16_t fm_inv_sqp[26];    /* 4096 / sqrt(P), P = 64 k kPa */
+extern const FX_CODE int16_t fm_pc_p[26];       /* 32767 (1 - Pc/P) */
+extern const FX_CODE int16_t fm_inv_q[33];      /* 65536 / Q, Q = 2.56 k L/min */
+#define FM_GS_K 94                  /* Q10: 80 / ln(30) * 256 / 65536 = 0.0919 */
+#define FM_GS_MIN 179               /* Q8: 0.7 */
+#define FM_GS_MAX 410               /* Q8: 1.6 */
 #define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
 /* x100 L/min a Q15 stroke moves at the default slope (Q15): 512 * 32768 / FM_DEF_SLOPE */
 #define FM_COVER 9998
@@ -94,6 +103,7 @@ typedef struct {
     uint8_t pend;                   /* 1: the last drive is not yet accounted in p_hat (see ctl_applied) */
     uint8_t hold;                   /* periods the integral still waits after a big feed-forward move */
     uint8_t cal;                    /* 1: an end stop has set the estimate's frame */
+    int16_t gain;                   /* Q8: the gain schedule's factor of the last step (256 = 1) */
 } fm_state_t;
 
 typedef union {

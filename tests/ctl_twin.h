@@ -103,6 +103,23 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
  * 32767/16 x100 L/min of flow-equivalent, 0.2048 stroke a period. Part of the algorithm as
  * built (it cuts increments beyond about 20 L/min-equivalent), so the twin has it too. */
 #define CTLTW_FM_DU_MAX (32767.0 / 16.0 / 100.0 / CTL_FLOW_SCALE_LPM)
+/* fm_step's increment to stroke: du_q4 times 13422 (0.2048 * 65536) times the gain (Q8) over
+ * 2^24, the factor rounded to an integer first. The twin's increment is du * g; this is what
+ * the firmware's factor is made of (ctl.c fm_step), for the interval of its rounding. */
+#define CTLTW_FM_DU_F 13422.0           /* ctl.c fm_step: (13422L * m->gain + 128) >> 8 */
+#define CTLTW_FM_DU_F_EXACT (0.2048 * 65536.0)  /* 13421.77: the factor of an exact 0.2048 */
+
+/* The gain schedule (ctl.c fm_gain): g = K (1/Q_v + (1 - Pc/P)/Q_b), clamped, 1 until an end stop
+ * has set the frame. The sum comes from the firmware's tables (ctl_int.h, tools/gen_fmgain.py),
+ * read as data and interpolated in double: 1/Q_v = fm_inv_cv(o) fm_inv_sqp(P) / 2^24, (1 - Pc/P)/Q_b
+ * = fm_pc_p(P) fm_inv_q(y) / 2^31, as the firmware scales them (its s is this sum in Q16 of
+ * 1/(L/min), cut at 8191); o = 1 - (p_hat - FM_AT_OPEN) the opening, P cut at 1599 kPa, y at
+ * 0 .. 81.91 L/min. K and the clamps as plain numbers (test_ctl.c checks their Q10 / Q8). */
+#define CTLTW_FM_GS_K (80.0 / 3.4011973816621555)   /* ctl_int.h FM_GS_K: 80 L/min / ln(30) = 23.52 L/min
+                                         * (its Q10 of K 256 / 65536: 94) */
+#define CTLTW_FM_GS_MIN 0.7             /* ctl_int.h FM_GS_MIN Q8(0.7) */
+#define CTLTW_FM_GS_MAX 1.6             /* ctl_int.h FM_GS_MAX Q8(1.6) */
+#define CTLTW_FM_GS_SCUT (8191.0 / 65536.0)    /* fm_gain's cut of the sum (an int16 for MUL), 1/(L/min) */
 
 /* The closures are kept in the estimate's frame, which is no longer cut to the stroke: p_hat
  * and p_ref may leave 0 .. 1 between end-stop calibrations. As int16 of Q15 in the firmware they
@@ -125,6 +142,7 @@ typedef struct {
     int pend;                       /* 1: the last drive is not yet accounted in p_hat */
     double last;                    /* the drive the controller sent last (ctl.c ctl_last), duty */
     int first;                      /* 1: the loop (re)starts with this step (ctl_reset before it) */
+    double gain;                    /* the gain schedule's factor of the last step (1 = unscaled) */
 } ctltw_fm_t;
 
 typedef struct {
@@ -132,11 +150,13 @@ typedef struct {
     double speed, minf_speed;       /* km/h: ground speed and P_MINF_SPEED */
     int limit;                      /* CTL_AT_* and CTL_NO_CLOSE */
     double travel;                  /* periods for a full stroke at full duty (P_VALVE_TRAVEL) */
+    double pressure;                /* kPa: the boom's pressure (the gain schedule's input) */
 } ctltw_fm_in_t;
 
 /* Decisions the fixed-point rounding can tip. The twin follows, step by step, the interval in
  * which the firmware's value minus its own can lie (the map's interpolation, the feed-forward's
- * flow and the PI increment rounded, the gains in Q12, full duty at 32767, the backlash at
+ * flow and the PI increment rounded, the gains in Q12, the gain schedule in Q8 from rounded table
+ * lookups, full duty at 32767, the backlash at
  * 655/32768, 1/T_travel at round(32768/T), the moves a drive makes rounded to an LSB; *_lo ..
  * *_hi below) and flags a step where a closure or a drive it compares with a
  * threshold may lie on the other side of the firmware's threshold (the Q15 constant) within that
@@ -176,6 +196,9 @@ typedef struct {
 #define CTLTW_P_STILL 0x100000u     /* a drive accounted under the break-away duty: no move */
 #define CTLTW_P_NOCLOSE 0x200000u   /* over-pressure (CTL_NO_CLOSE alone) held p_ref or cut a closing drive */
 #define CTLTW_P_FRAME 0x400000u     /* p_hat or p_ref outside 0 .. 1 (the frame beyond the stroke) */
+#define CTLTW_P_GAIN 0x800000u      /* the gain schedule inside its clamps (frame set) */
+#define CTLTW_P_GAIN_MIN 0x1000000u /* ... clamped at CTLTW_FM_GS_MIN */
+#define CTLTW_P_GAIN_MAX 0x2000000u /* ... clamped at CTLTW_FM_GS_MAX */
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed (ctltw_fm_applied: the drive given) */
     int sat;                        /* what ctl_saturated() reports after the step */
@@ -186,6 +209,14 @@ typedef struct {
     double off_lo, off_hi;          /* ... off's (off_iv 1: checked; 0 after a saturated lookup learned) */
     int off_iv;
     double drive_lo, drive_hi;      /* duty: the same for the drive (a flagged branch aside) */
+    double gain;                    /* the gain schedule (1 = unscaled; ctl_st.fm.gain / 256) */
+    double gain_lo, gain_hi;        /* the firmware's gain (Q8 / 256) minus the twin's: p_hat's interval
+                                     * through the opening, each lookup rounded (+-0.5 of a table's
+                                     * unit), the products' and the result's shifts (+-0.5), FM_GS_K
+                                     * in Q10 and the clamps in Q8 */
+    double gain_tab;                /* Q8 LSB: the lookups' rounding alone through the sum, K s_i (0.5
+                                     * (a + b) / 256 + 0.5 (c + d) / 32768), for the test's tolerance */
+    double du;                      /* stroke: the PI increment before the gain (after its cut) */
     unsigned border;                /* CTLTW_B_* */
     unsigned path;                  /* CTLTW_P_* */
 } ctltw_fm_out_t;

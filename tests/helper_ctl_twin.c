@@ -101,6 +101,7 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t last)
     tw->pend = fm->pend;
     tw->last = last / 32768.0;
     tw->first = first;
+    tw->gain = fm->gain / 256.0;
 }
 
 /* Flows and speeds are decimals of 0.01 (the firmware's x100 integers): a tie between two of
@@ -387,6 +388,65 @@ static void ctltw_fm_learn(ctltw_fm_t *m, double q, ctltw_fm_err_t *er, ctltw_fm
     m->seen |= 1ul << near;
 }
 
+/* FM_TAB in double: table t at x (in nodes, 0 <= x < the last node), linear between the nodes */
+static double ctltw_tab(const int16_t *t, double x)
+{
+    int i = (int)floor(x);
+    return i == x ? t[i] : t[i] + (t[i + 1] - t[i]) * (x - i);
+}
+
+/* fm_gain's sum 1/Q_v + (1 - Pc/P)/Q_b in Q16 of 1/(L/min) (the firmware's s before its cut) at the
+ * estimate ph (stroke), the pressure p (kPa) and the flow y (L/min), from the firmware's tables.
+ * h 0: the tables interpolated exactly (the twin's); h -0.5 / +0.5: the least / most the
+ * firmware's arithmetic makes of the same lookups (each rounded to an integer of its table,
+ * +-0.5, each product's shift +-0.5; all of it non-negative, so the bounds are the products of
+ * the bounds). tab: the lookups' rounding alone through the sum (Q16). */
+static double ctltw_fm_gs_sum(double ph, double p, double y, double h, double *tab)
+{
+    double o = 32767 - ctltw_clamp(ph * 32768 - FM_AT_OPEN, 0, 32767);      /* opening, Q15 */
+    double pk = ctltw_clamp(p, 64, 1599), yq = ctltw_clamp(floor(y * 100 + 0.5), 0, 8191);   /* x100 */
+    double a = ctltw_tab(fm_inv_cv, o / 2048), b = ctltw_tab(fm_inv_sqp, pk / 64);
+    double c = ctltw_tab(fm_pc_p, pk / 64), d = ctltw_tab(fm_inv_q, yq / 256);
+    if (tab)
+        *tab = (0.5 * (a + b) + 0.25) / 256 + (0.5 * (c + d) + 0.25) / 32768;
+    return fmax(a + h, 0) * fmax(b + h, 0) / 256 + h + fmax(c + h, 0) * fmax(d + h, 0) / 32768 + h;
+}
+
+/* fm_gain: the gain schedule at this step's estimate (1 until an end stop has set the frame):
+ * K times the sum, clamped. e: the firmware's (Q8 / 256) minus it, from p_hat's interval (the sum
+ * grows with the closure: fm_inv_cv falls with the opening), the lookups' and shifts' rounding,
+ * FM_GS_K in Q10, the result rounded and clamped to FM_GS_MIN .. FM_GS_MAX (all monotone). */
+static double ctltw_fm_gain(const ctltw_fm_t *m, const ctltw_fm_in_t *in, const ctltw_fm_err_t *er,
+                            ctltw_iv_t *e, double *tab, ctltw_fm_out_t *o)
+{
+    double s, g, lo, hi;
+    *e = ctltw_iv(0, 0);
+    *tab = 0;
+    if (!m->cal)
+        return 1;
+    s = fmin(ctltw_fm_gs_sum(m->p_hat, in->pressure, in->flow, 0, tab) / 65536, CTLTW_FM_GS_SCUT);
+    g = ctltw_clamp(CTLTW_FM_GS_K * s, CTLTW_FM_GS_MIN, CTLTW_FM_GS_MAX);
+    o->path |= g == CTLTW_FM_GS_MIN ? CTLTW_P_GAIN_MIN : g == CTLTW_FM_GS_MAX ? CTLTW_P_GAIN_MAX : CTLTW_P_GAIN;
+    *tab *= FM_GS_K / 1024.0;
+    lo = fmin(ctltw_fm_gs_sum(m->p_hat + er->ph.lo, in->pressure, in->flow, -0.5, NULL), 8191);
+    hi = fmin(ctltw_fm_gs_sum(m->p_hat + er->ph.hi, in->pressure, in->flow, 0.5, NULL), 8191);
+    lo = ctltw_clamp(lo * FM_GS_K / 1024 - 0.5, FM_GS_MIN, FM_GS_MAX);
+    hi = ctltw_clamp(hi * FM_GS_K / 1024 + 0.5, FM_GS_MIN, FM_GS_MAX);
+    *e = ctltw_iv(lo / 256 - g, hi / 256 - g);
+    return g;
+}
+
+/* u (stroke) times a factor within fl .. fh (> 0): the least and the most it can be */
+static double ctltw_mul_lo(double u, double fl, double fh)
+{
+    return u >= 0 ? u * fl : u * fh;
+}
+
+static double ctltw_mul_hi(double u, double fl, double fh)
+{
+    return u >= 0 ? u * fh : u * fl;
+}
+
 /* fm_step's output stage on a drive: cut at full duty, the break-away rounding, the end stops'
  * (and over-pressure's) cut. full, brk, half: full duty, the break-away duty and its half as the
  * step holds them (the firmware's, to see where its drive lands). Monotone in x. */
@@ -451,8 +511,8 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     const double lsb = LSB;
     double q = in->target, y = in->flow, T = in->travel;
     double e = ctltw_clamp(q - y, -CTLTW_E_MAX, CTLTW_E_MAX), ae = fabs(e);
-    double d, g, dq, band, du, raw, k, bg = 0, r, rb, need, need0, c, pre, drive, rel, xr, xl, xh;
-    ctltw_iv_t e_d, e_need, e_c, e_pre;
+    double d, g, dq, band, du, raw, k, bg = 0, r, rb, need, need0, c, pre, drive, rel, xr, xl, xh, gn, fl, fh;
+    ctltw_iv_t e_d, e_need, e_c, e_pre, e_gn;
     int s, moving, calm_if;
     memset(&o, 0, sizeof o);
 
@@ -543,11 +603,27 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         o.path |= CTLTW_P_COVER;
     if (fabs(raw) / CTL_FLOW_SCALE_LPM > CTLTW_FM_DU_MAX)
         o.path |= CTLTW_P_DUCUT;
+    /* the gain schedule scales the increment (the firmware's gain within gn + e_gn) */
+    gn = ctltw_fm_gain(m, in, &er, &e_gn, &o.gain_tab, &o);
+    m->gain = gn;
+    o.gain = gn;
+    o.gain_lo = e_gn.lo;
+    o.gain_hi = e_gn.hi;
+    o.du = du;
     /* The firmware's increment: its feed-forward (e_d) through the covered flow, rounded to an
      * x100 L/min (r; exact for a feed-forward exactly 0), the gains in Q12 (bg, L/min), du to Q4
-     * (0.1 LSB) and the stroke to an LSB (0.5), 26844 / 2^17 for 0.2048 (1.7e-5 of it; rb, none
-     * where the firmware's increment is exactly 0). d + du grows with d (P takes back 0.6 of a
-     * feed-forward change), so its ends are at d's: both are tried. */
+     * (half of 1/16 x100 L/min: 0.1 LSB before the gain), times the gain's factor (fl .. fh: its
+     * Q8 interval e_gn times 13422 / 256, rounded to an integer, over 13421.77 for 0.2048; exactly
+     * 13422 before the frame is set) and the stroke rounded to an LSB (0.5; rb); none of it where
+     * the firmware's increment is exactly 0. d + g du grows with d (P takes back 0.6 of a
+     * feed-forward change, times at most 1.6: 0.96), so its ends are at d's, and for a given d it
+     * is linear in g: the four corners are tried. */
+    if (m->cal) {
+        fl = (CTLTW_FM_DU_F * (gn + e_gn.lo) - 0.5) / CTLTW_FM_DU_F_EXACT;
+        fh = (CTLTW_FM_DU_F * (gn + e_gn.hi) + 0.5) / CTLTW_FM_DU_F_EXACT;
+    } else {
+        fl = fh = CTLTW_FM_DU_F / CTLTW_FM_DU_F_EXACT;
+    }
     r = d == 0 && e_d.lo == 0 && e_d.hi == 0 ? 0 : 0.005;
     if (m->rest) {
         bg = fabs(CTLTW_FM_REST_KI - Q12(CTLTW_FM_REST_KI) / 4096.0) * ae;
@@ -558,16 +634,27 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
             bg += fabs(CTLTW_FM_KI - Q12(CTLTW_FM_KI) / 4096.0) * ae;
     }
     {
-        double dd[2] = {d + e_d.lo, d + e_d.hi}, lo[2], hi[2], rw[4];
+        double dd[2] = {d + e_d.lo, d + e_d.hi}, ul[2], uh[2], rw[4], q4;
         for (int j = 0; j < 2; j++) {
-            lo[j] = dd[j] + ctltw_fm_du(&pi, ctltw_sat(dd[j]) * CTLTW_FM_COVER + r, -bg, NULL, &rw[2 * j]);
-            hi[j] = dd[j] + ctltw_fm_du(&pi, ctltw_sat(dd[j]) * CTLTW_FM_COVER - r, bg, NULL, &rw[2 * j + 1]);
+            ul[j] = ctltw_fm_du(&pi, ctltw_sat(dd[j]) * CTLTW_FM_COVER + r, -bg, NULL, &rw[2 * j]);
+            uh[j] = ctltw_fm_du(&pi, ctltw_sat(dd[j]) * CTLTW_FM_COVER - r, bg, NULL, &rw[2 * j + 1]);
         }
-        rb = rw[0] == 0 && rw[1] == 0 && rw[2] == 0 && rw[3] == 0 ? 0 : 0.61 * lsb + 1.7e-5 * fabs(du) + 1e-12;
-        xl = fmin(lo[0], lo[1]) - rb + rel + er.rel.lo;
-        xh = fmax(hi[0], hi[1]) + rb + rel + er.rel.hi;
+        if (rw[0] == 0 && rw[1] == 0 && rw[2] == 0 && rw[3] == 0) {
+            q4 = rb = 0;
+        } else {
+            q4 = 0.5 / 16 / 100 / CTL_FLOW_SCALE_LPM + 1e-12;   /* du_q4's rounding, stroke */
+            rb = 0.5 * lsb + 1e-12;
+        }
+        for (int j = 0; j < 2; j++) {
+            ul[j] -= q4;
+            uh[j] += q4;
+            if (ul[j] < -CTLTW_FM_DU_MAX)
+                ul[j] = -32768.0 / 16 / 100 / CTL_FLOW_SCALE_LPM;  /* fx_sat16's low end is -32768 */
+        }
+        xl = fmin(dd[0] + ctltw_mul_lo(ul[0], fl, fh), dd[1] + ctltw_mul_lo(ul[1], fl, fh)) - rb + rel + er.rel.lo;
+        xh = fmax(dd[0] + ctltw_mul_hi(uh[0], fl, fh), dd[1] + ctltw_mul_hi(uh[1], fl, fh)) + rb + rel + er.rel.hi;
     }
-    xr = d + du + rel;
+    xr = d + gn * du + rel;
 
     /* p_ref within FM_LEAD of p_hat, an int16, held at p_hat against a stop (or over-pressure) */
     if (xr > CTLTW_FM_LEAD || xr < -CTLTW_FM_LEAD)

@@ -404,12 +404,17 @@ static void test_ctl_ffmap_deadband_hysteresis(void **state)
 /* ---- ffmap against its double-precision twin ----------------------------------------------- */
 /* A toy plant in integers: the bypass valve (closure Q15, full stroke in T_travel periods at
  * full duty, 1.5 % backlash of its own, end stops), a convex closure -> boom flow curve on a
- * pump that follows the ground speed, a lag of a few periods and a noisy meter. */
+ * pump that follows the ground speed (a coupled PTO) or, once an end stop has set ffmap's frame,
+ * now and then a big fixed one, a lag of a few periods and a noisy meter; the boom's pressure
+ * from its nozzles (diag.c's model: P = 30 kPa of check valves + 300 kPa (Q / Q_3bar)^2, the
+ * relief valve at 600 kPa). */
 typedef struct {
     int32_t pos;                    /* Q15 closure */
     int32_t slack;                  /* Q15 backlash still to take up */
     int dir;
     int32_t flow;                   /* x100 L/min in the boom */
+    int32_t pump;                   /* x100 L/min: a fixed PTO's pump; 0: coupled, with the speed */
+    int32_t q3;                     /* x100 L/min: what the boom's nozzles pass at 3 bar */
 } fm_toy_t;
 
 static uint32_t fm_rng = 1u;        /* its own sequence: the other tests' inputs stay as they were */
@@ -437,10 +442,18 @@ static void fm_toy_move(fm_toy_t *p, q15_t d, int travel)
 
 static int fm_toy_flow(fm_toy_t *p, int speed_x100)
 {
-    int32_t pump = 5000 + 4 * speed_x100;                               /* 56 .. 94 L/min */
+    int32_t pump = p->pump ? p->pump : 5000 + 4 * speed_x100;           /* 56 .. 94 L/min coupled */
     int32_t g = (p->pos * (9830 + ((22938 * p->pos) >> 15))) >> 15;     /* boom share, Q15 */
     p->flow += ((pump * g >> 15) - p->flow) / 3;
     return (int)p->flow;
+}
+
+/* the boom's pressure, kPa: the nozzles at the boom's flow, 30 .. 600 kPa, a noisy sensor */
+static uint16_t fm_toy_pressure(const fm_toy_t *p)
+{
+    double r = p->flow > 0 ? (double)p->flow / p->q3 : 0;
+    int kpa = (int)(30 + 300 * r * r + 0.5) + fm_rnd(-3, 3);
+    return (uint16_t)(kpa < 30 ? 30 : kpa > 600 ? 600 : kpa);
 }
 
 static uint8_t fm_toy_stops(const fm_toy_t *p)
@@ -449,6 +462,15 @@ static uint8_t fm_toy_stops(const fm_toy_t *p)
 }
 
 #define FM_TOL_LSB 4.0
+/* The gain schedule: the firmware's Q8 gain within FM_GAIN_TOL_LSB of the twin's (times 256)
+ * plus the lookups' rounding through the sum (o.gain_tab). The 2 LSB: the result rounded (0.5),
+ * the products' shifts (0.1), FM_GS_K = 94 in Q10 for 94.08 (0.09 %: 0.4 at 1.6), p_hat's few
+ * LSB through the opening (under 0.4 where the gain is not clamped). */
+#define FM_GAIN_TOL_LSB 2.0
+/* ... and p_ref (the drive: times T_travel) within FM_TOL_LSB plus |du| (the increment before the
+ * gain) times that tolerance / 256 and 0.02 / 256 more (13422 for 0.2048 * 65536, the factor
+ * 13422 gain / 256 rounded to an integer: 0.5 / 13422). */
+#define FM_GAIN_F_LSB 0.02
 #define FM_STEPS 12000
 #define FM_RELIEVE Q15(0.5)         /* app.c APP_RELIEVE_DRIVE: over-pressure opens the bypass at 50 % */
 #define FM_JOG Q15(0.6)             /* app.c APP_JOG_DRIVE */
@@ -456,6 +478,9 @@ static uint8_t fm_toy_stops(const fm_toy_t *p)
 typedef struct {
     double drive, drive_stroke, ref, hat, take, node, off;  /* worst |firmware - twin|, LSB */
     double b_ref, b_hat, b_drive;   /* widest rounding interval (half-width), LSB */
+    double gain, gain_tol, b_gain;  /* worst |gain - twin's| (Q8 LSB), its tolerance there, widest interval */
+    double ref_use, drive_use;      /* worst |p_ref|, |drive| error over its step's tolerance */
+    double tol_ref;                 /* widest p_ref tolerance of a step (LSB) */
 } fm_worst_t;
 
 static double fm_wmax(double w, double x)
@@ -470,11 +495,11 @@ static int fm_in(double x, double lo, double hi)
 }
 
 /* The firmware's state after a step or a ctl_applied against the twin's: p_ref, p_hat, takeup
- * (and off, where the twin carries it) inside the intervals of the firmware's rounding; they,
- * every node and off within FM_TOL_LSB of Q15 stroke; dir, rest, warm, hold, pend (and, map_too,
- * calm and seen) equal. */
+ * (and off, where the twin carries it) inside the intervals of the firmware's rounding; p_ref
+ * within tol_ref, p_hat, takeup, every node and off within FM_TOL_LSB of Q15 stroke; dir, rest,
+ * warm, hold, pend (and, map_too, calm and seen) equal. */
 static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw_fm_t *tw, const ctltw_fm_out_t *o,
-                       int map_too, fm_worst_t *w)
+                       int map_too, double tol_ref, fm_worst_t *w)
 {
     double dr = f->p_ref - tw->p_ref * 32768, dh = f->p_hat - tw->p_hat * 32768, dt = f->takeup - tw->takeup * 32768;
     double doff = f->off - tw->off * 32768, en = 0;
@@ -496,7 +521,7 @@ static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw
                  tw->p_hat * 32768, o->hat_lo * 32768, o->hat_hi * 32768, f->takeup, tw->takeup * 32768,
                  o->take_lo * 32768, o->take_hi * 32768, f->off, tw->off * 32768, o->off_lo * 32768,
                  o->off_hi * 32768, o->off_iv ? "" : ", not carried");
-    if (fabs(dr) > FM_TOL_LSB || fabs(dh) > FM_TOL_LSB || fabs(dt) > FM_TOL_LSB || fabs(doff) > FM_TOL_LSB
+    if (fabs(dr) > tol_ref || fabs(dh) > FM_TOL_LSB || fabs(dt) > FM_TOL_LSB || fabs(doff) > FM_TOL_LSB
         || en > FM_TOL_LSB || f->dir != tw->dir || f->rest != tw->rest || f->warm != tw->warm || f->hold != tw->hold || f->cal != tw->cal
         || f->pend != tw->pend || (map_too && f->calm != tw->calm) || seen != tw->seen)
         fail_msg("ffmap %s %d: p_ref %d twin %.1f, p_hat %d twin %.1f, takeup %d twin %.1f, off %d twin %.1f, worst "
@@ -506,6 +531,7 @@ static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw
                  f->off, tw->off * 32768, en, f->dir, tw->dir, f->rest, tw->rest, f->warm, tw->warm, f->hold,
                  tw->hold, f->pend, tw->pend, f->calm, tw->calm, seen, tw->seen, o->path, o->border);
     w->ref = fm_wmax(w->ref, fabs(dr));
+    w->ref_use = fm_wmax(w->ref_use, fabs(dr) / tol_ref);
     w->hat = fm_wmax(w->hat, fabs(dh));
     w->take = fm_wmax(w->take, fabs(dt));
     w->off = fm_wmax(w->off, fabs(doff));
@@ -522,7 +548,7 @@ static unsigned fm_applied(int k, q15_t da, uint8_t limit, q15_t last, int trave
     ctltw_fm_load(&ta, &ctl_st.fm, 0, last);
     ctltw_fm_out_t oa = ctltw_fm_applied(&ta, da / 32768.0, limit, travel);
     ctl_applied(da, limit);
-    fm_compare("applied", k, &ctl_st.fm, &ta, &oa, 1, w);
+    fm_compare("applied", k, &ctl_st.fm, &ta, &oa, 1, FM_TOL_LSB, w);
     fm_toy_move(toy, da, travel);
     return oa.path;
 }
@@ -534,20 +560,32 @@ static unsigned fm_applied(int k, q15_t da, uint8_t limit, q15_t last, int trave
  * dropouts, end-stop flags (at the stops, and early near them: a stop the valve's estimate
  * finds too soon), over-pressure (CTL_NO_CLOSE), a restart half-way onto a slower valve
  * (T_travel 40, then 64 periods: backlash left to take up between steps) and two manual
- * interludes (jogs, then a bumpless restart); the map learns (warm-up passed). Each segment
- * runs, at random,
+ * interludes (jogs, then a bumpless restart); the map learns (warm-up passed). The boom's
+ * pressure follows its nozzles (30 .. 600 kPa, a boom of 25 .. 80 L/min at 3 bar a segment), and
+ * once an end stop has set the frame a third of the segments run a big fixed PTO pump (150 ..
+ * 320 L/min) instead of the coupled one (56 .. 94 L/min): the gain schedule goes over its range,
+ * both clamps included (the toy's valve passes more than the tables' at small openings, so the
+ * low clamp needs a big pump, a high flow and a high pressure). Each segment runs, at random,
  *  - the controller alone: its drive is accounted at the start of the next step (pend);
  *  - as app.c: ctl_applied(what the valve got, its stops) after every step, the step seeing
  *    the stops a period late; the valve gets the over-pressure relief (-50 % whatever was
  *    asked), now and then half the drive (a weak supply), nothing against a stop it is at
  *    (refused); the manual jogs are ctl_applied alone.
  * On each step:
+ *  - the gain schedule (ctl_st.fm.gain, Q8) within the twin's interval of the firmware's rounding
+ *    (p_hat's interval through the opening, the table lookups, the shifts, FM_GS_K in Q10, the
+ *    clamps in Q8) and within FM_GAIN_TOL_LSB plus the lookups' rounding (o.gain_tab) of the
+ *    twin's, which computes it in double from the same tables (every step, skipped ones too: it
+ *    comes before any borderline decision); 256 exactly before an end stop has set the frame;
  *  - p_ref, p_hat, takeup, off and the drive lie within the twin's interval of the firmware's
  *    rounding for that step (the map's lookups, the covered flow and the PI increment rounded,
- *    kp in Q12, the backlash at 655/32768, 1/T_travel in Q15 and each move rounded; the drive is
- *    need times T_travel, a product the firmware makes exactly);
- *  - closures (p_ref, p_hat, takeup, off, every node) within FM_TOL_LSB LSB of Q15 stroke, the
- *    drive within (FM_TOL_LSB + 0.5) * T_travel LSB of Q15 duty (need's error and the
+ *    kp in Q12, the gain's interval through its factor 13422 gain / 256 rounded, the backlash at
+ *    655/32768, 1/T_travel in Q15 and each move rounded; the drive is need times T_travel, a
+ *    product the firmware makes exactly);
+ *  - closures (p_hat, takeup, off, every node) within FM_TOL_LSB LSB of Q15 stroke; p_ref within
+ *    FM_TOL_LSB plus |du| (the increment before the gain) times (the gain's tolerance +
+ *    FM_GAIN_F_LSB) / 256 (an increment of 0.2 stroke with the gain off by 2 LSB of Q8 is 50 LSB
+ *    off), the drive within (that + 0.5) * T_travel LSB of Q15 duty (need's error and the
  *    backlash's, times T_travel);
  *  - rest, dir, hold, pend, calm, warm, seen and the saturation flag equal.
  * Each ctl_applied is compared the same way (twin loaded from the state after the step).
@@ -559,11 +597,13 @@ static unsigned fm_applied(int k, q15_t da, uint8_t limit, q15_t last, int trave
 static void test_ctl_ffmap_matches_twin(void **state)
 {
     (void)state;
-    fm_toy_t toy = {Q15(0.5), 0, 0, 0};
+    fm_toy_t toy = {Q15(0.5), 0, 0, 0, 0, 4250};  /* 36 nozzles of 1.18 L/min at 3 bar */
     fm_worst_t w;
     int travel = (int)param_v[P_VALVE_TRAVEL];
-    double tol_drive = (FM_TOL_LSB + 0.5) * travel;
     unsigned paths = 0, paths_app = 0;
+    int g_min = 0, g_max = 0, g_in = 0, g_off = 0, g_fixed = 0, g_fw_min = 0, g_fw_max = 0, g_values = 0;
+    int p_min = 9999, p_max = 0;
+    unsigned char g_seen[512] = {0};
     int skipped = 0, partial = 0, compared = 0, sat_edges = 0, kinds[CTLTW_B_KINDS] = {0};
     int learned = 0, rested = 0, slow = 0, forced = 0, force_left = 0, overp_left = 0, overp_steps = 0;
     int applied = 0, relief = 0, weak = 0, refused = 0, jogs = 0, calib_app = 0, pend_moves = 0, frame = 0;
@@ -578,6 +618,9 @@ static void test_ctl_ffmap_matches_twin(void **state)
     assert_int_equal(FM_DEF_SLOPE, Q15(CTLTW_FM_BIN / CTL_FLOW_SCALE_LPM));   /* 5.12 L/min a 0.0512 stroke */
     assert_int_equal(FM_COVER, (1L << FM_BIN_SHIFT) * 32768L / FM_DEF_SLOPE);
     assert_int_equal(travel, 40);
+    assert_int_equal(FM_GS_K, (int)(CTLTW_FM_GS_K * 1024 * 256 / 65536 + 0.5));  /* Q10 of K 256 / 65536 */
+    assert_int_equal(FM_GS_MIN, Q8(CTLTW_FM_GS_MIN));
+    assert_int_equal(FM_GS_MAX, Q8(CTLTW_FM_GS_MAX));
     ctl_select(CTL_BEST);
     for (int k = 0; k < FM_STEPS; k++) {
         /* the inputs: segments of steps, ramps and speed-following targets */
@@ -593,6 +636,9 @@ static void test_ctl_ffmap_matches_twin(void **state)
                 target = fm_rnd(1200, 7600);
             else if (seg_kind == 6)
                 target = ++out_of_reach & 1 ? 0 : fm_rnd(8200, 9000);  /* nothing, or beyond the last node */
+            /* the boom's nozzles; once the frame is set, now and then a big fixed PTO pump */
+            toy.q3 = fm_rnd(2500, 8000);
+            toy.pump = ctl_st.fm.cal && fm_rnd(0, 2) == 0 ? fm_rnd(15000, 32000) : 0;
         }
         seg_left--;
         if ((seg_kind == 2 || seg_kind == 5) && seg_left % 30 == 0)
@@ -657,7 +703,6 @@ static void test_ctl_ffmap_matches_twin(void **state)
              * ctl_applied the last step's drive, still pending, is replaced by ctl_reset's 0 */
             assert_int_equal(param_set(P_VALVE_TRAVEL, 64), 1);
             travel = 64;
-            tol_drive = (FM_TOL_LSB + 0.5) * travel;
             ctl_reset(0);
             last = 0;
             first = 1;
@@ -666,11 +711,14 @@ static void test_ctl_ffmap_matches_twin(void **state)
         uint8_t limit = (uint8_t)((seg_app ? prev_stops : stops | early) | (overp ? CTL_NO_CLOSE : 0));
         ctl_in_t in = mk(target, flow, limit);
         in.speed_kmh_x100 = (uint16_t)speed;
+        in.pressure_kpa = fm_toy_pressure(&toy);
+        p_min = in.pressure_kpa < p_min ? in.pressure_kpa : p_min;
+        p_max = in.pressure_kpa > p_max ? in.pressure_kpa : p_max;
 
         /* the twin from the same state, one step */
         ctltw_fm_t tw;
         ctltw_fm_in_t ti = {target / 100.0, flow / 100.0, speed / 100.0, param_v[P_MINF_SPEED] / 10.0,
-                            limit, travel};
+                            limit, travel, in.pressure_kpa};
         ctltw_fm_load(&tw, &ctl_st.fm, first, last);
         ctltw_fm_out_t o = ctltw_fm_step(&tw, &ti);
         q15_t d = ctl_step(&in);
@@ -708,6 +756,33 @@ static void test_ctl_ffmap_matches_twin(void **state)
             fm_toy_move(&toy, d, travel);
         }
 
+        /* the gain schedule: before any borderline decision, so on every step */
+        double gtol = FM_GAIN_TOL_LSB + o.gain_tab, eg = after.gain - o.gain * 256;
+        if (after.gain / 256.0 - o.gain < o.gain_lo - 1e-9 || after.gain / 256.0 - o.gain > o.gain_hi + 1e-9
+            || fabs(eg) > gtol || tw.gain != o.gain || (!after.cal && after.gain != 256))
+            fail_msg("ffmap step %d (flow %d, %u kPa, p_hat %d, cal %d): gain %d twin %.2f (%.2f .. %.2f; tolerance "
+                     "%.2f LSB of Q8)", k, flow, in.pressure_kpa, after.p_hat, after.cal, after.gain, o.gain * 256,
+                     o.gain_lo * 256, o.gain_hi * 256, gtol);
+        if (fabs(eg) > w.gain) {
+            w.gain = fabs(eg);
+            w.gain_tol = gtol;
+        }
+        w.b_gain = fm_wmax(w.b_gain, fmax(-o.gain_lo, o.gain_hi) * 256);
+        g_min += (o.path & CTLTW_P_GAIN_MIN) != 0;
+        g_max += (o.path & CTLTW_P_GAIN_MAX) != 0;
+        g_in += (o.path & CTLTW_P_GAIN) != 0;
+        g_off += !after.cal;
+        g_fixed += after.cal && toy.pump != 0;
+        g_fw_min += after.gain == FM_GS_MIN;
+        g_fw_max += after.gain == FM_GS_MAX;
+        if (after.gain > FM_GS_MIN && after.gain < FM_GS_MAX && !g_seen[after.gain]) {
+            g_seen[after.gain] = 1;
+            g_values++;
+        }
+        /* p_ref's (and the drive's) tolerance: the gain's share of the increment (none before the frame) */
+        double tol_ref = FM_TOL_LSB + fabs(o.du) * 32768 * ((after.cal ? gtol : 0) + FM_GAIN_F_LSB) / 256;
+        double tol_drive = (tol_ref + 0.5) * travel;
+
         for (int b = 0; b < CTLTW_B_KINDS; b++)
             kinds[b] += o.border >> b & 1u;
         if (o.border & CTLTW_B_SERVO) {
@@ -734,16 +809,25 @@ static void test_ctl_ffmap_matches_twin(void **state)
             fail_msg("ffmap step %d (target %d flow %d speed %d limit %d): drive %d twin %.1f, sat %d/%d "
                      "(path %x border %x)", k, target, flow, speed, limit, d, o.drive * 32768, sat, o.sat, o.path,
                      o.border);
-        fm_compare("step", k, &after, &tw, &o, map_too, &w);
+        fm_compare("step", k, &after, &tw, &o, map_too, tol_ref, &w);
         w.b_drive = fm_wmax(w.b_drive, fmax(-o.drive_lo, o.drive_hi) * 32768);
         w.drive = fm_wmax(w.drive, ed);
         w.drive_stroke = fm_wmax(w.drive_stroke, ed / travel);
+        w.drive_use = fm_wmax(w.drive_use, ed / tol_drive);
+        w.tol_ref = fm_wmax(w.tol_ref, tol_ref);
     }
-    print_message("ffmap: worst drive %.2f LSB of Q15 duty (%.2f LSB of stroke a period; tolerance %.1f), p_ref %.2f, "
+    print_message("ffmap: worst drive %.2f LSB of Q15 duty (%.2f LSB of stroke a period; %.0f %% of its step's tolerance, "
+                  "(p_ref's + 0.5) T_travel), p_ref %.2f (%.0f %% of its step's, %.1f + the gain's share, up to %.1f), "
                   "p_hat %.2f, takeup %.2f, off %.2f, node %.2f LSB of Q15 (tolerance %.0f)\n",
-                  w.drive, w.drive_stroke, FM_TOL_LSB + 0.5, w.ref, w.hat, w.take, w.off, w.node, FM_TOL_LSB);
+                  w.drive, w.drive_stroke, 100 * w.drive_use, w.ref, 100 * w.ref_use, FM_TOL_LSB, w.tol_ref, w.hat,
+                  w.take, w.off, w.node, FM_TOL_LSB);
     print_message("ffmap: the rounding's intervals held on every step and ctl_applied compared (widest p_ref %.2f, "
-                  "p_hat %.2f, drive %.2f LSB)\n", w.b_ref, w.b_hat, w.b_drive);
+                  "p_hat %.2f, drive %.2f LSB; gain %.2f LSB of Q8)\n", w.b_ref, w.b_hat, w.b_drive, w.b_gain);
+    print_message("ffmap: gain schedule: worst %.2f LSB of Q8 against the twin's double (tolerance there %.2f: %.1f + "
+                  "the lookups' rounding); twin at 0.7 on %d steps, at 1.6 on %d, inside on %d (firmware at %d / %d on "
+                  "%d / %d, %d values inside), off (frame not set) on %d; %d steps with a fixed PTO; %d .. %d kPa\n",
+                  w.gain, w.gain_tol, FM_GAIN_TOL_LSB, g_min, g_max, g_in, FM_GS_MIN, FM_GS_MAX, g_fw_min, g_fw_max,
+                  g_values, g_off, g_fixed, p_min, p_max);
     print_message("ffmap: borderline: %d of %d steps skipped (integral gate %d, reversal %d, stiction %d, hold %d, "
                   "take-up sign %d), %d compared without calm and map (full duty while calm); saturation flag left "
                   "out on %d\n", skipped, FM_STEPS, kinds[0], kinds[1], kinds[2], kinds[4], kinds[5], partial,
@@ -762,13 +846,18 @@ static void test_ctl_ffmap_matches_twin(void **state)
                          | CTLTW_P_ROUNDED | CTLTW_P_SAT | CTLTW_P_ENDSTOP | CTLTW_P_LEARN | CTLTW_P_ANCHOR
                          | CTLTW_P_CALIB | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP | CTLTW_P_HOLDSET
                          | CTLTW_P_HOLDING | CTLTW_P_GATED | CTLTW_P_COVER | CTLTW_P_PEND | CTLTW_P_MOVED
-                         | CTLTW_P_NOCLOSE | CTLTW_P_FRAME;
+                         | CTLTW_P_NOCLOSE | CTLTW_P_FRAME | CTLTW_P_GAIN | CTLTW_P_GAIN_MIN | CTLTW_P_GAIN_MAX;
     const unsigned all_app = CTLTW_P_CALIB | CTLTW_P_MOVED | CTLTW_P_STILL;
     if ((paths & all) != all || (paths_app & all_app) != all_app)
         fail_msg("ffmap: branches not taken: step %x, ctl_applied %x", all & ~paths, all_app & ~paths_app);
     assert_true(learned > 100 && rested > 100 && slow > 100 && forced > 10 && overp_steps > 100);
     assert_true(pend_moves > 100 && relief > 50 && weak > 20 && refused >= 5 && calib_app >= 5 && applied > 1000);
     assert_true(held_restarts > 0);
+    /* the gain schedule ran over its range: both clamps (the twin's and the firmware's) and the
+     * inside, many values of it; the pressures over 30 .. 600 kPa */
+    assert_true(g_min > 100 && g_max > 100 && g_in > 1000 && g_off > 0 && g_fixed > 1000);
+    assert_true(g_fw_min > 100 && g_fw_max > 100 && g_values > 150);
+    assert_true(p_min <= 35 && p_max >= 595);
 }
 
 int main(void)

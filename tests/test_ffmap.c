@@ -175,6 +175,48 @@ static void test_ffmap_integral_waits_after_a_big_move(void **state)
     }
 }
 
+/* The gain schedule: the feedback is scaled by how little boom flow a stroke moves here. With
+ * the valve nearly shut and little pressure (a coupled PTO at low speed: the bypass carries
+ * little) the loop's gain is low and the schedule raises the feedback (up to 1.6); with the
+ * valve wide open at high pressure (a fixed PTO: the bypass carries most of the pump) it
+ * lowers it (down to 0.7). Before an end stop has set the estimate's frame it stays 1. */
+static void test_ffmap_gain_schedule(void **state)
+{
+    (void)state;
+    ctl_in_t in = mk(1800, 1800, 0);
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.gain, 256);          /* frame unknown: 1 */
+    ctl_applied(0, CTL_AT_OPEN);                     /* the open stop sets the frame */
+    /* coupled PTO, 3 km/h: closure 0.54, 18 L/min at 84 kPa */
+    ctl_st.fm.p_hat = (int16_t)(FM_AT_OPEN + (int32_t)(0.54 * 32768));
+    ctl_st.fm.p_ref = ctl_st.fm.p_hat;
+    in = mk(1800, 1700, 0);
+    in.pressure_kpa = 84;
+    ctl_step(&in);
+    int low_gain_point = ctl_st.fm.gain;
+    /* fixed PTO, 11 km/h: closure 0.37, 49.5 L/min at 440 kPa */
+    ctl_st.fm.p_hat = (int16_t)(FM_AT_OPEN + (int32_t)(0.37 * 32768));
+    ctl_st.fm.p_ref = ctl_st.fm.p_hat;
+    in = mk(4950, 4850, 0);
+    in.pressure_kpa = 440;
+    ctl_step(&in);
+    int high_gain_point = ctl_st.fm.gain;
+    /* fixed PTO, 4 km/h: valve nearly open (closure 0.02), 18 L/min at 84 kPa: the bypass takes
+     * the whole pump, a stroke moves the most */
+    ctl_st.fm.p_hat = (int16_t)(FM_AT_OPEN + (int32_t)(0.02 * 32768));
+    ctl_st.fm.p_ref = ctl_st.fm.p_hat;
+    in = mk(1800, 1700, 0);
+    in.pressure_kpa = 84;
+    ctl_step(&in);
+    int open_point = ctl_st.fm.gain;
+    print_message("ffmap: gain schedule %.2f (coupled, 3 km/h), %.2f (fixed PTO, 11 km/h), %.2f (fixed PTO, 4 km/h)\n",
+                  low_gain_point / 256.0, high_gain_point / 256.0, open_point / 256.0);
+    /* the plant's sensitivities there (tools/gen_fmgain.py): about 33, 100 and 76 L/min a stroke */
+    assert_true(low_gain_point >= 400);              /* 80/33 = 2.4: clamped at 1.6 */
+    assert_true(high_gain_point >= 179 && high_gain_point <= 230);     /* 80/100 = 0.8 */
+    assert_true(open_point >= 230 && open_point <= 300);               /* 80/76 = 1.05 */
+}
+
 /* Closed loop on the simulated sprayer with the valve starting shut and the boom spraying at
  * once (given speed): the start climbs to the relief valve, the application opens the bypass
  * under over-pressure. The estimate must follow the real valve through it (before, over-pressure
@@ -219,6 +261,7 @@ int main(void)
         cmocka_unit_test_setup(test_ffmap_early_closed_report_does_not_stall, setup),
         cmocka_unit_test_setup(test_ffmap_feed_forward_gates, setup),
         cmocka_unit_test_setup(test_ffmap_integral_waits_after_a_big_move, setup),
+        cmocka_unit_test_setup(test_ffmap_gain_schedule, setup),
         cmocka_unit_test_setup(test_ffmap_estimate_tracks_the_valve_through_over_pressure, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

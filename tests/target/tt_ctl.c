@@ -116,11 +116,11 @@ int main(void)
         }
         /* long closed-loop run on the toy plant: target steps every 5 s, learning on */
         ctl_select(id);
-        pl_p = Q15(0.5);
-        pl_q = 3000;
+        pl_p = 0;                   /* from the open stop (as after parking): ffmap's frame is */
+        pl_q = 0;                   /* set, and its gain schedule runs in the timed steps */
         pl_pump = 6000;
-        in.flow_lpm_x100 = 3000;
-        in.valve_limit = 0;
+        in.flow_lpm_x100 = 0;
+        in.valve_limit = CTL_AT_OPEN;
         in.target_lpm_x100 = 3000;
         cyc_max = 0;
         cyc_sum = 0;
