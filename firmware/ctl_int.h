@@ -91,7 +91,7 @@ typedef struct {
     int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow, less off */
     int16_t off;                    /* Q15: the frame of the nodes (an end stop's calibration moves it) */
     uint8_t seen[3];                /* bit n: node n learned from the loop */
-    int16_t p_hat;                  /* Q15 closure estimated by integrating our own drive */
+    int16_t p_hat;                  /* Q15 closure: the drive the valve got (ctl_applied), integrated */
     int16_t p_ref;                  /* Q15 closure the servo drives to */
     int16_t takeup;                 /* Q15 backlash still to take up (sign = direction) */
     int16_t y1;                     /* x100 last measured flow */
