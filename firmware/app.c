@@ -141,8 +141,14 @@ static void app_step(void)
     /* the flow the loop follows: the meter, or the nozzle model when the meter is lost */
     meter_lost = (diag_alarms() >> AL_METER_LOST) & 1u;
     q_used = q_meter;
-    if (meter_lost && analog_pressure_ok())
-        q_used = diag_nozzle_flow_x100(p, open);
+    if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok()) {
+        /* the alarm waits 1 s to be sure; the loop does not trust a meter that reads under a
+         * quarter of what the nozzles pass (a dead meter read as no flow closed the bypass for a
+         * whole second and took the line to the relief valve) */
+        int16_t qp = diag_nozzle_flow_x100(p, open);
+        if (meter_lost || (int32_t)q_meter * 4 < qp)
+            q_used = qp;
+    }
 
     /* spray or not */
     want = open && !((diag_alarms() >> AL_TANK_LOW) & 1u) && !((diag_alarms() >> AL_PUMP_DRY) & 1u)

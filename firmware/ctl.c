@@ -874,7 +874,6 @@ static void fm_calibrate(int16_t at) CTL_SHARED
 {
     __xdata fm_state_t *m = &ctl_st.fm;
     int16_t sh = fx_sub_sat(at, m->p_hat);
-    m->cal = 1;
     if (!sh)
         return;
     m->p_hat = at;
@@ -904,14 +903,14 @@ static void fm_account(q15_t d) CTL_SHARED
     mv -= c;
     m->p_hat = fx_add_sat(m->p_hat, s > 0 ? mv : (int16_t)-mv);
     /* driven past a stop that nobody reported: the estimate was that much ahead of the valve
-     * (a stop believed early, stiction): the valve is at most at the stop, the frame moves
-     * (once a real stop has set the frame; before, its origin is only where it started) */
-    if (m->cal) {
-        if (m->p_hat > FM_AT_CLOSED)
-            fm_calibrate(FM_AT_CLOSED);
-        else if (m->p_hat < FM_AT_OPEN)
-            fm_calibrate(FM_AT_OPEN);
-    }
+     * (a stop believed early, a valve that stuck, or a frame not yet set by a stop): the valve is
+     * at most at the stop, the frame moves. This also keeps the estimate and the reference off
+     * the int16 ends, where the servo would see no move left to make (a valve stuck for 30 s
+     * before any stop was found ran the estimate to -32768, and the loop stalled there) */
+    if (m->p_hat > FM_AT_CLOSED)
+        fm_calibrate(FM_AT_CLOSED);
+    else if (m->p_hat < FM_AT_OPEN)
+        fm_calibrate(FM_AT_OPEN);
 }
 
 /* Table t at x, nodes 1 << SH apart, linear between them (x >= 0, within the table); the
@@ -932,7 +931,7 @@ static void fm_account(q15_t d) CTL_SHARED
  * above the check valves) the table's straight line from the capped 0 kPa node would
  * overestimate 1/sqrt(P) and underestimate 1 - Pc/P, so the pressure is taken as 64 kPa there.
  * Only once an end stop has set the estimate's frame (the closure must be known). */
-static int16_t fm_gain(int16_t y, uint16_t p_kpa) CTL_SHARED
+static int16_t fm_gain(int16_t y, uint16_t p_kpa) CTL_SHARED   /* y: the target flow */
 {
     int32_t c = (int32_t)ctl_st.fm.p_hat - FM_AT_OPEN;  /* closure, Q15 */
     int32_t s;
@@ -988,10 +987,10 @@ static q15_t fm_step(void) CTL_SHARED
         ctl_first = 0;
     }
     /* end stops calibrate the estimate (over-pressure, CTL_NO_CLOSE, is not a stop) */
-    if (in->valve_limit & CTL_AT_CLOSED)
-        fm_calibrate(FM_AT_CLOSED);
-    else if (in->valve_limit & CTL_AT_OPEN)
-        fm_calibrate(FM_AT_OPEN);
+    if (in->valve_limit & (CTL_AT_CLOSED | CTL_AT_OPEN)) {
+        fm_calibrate((in->valve_limit & CTL_AT_CLOSED) ? FM_AT_CLOSED : FM_AT_OPEN);
+        m->cal = 1;                 /* a real stop: the closure is known (the gain schedule) */
+    }
 
     /* feed-forward from the map */
     d = fm_known(q) && fm_known(m->t1) ? (int32_t)fm_map(q) - fm_map(m->t1) : 0;
@@ -1044,7 +1043,7 @@ static q15_t fm_step(void) CTL_SHARED
             du += MUL(FM_KI, e);
     }
     /* du_q4 * 0.2048 = Q15 stroke, times the gain schedule */
-    m->gain = fm_gain(y, in->pressure_kpa);
+    m->gain = fm_gain(q, in->pressure_kpa);
     d += (MUL(fx_sat16((du + 128) >> 8), (int16_t)((13422L * m->gain + 128) >> 8)) + 32768L) >> 16;
     d += m->p_ref;
     if (d > (int32_t)m->p_hat + FM_LEAD)
@@ -1112,10 +1111,10 @@ void ctl_applied(q15_t drive, uint8_t limit)
     if (ctl_id != CTL_BEST)
         return;
     ctl_st.fm.pend = 0;
-    if (limit & CTL_AT_CLOSED)
-        fm_calibrate(FM_AT_CLOSED);
-    else if (limit & CTL_AT_OPEN)
-        fm_calibrate(FM_AT_OPEN);
+    if (limit & (CTL_AT_CLOSED | CTL_AT_OPEN)) {
+        fm_calibrate((limit & CTL_AT_CLOSED) ? FM_AT_CLOSED : FM_AT_OPEN);
+        ctl_st.fm.cal = 1;
+    }
     fm_account(drive);
 }
 

@@ -40,6 +40,7 @@ static struct {
     uint16_t alarms;
     uint8_t cnt[AL_COUNT];
     uint8_t meter_noise, wheel_noise;
+    uint8_t meter_suspect;                      /* this period: the meter under a quarter of the nozzle model */
     uint8_t nozzles;
     uint8_t gen;
 } dg;
@@ -52,6 +53,7 @@ void diag_init(void)
     dg.alarms = 0;
     dg.offrate_cnt = 0;
     dg.meter_noise = dg.wheel_noise = 0;
+    dg.meter_suspect = 0;
     dg.meter_glitches = flow_glitches();
     dg.wheel_glitches = speed_glitches();
     dg.nozzles = 0;
@@ -161,7 +163,8 @@ uint16_t diag_step(uint8_t settled) __reentrant
     /* flow meter lost: the nozzles pass qp at this pressure, the meter sees under a quarter */
     qp = diag_nozzle_flow_x100(p, dg.nozzles);
     judge = settled && psens;
-    rule(AL_METER_LOST, judge && qp >= DIAG_MODEL_MIN_X100 && (int32_t)meter * 4 < qp,
+    dg.meter_suspect = judge && qp >= DIAG_MODEL_MIN_X100 && (int32_t)meter * 4 < qp;
+    rule(AL_METER_LOST, dg.meter_suspect,
          meter >= DIAG_MODEL_MIN_X100 / 2 && (int32_t)meter * 2 >= qp, DIAG_METER_PERIODS);
 
     /* leak and clog: the pressure against the nozzle model's pressure for the metered flow */
@@ -227,4 +230,9 @@ const char *diag_code(uint8_t bit)
 const char *diag_text(uint8_t bit)
 {
     return bit < AL_COUNT ? texts[bit] : "";
+}
+
+uint8_t diag_meter_suspect(void)
+{
+    return dg.meter_suspect;
 }

@@ -52,4 +52,7 @@ void diag_internal_fault(void);
 const char *diag_code(uint8_t bit);
 const char *diag_text(uint8_t bit);
 
+/* The meter reads under a quarter of what the nozzles pass at this pressure, this period (the
+ * METER_LOST rule before its 1 s of persistence): the control stops trusting the meter at once. */
+uint8_t diag_meter_suspect(void);
 #endif

@@ -324,9 +324,9 @@ static void ctltw_fm_account(ctltw_fm_t *m, double dr, double travel, ctltw_fm_e
     er->ph = ctltw_iv(lo - m->p_hat, hi - m->p_hat);
     er->rel = ctltw_iv(er->ref.lo - er->ph.hi, er->ref.hi - er->ph.lo);    /* p_ref stays */
     /* past a stop nobody reported: the frame moves so the estimate is at the stop */
-    if (m->cal && m->p_hat > CTLTW_FM_CLOSED)
+    if (m->p_hat > CTLTW_FM_CLOSED)
         ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, er, o);
-    else if (m->cal && m->p_hat < CTLTW_FM_OPEN)
+    else if (m->p_hat < CTLTW_FM_OPEN)
         ctltw_fm_calibrate(m, CTLTW_FM_OPEN, er, o);
 }
 
@@ -338,7 +338,6 @@ static void ctltw_fm_calibrate(ctltw_fm_t *m, double at, ctltw_fm_err_t *er, ctl
     double fl = at - (ph0 + er->ph.hi), fh = at - (ph0 + er->ph.lo);     /* the firmware's at - p_hat */
     double sh_lo = ctltw_sat(fl), sh_hi = ctltw_sat(fh);
     ctltw_iv_t ref = er->ref;
-    m->cal = 1;
     if (sh != 0)
         o->path |= CTLTW_P_CALIB;
     m->p_hat = at;
@@ -424,12 +423,12 @@ static double ctltw_fm_gain(const ctltw_fm_t *m, const ctltw_fm_in_t *in, const 
     *tab = 0;
     if (!m->cal)
         return 1;
-    s = fmin(ctltw_fm_gs_sum(m->p_hat, in->pressure, in->flow, 0, tab) / 65536, CTLTW_FM_GS_SCUT);
+    s = fmin(ctltw_fm_gs_sum(m->p_hat, in->pressure, in->target, 0, tab) / 65536, CTLTW_FM_GS_SCUT);
     g = ctltw_clamp(CTLTW_FM_GS_K * s, CTLTW_FM_GS_MIN, CTLTW_FM_GS_MAX);
     o->path |= g == CTLTW_FM_GS_MIN ? CTLTW_P_GAIN_MIN : g == CTLTW_FM_GS_MAX ? CTLTW_P_GAIN_MAX : CTLTW_P_GAIN;
     *tab *= FM_GS_K / 1024.0;
-    lo = fmin(ctltw_fm_gs_sum(m->p_hat + er->ph.lo, in->pressure, in->flow, -0.5, NULL), 8191);
-    hi = fmin(ctltw_fm_gs_sum(m->p_hat + er->ph.hi, in->pressure, in->flow, 0.5, NULL), 8191);
+    lo = fmin(ctltw_fm_gs_sum(m->p_hat + er->ph.lo, in->pressure, in->target, -0.5, NULL), 8191);
+    hi = fmin(ctltw_fm_gs_sum(m->p_hat + er->ph.hi, in->pressure, in->target, 0.5, NULL), 8191);
     lo = ctltw_clamp(lo * FM_GS_K / 1024 - 0.5, FM_GS_MIN, FM_GS_MAX);
     hi = ctltw_clamp(hi * FM_GS_K / 1024 + 0.5, FM_GS_MIN, FM_GS_MAX);
     *e = ctltw_iv(lo / 256 - g, hi / 256 - g);
@@ -494,9 +493,9 @@ ctltw_fm_out_t ctltw_fm_applied(ctltw_fm_t *m, double drive, int limit, double t
     memset(&o, 0, sizeof o);
     m->pend = 0;
     if (limit & CTL_AT_CLOSED)
-        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o);
+        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o), m->cal = 1;
     else if (limit & CTL_AT_OPEN)
-        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o);
+        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o), m->cal = 1;
     ctltw_fm_account(m, drive, travel, &er, &o);
     ctltw_fm_frame(m, &o, &er);
     o.drive = drive;
@@ -533,9 +532,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     }
     /* end stops calibrate the estimate; over-pressure (CTL_NO_CLOSE) is not a stop */
     if (in->limit & CTL_AT_CLOSED)
-        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o);
+        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o), m->cal = 1;
     else if (in->limit & CTL_AT_OPEN)
-        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o);
+        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o), m->cal = 1;
     if (in->limit & (CTL_AT_CLOSED | CTL_AT_OPEN))
         o.path |= CTLTW_P_ENDSTOP;
 
