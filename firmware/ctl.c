@@ -931,7 +931,8 @@ static void fm_account(q15_t d) CTL_SHARED
  * above the check valves) the table's straight line from the capped 0 kPa node would
  * overestimate 1/sqrt(P) and underestimate 1 - Pc/P, so the pressure is taken as 64 kPa there.
  * Only once an end stop has set the estimate's frame (the closure must be known). */
-static int16_t fm_gain(int16_t y, uint16_t p_kpa) CTL_SHARED   /* y: the target flow */
+static int16_t fm_gain(int16_t y, uint16_t p_kpa) CTL_SHARED   /* y: the target flow, the boom's in
+                                                                 * steady state (a dead meter reads 0) */
 {
     int32_t c = (int32_t)ctl_st.fm.p_hat - FM_AT_OPEN;  /* closure, Q15 */
     int32_t s;
