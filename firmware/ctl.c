@@ -881,6 +881,16 @@ static void fm_calibrate(int16_t at) CTL_SHARED
     m->off = fx_add_sat(m->off, sh);    /* the map's nodes are kept relative to m->off */
 }
 
+/* A real end stop (CTL_AT_* in limit) sets the estimate there: the closure is known from then on
+ * (the gain schedule needs it). Over-pressure (CTL_NO_CLOSE) is not a stop. */
+static void fm_stops(uint8_t limit) CTL_SHARED
+{
+    if (limit & (CTL_AT_CLOSED | CTL_AT_OPEN)) {
+        fm_calibrate((limit & CTL_AT_CLOSED) ? FM_AT_CLOSED : FM_AT_OPEN);
+        ctl_st.fm.cal = 1;
+    }
+}
+
 /* The valve got drive d for one period: move the estimate (the backlash is taken up first).
  * Below the break-away duty the valve does not move. */
 static void fm_account(q15_t d) CTL_SHARED
@@ -931,8 +941,8 @@ static void fm_account(q15_t d) CTL_SHARED
  * above the check valves) the table's straight line from the capped 0 kPa node would
  * overestimate 1/sqrt(P) and underestimate 1 - Pc/P, so the pressure is taken as 64 kPa there.
  * Only once an end stop has set the estimate's frame (the closure must be known). */
-static int16_t fm_gain(int16_t y, uint16_t p_kpa) CTL_SHARED   /* y: the target flow, the boom's in
-                                                                 * steady state (a dead meter reads 0) */
+/* q: the target flow (x100 L/min), the boom's in steady state; a dead meter would read 0 */
+static int16_t fm_gain(int16_t q, uint16_t p_kpa) CTL_SHARED
 {
     int32_t c = (int32_t)ctl_st.fm.p_hat - FM_AT_OPEN;  /* closure, Q15 */
     int32_t s;
@@ -945,17 +955,17 @@ static int16_t fm_gain(int16_t y, uint16_t p_kpa) CTL_SHARED   /* y: the target 
         p_kpa = 1599;
     if (p_kpa < 64)
         p_kpa = 64;
-    if (y < 0)
-        y = 0;
-    if (y > 8191)
-        y = 8191;
+    if (q < 0)
+        q = 0;
+    if (q > 8191)
+        q = 8191;
     /* 1/Q_v = 1/Cv(o) 1/sqrt(P), Q16 of 1/(L/min); (1 - Pc/P)/Q_b, Q16 */
     /* (the table lookups multiply too: on the 8051 MUL's operands are shared, so one at a time) */
     FM_TAB(fm_inv_cv, o, 11, a);
     FM_TAB(fm_inv_sqp, p_kpa, 6, b);
     s = (MUL(a, b) + 128) >> 8;
     FM_TAB(fm_pc_p, p_kpa, 6, a);
-    FM_TAB(fm_inv_q, (uint16_t)y, 8, b);
+    FM_TAB(fm_inv_q, (uint16_t)q, 8, b);
     s += (MUL(a, b) + 16384) >> 15;
     if (s > 8191)
         s = 8191;
@@ -988,10 +998,7 @@ static q15_t fm_step(void) CTL_SHARED
         ctl_first = 0;
     }
     /* end stops calibrate the estimate (over-pressure, CTL_NO_CLOSE, is not a stop) */
-    if (in->valve_limit & (CTL_AT_CLOSED | CTL_AT_OPEN)) {
-        fm_calibrate((in->valve_limit & CTL_AT_CLOSED) ? FM_AT_CLOSED : FM_AT_OPEN);
-        m->cal = 1;                 /* a real stop: the closure is known (the gain schedule) */
-    }
+    fm_stops(in->valve_limit);
 
     /* feed-forward from the map */
     d = fm_known(q) && fm_known(m->t1) ? (int32_t)fm_map(q) - fm_map(m->t1) : 0;
@@ -1112,10 +1119,7 @@ void ctl_applied(q15_t drive, uint8_t limit)
     if (ctl_id != CTL_BEST)
         return;
     ctl_st.fm.pend = 0;
-    if (limit & (CTL_AT_CLOSED | CTL_AT_OPEN)) {
-        fm_calibrate((limit & CTL_AT_CLOSED) ? FM_AT_CLOSED : FM_AT_OPEN);
-        ctl_st.fm.cal = 1;
-    }
+    fm_stops(limit);
     fm_account(drive);
 }
 
