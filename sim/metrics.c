@@ -92,6 +92,17 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
     m->zone_dist_m += dist * (1.0 - done);
 }
 
+void metrics_target(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, double target_lpm, int at_stop)
+{
+    if (v_mps * 3.6 < METRICS_MIN_KMH)
+        return;
+    m->target4_l += target_lpm * dt_s / 60.0;
+    if (at_stop) {
+        m->stop_vol4_l += nozzle_lpm * dt_s / 60.0;
+        m->stop_target4_l += target_lpm * dt_s / 60.0;
+    }
+}
+
 void metrics_sample(metrics_t *m, double target_lpm, double flow_lpm)
 {
     if (m->n_samples + 1 > m->cap_samples) {
@@ -274,6 +285,9 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
     r->applied_l_ha = m->area_m2 > 0 ? m->vol_l / r->area_ha : NAN;
     r->dose_error_pct = m->expect4_l > 0 ? (m->vol4_l / m->expect4_l - 1.0) * 100.0 : NAN;
     r->dose_error_all_pct = m->expect_l > 0 ? (m->vol_l / m->expect_l - 1.0) * 100.0 : NAN;
+    r->dose_target_pct = m->expect4_l > 0 ? (m->target4_l / m->expect4_l - 1.0) * 100.0 : NAN;
+    r->dose_ctl_pct = m->expect4_l > 0 ? (m->vol4_l - m->target4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_ctl_stop_pct = m->expect4_l > 0 ? (m->stop_vol4_l - m->stop_target4_l) / m->expect4_l * 100.0 : NAN;
     r->pressure_min_bar = m->p_seen ? m->p_min : m->p_seen_any ? m->p_min_any : NAN;
     r->pressure_max_bar = m->p_seen ? m->p_max : m->p_seen_any ? m->p_max_any : NAN;
 
@@ -357,6 +371,9 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "applied_l_ha", r->applied_l_ha, 1);
     num(f, "dose_error_pct", r->dose_error_pct, 1);
     num(f, "dose_error_all_pct", r->dose_error_all_pct, 1);
+    num(f, "dose_target_pct", r->dose_target_pct, 1);
+    num(f, "dose_ctl_pct", r->dose_ctl_pct, 1);
+    num(f, "dose_ctl_stop_pct", r->dose_ctl_stop_pct, 1);
     num(f, "cv_pct", r->cv_pct, 1);
     num(f, "cv_all_pct", r->cv_all_pct, 1);
     num(f, "zone_error_min_pct", r->zone_error_min_pct, 1);

@@ -39,6 +39,9 @@ typedef struct {
     /* totals (whole run) and the part with v >= 4 km/h */
     double vol_l, area_m2, expect_l;
     double vol4_l, area4_m2, expect4_l;
+    /* the dose error's split (v >= 4 km/h): the target flow the controller was given, and the
+     * nozzle and target volumes while the bypass valve sat at an end stop */
+    double target4_l, stop_vol4_l, stop_target4_l;
     double p_min, p_max;            /* while spraying at v >= 4 km/h ... */
     int p_seen;
     double p_min_any, p_max_any;    /* ... or, for a run that never gets there, while spraying */
@@ -63,6 +66,11 @@ typedef struct {
 /* The figures, from metrics_finish. NaN where undefined (no area, no zone...). */
 typedef struct {
     double applied_l_ha, dose_error_pct, dose_error_all_pct;
+    /* dose_error_pct = dose_target_pct + dose_ctl_pct: the target's own error against the set
+     * rate over the true area (speed measurement, the minimum-flow rule), and what the flow
+     * delivered beyond the target; dose_ctl_stop_pct is the part of the latter while the valve
+     * sat at an end stop (no controller can change it) */
+    double dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct;
     double cv_pct, cv_all_pct, zone_error_min_pct, zone_error_max_pct;
     double zone_error_all_min_pct, zone_error_all_max_pct;
     int zones_used, zones_all;      /* zones at v >= 4 km/h, all zones */
@@ -83,6 +91,9 @@ void metrics_sample(metrics_t *m, double target_lpm, double flow_lpm);
 /* An alarm raised at t. */
 void metrics_alarm(metrics_t *m, double t_s, const char *code);
 /* Work out the figures (steps are kept in m until metrics_free). */
+/* The same slice seen by the controller: the target flow it was given and whether the valve sat
+ * at an end stop (for the dose error's split; call it beside metrics_add, same slice). */
+void metrics_target(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, double target_lpm, int at_stop);
 void metrics_finish(metrics_t *m, metrics_result_t *r);
 /* The step analysis alone, on any sampled series: returns the number of changes found (at most
  * max are written). */

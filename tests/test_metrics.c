@@ -219,6 +219,30 @@ static void test_metrics_zone_split_inside_a_slice(void **state)
     metrics_free(&m);
 }
 
+/* The dose error's split: two 10 s slices at 2 m/s over 18 m (5.4 L expected each), the target
+ * 33 L/min (5.5 L), the nozzles 36 then 40 L/min (6 then 6.667 L), the second with the valve at
+ * an end stop; a slice under 4 km/h counts in neither. The shares add up to the dose error. */
+static void test_metrics_dose_split(void **state)
+{
+    metrics_t m;
+    metrics_result_t r;
+    (void)state;
+    metrics_init(&m, DT);
+    metrics_add(&m, 10.0, 2.0, 36.0, 18.0, 150, 2.0, 1);
+    metrics_target(&m, 10.0, 2.0, 36.0, 33.0, 0);
+    metrics_add(&m, 10.0, 2.0, 40.0, 18.0, 150, 2.0, 1);
+    metrics_target(&m, 10.0, 2.0, 40.0, 33.0, 1);
+    metrics_add(&m, 10.0, 0.5, 40.0, 18.0, 150, 2.0, 1);
+    metrics_target(&m, 10.0, 0.5, 40.0, 10.0, 1);
+    metrics_finish(&m, &r);
+    assert_within(r.dose_error_pct, (12.6667 / 10.8 - 1) * 100, 1e-3);
+    assert_within(r.dose_target_pct, (11.0 / 10.8 - 1) * 100, 1e-6);
+    assert_within(r.dose_ctl_pct, 1.6667 / 10.8 * 100, 1e-3);
+    assert_within(r.dose_ctl_stop_pct, 1.16667 / 10.8 * 100, 1e-3);
+    assert_within(r.dose_target_pct + r.dose_ctl_pct, r.dose_error_pct, 1e-9);
+    metrics_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -230,6 +254,7 @@ int main(void)
         cmocka_unit_test(test_metrics_no_plateau_no_steps),
         cmocka_unit_test(test_metrics_zone_volumes_and_cv),
         cmocka_unit_test(test_metrics_zone_split_inside_a_slice),
+        cmocka_unit_test(test_metrics_dose_split),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

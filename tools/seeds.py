@@ -8,7 +8,8 @@ each seed (default 1-8) both controllers run on the same plant; the figures of P
 averaged over the seeds, and best's mean is compared with bp_pid's on every figure (dose error
 as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
 table and the count of figures where best's mean is worse; -v also prints the per-seed values
-of those. --four: instead, the means of all four controllers on the 150 L/ha scenarios (the
+of those; for a worse dose error, the split of the signed means into the target's share and
+the controller's (the JSON's dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct). --four: instead, the means of all four controllers on the 150 L/ha scenarios (the
 paper's ordering, without the luck of one seed). Two runs at a time; stdlib only.
 """
 import json
@@ -112,6 +113,16 @@ def main():
         if verbose:
             print("    best   " + " ".join("%.4g" % v for v in va))
             print("    bp_pid " + " ".join("%.4g" % v for v in vb))
+        if k == "dose_error_pct":
+            # the split of the signed dose error (sim JSON): the target's own share, the same for
+            # both, and the controller's share, with the part while the valve sat at an end stop
+            for c in ("best", "bp_pid"):
+                m = {x: sum(res[(s, c, sd)][x] for sd in seeds) / len(seeds)
+                     for x in ("dose_error_pct", "dose_target_pct", "dose_ctl_pct", "dose_ctl_stop_pct")}
+                print("    %-6s signed dose %+.4f %% = target's share %+.4f + controller's %+.4f "
+                      "(%+.4f at an end stop, %+.4f elsewhere)"
+                      % (c, m["dose_error_pct"], m["dose_target_pct"], m["dose_ctl_pct"], m["dose_ctl_stop_pct"],
+                         m["dose_ctl_pct"] - m["dose_ctl_stop_pct"]))
     return 0
 
 
