@@ -806,6 +806,7 @@ static void fm_init(void)
     ctl_st.fm.hold = 0;
     ctl_st.fm.off = 0;
     ctl_st.fm.cal = 0;
+    ctl_st.fm.stopd = 0;
     ctl_st.fm.gain = 256;
 }
 
@@ -888,6 +889,7 @@ static void fm_stops(uint8_t limit) CTL_SHARED
     if (limit & (CTL_AT_CLOSED | CTL_AT_OPEN)) {
         fm_calibrate((limit & CTL_AT_CLOSED) ? FM_AT_CLOSED : FM_AT_OPEN);
         ctl_st.fm.cal = 1;
+        ctl_st.fm.stopd = (limit & CTL_AT_CLOSED) ? 1 : -1;
     }
 }
 
@@ -903,6 +905,13 @@ static void fm_account(q15_t d) CTL_SHARED
     if (d == Q15_MIN)
         d = -Q15_MAX;               /* -32768 has no int16 magnitude */
     s = d > 0 ? 1 : -1;
+    /* driven into the stop a report has put it at (the valve module's retry, every 2 s, 0.1
+     * stroke): it cannot go further. Before, the past-a-stop rule below moved the frame along
+     * each time: 10 retries in 20 s at the open stop shifted the map a whole stroke, and the
+     * feed-forward after it was wild (a fixed PTO at 4.3 km/h, seed 16: settling 2.7 s) */
+    if (s == m->stopd)
+        return;
+    m->stopd = 0;
     if (s != m->dir) {
         m->takeup = FM_BACKLASH;
         m->dir = s;

@@ -103,6 +103,7 @@ typedef struct {
     uint8_t pend;                   /* 1: the last drive is not yet accounted in p_hat (see ctl_applied) */
     uint8_t hold;                   /* periods the integral still waits after a big feed-forward move */
     uint8_t cal;                    /* 1: an end stop has set the estimate's frame */
+    int8_t stopd;                   /* +1 / -1: at the closed / open stop a report set (until a move away) */
     int16_t gain;                   /* Q8: the gain schedule's factor of the last step (256 = 1) */
 } fm_state_t;
 

@@ -139,6 +139,7 @@ typedef struct {
     double y1, t1;                  /* L/min: last measured flow, last target */
     int dir;                        /* +1 / -1 / 0: direction of the last motion */
     int calm, warm, rest, hold, cal;
+    int stopd;                      /* +1 / -1: at the stop a report set (drives into it do not move) */
     int pend;                       /* 1: the last drive is not yet accounted in p_hat */
     double last;                    /* the drive the controller sent last (ctl.c ctl_last), duty */
     int first;                      /* 1: the loop (re)starts with this step (ctl_reset before it) */
@@ -199,6 +200,7 @@ typedef struct {
 #define CTLTW_P_GAIN 0x800000u      /* the gain schedule inside its clamps (frame set) */
 #define CTLTW_P_GAIN_MIN 0x1000000u /* ... clamped at CTLTW_FM_GS_MIN */
 #define CTLTW_P_GAIN_MAX 0x2000000u /* ... clamped at CTLTW_FM_GS_MAX */
+#define CTLTW_P_INTOSTOP 0x4000000u /* a drive into the stop a report set: no move */
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed (ctltw_fm_applied: the drive given) */
     int sat;                        /* what ctl_saturated() reports after the step */

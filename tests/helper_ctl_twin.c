@@ -98,6 +98,7 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t last)
     tw->rest = fm->rest;
     tw->hold = fm->hold;
     tw->cal = fm->cal;
+    tw->stopd = fm->stopd;
     tw->pend = fm->pend;
     tw->last = last / 32768.0;
     tw->first = first;
@@ -298,8 +299,13 @@ static void ctltw_fm_account(ctltw_fm_t *m, double dr, double travel, ctltw_fm_e
             o->path |= CTLTW_P_STILL;
         return;
     }
-    o->path |= CTLTW_P_MOVED;
     s = dr > 0 ? 1 : -1;
+    if (s == m->stopd) {
+        o->path |= CTLTW_P_INTOSTOP;    /* into the stop a report set: the valve cannot go further */
+        return;
+    }
+    m->stopd = 0;
+    o->path |= CTLTW_P_MOVED;
     if (s != m->dir) {
         m->takeup = CTLTW_FM_BACKLASH;
         double eb = Q15(CTLTW_FM_BACKLASH) * LSB - CTLTW_FM_BACKLASH;     /* the firmware's is 655/32768 */
@@ -493,9 +499,9 @@ ctltw_fm_out_t ctltw_fm_applied(ctltw_fm_t *m, double drive, int limit, double t
     memset(&o, 0, sizeof o);
     m->pend = 0;
     if (limit & CTL_AT_CLOSED)
-        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o), m->cal = 1;
+        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o), m->cal = 1, m->stopd = 1;
     else if (limit & CTL_AT_OPEN)
-        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o), m->cal = 1;
+        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o), m->cal = 1, m->stopd = -1;
     ctltw_fm_account(m, drive, travel, &er, &o);
     ctltw_fm_frame(m, &o, &er);
     o.drive = drive;
@@ -532,9 +538,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     }
     /* end stops calibrate the estimate; over-pressure (CTL_NO_CLOSE) is not a stop */
     if (in->limit & CTL_AT_CLOSED)
-        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o), m->cal = 1;
+        ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, &er, &o), m->cal = 1, m->stopd = 1;
     else if (in->limit & CTL_AT_OPEN)
-        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o), m->cal = 1;
+        ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o), m->cal = 1, m->stopd = -1;
     if (in->limit & (CTL_AT_CLOSED | CTL_AT_OPEN))
         o.path |= CTLTW_P_ENDSTOP;
 

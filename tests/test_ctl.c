@@ -522,14 +522,15 @@ static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw
                  o->take_lo * 32768, o->take_hi * 32768, f->off, tw->off * 32768, o->off_lo * 32768,
                  o->off_hi * 32768, o->off_iv ? "" : ", not carried");
     if (fabs(dr) > tol_ref || fabs(dh) > FM_TOL_LSB || fabs(dt) > FM_TOL_LSB || fabs(doff) > FM_TOL_LSB
-        || en > FM_TOL_LSB || f->dir != tw->dir || f->rest != tw->rest || f->warm != tw->warm || f->hold != tw->hold || f->cal != tw->cal
-        || f->pend != tw->pend || (map_too && f->calm != tw->calm) || seen != tw->seen)
+        || en > FM_TOL_LSB || f->dir != tw->dir || f->rest != tw->rest || f->warm != tw->warm || f->hold != tw->hold
+        || f->cal != tw->cal || f->stopd != tw->stopd || f->pend != tw->pend || (map_too && f->calm != tw->calm) || seen != tw->seen)
         fail_msg("ffmap %s %d: p_ref %d twin %.1f, p_hat %d twin %.1f, takeup %d twin %.1f, off %d twin %.1f, worst "
-                 "node %.2f LSB, dir %d/%d rest %d/%d warm %d/%d hold %d/%d pend %d/%d calm %d/%d seen %lx/%lx "
-                 "(path %x border %x)",
+                 "node %.2f LSB, dir %d/%d rest %d/%d warm %d/%d hold %d/%d pend %d/%d calm %d/%d stopd %d/%d "
+                 "seen %lx/%lx (path %x border %x)",
                  what, k, f->p_ref, tw->p_ref * 32768, f->p_hat, tw->p_hat * 32768, f->takeup, tw->takeup * 32768,
                  f->off, tw->off * 32768, en, f->dir, tw->dir, f->rest, tw->rest, f->warm, tw->warm, f->hold,
-                 tw->hold, f->pend, tw->pend, f->calm, tw->calm, seen, tw->seen, o->path, o->border);
+                 tw->hold, f->pend, tw->pend, f->calm, tw->calm, f->stopd, tw->stopd, seen, tw->seen, o->path,
+                 o->border);
     w->ref = fm_wmax(w->ref, fabs(dr));
     w->ref_use = fm_wmax(w->ref_use, fabs(dr) / tol_ref);
     w->hat = fm_wmax(w->hat, fabs(dh));
@@ -847,7 +848,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
                          | CTLTW_P_CALIB | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP | CTLTW_P_HOLDSET
                          | CTLTW_P_HOLDING | CTLTW_P_GATED | CTLTW_P_COVER | CTLTW_P_PEND | CTLTW_P_MOVED
                          | CTLTW_P_NOCLOSE | CTLTW_P_FRAME | CTLTW_P_GAIN | CTLTW_P_GAIN_MIN | CTLTW_P_GAIN_MAX;
-    const unsigned all_app = CTLTW_P_CALIB | CTLTW_P_MOVED | CTLTW_P_STILL;
+    const unsigned all_app = CTLTW_P_CALIB | CTLTW_P_MOVED | CTLTW_P_STILL | CTLTW_P_INTOSTOP;
     if ((paths & all) != all || (paths_app & all_app) != all_app)
         fail_msg("ffmap: branches not taken: step %x, ctl_applied %x", all & ~paths, all_app & ~paths_app);
     assert_true(learned > 100 && rested > 100 && slow > 100 && forced > 10 && overp_steps > 100);

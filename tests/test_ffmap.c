@@ -254,6 +254,50 @@ static void test_ffmap_estimate_tracks_the_valve_through_over_pressure(void **st
     assert_true(worst < 0.05);
 }
 
+/* A long stay at the open stop (a fixed PTO at 4.3 km/h and 100 L/ha: the bypass cannot take
+ * enough): the valve module believes the stop, then every 2 s lets the controller try 0.1 stroke
+ * more. Those tries must not move the estimate's frame: before, each shifted the map 0.1 stroke
+ * (a whole stroke in 20 s), and the feed-forward after the stay was wild. The estimate in the
+ * map's frame (p_hat - off) follows the true closure from the first stop on. */
+static void test_ffmap_frame_holds_at_a_long_stop(void **state)
+{
+    (void)state;
+    static const char text[] =
+        "[run]\nduration_s = 90\nseed = 16\n[config]\ncontroller = best\nrate_l_ha = 100\ngiven_speed_kmh = 8\n"
+        "[plant]\npto_coupled = 0\n[drive]\n0 0\n[events]\n30 given_speed_kmh 4.3\n60 given_speed_kmh 9\n";
+    scenario_t scn;
+    sim_t sim;
+    char err[256];
+    if (scenario_parse(&scn, text, "test_ffmap", err, sizeof err) != 0)
+        fail_msg("scenario: %s", err);
+    sim_init(&sim, &scn);
+    double worst = 0, theta0 = 0, at_open = 0;
+    int p0 = 0, have = 0;
+    while (sim_time_s(&sim) < 90) {
+        for (int i = 0; i < 100; i++)
+            sim_step(&sim);
+        if (sim_time_s(&sim) > 30 && sim_time_s(&sim) < 60 && sim.plant.theta >= 1.0)
+            at_open += 0.1;
+        if (!have && ctl_st.fm.cal && ctl_st.fm.warm >= 10) {
+            have = 1;
+            p0 = ctl_st.fm.p_hat - ctl_st.fm.off;
+            theta0 = sim.plant.theta;
+        }
+        if (have) {
+            double truth = theta0 - sim.plant.theta;    /* closure moved */
+            double est = (ctl_st.fm.p_hat - ctl_st.fm.off - p0) / 32768.0;
+            if (fabs(truth - est) > worst)
+                worst = fabs(truth - est);
+        }
+    }
+    sim_free(&sim);
+    print_message("ffmap: %.1f s at the open stop; worst estimate error in the map's frame %.3f stroke\n", at_open,
+                  worst);
+    assert_true(have);
+    assert_true(at_open > 20);
+    assert_true(worst < 0.06);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -264,6 +308,7 @@ int main(void)
         cmocka_unit_test_setup(test_ffmap_integral_waits_after_a_big_move, setup),
         cmocka_unit_test_setup(test_ffmap_gain_schedule, setup),
         cmocka_unit_test_setup(test_ffmap_estimate_tracks_the_valve_through_over_pressure, setup),
+        cmocka_unit_test_setup(test_ffmap_frame_holds_at_a_long_stop, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -113,7 +113,7 @@ def main():
         if verbose:
             print("    best   " + " ".join("%.4g" % v for v in va))
             print("    bp_pid " + " ".join("%.4g" % v for v in vb))
-        if k == "dose_error_pct":
+        if k == "dose_error_pct" and all("dose_ctl_pct" in res[(s, c, sd)] for c in ("best", "bp_pid") for sd in seeds):
             # the split of the signed dose error (sim JSON): the target's own share, the same for
             # both, and the controller's share, with the part while the valve sat at an end stop
             for c in ("best", "bp_pid"):
