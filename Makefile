@@ -235,7 +235,7 @@ screenshots: $(PANEL_BIN)
 # ---- issue 4: controllers ------------------------------------------------------------------------
 # make compare: pid, fuzzy_pid, bp_pid and best on the same plant and seed (target steps, the
 # paper's dynamic run coupled and with a fixed PTO, the field run), beside the paper's Table 2
-# and section 5.1; then best against bp_pid figure by figure, means over seeds 1-8 of every
+# and section 5.1; then best against bp_pid figure by figure, means over seeds 1-16 of every
 # scenario family (100/125/150 L/ha), which no single lucky seed decides.
 .PHONY: compare
 compare: $(SIM_BIN)

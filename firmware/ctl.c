@@ -700,8 +700,9 @@ static q15_t bp_step(void)
  * jogging included (without the call the controller assumes its demand was applied). Real end
  * stops (valve_limit) calibrate the estimate: closed at FM_AT_CLOSED (0.875), open at
  * FM_AT_OPEN (-0.125), so there is room above "closed": an early closed report cannot pin the
- * reference at the int16 top (it did, and the loop stopped short of its target). Once a stop
- * has set the frame, an estimate driven past a stop nobody reported takes the frame along.
+ * reference at the int16 top (it did, and the loop stopped short of its target). An estimate
+ * driven past a stop nobody reported takes the frame along; drives into a stop a report has
+ * set (the valve module's retries) do not move it.
  * Over-pressure refuses closing (CTL_NO_CLOSE) but is not a stop: reported as CTL_AT_CLOSED it
  * pinned the estimate at "closed" while the relief drive opened the valve 0.6 of its stroke.
  * The reference closure p_ref moves by
@@ -746,7 +747,7 @@ static q15_t bp_step(void)
  * rises from a parked-open valve while a coupled PTO spins the pump up: a point learned then is
  * wrong), and below P_MINF_SPEED (Table 1 holds the target at the 4 km/h flow while a coupled
  * PTO slows the pump: the map folded back). `make compare` then tools/seeds.py: best against
- * bp_pid, means over seeds 1-8 of 12 scenarios: better on 82 of 87 figures (README). */
+ * bp_pid, means over seeds 1-16 of 12 scenarios: better on 84 of 87 figures (README). */
 #ifndef FM_KP
 #define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
 #endif

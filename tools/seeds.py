@@ -4,7 +4,7 @@
 usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--four]
 One seed is one draw of the plant's noise (pump pulsation phase, sensor noise, meter and wheel
 pulse timing); a single run can favour either controller by luck. For each scenario below and
-each seed (default 1-8) both controllers run on the same plant; the figures of PLANT.md are
+each seed (default 1-16) both controllers run on the same plant; the figures of PLANT.md are
 averaged over the seeds, and best's mean is compared with bp_pid's on every figure (dose error
 as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
 table and the count of figures where best's mean is worse; -v also prints the per-seed values
@@ -81,7 +81,7 @@ def main():
         return 2
     sim = args[0]
     verbose = "-v" in args
-    seeds = list(range(1, 9))
+    seeds = list(range(1, 17))
     if "--seeds" in args:
         a, b = args[args.index("--seeds") + 1].split("-")
         seeds = list(range(int(a), int(b) + 1))
