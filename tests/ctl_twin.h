@@ -92,6 +92,11 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
 #else
 #define CTLTW_FM_HOLD 3                 /* ctl.c FM_HOLD: periods the integral waits after a big feed-forward */
 #endif
+#ifdef FM_FF_UNLEARNED
+#define CTLTW_FM_FF_UNLEARNED (FM_FF_UNLEARNED / 256.0)
+#else
+#define CTLTW_FM_FF_UNLEARNED (208 / 256.0) /* ctl.c FM_FF_UNLEARNED: the feed-forward's share where the map is not learned */
+#endif
 #define CTLTW_FM_LR 0.25                /* ctl.c FM_LR_SHIFT 2: learning rate 1/4 */
 #define CTLTW_FM_BIN ((1 << FM_BIN_SHIFT) / 100.0)     /* node spacing, L/min (5.12) */
 #define CTLTW_FM_BACKLASH 0.02          /* ctl_int.h FM_BACKLASH Q15(0.02) */
@@ -201,6 +206,7 @@ typedef struct {
 #define CTLTW_P_GAIN_MIN 0x1000000u /* ... clamped at CTLTW_FM_GS_MIN */
 #define CTLTW_P_GAIN_MAX 0x2000000u /* ... clamped at CTLTW_FM_GS_MAX */
 #define CTLTW_P_INTOSTOP 0x4000000u /* a drive into the stop a report set: no move */
+#define CTLTW_P_UNLEARNED 0x8000000u /* feed-forward cut to 13/16: the map around a target not learned */
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed (ctltw_fm_applied: the drive given) */
     int sat;                        /* what ctl_saturated() reports after the step */

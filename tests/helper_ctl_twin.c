@@ -198,6 +198,16 @@ static double ctltw_fm_map_u(const ctltw_fm_t *m, double q, ctltw_iv_t *r)
     return m->off + m->node[i] + ctltw_sat(m->node[i + 1] - m->node[i]) * f;
 }
 
+/* fm_learned: both nodes around q were learned from the loop */
+static int ctltw_fm_learned(const ctltw_fm_t *m, double q)
+{
+    int i;
+    double f;
+    if (q < 0 || !ctltw_fm_bin(q, &i, &f))
+        return 0;
+    return (m->seen >> i & 1u) && (m->seen >> (i + 1) & 1u);
+}
+
 /* fm_known: the map around q rests on learned nodes (always, unless FM_SEEN_ONLY) */
 static int ctltw_fm_known(const ctltw_fm_t *m, double q)
 {
@@ -557,6 +567,15 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         if (g != d)
             o.path |= CTLTW_P_GATED;
         d = g;
+    }
+    /* 13/16 of it where the map around the target or the last one is not learned (the firmware
+     * rounds the Q15 product: +-0.5 LSB more) */
+    if (d != 0 && (!ctltw_fm_learned(m, q) || !ctltw_fm_learned(m, m->t1))) {
+        double ds = ctltw_sat(d) * CTLTW_FM_FF_UNLEARNED;
+        e_d = ctltw_iv((ctltw_sat(d + e_d.lo) - ctltw_sat(d)) * CTLTW_FM_FF_UNLEARNED - 0.5 * LSB,
+                       (ctltw_sat(d + e_d.hi) - ctltw_sat(d)) * CTLTW_FM_FF_UNLEARNED + 0.5 * LSB);
+        d = ds;
+        o.path |= CTLTW_P_UNLEARNED;
     }
     /* a move over one period at full duty: the integral waits FM_HOLD periods */
     if (ctltw_tips_abs(d, e_d, 1 / T, ctltw_inv_travel_f(T)))

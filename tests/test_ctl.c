@@ -847,7 +847,8 @@ static void test_ctl_ffmap_matches_twin(void **state)
                          | CTLTW_P_ROUNDED | CTLTW_P_SAT | CTLTW_P_ENDSTOP | CTLTW_P_LEARN | CTLTW_P_ANCHOR
                          | CTLTW_P_CALIB | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP | CTLTW_P_HOLDSET
                          | CTLTW_P_HOLDING | CTLTW_P_GATED | CTLTW_P_COVER | CTLTW_P_PEND | CTLTW_P_MOVED
-                         | CTLTW_P_NOCLOSE | CTLTW_P_FRAME | CTLTW_P_GAIN | CTLTW_P_GAIN_MIN | CTLTW_P_GAIN_MAX;
+                         | CTLTW_P_NOCLOSE | CTLTW_P_FRAME | CTLTW_P_GAIN | CTLTW_P_GAIN_MIN | CTLTW_P_GAIN_MAX
+                         | CTLTW_P_UNLEARNED;
     const unsigned all_app = CTLTW_P_CALIB | CTLTW_P_MOVED | CTLTW_P_STILL | CTLTW_P_INTOSTOP;
     if ((paths & all) != all || (paths_app & all_app) != all_app)
         fail_msg("ffmap: branches not taken: step %x, ctl_applied %x", all & ~paths, all_app & ~paths_app);
