@@ -747,7 +747,7 @@ static q15_t bp_step(void)
  * rises from a parked-open valve while a coupled PTO spins the pump up: a point learned then is
  * wrong), and below P_MINF_SPEED (Table 1 holds the target at the 4 km/h flow while a coupled
  * PTO slows the pump: the map folded back). `make compare` then tools/seeds.py: best against
- * bp_pid, means over seeds 1-16 of 12 scenarios: better on 84 of 87 figures (README). */
+ * bp_pid, means over seeds 1-16 of 12 scenarios: better on 85 of 87 figures (README). */
 #ifndef FM_KP
 #define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
 #endif

@@ -523,7 +523,8 @@ static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw
                  o->off_hi * 32768, o->off_iv ? "" : ", not carried");
     if (fabs(dr) > tol_ref || fabs(dh) > FM_TOL_LSB || fabs(dt) > FM_TOL_LSB || fabs(doff) > FM_TOL_LSB
         || en > FM_TOL_LSB || f->dir != tw->dir || f->rest != tw->rest || f->warm != tw->warm || f->hold != tw->hold
-        || f->cal != tw->cal || f->stopd != tw->stopd || f->pend != tw->pend || (map_too && f->calm != tw->calm) || seen != tw->seen)
+        || f->cal != tw->cal || f->stopd != tw->stopd || f->pend != tw->pend || (map_too && f->calm != tw->calm)
+        || seen != tw->seen)
         fail_msg("ffmap %s %d: p_ref %d twin %.1f, p_hat %d twin %.1f, takeup %d twin %.1f, off %d twin %.1f, worst "
                  "node %.2f LSB, dir %d/%d rest %d/%d warm %d/%d hold %d/%d pend %d/%d calm %d/%d stopd %d/%d "
                  "seen %lx/%lx (path %x border %x)",

@@ -9,7 +9,8 @@ averaged over the seeds, and best's mean is compared with bp_pid's on every figu
 as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
 table and the count of figures where best's mean is worse; -v also prints the per-seed values
 of those; for a worse dose error, the split of the signed means into the target's share and
-the controller's (the JSON's dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct). --four: instead, the means of all four controllers on the 150 L/ha scenarios (the
+the controller's (the JSON's dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct). --four:
+instead, the means of all four controllers on the 150 L/ha scenarios (the
 paper's ordering, without the luck of one seed). Two runs at a time; stdlib only.
 """
 import json
