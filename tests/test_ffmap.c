@@ -222,18 +222,33 @@ static void test_ffmap_gain_schedule(void **state)
  * under over-pressure. The estimate (p_hat - off: the same in any frame; the frame moves when
  * the estimate passes a stop) must follow the real valve through it (before, over-pressure
  * pinned it at "closed" while the valve opened 0.6 of its stroke). */
+/* A simulated sprayer from a scenario's text. */
+static void sim_from(sim_t *sim, const char *text)
+{
+    scenario_t scn;
+    char err[256];
+    if (scenario_parse(&scn, text, "test_ffmap", err, sizeof err) != 0)
+        fail_msg("scenario: %s", err);
+    sim_init(sim, &scn);
+}
+
+/* How far the estimate in the map's frame (p_hat - off) has moved from p0, against how far the
+ * true closure has moved from 1 - theta0, in strokes. */
+static double frame_error(const sim_t *sim, int p0, double theta0)
+{
+    double truth = theta0 - sim->plant.theta;
+    double est = (ctl_st.fm.p_hat - ctl_st.fm.off - p0) / 32768.0;
+    return fabs(truth - est);
+}
+
 static void test_ffmap_estimate_tracks_the_valve_through_over_pressure(void **state)
 {
     (void)state;
     static const char text[] =
         "[run]\nduration_s = 60\nseed = 5\n[config]\ncontroller = best\nrate_l_ha = 150\ngiven_speed_kmh = 6\n"
         "[plant]\npto_coupled = 0\nvalve_start_pos = 0\n[drive]\n0 0\n[events]\n30 given_speed_kmh 8\n";
-    scenario_t scn;
     sim_t sim;
-    char err[256];
-    if (scenario_parse(&scn, text, "test_ffmap", err, sizeof err) != 0)
-        fail_msg("scenario: %s", err);
-    sim_init(&sim, &scn);
+    sim_from(&sim, text);
     double worst = 0, theta0 = sim.plant.theta;
     int p0 = ctl_st.fm.p_hat - ctl_st.fm.off;      /* the estimate, whatever frame it is in */
     int saw_over = 0;
@@ -243,10 +258,8 @@ static void test_ffmap_estimate_tracks_the_valve_through_over_pressure(void **st
         if (sim.plant.p_bar > 4.8)
             saw_over = 1;
         /* closure moved (truth) against estimate moved */
-        double truth = (1 - sim.plant.theta) - (1 - theta0);
-        double est = (ctl_st.fm.p_hat - ctl_st.fm.off - p0) / 32768.0;
-        if (fabs(truth - est) > worst)
-            worst = fabs(truth - est);
+        if (frame_error(&sim, p0, theta0) > worst)
+            worst = frame_error(&sim, p0, theta0);
     }
     sim_free(&sim);
     print_message("ffmap: worst estimate error over the 15 s after an over-pressure start %.3f stroke\n", worst);
@@ -265,12 +278,8 @@ static void test_ffmap_frame_holds_at_a_long_stop(void **state)
     static const char text[] =
         "[run]\nduration_s = 90\nseed = 16\n[config]\ncontroller = best\nrate_l_ha = 100\ngiven_speed_kmh = 8\n"
         "[plant]\npto_coupled = 0\n[drive]\n0 0\n[events]\n30 given_speed_kmh 4.3\n60 given_speed_kmh 9\n";
-    scenario_t scn;
     sim_t sim;
-    char err[256];
-    if (scenario_parse(&scn, text, "test_ffmap", err, sizeof err) != 0)
-        fail_msg("scenario: %s", err);
-    sim_init(&sim, &scn);
+    sim_from(&sim, text);
     double worst = 0, theta0 = 0, at_open = 0;
     int p0 = 0, have = 0;
     while (sim_time_s(&sim) < 90) {
@@ -283,12 +292,8 @@ static void test_ffmap_frame_holds_at_a_long_stop(void **state)
             p0 = ctl_st.fm.p_hat - ctl_st.fm.off;
             theta0 = sim.plant.theta;
         }
-        if (have) {
-            double truth = theta0 - sim.plant.theta;    /* closure moved */
-            double est = (ctl_st.fm.p_hat - ctl_st.fm.off - p0) / 32768.0;
-            if (fabs(truth - est) > worst)
-                worst = fabs(truth - est);
-        }
+        if (have && frame_error(&sim, p0, theta0) > worst)
+            worst = frame_error(&sim, p0, theta0);
     }
     sim_free(&sim);
     print_message("ffmap: %.1f s at the open stop; worst estimate error in the map's frame %.3f stroke\n", at_open,
