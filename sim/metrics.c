@@ -103,6 +103,20 @@ void metrics_target(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, 
     }
 }
 
+void metrics_valve(metrics_t *m, double drive, double theta)
+{
+    int s = drive > 0 ? 1 : drive < 0 ? -1 : 0;
+    if (s != 0) {
+        if (m->valve_dir != 0 && s != m->valve_dir)
+            m->valve_reversals++;
+        m->valve_dir = s;
+    }
+    if (m->valve_seen)
+        m->valve_travel += theta > m->valve_theta ? theta - m->valve_theta : m->valve_theta - theta;
+    m->valve_theta = theta;
+    m->valve_seen = 1;
+}
+
 void metrics_sample(metrics_t *m, double target_lpm, double flow_lpm)
 {
     if (m->n_samples + 1 > m->cap_samples) {
@@ -288,6 +302,8 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
     r->dose_target_pct = m->expect4_l > 0 ? (m->target4_l / m->expect4_l - 1.0) * 100.0 : NAN;
     r->dose_ctl_pct = m->expect4_l > 0 ? (m->vol4_l - m->target4_l) / m->expect4_l * 100.0 : NAN;
     r->dose_ctl_stop_pct = m->expect4_l > 0 ? (m->stop_vol4_l - m->stop_target4_l) / m->expect4_l * 100.0 : NAN;
+    r->valve_reversals = m->valve_reversals;
+    r->valve_travel_strokes = m->valve_travel;
     r->pressure_min_bar = m->p_seen ? m->p_min : m->p_seen_any ? m->p_min_any : NAN;
     r->pressure_max_bar = m->p_seen ? m->p_max : m->p_seen_any ? m->p_max_any : NAN;
 
@@ -374,6 +390,8 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "dose_target_pct", r->dose_target_pct, 1);
     num(f, "dose_ctl_pct", r->dose_ctl_pct, 1);
     num(f, "dose_ctl_stop_pct", r->dose_ctl_stop_pct, 1);
+    num(f, "valve_reversals", r->valve_reversals, 1);
+    num(f, "valve_travel_strokes", r->valve_travel_strokes, 1);
     num(f, "cv_pct", r->cv_pct, 1);
     num(f, "cv_all_pct", r->cv_all_pct, 1);
     num(f, "zone_error_min_pct", r->zone_error_min_pct, 1);

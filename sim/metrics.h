@@ -42,6 +42,10 @@ typedef struct {
     /* the dose error's split (v >= 4 km/h): the target flow the controller was given, and the
      * nozzle and target volumes while the bypass valve sat at an end stop */
     double target4_l, stop_vol4_l, stop_target4_l;
+    /* the valve's motor: direction changes (drives of the other sign than the last nonzero one)
+     * and the stroke the valve travelled (metrics_valve) */
+    int valve_dir, valve_reversals, valve_seen;
+    double valve_theta, valve_travel;
     double p_min, p_max;            /* while spraying at v >= 4 km/h ... */
     int p_seen;
     double p_min_any, p_max_any;    /* ... or, for a run that never gets there, while spraying */
@@ -71,6 +75,8 @@ typedef struct {
      * delivered beyond the target; dose_ctl_stop_pct is the part of the latter while the valve
      * sat at an end stop (no controller can change it) */
     double dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct;
+    /* the valve's wear: motor reversals (each takes up the backlash) and strokes travelled */
+    double valve_reversals, valve_travel_strokes;
     double cv_pct, cv_all_pct, zone_error_min_pct, zone_error_max_pct;
     double zone_error_all_min_pct, zone_error_all_max_pct;
     int zones_used, zones_all;      /* zones at v >= 4 km/h, all zones */
@@ -94,6 +100,8 @@ void metrics_alarm(metrics_t *m, double t_s, const char *code);
 /* The same slice seen by the controller: the target flow it was given and whether the valve sat
  * at an end stop (for the dose error's split; call it beside metrics_add, same slice). */
 void metrics_target(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, double target_lpm, int at_stop);
+/* The valve motor's drive in this slice (signed duty, 0: off) and the valve's position after it. */
+void metrics_valve(metrics_t *m, double drive, double theta);
 void metrics_finish(metrics_t *m, metrics_result_t *r);
 /* The step analysis alone, on any sampled series: returns the number of changes found (at most
  * max are written). */

@@ -154,6 +154,7 @@ void sim_step(sim_t *sim)
                 param_v[P_RATE], pl->p_bar, pl->spray_on);
     metrics_target(&sim->metrics, dt, pl->v_mps, pl->q_boom, app_status.target_lpm_x100 / 100.0,
                    pl->theta <= 0.0 || pl->theta >= 1.0);
+    metrics_valve(&sim->metrics, pl->drive, pl->theta);
     sim->acc_meter += pl->q_meter;
     sim->acc_boom += pl->q_boom;
     sim->acc_n++;

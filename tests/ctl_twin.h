@@ -42,6 +42,11 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
 #else
 #define CTLTW_FM_REV_MIN 0.004          /* ctl.c FM_REV_MIN Q15(0.004) */
 #endif
+#ifdef FM_REV_MIN_REST
+#define CTLTW_FM_REV_MIN_REST (FM_REV_MIN_REST / 32768.0)
+#else
+#define CTLTW_FM_REV_MIN_REST 0.001     /* ctl.c FM_REV_MIN_REST Q15(0.001): inside the band */
+#endif
 #ifdef FM_SEEN_ONLY
 #define CTLTW_FM_SEEN_ONLY FM_SEEN_ONLY
 #else
@@ -81,6 +86,11 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
 #define CTLTW_FM_REST_KI (FM_REST_KI / 4096.0)
 #else
 #define CTLTW_FM_REST_KI 0.25           /* ctl.c FM_REST_KI Q12(0.25) */
+#endif
+#ifdef FM_REST_E0
+#define CTLTW_FM_REST_E0 (1 << FM_REST_E0)
+#else
+#define CTLTW_FM_REST_E0 1024           /* ctl.c FM_REST_E0 10: no slow integral while |e| <= target / 1024 */
 #endif
 #ifdef FM_MINF_GATE
 #define CTLTW_FM_MINF_GATE FM_MINF_GATE
@@ -169,7 +179,7 @@ typedef struct {
  * interval. Flows and speeds need none: the firmware's are exact (x100 integers) and the twin
  * keeps their ties (ctltw_gt in the .c); nor do the drives accounted (the firmware's, exact). */
 #define CTLTW_B_IGATE 0x01u         /* |p_ref + feed-forward - p_hat| against FM_IGATE */
-#define CTLTW_B_REV 0x02u           /* a reversal's |need| against FM_REV_MIN */
+#define CTLTW_B_REV 0x02u           /* a reversal's |need| against FM_REV_MIN (FM_REV_MIN_REST in the band) */
 #define CTLTW_B_STICTION 0x04u      /* |drive| against half the break-away duty (0 or 0.2) */
 #define CTLTW_B_SAT 0x08u           /* |drive| against full duty while the calm counter hangs on
                                      * the saturation flag: only the calm counter and the map may differ */
@@ -183,7 +193,7 @@ typedef struct {
 #define CTLTW_P_INTEGRAL 0x002u     /* outside it, servo near its goal: P and I */
 #define CTLTW_P_HELD 0x004u         /* outside it, servo travelling: P only */
 #define CTLTW_P_REVERSAL 0x008u     /* a reversal with its backlash take-up */
-#define CTLTW_P_HYST 0x010u         /* a reversal too small to make (FM_REV_MIN) */
+#define CTLTW_P_HYST 0x010u         /* a reversal too small to make (FM_REV_MIN, in the band FM_REV_MIN_REST) */
 #define CTLTW_P_ROUNDED 0x020u      /* a drive under the break-away duty rounded to 0 or 0.2 */
 #define CTLTW_P_SAT 0x040u          /* drive cut (full duty, end stop or over-pressure) */
 #define CTLTW_P_ENDSTOP 0x080u      /* an end stop reported */
@@ -207,6 +217,7 @@ typedef struct {
 #define CTLTW_P_GAIN_MAX 0x2000000u /* ... clamped at CTLTW_FM_GS_MAX */
 #define CTLTW_P_INTOSTOP 0x4000000u /* a drive into the stop a report set: no move */
 #define CTLTW_P_UNLEARNED 0x8000000u /* feed-forward cut to 13/16: the map around a target not learned */
+#define CTLTW_P_RESTZERO 0x10000000u /* inside the band, |e| <= target / 1024: no integral either */
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed (ctltw_fm_applied: the drive given) */
     int sat;                        /* what ctl_saturated() reports after the step */

@@ -261,7 +261,14 @@ static double ctltw_fm_gate(double d, int up, int down, int over, int under)
 typedef struct {
     int rest, integral;
     double e, dy, dq;               /* L/min: error, y1 - y, target's change */
+    double e0;                      /* L/min: inside the band the integral ignores |e| <= e0 */
 } ctltw_fm_pi_t;
+
+/* The error the slow integral sees inside the band: |e| less e0, 0 within it. */
+static double ctltw_fm_rest_e(const ctltw_fm_pi_t *p)
+{
+    return p->e > p->e0 ? p->e - p->e0 : p->e < -p->e0 ? p->e + p->e0 : 0;
+}
 
 /* The PI increment, stroke, for the flow K the feed-forward covers: inside the band the slow
  * integral; outside it P on the measurement plus the part k of the target's change the
@@ -272,7 +279,7 @@ static double ctltw_fm_du(const ctltw_fm_pi_t *p, double K, double bg, double *k
 {
     double du, k = 0;
     if (p->rest) {
-        du = CTLTW_FM_REST_KI * p->e;
+        du = CTLTW_FM_REST_KI * ctltw_fm_rest_e(p);
     } else {
         k = p->dq - K;
         k = ctltw_gt(0, p->dq) ? ctltw_clamp(k, p->dq, 0) : ctltw_clamp(k, 0, p->dq);
@@ -526,7 +533,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     const double lsb = LSB;
     double q = in->target, y = in->flow, T = in->travel;
     double e = ctltw_clamp(q - y, -CTLTW_E_MAX, CTLTW_E_MAX), ae = fabs(e);
-    double d, g, dq, band, du, raw, k, bg = 0, r, rb, need, need0, c, pre, drive, rel, xr, xl, xh, gn, fl, fh;
+    double d, g, dq, band, du, raw, k, bg = 0, r, rb, need, need0, c, pre, drive, rel, xr, xl, xh, gn, fl, fh, rev_min;
     ctltw_iv_t e_d, e_need, e_c, e_pre, e_gn;
     int s, moving, calm_if;
     memset(&o, 0, sizeof o);
@@ -609,11 +616,14 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     rel = m->p_ref - m->p_hat;
     pi.rest = m->rest;
     pi.e = e;
+    pi.e0 = floor(round(q * 100) / CTLTW_FM_REST_E0) / 100;   /* the firmware's q >> FM_REST_E0 */
     pi.dy = m->y1 - y;
     pi.dq = dq;
     pi.integral = 0;
     if (m->rest) {
         o.path |= CTLTW_P_REST;
+        if (ctltw_fm_rest_e(&pi) == 0)
+            o.path |= CTLTW_P_RESTZERO;
     } else {
         ctltw_iv_t e_g = ctltw_iv(e_d.lo + er.rel.lo, e_d.hi + er.rel.hi);
         g = ctltw_sat(d + rel);
@@ -650,7 +660,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     }
     r = d == 0 && e_d.lo == 0 && e_d.hi == 0 ? 0 : 0.005;
     if (m->rest) {
-        bg = fabs(CTLTW_FM_REST_KI - Q12(CTLTW_FM_REST_KI) / 4096.0) * ae;
+        bg = fabs(CTLTW_FM_REST_KI - Q12(CTLTW_FM_REST_KI) / 4096.0) * fabs(ctltw_fm_rest_e(&pi));
     } else {
         double kerr = CTLTW_FM_COVER * fmax(-e_d.lo, e_d.hi) + r;
         bg = fabs(CTLTW_FM_KP - Q12(CTLTW_FM_KP) / 4096.0) * fmin(fabs(pi.dy + k) + kerr, 327.68);
@@ -695,12 +705,13 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     /* the servo: the move still needed, plus the backlash to take up on a reversal (or still
      * pending); nothing to do, no take-up either */
     s = need > 0 ? 1 : need < 0 ? -1 : 0;
-    if (s != 0 && s != m->dir && ctltw_tips_abs(need, e_need, CTLTW_FM_REV_MIN, Q15(CTLTW_FM_REV_MIN) * lsb))
+    rev_min = m->rest ? CTLTW_FM_REV_MIN_REST : CTLTW_FM_REV_MIN;
+    if (s != 0 && s != m->dir && ctltw_tips_abs(need, e_need, rev_min, Q15(rev_min) * lsb))
         o.border |= CTLTW_B_REV;
     /* need against 0 where it decides whether the pending backlash is taken up */
     if (m->dir != 0 && m->takeup + er.tk.hi > 1e-12 && ctltw_tips_sign(need, e_need))
         o.border |= CTLTW_B_ZERO;
-    if (s != 0 && s != m->dir && fabs(need) < CTLTW_FM_REV_MIN) {
+    if (s != 0 && s != m->dir && fabs(need) < rev_min) {
         s = 0;
         need = 0;
         e_need = ctltw_iv(0, 0);

@@ -243,6 +243,24 @@ static void test_metrics_dose_split(void **state)
     metrics_free(&m);
 }
 
+/* The valve's wear: a reversal is a drive of the other sign than the last nonzero one (pauses
+ * do not count), the travel is the sum of the position's moves either way. */
+static void test_metrics_valve_wear(void **state)
+{
+    metrics_t m;
+    metrics_result_t r;
+    static const double drive[] = {0, 0.5, 0.5, 0, -0.2, 0, 0, -1.0, 0.3, 0.3, 0, 0.3};
+    static const double theta[] = {0.5, 0.6, 0.7, 0.7, 0.65, 0.65, 0.65, 0.45, 0.5, 0.55, 0.55, 0.6};
+    (void)state;
+    metrics_init(&m, DT);
+    for (unsigned i = 0; i < sizeof drive / sizeof drive[0]; i++)
+        metrics_valve(&m, drive[i], theta[i]);
+    metrics_finish(&m, &r);
+    assert_within(r.valve_reversals, 2, 1e-12);            /* + to - (over a pause), - to + */
+    assert_within(r.valve_travel_strokes, 0.2 + 0.05 + 0.2 + 0.15, 1e-9);
+    metrics_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -255,6 +273,7 @@ int main(void)
         cmocka_unit_test(test_metrics_zone_volumes_and_cv),
         cmocka_unit_test(test_metrics_zone_split_inside_a_slice),
         cmocka_unit_test(test_metrics_dose_split),
+        cmocka_unit_test(test_metrics_valve_wear),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,7 +11,9 @@ table and the count of figures where best's mean is worse; -v also prints the pe
 of those; for a worse dose error, the split of the signed means into the target's share and
 the controller's (the JSON's dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct). --four:
 instead, the means of all four controllers on the 150 L/ha scenarios (the
-paper's ordering, without the luck of one seed). Two runs at a time; stdlib only.
+paper's ordering, without the luck of one seed). Also prints the valve's wear a minute (motor
+reversals, strokes travelled), which PLANT.md does not define and the count leaves out. Two runs at
+a time; stdlib only.
 """
 import json
 import subprocess
@@ -108,6 +110,18 @@ def main():
             if bad:
                 worse.append((s, k, ma, mb, va, vb))
         print("  %-28s %s" % (s, "; ".join(cells)))
+    # the valve's wear (not a PLANT.md figure, so not counted above): motor reversals and strokes
+    # travelled a minute (the sim JSON's valve_reversals, valve_travel_strokes over sim_s)
+    if all("valve_reversals" in r for r in res.values()):
+        print("valve wear, a minute (best/bp_pid; not counted below):")
+        for s in SCENARIOS:
+            w = {}
+            for c in ("best", "bp_pid"):
+                w[c] = (sum(res[(s, c, sd)]["valve_reversals"] * 60 / res[(s, c, sd)]["sim_s"] for sd in seeds) / len(seeds),
+                        sum(res[(s, c, sd)]["valve_travel_strokes"] * 60 / res[(s, c, sd)]["sim_s"] for sd in seeds)
+                        / len(seeds))
+            print("  %-28s reversals %.1f/%.1f; travel %.2f/%.2f strokes"
+                  % (s, w["best"][0], w["bp_pid"][0], w["best"][1], w["bp_pid"][1]))
     print("best worse than bp_pid on %d of %d mean figures%s" % (len(worse), total, ":" if worse else ""))
     for s, k, ma, mb, va, vb in worse:
         print("  %s/%s: %.4g > %.4g (%+.2g %%)" % (s, k, ma, mb, 100 * (ma - mb) / mb if mb else float("inf")))
