@@ -264,10 +264,11 @@ typedef struct {
     double e0;                      /* L/min: inside the band the integral ignores |e| <= e0 */
 } ctltw_fm_pi_t;
 
-/* The error the slow integral sees inside the band: |e| less e0, 0 within it. */
+/* The error the slow integral sees inside the band: |e| less e0, 0 within it (flows are x100
+ * integers in the firmware: a tie is a tie, see ctltw_gt). */
 static double ctltw_fm_rest_e(const ctltw_fm_pi_t *p)
 {
-    return p->e > p->e0 ? p->e - p->e0 : p->e < -p->e0 ? p->e + p->e0 : 0;
+    return ctltw_gt(p->e, p->e0) ? p->e - p->e0 : ctltw_gt(-p->e0, p->e) ? p->e + p->e0 : 0;
 }
 
 /* The PI increment, stroke, for the flow K the feed-forward covers: inside the band the slow
