@@ -19,6 +19,10 @@ interpolated). The boom flow the follower gives is the steady solution of the li
 its position, averaged over the sample like the sim's flow_true_lpm, and scored with a port of
 metrics_find_steps (sim/metrics.c).
 
+The summary adds the same follower seeing the pump's speed 0.1, 0.2 and 0.3 s late (it aims at
+the position that suits the target now and the pump as it was then): what the meter, the control
+period and the valve's response cost a controller that is otherwise ideal.
+
 Left out, both on the kind side (the bound is optimistic): the pump pulsation, the line
 compliance (the pressure follows the valve at once instead of in about 0.1 s) and the turbine's
 lag (the metrics use the true flow anyway). Also held optimistic: inside each 0.1 s sample the
@@ -270,8 +274,9 @@ def read_plant_keys(scn_path):
 
 
 # ---- the ideal follower ------------------------------------------------------------------------
-def ideal(plant, rows, travel, start, substeps):
-    """Samples of the ideal follower's flow (sample 0 at t = 0 first, as metrics_sample) and stats."""
+def ideal(plant, rows, travel, start, substeps, late=0):
+    """Samples of the ideal follower's flow (sample 0 at t = 0 first, as metrics_sample) and stats.
+    late: substeps by which the follower sees the pump's speed late (0: at once)."""
     n = len(rows["t_s"])
     pto, tgt, on, noz = rows["pto_rpm"], rows["target_lpm"], rows["spray_on"], rows["open_nozzles"]
     h = SAMPLE_S / substeps
@@ -279,6 +284,15 @@ def ideal(plant, rows, travel, start, substeps):
     theta = None
     flow = [0.0]                                    # sample 0: the sim samples 0 L/min at t = 0
     behind = sprayed = 0
+
+    def rpm_at(i, j):                               # the PTO speed at substep j of sample i
+        while j <= 0 and i > 0:
+            i, j = i - 1, j + substeps
+        if j <= 0:
+            return pto[0]
+        p0 = pto[i - 1] if i > 0 else pto[i]
+        return p0 + (pto[i] - p0) * j / substeps
+
     for i in range(n):
         m = int(noz[i])
         if not (on[i] >= 0.5 and m > 0):
@@ -289,7 +303,7 @@ def ideal(plant, rows, travel, start, substeps):
         for j in range(1, substeps + 1):
             n_rpm = p0 + (pto[i] - p0) * j / substeps
             if tgt[i] > 0.0:
-                req = plant.theta_req(n_rpm, tgt[i], m)
+                req = plant.theta_req(rpm_at(i, j - late) if late else n_rpm, tgt[i], m)
             else:
                 req = theta if theta is not None else 1.0    # nothing asked: no move needed
             if theta is None:
@@ -481,6 +495,12 @@ def main(argv):
         print_steps("ideal follower, valve %g s a stroke, start %s:" % (travel, what), st)
         print("  the follower is at full speed and still behind in %.1f %% of the spraying time" % (100.0 * behind))
 
+    # the same follower, but seeing the pump's speed late, as a real controller does through the
+    # meter and its period (the target it knows at once: it computes it)
+    for late_s in (0.1, 0.2, 0.3):
+        flow, _ = ideal(plant, rows, travel, "open", substeps, int(round(late_s / (SAMPLE_S / substeps))))
+        res["late %.1f" % late_s] = (means(find_steps(T, flow)), late_s)
+
     (f01, m01, t01), (f1, m1, t1), (rmin, rmax), clip = required_speed(plant, rows, travel)
     print("\ntheta_req while spraying: %.3f .. %.3f (%.1f %% of the samples clipped at an end)" % (rmin, rmax, 100 * clip))
     print("theta_req faster than the valve (%.3f stroke/s): %.1f %% of the 0.1 s intervals, largest %.3f stroke/s at t = %.1f s"
@@ -494,6 +514,9 @@ def main(argv):
     for start, what in (("right", "ideal, from the right place"), ("open", "ideal, from parked open")):
         (o, s), _ = res[start]
         print("  %-42s %12s %12s" % (what, fmt(o), fmt(s)))
+    for late_s in (0.1, 0.2, 0.3):
+        (o, s), _ = res["late %.1f" % late_s]
+        print("  %-42s %12s %12s" % ("ideal, parked open, pump seen %.1f s late" % late_s, fmt(o), fmt(s)))
     print("  %-42s %12s %12s" % ("the run's own controller (port)", fmt(o_own), fmt(s_own)))
     if sim_json is not None:
         print("  %-42s %12s %12s" % ("the run's own controller (sim JSON)", fmt(sim_json.get("overshoot_mean_pct")),
