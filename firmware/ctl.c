@@ -258,6 +258,9 @@ static uint8_t ctl_gen;             /* param_generation the derived constants be
 static int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 static int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
 static int16_t ctl_inv_travel;      /* Q15: 1 / ctl_travel */
+int16_t ctl_stiction = CTL_STICTION_DEF;    /* P_VALVE_BRK in Q15 */
+static int16_t ctl_stiction_half = CTL_STICTION_DEF / 2;   /* (no divide in a step: SDCC calls one) */
+int16_t ctl_backlash = FM_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 static q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
 static q15_t ctl_last;              /* Q15: last drive sent */
 static uint8_t ctl_sat;             /* 1: the last drive was cut (limit or end stop) */
@@ -308,6 +311,10 @@ static void ctl_derive(void)
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
     ctl_kf = (int16_t)(((uint32_t)ctl_travel * 839u + 8u) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
     ctl_inv_travel = (int16_t)((32768UL + (uint16_t)ctl_travel / 2u) / (uint16_t)ctl_travel);
+    /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded) */
+    ctl_stiction = (int16_t)(((uint32_t)param_v[P_VALVE_BRK] * 32768u + 50u) / 100u);
+    ctl_stiction_half = ctl_stiction / 2;
+    ctl_backlash = (int16_t)(((uint32_t)param_v[P_VALVE_SLACK] * 32768u + 500u) / 1000u);
     ctl_gen = param_generation;
 }
 
@@ -1126,7 +1133,7 @@ static q15_t fm_step(void) CTL_SHARED
         ctl_sat = 1;
     }
     if (d < CTL_STICTION && d > -CTL_STICTION)
-        d = (d >= CTL_STICTION / 2) ? CTL_STICTION : (d <= -CTL_STICTION / 2) ? -CTL_STICTION : 0;
+        d = (d >= ctl_stiction_half) ? CTL_STICTION : (d <= -ctl_stiction_half) ? -CTL_STICTION : 0;
     if ((d > 0 && (in->valve_limit & CTL_CLOSE_BLOCKED)) || (d < 0 && (in->valve_limit & CTL_AT_OPEN))) {
         d = 0;
         ctl_sat = 1;

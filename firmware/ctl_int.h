@@ -6,7 +6,12 @@
 
 /* ---- common ---------------------------------------------------------------------------- */
 #define CTL_FLOW_SCALE_LPM 100      /* L/min of boom flow per full valve stroke (normalisation) */
-#define CTL_STICTION Q15(0.2)       /* the valve's break-away duty */
+/* The valve's break-away duty (the smallest drive that moves it) and backlash (stroke lost on a
+ * reversal, which ffmap takes up before counting): the parameters Min duty and Backlash, in Q15,
+ * derived when a parameter changes. CTL_STICTION_DEF / FM_BACKLASH_DEF: their defaults. */
+extern int16_t ctl_stiction, ctl_backlash;
+#define CTL_STICTION ctl_stiction
+#define CTL_STICTION_DEF Q15(0.2)
 #define CTL_E_MAX 16000             /* errors clamped to +-160 L/min (x100) */
 
 /* ---- pid: eq. (7), the paper's gains ----------------------------------------------------- */
@@ -64,7 +69,8 @@ typedef struct {
 /* ---- ffmap (the project's own, `best`): position servo + learned flow->position map ------ */
 #define FM_NODES 17                 /* map nodes every FM_BIN of target flow: 0 .. 81.9 L/min */
 #define FM_BIN_SHIFT 9              /* node spacing 512 x100 = 5.12 L/min */
-#define FM_BACKLASH Q15(0.02)       /* stroke lost on a reversal (taken up before counting) */
+#define FM_BACKLASH ctl_backlash     /* stroke lost on a reversal (taken up before counting) */
+#define FM_BACKLASH_DEF Q15(0.02)
 /* Where the end stops put the estimate (Q15 of the stroke, 1 = closed): the closed stop below
  * the int16 top, so an early "closed" report leaves room to go on closing when the valve's
  * stop logic lets it retry (at 32767 the reference could not pass the estimate and the loop

@@ -9,6 +9,9 @@
 #define HDR_VALUES 5u
 #define HDR_LIFE (HDR_VALUES + 2u * P_COUNT)
 #define CRC_AT (HDR_LIFE + 8u)
+/* the same for a copy of n values (an older version's shorter table) */
+#define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
+#define CRC_N(n) (LIFE_N(n) + 8u)
 
 static uint8_t status;              /* STORE_* */
 static uint8_t newest;              /* sector (0, 1) holding the copy loaded or saved last */
@@ -37,30 +40,33 @@ static uint32_t read32(uint16_t a)
     return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
 }
 
-/* 1 when the copy in sector s has the right header, CRC and every value in range. */
+/* The number of values the copy in sector s holds when it has a known header, its CRC and every
+ * value in range; 0 otherwise. Known: this version's table, or version 2's (PARAMS_V2_COUNT
+ * values, the later ones appended since: they keep their defaults). */
 static uint8_t copy_valid(uint8_t s)
 {
     uint16_t base = s ? HAL_EEPROM_SECTOR : 0u;
     uint16_t crc = 0xFFFFu;
-    uint16_t i;
-    if (hal_eeprom_read(base) != STORE_MAGIC || hal_eeprom_read(base + 1u) != PARAMS_VERSION ||
-        hal_eeprom_read(base + 2u) != P_COUNT)
+    uint16_t i, at;
+    uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
+    if (hal_eeprom_read(base) != STORE_MAGIC
+        || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)))
         return 0;
-    for (i = 0; i < CRC_AT; i++)
+    at = CRC_N(n);
+    for (i = 0; i < at; i++)
         crc = crc_byte(crc, hal_eeprom_read(base + i));
-    if (hal_eeprom_read(base + CRC_AT) != (uint8_t)(crc >> 8) ||
-        hal_eeprom_read(base + CRC_AT + 1u) != (uint8_t)crc)
+    if (hal_eeprom_read(base + at) != (uint8_t)(crc >> 8) || hal_eeprom_read(base + at + 1u) != (uint8_t)crc)
         return 0;
-    for (i = 0; i < P_COUNT; i++)
+    for (i = 0; i < n; i++)
         if (!param_in_range((uint8_t)i, read16(base + HDR_VALUES + 2u * i)))
             return 0;
-    return 1;
+    return n;
 }
 
 uint8_t store_load(void) __reentrant
 {
     uint8_t v0 = copy_valid(0), v1 = copy_valid(1);
-    uint8_t s, i;
+    uint8_t s, i, n;
     uint16_t base;
     uint8_t both = v0 && v1;
     uint16_t q0 = read16(HDR_SEQ), q1 = read16(HAL_EEPROM_SECTOR + HDR_SEQ);
@@ -76,9 +82,10 @@ uint8_t store_load(void) __reentrant
     else
         s = v1 ? 1 : 0;
     base = s ? HAL_EEPROM_SECTOR : 0u;
-    for (i = 0; i < P_COUNT; i++)
+    n = s ? v1 : v0;
+    for (i = 0; i < n; i++)
         param_set(i, read16(base + HDR_VALUES + 2u * i));
-    totals_set_life(read32(base + HDR_LIFE), read32(base + HDR_LIFE + 4u));
+    totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
     newest = s;
     seq = s ? q1 : q0;
     /* One copy bad. It was the newer one when it shows a started write of the next sequence

@@ -7,8 +7,9 @@
 /*
  * Layout of one copy (one per 512-byte sector, at 0x000 and 0x200):
  *   0      magic 0x5A
- *   1      PARAMS_VERSION (a different version is not loaded: defaults instead)
- *   2      P_COUNT
+ *   1      PARAMS_VERSION (version 2's shorter table still loads, the values appended since at
+ *          their defaults; any other version is not loaded: defaults instead)
+ *   2      P_COUNT (PARAMS_V2_COUNT in a version 2 copy)
  *   3..4   sequence number, little endian (the newer of two valid copies is the one whose
  *          sequence is ahead by 1..32767, so it may wrap)
  *   5..    P_COUNT values, uint16 little endian, in the order of params.h

@@ -28,6 +28,8 @@ static const cfg_key_t cfg_keys[] = {
     {"given_speed_kmh", P_GIVEN_SPEED, 10},
     {"tank_min_l", P_TANK_MIN, 1},
     {"valve_travel_s", P_VALVE_TRAVEL, 10},         /* what the firmware believes */
+    {"valve_stiction_duty", P_VALVE_BRK, 100},      /* ... its Min duty, stored in % */
+    {"valve_backlash", P_VALVE_SLACK, 1000},        /* ... its Backlash, stored in 0.1 % */
     {"nozzle_lpm_at_3bar", P_NOZZLE_Q3, 100},
 };
 #define N_CFG (sizeof cfg_keys / sizeof cfg_keys[0])

@@ -3,6 +3,7 @@
 #define CTL_TWIN_H
 
 #include "ctl_int.h"
+#include "params.h"
 
 /* eq. (7) increment in valve stroke for errors in L/min and gains as plain numbers. */
 double ctltw_pid_du_stroke(double e, double e1, double e2, double kp, double ki, double kd);
@@ -109,10 +110,10 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
 #endif
 #define CTLTW_FM_LR 0.25                /* ctl.c FM_LR_SHIFT 2: learning rate 1/4 */
 #define CTLTW_FM_BIN ((1 << FM_BIN_SHIFT) / 100.0)     /* node spacing, L/min (5.12) */
-#define CTLTW_FM_BACKLASH 0.02          /* ctl_int.h FM_BACKLASH Q15(0.02) */
+#define CTLTW_FM_BACKLASH (param_v[P_VALVE_SLACK] / 1000.0)  /* ctl.c ctl_backlash: Backlash, 0.1 % */
 #define CTLTW_FM_COVER (FM_COVER / 100.0)  /* ctl_int.h FM_COVER: L/min a stroke moves on the default
                                          * slope (FM_DEF_SLOPE), 99.98 */
-#define CTLTW_STICTION 0.2              /* ctl_int.h CTL_STICTION Q15(0.2) */
+#define CTLTW_STICTION (param_v[P_VALVE_BRK] / 100.0)       /* ctl.c ctl_stiction: Min duty, % */
 #define CTLTW_E_MAX (CTL_E_MAX / 100.0) /* errors clamped to +-160 L/min */
 /* fm_step holds the PI increment in an int16 of 1/16 x100 L/min (fx_sat16 of du_q4): at most
  * 32767/16 x100 L/min of flow-equivalent, 0.2048 stroke a period. Part of the algorithm as

@@ -25,27 +25,33 @@ static uint16_t twin_crc(const uint8_t *p, size_t n)
 /* lifetime totals the twin writes after the values (area m^2, volume ml, little endian) */
 static uint32_t twin_life_m2 = 0, twin_life_ml = 0;
 
-static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t version)
+/* a copy of the first `count` values (an older version's shorter table) */
+static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t version, int count)
 {
     uint8_t *e = hal_host_eeprom() + sector * HAL_EEPROM_SECTOR;
-    size_t n = 5 + 2 * P_COUNT + 8;
+    size_t n = 5 + 2 * (size_t)count + 8;
     memset(e, 0xFF, HAL_EEPROM_SECTOR);
     e[0] = 0x5A;
     e[1] = version;
-    e[2] = P_COUNT;
+    e[2] = (uint8_t)count;
     e[3] = (uint8_t)seq;
     e[4] = (uint8_t)(seq >> 8);
-    for (int i = 0; i < P_COUNT; i++) {
+    for (int i = 0; i < count; i++) {
         e[5 + 2 * i] = (uint8_t)v[i];
         e[6 + 2 * i] = (uint8_t)(v[i] >> 8);
     }
     for (int k = 0; k < 4; k++) {
-        e[5 + 2 * P_COUNT + k] = (uint8_t)(twin_life_m2 >> (8 * k));
-        e[9 + 2 * P_COUNT + k] = (uint8_t)(twin_life_ml >> (8 * k));
+        e[5 + 2 * count + k] = (uint8_t)(twin_life_m2 >> (8 * k));
+        e[9 + 2 * count + k] = (uint8_t)(twin_life_ml >> (8 * k));
     }
     uint16_t crc = twin_crc(e, n);
     e[n] = (uint8_t)(crc >> 8);
     e[n + 1] = (uint8_t)crc;
+}
+
+static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t version)
+{
+    twin_write_n(sector, seq, v, version, P_COUNT);
 }
 
 /* A set of in-range values that differ from the defaults, numbered by k. */
@@ -310,6 +316,36 @@ static void test_store_reads_the_documented_layout_and_wraps_the_sequence(void *
     assert_int_equal(store_load(), STORE_DEFAULTS);
 }
 
+/* a firmware update keeps the settings: a version 2 copy (the table up to Valve time, no Min
+ * duty or Backlash) loads its values and totals, the values appended since take their defaults;
+ * the next save writes this version's layout. A version 2 header with another count is refused. */
+static void test_store_loads_a_version_2_copy(void **state)
+{
+    uint16_t a[P_COUNT];
+    (void)state;
+    values_k(a, 5);
+    twin_life_m2 = 4321u;
+    twin_life_ml = 98765u;
+    twin_write_n(0, 9, a, 2, PARAMS_V2_COUNT);
+    twin_life_m2 = twin_life_ml = 0;
+    totals_init();
+    scramble();
+    assert_int_equal(store_load(), STORE_OK);
+    for (int i = 0; i < P_COUNT; i++)
+        assert_int_equal(param_v[i], i < PARAMS_V2_COUNT ? a[i] : param_info((uint8_t)i)->def);
+    assert_int_equal(totals_get()->life_m2, 4321u);
+    assert_int_equal(totals_get()->life_ml, 98765u);
+    assert_true(store_save());
+    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR + 1], PARAMS_VERSION);
+    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR + 2], P_COUNT);
+    assert_int_equal(store_load(), STORE_OK);
+    assert_int_equal(param_v[0], a[0]);
+    assert_int_equal(totals_get()->life_ml, 98765u);
+    hal_host_reset();
+    twin_write_n(0, 9, a, 2, P_COUNT);
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+}
+
 /* the lifetime totals ride in the same record: written by hand, they are loaded; saved, they
  * come back after a "power cycle" (totals_init zeroes RAM, store_load restores it) */
 static void test_store_keeps_the_lifetime_totals(void **state)
@@ -366,6 +402,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_reads_the_documented_layout_and_wraps_the_sequence, setup),
         cmocka_unit_test_setup(test_store_a_failed_write_is_reported, setup),
         cmocka_unit_test_setup(test_store_keeps_the_lifetime_totals, setup),
+        cmocka_unit_test_setup(test_store_loads_a_version_2_copy, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
