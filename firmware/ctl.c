@@ -701,8 +701,12 @@ static q15_t bp_step(void)
 
 /* ---- ffmap: the project's own controller (`best`) ------------------------------------------
  * A position servo on an estimate of the valve's closure, which nothing measures: p_hat is
- * the drive the valve really got, integrated (motion = duty / T_travel a period, the 2 %
- * backlash taken up first, nothing below the break-away duty). The application reports that
+ * the drive the valve really got, integrated (motion = duty / T_travel a period, the backlash
+ * taken up first, nothing below the break-away duty: the parameters Valve time, Backlash and Min
+ * duty, 4 s, 2.0 % and 20 % by default). The estimate is only as good as they are: told more
+ * backlash than the valve has, every reversal overshoots and the loop hunts (a 1 % valve: 170
+ * reversals a minute); told a lower break-away duty, the smallest pulses do not move the valve
+ * but are counted (a 0.3 valve: 19 s to settle a step). tools/robust.py. The application reports that
  * drive every period with ctl_applied(): its own over-pressure relief, priming, parking and
  * jogging included (without the call the controller assumes its demand was applied). Real end
  * stops (valve_limit) calibrate the estimate: closed at FM_AT_CLOSED (0.875), open at
