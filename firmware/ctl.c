@@ -706,7 +706,12 @@ static q15_t bp_step(void)
  * duty, 4 s, 2.0 % and 20 % by default). The estimate is only as good as they are: told more
  * backlash than the valve has, every reversal overshoots and the loop hunts (a 1 % valve: 170
  * reversals a minute); told a lower break-away duty, the smallest pulses do not move the valve
- * but are counted (a 0.3 valve: 19 s to settle a step). tools/robust.py. The application reports that
+ * but are counted (a 0.3 valve: 19 s to settle a step). tools/robust.py. Against the second, a
+ * stall check: FM_STALL_N small pulses one way (up to 2 Min duty + brk, no take-up in them) that
+ * leave the flow within q/256 of where they started, the target and the speed steady, the error
+ * still asking for more that way: they are taken back from p_hat and p_ref, and the smallest
+ * pulse grows by FM_BRK_STEP (brk, up to FM_BRK_MAX; a step back after FM_BRK_AGE periods without
+ * a stall). The 0.3 valve then settles steps in 0.43 s. The application reports that
  * drive every period with ctl_applied(): its own over-pressure relief, priming, parking and
  * jogging included (without the call the controller assumes its demand was applied). Real end
  * stops (valve_limit) calibrate the estimate: closed at FM_AT_CLOSED (0.875), open at
@@ -837,6 +842,10 @@ static void fm_init(void)
     ctl_st.fm.cal = 0;
     ctl_st.fm.stopd = 0;
     ctl_st.fm.gain = 256;
+    ctl_st.fm.stall_n = 0;
+    ctl_st.fm.stall_mv = 0;
+    ctl_st.fm.brk = 0;
+    ctl_st.fm.brk_age = 0;
 }
 
 /* map(q): closure for a target flow, Q15 stroke. */
@@ -956,6 +965,16 @@ static void fm_account(q15_t d) CTL_SHARED
     m->takeup -= c;
     mv -= c;
     m->p_hat = fx_add_sat(m->p_hat, s > 0 ? mv : (int16_t)-mv);
+    /* small pulses one way, up to Min duty + brk + Min duty (fm_step looks for a stall; it keeps
+     * the flow and the speed the run started from) */
+    if (c == 0 && mv > 0 && (d > 0 ? d : -d) <= 2 * (int32_t)ctl_stiction + m->brk) {
+        if (m->stall_n < 255)
+            m->stall_n++;
+        m->stall_mv = fx_add_sat(m->stall_mv, mv);
+    } else {
+        m->stall_n = 0;
+        m->stall_mv = 0;
+    }
     /* driven past a stop that nobody reported: the estimate was that much ahead of the valve
      * (a stop believed early, a valve that stuck, or a frame not yet set by a stop): the valve is
      * at most at the stop, the frame moves. This also keeps the estimate and the reference off
@@ -1043,6 +1062,31 @@ static q15_t fm_step(void) CTL_SHARED
     }
     /* end stops calibrate the estimate (over-pressure, CTL_NO_CLOSE, is not a stop) */
     fm_stops(in->valve_limit);
+    /* a stall: FM_STALL_N smallest pulses one way, the target and the speed steady (a coupled
+     * PTO's pump follows the speed: below the minimum-flow speed the target is held while the
+     * pump speeds up, and a valve opening against it keeps the flow still), and the flow has not
+     * moved by the deadband while the error still asks for more that way: the valve is stiffer than
+     * Min duty says. The pulses did not move it: the estimate takes them back, and the smallest
+     * pulse grows (a 0.3 valve under the default 0.2: step settling 19 s, now ...) */
+    if (m->stall_n >= FM_STALL_N) {
+        c = (int16_t)(y - m->stall_y);
+        k = (int32_t)in->speed_kmh_x100 - m->stall_v;
+        if ((c < 0 ? -c : c) <= (q >> FM_DB_IN) && (m->dir > 0 ? e > 0 : e < 0)
+            && ((k < 0 ? -k : k) << 6) <= (int32_t)in->speed_kmh_x100) {
+            c = m->dir > 0 ? m->stall_mv : (int16_t)-m->stall_mv;
+            m->p_hat = fx_sub_sat(m->p_hat, c);
+            m->p_ref = fx_sub_sat(m->p_ref, c);     /* not a full-duty burst to make them up */
+            if (m->brk < FM_BRK_MAX)
+                m->brk += FM_BRK_STEP;
+            m->brk_age = 0;
+        }
+        m->stall_n = 0;
+        m->stall_mv = 0;
+    }
+    if (m->brk > 0 && ++m->brk_age >= FM_BRK_AGE) {
+        m->brk -= FM_BRK_STEP;
+        m->brk_age = 0;
+    }
 
     /* feed-forward from the map */
     d = fm_known(q) && fm_known(m->t1) ? (int32_t)fm_map(q) - fm_map(m->t1) : 0;
@@ -1072,8 +1116,11 @@ static q15_t fm_step(void) CTL_SHARED
      * of backlash take-ups and break-away pulses); it re-engages beyond target >> FM_DB_OUT */
     c = e < 0 ? (int16_t)-e : e;
     aq = dq < 0 ? (int16_t)-dq : dq;
-    if (((int32_t)aq << 6) > q)
+    if (((int32_t)aq << 6) > q) {
         m->rest = 0;                /* the target moves (as for learning, |dq| > q/64): the loop follows it */
+        m->stall_n = 0;             /* ... and the flow with it: no stall to tell */
+        m->stall_mv = 0;
+    }
     else if (m->rest) {
         if (c > (q >> FM_DB_OUT))
             m->rest = 0;
@@ -1136,8 +1183,9 @@ static q15_t fm_step(void) CTL_SHARED
         d = -32767;
         ctl_sat = 1;
     }
-    if (d < CTL_STICTION && d > -CTL_STICTION)
-        d = (d >= ctl_stiction_half) ? CTL_STICTION : (d <= -ctl_stiction_half) ? -CTL_STICTION : 0;
+    k = (int32_t)CTL_STICTION + m->brk;   /* the smallest pulse: Min duty, more after a stall */
+    if (d < k && d > -k)
+        d = (d >= ctl_stiction_half) ? k : (d <= -ctl_stiction_half) ? -k : 0;
     if ((d > 0 && (in->valve_limit & CTL_CLOSE_BLOCKED)) || (d < 0 && (in->valve_limit & CTL_AT_OPEN))) {
         d = 0;
         ctl_sat = 1;
@@ -1159,6 +1207,10 @@ static q15_t fm_step(void) CTL_SHARED
 
     m->y1 = y;
     m->t1 = q;
+    if (m->stall_n == 0) {
+        m->stall_y = y;             /* where a run of smallest pulses starts from */
+        m->stall_v = in->speed_kmh_x100;
+    }
     ctl_k[0] = FM_KP;
     ctl_k[1] = FM_KI;
     ctl_k[2] = 0;

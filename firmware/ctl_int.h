@@ -111,7 +111,19 @@ typedef struct {
     uint8_t cal;                    /* 1: an end stop has set the estimate's frame */
     int8_t stopd;                   /* +1 / -1: at the closed / open stop a report set (until a move away) */
     int16_t gain;                   /* Q8: the gain schedule's factor of the last step (256 = 1) */
+    /* a valve stiffer than Min duty: the smallest pulses are counted but do not move it */
+    uint8_t stall_n;                /* smallest pulses one way since the target last moved */
+    int16_t stall_y;                /* x100 flow when the first of them was decided */
+    uint16_t stall_v;               /* x100 km/h: the speed then (a coupled PTO's pump follows it) */
+    int16_t stall_mv;               /* Q15 stroke they were counted as */
+    int16_t brk;                    /* Q15 duty added to Min duty after a stall was found */
+    uint16_t brk_age;               /* periods since the last stall (brk steps back after FM_BRK_AGE) */
 } fm_state_t;
+#define FM_STALL_N 5                /* smallest pulses without a flow change that mean a stall */
+#define FM_BRK_STEP Q15(0.1)        /* the smallest pulse grows by this at each stall found ... */
+#define FM_BRK_MAX Q15(0.4)         /* ... up to Min duty + this */
+#define FM_BRK_AGE 6000u            /* ... and steps back after 10 min without one (a stall read where
+                                     * the valve did move must not coarsen the pulses for good) */
 
 typedef union {
     pid_state_t pid;

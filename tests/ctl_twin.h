@@ -156,6 +156,11 @@ typedef struct {
     int dir;                        /* +1 / -1 / 0: direction of the last motion */
     int calm, warm, rest, hold, cal;
     int stopd;                      /* +1 / -1: at the stop a report set (drives into it do not move) */
+    int stall_n;                    /* smallest pulses one way since the target moved (a stall after FM_STALL_N) */
+    double stall_y, stall_v;        /* L/min, km/h: the flow and speed the run started from */
+    double stall_mv;                /* stroke the run's pulses were counted as */
+    double brk;                     /* duty added to Min duty after a stall (LSB-exact) */
+    int brk_age;                    /* periods since the last stall */
     int pend;                       /* 1: the last drive is not yet accounted in p_hat */
     double last;                    /* the drive the controller sent last (ctl.c ctl_last), duty */
     int first;                      /* 1: the loop (re)starts with this step (ctl_reset before it) */
@@ -187,8 +192,9 @@ typedef struct {
 #define CTLTW_B_HOLD 0x10u          /* |feed-forward| against one period at full duty (1 / T_travel) */
 #define CTLTW_B_ZERO 0x20u          /* need's sign with backlash pending (a step without direction
                                      * takes none up) */
-#define CTLTW_B_SERVO (CTLTW_B_IGATE | CTLTW_B_REV | CTLTW_B_STICTION | CTLTW_B_HOLD | CTLTW_B_ZERO)
-#define CTLTW_B_KINDS 6
+#define CTLTW_B_STALL 0x40u         /* whether a pulse is a smallest one (take-up left, in the rounding) */
+#define CTLTW_B_SERVO (CTLTW_B_IGATE | CTLTW_B_REV | CTLTW_B_STICTION | CTLTW_B_HOLD | CTLTW_B_ZERO | CTLTW_B_STALL)
+#define CTLTW_B_KINDS 7
 /* The branches the step took (coverage for the tests). */
 #define CTLTW_P_REST 0x001u         /* inside the deadband: the slow integral only */
 #define CTLTW_P_INTEGRAL 0x002u     /* outside it, servo near its goal: P and I */
@@ -219,6 +225,7 @@ typedef struct {
 #define CTLTW_P_INTOSTOP 0x4000000u /* a drive into the stop a report set: no move */
 #define CTLTW_P_UNLEARNED 0x8000000u /* feed-forward cut to 13/16: the map around a target not learned */
 #define CTLTW_P_RESTZERO 0x10000000u /* inside the band, |e| <= target / 1024: no integral either */
+#define CTLTW_P_STALL 0x20000000u   /* a stall found: the smallest pulses taken back, the smallest pulse grows */
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed (ctltw_fm_applied: the drive given) */
     int sat;                        /* what ctl_saturated() reports after the step */

@@ -103,6 +103,12 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t last)
     tw->last = last / 32768.0;
     tw->first = first;
     tw->gain = fm->gain / 256.0;
+    tw->stall_n = fm->stall_n;
+    tw->stall_y = fm->stall_y / 100.0;
+    tw->stall_v = fm->stall_v / 100.0;
+    tw->stall_mv = fm->stall_mv / 32768.0;
+    tw->brk = fm->brk / 32768.0;
+    tw->brk_age = fm->brk_age;
 }
 
 /* Flows and speeds are decimals of 0.01 (the firmware's x100 integers): a tie between two of
@@ -162,10 +168,11 @@ static int ctltw_in16(double lo, double hi)
 /* The firmware's closures minus the twin's through a step (intervals), and whether off's holds. */
 typedef struct {
     ctltw_iv_t ph, ref, rel, tk, off;   /* p_hat, p_ref, p_ref - p_hat, takeup, off */
+    ctltw_iv_t smv;                 /* stall_mv */
     int off_ok;
 } ctltw_fm_err_t;
 
-static const ctltw_fm_err_t ctltw_fm_exact = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, 1};
+static const ctltw_fm_err_t ctltw_fm_exact = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, 1};
 
 /* the bin of target flow q (node i, fraction f from it to node i+1); a target exactly on a node
  * or half-way stays there (see ctltw_gt). 0 beyond the last node. */
@@ -334,6 +341,8 @@ static void ctltw_fm_account(ctltw_fm_t *m, double dr, double travel, ctltw_fm_e
     xs = fabs(dr) * ctltw_inv_travel_f(travel);    /* the firmware's product, before its rounding */
     e_mv = ctltw_iv(xs - 0.5 * LSB - mv, xs + 0.5 * LSB - mv);
     tk = m->takeup;
+    if (!(tk + er->tk.hi <= 1e-12) && !(tk + er->tk.lo > 1e-12))
+        o->border |= CTLTW_B_STALL;     /* the firmware's take-up may be 0 or not */
     c = mv < tk ? mv : tk;
     m->takeup = tk - c;
     mr = mv - c;
@@ -347,6 +356,17 @@ static void ctltw_fm_account(ctltw_fm_t *m, double dr, double travel, ctltw_fm_e
     hi = s > 0 ? ctltw_sat(ph0 + er->ph.hi + mr_hi) : ctltw_sat(ph0 + er->ph.hi - mr_lo);
     er->ph = ctltw_iv(lo - m->p_hat, hi - m->p_hat);
     er->rel = ctltw_iv(er->ref.lo - er->ph.hi, er->ref.hi - er->ph.lo);    /* p_ref stays */
+    /* a small pulse (no take-up in it, at most 2 Min duty + brk): counted for the stall check */
+    if (c == 0 && mr > 0 && fabs(dr) <= 2 * Q15(CTLTW_STICTION) * LSB + m->brk + 1e-12) {
+        if (m->stall_n < 255)
+            m->stall_n++;
+        m->stall_mv = ctltw_sat(m->stall_mv + mr);
+        er->smv = ctltw_iv(er->smv.lo + mr_lo - mr, er->smv.hi + mr_hi - mr);
+    } else {
+        m->stall_n = 0;
+        m->stall_mv = 0;
+        er->smv = ctltw_iv(0, 0);
+    }
     /* past a stop nobody reported: the frame moves so the estimate is at the stop */
     if (m->p_hat > CTLTW_FM_CLOSED)
         ctltw_fm_calibrate(m, CTLTW_FM_CLOSED, er, o);
@@ -561,6 +581,31 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         ctltw_fm_calibrate(m, CTLTW_FM_OPEN, &er, &o), m->cal = 1, m->stopd = -1;
     if (in->limit & (CTL_AT_CLOSED | CTL_AT_OPEN))
         o.path |= CTLTW_P_ENDSTOP;
+    /* a stall: FM_STALL_N smallest pulses one way, flow within q / 256 of where they started,
+     * speed within 1/64, and the error still asking for more that way: the pulses are taken back
+     * from p_hat and p_ref, and the smallest pulse grows by FM_BRK_STEP up to FM_BRK_MAX */
+    if (m->stall_n >= FM_STALL_N) {
+        if (!ctltw_gt(fabs(y - m->stall_y), q / 256) && (m->dir > 0 ? ctltw_gt(e, 0) : ctltw_gt(0, e))
+            && !ctltw_gt(fabs(in->speed - m->stall_v) * 64, in->speed)) {
+            double c0 = m->dir > 0 ? m->stall_mv : -m->stall_mv;
+            ctltw_iv_t ec = m->dir > 0 ? er.smv : ctltw_iv(-er.smv.hi, -er.smv.lo);
+            m->p_hat = ctltw_sat(m->p_hat - c0);
+            m->p_ref = ctltw_sat(m->p_ref - c0);
+            er.ph = ctltw_iv(er.ph.lo - ec.hi, er.ph.hi - ec.lo);
+            er.ref = ctltw_iv(er.ref.lo - ec.hi, er.ref.hi - ec.lo);
+            if (m->brk < FM_BRK_MAX / 32768.0 - 1e-12)
+                m->brk += FM_BRK_STEP / 32768.0;
+            m->brk_age = 0;
+            o.path |= CTLTW_P_STALL;
+        }
+        m->stall_n = 0;
+        m->stall_mv = 0;
+        er.smv = ctltw_iv(0, 0);
+    }
+    if (m->brk > 1e-12 && ++m->brk_age >= (int)FM_BRK_AGE) {
+        m->brk -= FM_BRK_STEP / 32768.0;    /* 10 min without a stall: a step back */
+        m->brk_age = 0;
+    }
 
     /* feed-forward: how far the map says the valve must go for the target's change, only the
      * way the target went and not while the flow is past the target that way */
@@ -599,6 +644,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     moving = ctltw_gt(fabs(dq) * 64, q);
     if (moving) {
         m->rest = 0;
+        m->stall_n = 0;             /* the flow follows the target: no stall to tell */
+        m->stall_mv = 0;
+        er.smv = ctltw_iv(0, 0);
     } else if (m->rest) {
         if (ctltw_gt(ae, q / CTLTW_FM_DB_OUT))
             m->rest = 0;
@@ -740,8 +788,8 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
      * it, a smaller none; nothing against an end stop, no closing under over-pressure */
     o.sat_edge = ctltw_tips_abs(pre, e_pre, 1, 1);
     o.sat = pre > 1 || pre < -1;
-    drive = ctltw_fm_out(pre, 0, 1, CTLTW_STICTION, CTLTW_STICTION / 2);
-    if (fabs(ctltw_clamp(pre, -1, 1)) < CTLTW_STICTION) {
+    drive = ctltw_fm_out(pre, 0, 1, CTLTW_STICTION + m->brk, CTLTW_STICTION / 2);
+    if (fabs(ctltw_clamp(pre, -1, 1)) < CTLTW_STICTION + m->brk) {
         if (ctltw_tips_abs(ctltw_clamp(pre, -1, 1), e_pre, CTLTW_STICTION / 2, Q15(CTLTW_STICTION / 2) * lsb))
             o.border |= CTLTW_B_STICTION;
         if (pre != 0)
@@ -756,7 +804,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     if (o.sat)
         o.path |= CTLTW_P_SAT;
     {
-        double full = 1 - lsb, brk = Q15(CTLTW_STICTION) * lsb, half = Q15(CTLTW_STICTION / 2) * lsb;
+        double full = 1 - lsb, brk = Q15(CTLTW_STICTION) * lsb + m->brk, half = (Q15(CTLTW_STICTION) / 2) * lsb;
         o.drive_lo = ctltw_fm_out(pre + e_pre.lo, in->limit, full, brk, half) - drive;
         o.drive_hi = ctltw_fm_out(pre + e_pre.hi, in->limit, full, brk, half) - drive;
     }
@@ -783,6 +831,10 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
 
     m->y1 = y;
     m->t1 = q;
+    if (m->stall_n == 0) {
+        m->stall_y = y;             /* where a run of smallest pulses starts from */
+        m->stall_v = in->speed;
+    }
     o.drive = drive;
     ctltw_fm_frame(m, &o, &er);
     return o;

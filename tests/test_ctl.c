@@ -439,6 +439,7 @@ typedef struct {
     int32_t flow;                   /* x100 L/min in the boom */
     int32_t pump;                   /* x100 L/min: a fixed PTO's pump; 0: coupled, with the speed */
     int32_t q3;                     /* x100 L/min: what the boom's nozzles pass at 3 bar */
+    int32_t brk;                    /* Q15: the duty it needs to move (0: any) */
 } fm_toy_t;
 
 static uint32_t fm_rng = 1u;        /* its own sequence: the other tests' inputs stay as they were */
@@ -452,7 +453,7 @@ static void fm_toy_move(fm_toy_t *p, q15_t d, int travel)
 {
     int s = d > 0 ? 1 : -1;
     int32_t mv = ((int32_t)abs(d) + travel / 2) / travel, take;
-    if (d == 0)
+    if (d == 0 || abs(d) < p->brk)
         return;
     if (s != p->dir) {
         p->slack = 492;
@@ -548,14 +549,17 @@ static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw
     if (fabs(dr) > tol_ref || fabs(dh) > FM_TOL_LSB || fabs(dt) > FM_TOL_LSB || fabs(doff) > FM_TOL_LSB
         || en > FM_TOL_LSB || f->dir != tw->dir || f->rest != tw->rest || f->warm != tw->warm || f->hold != tw->hold
         || f->cal != tw->cal || f->stopd != tw->stopd || f->pend != tw->pend || (map_too && f->calm != tw->calm)
-        || seen != tw->seen)
+        || seen != tw->seen || f->stall_n != tw->stall_n || f->brk != (int16_t)lround(tw->brk * 32768)
+        || f->brk_age != tw->brk_age
+        || fabs(f->stall_mv - tw->stall_mv * 32768) > FM_TOL_LSB
+        || (f->stall_n == 0 && (f->stall_y != lround(tw->stall_y * 100) || f->stall_v != lround(tw->stall_v * 100))))
         fail_msg("ffmap %s %d: p_ref %d twin %.1f, p_hat %d twin %.1f, takeup %d twin %.1f, off %d twin %.1f, worst "
                  "node %.2f LSB, dir %d/%d rest %d/%d warm %d/%d hold %d/%d pend %d/%d calm %d/%d stopd %d/%d "
-                 "seen %lx/%lx (path %x border %x)",
+                 "seen %lx/%lx stall %d/%d brk %d/%.0f stall_mv %d/%.1f (path %x border %x)",
                  what, k, f->p_ref, tw->p_ref * 32768, f->p_hat, tw->p_hat * 32768, f->takeup, tw->takeup * 32768,
                  f->off, tw->off * 32768, en, f->dir, tw->dir, f->rest, tw->rest, f->warm, tw->warm, f->hold,
-                 tw->hold, f->pend, tw->pend, f->calm, tw->calm, f->stopd, tw->stopd, seen, tw->seen, o->path,
-                 o->border);
+                 tw->hold, f->pend, tw->pend, f->calm, tw->calm, f->stopd, tw->stopd, seen, tw->seen, f->stall_n,
+                 tw->stall_n, f->brk, tw->brk * 32768, f->stall_mv, tw->stall_mv * 32768, o->path, o->border);
     w->ref = fm_wmax(w->ref, fabs(dr));
     w->ref_use = fm_wmax(w->ref_use, fabs(dr) / tol_ref);
     w->hat = fm_wmax(w->hat, fabs(dh));
@@ -623,7 +627,7 @@ static unsigned fm_applied(int k, q15_t da, uint8_t limit, q15_t last, int trave
 static void test_ctl_ffmap_matches_twin(void **state)
 {
     (void)state;
-    fm_toy_t toy = {Q15(0.5), 0, 0, 0, 0, 4250};  /* 36 nozzles of 1.18 L/min at 3 bar */
+    fm_toy_t toy = {Q15(0.5), 0, 0, 0, 0, 4250, 0};  /* 36 nozzles of 1.18 L/min at 3 bar */
     fm_worst_t w;
     int travel = (int)param_v[P_VALVE_TRAVEL];
     unsigned paths = 0, paths_app = 0;
@@ -634,7 +638,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
     int learned = 0, rested = 0, slow = 0, forced = 0, force_left = 0, overp_left = 0, overp_steps = 0;
     int applied = 0, relief = 0, weak = 0, refused = 0, jogs = 0, calib_app = 0, pend_moves = 0, frame = 0;
     int target = 3000, seg_left = 0, seg_kind = 0, ramp_from = 0, ramp_to = 0, seg_len = 1, seg_app = 0;
-    int speed = 700, rate = 8, first = 1, held_restarts = 0, out_of_reach = 0;
+    int speed = 700, rate = 8, first = 1, held_restarts = 0, out_of_reach = 0, stiff = 0, stalls = 0;
     uint8_t force_flag = 0, prev_stops = 0;     /* the valve's stops the period before */
     q15_t last = 0;
 
@@ -665,6 +669,9 @@ static void test_ctl_ffmap_matches_twin(void **state)
             /* the boom's nozzles; once the frame is set, now and then a big fixed PTO pump */
             toy.q3 = fm_rnd(2500, 8000);
             toy.pump = ctl_st.fm.cal && fm_rnd(0, 2) == 0 ? fm_rnd(15000, 32000) : 0;
+            /* now and then a valve stiffer than Min duty: ffmap's smallest pulses do not move it */
+            toy.brk = fm_rnd(0, 3) == 0 ? Q15(0.33) : 0;
+            stiff += toy.brk != 0;
         }
         seg_left--;
         if ((seg_kind == 2 || seg_kind == 5) && seg_left % 30 == 0)
@@ -703,7 +710,8 @@ static void test_ctl_ffmap_matches_twin(void **state)
             last = da;
             first = 1;
         }
-        int flow = fm_toy_flow(&toy, speed) + fm_rnd(-12, 12) + (fm_rnd(0, 99) == 0 ? fm_rnd(-150, 150) : 0);
+        int flow = fm_toy_flow(&toy, speed) + fm_rnd(-12, 12) / (toy.brk ? 4 : 1)    /* a stiff valve: a quieter meter */
+                   + (fm_rnd(0, 99) == 0 ? fm_rnd(-150, 150) : 0);
         if (fm_rnd(0, 299) == 0)
             flow = 0;               /* the meter's pulses lost for a period: a jump the P term cuts */
         uint8_t stops = fm_toy_stops(&toy), early = 0;
@@ -826,6 +834,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
         rested += (o.path & CTLTW_P_REST) != 0;
         pend_moves += (o.path & (CTLTW_P_PEND | CTLTW_P_MOVED)) == (CTLTW_P_PEND | CTLTW_P_MOVED);
         frame += (o.path & CTLTW_P_FRAME) != 0;
+        stalls += (o.path & CTLTW_P_STALL) != 0;
 
         double dd = d - o.drive * 32768, ed = fabs(dd);
         if (!fm_in(dd, o.drive_lo, o.drive_hi))
@@ -855,9 +864,11 @@ static void test_ctl_ffmap_matches_twin(void **state)
                   w.gain, w.gain_tol, FM_GAIN_TOL_LSB, g_min, g_max, g_in, FM_GS_MIN, FM_GS_MAX, g_fw_min, g_fw_max,
                   g_values, g_off, g_fixed, p_min, p_max);
     print_message("ffmap: borderline: %d of %d steps skipped (integral gate %d, reversal %d, stiction %d, hold %d, "
-                  "take-up sign %d), %d compared without calm and map (full duty while calm); saturation flag left "
-                  "out on %d\n", skipped, FM_STEPS, kinds[0], kinds[1], kinds[2], kinds[4], kinds[5], partial,
-                  sat_edges);
+                  "take-up sign %d, smallest pulse %d), %d compared without calm and map (full duty while calm); "
+                  "saturation flag left out on %d\n", skipped, FM_STEPS, kinds[0], kinds[1], kinds[2], kinds[4], kinds[5],
+                  kinds[6], partial, sat_edges);
+    print_message("ffmap: %d segments with a valve stiffer than Min duty (0.33), %d stalls found (brk now %d)\n",
+                  stiff, stalls, ctl_st.fm.brk);
     print_message("ffmap: %d steps learned, %d at rest, %d below P_MINF_SPEED, %d with an early end stop, %d under "
                   "over-pressure, %d pending drives accounted, %d outside the stroke\n", learned, rested, slow, forced,
                   overp_steps, pend_moves, frame);
@@ -873,7 +884,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
                          | CTLTW_P_CALIB | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP | CTLTW_P_HOLDSET
                          | CTLTW_P_HOLDING | CTLTW_P_GATED | CTLTW_P_COVER | CTLTW_P_PEND | CTLTW_P_MOVED
                          | CTLTW_P_NOCLOSE | CTLTW_P_FRAME | CTLTW_P_GAIN | CTLTW_P_GAIN_MIN | CTLTW_P_GAIN_MAX
-                         | CTLTW_P_UNLEARNED | CTLTW_P_RESTZERO;
+                         | CTLTW_P_UNLEARNED | CTLTW_P_RESTZERO | CTLTW_P_STALL;
     const unsigned all_app = CTLTW_P_CALIB | CTLTW_P_MOVED | CTLTW_P_STILL | CTLTW_P_INTOSTOP;
     if ((paths & all) != all || (paths_app & all_app) != all_app)
         fail_msg("ffmap: branches not taken: step %x, ctl_applied %x", all & ~paths, all_app & ~paths_app);
