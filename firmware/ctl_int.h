@@ -117,13 +117,21 @@ typedef struct {
     uint16_t stall_v;               /* x100 km/h: the speed then (a coupled PTO's pump follows it) */
     int16_t stall_mv;               /* Q15 stroke they were counted as */
     int16_t brk;                    /* Q15 duty added to Min duty after a stall was found */
-    uint16_t brk_age;               /* periods since the last stall (brk steps back after FM_BRK_AGE) */
+    uint16_t brk_age;               /* periods since the last stall or hunt (brk and tk_cut step back after FM_BRK_AGE) */
+    /* a valve with less backlash than Backlash: each reversal overshoots by the difference */
+    int8_t rev;                     /* periods since the last reversal, signed as the error was then (0: none near) */
+    uint8_t hunt;                   /* reversals in a row, each within FM_HUNT_GAP of the last and against its error */
+    int16_t tk_cut;                 /* Q15 taken off Backlash after FM_HUNT_N of them */
 } fm_state_t;
 #define FM_STALL_N 5                /* smallest pulses without a flow change that mean a stall */
 #define FM_BRK_STEP Q15(0.1)        /* the smallest pulse grows by this at each stall found ... */
 #define FM_BRK_MAX Q15(0.4)         /* ... up to Min duty + this */
 #define FM_BRK_AGE 6000u            /* ... and steps back after 10 min without one (a stall read where
                                      * the valve did move must not coarsen the pulses for good) */
+#define FM_HUNT_GAP 4               /* periods: reversals this close, each against the last one's error ... */
+#define FM_HUNT_N 4                 /* ... FM_HUNT_N in a row: the take-up is too large */
+#define FM_TK_STEP Q15(0.0025)      /* it shrinks by this each time, ... */
+#define FM_TK_MIN Q15(0.005)        /* ... down to this, and grows back after FM_BRK_AGE quiet periods */
 
 typedef union {
     pid_state_t pid;

@@ -160,7 +160,10 @@ typedef struct {
     double stall_y, stall_v;        /* L/min, km/h: the flow and speed the run started from */
     double stall_mv;                /* stroke the run's pulses were counted as */
     double brk;                     /* duty added to Min duty after a stall (LSB-exact) */
-    int brk_age;                    /* periods since the last stall */
+    int brk_age;                    /* periods since the last stall or hunt */
+    int rev;                        /* periods since the last reversal, signed as the error then (0: none near) */
+    int hunt;                       /* close reversals in a row, each against the last one's error */
+    double tk_cut;                  /* stroke taken off Backlash after FM_HUNT_N of them (LSB-exact) */
     int pend;                       /* 1: the last drive is not yet accounted in p_hat */
     double last;                    /* the drive the controller sent last (ctl.c ctl_last), duty */
     int first;                      /* 1: the loop (re)starts with this step (ctl_reset before it) */
@@ -226,6 +229,7 @@ typedef struct {
 #define CTLTW_P_UNLEARNED 0x8000000u /* feed-forward cut to 13/16: the map around a target not learned */
 #define CTLTW_P_RESTZERO 0x10000000u /* inside the band, |e| <= target / 1024: no integral either */
 #define CTLTW_P_STALL 0x20000000u   /* a stall found: the smallest pulses taken back, the smallest pulse grows */
+#define CTLTW_P_HUNT 0x40000000u    /* hunting found: the take-up shrinks */
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed (ctltw_fm_applied: the drive given) */
     int sat;                        /* what ctl_saturated() reports after the step */

@@ -109,6 +109,9 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t last)
     tw->stall_mv = fm->stall_mv / 32768.0;
     tw->brk = fm->brk / 32768.0;
     tw->brk_age = fm->brk_age;
+    tw->rev = fm->rev;
+    tw->hunt = fm->hunt;
+    tw->tk_cut = fm->tk_cut / 32768.0;
 }
 
 /* Flows and speeds are decimals of 0.01 (the firmware's x100 integers): a tie between two of
@@ -332,7 +335,7 @@ static void ctltw_fm_account(ctltw_fm_t *m, double dr, double travel, ctltw_fm_e
     m->stopd = 0;
     o->path |= CTLTW_P_MOVED;
     if (s != m->dir) {
-        m->takeup = CTLTW_FM_BACKLASH;
+        m->takeup = CTLTW_FM_BACKLASH - m->tk_cut;
         double eb = Q15(CTLTW_FM_BACKLASH) * LSB - CTLTW_FM_BACKLASH;     /* the firmware's is 655/32768 */
         er->tk = ctltw_iv(eb, eb);
         m->dir = s;
@@ -602,9 +605,18 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->stall_mv = 0;
         er.smv = ctltw_iv(0, 0);
     }
-    if (m->brk > 1e-12 && ++m->brk_age >= (int)FM_BRK_AGE) {
-        m->brk -= FM_BRK_STEP / 32768.0;    /* 10 min without a stall: a step back */
+    if ((m->brk > 1e-12 || m->tk_cut > 1e-12) && ++m->brk_age >= (int)FM_BRK_AGE) {
+        if (m->brk > 1e-12)
+            m->brk -= FM_BRK_STEP / 32768.0;    /* 10 min without a stall or hunt: a step back */
+        if (m->tk_cut > 1e-12)
+            m->tk_cut -= FM_TK_STEP / 32768.0;
         m->brk_age = 0;
+    }
+    /* the last reversal ages; too old, the run of close reversals is over */
+    if (m->rev != 0) {
+        m->rev += m->rev > 0 ? 1 : -1;
+        if (m->rev > FM_HUNT_GAP || m->rev < -FM_HUNT_GAP)
+            m->rev = m->hunt = 0;
     }
 
     /* feed-forward: how far the map says the valve must go for the target's change, only the
@@ -644,9 +656,10 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     moving = ctltw_gt(fabs(dq) * 64, q);
     if (moving) {
         m->rest = 0;
-        m->stall_n = 0;             /* the flow follows the target: no stall to tell */
+        m->stall_n = 0;             /* the flow follows the target: no stall to tell, nor a hunt */
         m->stall_mv = 0;
         er.smv = ctltw_iv(0, 0);
+        m->hunt = 0;
     } else if (m->rest) {
         if (ctltw_gt(ae, q / CTLTW_FM_DB_OUT))
             m->rest = 0;
@@ -768,7 +781,16 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     }
     if (s != 0 && s != m->dir) {
         double eb = s * (Q15(CTLTW_FM_BACKLASH) * lsb - CTLTW_FM_BACKLASH);  /* the firmware's is 655/32768 */
-        c = CTLTW_FM_BACKLASH;
+        /* hunting: close reversals, each against the last one's error: the take-up shrinks */
+        if (m->rev != 0 && (m->rev > 0 ? ctltw_gt(0, e) : ctltw_gt(e, 0)) && ++m->hunt >= FM_HUNT_N) {
+            m->hunt = 0;
+            if (m->tk_cut <= (FM_BACKLASH_DEF - FM_TK_MIN - FM_TK_STEP) / 32768.0 + 1e-12)
+                m->tk_cut += FM_TK_STEP / 32768.0;
+            m->brk_age = 0;
+            o.path |= CTLTW_P_HUNT;
+        }
+        m->rev = ctltw_gt(e, 0) ? 1 : ctltw_gt(0, e) ? -1 : 0;
+        c = CTLTW_FM_BACKLASH - m->tk_cut;
         e_c = ctltw_iv(eb, eb);
         o.path |= CTLTW_P_REVERSAL;
     } else if (s == 0) {

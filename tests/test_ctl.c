@@ -550,7 +550,8 @@ static void fm_compare(const char *what, int k, const fm_state_t *f, const ctltw
         || en > FM_TOL_LSB || f->dir != tw->dir || f->rest != tw->rest || f->warm != tw->warm || f->hold != tw->hold
         || f->cal != tw->cal || f->stopd != tw->stopd || f->pend != tw->pend || (map_too && f->calm != tw->calm)
         || seen != tw->seen || f->stall_n != tw->stall_n || f->brk != (int16_t)lround(tw->brk * 32768)
-        || f->brk_age != tw->brk_age
+        || f->brk_age != tw->brk_age || f->rev != tw->rev || f->hunt != tw->hunt
+        || f->tk_cut != (int16_t)lround(tw->tk_cut * 32768)
         || fabs(f->stall_mv - tw->stall_mv * 32768) > FM_TOL_LSB
         || (f->stall_n == 0 && (f->stall_y != lround(tw->stall_y * 100) || f->stall_v != lround(tw->stall_v * 100))))
         fail_msg("ffmap %s %d: p_ref %d twin %.1f, p_hat %d twin %.1f, takeup %d twin %.1f, off %d twin %.1f, worst "
@@ -638,7 +639,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
     int learned = 0, rested = 0, slow = 0, forced = 0, force_left = 0, overp_left = 0, overp_steps = 0;
     int applied = 0, relief = 0, weak = 0, refused = 0, jogs = 0, calib_app = 0, pend_moves = 0, frame = 0;
     int target = 3000, seg_left = 0, seg_kind = 0, ramp_from = 0, ramp_to = 0, seg_len = 1, seg_app = 0;
-    int speed = 700, rate = 8, first = 1, held_restarts = 0, out_of_reach = 0, stiff = 0, stalls = 0;
+    int speed = 700, rate = 8, first = 1, held_restarts = 0, out_of_reach = 0, stiff = 0, stalls = 0, hunts = 0;
     uint8_t force_flag = 0, prev_stops = 0;     /* the valve's stops the period before */
     q15_t last = 0;
 
@@ -670,7 +671,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
             toy.q3 = fm_rnd(2500, 8000);
             toy.pump = ctl_st.fm.cal && fm_rnd(0, 2) == 0 ? fm_rnd(15000, 32000) : 0;
             /* now and then a valve stiffer than Min duty: ffmap's smallest pulses do not move it */
-            toy.brk = fm_rnd(0, 3) == 0 ? Q15(0.33) : 0;
+            toy.brk = fm_rnd(0, 2) == 0 ? Q15(0.33) : 0;
             stiff += toy.brk != 0;
         }
         seg_left--;
@@ -835,6 +836,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
         pend_moves += (o.path & (CTLTW_P_PEND | CTLTW_P_MOVED)) == (CTLTW_P_PEND | CTLTW_P_MOVED);
         frame += (o.path & CTLTW_P_FRAME) != 0;
         stalls += (o.path & CTLTW_P_STALL) != 0;
+        hunts += (o.path & CTLTW_P_HUNT) != 0;
 
         double dd = d - o.drive * 32768, ed = fabs(dd);
         if (!fm_in(dd, o.drive_lo, o.drive_hi))
@@ -867,8 +869,9 @@ static void test_ctl_ffmap_matches_twin(void **state)
                   "take-up sign %d, smallest pulse %d), %d compared without calm and map (full duty while calm); "
                   "saturation flag left out on %d\n", skipped, FM_STEPS, kinds[0], kinds[1], kinds[2], kinds[4], kinds[5],
                   kinds[6], partial, sat_edges);
-    print_message("ffmap: %d segments with a valve stiffer than Min duty (0.33), %d stalls found (brk now %d)\n",
-                  stiff, stalls, ctl_st.fm.brk);
+    print_message("ffmap: %d segments with a valve stiffer than Min duty (0.33), %d stalls found (brk now %d); "
+                  "%d hunts on the toy's 1.5 %% backlash (take-up cut now %d)\n",
+                  stiff, stalls, ctl_st.fm.brk, hunts, ctl_st.fm.tk_cut);
     print_message("ffmap: %d steps learned, %d at rest, %d below P_MINF_SPEED, %d with an early end stop, %d under "
                   "over-pressure, %d pending drives accounted, %d outside the stroke\n", learned, rested, slow, forced,
                   overp_steps, pend_moves, frame);
@@ -884,7 +887,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
                          | CTLTW_P_CALIB | CTLTW_P_LEADCUT | CTLTW_P_DUCUT | CTLTW_P_TAKEUP | CTLTW_P_HOLDSET
                          | CTLTW_P_HOLDING | CTLTW_P_GATED | CTLTW_P_COVER | CTLTW_P_PEND | CTLTW_P_MOVED
                          | CTLTW_P_NOCLOSE | CTLTW_P_FRAME | CTLTW_P_GAIN | CTLTW_P_GAIN_MIN | CTLTW_P_GAIN_MAX
-                         | CTLTW_P_UNLEARNED | CTLTW_P_RESTZERO | CTLTW_P_STALL;
+                         | CTLTW_P_UNLEARNED | CTLTW_P_RESTZERO | CTLTW_P_STALL | CTLTW_P_HUNT;
     const unsigned all_app = CTLTW_P_CALIB | CTLTW_P_MOVED | CTLTW_P_STILL | CTLTW_P_INTOSTOP;
     if ((paths & all) != all || (paths_app & all_app) != all_app)
         fail_msg("ffmap: branches not taken: step %x, ctl_applied %x", all & ~paths, all_app & ~paths_app);

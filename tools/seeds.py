@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """seeds.py: best against bp_pid over many seeds and every scenario family, figure by figure.
 
-usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--four]
+usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--four | --split SCENARIO]
 One seed is one draw of the plant's noise (pump pulsation phase, sensor noise, meter and wheel
 pulse timing); a single run can favour either controller by luck. For each scenario below and
 each seed (default 1-16) both controllers run on the same plant; the figures of PLANT.md are
@@ -14,6 +14,10 @@ instead, the means of all four controllers on the 150 L/ha scenarios (the
 paper's ordering, without the luck of one seed). Also prints the valve's wear a minute (motor
 reversals, strokes travelled), which PLANT.md does not define and the count leaves out. Two runs at
 a time; stdlib only.
+--split SCENARIO: instead, where best's and bp_pid's flow leaves its target on that scenario
+(mean over the seeds, % of the target volume at v >= 4 km/h, from a 0.1 s trace): while the
+target rose by more than 1 % over the last second, while it fell, while it was steady, and while
+the valve sat at an end stop.
 """
 import json
 import subprocess
@@ -55,6 +59,46 @@ def figure(m, k):
     return abs(v) if k in ("dose_error_pct", "zone_error_min_pct") else v
 
 
+def split_run(job):
+    sim, scn, ctl, seed = job
+    import csv
+    import os
+    import tempfile
+    fd, path = tempfile.mkstemp(prefix="split_", suffix=".csv")
+    os.close(fd)
+    try:
+        subprocess.run([sim, "--scenario", "scenarios/%s.scn" % scn, "--controller", ctl, "--seed", str(seed),
+                        "--csv", path, "--trace-period", "0.1"], capture_output=True, check=True)
+        with open(path) as f:
+            rows = list(csv.DictReader(f))
+    finally:
+        os.unlink(path)
+    tgt = [float(r["target_lpm"]) for r in rows]
+    acc = {"rising": 0.0, "falling": 0.0, "steady": 0.0, "at a stop": 0.0}
+    total = 0.0
+    for i, r in enumerate(rows):
+        if float(r["v_true_kmh"]) < 4:
+            continue
+        total += tgt[i]
+        th, d = float(r["valve_pos"]), tgt[i] - tgt[max(0, i - 10)]
+        k = ("at a stop" if th <= 0.0 or th >= 1.0 else "rising" if d > 0.01 * tgt[i]
+             else "falling" if d < -0.01 * tgt[i] else "steady")
+        acc[k] += float(r["flow_true_lpm"]) - tgt[i]
+    return {k: 100.0 * v / total for k, v in acc.items()} if total > 0 else acc
+
+
+def split(sim, scn, seeds):
+    jobs = [(sim, scn, c, sd) for c in ("best", "bp_pid") for sd in seeds]
+    with ThreadPoolExecutor(2) as ex:
+        res = list(ex.map(split_run, jobs))
+    print("%s: flow beyond the target, %% of the target volume at v >= 4 km/h, means over seeds %d-%d"
+          % (scn, seeds[0], seeds[-1]))
+    for n, c in enumerate(("best", "bp_pid")):
+        part = res[n * len(seeds):(n + 1) * len(seeds)]
+        print("  %-6s " % c + "; ".join("%s %+.4f" % (k, sum(p[k] for p in part) / len(part)) for k in part[0]))
+    return 0
+
+
 def four(sim, seeds):
     scns = ["target_step_150", "paper_dynamic_150", "paper_dynamic_150_fixed_pto", "field_3220m_150"]
     ctls = ["pid", "fuzzy_pid", "bp_pid", "best"]
@@ -90,6 +134,8 @@ def main():
         seeds = list(range(int(a), int(b) + 1))
     if "--four" in args:
         return four(sim, seeds)
+    if "--split" in args:
+        return split(sim, args[args.index("--split") + 1], seeds)
     jobs = [(sim, s, c, seed) for s in SCENARIOS for c in ("best", "bp_pid") for seed in seeds]
     with ThreadPoolExecutor(2) as ex:
         res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
