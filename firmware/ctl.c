@@ -260,6 +260,7 @@ static int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke
 static int16_t ctl_inv_travel;      /* Q15: 1 / ctl_travel */
 int16_t ctl_stiction = CTL_STICTION_DEF;    /* P_VALVE_BRK in Q15 */
 static int16_t ctl_stiction_half = CTL_STICTION_DEF / 2;   /* (no divide in a step: SDCC calls one) */
+static int8_t ctl_hunt_gap = FM_HUNT_GAP(40);               /* FM_HUNT_GAP for P_VALVE_TRAVEL */
 int16_t ctl_backlash = FM_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 static q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
 static q15_t ctl_last;              /* Q15: last drive sent */
@@ -314,6 +315,7 @@ static void ctl_derive(void)
     /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded) */
     ctl_stiction = (int16_t)(((uint32_t)param_v[P_VALVE_BRK] * 32768u + 50u) / 100u);
     ctl_stiction_half = ctl_stiction / 2;
+    ctl_hunt_gap = (int8_t)(ctl_travel > 2000 ? 102 : FM_HUNT_GAP(ctl_travel));
     ctl_backlash = (int16_t)(((uint32_t)param_v[P_VALVE_SLACK] * 32768u + 500u) / 1000u);
     ctl_gen = param_generation;
 }
@@ -712,7 +714,7 @@ static q15_t bp_step(void)
  * still asking for more that way: they are taken back from p_hat and p_ref, and the smallest
  * pulse grows by FM_BRK_STEP (brk, up to FM_BRK_MAX; a step back after FM_BRK_AGE periods without
  * a stall). The 0.3 valve then settles steps in 0.42 s. Against the first, a hunting check:
- * FM_HUNT_N reversals in a row, each within FM_HUNT_GAP periods of the last and against the error
+ * FM_HUNT_N reversals in a row, each within FM_HUNT_GAP(T) periods of the last and against the error
  * the last one was made for, shrink the take-up by FM_TK_STEP (tk_cut, down to FM_TK_MIN; a step
  * back after FM_BRK_AGE quiet periods). The 1 % valve then settles steps in 0.38 s with 18
  * reversals a minute. The application reports that
@@ -1100,7 +1102,7 @@ static q15_t fm_step(void) CTL_SHARED
     /* the last reversal ages; too old, the run of close reversals is over */
     if (m->rev != 0) {
         m->rev += m->rev > 0 ? 1 : -1;
-        if (m->rev > FM_HUNT_GAP || m->rev < -FM_HUNT_GAP) {
+        if (m->rev > ctl_hunt_gap || m->rev < -ctl_hunt_gap) {
             m->rev = 0;
             m->hunt = 0;
         }
@@ -1187,7 +1189,7 @@ static q15_t fm_step(void) CTL_SHARED
     s = need > 0 ? 1 : need < 0 ? -1 : 0;
     if (s != 0 && s != m->dir && (need < 0 ? -need : need) < (m->rest ? FM_REV_MIN_REST : FM_REV_MIN))
         s = 0, need = 0;            /* hysteresis: a reversal (and its take-up) must be worth it */
-    /* hunting: reversals FM_HUNT_GAP periods apart or closer, each against the error of the last:
+    /* hunting: reversals FM_HUNT_GAP(T) periods apart or closer, each against the error of the last:
      * the valve jumps past the aim at every reversal, by the take-up it did not need. FM_HUNT_N
      * in a row shrink the take-up (a 1 % valve under the default Backlash of 2 %: 170 reversals a
      * minute and 6.6 s step settling) */

@@ -128,7 +128,9 @@ typedef struct {
 #define FM_BRK_MAX Q15(0.4)         /* ... up to Min duty + this */
 #define FM_BRK_AGE 6000u            /* ... and steps back after 10 min without one (a stall read where
                                      * the valve did move must not coarsen the pulses for good) */
-#define FM_HUNT_GAP 4               /* periods: reversals this close, each against the last one's error ... */
+/* periods: reversals this close, each against the last one's error ... (2 + T_travel / 20: 4 for
+ * the default 4 s valve; a slow valve's limit cycle is slower: at 8 s a reversal every 5 periods) */
+#define FM_HUNT_GAP(travel) (2 + (travel) / 20)
 #define FM_HUNT_N 4                 /* ... FM_HUNT_N in a row: the take-up is too large */
 #define FM_TK_STEP Q15(0.0025)      /* it shrinks by this each time, ... */
 #define FM_TK_MIN Q15(0.005)        /* ... down to this, and grows back after FM_BRK_AGE quiet periods */

@@ -615,7 +615,8 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     /* the last reversal ages; too old, the run of close reversals is over */
     if (m->rev != 0) {
         m->rev += m->rev > 0 ? 1 : -1;
-        if (m->rev > FM_HUNT_GAP || m->rev < -FM_HUNT_GAP)
+        int gap = FM_HUNT_GAP((int)T > 2000 ? 2000 : (int)T);
+        if (m->rev > gap || m->rev < -gap)
             m->rev = m->hunt = 0;
     }
 
