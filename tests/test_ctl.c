@@ -425,6 +425,37 @@ static void test_ctl_ffmap_deadband_hysteresis(void **state)
     assert_int_equal(ctl_st.fm.rest, 0);
 }
 
+/* ffmap: what the stall and hunting checks learned (a larger smallest pulse, a smaller take-up)
+ * stays through other settings' changes, and goes when the operator tells new Min duty or
+ * Backlash values: they are taken as given. */
+static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
+{
+    (void)state;
+    ctl_select(CTL_BEST);
+    ctl_in_t in = mk(3000, 3000, 0);
+    ctl_step(&in);
+    ctl_st.fm.brk = FM_BRK_STEP;
+    ctl_st.fm.tk_cut = FM_TK_STEP;
+    assert_int_equal(param_set(P_RATE, 140), 1);
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.brk, FM_BRK_STEP);
+    assert_int_equal(ctl_st.fm.tk_cut, FM_TK_STEP);
+    assert_int_equal(param_set(P_VALVE_SLACK, 15), 1);
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.brk, 0);
+    assert_int_equal(ctl_st.fm.tk_cut, 0);
+    assert_int_equal(FM_BACKLASH, Q15(0.015));
+    ctl_st.fm.brk = FM_BRK_STEP;
+    assert_int_equal(param_set(P_VALVE_BRK, 30), 1);
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.brk, 0);
+    assert_int_equal(CTL_STICTION, Q15(0.3));
+    params_defaults();
+    ctl_reset(0);                   /* the defaults derived again for the tests after this one */
+    assert_int_equal(CTL_STICTION, CTL_STICTION_DEF);
+    assert_int_equal(FM_BACKLASH, FM_BACKLASH_DEF);
+}
+
 /* ---- ffmap against its double-precision twin ----------------------------------------------- */
 /* A toy plant in integers: the bypass valve (closure Q15, full stroke in T_travel periods at
  * full duty, 1.5 % backlash of its own, end stops), a convex closure -> boom flow curve on a
@@ -644,6 +675,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
     q15_t last = 0;
 
     memset(&w, 0, sizeof w);
+    ctl_select(CTL_BEST);           /* the valve's parameters derived (Min duty, Backlash) */
     assert_int_equal(Q15(CTLTW_FM_BACKLASH), FM_BACKLASH);
     assert_int_equal(Q15(CTLTW_STICTION), CTL_STICTION);
     assert_int_equal(FM_DEF_SLOPE, Q15(CTLTW_FM_BIN / CTL_FLOW_SCALE_LPM));   /* 5.12 L/min a 0.0512 stroke */
@@ -915,6 +947,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_feed_forward_and_backlash, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_integral_held_while_servo_travels, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_deadband_hysteresis, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_matches_twin, setup),
     };
     return cmocka_run_group_tests_name("ctl", tests, NULL, NULL);
