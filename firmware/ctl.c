@@ -324,7 +324,7 @@ static void ctl_derive(void)
     ctl_stiction = s;
     ctl_backlash = b;
     ctl_stiction_half = ctl_stiction / 2;
-    ctl_hunt_gap = (int8_t)(ctl_travel > 2000 ? 102 : FM_HUNT_GAP(ctl_travel));
+    ctl_hunt_gap = (int8_t)FM_HUNT_GAP(ctl_travel);   /* Valve time is at most 600: 32 */
     ctl_gen = param_generation;
 }
 

@@ -615,7 +615,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     /* the last reversal ages; too old, the run of close reversals is over */
     if (m->rev != 0) {
         m->rev += m->rev > 0 ? 1 : -1;
-        int gap = FM_HUNT_GAP((int)T > 2000 ? 2000 : (int)T);
+        int gap = FM_HUNT_GAP((int)T);
         if (m->rev > gap || m->rev < -gap)
             m->rev = m->hunt = 0;
     }
@@ -785,7 +785,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         /* hunting: close reversals, each against the last one's error: the take-up shrinks */
         if (m->rev != 0 && (m->rev > 0 ? ctltw_gt(0, e) : ctltw_gt(e, 0)) && ++m->hunt >= FM_HUNT_N) {
             m->hunt = 0;
-            if (m->tk_cut <= (FM_BACKLASH_DEF - FM_TK_MIN - FM_TK_STEP) / 32768.0 + 1e-12)
+            if (m->tk_cut <= (Q15(CTLTW_FM_BACKLASH) - FM_TK_MIN - FM_TK_STEP) / 32768.0 + 1e-12)
                 m->tk_cut += FM_TK_STEP / 32768.0;
             m->brk_age = 0;
             o.path |= CTLTW_P_HUNT;

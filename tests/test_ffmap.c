@@ -180,6 +180,18 @@ static void test_ffmap_integral_waits_after_a_big_move(void **state)
  * little) the loop's gain is low and the schedule raises the feedback (up to 1.6); with the
  * valve wide open at high pressure (a fixed PTO: the bypass carries most of the pump) it
  * lowers it (down to 0.7). Before an end stop has set the estimate's frame it stays 1. */
+/* the gain schedule's factor after one step with the estimate at `closure` (of the stroke, in
+ * the frame the open stop set), target and flow (x100 L/min) and the boom's pressure */
+static int gain_at(double closure, int target, int flow, uint16_t kpa)
+{
+    ctl_in_t in = mk(target, flow, 0);
+    ctl_st.fm.p_hat = (int16_t)(FM_AT_OPEN + (int32_t)(closure * 32768));
+    ctl_st.fm.p_ref = ctl_st.fm.p_hat;
+    in.pressure_kpa = kpa;
+    ctl_step(&in);
+    return ctl_st.fm.gain;
+}
+
 static void test_ffmap_gain_schedule(void **state)
 {
     (void)state;
@@ -187,28 +199,11 @@ static void test_ffmap_gain_schedule(void **state)
     ctl_step(&in);
     assert_int_equal(ctl_st.fm.gain, 256);          /* frame unknown: 1 */
     ctl_applied(0, CTL_AT_OPEN);                     /* the open stop sets the frame */
-    /* coupled PTO, 3 km/h: closure 0.54, 18 L/min at 84 kPa */
-    ctl_st.fm.p_hat = (int16_t)(FM_AT_OPEN + (int32_t)(0.54 * 32768));
-    ctl_st.fm.p_ref = ctl_st.fm.p_hat;
-    in = mk(1800, 1700, 0);
-    in.pressure_kpa = 84;
-    ctl_step(&in);
-    int low_gain_point = ctl_st.fm.gain;
-    /* fixed PTO, 11 km/h: closure 0.37, 49.5 L/min at 440 kPa */
-    ctl_st.fm.p_hat = (int16_t)(FM_AT_OPEN + (int32_t)(0.37 * 32768));
-    ctl_st.fm.p_ref = ctl_st.fm.p_hat;
-    in = mk(4950, 4850, 0);
-    in.pressure_kpa = 440;
-    ctl_step(&in);
-    int high_gain_point = ctl_st.fm.gain;
-    /* fixed PTO, 4 km/h: valve nearly open (closure 0.02), 18 L/min at 84 kPa: the bypass takes
-     * the whole pump, a stroke moves the most */
-    ctl_st.fm.p_hat = (int16_t)(FM_AT_OPEN + (int32_t)(0.02 * 32768));
-    ctl_st.fm.p_ref = ctl_st.fm.p_hat;
-    in = mk(1800, 1700, 0);
-    in.pressure_kpa = 84;
-    ctl_step(&in);
-    int open_point = ctl_st.fm.gain;
+    int low_gain_point = gain_at(0.54, 1800, 1700, 84);      /* coupled PTO, 3 km/h: 18 L/min */
+    int high_gain_point = gain_at(0.37, 4950, 4850, 440);    /* fixed PTO, 11 km/h: 49.5 L/min */
+    /* fixed PTO, 4 km/h: valve nearly open, 18 L/min: the bypass takes the whole pump, a stroke
+     * moves the most */
+    int open_point = gain_at(0.02, 1800, 1700, 84);
     print_message("ffmap: gain schedule %.2f (coupled, 3 km/h), %.2f (fixed PTO, 11 km/h), %.2f (fixed PTO, 4 km/h)\n",
                   low_gain_point / 256.0, high_gain_point / 256.0, open_point / 256.0);
     /* the plant's sensitivities there (tools/gen_fmgain.py): about 33, 100 and 76 L/min a stroke */

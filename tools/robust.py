@@ -18,6 +18,8 @@ import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
+from seeds import sim_and_seeds
+
 # name: ([plant] lines, [config] lines, what it shows)
 CASES = [
     ("default", [], [], "the plant's defaults: 4 s, break-away 0.2, backlash 2 %"),
@@ -77,14 +79,9 @@ def figures(d, scn):
 
 def main():
     args = sys.argv[1:]
-    if not args or args[0].startswith("-"):
-        print(__doc__.strip(), file=sys.stderr)
+    sim, seeds = sim_and_seeds(args, __doc__, 1, 8)
+    if sim is None:
         return 2
-    sim = args[0]
-    seeds = list(range(1, 9))
-    if "--seeds" in args:
-        a, b = args[args.index("--seeds") + 1].split("-")
-        seeds = list(range(int(a), int(b) + 1))
     cases = CASES
     if "--only" in args:
         want = args[args.index("--only") + 1].split(",")

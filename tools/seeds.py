@@ -19,9 +19,12 @@ a time; stdlib only.
 target rose by more than 1 % over the last second, while it fell, while it was steady, and while
 the valve sat at an end stop.
 """
+import csv
 import json
+import os
 import subprocess
 import sys
+import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
 SCENARIOS = [
@@ -61,9 +64,6 @@ def figure(m, k):
 
 def split_run(job):
     sim, scn, ctl, seed = job
-    import csv
-    import os
-    import tempfile
     fd, path = tempfile.mkstemp(prefix="split_", suffix=".csv")
     os.close(fd)
     try:
@@ -121,17 +121,25 @@ def four(sim, seeds):
     return 0
 
 
-def main():
-    args = sys.argv[1:]
+def sim_and_seeds(args, doc, first, last):
+    """The simulator (the first argument) and the seeds (--seeds A-B, else first..last) of a
+    command line; (None, None) after printing the usage when there is no simulator."""
     if not args or args[0].startswith("-"):
-        print(__doc__.strip(), file=sys.stderr)
-        return 2
-    sim = args[0]
-    verbose = "-v" in args
-    seeds = list(range(1, 17))
+        print(doc.strip(), file=sys.stderr)
+        return None, None
+    seeds = list(range(first, last + 1))
     if "--seeds" in args:
         a, b = args[args.index("--seeds") + 1].split("-")
         seeds = list(range(int(a), int(b) + 1))
+    return args[0], seeds
+
+
+def main():
+    args = sys.argv[1:]
+    sim, seeds = sim_and_seeds(args, __doc__, 1, 16)
+    if sim is None:
+        return 2
+    verbose = "-v" in args
     if "--four" in args:
         return four(sim, seeds)
     if "--split" in args:
