@@ -32,8 +32,11 @@ void metrics_init(metrics_t *m, double sample_dt_s)
 void metrics_free(metrics_t *m)
 {
     free(m->zones);
+    free(m->ref);
     free(m->target);
     free(m->flow);
+    free(m->work);
+    free(m->spray);
     free(m->alarms);
     free(m->steps);
     memset(m, 0, sizeof *m);
@@ -92,40 +95,50 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
     m->zone_dist_m += dist * (1.0 - done);
 }
 
-void metrics_target(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, double target_lpm, int at_stop)
+void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, double target_lpm, int at_stop)
 {
     if (v_mps * 3.6 < METRICS_MIN_KMH)
         return;
     m->target4_l += target_lpm * dt_s / 60.0;
+    m->meter4_l += meter_lpm * dt_s / 60.0;
     if (at_stop) {
-        m->stop_vol4_l += nozzle_lpm * dt_s / 60.0;
+        m->stop_meter4_l += meter_lpm * dt_s / 60.0;
         m->stop_target4_l += target_lpm * dt_s / 60.0;
     }
 }
 
-void metrics_valve(metrics_t *m, double drive, double theta)
+void metrics_valve(metrics_t *m, double dt_s, double reversals, double travel_strokes, int spraying)
 {
-    int s = drive > 0 ? 1 : drive < 0 ? -1 : 0;
-    if (s != 0) {
-        if (m->valve_dir != 0 && s != m->valve_dir)
-            m->valve_reversals++;
-        m->valve_dir = s;
+    if (spraying) {
+        m->spray_s += dt_s;
+        m->valve_reversals_spray += reversals - m->valve_rev_last;
     }
-    if (m->valve_seen)
-        m->valve_travel += theta > m->valve_theta ? theta - m->valve_theta : m->valve_theta - theta;
-    m->valve_theta = theta;
-    m->valve_seen = 1;
+    m->valve_rev_last = reversals;
+    m->valve_reversals = reversals;
+    m->valve_travel = travel_strokes;
 }
 
-void metrics_sample(metrics_t *m, double target_lpm, double flow_lpm)
+void metrics_sample(metrics_t *m, double ref_lpm, double target_lpm, double flow_lpm, double work_kmh,
+                    int spraying)
 {
     if (m->n_samples + 1 > m->cap_samples) {
-        int cap = m->cap_samples;   /* both arrays grow to the same capacity */
-        m->target = grow(m->target, &cap, m->n_samples + 1, sizeof *m->target);
-        m->flow = grow(m->flow, &m->cap_samples, m->n_samples + 1, sizeof *m->flow);
+        int cap = m->n_samples + 1 < 256 ? 256 : 2 * (m->n_samples + 1);
+        m->ref = realloc(m->ref, sizeof *m->ref * (size_t)cap);
+        m->target = realloc(m->target, sizeof *m->target * (size_t)cap);
+        m->flow = realloc(m->flow, sizeof *m->flow * (size_t)cap);
+        m->work = realloc(m->work, (size_t)cap);
+        m->spray = realloc(m->spray, (size_t)cap);
+        if (!m->ref || !m->target || !m->flow || !m->work || !m->spray) {
+            fprintf(stderr, "metrics: out of memory\n");
+            abort();
+        }
+        m->cap_samples = cap;
     }
+    m->ref[m->n_samples] = ref_lpm;
     m->target[m->n_samples] = target_lpm;
     m->flow[m->n_samples] = flow_lpm;
+    m->work[m->n_samples] = work_kmh >= METRICS_MIN_KMH;
+    m->spray[m->n_samples] = spraying != 0;
     m->n_samples++;
 }
 
@@ -140,8 +153,8 @@ void metrics_alarm(metrics_t *m, double t_s, const char *code)
 /* ---- steps ------------------------------------------------------------------------------------ */
 typedef struct {
     int a, b;                       /* covered samples [a, b] */
-    double first, last;             /* level at its start (mean of the first window) and at its end */
-} plateau_t;
+    double level;                   /* median of the reference over [a, b] */
+} hold_t;
 
 static double absd(double x)
 {
@@ -153,138 +166,218 @@ static double maxd(double a, double b)
     return a > b ? a : b;
 }
 
-/* Time (in samples, fractional) of the first upward crossing of `level` by p[] from k0 on;
- * -1 when it never gets there. */
-static double crossing(const double *p, int k0, int k1, double level)
+static int cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* Median of p[a..b], with scratch space for the sort. */
+static double median(const double *p, int a, int b, double *scratch)
+{
+    int n = b - a + 1;
+    memcpy(scratch, p + a, sizeof *scratch * (size_t)n);
+    qsort(scratch, (size_t)n, sizeof *scratch, cmp_double);
+    return n % 2 ? scratch[n / 2] : 0.5 * (scratch[n / 2 - 1] + scratch[n / 2]);
+}
+
+/* 1 when the window [k - W, k] of p stays within 1 % of p[k] (at least 0.01 L/min). */
+static int steady(const double *p, int k, int W)
+{
+    double lo = p[k], hi = p[k];
+    int j;
+    for (j = k - W; j < k; j++) {
+        lo = p[j] < lo ? p[j] : lo;
+        hi = p[j] > hi ? p[j] : hi;
+    }
+    return hi - lo <= METRICS_STEADY_FRAC * maxd(absd(p[k]), 1.0);
+}
+
+/* The holds of the reference: runs of samples whose trailing 2 s window is steady (a run of
+ * steady samples k0..b covers [k0 - W, b]); a hold whose level is within 5 % of the previous
+ * one's continues it. Returns the number of holds written to h. */
+static int find_holds(const double *R, int n, int W, hold_t *h, double *scratch)
+{
+    int k = W, nh = 0;
+    while (k < n) {
+        int a, b;
+        double level;
+        if (!steady(R, k, W)) {
+            k++;
+            continue;
+        }
+        a = k - W;
+        b = k;
+        while (b + 1 < n && steady(R, b + 1, W))
+            b++;
+        level = median(R, a, b, scratch);
+        if (nh > 0 && absd(level - h[nh - 1].level) <= METRICS_MERGE_FRAC * maxd(absd(level), absd(h[nh - 1].level))) {
+            h[nh - 1].b = b;
+            h[nh - 1].level = median(R, h[nh - 1].a, b, scratch);
+        } else {
+            h[nh].a = a;
+            h[nh].b = b;
+            h[nh].level = level;
+            nh++;
+        }
+        k = b + 1;
+    }
+    return nh;
+}
+
+/* Time (in samples, fractional) of the first crossing of `level` by y[] from k0 on, in the
+ * direction sgn; -1 when it never gets there. */
+static double crossing(const double *y, int k0, int k1, double level, double sgn)
 {
     int k;
     for (k = k0; k <= k1; k++)
-        if (p[k] >= level) {
-            if (k == k0 || p[k] == p[k - 1])
-                return k;
-            return (k - 1) + (level - p[k - 1]) / (p[k] - p[k - 1]);
+        if ((y[k] - level) * sgn >= 0) {
+            if (k == 0 || y[k] == y[k - 1])
+                return k;           /* else interpolated with the sample before (t_c - 1 too) */
+            return (k - 1) + (level - y[k - 1]) / (y[k] - y[k - 1]);
         }
     return -1;
 }
 
-/* Settling: time from k0 until y stays within tol of `to` up to k1 (the crossing interpolated
- * between the last sample outside and the next one). */
-static double settle(const double *y, int k0, int k1, double to, double tol, int *settled)
+/* Settling: samples from k0 until abs(y - r) <= tol at every sample up to k1 (the entry
+ * interpolated between the last sample outside and the next one); *settled 0 when the last
+ * sample is outside (then k1 - k0). */
+static double settle(const double *y, const double *r, int k0, int k1, double tol, int *settled)
 {
     int k, last = -1;
     double e0, e1;
     for (k = k0; k <= k1; k++)
-        if (absd(y[k] - to) > tol)
+        if (absd(y[k] - r[k]) > tol)
             last = k;
     *settled = last < k1;
     if (last < 0)
         return 0.0;
     if (last == k1)
-        return (double)(k1 - k0 + 1);
-    e0 = absd(y[last] - to);
-    e1 = absd(y[last + 1] - to);
+        return (double)(k1 - k0);
+    e0 = absd(y[last] - r[last]);
+    e1 = absd(y[last + 1] - r[last + 1]);
     return (last - k0) + (e0 - tol) / (e0 - e1);
 }
 
-int metrics_find_steps(const double *T, const double *Y, int n, double dt, metrics_step_t *out, int max)
+static int all_set(const unsigned char *v, int a, int b)
 {
-    int W = (int)floor(METRICS_STEADY_S / dt + 0.5);
-    int k, np = 0, count = 0, i;
-    plateau_t *pl;
-    double *prog;
+    int k;
+    for (k = a; k <= b; k++)
+        if (!v[k])
+            return 0;
+    return 1;
+}
 
-    if (n <= W || W < 1)
-        return 0;
-    pl = malloc(sizeof *pl * (size_t)(n / (W + 1) + 2));
-    prog = malloc(sizeof *prog * (size_t)n);
-    if (!pl || !prog) {
-        free(pl);
-        free(prog);
-        return 0;
+/* One scored change from hold o to hold h. */
+static metrics_step_t score_change(const metrics_series_t *s, const hold_t *o, const hold_t *h, int E)
+{
+    const double *r = s->target, *y = s->flow;
+    double D = h->level - o->level, sgn = D > 0 ? 1.0 : -1.0, c10, c90, over = 0.0, sum = 0.0;
+    int tc = o->b + 1, te = h->b - E, ta, k, nlast;
+    metrics_step_t st;
+    if (te < tc)
+        te = tc;
+    for (ta = tc; ta < te; ta++)
+        if (absd(r[ta] - h->level) <= METRICS_ARRIVE_FRAC * absd(h->level))
+            break;
+    st.t_s = tc * s->dt_s;
+    st.from_lpm = o->level;
+    st.to_lpm = h->level;
+    c10 = crossing(y, tc, te, o->level + 0.1 * D, sgn);
+    c90 = c10 < 0 ? -1 : crossing(y, tc, te, o->level + 0.9 * D, sgn);
+    st.rise_s = (c10 >= 0 && c90 >= 0) ? (c90 - c10) * s->dt_s : NAN;
+    for (k = ta; k <= te; k++) {
+        double e = sgn * (y[k] - r[k]);
+        over = e > over ? e : over;
     }
-    /* plateaus: runs of samples whose trailing 2 s window is within 1 % of the sample */
-    k = W;
-    while (k < n) {
-        double lo = T[k], hi = T[k], thr;
-        int j;
-        for (j = k - W; j < k; j++) {
-            lo = T[j] < lo ? T[j] : lo;
-            hi = T[j] > hi ? T[j] : hi;
-        }
-        thr = METRICS_STEADY_FRAC * maxd(absd(T[k]), 1.0);
-        if (hi - lo <= thr) {
-            /* start of a run: it covers [k - W, ...]; extend while steady */
-            int a = k - W, b = k, mm;
-            double s = 0;
-            for (j = a; j <= k; j++)
-                s += T[j];
-            while (b + 1 < n) {
-                double l2 = T[b + 1], h2 = T[b + 1];
-                for (j = b + 1 - W; j <= b; j++) {
-                    l2 = T[j] < l2 ? T[j] : l2;
-                    h2 = T[j] > h2 ? T[j] : h2;
-                }
-                if (h2 - l2 > METRICS_STEADY_FRAC * maxd(absd(T[b + 1]), 1.0))
-                    break;
-                b++;
-            }
-            mm = np;
-            /* a plateau within 5 % of the previous one continues it (no change between them) */
-            if (np > 0) {
-                double from = pl[np - 1].last, to = s / (W + 1);
-                if (absd(to - from) <= METRICS_CHANGE_FRAC * maxd(absd(from), absd(to))) {
-                    pl[np - 1].b = b;
-                    pl[np - 1].last = T[b];
-                    k = b + 1;
-                    continue;
-                }
-            }
-            pl[mm].a = a;
-            pl[mm].b = b;
-            pl[mm].first = s / (W + 1);
-            pl[mm].last = T[b];
-            np++;
-            k = b + 1;
-        } else {
-            k++;
-        }
+    st.overshoot_pct = over / absd(D) * 100.0;
+    st.settle_5pct_s = settle(y, r, tc, te, 0.05 * absd(h->level), &st.settled_5) * s->dt_s;
+    st.settle_2pct_s = settle(y, r, tc, te, 0.02 * absd(h->level), &st.settled_2) * s->dt_s;
+    nlast = (int)floor(0.2 * (te - ta + 1));
+    if (nlast < 1)
+        nlast = 1;
+    for (k = te - nlast + 1; k <= te; k++)
+        sum += y[k] - r[k];
+    st.sse_pct = h->level != 0 ? sum / nlast / absd(h->level) * 100.0 : NAN;
+    return st;
+}
+
+int metrics_find_steps(const metrics_series_t *s, metrics_step_t *out, int max)
+{
+    int W = (int)floor(METRICS_STEADY_S / s->dt_s + 0.5);
+    int E = (int)floor(METRICS_END_S / s->dt_s + 0.5);
+    int nh, i, count = 0;
+    hold_t *h;
+    double *scratch;
+
+    if (s->n <= W || W < 1)
+        return 0;
+    h = malloc(sizeof *h * (size_t)(s->n / (W + 1) + 2));
+    scratch = malloc(sizeof *scratch * (size_t)s->n);
+    if (!h || !scratch) {
+        fprintf(stderr, "metrics: out of memory\n");
+        abort();
     }
-    /* one change between each two plateaus */
-    for (i = 1; i < np; i++) {
-        metrics_step_t st;
-        double from = pl[i - 1].last, to = pl[i].first, ch = to - from, sgn = ch > 0 ? 1.0 : -1.0;
-        int k0 = pl[i].a, k1 = pl[i].b, kb = pl[i - 1].b, nlast;
-        double c10, c90, over = 0.0, tol, s;
-        for (k = kb; k <= k1; k++)
-            prog[k] = (Y[k] - from) / ch;
-        c10 = crossing(prog, kb, k1, 0.1);
-        c90 = c10 < 0 ? -1 : crossing(prog, kb, k1, 0.9);
-        st.t_s = k0 * dt;
-        st.from_lpm = from;
-        st.to_lpm = to;
-        st.rise_s = (c10 >= 0 && c90 >= 0) ? (c90 - c10) * dt : NAN;
-        for (k = k0; k <= k1; k++) {
-            double o = (Y[k] - to) * sgn / absd(ch) * 100.0;
-            over = o > over ? o : over;
-        }
-        st.overshoot_pct = over;
-        tol = absd(to) > 0 ? absd(to) : absd(from);
-        st.settle_5pct_s = settle(Y, k0, k1, to, 0.05 * tol, &st.settled_5) * dt;
-        st.settle_2pct_s = settle(Y, k0, k1, to, 0.02 * tol, &st.settled_2) * dt;
-        nlast = (int)floor(0.2 * (k1 - k0 + 1));
-        if (nlast < 1)
-            nlast = 1;
-        s = 0;
-        for (k = k1 - nlast + 1; k <= k1; k++)
-            s += Y[k] - to;
-        st.sse_pct = to != 0 ? s / nlast / absd(to) * 100.0 : NAN;
+    nh = find_holds(s->ref, s->n, W, h, scratch);
+    for (i = 1; i < nh; i++) {
+        const hold_t *o = &h[i - 1], *c = &h[i];
+        if (!(o->level > 0))
+            continue;
+        if (absd(c->level - o->level) < METRICS_CHANGE_FRAC * maxd(absd(c->level), absd(o->level)))
+            continue;
+        if (!all_set(s->work, o->a, o->b) || !all_set(s->work, c->a, c->b))
+            continue;
         if (count < max)
-            out[count] = st;
+            out[count] = score_change(s, o, c, E);
         count++;
     }
-    free(pl);
-    free(prog);
+    free(h);
+    free(scratch);
     return count;
+}
+
+void metrics_start(const metrics_series_t *s, double *first, double *longest)
+{
+    int W = (int)floor(METRICS_START_HOLD_S / s->dt_s + 0.5);
+    int k = 0, n_starts = 0, unsettled = 0;
+    double worst = 0.0;
+    *first = *longest = NAN;
+    if (!s->spray)
+        return;
+    while (k < s->n) {
+        int open, in = -1, done = 0;
+        while (k < s->n && !(s->spray[k] && s->target[k] > 0))
+            k++;
+        if (k >= s->n)
+            break;
+        open = k;
+        for (; k < s->n && s->spray[k]; k++) {
+            int inside = absd(s->flow[k] - s->target[k]) <= METRICS_START_BAND * absd(s->target[k]) && s->target[k] > 0;
+            if (!inside) {
+                in = -1;
+                continue;
+            }
+            if (in < 0)
+                in = k;
+            if (k - in >= W) {
+                done = 1;
+                break;
+            }
+        }
+        if (done) {
+            double t = (in - open) * s->dt_s;
+            if (n_starts == 0)
+                *first = t;
+            worst = t > worst ? t : worst;
+        } else if (n_starts == 0 || k < s->n) {
+            unsettled = 1;      /* the boom shut (or the run ended on the first) before it settled */
+        }
+        n_starts++;
+        while (k < s->n && s->spray[k])
+            k++;            /* on to the boom's next opening */
+    }
+    if (n_starts > 0 && !unsettled)
+        *longest = worst;
 }
 
 /* ---- the figures -------------------------------------------------------------------------------- */
@@ -300,9 +393,11 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
     r->dose_error_pct = m->expect4_l > 0 ? (m->vol4_l / m->expect4_l - 1.0) * 100.0 : NAN;
     r->dose_error_all_pct = m->expect_l > 0 ? (m->vol_l / m->expect_l - 1.0) * 100.0 : NAN;
     r->dose_target_pct = m->expect4_l > 0 ? (m->target4_l / m->expect4_l - 1.0) * 100.0 : NAN;
-    r->dose_ctl_pct = m->expect4_l > 0 ? (m->vol4_l - m->target4_l) / m->expect4_l * 100.0 : NAN;
-    r->dose_ctl_stop_pct = m->expect4_l > 0 ? (m->stop_vol4_l - m->stop_target4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_meter_pct = m->expect4_l > 0 ? (m->vol4_l - m->meter4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_ctl_pct = m->expect4_l > 0 ? (m->meter4_l - m->target4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_ctl_stop_pct = m->expect4_l > 0 ? (m->stop_meter4_l - m->stop_target4_l) / m->expect4_l * 100.0 : NAN;
     r->valve_reversals = m->valve_reversals;
+    r->valve_reversals_per_min = m->spray_s > 0 ? m->valve_reversals_spray / (m->spray_s / 60.0) : NAN;
     r->valve_travel_strokes = m->valve_travel;
     r->pressure_min_bar = m->p_seen ? m->p_min : m->p_seen_any ? m->p_min_any : NAN;
     r->pressure_max_bar = m->p_seen ? m->p_max : m->p_seen_any ? m->p_max_any : NAN;
@@ -344,14 +439,25 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
 
     free(m->steps);
     m->steps = NULL;
-    r->n_steps = metrics_find_steps(m->target, m->flow, m->n_samples, m->sample_dt_s, NULL, 0);
-    if (r->n_steps > 0) {
-        m->steps = malloc(sizeof *m->steps * (size_t)r->n_steps);
-        if (!m->steps) {
-            fprintf(stderr, "metrics: out of memory\n");
-            abort();
+    {
+        metrics_series_t ser;
+        ser.ref = m->ref;
+        ser.target = m->target;
+        ser.flow = m->flow;
+        ser.work = m->work;
+        ser.spray = m->spray;
+        ser.n = m->n_samples;
+        ser.dt_s = m->sample_dt_s;
+        r->n_steps = metrics_find_steps(&ser, NULL, 0);
+        if (r->n_steps > 0) {
+            m->steps = malloc(sizeof *m->steps * (size_t)r->n_steps);
+            if (!m->steps) {
+                fprintf(stderr, "metrics: out of memory\n");
+                abort();
+            }
+            metrics_find_steps(&ser, m->steps, r->n_steps);
         }
-        metrics_find_steps(m->target, m->flow, m->n_samples, m->sample_dt_s, m->steps, r->n_steps);
+        metrics_start(&ser, &r->start_s, &r->start_max_s);
     }
     r->steps = m->steps;
     r->overshoot_mean_pct = r->overshoot_max_pct = r->settle_mean_s = r->settle_max_s = NAN;
@@ -388,9 +494,11 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "dose_error_pct", r->dose_error_pct, 1);
     num(f, "dose_error_all_pct", r->dose_error_all_pct, 1);
     num(f, "dose_target_pct", r->dose_target_pct, 1);
+    num(f, "dose_meter_pct", r->dose_meter_pct, 1);
     num(f, "dose_ctl_pct", r->dose_ctl_pct, 1);
     num(f, "dose_ctl_stop_pct", r->dose_ctl_stop_pct, 1);
     num(f, "valve_reversals", r->valve_reversals, 1);
+    num(f, "valve_reversals_per_min", r->valve_reversals_per_min, 1);
     num(f, "valve_travel_strokes", r->valve_travel_strokes, 1);
     num(f, "cv_pct", r->cv_pct, 1);
     num(f, "cv_all_pct", r->cv_all_pct, 1);
@@ -420,6 +528,9 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "overshoot_max_pct", r->overshoot_max_pct, 1);
     num(f, "settle_mean_s", r->settle_mean_s, 1);
     num(f, "settle_max_s", r->settle_max_s, 1);
+    fprintf(f, "\"steps_scored\":%d,", r->n_steps);
+    num(f, "start_s", r->start_s, 1);
+    num(f, "start_max_s", r->start_max_s, 1);
     num(f, "pressure_min_bar", r->pressure_min_bar, 1);
     num(f, "pressure_max_bar", r->pressure_max_bar, 1);
     num(f, "volume_l", r->volume_l, 1);

@@ -6,9 +6,14 @@
 
 #define METRICS_ZONE_M 5.0          /* zone length along the travel */
 #define METRICS_MIN_KMH 4.0         /* "v >= 4 km/h" parts of the run */
-#define METRICS_STEADY_S 2.0        /* a plateau: target steady within 1 % for 2 s */
+#define METRICS_STEADY_S 2.0        /* a hold: every trailing 2 s window of the reference within 1 % */
 #define METRICS_STEADY_FRAC 0.01
-#define METRICS_CHANGE_FRAC 0.05    /* a change: more than 5 % (of the larger of the two levels) */
+#define METRICS_MERGE_FRAC 0.05     /* neighbouring holds within 5 % of each other are one hold */
+#define METRICS_CHANGE_FRAC 0.10    /* a scored change: at least 10 % of the larger of the two levels */
+#define METRICS_ARRIVE_FRAC 0.01    /* t_a: the firmware's target within 1 % of the new level */
+#define METRICS_END_S 1.0           /* t_e: 1 s before the new hold ends */
+#define METRICS_START_BAND 0.05     /* start_s: the flow within 5 % of the target ... */
+#define METRICS_START_HOLD_S 2.0    /* ... for 2 s */
 
 /* One 5 m zone of true travel. */
 typedef struct {
@@ -17,18 +22,30 @@ typedef struct {
     double time_s;                  /* time to travel it: mean speed = 5 m / time_s */
 } metrics_zone_t;
 
-/* One change of the target flow (PLANT.md "steps"). Times from the moment the target reached
- * its new plateau; NaN where a figure does not exist (never rose, target 0). */
+/* One scored change of the target flow (docs/SCENARIOS.md "steps"): between two holds of the
+ * reference target, errors against the firmware's target at the same instant. Times from t_c,
+ * the first sample after the old hold; NaN where a figure does not exist (never rose). */
 typedef struct {
-    double t_s;                     /* when the target reached the new plateau */
-    double from_lpm, to_lpm;
-    double rise_s;                  /* 10 % to 90 % of the change (searched from the end of the old plateau) */
-    double overshoot_pct;           /* excursion beyond the new level, % of the change (>= 0) */
-    double settle_5pct_s;           /* into and staying within +-5 % of the new level */
-    double settle_2pct_s;           /* ... +-2 % */
-    int settled_5, settled_2;       /* 0: still outside at the end of the plateau (time is a lower bound) */
-    double sse_pct;                 /* mean error over the last 20 % of the plateau, % of the new level */
+    double t_s;                     /* t_c */
+    double from_lpm, to_lpm;        /* the holds' levels (medians of the reference) */
+    double rise_s;                  /* the flow from 10 % to 90 % of the change, searched from t_c */
+    double overshoot_pct;           /* max over [t_a, t_e] of sign(D) (y - r), % of abs(D) (>= 0) */
+    double settle_5pct_s;           /* from t_c until abs(y - r) <= 5 % of the new level up to t_e */
+    double settle_2pct_s;           /* ... 2 % */
+    int settled_5, settled_2;       /* 0: outside the band at t_e (the time is t_e - t_c) */
+    double sse_pct;                 /* mean (y - r) over the last 20 % of [t_a, t_e], % of the new level */
 } metrics_step_t;
+
+/* The series the step analysis reads, one entry a sample. */
+typedef struct {
+    const double *ref;              /* reference target: the firmware's settings at the true wheel speed */
+    const double *target;           /* the firmware's target r */
+    const double *flow;             /* the true flow y, mean over the sample */
+    const unsigned char *work;      /* 1: working speed (measured or given) >= 4 km/h */
+    const unsigned char *spray;     /* 1: the boom sprays (start_s); may be NULL */
+    int n;
+    double dt_s;
+} metrics_series_t;
 
 typedef struct {
     double t_s;
@@ -39,13 +56,13 @@ typedef struct {
     /* totals (whole run) and the part with v >= 4 km/h */
     double vol_l, area_m2, expect_l;
     double vol4_l, area4_m2, expect4_l;
-    /* the dose error's split (v >= 4 km/h): the target flow the controller was given, and the
-     * nozzle and target volumes while the bypass valve sat at an end stop */
-    double target4_l, stop_vol4_l, stop_target4_l;
-    /* the valve's motor: direction changes (drives of the other sign than the last nonzero one)
-     * and the stroke the valve travelled (metrics_valve) */
-    int valve_dir, valve_reversals, valve_seen;
-    double valve_theta, valve_travel;
+    /* the dose error's split (v >= 4 km/h): the target flow the controller was given, what a
+     * meter true to its calibration would read, and the same while the valve sat at an end stop */
+    double target4_l, meter4_l, stop_meter4_l, stop_target4_l;
+    /* the valve's wear (metrics_valve): the motor's reversals, those while spraying, the strokes
+     * travelled and the time spraying */
+    double valve_reversals, valve_reversals_spray, valve_travel, spray_s;
+    double valve_rev_last;
     double p_min, p_max;            /* while spraying at v >= 4 km/h ... */
     int p_seen;
     double p_min_any, p_max_any;    /* ... or, for a run that never gets there, while spraying */
@@ -56,9 +73,10 @@ typedef struct {
     metrics_zone_t cur;
     metrics_zone_t *zones;
     int n_zones, cap_zones;
-    /* target and flow sampled every sample_dt_s, for the steps */
+    /* reference, target and flow sampled every sample_dt_s, for the steps */
     double sample_dt_s;
-    double *target, *flow;
+    double *ref, *target, *flow;
+    unsigned char *work, *spray;
     int n_samples, cap_samples;
     /* the steps found by metrics_finish */
     metrics_step_t *steps;
@@ -70,19 +88,24 @@ typedef struct {
 /* The figures, from metrics_finish. NaN where undefined (no area, no zone...). */
 typedef struct {
     double applied_l_ha, dose_error_pct, dose_error_all_pct;
-    /* dose_error_pct = dose_target_pct + dose_ctl_pct: the target's own error against the set
-     * rate over the true area (speed measurement, the minimum-flow rule), and what the flow
-     * delivered beyond the target; dose_ctl_stop_pct is the part of the latter while the valve
-     * sat at an end stop (no controller can change it) */
-    double dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct;
-    /* the valve's wear: motor reversals (each takes up the backlash) and strokes travelled */
-    double valve_reversals, valve_travel_strokes;
+    /* dose_error_pct = dose_target_pct + dose_meter_pct + dose_ctl_pct: the target's own error
+     * against the set rate over the true area (speed measurement, the minimum-flow rule); what
+     * the meter misreports of the nozzles' flow (its K off the calibration, its fall-off below
+     * range, a leak after it); and the loop's own share, what a meter true to its calibration
+     * reads beyond the target. dose_ctl_stop_pct is the part of the last while the valve sat at
+     * an end stop (no controller can change it) */
+    double dose_target_pct, dose_meter_pct, dose_ctl_pct, dose_ctl_stop_pct;
+    /* the valve's wear: motor reversals (each takes up the backlash), per minute of spraying
+     * (those while spraying), strokes travelled */
+    double valve_reversals, valve_reversals_per_min, valve_travel_strokes;
     double cv_pct, cv_all_pct, zone_error_min_pct, zone_error_max_pct;
     double zone_error_all_min_pct, zone_error_all_max_pct;
     int zones_used, zones_all;      /* zones at v >= 4 km/h, all zones */
     metrics_step_t *steps;          /* owned by the metrics_t */
     int n_steps;
     double overshoot_mean_pct, overshoot_max_pct, settle_mean_s, settle_max_s;
+    double start_s;                 /* first boom opening until the flow stayed within 5 % of the target for 2 s */
+    double start_max_s;             /* the longest over every opening (NaN: never settled) */
     double pressure_min_bar, pressure_max_bar, volume_l, area_ha, sim_s;
 } metrics_result_t;
 
@@ -92,21 +115,26 @@ void metrics_free(metrics_t *m);
  * set rate, the boom pressure and whether the boom sprays. Zones are split exactly at 5 m. */
 void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, double width_m,
                  double rate_l_ha, double p_bar, int spraying);
-/* One sample (every sample_dt_s, the first at time 0) of the target and the actual flow. */
-void metrics_sample(metrics_t *m, double target_lpm, double flow_lpm);
+/* One sample (every sample_dt_s, the first at time 0): the reference target, the firmware's
+ * target, the true flow, the working speed the firmware uses (km/h) and whether it sprays. */
+void metrics_sample(metrics_t *m, double ref_lpm, double target_lpm, double flow_lpm, double work_kmh,
+                    int spraying);
 /* An alarm raised at t. */
 void metrics_alarm(metrics_t *m, double t_s, const char *code);
 /* Work out the figures (steps are kept in m until metrics_free). */
-/* The same slice seen by the controller: the target flow it was given and whether the valve sat
- * at an end stop (for the dose error's split; call it beside metrics_add, same slice). */
-void metrics_target(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, double target_lpm, int at_stop);
-/* The valve motor's drive in this slice (signed duty, 0: off) and the valve's position after it. */
-void metrics_valve(metrics_t *m, double drive, double theta);
+/* The same slice seen by the controller: the target flow it was given, what a meter true to
+ * its calibration reads, whether the valve sat at an end stop (the dose error's split; call it
+ * beside metrics_add, same slice). */
+void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, double target_lpm, int at_stop);
+/* The valve's wear so far: the motor's reversals and the strokes travelled (running totals from
+ * the plant), and whether this slice of dt_s sprays. */
+void metrics_valve(metrics_t *m, double dt_s, double reversals, double travel_strokes, int spraying);
 void metrics_finish(metrics_t *m, metrics_result_t *r);
-/* The step analysis alone, on any sampled series: returns the number of changes found (at most
+/* The step analysis alone, on any sampled series: returns the number of scored changes (at most
  * max are written). */
-int metrics_find_steps(const double *target, const double *flow, int n, double dt_s,
-                       metrics_step_t *out, int max);
+int metrics_find_steps(const metrics_series_t *s, metrics_step_t *out, int max);
+/* start_s of the series: the first opening (first) and the longest (max); NaN where none. */
+void metrics_start(const metrics_series_t *s, double *first, double *longest);
 /* The finished zones as CSV: zone, start_m, vol_l, expect_l, time_s, mean_kmh, error_pct. */
 void metrics_zones_csv(FILE *f, const metrics_t *m);
 /* The result as one JSON object on one line (keys as in PLANT.md; NaN prints as null).

@@ -15,6 +15,33 @@ void plant_params_default(plant_params_t *p)
     p->spacing_m = 0.5;
 }
 
+/* The teeth's offsets from a random stream of their own (seed and a tag), so that changing the
+ * jitter changes no other draw; the mean is removed (not rescaled) and each offset clipped so
+ * the pulses keep their order. The first pulse comes after a random part of a spacing. */
+static void teeth_init(plant_teeth_t *t, int n, double jitter_pct, uint64_t seed, uint64_t tag, double first)
+{
+    rng_t r;
+    double mean = 0.0;
+    int i;
+    if (n < 1)
+        n = 1;
+    if (n > PLANT_MAX_TEETH)
+        n = PLANT_MAX_TEETH;
+    t->n = n;
+    rng_seed(&r, seed ^ (tag * 0x9e3779b97f4a7c15ull));
+    for (i = 0; i < n; i++) {
+        t->e[i] = jitter_pct / 100.0 * rng_normal(&r);
+        mean += t->e[i];
+    }
+    mean /= n;
+    for (i = 0; i < n; i++) {
+        double e = t->e[i] - mean;
+        t->e[i] = e > PLANT_JITTER_MAX ? PLANT_JITTER_MAX : e < -PLANT_JITTER_MAX ? -PLANT_JITTER_MAX : e;
+    }
+    t->idx = 0;
+    t->pos = first;
+}
+
 void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed)
 {
     memset(pl, 0, sizeof *pl);
@@ -34,8 +61,10 @@ void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed)
     pl->bounce_pct = p->speed_bounce_pct;
     rng_seed(&pl->rng, seed);
     pl->pulse_phase = TWO_PI * rng_uniform(&pl->rng);
-    pl->meter_phase = rng_uniform(&pl->rng);
-    pl->wheel_phase = rng_uniform(&pl->rng);
+    teeth_init(&pl->meter_teeth, (int)p->meter_blades, p->meter_blade_jitter_pct, seed, 0x6d65746572ull,
+               rng_uniform(&pl->rng));
+    teeth_init(&pl->wheel_teeth, (int)p->wheel_elements, p->wheel_spacing_jitter_pct, seed, 0x776865656cull,
+               rng_uniform(&pl->rng));
 }
 
 /* Equal percentage with rangeability R, shifted so that Cv(0) = 0 and Cv(1) = valve_cv_open. */
@@ -158,15 +187,20 @@ static double line_solve(const line_eq_t *e)
     return x < 0.0 ? 0.0 : x;
 }
 
-/* Emit the edges of a pulse train whose phase (in pulses) goes from ph to ph + n over the tick. */
-static uint64_t emit(plant_t *pl, double *phase, double n, uint64_t t0, uint32_t dt_ns,
+/* Emit the edges of a toothed pulse train that advances n pulses over the tick: pulse j + 1
+ * comes when the position since pulse j reaches 1 + e[(j + 1) % teeth]; a bounce adds an extra
+ * edge PLANT_BOUNCE_NS after a real one with probability bounce_pct. */
+static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint32_t dt_ns,
                      plant_edge_fn fn, double bounce_pct)
 {
-    double ph = *phase, end = ph + n;
+    double start = t->pos, end = t->pos + n;
     uint64_t count = 0;
-    double k;
-    for (k = floor(ph) + 1.0; k <= end; k += 1.0) {
-        uint64_t te = t0 + (uint64_t)((k - ph) / n * dt_ns + 0.5);
+    for (;;) {
+        double thr = 1.0 + t->e[(t->idx + 1) % (uint64_t)t->n];
+        uint64_t te;
+        if (end < thr)
+            break;
+        te = t0 + (uint64_t)((thr - start) / n * dt_ns + 0.5);
         if (te > t0 + dt_ns)
             te = t0 + dt_ns;
         if (te <= t0)
@@ -182,8 +216,11 @@ static uint64_t emit(plant_t *pl, double *phase, double n, uint64_t t0, uint32_t
             if (fn)
                 fn(tb);
         }
+        t->idx++;
+        start -= 1.0;
+        end -= 1.0;
     }
-    *phase = end - floor(end);
+    t->pos = end;
     return count;
 }
 
@@ -210,27 +247,71 @@ static void step_tractor(plant_t *pl, double dt)
     pl->dist_m += pl->v_mps * dt;
 }
 
-/* The DC gear motor: no motion below the stiction duty, drive/T_travel above it; the valve
- * follows the motor across a backlash gap and stops hard at both ends. */
-static void step_valve(plant_t *pl, double drive, double dt)
+double plant_valve_speed(const plant_t *pl, double drive)
+{
+    double run = pl->p.valve_running_duty, a = fabs(drive);
+    double w = a > run ? (a - run) / (1.0 - run) / pl->p.valve_travel_s : 0.0;
+    return drive < 0.0 ? -w : w;
+}
+
+/* The DC gear motor (PLANT.md): from rest it starts only at abs(d) >= d_break; moving, a drive
+ * that pushes its way with abs(d) >= d_run pulls its speed towards (abs(d) - d_run)/(1 - d_run)/T
+ * with the time constant tau_m, anything else brakes it towards 0 with tau_m; below 1 % of full
+ * speed, or at an end stop, it is at rest. Speed and position are integrated exactly over the
+ * tick (first order, constant drive). The valve follows the motor across the backlash gap and
+ * stops hard at both ends; a reversal is a motion that starts the other way than the last one. */
+void plant_valve_step(plant_t *pl, double drive, double dt)
 {
     const plant_params_t *p = &pl->p;
-    double half = 0.5 * p->valve_backlash;
+    double half = 0.5 * p->valve_backlash, w_aim, decay, dx, th0 = pl->theta, w0;
+    int dir = drive > 0.0 ? 1 : drive < 0.0 ? -1 : 0;
     pl->drive = drive;
-    if (pl->valve_stuck || fabs(drive) < p->valve_stiction_duty || drive == 0.0)
+    if (pl->valve_stuck) {
+        pl->omega = 0.0;
+        pl->moving = 0;
         return;
-    pl->motor += drive * dt / p->valve_travel_s;
+    }
+    if (!pl->moving) {
+        if (dir == 0 || fabs(drive) < p->valve_stiction_duty)
+            return;
+        pl->moving = 1;
+        pl->omega = 0.0;
+        if (pl->motion_dir != 0 && dir != pl->motion_dir)
+            pl->valve_reversals++;
+        pl->motion_dir = dir;
+    }
+    /* moving: pushed its own way hard enough, or braked */
+    if (dir == pl->motion_dir && fabs(drive) >= p->valve_running_duty)
+        w_aim = plant_valve_speed(pl, drive);
+    else
+        w_aim = 0.0;
+    decay = exp(-dt / p->valve_motor_tau_s);
+    w0 = pl->omega;
+    dx = w_aim * dt + (pl->omega - w_aim) * p->valve_motor_tau_s * (1.0 - decay);
+    pl->omega = w_aim + (pl->omega - w_aim) * decay;
+    if (pl->motion_dir > 0 ? dx < 0.0 : dx > 0.0)
+        dx = 0.0;                   /* braking never turns it round */
+    pl->motor += dx;
     if (pl->motor > pl->theta + half)
         pl->theta = pl->motor - half;
     else if (pl->motor < pl->theta - half)
         pl->theta = pl->motor + half;
-    if (pl->theta > 1.0) {
+    if (pl->motor >= 1.0 + half) {
         pl->theta = 1.0;
         pl->motor = 1.0 + half;     /* the motor stalls against the stop */
-    } else if (pl->theta < 0.0) {
+        if (pl->motion_dir > 0)
+            pl->moving = 0;
+    } else if (pl->motor <= -half) {
         pl->theta = 0.0;
         pl->motor = -half;
+        if (pl->motion_dir < 0)
+            pl->moving = 0;
     }
+    if (fabs(pl->omega) < fabs(w0) && fabs(pl->omega) < PLANT_REST_FRAC / p->valve_travel_s)
+        pl->moving = 0;             /* slowing down, and below 1 % of full speed */
+    if (!pl->moving)
+        pl->omega = 0.0;
+    pl->valve_travel += fabs(pl->theta - th0);
 }
 
 void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns)
@@ -240,7 +321,7 @@ void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns)
     if (!pl->meter_fail) {
         double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor / 60.0 * dt;
         if (n > 0.0)
-            pl->flow_pulses += emit(pl, &pl->meter_phase, n, t0, dt_ns, pl->flow_edge, 0.0);
+            pl->flow_pulses += emit(pl, &pl->meter_teeth, n, t0, dt_ns, pl->flow_edge, 0.0);
     }
 }
 
@@ -249,7 +330,7 @@ void plant_wheel_step(plant_t *pl, double v_mps, uint64_t t0, uint32_t dt_ns)
     if (!pl->speed_fail && v_mps > 0.0) {
         double n = v_mps * (1.0 + pl->p.wheel_slip_pct / 100.0) * (dt_ns * 1e-9) / pl->m_per_pulse;
         if (n > 0.0)
-            pl->wheel_pulses += emit(pl, &pl->wheel_phase, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
+            pl->wheel_pulses += emit(pl, &pl->wheel_teeth, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
     }
 }
 
@@ -265,14 +346,17 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
 
     pl->spray_on = in->spray_on ? 1 : 0;
     step_tractor(pl, dt);
-    step_valve(pl, drive, dt);
+    plant_valve_step(pl, drive, dt);
     if (pl->theta != pl->cv_theta) {
         pl->cv = plant_cv(pl, pl->theta);
         pl->cv_theta = pl->theta;
     }
 
-    /* PTO: coupled to the throttle (n follows the commanded speed) or fixed */
-    pl->pto_now_rpm = p->pto_coupled >= 0.5 ? pl->pto_rpm * pl->v_cmd_kmh / p->v_rated_kmh : pl->pto_rpm;
+    /* PTO: coupled (the engine turns the driven wheel, whose speed the sensor reads, and the PTO
+     * through fixed gears: n follows the wheel's speed, slip included) or fixed */
+    pl->pto_now_rpm = p->pto_coupled >= 0.5
+        ? pl->pto_rpm * plant_speed_kmh(pl) * (1.0 + p->wheel_slip_pct / 100.0) / p->v_rated_kmh
+        : pl->pto_rpm;
     /* 3 diaphragms: pulsation at 3 n / 60 Hz, after the air chamber */
     pl->pulse_phase += TWO_PI * 3.0 * pl->pto_now_rpm / 60.0 * dt;
     if (pl->pulse_phase > TWO_PI)

@@ -24,6 +24,8 @@
     X(valve_travel_s,            4,     0.1,   600,    0)                                 \
     X(valve_stiction_duty,       0.2,   0,     0.99,   0)                                 \
     X(valve_backlash,            0.02,  0,     0.5,    0)                                 \
+    X(valve_running_duty,        0.12,  0,     0.99,   0)                                 \
+    X(valve_motor_tau_s,         0.05,  0.001, 5,      0)                                 \
     X(valve_start_pos,           0,     0,     1,      0)                                 \
     X(line_compliance_l_per_bar, 0.03,  0.001, 10,     0)                                 \
     X(line_loss_bar_at_50lpm,    0.025, 0,     5,      0)  /* extra: k_line = this/50^2 */ \
@@ -35,9 +37,12 @@
     X(tank_start_l,              1000,  0,     100000, 0)                                 \
     X(meter_k_ppl,               380,   1,     10000,  0)                                 \
     X(meter_lag_s,               0.03,  0,     5,      0)                                 \
+    X(meter_blades,              6,     1,     64,     1)                                 \
+    X(meter_blade_jitter_pct,    1.5,   0,     20,     0)                                 \
     X(wheel_elements,            12,    1,     1000,   1)                                 \
     X(wheel_radius_m,            0.75,  0.05,  5,      0)                                 \
     X(wheel_slip_pct,            0,     -50,   50,     0)                                 \
+    X(wheel_spacing_jitter_pct,  2,     0,     20,     0)                                 \
     X(speed_bounce_pct,          0,     0,     100,    0)                                 \
     X(pressure_noise_lsb,        1,     0,     100,    0)                                 \
     X(level_noise_lsb,           1,     0,     100,    0)  /* extra: the level's ADC noise */ \
@@ -59,6 +64,19 @@ typedef struct {
 #define PLANT_LEAK_REF_BAR 3.0      /* a leak of X L/min is an orifice that passes X L/min at 3 bar */
 #define PLANT_DRY_L 2.0             /* the pump loses its suction over the last 2 L in the tank */
 #define PLANT_BOUNCE_NS 500000u     /* a bounce pulse follows its real one after 0.5 ms */
+#define PLANT_MAX_TEETH 1024        /* largest wheel_elements (meter_blades is at most 64) */
+#define PLANT_JITTER_MAX 0.4        /* spacing offsets are clipped to +-0.4 of a spacing, so pulses keep their order */
+#define PLANT_REST_FRAC 0.01        /* the valve motor is at rest below 1 % of its full speed */
+
+/* A pulse train from a toothed rotor (meter blades, wheel elements): tooth i's pulse comes at
+ * position k + e[i] (in pulses), e drawn once per run, mean removed, so the pattern repeats every
+ * revolution and sums to zero over it. */
+typedef struct {
+    double pos;                     /* position since pulse `idx`, in pulses (may be < 0) */
+    uint64_t idx;                   /* pulses emitted so far (the tooth of pulse j is j % n) */
+    int n;                          /* teeth a revolution */
+    double e[PLANT_MAX_TEETH];      /* each tooth's offset, in pulse spacings */
+} plant_teeth_t;
 
 /* What the firmware drives (through the host HAL). */
 typedef struct {
@@ -87,6 +105,11 @@ typedef struct {
     /* valve */
     double theta;                   /* bypass valve position 0 closed .. 1 open */
     double motor;                   /* motor side of the backlash, in stroke units */
+    double omega;                   /* motor speed, strokes/s (+ opens); 0 at rest */
+    int moving;                     /* 1 while the motor turns (friction: running, not static) */
+    int motion_dir;                 /* direction of the last motion: +1 opening, -1 closing, 0 none yet */
+    uint64_t valve_reversals;       /* changes of the motor's direction of motion */
+    double valve_travel;            /* strokes the valve travelled */
     double cv;                      /* Cv(theta), L/min/sqrt(bar) */
     double cv_theta;                /* the theta cv was computed for */
     double drive;                   /* drive applied this tick (after the HAL) */
@@ -102,7 +125,7 @@ typedef struct {
     double tank_v;                  /* litres in the tank */
     /* sensors */
     double q_rotor;                 /* turbine rotor's flow (lagged), L/min */
-    double meter_phase, wheel_phase;   /* fraction of the next pulse */
+    plant_teeth_t meter_teeth, wheel_teeth;   /* blade and element spacing, pulse positions */
     uint64_t flow_pulses, wheel_pulses;  /* pulses sent so far */
     uint16_t adc_pressure, adc_level;    /* 10-bit counts */
     double bounce_pct;
@@ -129,6 +152,10 @@ void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0_ns, uint32_t dt_ns)
 void plant_wheel_step(plant_t *pl, double v_mps, uint64_t t0_ns, uint32_t dt_ns);
 
 /* Pieces of the model, for tests and the trace (no side effects). */
+/* The valve motor alone over dt seconds with drive d (what step_valve does each tick). */
+void plant_valve_step(plant_t *pl, double drive, double dt);
+/* The speed the motor tends to under drive d while moving with it: (|d| - d_run)/(1 - d_run)/T. */
+double plant_valve_speed(const plant_t *pl, double drive);
 double plant_cv(const plant_t *pl, double theta);            /* bypass valve, L/min/sqrt(bar) */
 double plant_boom_flow(const plant_t *pl, double p_bar);     /* nozzles' total at boom pressure */
 double plant_meter_k(const plant_t *pl, double q_lpm);       /* the meter's true pulses a litre at q */

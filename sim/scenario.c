@@ -411,7 +411,8 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
 }
 
 /* Checks that need the whole file: the boom's sections, the tank, the events' values. */
-static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const char *nozzles_key, int tank_line)
+static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const char *nozzles_key, int tank_line,
+                       int duty_line, const char *duty_key)
 {
     int noz = s->param[P_NOZZLES], sec = s->param[P_SECTIONS], i;
     if (noz % sec != 0)
@@ -420,6 +421,10 @@ static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const ch
     if (s->plant.tank_start_l > s->plant.tank_l)
         return fail(c, tank_line, "tank_start_l", "%g L is more than the tank holds (tank_l %g)",
                     s->plant.tank_start_l, s->plant.tank_l);
+    if (s->plant.valve_running_duty > s->plant.valve_stiction_duty)
+        return fail(c, duty_line, duty_key, "running duty %g is above the break-away duty %g "
+                    "(valve_running_duty <= valve_stiction_duty)",
+                    s->plant.valve_running_duty, s->plant.valve_stiction_duty);
     for (i = 0; i < s->n_events; i++) {
         const scn_event_t *e = &s->events[i];
         char msg[200];
@@ -439,8 +444,8 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
     static scenario_t tmp;          /* large: built aside, copied to out only when all is well */
     ctx_t c;
     seen_t seen[MAX_KEYS];
-    int n_seen = 0, sec = SEC_NONE, line = 0, nozzles_line = 0, tank_line = 0, rc = 0;
-    const char *nozzles_key = "nozzles";
+    int n_seen = 0, sec = SEC_NONE, line = 0, nozzles_line = 0, tank_line = 0, duty_line = 0, rc = 0;
+    const char *nozzles_key = "nozzles", *duty_key = "valve_running_duty";
     size_t len = strlen(text);
     char *buf, *p;
     int sec_seen[6] = {0};
@@ -531,12 +536,16 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
                 rc = plant_key(&c, &tmp, line, key, val);
                 if (strcmp(key, "tank_start_l") == 0 || strcmp(key, "tank_l") == 0)
                     tank_line = line;
+                if (strcmp(key, "valve_running_duty") == 0 || strcmp(key, "valve_stiction_duty") == 0) {
+                    duty_line = line;           /* the later of the two is named */
+                    duty_key = strcmp(key, "valve_running_duty") == 0 ? "valve_running_duty" : "valve_stiction_duty";
+                }
             }
         }
     }
     free(buf);
     if (rc == 0)
-        rc = check_whole(&c, &tmp, nozzles_line, nozzles_key, tank_line);
+        rc = check_whole(&c, &tmp, nozzles_line, nozzles_key, tank_line, duty_line, duty_key);
     if (rc == 0)
         *out = tmp;
     return rc;

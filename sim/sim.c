@@ -7,6 +7,7 @@
 #include "params.h"
 #include "app.h"
 #include "ctl.h"
+#include "target.h"
 
 static double now_s(void)
 {
@@ -14,6 +15,8 @@ static double now_s(void)
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
+
+static void sample(sim_t *sim, double flow_lpm);
 
 static void apply_params(const scenario_t *s)
 {
@@ -52,7 +55,7 @@ void sim_init(sim_t *sim, const scenario_t *s)
     app_init();
     apply_params(s);
     /* sample k of the step series is at k * SIM_SAMPLE_S: the first one now */
-    metrics_sample(&sim->metrics, app_status.target_lpm_x100 / 100.0, 0.0);
+    sample(sim, 0.0);
 }
 
 int sim_event(sim_t *sim, int kind, double v)
@@ -98,6 +101,30 @@ static const char *alarm_code(uint8_t bit, char *buf, size_t n)
         return c;
     snprintf(buf, n, "ALARM_%u", bit);
     return buf;
+}
+
+/* The reference target: what the firmware's settings give for the true wheel speed (slip
+ * included), so that the firmware's own measurement noise can neither hide nor invent a hold. */
+static double reference_lpm(const sim_t *sim)
+{
+    const plant_t *pl = &sim->plant;
+    double v = plant_speed_kmh(pl) * (1.0 + pl->p.wheel_slip_pct / 100.0) * 100.0;
+    uint16_t vx = (uint16_t)(v > 65535.0 ? 65535.0 : v + 0.5);
+    return target_flow_x100(target_speed_x100(vx)) / 100.0;
+}
+
+/* What a meter true to the firmware's calibration reads of the flow through it, L/min. */
+static double meter_reads_lpm(const sim_t *sim)
+{
+    const plant_t *pl = &sim->plant;
+    double cal = param_v[P_METER_K] / 10.0;
+    return cal > 0 ? pl->q_meter * plant_meter_k(pl, pl->q_meter) / cal : 0.0;
+}
+
+static void sample(sim_t *sim, double flow_lpm)
+{
+    metrics_sample(&sim->metrics, reference_lpm(sim), app_status.target_lpm_x100 / 100.0, flow_lpm,
+                   app_status.speed_kmh_x100 / 100.0, hal_host_io.spray_on);
 }
 
 /* The driver's command at t (time only moves forward): scenario_drive_kmh with a cursor. */
@@ -152,9 +179,9 @@ void sim_step(sim_t *sim)
 
     metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
                 param_v[P_RATE], pl->p_bar, pl->spray_on);
-    metrics_target(&sim->metrics, dt, pl->v_mps, pl->q_boom, app_status.target_lpm_x100 / 100.0,
+    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 / 100.0,
                    pl->theta <= 0.0 || pl->theta >= 1.0);
-    metrics_valve(&sim->metrics, pl->drive, pl->theta);
+    metrics_valve(&sim->metrics, dt, (double)pl->valve_reversals, pl->valve_travel, pl->spray_on);
     sim->acc_meter += pl->q_meter;
     sim->acc_boom += pl->q_boom;
     sim->acc_n++;
@@ -163,7 +190,7 @@ void sim_step(sim_t *sim)
         sim->boom_lpm = sim->acc_boom / sim->acc_n;
         sim->acc_meter = sim->acc_boom = 0;
         sim->acc_n = 0;
-        metrics_sample(&sim->metrics, app_status.target_lpm_x100 / 100.0, sim->flow_true_lpm);
+        sample(sim, sim->flow_true_lpm);
         sim->next_sample_ns += (uint64_t)(SIM_SAMPLE_S * 1e9 + 0.5);
     }
     if (sim->csv && t1 >= sim->next_csv_ns) {

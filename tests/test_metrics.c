@@ -9,16 +9,44 @@
 
 #define N 200
 #define DT 0.1
-static double T[N], Y[N];
+static double T[N], Y[N], R[N];
+static unsigned char WORK[N], SPRAY[N];
 static metrics_step_t st[8];
 
 #define assert_within(x, want, tol) do { double x_ = (x), w_ = (want), t_ = (tol); \
     if (!(fabs(x_ - w_) <= t_)) fail_msg("%s = %.6f, want %.6f +- %.6f", #x, x_, w_, t_); } while (0)
 
+/* The series of T (target and reference alike, unless ref is given) and Y, working speed and
+ * boom on throughout. */
+static metrics_series_t series(const double *ref)
+{
+    metrics_series_t s;
+    int k;
+    for (k = 0; k < N; k++) {
+        WORK[k] = 1;
+        SPRAY[k] = 1;
+    }
+    s.ref = ref ? ref : T;
+    s.target = T;
+    s.flow = Y;
+    s.work = WORK;
+    s.spray = SPRAY;
+    s.n = N;
+    s.dt_s = DT;
+    return s;
+}
+
+static int find(void)
+{
+    metrics_series_t s = series(NULL);
+    return metrics_find_steps(&s, st, 8);
+}
+
 /* Target 10 -> 20 L/min at sample 50 (t = 5.0 s); flow ramps 1 L/min a sample from 10 at k = 50
- * to 20 at k = 60, then stays. By hand: from 10, to 20; 10 % (11) at k = 51, 90 % (19) at k = 59:
- * rise 0.8 s; no overshoot; the 5 % band (+-1) is entered at 19 (k = 59): settle 0.9 s;
- * the 2 % band (+-0.4) at 19.6, between k = 59 (19) and 60 (20): 59.6 -> 0.96 s; sse 0. */
+ * to 20 at k = 60, then stays. The old hold ends at k = 49, so t_c = t_a = 50. By hand: 10 % (11)
+ * at k = 51, 90 % (19) at k = 59: rise 0.8 s; no overshoot; the 5 % band (+-1) is entered at 19
+ * (error 2 at k = 58, 1 at 59: 58 + 1 = 59): settle 0.9 s; the 2 % band (+-0.4) between
+ * k = 59 (error 1) and 60 (0): 59.6 -> 0.96 s; sse 0. */
 static void test_metrics_pure_step(void **state)
 {
     int k, n;
@@ -27,7 +55,7 @@ static void test_metrics_pure_step(void **state)
         T[k] = k < 50 ? 10 : 20;
         Y[k] = k < 50 ? 10 : k < 60 ? 10 + (k - 50) : 20;
     }
-    n = metrics_find_steps(T, Y, N, DT, st, 8);
+    n = find();
     assert_int_equal(n, 1);
     assert_within(st[0].t_s, 5.0, 1e-9);
     assert_within(st[0].from_lpm, 10, 1e-9);
@@ -41,8 +69,8 @@ static void test_metrics_pure_step(void **state)
 }
 
 /* Known overshoot: 10 -> 20 at k = 50; flow jumps to 23 for k = 50..54, then 20.
- * Overshoot 3/10 = 30 %. Rise, interpolated between k = 49 (progress 0) and 50 (1.3):
- * 10 % at 49 + 0.1/1.3, 90 % at 49 + 0.9/1.3: (0.8/1.3) * 0.1 s = 0.061538 s.
+ * Overshoot 3/10 = 30 %. Rise, interpolated between k = 49 (10) and 50 (23):
+ * 10 % at 49 + 1/13, 90 % at 49 + 9/13: (8/13) * 0.1 s = 0.061538 s.
  * Settle: last sample outside is k = 54 (error 3), next is 0: 5 % band (1) crossed at
  * 54 + (3 - 1)/3 = 54.6667 -> 0.46667 s after k = 50; 2 % band (0.4): 54 + 2.6/3 -> 0.48667 s. */
 static void test_metrics_known_overshoot(void **state)
@@ -53,11 +81,28 @@ static void test_metrics_known_overshoot(void **state)
         T[k] = k < 50 ? 10 : 20;
         Y[k] = k < 50 ? 10 : k < 55 ? 23 : 20;
     }
-    assert_int_equal(metrics_find_steps(T, Y, N, DT, st, 8), 1);
+    assert_int_equal(find(), 1);
     assert_within(st[0].overshoot_pct, 30.0, 1e-9);
     assert_within(st[0].rise_s, 0.061538, 1e-6);
     assert_within(st[0].settle_5pct_s, 0.46667, 1e-5);
     assert_within(st[0].settle_2pct_s, 0.48667, 1e-5);
+}
+
+/* A second-order response to a true step, zeta 0.3, peak at 1.0 s (omega_n = pi / sqrt(1 -
+ * zeta^2)): the textbook overshoot exp(-pi zeta / sqrt(1 - zeta^2)) = 37.23 % at sample 60. */
+static void test_metrics_second_order_textbook_overshoot(void **state)
+{
+    const double z = 0.3, wd = M_PI, wn = wd / sqrt(1 - z * z);
+    int k;
+    (void)state;
+    for (k = 0; k < N; k++) {
+        double t = (k - 50) * DT;
+        T[k] = k < 50 ? 10 : 20;
+        Y[k] = k < 50 ? 10 : 10 + 10 * (1 - exp(-z * wn * t) * (cos(wd * t) + z / sqrt(1 - z * z) * sin(wd * t)));
+    }
+    assert_int_equal(find(), 1);
+    assert_within(st[0].overshoot_pct, 100 * exp(-M_PI * z / sqrt(1 - z * z)), 0.1);
+    assert_true(st[0].settled_5 && st[0].settled_2);
 }
 
 /* Downward: 40 -> 20 at k = 30, flow dips to 15 at k = 30, 31, then 20: overshoot (beyond 20, in
@@ -73,9 +118,9 @@ static void test_metrics_downward_undershoot_and_two_changes(void **state)
     for (k = 0; k < N; k++) {
         T[k] = k < 30 ? 40 : k < 120 ? 20 : 30;
         Y[k] = k < 30 ? 40 : k < 32 ? 15 : k < 120 ? 20 : 30;
-        metrics_sample(&m, T[k], Y[k]);
+        metrics_sample(&m, T[k], T[k], Y[k], 8.0, 1);
     }
-    n = metrics_find_steps(T, Y, N, DT, st, 8);
+    n = find();
     assert_int_equal(n, 2);
     assert_within(st[0].t_s, 3.0, 1e-9);
     assert_within(st[0].overshoot_pct, 25.0, 1e-9);
@@ -89,10 +134,10 @@ static void test_metrics_downward_undershoot_and_two_changes(void **state)
     metrics_free(&m);
 }
 
-/* A ramp of the target (speed change): 10 -> 20 over k = 50..70; times count from the moment the
- * target reaches its plateau, t = 7.0 s. A flow that follows exactly: no overshoot, settled at
- * once; its rise (11 at k = 52, 19 at k = 68) is 1.6 s. */
-static void test_metrics_ramp_counts_from_the_plateau(void **state)
+/* A ramp of the target (a speed change): 10 -> 20 over k = 50..70. The old hold ends at k = 50
+ * (t_c = 51), the target is within 1 % of 20 from k = 70 (t_a). A flow that follows exactly
+ * scores 0 % and 0 s; its rise (11 at k = 52, 19 at k = 68) is 1.6 s. */
+static void test_metrics_ramp_flow_equal_to_target_scores_zero(void **state)
 {
     int k;
     (void)state;
@@ -100,40 +145,68 @@ static void test_metrics_ramp_counts_from_the_plateau(void **state)
         T[k] = k < 50 ? 10 : k < 70 ? 10 + (k - 50) * 0.5 : 20;
         Y[k] = T[k];
     }
-    assert_int_equal(metrics_find_steps(T, Y, N, DT, st, 8), 1);
-    assert_within(st[0].t_s, 7.0, 1e-9);
+    assert_int_equal(find(), 1);
+    assert_within(st[0].t_s, 5.1, 1e-9);
     assert_within(st[0].rise_s, 1.6, 1e-6);
     assert_within(st[0].overshoot_pct, 0.0, 1e-9);
     assert_within(st[0].settle_5pct_s, 0.0, 1e-9);
+    assert_within(st[0].sse_pct, 0.0, 1e-9);
 }
 
-/* Changes of 5 % or less are not steps; 6 % is. A steady offset: flow settles at 20.5 for a
- * target of 20: sse = 0.5/20 = 2.5 %, overshoot 0.5/10 = 5 %. */
-static void test_metrics_small_changes_and_steady_error(void **state)
+/* The same ramp followed by a flow that is the target d samples late: no overshoot, and the
+ * settling grows with the delay. By hand for d = 10 (1 s): the error is -5 on the ramp, then
+ * falls 0.5 a sample from k = 70; the last sample outside the 5 % band (1) is k = 77 (1.5),
+ * k = 78 is at 1.0: 77 + 0.5/0.5 = 78, 27 samples after t_c = 51: 2.7 s. */
+static void test_metrics_pure_delay_no_overshoot_settling_grows(void **state)
 {
+    static const int delays[] = {0, 5, 10, 20};
+    double last = -1;
+    unsigned i;
     int k;
     (void)state;
-    for (k = 0; k < N; k++) {
-        T[k] = k < 50 ? 20 : 20.8;              /* 4 % */
-        Y[k] = T[k];
+    for (i = 0; i < sizeof delays / sizeof delays[0]; i++) {
+        int d = delays[i];
+        for (k = 0; k < N; k++)
+            T[k] = k < 50 ? 10 : k < 70 ? 10 + (k - 50) * 0.5 : 20;
+        for (k = 0; k < N; k++)
+            Y[k] = T[k - d < 0 ? 0 : k - d];
+        assert_int_equal(find(), 1);
+        assert_within(st[0].overshoot_pct, 0.0, 1e-9);
+        assert_true(st[0].settle_5pct_s > last);
+        if (d == 10)
+            assert_within(st[0].settle_5pct_s, 2.7, 1e-6);
+        last = st[0].settle_5pct_s;
     }
-    assert_int_equal(metrics_find_steps(T, Y, N, DT, st, 8), 0);
-    for (k = 0; k < N; k++) {
-        T[k] = k < 50 ? 20 : 21.2;              /* 6 % (of 21.2: 5.7 %) */
-        Y[k] = T[k];
+}
+
+/* Holds merge within 5 % (20 -> 20.8: one hold), a change under 10 % is not scored (20 -> 21.2),
+ * 10 % is (20 -> 22.5: 2.5 of 22.5 is 11 %). A steady offset: flow settles at 20.5 for a target
+ * of 20: sse = 0.5/20 = 2.5 %, overshoot 0.5/10 = 5 %. */
+static void test_metrics_small_changes_and_steady_error(void **state)
+{
+    static const double to[] = {20.8, 21.2, 22.5};
+    static const int want[] = {0, 0, 1};
+    int k;
+    unsigned i;
+    (void)state;
+    for (i = 0; i < 3; i++) {
+        for (k = 0; k < N; k++) {
+            T[k] = k < 50 ? 20 : to[i];
+            Y[k] = T[k];
+        }
+        assert_int_equal(find(), want[i]);
     }
-    assert_int_equal(metrics_find_steps(T, Y, N, DT, st, 8), 1);
     for (k = 0; k < N; k++) {
         T[k] = k < 50 ? 10 : 20;
         Y[k] = k < 50 ? 10 : 20.5;
     }
-    assert_int_equal(metrics_find_steps(T, Y, N, DT, st, 8), 1);
+    assert_int_equal(find(), 1);
     assert_within(st[0].sse_pct, 2.5, 1e-9);
     assert_within(st[0].overshoot_pct, 5.0, 1e-9);
 }
 
-/* A target that never stays within 1 % for 2 s has no plateau and no steps. */
-static void test_metrics_no_plateau_no_steps(void **state)
+/* A target that never stays within 1 % for 2 s has no hold and no steps. */
+static void test_metrics_no_hold_no_steps(void **state)
 {
     int k;
     (void)state;
@@ -141,7 +214,52 @@ static void test_metrics_no_plateau_no_steps(void **state)
         T[k] = 20 + 5 * sin(k * 0.3);
         Y[k] = T[k];
     }
-    assert_int_equal(metrics_find_steps(T, Y, N, DT, st, 8), 0);
+    assert_int_equal(find(), 0);
+}
+
+/* The start from standstill is not a step: 0 -> 18 at k = 30 (boom opens there), the flow ramps
+ * 1.8 a sample and is within 5 % (17.1) from k = 40 on: start_s 1.0 s. A later 18 -> 27 is. */
+static void test_metrics_start_is_not_a_step(void **state)
+{
+    metrics_series_t s;
+    double first, longest;
+    int k;
+    (void)state;
+    s = series(NULL);
+    for (k = 0; k < N; k++) {
+        T[k] = k < 30 ? 0 : k < 120 ? 18 : 27;
+        Y[k] = k < 30 ? 0 : k < 40 ? 1.8 * (k - 30) : T[k];
+        SPRAY[k] = k >= 30;
+    }
+    assert_int_equal(metrics_find_steps(&s, st, 8), 1);
+    assert_within(st[0].from_lpm, 18, 1e-9);
+    metrics_start(&s, &first, &longest);
+    assert_within(first, 1.0, 1e-9);
+    assert_within(longest, 1.0, 1e-9);
+}
+
+/* Holds come from the reference, errors from the firmware's target: a clean reference step with
+ * a target that wobbles +-3 % still gives one change, and a flow equal to the wobbling target
+ * scores 0; a hold below the working speed is not scored. */
+static void test_metrics_holds_on_reference_errors_on_target(void **state)
+{
+    metrics_series_t s;
+    int k;
+    (void)state;
+    for (k = 0; k < N; k++) {
+        R[k] = k < 50 ? 10 : 20;
+        T[k] = R[k] * (1 + 0.03 * ((k % 3) - 1));
+        Y[k] = T[k];
+    }
+    s = series(R);
+    assert_int_equal(metrics_find_steps(&s, st, 8), 1);
+    assert_within(st[0].overshoot_pct, 0.0, 1e-9);
+    assert_within(st[0].settle_5pct_s, 0.0, 1e-9);
+    s.ref = T;
+    assert_int_equal(metrics_find_steps(&s, st, 8), 0);  /* the wobble hides every hold */
+    s.ref = R;
+    WORK[10] = 0;
+    assert_int_equal(metrics_find_steps(&s, st, 8), 0);
 }
 
 /*
@@ -220,8 +338,10 @@ static void test_metrics_zone_split_inside_a_slice(void **state)
 }
 
 /* The dose error's split: two 10 s slices at 2 m/s over 18 m (5.4 L expected each), the target
- * 33 L/min (5.5 L), the nozzles 36 then 40 L/min (6 then 6.667 L), the second with the valve at
- * an end stop; a slice under 4 km/h counts in neither. The shares add up to the dose error. */
+ * 33 L/min (5.5 L), the nozzles 36 then 40 L/min (6 then 6.667 L) which a meter true to its
+ * calibration reads as 35 and 39 (5.833 and 6.5 L: the meter's share is 1/6 + 1/6 L), the
+ * second slice with the valve at an end stop; a slice under 4 km/h counts in none. The three
+ * shares add up to the dose error. */
 static void test_metrics_dose_split(void **state)
 {
     metrics_t m;
@@ -229,35 +349,36 @@ static void test_metrics_dose_split(void **state)
     (void)state;
     metrics_init(&m, DT);
     metrics_add(&m, 10.0, 2.0, 36.0, 18.0, 150, 2.0, 1);
-    metrics_target(&m, 10.0, 2.0, 36.0, 33.0, 0);
+    metrics_target(&m, 10.0, 2.0, 35.0, 33.0, 0);
     metrics_add(&m, 10.0, 2.0, 40.0, 18.0, 150, 2.0, 1);
-    metrics_target(&m, 10.0, 2.0, 40.0, 33.0, 1);
+    metrics_target(&m, 10.0, 2.0, 39.0, 33.0, 1);
     metrics_add(&m, 10.0, 0.5, 40.0, 18.0, 150, 2.0, 1);
     metrics_target(&m, 10.0, 0.5, 40.0, 10.0, 1);
     metrics_finish(&m, &r);
     assert_within(r.dose_error_pct, (12.6667 / 10.8 - 1) * 100, 1e-3);
     assert_within(r.dose_target_pct, (11.0 / 10.8 - 1) * 100, 1e-6);
-    assert_within(r.dose_ctl_pct, 1.6667 / 10.8 * 100, 1e-3);
-    assert_within(r.dose_ctl_stop_pct, 1.16667 / 10.8 * 100, 1e-3);
-    assert_within(r.dose_target_pct + r.dose_ctl_pct, r.dose_error_pct, 1e-9);
+    assert_within(r.dose_meter_pct, 0.33333 / 10.8 * 100, 1e-3);
+    assert_within(r.dose_ctl_pct, 1.33333 / 10.8 * 100, 1e-3);
+    assert_within(r.dose_ctl_stop_pct, 1.0 / 10.8 * 100, 1e-3);
+    assert_within(r.dose_target_pct + r.dose_meter_pct + r.dose_ctl_pct, r.dose_error_pct, 1e-9);
     metrics_free(&m);
 }
 
-/* The valve's wear: a reversal is a drive of the other sign than the last nonzero one (pauses
- * do not count), the travel is the sum of the position's moves either way. */
+/* The valve's wear from the plant's running totals: 2 reversals over the run, 1 of them while
+ * spraying for 30 s: 2 a minute of spraying; the travel is the plant's. */
 static void test_metrics_valve_wear(void **state)
 {
     metrics_t m;
     metrics_result_t r;
-    static const double drive[] = {0, 0.5, 0.5, 0, -0.2, 0, 0, -1.0, 0.3, 0.3, 0, 0.3};
-    static const double theta[] = {0.5, 0.6, 0.7, 0.7, 0.65, 0.65, 0.65, 0.45, 0.5, 0.55, 0.55, 0.6};
     (void)state;
     metrics_init(&m, DT);
-    for (unsigned i = 0; i < sizeof drive / sizeof drive[0]; i++)
-        metrics_valve(&m, drive[i], theta[i]);
+    metrics_valve(&m, 10.0, 0, 0.1, 0);
+    metrics_valve(&m, 10.0, 1, 0.2, 0);        /* a reversal with the boom shut */
+    metrics_valve(&m, 30.0, 2, 0.6, 1);        /* one while spraying */
     metrics_finish(&m, &r);
-    assert_within(r.valve_reversals, 2, 1e-12);            /* + to - (over a pause), - to + */
-    assert_within(r.valve_travel_strokes, 0.2 + 0.05 + 0.2 + 0.15, 1e-9);
+    assert_within(r.valve_reversals, 2, 1e-12);
+    assert_within(r.valve_reversals_per_min, 2.0, 1e-12);
+    assert_within(r.valve_travel_strokes, 0.6, 1e-12);
     metrics_free(&m);
 }
 
@@ -267,9 +388,13 @@ int main(void)
         cmocka_unit_test(test_metrics_pure_step),
         cmocka_unit_test(test_metrics_known_overshoot),
         cmocka_unit_test(test_metrics_downward_undershoot_and_two_changes),
-        cmocka_unit_test(test_metrics_ramp_counts_from_the_plateau),
+        cmocka_unit_test(test_metrics_second_order_textbook_overshoot),
+        cmocka_unit_test(test_metrics_ramp_flow_equal_to_target_scores_zero),
+        cmocka_unit_test(test_metrics_pure_delay_no_overshoot_settling_grows),
         cmocka_unit_test(test_metrics_small_changes_and_steady_error),
-        cmocka_unit_test(test_metrics_no_plateau_no_steps),
+        cmocka_unit_test(test_metrics_no_hold_no_steps),
+        cmocka_unit_test(test_metrics_start_is_not_a_step),
+        cmocka_unit_test(test_metrics_holds_on_reference_errors_on_target),
         cmocka_unit_test(test_metrics_zone_volumes_and_cv),
         cmocka_unit_test(test_metrics_zone_split_inside_a_slice),
         cmocka_unit_test(test_metrics_dose_split),
