@@ -406,3 +406,20 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
         pl->adc_level = adc_of_ma(pl, 4.0 + 16.0 * pl->tank_v / p->tank_l, p->level_noise_lsb);
     }
 }
+
+double plant_bypass_needed(const plant_t *pl, double q_boom)
+{
+    const plant_params_t *p = &pl->p;
+    double a = plant_boom_flow(pl, p->check_valve_bar + 1.0), P, q_byp, cv, x, r = p->valve_rangeability;
+    if (a <= 0.0 || q_boom <= 0.0)
+        return NAN;
+    P = p->check_valve_bar + (q_boom / a) * (q_boom / a);
+    q_byp = plant_pump_flow(pl, P) - q_boom - (P > p->relief_bar ? p->relief_lpm_per_bar * (P - p->relief_bar) : 0.0);
+    if (q_byp <= 0.0)
+        return 0.0;
+    cv = q_byp / sqrt(P);
+    if (cv >= p->valve_cv_open)
+        return 1.0;
+    x = cv / p->valve_cv_open * (1.0 - 1.0 / r) + 1.0 / r;
+    return 1.0 + log(x) / log(r);
+}

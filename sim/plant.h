@@ -161,5 +161,8 @@ double plant_boom_flow(const plant_t *pl, double p_bar);     /* nozzles' total a
 double plant_meter_k(const plant_t *pl, double q_lpm);       /* the meter's true pulses a litre at q */
 double plant_pump_flow(const plant_t *pl, double p_bar);     /* without pulsation, this tick's PTO */
 double plant_speed_kmh(const plant_t *pl);                   /* true ground speed */
+/* The bypass position that holds the boom at q_boom L/min at this tick's PTO speed, steady
+ * state, mean pump flow (the ideal controller's valve); 0 or 1 where the valve cannot. */
+double plant_bypass_needed(const plant_t *pl, double q_boom);
 
 #endif

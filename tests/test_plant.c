@@ -91,21 +91,49 @@ static void test_plant_fixed_pto_4kmh_needs_a_third_of_the_stroke(void **state)
     assert_within(pl.p_bar, 0.8419, 0.02 * 0.8419);
 }
 
-/* PTO coupling: n = 540 * v_cmd / 11; at 5.5 km/h 270 rpm, pump at 0 bar 120*270/540 = 60 L/min,
- * at 2 bar 60*(1 - 0.02) = 58.8. Uncoupled: 540 rpm whatever the speed: 120 L/min. */
+/* PTO coupling: n = 540 * v_wheel / 11 (the wheel's speed, slip included); at 5.5 km/h 270 rpm,
+ * pump at 0 bar 120*270/540 = 60 L/min, at 2 bar 60*(1 - 0.02) = 58.8; with 10 % slip the wheel
+ * turns 6.05 km/h: 297 rpm. Uncoupled: 540 rpm whatever the speed: 120 L/min. */
 static void test_plant_pto_coupling_scales_the_pump(void **state)
 {
     (void)state;
     setup(1.0, 1, 540);
     pl.v_cmd_kmh = 5.5;
+    pl.v_mps = 5.5 / 3.6;
     run(0.01, 0, 1);
     assert_within(pl.pto_now_rpm, 270.0, 1e-9);
     assert_within(plant_pump_flow(&pl, 0.0), 60.0, 1e-9);
     assert_within(plant_pump_flow(&pl, 2.0), 58.8, 1e-9);
+    pl.p.wheel_slip_pct = 10;
+    run(0.01, 0, 1);
+    assert_within(pl.pto_now_rpm, 297.0, 1e-9);
     setup(1.0, 0, 540);
     pl.v_cmd_kmh = 5.5;
+    pl.v_mps = 5.5 / 3.6;
     run(0.01, 0, 1);
     assert_within(plant_pump_flow(&pl, 0.0), 120.0, 1e-9);
+}
+
+/* A throttle step 4 -> 11 km/h with the PTO coupled: the pump follows the true wheel speed through
+ * the tractor's lag, so pump speed / 540 and wheel speed / 11 stay within 1 % of each other at
+ * every tick, while the driver's command runs well ahead of both (over 50 % at first). */
+static void test_plant_coupled_pto_follows_the_true_speed(void **state)
+{
+    plant_in_t in = {0, 1};
+    double lead = 0;
+    int i;
+    (void)state;
+    setup(0.6, 1, 540);
+    pl.v_mps = 4 / 3.6;
+    pl.v_cmd_kmh = 11;
+    for (i = 0; i < 20000; i++) {
+        double wheel;
+        plant_step(&pl, &in, TICK);
+        wheel = plant_speed_kmh(&pl) / 11.0;
+        assert_within(pl.pto_now_rpm / 540.0, wheel, 0.01 * wheel);
+        lead = fmax(lead, pl.v_cmd_kmh / plant_speed_kmh(&pl) - 1);
+    }
+    assert_true(lead > 0.5);
 }
 
 /* Pulsation: 3 diaphragms at 540 rpm give 3*540/60 = 27 Hz, +-4 %: in 1 s the pump flow (slip
@@ -181,49 +209,90 @@ static void test_plant_line_drains_to_zero_through_the_open_bypass(void **state)
     assert_within(pl.q_pump, 0.0, 0.0);
 }
 
-/* Valve travel: 4 s full stroke. Starting closed with the motor in the middle of the 2 % gap,
- * full drive takes up 1 % first (0.04 s): at 2 s th = (2 - 0.04)/4 = 0.49; at 4 s 0.99; the
- * end stop holds it at 1 from 4.04 s on. */
+/* Valve motor (PLANT.md): full drive runs at (1 - 0.12)/(1 - 0.12)/4 s = 0.25 stroke/s, reached
+ * with tau_m = 0.05 s: from rest the motor has gone 0.25 (t - 0.05 (1 - e^(-t/0.05))), and the
+ * valve 1 % (half the 2 % gap) less: 0.4775 at 2 s, 0.9775 at 4 s; the end stop holds it at 1. */
 static void test_plant_valve_travel_time_and_end_stop(void **state)
 {
     (void)state;
     setup(0.0, 0, 540);
     run(2.0, 1.0, 1);
-    assert_within(pl.theta, 0.49, 1e-6);
+    assert_within(pl.theta, 0.25 * (2 - 0.05) - 0.01, 1e-6);
     run(2.0, 1.0, 1);
-    assert_within(pl.theta, 0.99, 1e-6);
+    assert_within(pl.theta, 0.25 * (4 - 0.05) - 0.01, 1e-6);
     run(1.0, 1.0, 1);
     assert_within(pl.theta, 1.0, 0.0);
-    /* half duty (128/255 = 0.50196) back, 0.12549 a second: the motor pushed the valve open, so
-     * it crosses the whole 2 % gap first: after 2 s th = 1 - (0.25098 - 0.02) = 0.76902 */
+    /* half duty (128/255 = 0.50196) back: (0.50196 - 0.12)/0.88/4 = 0.108511 stroke/s; the motor
+     * pushed the valve open, so it crosses the whole 2 % gap first: after 2 s
+     * th = 1 - (0.108511 (2 - 0.05) - 0.02) = 0.808403 */
     run(2.0, -128.0 / 255.0, 1);
-    assert_within(pl.theta, 0.76902, 1e-4);
+    assert_within(pl.theta, 1 - ((128.0 / 255.0 - 0.12) / 0.88 / 4 * 1.95 - 0.02), 1e-6);
 }
 
-/* Stiction: below 20 % duty nothing moves; at 21 % it moves 0.21/4 per second. From 0.5:
- * 0.19 for 10 s stays at 0.5; 0.21 for 4 s: motor +0.21, less the half gap 0.01 -> 0.70. */
-static void test_plant_valve_stiction(void **state)
+/* A 0.25 duty pulse of 100 ms from rest (no backlash): w* = (0.25 - 0.12)/0.88/4 = 0.0369318
+ * stroke/s; during the pulse the motor goes w* (0.1 - 0.05 (1 - e^-2)) = 0.0020965 and reaches
+ * w* (1 - e^-2) = 0.0319337 stroke/s; braked with tau_m it goes 0.05 (0.0319337 - 0.0025) =
+ * 0.0014717 more before it falls under 1 % of full speed (0.0025): 0.0035682 in all (the simple
+ * rule (d - d_run)/(1 - d_run) L / T gives 0.0036932). */
+static void test_plant_valve_pulse_from_rest(void **state)
 {
+    const double w = (0.25 - 0.12) / 0.88 / 4, e2 = exp(-2.0);
+    double want = w * (0.1 - 0.05 * (1 - e2)) + 0.05 * (w * (1 - e2) - 0.0025);
     (void)state;
     setup(0.5, 0, 540);
-    run(10.0, 0.19, 1);
-    assert_within(pl.theta, 0.5, 0.0);
-    run(10.0, -0.19, 1);
-    assert_within(pl.theta, 0.5, 0.0);
-    run(4.0, 0.21, 1);
-    assert_within(pl.theta, 0.70, 1e-6);
+    pl.p.valve_backlash = 0;
+    pl.motor = 0.5;
+    run(0.1, 0.25, 1);
+    assert_true(pl.moving);
+    run(0.5, 0.0, 1);
+    assert_false(pl.moving);
+    assert_within(pl.theta - 0.5, want, 5e-6);
 }
 
-/* Backlash 2 %: from 0.5, +1 for 1 s -> 0.5 + 0.25 - 0.01 = 0.74; reversing, -1 for 1 s: the motor
- * crosses the whole gap (0.02) before the valve follows -> 0.74 - (0.25 - 0.02) = 0.51. */
+/* Break-away and running friction: from rest 0.19 (and 0.15) start nothing. A moving valve (1 s
+ * at full drive) kept at 0.15 >= d_run keeps moving, towards (0.15 - 0.12)/0.88/4 = 0.0085227
+ * stroke/s: in 2 s 2 w* + (0.25 - w*) 0.05 = 0.0291193; then 0.10 < d_run brakes it to rest, and
+ * from rest 0.15 does not start it again. */
+static void test_plant_valve_break_away_and_running_friction(void **state)
+{
+    const double w = 0.03 / 0.88 / 4;
+    double th;
+    (void)state;
+    setup(0.5, 0, 540);
+    pl.p.valve_backlash = 0;
+    pl.motor = 0.5;
+    run(10.0, 0.19, 1);
+    assert_within(pl.theta, 0.5, 0.0);
+    run(10.0, -0.15, 1);
+    assert_within(pl.theta, 0.5, 0.0);
+    run(1.0, 1.0, 1);
+    th = pl.theta;
+    run(2.0, 0.15, 1);
+    assert_true(pl.moving);
+    assert_within(pl.theta - th, 2 * w + (0.25 * (1 - exp(-20.0)) - w) * 0.05, 1e-5);
+    run(1.0, 0.10, 1);
+    assert_false(pl.moving);
+    th = pl.theta;
+    run(2.0, 0.15, 1);
+    assert_within(pl.theta, th, 0.0);
+}
+
+/* Backlash 2 %: from 0.5, +1 for 1 s -> 0.5 + 0.25 (1 - 0.05) - 0.01 = 0.7275; the drive off, the
+ * motor coasts 0.05 (0.25 - 0.0025) = 0.012375 to rest: 0.739875; reversing, -1 for 1 s: the motor
+ * crosses the whole gap (0.02) before the valve follows -> 0.739875 - (0.2375 - 0.02) = 0.522375;
+ * the turn of direction is one reversal. */
 static void test_plant_valve_backlash_on_reversal(void **state)
 {
     (void)state;
     setup(0.5, 0, 540);
     run(1.0, 1.0, 1);
-    assert_within(pl.theta, 0.74, 1e-6);
+    assert_within(pl.theta, 0.7275, 1e-6);
+    run(0.5, 0.0, 1);
+    assert_within(pl.theta, 0.739875, 1e-5);
+    assert_int_equal(pl.valve_reversals, 0);
     run(1.0, -1.0, 1);
-    assert_within(pl.theta, 0.51, 1e-6);
+    assert_within(pl.theta, 0.522375, 1e-5);
+    assert_int_equal(pl.valve_reversals, 1);
 }
 
 static void test_plant_valve_stuck_does_not_move(void **state)
@@ -282,41 +351,92 @@ static void test_plant_meter_rotor_lags(void **state)
 }
 
 /* Wheel: 2*pi*0.75/12 = 0.39270 m a pulse; 11 km/h = 3.05556 m/s -> 7.7808 pulses/s, 778.1 in
- * 100 s, evenly spaced 0.39270/3.05556 = 128.52 ms apart; slip 10 % -> 855.9. */
-static uint64_t edges[1200];
+ * 100 s; without spacing error evenly 0.39270/3.05556 = 128.52 ms apart; slip 10 % -> 855.9. */
+static uint64_t edges[1800];
 static int n_edges;
 static void edge(uint64_t t_ns)
 {
-    if (n_edges < 1200)
+    if (n_edges < 1800)
         edges[n_edges] = t_ns;
     n_edges++;
 }
 
-static void test_plant_wheel_pulses_slip_and_bounce(void **state)
+static void wheel_run(double seconds)
 {
     uint64_t t = 0;
     long i;
+    n_edges = 0;
+    pl.wheel_edge = edge;
+    for (i = 0; i < lround(seconds * 1000); i++, t += TICK)
+        plant_wheel_step(&pl, 11 / 3.6, t, TICK);
+}
+
+static void test_plant_wheel_pulses_and_slip(void **state)
+{
+    plant_params_t p;
+    int i;
     (void)state;
     setup(0.5, 0, 540);
-    pl.wheel_edge = edge;
-    n_edges = 0;
-    for (i = 0; i < 100000; i++, t += TICK)
-        plant_wheel_step(&pl, 11 / 3.6, t, TICK);
+    p = pl.p;
+    p.wheel_spacing_jitter_pct = 0;
+    plant_init(&pl, &p, 1);
+    wheel_run(100);
     assert_within((double)pl.wheel_pulses, 778.1, 1.0);
     for (i = 2; i < 700; i++)
         assert_within((double)(edges[i] - edges[i - 1]), 128.52e6, 1.0e3);
-
     setup(0.5, 0, 540);
     pl.p.wheel_slip_pct = 10;
-    for (i = 0, t = 0; i < 100000; i++, t += TICK)
-        plant_wheel_step(&pl, 11 / 3.6, t, TICK);
+    wheel_run(100);
     assert_within((double)pl.wheel_pulses, 855.9, 1.0);
+}
 
-    /* bounce 50 %: one extra pulse for half of the 778 real ones: 1167 +- 4 sd (sd sqrt(778/4) = 14) */
+/* Spacing error: the 12 elements' offsets (2 %) and the meter's 6 blades' (1.5 %) sum to zero and
+ * the intervals repeat every revolution; a revolution's 12 intervals add up to the wheel's
+ * circumference at 11 km/h, 2 pi 0.75 / (11 / 3.6) = 1.5422364 s;
+ * the offsets spread about as drawn (sample sd of 12 within 0.5-2 x 2 %), so single intervals do
+ * differ from the mean. */
+static void test_plant_spacing_patterns_repeat_and_sum_to_zero(void **state)
+{
+    double sum = 0, ss = 0, sum_m = 0;
+    int i;
+    (void)state;
+    setup(0.5, 0, 540);
+    for (i = 0; i < pl.wheel_teeth.n; i++) {
+        sum += pl.wheel_teeth.e[i];
+        ss += pl.wheel_teeth.e[i] * pl.wheel_teeth.e[i];
+    }
+    for (i = 0; i < pl.meter_teeth.n; i++)
+        sum_m += pl.meter_teeth.e[i];
+    assert_int_equal(pl.wheel_teeth.n, 12);
+    assert_int_equal(pl.meter_teeth.n, 6);
+    assert_within(sum, 0.0, 1e-12);
+    assert_within(sum_m, 0.0, 1e-12);
+    assert_true(sqrt(ss / 11) > 0.01 && sqrt(ss / 11) < 0.04);
+    wheel_run(100);
+    for (i = 2; i + 12 < 700; i++)
+        assert_within((double)(edges[i + 12] - edges[i + 11]), (double)(edges[i] - edges[i - 1]), 2.0e3);
+    for (i = 2; i + 12 < 700; i += 12)
+        assert_within((double)(edges[i + 12] - edges[i]), 2 * M_PI * 0.75 / (11 / 3.6) * 1e9, 2.0e3);
+    assert_true(fabs((double)(edges[3] - edges[2]) - 128.52e6) > 0.001 * 128.52e6
+                || fabs((double)(edges[4] - edges[3]) - 128.52e6) > 0.001 * 128.52e6);
+}
+
+/* Bounce adds one pulse 0.5 ms after a real one (at most; never past the end of the 1 ms tick):
+ * at 100 % every real edge has its echo (twice the pulses), at 50 % about half of the 778
+ * (1167 +- 4 sd, sd sqrt(778/4) = 14). */
+static void test_plant_bounce_adds_one_pulse_after_a_real_one(void **state)
+{
+    int i;
+    (void)state;
+    setup(0.5, 0, 540);
+    pl.bounce_pct = 100;
+    wheel_run(100);
+    assert_within((double)pl.wheel_pulses, 2 * 778.1, 2.0);
+    for (i = 0; i + 1 < 1500; i += 2)
+        assert_true(edges[i + 1] > edges[i] && edges[i + 1] - edges[i] <= 500000u);
     setup(0.5, 0, 540);
     pl.bounce_pct = 50;
-    for (i = 0, t = 0; i < 100000; i++, t += TICK)
-        plant_wheel_step(&pl, 11 / 3.6, t, TICK);
+    wheel_run(100);
     assert_within((double)pl.wheel_pulses, 1167.0, 56.0);
 }
 
@@ -424,17 +544,21 @@ int main(void)
         cmocka_unit_test(test_plant_sanity_4kmh_coupled),
         cmocka_unit_test(test_plant_fixed_pto_4kmh_needs_a_third_of_the_stroke),
         cmocka_unit_test(test_plant_pto_coupling_scales_the_pump),
+        cmocka_unit_test(test_plant_coupled_pto_follows_the_true_speed),
         cmocka_unit_test(test_plant_pump_pulsation_27hz_4pct),
         cmocka_unit_test(test_plant_relief_valve_caps_pressure),
         cmocka_unit_test(test_plant_check_valves_hold_0_3_bar),
         cmocka_unit_test(test_plant_line_drains_to_zero_through_the_open_bypass),
         cmocka_unit_test(test_plant_valve_travel_time_and_end_stop),
-        cmocka_unit_test(test_plant_valve_stiction),
+        cmocka_unit_test(test_plant_valve_pulse_from_rest),
+        cmocka_unit_test(test_plant_valve_break_away_and_running_friction),
         cmocka_unit_test(test_plant_valve_backlash_on_reversal),
         cmocka_unit_test(test_plant_valve_stuck_does_not_move),
         cmocka_unit_test(test_plant_meter_falls_off_below_its_range),
         cmocka_unit_test(test_plant_meter_rotor_lags),
-        cmocka_unit_test(test_plant_wheel_pulses_slip_and_bounce),
+        cmocka_unit_test(test_plant_wheel_pulses_and_slip),
+        cmocka_unit_test(test_plant_spacing_patterns_repeat_and_sum_to_zero),
+        cmocka_unit_test(test_plant_bounce_adds_one_pulse_after_a_real_one),
         cmocka_unit_test(test_plant_tractor_lag_and_acceleration_limit),
         cmocka_unit_test(test_plant_sensors_4_20_ma_into_the_adc),
         cmocka_unit_test(test_plant_pressure_noise_is_1_lsb),

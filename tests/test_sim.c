@@ -200,9 +200,41 @@ static void test_sim_target_steps_found_where_the_scenario_puts_them(void **stat
     sim_free(&sim);
 }
 
+/* PLANT.md's sanity point: with the PTO coupled, on the paper's dynamic run the bypass position an
+ * ideal controller needs (the one that holds the boom at the reference target, steady state, at
+ * the pump's speed of the moment) stays within 0.55-0.70 wherever the tractor does 4 km/h or more,
+ * also while the speed changes. */
+static void test_sim_paper_run_needs_the_bypass_within_055_070(void **state)
+{
+    plant_t *pl = malloc(sizeof *pl);
+    plant_in_t in = {0, 1};
+    double lo = 1, hi = 0, width_m;
+    long i, n;
+    (void)state;
+    load("scenarios/paper_dynamic_150.scn");
+    plant_init(pl, &scn.plant, scn.seed);
+    width_m = scn.plant.nozzles * scn.plant.spacing_m;
+    n = (long)(scn.duration_s * 1000);
+    for (i = 0; i < n; i++) {
+        double v;
+        pl->v_cmd_kmh = scenario_drive_kmh(&scn, (i + 1) * 1e-3);
+        plant_step(pl, &in, 1000000u);
+        v = plant_speed_kmh(pl);
+        if (v >= 4.0 && i % 100 == 0) {
+            double th = plant_bypass_needed(pl, scn.param[P_RATE] * width_m * v / 600.0);
+            lo = th < lo ? th : lo;
+            hi = th > hi ? th : hi;
+        }
+    }
+    free(pl);
+    if (!(lo >= 0.55 && hi <= 0.70))
+        fail_msg("needed bypass %.4f..%.4f, not within 0.55-0.70", lo, hi);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sim_paper_run_needs_the_bypass_within_055_070),
         cmocka_unit_test(test_sim_same_seed_same_trace_bit_for_bit),
         cmocka_unit_test(test_sim_other_seed_other_noise),
         cmocka_unit_test(test_sim_edges_carry_times_inside_their_tick),
