@@ -1,0 +1,250 @@
+#!/usr/bin/env python3
+"""family.py: the controllers judged on a family of sprayers (docs/SCENARIOS.md, "The plant family").
+
+Usage: tools/family.py SIM [--n 200] [--controllers best,bp_pid,fuzzy_pid,pid] [--seed 1]
+                       [--out build/family] [--jobs N] [--kind dynamic|field|both]
+
+N plants are drawn from the family's ranges (log-uniform for times, uniform otherwise) with a
+random stream fixed by --seed and the plant's number, so the same command gives the same table.
+Each plant is one scenario file (a paper-style dynamic drive, or a field run with headland
+stops, 100-150 L/ha, the firmware at its defaults except the valve's stroke time, which it is
+told in half of the runs); every controller runs every plant, spread over the machine's cores.
+Prints per controller the median and 95th percentile of abs(dose error), abs(the controller's
+share of it), CV, worst zone error, valve reversals a minute and mean settling, and the count of
+runs with an alarm the plant gave no cause for; writes every run to OUT/runs.csv and the table
+to OUT/summary.json.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import random
+import subprocess
+import sys
+from multiprocessing import Pool
+
+NOZZLES, SPACING_CM, RATING_3BAR, P_LIMIT = 36, 50, 1.18, 4.5
+FIGURES = [  # (summary key, run column, label)
+    ("dose_abs_pct", "dose_abs_pct", "|dose| %"),
+    ("dose_ctl_abs_pct", "dose_ctl_abs_pct", "|ctl share| %"),
+    ("cv_pct", "cv_pct", "CV %"),
+    ("zone_worst_pct", "zone_worst_pct", "worst zone %"),
+    ("reversals_per_min", "reversals_per_min", "reversals/min"),
+    ("settle_mean_s", "settle_mean_s", "settle s"),
+]
+
+
+def log_uniform(rnd, lo, hi):
+    return math.exp(rnd.uniform(math.log(lo), math.log(hi)))
+
+
+def dynamic_drive(rnd, duration):
+    """Holds of 8-20 s at random speeds in 4-11 km/h; the driver moves the throttle at once
+    (a step of the command: the tractor follows at its lag and acceleration limit)."""
+    rows = [(0.0, 0.0), (2.0, 0.0)]
+    t, v = 2.0, round(rnd.uniform(4.0, 11.0), 1)
+    rows.append((t, v))
+    while t < duration:
+        t = round(t + rnd.uniform(8.0, 20.0), 1)
+        rows.append((min(t, duration), v))
+        nv = v
+        while abs(nv - v) < 1.0:
+            nv = round(rnd.uniform(4.0, 11.0), 1)
+        v = nv
+        if t < duration:
+            rows.append((t, v))
+    return rows, 11.0
+
+
+def field_drive(rnd, passes):
+    """A field run: from rest, passes of 150-250 m at 6-10 km/h, headland turns slowing to
+    2-3 km/h (or a stop of 3-6 s) between them, stop at the end."""
+    rows = [(0.0, 0.0), (2.0, 0.0)]
+    t, vmax = 2.0, 0.0
+    for i in range(passes):
+        v = round(rnd.uniform(6.0, 10.0), 1)
+        vmax = max(vmax, v)
+        t += 6.0
+        rows.append((round(t, 2), v))
+        t += rnd.uniform(150.0, 250.0) / (v / 3.6)
+        rows.append((round(t, 2), v))
+        if i + 1 < passes:
+            slow = 0.0 if rnd.random() < 0.3 else round(rnd.uniform(2.0, 3.0), 1)
+            t += 5.0
+            rows.append((round(t, 2), slow))
+            t += rnd.uniform(3.0, 6.0) if slow == 0.0 else rnd.uniform(6.0, 10.0)
+            rows.append((round(t, 2), slow))
+    t += 5.0
+    rows.append((round(t, 2), 0.0))
+    rows.append((round(t + 5.0, 2), 0.0))
+    return rows, vmax
+
+
+def nozzle_bar(rate, v_kmh, wear_pct, check_bar):
+    q = rate * v_kmh * SPACING_CM / 100.0 / 600.0
+    kn = RATING_3BAR / math.sqrt(3.0) * (1.0 + wear_pct / 100.0)
+    line = 0.025 * (q * NOZZLES / 50.0) ** 2
+    return check_bar + (q / kn) ** 2 + line
+
+
+def draw(seed, i, kind):
+    """Plant i of the family (redrawn while its nozzles would need more than 4.5 bar)."""
+    rnd = random.Random("family-%d-%d" % (seed, i))
+    while True:
+        p = {}
+        travel = log_uniform(rnd, 1.5, 12.0)
+        p["valve_travel_s"] = round(travel, 2)
+        told = rnd.random() < 0.5
+        brk = rnd.uniform(0.10, 0.35)
+        p["valve_stiction_duty"] = round(brk, 3)
+        p["valve_running_duty"] = round(brk * rnd.uniform(0.5, 0.8), 3)
+        p["valve_backlash"] = round(rnd.uniform(0.005, 0.04), 4)
+        p["valve_motor_tau_s"] = round(log_uniform(rnd, 0.02, 0.15), 3)
+        p["pump_lpm_at_540"] = round(rnd.uniform(90.0, 150.0), 1)
+        p["pump_pulsation_pct"] = round(rnd.uniform(2.0, 10.0), 2)
+        coupled = rnd.random() < 0.5
+        p["pto_coupled"] = 1 if coupled else 0
+        p["pto_rpm"] = 540 if coupled else round(rnd.uniform(450.0, 600.0))
+        p["meter_k_ppl"] = round(rnd.uniform(376.0, 384.0), 2)
+        p["meter_blade_jitter_pct"] = round(rnd.uniform(0.0, 3.0), 2)
+        p["wheel_spacing_jitter_pct"] = round(rnd.uniform(0.0, 4.0), 2)
+        p["wheel_slip_pct"] = round(rnd.uniform(0.0, 3.0), 2)
+        p["speed_bounce_pct"] = round(rnd.uniform(0.0, 3.0), 2)
+        p["pressure_noise_lsb"] = round(rnd.uniform(0.5, 3.0), 2)
+        p["nozzle_wear_pct"] = round(rnd.uniform(0.0, 15.0), 2)
+        p["check_valve_bar"] = round(rnd.uniform(0.3, 0.8), 3)
+        pump_now = p["pump_lpm_at_540"] * (p["pto_rpm"] / 540.0)
+        p["valve_cv_open"] = round(rnd.uniform(1.5, 2.5) * pump_now, 1)
+        rate = rnd.randint(100, 150)
+        k = kind if kind != "both" else ("dynamic" if rnd.random() < 0.5 else "field")
+        if k == "dynamic":
+            rows, vmax = dynamic_drive(rnd, 240.0)
+        else:
+            rows, vmax = field_drive(rnd, 4)
+        if nozzle_bar(rate, vmax, p["nozzle_wear_pct"], p["check_valve_bar"]) <= P_LIMIT:
+            return {"plant": p, "told": told, "rate": rate, "kind": k, "drive": rows,
+                    "seed": rnd.randint(1, 10 ** 6)}
+
+
+def scenario_text(i, d):
+    p = d["plant"]
+    duration = math.floor(d["drive"][-1][0])
+    lines = ["# plant %d of the family (tools/family.py): %s run, valve %s s %s" %
+             (i, d["kind"], p["valve_travel_s"], "told" if d["told"] else "untold (the firmware believes 4 s)"),
+             "[run]", "duration_s = %d" % duration, "seed = %d" % d["seed"],
+             "[config]", "rate_l_ha = %d" % d["rate"], "nozzles = %d" % NOZZLES, "spacing_cm = %d" % SPACING_CM]
+    if d["told"]:
+        lines.append("valve_travel_s = %.1f" % max(0.5, round(p["valve_travel_s"], 1)))
+    lines.append("[plant]")
+    lines += ["%s = %s" % (k, v) for k, v in p.items()]
+    lines.append("[drive]")
+    lines += ["%-8g %g" % (t, v) for t, v in d["drive"]]
+    return "\n".join(lines) + "\n"
+
+
+def run_one(job):
+    sim, path, ctl = job
+    out = subprocess.run([sim, "--scenario", path, "--controller", ctl], capture_output=True, text=True)
+    if out.returncode != 0:
+        return {"error": (out.stderr or out.stdout).strip().splitlines()[-1:]}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def pct(values, q):
+    v = sorted(x for x in values if x is not None and not (isinstance(x, float) and math.isnan(x)))
+    if not v:
+        return None
+    k = (len(v) - 1) * q
+    lo, hi = math.floor(k), math.ceil(k)
+    return v[lo] + (v[hi] - v[lo]) * (k - lo)
+
+
+def row_of(i, d, ctl, m):
+    def get(k):
+        x = m.get(k)
+        return None if x is None else float(x)
+    zmin, zmax = get("zone_error_min_pct"), get("zone_error_max_pct")
+    alarms = [a["code"] for a in m.get("alarms", [])]
+    return {
+        "plant": i, "controller": ctl, "kind": d["kind"], "told": int(d["told"]), "rate_l_ha": d["rate"],
+        **{k: d["plant"][k] for k in ("valve_travel_s", "valve_stiction_duty", "valve_running_duty",
+                                       "valve_backlash", "valve_motor_tau_s", "pto_coupled", "pto_rpm",
+                                       "pump_pulsation_pct", "speed_bounce_pct", "nozzle_wear_pct")},
+        "dose_error_pct": get("dose_error_pct"),
+        "dose_abs_pct": None if get("dose_error_pct") is None else abs(get("dose_error_pct")),
+        "dose_ctl_abs_pct": None if get("dose_ctl_pct") is None else abs(get("dose_ctl_pct")),
+        "cv_pct": get("cv_pct"),
+        "zone_worst_pct": None if zmin is None else max(abs(zmin), abs(zmax)),
+        "reversals_per_min": get("valve_reversals_per_min"),
+        "settle_mean_s": get("settle_mean_s"),
+        "start_s": get("start_s"),
+        "alarms": " ".join(alarms),
+    }
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("sim")
+    ap.add_argument("--n", type=int, default=200)
+    ap.add_argument("--controllers", default="best,bp_pid,fuzzy_pid,pid")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--out", default="build/family")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--kind", choices=("dynamic", "field", "both"), default="both")
+    a = ap.parse_args()
+    if not os.access(a.sim, os.X_OK):
+        sys.exit("family: %s: not an executable simulator (make sim-progs)" % a.sim)
+    ctls = [c for c in a.controllers.split(",") if c]
+    scn_dir = os.path.join(a.out, "scn")
+    os.makedirs(scn_dir, exist_ok=True)
+    plants, jobs = [], []
+    for i in range(a.n):
+        d = draw(a.seed, i, a.kind)
+        path = os.path.join(scn_dir, "plant_%03d.scn" % i)
+        with open(path, "w") as f:
+            f.write(scenario_text(i, d))
+        plants.append(d)
+        jobs += [(a.sim, path, c) for c in ctls]
+    with Pool(max(1, a.jobs)) as pool:
+        results = pool.map(run_one, jobs, chunksize=1)
+    rows, errors = [], []
+    for (sim, path, ctl), m in zip(jobs, results):
+        i = int(os.path.basename(path)[6:9])
+        if "error" in m:
+            errors.append("%s %s: %s" % (path, ctl, m["error"]))
+            continue
+        rows.append(row_of(i, plants[i], ctl, m))
+    if errors:
+        sys.exit("family: %d runs failed, first: %s" % (len(errors), errors[0]))
+    with open(os.path.join(a.out, "runs.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    summary = {"n": a.n, "seed": a.seed, "kind": a.kind, "controllers": {}}
+    for c in ctls:
+        rs = [r for r in rows if r["controller"] == c]
+        s = {}
+        for key, col, _ in FIGURES:
+            vals = [r[col] for r in rs]
+            s[key] = {"median": pct(vals, 0.5), "p95": pct(vals, 0.95)}
+        s["alarm_runs"] = sum(1 for r in rs if r["alarms"])
+        s["alarm_codes"] = sorted({x for r in rs for x in r["alarms"].split()})
+        for told in (0, 1):
+            s["cv_median_%s" % ("told" if told else "untold")] = pct([r["cv_pct"] for r in rs if r["told"] == told], 0.5)
+        summary["controllers"][c] = s
+    with open(os.path.join(a.out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+    head = "%-10s" % "" + "".join("%22s" % lab for _, _, lab in FIGURES) + "  alarm runs"
+    print("plant family: %d plants (seed %d, %s runs), median / 95th percentile" % (a.n, a.seed, a.kind))
+    print(head)
+    for c in ctls:
+        s = summary["controllers"][c]
+        cells = "".join("%22s" % ("%.3g / %.3g" % (s[k]["median"], s[k]["p95"]) if s[k]["median"] is not None
+                                  else "-") for k, _, _ in FIGURES)
+        print("%-10s%s  %d %s" % (c, cells, s["alarm_runs"], ",".join(s["alarm_codes"])))
+    print("wrote %s and %s" % (os.path.join(a.out, "runs.csv"), os.path.join(a.out, "summary.json")))
+
+
+if __name__ == "__main__":
+    main()
