@@ -2,6 +2,7 @@
 .DEFAULT_GOAL := firmware
 SHELL := /bin/bash
 
+# ==== configuration ================================================================================
 V ?= 0
 ifeq ($(V),1)
 Q :=
@@ -11,59 +12,74 @@ endif
 msg = $(if $(Q),@printf '  %-6s %s\n' "$(1)" "$(2)",@true)
 
 BUILD ?= build
-PYTHON ?= .venv/bin/python
+# one Python for every script: the project's .venv once `make deps` made it, else the system's
+PYTHON ?= $(if $(wildcard .venv/bin/python),.venv/bin/python,python3)
+CC ?= cc
 
-# ---- the chip: SDCC 4.2 for the STC12C5A60S2 ------------------------------------------------
-# Memory model: large. The application keeps about 0.5-0.8 KB of state (parameters, the
-# network's weights and momentum terms, measurement windows, the screen buffer); the 128 bytes
-# of directly addressed RAM cannot hold it, the 1 KB of on-chip XRAM can. Large puts every
-# variable there by default (movx, slower) and the few hot ones are placed in __data by hand.
+# the chip: SDCC 4.2 for the STC12C5A60S2 (sizes in bytes)
 SDCC ?= sdcc
 SDAR ?= sdar
 CODE_SIZE ?= 61440
 IRAM_SIZE ?= 256
 XRAM_SIZE ?= 1024
+
+# ==== sources: firmware/ in layers, bottom to top ====================================================
+# math -> store -> measure -> control -> ops -> console, link -> app (tools/incgraph.py checks it)
+FW_DIRS := math store measure control ops console link app
+FW_INC := $(addprefix -Ifirmware/,$(FW_DIRS))
+FW_SRC := $(wildcard $(addsuffix /*.c,$(addprefix firmware/,$(FW_DIRS))))
+FW_LIB_SRC := $(filter-out firmware/app/main.c,$(FW_SRC))
+SIM_MAIN := $(wildcard sim/*_main.c)
+SIM_LIB_SRC := $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
+UNIT_TEST_SRC := $(wildcard tests/*/test_*.c)
+TEST_HELPER_SRC := $(wildcard tests/*/helper_*.c)
+TT_PROGS := $(filter-out tests/target/tt_common.c tests/target/tt_host.c,$(wildcard tests/target/tt_[a-z]*.c))
+
+# ==== compiler flags =================================================================================
+# Memory model: large. The application keeps about 0.5-0.8 KB of state; the 128 bytes of
+# directly addressed RAM cannot hold it, the 1 KB of on-chip XRAM can. Large puts every variable
+# there by default (movx, slower) and the few hot ones are placed in __data by hand.
+# -MMD: each object's header dependencies in a .d beside it (included at the end).
 SDCC_MODEL := --model-large
-SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal -Ifirmware $(SDCC_EXTRA)
+SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
-
-FW_LIB_SRC := $(filter-out firmware/main.c,$(wildcard firmware/*.c))
-STC_SRC := $(FW_LIB_SRC) firmware/main.c $(wildcard hal/stc12/*.c)
-STC_DIR := $(BUILD)/stc12
-STC_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(STC_SRC))
-FW_IHX := $(STC_DIR)/sprayer.ihx
-FW_HEX := $(STC_DIR)/sprayer.hex
-HDRS := $(wildcard hal/*.h hal/*/*.h firmware/*.h sim/*.h tests/*.h tests/target/*.h)
-
-# ---- the host: gcc, with the plant model behind hal/host -------------------------------------
-CC ?= cc
 HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
-HOST_INC := -Ihal -Ihal/host -Ifirmware -Isim -Itests -Itests/target
+HOST_INC := -Ihal -Ihal/host $(FW_INC) -Isim -Itests/target
 TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 TEST_LDFLAGS := -fsanitize=address,undefined
 OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -g
-SIM_MAIN := $(wildcard sim/*_main.c)
-HOST_LIB_SRC := $(FW_LIB_SRC) $(wildcard hal/host/*.c) $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
+
+# ==== build folders and products =====================================================================
+STC_DIR := $(BUILD)/stc12
+STC_SRC := $(FW_SRC) $(wildcard hal/stc12/*.c)
+STC_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(STC_SRC))
+FW_IHX := $(STC_DIR)/sprayer.ihx
+FW_HEX := $(STC_DIR)/sprayer.hex
+
 TEST_DIR := $(BUILD)/host-test
 OPT_DIR := $(BUILD)/host
+HOST_LIB_SRC := $(FW_LIB_SRC) $(wildcard hal/host/*.c) $(SIM_LIB_SRC)
 TEST_LIB := $(TEST_DIR)/libsprayer.a
 OPT_LIB := $(OPT_DIR)/libsprayer.a
-UNIT_TESTS := $(patsubst tests/%.c,$(TEST_DIR)/%,$(wildcard tests/test_*.c))
-TEST_HELPERS := $(patsubst %.c,$(TEST_DIR)/%.o,$(wildcard tests/helper_*.c))
+UNIT_TESTS := $(addprefix $(TEST_DIR)/,$(basename $(notdir $(UNIT_TEST_SRC))))
+TEST_HELPERS := $(patsubst %.c,$(TEST_DIR)/%.o,$(TEST_HELPER_SRC))
 
-# ---- target tests: SDCC build run in s51, against the same program built for the host -------
 UC_DIR := $(BUILD)/ucsim$(if $(SDCC_EXTRA),-variant)
 UC_CFLAGS := $(SDCC_CFLAGS) -DHAL_UCSIM -Itests/target
 UC_LIB_REL := $(patsubst %.c,$(UC_DIR)/%.rel,$(FW_LIB_SRC))
-UC_TT_REL := $(UC_DIR)/tt_common.rel $(UC_DIR)/tt_ucsim.rel
-TT_SRC := $(wildcard tests/target/tt_[a-z]*.c)
-TT_PROGS := $(filter-out tests/target/tt_common.c tests/target/tt_host.c,$(TT_SRC))
+UC_TT_REL := $(UC_DIR)/tests/target/tt_common.rel $(UC_DIR)/hal/ucsim/tt_ucsim.rel
 TT_IHX := $(patsubst tests/target/%.c,$(UC_DIR)/%.ihx,$(TT_PROGS))
 TT_HOST := $(patsubst tests/target/%.c,$(TEST_DIR)/target/%,$(TT_PROGS))
 
+SIM_PROGS := $(patsubst sim/%_main.c,$(OPT_DIR)/bin/%,$(SIM_MAIN))
+SIM_BIN := $(OPT_DIR)/bin/sim
+PANEL_BIN := $(OPT_DIR)/bin/panel
+DEMO_DIR := $(BUILD)/demo
+
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: firmware deps test demo clean flash help host-tests target-tests bench FORCE
+.PHONY: firmware flash deps test host-tests target-tests bench sim sim-progs demo compare \
+        bench-sim panel screenshots clean help FORCE
 
 help:
 	@echo "make demo      the main job: firmware image + the paper's run in the simulator, metrics and plot"
@@ -73,25 +89,21 @@ help:
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
 	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
-	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over 8 seeds"
+	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen and a menu as PNG in docs/"
 	@echo "make clean     remove build/"
 
-# ---- set-up --------------------------------------------------------------------------------
-deps:
-	$(Q)tools/deps.sh
-
-# ---- firmware ---------------------------------------------------------------------------------
+# ==== the firmware image ==============================================================================
 firmware: $(FW_HEX)
 	$(Q)tools/memuse.sh $(STC_DIR)/sprayer $(CODE_SIZE) $(IRAM_SIZE) $(XRAM_SIZE)
-	$(Q)python3 tools/stackdepth.py $(STC_DIR) --free $$(sed -n 's/.*with \([0-9]*\) bytes available.*/\1/p' $(STC_DIR)/sprayer.mem)
+	$(Q)$(PYTHON) tools/stackdepth.py $(STC_DIR) --free $$(sed -n 's/.*with \([0-9]*\) bytes available.*/\1/p' $(STC_DIR)/sprayer.mem)
 
-$(STC_DIR)/%.rel: %.c $(HDRS)
+$(STC_DIR)/%.rel: %.c
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$<)
-	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -c $< -o $@
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -MMD -c $< -o $@
 
 $(FW_IHX): $(STC_REL)
 	$(call msg,LINK,$@)
@@ -109,16 +121,16 @@ flash: $(FW_HEX)
 	$(Q)test -x $(STCGAL) || tools/deps.sh
 	$(STCGAL) $(STCGAL_OPTS) -p $(PORT) $(FW_HEX)
 
-# ---- host builds -------------------------------------------------------------------------------
-$(TEST_DIR)/%.o: %.c $(HDRS)
+# ==== host builds: the firmware and the plant model with gcc ===========================================
+$(TEST_DIR)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(call msg,CC,$<)
-	$(Q)$(CC) $(TEST_CFLAGS) -c $< -o $@
+	$(Q)$(CC) $(TEST_CFLAGS) -MMD -MP -c $< -o $@
 
-$(OPT_DIR)/%.o: %.c $(HDRS)
+$(OPT_DIR)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(call msg,CC,$<)
-	$(Q)$(CC) $(OPT_CFLAGS) -c $< -o $@
+	$(Q)$(CC) $(OPT_CFLAGS) -MMD -MP -c $< -o $@
 
 $(TEST_LIB): $(patsubst %.c,$(TEST_DIR)/%.o,$(HOST_LIB_SRC))
 	$(Q)rm -f $@ && ar rcs $@ $^
@@ -126,63 +138,63 @@ $(TEST_LIB): $(patsubst %.c,$(TEST_DIR)/%.o,$(HOST_LIB_SRC))
 $(OPT_LIB): $(patsubst %.c,$(OPT_DIR)/%.o,$(HOST_LIB_SRC))
 	$(Q)rm -f $@ && ar rcs $@ $^
 
-$(TEST_DIR)/test_%: $(TEST_DIR)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIB)
-	$(call msg,LD,$@)
-	$(Q)$(CC) $(TEST_LDFLAGS) $< $(TEST_HELPERS) $(TEST_LIB) -lcmocka -lm -o $@
+# tests/<layer>/test_<module>.c -> build/host-test/test_<module>
+define unit_test_rule
+$(TEST_DIR)/$(basename $(notdir $(1))): $(TEST_DIR)/$(1:.c=.o) $(TEST_HELPERS) $(TEST_LIB)
+	$$(call msg,LD,$$@)
+	$$(Q)$$(CC) $$(TEST_LDFLAGS) $$< $$(TEST_HELPERS) $$(TEST_LIB) -lcmocka -lm -o $$@
+endef
+$(foreach t,$(UNIT_TEST_SRC),$(eval $(call unit_test_rule,$(t))))
 
 host-tests: $(UNIT_TESTS)
 
-# ---- target tests ------------------------------------------------------------------------------
-$(UC_DIR)/%.rel: %.c $(HDRS)
+# ==== target tests: the SDCC build run in s51 against the same program built for the host ================
+$(UC_DIR)/%.rel: %.c
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$< [s51])
-	$(Q)$(SDCC) $(UC_CFLAGS) -c $< -o $@
-
-$(UC_DIR)/tt_common.rel: tests/target/tt_common.c $(HDRS)
-	@mkdir -p $(dir $@)
-	$(Q)$(SDCC) $(UC_CFLAGS) -c $< -o $@
-
-$(UC_DIR)/tt_ucsim.rel: hal/ucsim/tt_ucsim.c $(HDRS)
-	@mkdir -p $(dir $@)
-	$(Q)$(SDCC) $(UC_CFLAGS) -c $< -o $@
+	$(Q)$(SDCC) $(UC_CFLAGS) -MMD -c $< -o $@
 
 $(UC_DIR)/fw.lib: $(UC_LIB_REL)
 	$(Q)rm -f $@ && $(SDAR) -rcs $@ $^
 
-$(UC_DIR)/tt_%.ihx: tests/target/tt_%.c $(UC_DIR)/fw.lib $(UC_TT_REL) $(HDRS)
-	$(call msg,SDCC,$< [s51 program])
+$(UC_DIR)/tt_%.ihx: $(UC_DIR)/tests/target/tt_%.rel $(UC_DIR)/fw.lib $(UC_TT_REL)
+	$(call msg,LINK,$@ [s51 program])
 	$(Q)$(SDCC) $(UC_CFLAGS) $(SDCC_LDFLAGS) $< $(UC_TT_REL) -L $(UC_DIR) -l fw.lib -o $@ > $(UC_DIR)/tt_$*.log 2>&1 || { cat $(UC_DIR)/tt_$*.log; exit 1; }
 
-$(TEST_DIR)/target/tt_%: tests/target/tt_%.c $(TEST_DIR)/tests/target/tt_common.o $(TEST_DIR)/tests/target/tt_host.o $(TEST_LIB)
+$(TEST_DIR)/target/tt_%: $(TEST_DIR)/tests/target/tt_%.o $(TEST_DIR)/tests/target/tt_common.o $(TEST_DIR)/tests/target/tt_host.o $(TEST_LIB)
 	@mkdir -p $(dir $@)
-	$(call msg,CC,$< [host twin])
-	$(Q)$(CC) $(TEST_CFLAGS) $< $(TEST_DIR)/tests/target/tt_common.o $(TEST_DIR)/tests/target/tt_host.o $(TEST_LIB) $(TEST_LDFLAGS) -lm -o $@
+	$(call msg,LD,$@ [host twin])
+	$(Q)$(CC) $^ $(TEST_LDFLAGS) -lm -o $@
 
 target-tests: $(TT_IHX) $(TT_HOST)
 
-# ---- everything that is tested -----------------------------------------------------------------
+# ==== tests and measurements ==========================================================================
 test:
 	$(Q)tools/deps.sh --quiet
 	$(Q)tools/run_tests.sh
 
+# machine cycles of the fixed-point blocks and of one step of each controller, measured in s51
 bench: $(TT_IHX) $(TT_HOST)
 	$(Q)tools/bench.sh $(UC_DIR)
 
-clean:
-	rm -rf $(BUILD)
+# simulated seconds per wall second for the paper's run (one process, one core; best of 3)
+bench-sim: $(SIM_BIN)
+	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn
 
-# ==== targets added by later issues go below this line (one block per issue) ==================
+# pid, fuzzy_pid, bp_pid and best on the same plant and seed (target steps, the paper's dynamic run
+# coupled and with a fixed PTO, the field run), beside the paper's Table 2 and section 5.1; then
+# best against bp_pid figure by figure, means over seeds 1-16 of every scenario family
+compare: $(SIM_BIN)
+	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
+	$(Q)echo
+	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN)
 
-# issue 3: simulator
+# ==== the simulator, the demo and the virtual panel ========================================================
 # Programs from sim/*_main.c, linked with the -O2 library: build/host/bin/<name> (build/host/sim/
 # is the folder of the library's objects, so the programs live in bin/).
-SIM_PROGS := $(patsubst sim/%_main.c,$(OPT_DIR)/bin/%,$(SIM_MAIN))
-SIM_BIN := $(OPT_DIR)/bin/sim
 SCENARIO ?= scenarios/paper_dynamic_150.scn
 CONTROLLER ?=
 CSV ?=
-DEMO_DIR := $(BUILD)/demo
-.PHONY: sim sim-progs bench-sim
 
 $(SIM_PROGS): $(OPT_DIR)/bin/%: $(OPT_DIR)/sim/%_main.o $(OPT_LIB)
 	@mkdir -p $(dir $@)
@@ -208,19 +220,12 @@ demo:
 	$(Q)$(PYTHON) tools/plot.py zones $(DEMO_DIR)/zones.csv $(DEMO_DIR)/zones.png --rate 150 --title "paper_dynamic_150: volume per 5 m zone (cf. paper Table 4)"
 	@echo "demo: wrote $(DEMO_DIR)/trace.csv $(DEMO_DIR)/zones.csv $(DEMO_DIR)/metrics.json $(DEMO_DIR)/flow.png $(DEMO_DIR)/zones.png"
 
-# simulated seconds per wall second for the paper's run (one process, one core; best of 3)
-bench-sim: $(SIM_BIN)
-	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn
-
-# ---- issue 6: console ---------------------------------------------------------------------------
 # make panel [PANEL_SCENARIO=file] [PANEL_ARGS="--speed 2 ..."]: the LCD12864 and the keypad in the
 # terminal, the firmware against the simulated sprayer in real time (sim/panel_main.c; q quits).
 # make screenshots: the run screen, a menu and a refused entry as PNG in docs/ (the README shows
 # them; the panel writes uncompressed PNG, Pillow recompresses).
-PANEL_BIN := $(OPT_DIR)/bin/panel
 PANEL_SCENARIO ?=
 PANEL_ARGS ?=
-.PHONY: panel screenshots
 
 panel: $(PANEL_BIN)
 	$(Q)$(PANEL_BIN) $(if $(PANEL_SCENARIO),--scenario $(PANEL_SCENARIO)) $(PANEL_ARGS)
@@ -232,13 +237,14 @@ screenshots: $(PANEL_BIN)
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......AD1500D" --screenshot docs/panel_refused.png
 	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png
 
-# ---- issue 4: controllers ------------------------------------------------------------------------
-# make compare: pid, fuzzy_pid, bp_pid and best on the same plant and seed (target steps, the
-# paper's dynamic run coupled and with a fixed PTO, the field run), beside the paper's Table 2
-# and section 5.1; then best against bp_pid figure by figure, means over seeds 1-16 of every
-# scenario family (100/125/150 L/ha), which no single lucky seed decides.
-.PHONY: compare
-compare: $(SIM_BIN)
-	$(Q)python3 tools/compare.py $(SIM_BIN)
-	$(Q)echo
-	$(Q)python3 tools/seeds.py $(SIM_BIN)
+# ==== set-up and cleaning ====================================================================================
+deps:
+	$(Q)tools/deps.sh
+
+clean:
+	rm -rf $(BUILD)
+
+# ==== header dependencies (written by -MMD) ====================================================================
+# SDCC has no -MP: a header that is gone is no reason to stop, the object is rebuilt
+%.h: ;
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

@@ -43,7 +43,7 @@ uint8_t hal_keypad_row(uint8_t row);
 /* ---- actuators ---------------------------------------------------------------------------- */
 /* Valve H-bridge: dir +1 opens the bypass (less boom flow), -1 closes it, 0 leaves both half
  * bridges off (coast); duty 0..255 is the PWM on the enable line. Dead time on reversal is
- * the firmware's job (firmware/valve.c), not the HAL's. */
+ * the firmware's job (firmware/control/valve.c), not the HAL's. */
 #define HAL_VALVE_OPEN 1
 #define HAL_VALVE_CLOSE -1
 #define HAL_VALVE_OFF 0

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes firmware/fm_gain_tab.c: the tables of ffmap's gain schedule.
+"""Writes firmware/control/fm_gain_tab.c: the tables of ffmap's gain schedule.
 
 How much boom flow one stroke of the bypass valve moves (the loop's gain) changes about
 threefold over a sprayer's range: with an equal-percentage valve, dQ_boom/dtheta =
@@ -53,4 +53,4 @@ def main(path):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "firmware/fm_gain_tab.c")
+    main(sys.argv[1] if len(sys.argv) > 1 else "firmware/control/fm_gain_tab.c")

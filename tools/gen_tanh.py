@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes firmware/fx_tanh_tab.c: tanh(x) in Q15 at x = i/64, i = 0..384 (x in [0, 6])."""
+"""Writes firmware/math/fx_tanh_tab.c: tanh(x) in Q15 at x = i/64, i = 0..384 (x in [0, 6])."""
 import math, sys
 
 N = 385  # 6 * 64 + 1: the last interval ends at x = 6, where tanh is 32767 in Q15
@@ -16,4 +16,4 @@ def main(path):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "firmware/fx_tanh_tab.c")
+    main(sys.argv[1] if len(sys.argv) > 1 else "firmware/math/fx_tanh_tab.c")

@@ -4,7 +4,7 @@
     serial_log.py --port /dev/ttyUSB0 [--baud 38400] [--csv run.csv] [--seconds N] [--send "GET 0" ...]
     serial_log.py --replay captured.txt [--csv run.csv]        (lines captured earlier, or from the simulator)
 
-Every line the controller sends ends in "*HH" (XOR of the bytes before '*', see firmware/serial.h);
+Every line the controller sends ends in "*HH" (XOR of the bytes before '*', see firmware/link/serial.h);
 a line whose checksum is wrong is counted and dropped, never logged. LOG lines (one a second,
 like the paper's PC monitor) become CSV rows; ALM / CLR / OK / ERR lines are printed.
 """
