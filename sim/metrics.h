@@ -1,4 +1,4 @@
-/* metrics.h: the control-quality figures of PLANT.md (dose, 5 m zones, steps of the target, pressure, alarms). */
+/* metrics.h: the control-quality figures of docs/SCENARIOS.md (dose, 5 m zones, steps of the target, pressure, alarms). */
 #ifndef SIM_METRICS_H
 #define SIM_METRICS_H
 
@@ -142,7 +142,7 @@ void metrics_samples_csv(FILE *f, const metrics_t *m);
 void metrics_steps_json(FILE *f, const metrics_series_t *s);
 /* The finished zones as CSV: zone, start_m, vol_l, expect_l, time_s, mean_kmh, error_pct. */
 void metrics_zones_csv(FILE *f, const metrics_t *m);
-/* The result as one JSON object on one line (keys as in PLANT.md; NaN prints as null).
+/* The result as one JSON object on one line (keys as in docs/SCENARIOS.md; NaN prints as null).
  * extra (may be NULL) is inserted verbatim after the opening brace, e.g. "\"scenario\":\"x\",". */
 void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s);
 

@@ -11,7 +11,7 @@ static void usage(FILE *f)
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
           "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
-          "  prints the metrics of PLANT.md as one JSON object on the last line.\n"
+          "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n"
           "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
           "  build/host/bin/score reads it back).\n"

@@ -1,4 +1,4 @@
-/* test_scenario.c: the scenario reader: a good file, every kind of bad file (named by file, line and key), PLANT.md's example. */
+/* test_scenario.c: the scenario reader: a good file, every kind of bad file (named by file, line and key), docs/SCENARIOS.md's example. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -70,7 +70,7 @@ static void test_scenario_good_file(void **state)
     assert_true(s.plant.meter_k_ppl == 390.0);
     assert_true(s.plant.wheel_slip_pct == 3.5);
     assert_true(s.plant.tank_start_l == 400.0);
-    assert_true(s.plant.relief_bar == 5.0);          /* untouched keys keep PLANT.md's default */
+    assert_true(s.plant.relief_bar == 5.0);          /* untouched keys keep docs/SCENARIOS.md's default */
     assert_int_equal(s.plant.nozzles, 24);
     assert_true(s.plant.spacing_m == 0.75);
     assert_int_equal(s.n_drive, 4);
@@ -99,7 +99,7 @@ static void test_scenario_crlf_and_bom(void **state)
     assert_true(s.drive[0].kmh == 5);
 }
 
-/* An empty file is all defaults: 300 s, seed 7, the firmware's parameter defaults, PLANT.md's plant. */
+/* An empty file is all defaults: 300 s, seed 7, the firmware's parameter defaults, docs/SCENARIOS.md's plant. */
 static void test_scenario_empty_file_is_the_defaults(void **state)
 {
     (void)state;
@@ -226,7 +226,7 @@ static void test_scenario_controller_names(void **state)
     assert_int_equal(s.param[P_CONTROLLER], CTL_BP_PID);
 }
 
-/* Files: a missing one is named; the example of PLANT.md, copied verbatim, loads as written. */
+/* Files: a missing one is named; the example of docs/SCENARIOS.md, copied verbatim, loads as written. */
 static void test_scenario_files(void **state)
 {
     (void)state;
@@ -246,7 +246,7 @@ static void test_scenario_files(void **state)
     assert_int_equal(s.events[1].line, 21);
 }
 
-/* Every [plant] key PLANT.md lists, at the default it states, and every event it lists. */
+/* Every [plant] key docs/SCENARIOS.md lists, at the default it states, and every event it lists. */
 static void test_scenario_every_key_and_event_of_plant_md(void **state)
 {
     static const char text[] =
@@ -270,7 +270,7 @@ static void test_scenario_every_key_and_event_of_plant_md(void **state)
     if (scenario_parse(&s, text, "all.scn", err, sizeof err) != 0)
         fail_msg("%s", err);
     plant_params_default(&def);
-    /* the values PLANT.md states are the model's defaults, key by key */
+    /* the values docs/SCENARIOS.md states are the model's defaults, key by key */
 #define SAME(key, d, lo, hi, isint) if (s.plant.key != def.key) fail_msg("%s: %g, default %g", #key, s.plant.key, def.key);
     PLANT_KEYS(SAME)
 #undef SAME
