@@ -14,7 +14,7 @@ static void usage(FILE *f)
           "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n"
           "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
-          "  build/host/bin/score reads it back).\n"
+          "  build/host/bin/steps reads it back).\n"
           "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n", f);
 }
 

@@ -4,7 +4,7 @@ set -uo pipefail
 cd "$(dirname "$0")/../.."
 B=${BUILD:-build}
 SIM=$B/host/bin/sim
-SCORE=$B/host/bin/score
+STEPS=$B/host/bin/steps
 PY=.venv/bin/python
 [ -x "$PY" ] || PY=python3
 tmp=$(mktemp -d)
@@ -12,8 +12,8 @@ trap 'rm -rf "$tmp"' EXIT
 ok() { echo "ok - steps_zero: $1"; }
 nok() { echo "not ok - steps_zero: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
 
-if ! make -s --no-print-directory "$SIM" "$SCORE" BUILD="$B" > "$tmp/build.log" 2>&1; then
-    nok "the simulator and score build" "$(cat "$tmp/build.log")"
+if ! make -s --no-print-directory "$SIM" "$STEPS" BUILD="$B" > "$tmp/build.log" 2>&1; then
+    nok "the simulator and steps build" "$(cat "$tmp/build.log")"
     exit 0
 fi
 total=0
@@ -23,9 +23,9 @@ for scn in scenarios/*.scn; do
         nok "$name runs" "$(tail -3 "$tmp/$name.out")"
         continue
     fi
-    # the simulator's own figures and score's on the same series agree; the target as the flow scores 0
+    # the simulator's own figures and steps' on the same series agree; the target as the flow scores 0
     sim_json=$(tail -n 1 "$tmp/$name.out")
-    got=$("$SCORE" "$tmp/$name.csv") && zero=$("$SCORE" "$tmp/$name.csv" --flow target_lpm) || { nok "$name: score reads the series"; continue; }
+    got=$("$STEPS" "$tmp/$name.csv") && zero=$("$STEPS" "$tmp/$name.csv" --flow target_lpm) || { nok "$name: steps reads the series"; continue; }
     if res=$($PY - "$sim_json" "$got" "$zero" <<'PYEOF'
 import json, sys
 sim, got, zero = (json.loads(a) for a in sys.argv[1:4])
@@ -40,7 +40,7 @@ print(zero["steps_scored"])
 PYEOF
     ); then
         total=$((total + res))
-        ok "$name: the target as the flow scores 0 % / 0 s on its $res steps; sim and score agree"
+        ok "$name: the target as the flow scores 0 % / 0 s on its $res steps; sim and steps agree"
     else
         nok "$name: the target as the flow scores 0 % / 0 s" "$res"
     fi
@@ -48,11 +48,11 @@ done
 [ "$total" -gt 20 ] && ok "the scenarios have $total scored steps in all" || nok "the scenarios have scored steps ($total)"
 
 # a late flow: the target 0.5 s and 1 s late settles later than on time, on the paper's run
-d0=$("$SCORE" "$tmp/paper_dynamic_150.csv" --flow target_lpm --delay-samples 5 | $PY -c "import json,sys; print(json.load(sys.stdin)['settle_mean_s'])")
-d1=$("$SCORE" "$tmp/paper_dynamic_150.csv" --flow target_lpm --delay-samples 10 | $PY -c "import json,sys; print(json.load(sys.stdin)['settle_mean_s'])")
+d0=$("$STEPS" "$tmp/paper_dynamic_150.csv" --flow target_lpm --delay-samples 5 | $PY -c "import json,sys; print(json.load(sys.stdin)['settle_mean_s'])")
+d1=$("$STEPS" "$tmp/paper_dynamic_150.csv" --flow target_lpm --delay-samples 10 | $PY -c "import json,sys; print(json.load(sys.stdin)['settle_mean_s'])")
 if $PY -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); sys.exit(0 if 0 < a < b else 1)" "$d0" "$d1"; then
     ok "a flow 0.5 s / 1 s late settles in $d0 / $d1 s on the paper's run (0 s on time)"
 else
     nok "a late flow settles later the later it is ($d0, $d1)"
 fi
-"$SCORE" /nonexistent.csv > /dev/null 2> "$tmp/err" && nok "score refuses a missing file" || { grep -q "cannot open" "$tmp/err" && ok "score refuses a missing file with one line" || nok "score refuses a missing file with one line" "$(cat "$tmp/err")"; }
+"$STEPS" /nonexistent.csv > /dev/null 2> "$tmp/err" && nok "steps refuses a missing file" || { grep -q "cannot open" "$tmp/err" && ok "steps refuses a missing file with one line" || nok "steps refuses a missing file with one line" "$(cat "$tmp/err")"; }

@@ -1,4 +1,4 @@
-/* score_main.c: the step figures of a sampled series read from CSV, by the simulator's own metrics code. */
+/* steps_main.c: the step figures of a sampled series read from CSV, by the simulator's own metrics code. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,7 +9,7 @@
 
 static void usage(FILE *f)
 {
-    fputs("usage: score SAMPLES.csv [--flow COLUMN] [--delay-samples N]\n"
+    fputs("usage: steps SAMPLES.csv [--flow COLUMN] [--delay-samples N]\n"
           "  SAMPLES.csv: a header line, then one row every 0.1 s with the columns ref_lpm (the\n"
           "  reference target), target_lpm (the firmware's), flow_lpm (the flow), work (1: working\n"
           "  speed >= 4 km/h) and spray (1: the boom sprays), as `sim --samples` writes them.\n"
@@ -66,11 +66,11 @@ int main(int argc, char **argv)
             char *end;
             delay = strtol(argv[++i], &end, 10);
             if (*end || delay < 0 || delay > 100000) {
-                fprintf(stderr, "score: --delay-samples '%s' is not a whole number 0..100000\n", argv[i]);
+                fprintf(stderr, "steps: --delay-samples '%s' is not a whole number 0..100000\n", argv[i]);
                 return 2;
             }
         } else if (argv[i][0] == '-' || path) {
-            fprintf(stderr, "score: unexpected argument '%s'\n", argv[i]);
+            fprintf(stderr, "steps: unexpected argument '%s'\n", argv[i]);
             usage(stderr);
             return 2;
         } else {
@@ -83,11 +83,11 @@ int main(int argc, char **argv)
     }
     f = fopen(path, "r");
     if (!f) {
-        fprintf(stderr, "score: cannot open %s: %s\n", path, strerror(errno));
+        fprintf(stderr, "steps: cannot open %s: %s\n", path, strerror(errno));
         return 1;
     }
     if (!fgets(line, sizeof line, f)) {
-        fprintf(stderr, "score: %s: empty file\n", path);
+        fprintf(stderr, "steps: %s: empty file\n", path);
         return 1;
     }
     n_cols = split(line, cols);
@@ -97,7 +97,7 @@ int main(int argc, char **argv)
     i_work = column(cols, n_cols, "work");
     i_spray = column(cols, n_cols, "spray");
     if (i_ref < 0 || i_tgt < 0 || i_flow < 0 || i_work < 0 || i_spray < 0) {
-        fprintf(stderr, "score: %s: the header needs ref_lpm, target_lpm, %s, work and spray\n", path, flow_col);
+        fprintf(stderr, "steps: %s: the header needs ref_lpm, target_lpm, %s, work and spray\n", path, flow_col);
         return 1;
     }
     ref = malloc(cap * sizeof *ref);
@@ -113,7 +113,7 @@ int main(int argc, char **argv)
             continue;
         nc = split(line, cols);
         if (nc < n_cols) {
-            fprintf(stderr, "score: %s:%d: %d columns, the header has %d\n", path, lineno, nc, n_cols);
+            fprintf(stderr, "steps: %s:%d: %d columns, the header has %d\n", path, lineno, nc, n_cols);
             return 1;
         }
         if (n == cap) {
@@ -125,7 +125,7 @@ int main(int argc, char **argv)
             spray = realloc(spray, cap);
         }
         if (!ref || !tgt || !flow || !work || !spray) {
-            fprintf(stderr, "score: out of memory\n");
+            fprintf(stderr, "steps: out of memory\n");
             return 1;
         }
         ref[n] = strtod(cols[i_ref], &end);
@@ -141,7 +141,7 @@ int main(int argc, char **argv)
         n++;
         continue;
     bad:
-        fprintf(stderr, "score: %s:%d: not a number\n", path, lineno);
+        fprintf(stderr, "steps: %s:%d: not a number\n", path, lineno);
         return 1;
     }
     fclose(f);
