@@ -43,7 +43,7 @@ void bp_init(void)
 
 /* Forward pass (eqs. 8-13): this period's inputs, the hidden layer, the gains. n: the
  * normalised error (Q12). */
-CTL_STEP void bp_forward(int16_t n)
+CTL_STEP void bp_forward(int16_t n) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     __xdata int16_t *x = b->x;      /* Q12 */
@@ -74,7 +74,7 @@ CTL_STEP void bp_forward(int16_t n)
 }
 
 /* The incremental law of pid with the network's gains, through the output stage. */
-CTL_STEP q15_t bp_law(int16_t e)
+CTL_STEP q15_t bp_law(int16_t e) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     __xdata int16_t *de = b->de;
@@ -94,7 +94,7 @@ CTL_STEP q15_t bp_law(int16_t e)
  * Output rows: delta_l = n * d(du)/dK_l * g'(net_l), g' = 2K(1-K); dv = eta delta_l O_i.
  * Hidden rows, with the output weights just updated (the reference code's order):
  * delta_i = (1 - O_i^2) sum_l delta_l v_li; dw = eta delta_i x_j. */
-CTL_STEP void bp_learn(int16_t n)
+CTL_STEP void bp_learn(int16_t n) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     __xdata int16_t *dn = b->dn;
@@ -121,7 +121,7 @@ CTL_STEP void bp_learn(int16_t n)
     }
 }
 
-q15_t bp_step(void)
+q15_t bp_step(void) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     int16_t e = ctl_clamp_e(ctl_in->target_lpm_x100 - ctl_in->flow_lpm_x100);

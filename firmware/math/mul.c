@@ -101,6 +101,14 @@ void dot_ab(uint8_t n) __naked
 {
     (void)n;
     __asm
+        ar0 = 0x00              ; bank 0 register addresses for push / pop
+        ar1 = 0x01
+        ar2 = 0x02
+        ar3 = 0x03
+        ar4 = 0x04
+        ar5 = 0x05
+        ar6 = 0x06
+        ar7 = 0x07
         push ar0
         push ar1
         push ar2
@@ -485,8 +493,3 @@ void upd_c(int16_t *w, int8_t *dw, const int16_t *x, int16_t eg, int16_t lim, ui
     }
 }
 #endif
-
-int32_t fx_mul32(int16_t a, int16_t b)
-{
-    return MUL(a, b);
-}

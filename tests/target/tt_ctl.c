@@ -29,7 +29,7 @@ static void plant(q15_t drive, ctl_in_t *in)
 
 static uint32_t cyc_max, cyc_sum;
 
-static q15_t timed_step(const ctl_in_t *in)
+static q15_t timed_step(const __xdata ctl_in_t *in)
 {
     q15_t d;
     uint32_t c;
