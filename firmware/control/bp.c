@@ -98,7 +98,7 @@ CTL_STEP void bp_learn(int16_t n) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     __xdata int16_t *dn = b->dn;
-    int16_t eg, one_m;              /* Q12 eta * delta; Q15 1 - O^2 */
+    int16_t eg, one_m;              /* Q12: n * dn, then eta * delta; Q15: 1 - O^2 */
     uint8_t i, l;
     dn[0] = n - b->n1;
     dn[1] = n;
