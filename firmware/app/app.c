@@ -35,6 +35,9 @@
 #define APP_JOG_DRIVE Q15(0.6)      /* ... at 60 % duty */
 #define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
 #define APP_LOG_PERIODS (1000u / APP_PERIOD_MS)
+/* The totals are saved this long after the boom shuts: not in the step that switches the
+ * relay off, when its coil's energy and the supply's dip meet the IAP erase's current. */
+#define APP_SAVE_WAIT_PERIODS (1000u / APP_PERIOD_MS)
 
 app_status_t app_status;
 
@@ -49,6 +52,7 @@ static struct {
     uint8_t log_div;
     uint8_t internal;
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
+    uint8_t save_wait;              /* periods until the totals are saved (0: none due) */
 } ap;
 
 void app_init(void)
@@ -74,6 +78,7 @@ void app_init(void)
     ap.was_manual = 0;
     ap.log_div = 0;
     ap.internal = 0;
+    ap.save_wait = 0;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -103,7 +108,20 @@ static uint8_t params_sane(void)
     return 1;
 }
 
-static void app_step(void)
+/* The totals after the boom shut: APP_SAVE_WAIT_PERIODS later, and not while the supply is
+ * low (store_save refuses then; tried again a wait later). Spraying again cancels it: the
+ * next shut saves. */
+static void app_save_when_due(void)
+{
+    if (app_status.spraying) {
+        ap.save_wait = 0;
+        return;
+    }
+    if (ap.save_wait && --ap.save_wait == 0 && !store_save() && store_status() == STORE_LOW_SUPPLY)
+        ap.save_wait = APP_SAVE_WAIT_PERIODS;
+}
+
+static void app_step(uint16_t dt_ms)
 {
     uint16_t v_meas, v, p;
     int16_t q_meter, q_used, target;
@@ -157,7 +175,7 @@ static void app_step(void)
         app_status.spraying = want;
         hal_spray_enable(want);
         if (!want)
-            store_save();               /* the boom shut after spraying: keep the lifetime totals */
+            ap.save_wait = APP_SAVE_WAIT_PERIODS;   /* keep the lifetime totals, a while later */
         if (want) {
             ap.prime = (!manual && analog_pressure_ok() && p < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
             ctl_reset(0);
@@ -214,7 +232,8 @@ static void app_step(void)
 
     /* totals: the area the open boom covers while it sprays, the volume it sprays */
     totals_step(app_status.spraying ? v : 0, app_status.spraying ? target_width_cm() : 0,
-                app_status.spraying ? q_used : 0);
+                app_status.spraying ? q_used : 0, dt_ms);
+    app_save_when_due();
 
     /* status */
     app_status.speed_kmh_x100 = v;
@@ -258,14 +277,19 @@ void app_poll(void)
     console_poll();
     if ((int32_t)(now - ap.next_ms) < 0)
         return;
+    /* the time since the last step's start on the schedule: one period, or more for a late
+     * step (a held CPU), which restarts the schedule from now; the totals integrate it */
     late = (now - ap.next_ms) >= APP_PERIOD_MS;
     if (late) {
         ap.overruns++;
-        ap.next_ms = now + APP_PERIOD_MS;
+        now -= ap.next_ms;                  /* now: how late the step is */
+        ap.next_ms += now + APP_PERIOD_MS;  /* a period from the real now */
+        now += APP_PERIOD_MS;               /* now: the time since the last step's start */
     } else {
         ap.next_ms += APP_PERIOD_MS;
+        now = APP_PERIOD_MS;
     }
-    app_step();
+    app_step(now > 60000u ? 60000u : (uint16_t)now);
     if (!late && !ap.internal)
         hal_wdt_kick();
 }

@@ -4,6 +4,7 @@
 #include "app.h"
 #include "ctl.h"
 #include "store.h"
+#include "diag.h"
 #include "screen.h"
 #include "lcd.h"
 #include "keypad.h"
@@ -142,8 +143,13 @@ static void draw_msg(void)
 /* Set and store a value; the message says what happened. 0 when refused. */
 static uint8_t apply(uint8_t id, uint16_t v)
 {
-    if (!param_set(id, v)) {
+    uint8_t why = param_try(id, v);
+    if (why == PARAM_E_RANGE) {
         say_range(id);
+        return 0;
+    }
+    if (why != PARAM_OK) {
+        say(param_why_text(why));   /* in range, but not with the other settings */
         return 0;
     }
     say(store_save() ? "Saved" : store_status_text(STORE_WRITE_ERR));
@@ -157,20 +163,25 @@ static void entry_clear(void)
     entry[0] = 0;
 }
 
-static void entry_key(uint8_t decimals)
+/* where the decimal point is in the entry, 0xFF for none */
+static uint8_t entry_point(void)
 {
-    uint8_t i, point = 0xFF;
+    uint8_t i;
     for (i = 0; i < entry_n; i++)
         if (entry[i] == '.')
-            point = i;
+            return i;
+    return 0xFF;
+}
+
+static void entry_key(uint8_t decimals)
+{
+    uint8_t point = entry_point();
     if (k == '#') {
-        if (!decimals) {
-            say("Whole numbers");
-            return;
-        }
+        if (!decimals)
+            say("Whole numbers");   /* the point is kept: D refuses the entry, not 12#5 = 125 */
         if (point != 0xFF)
             return;
-    } else if (point != 0xFF && entry_n - point > decimals) {
+    } else if (point != 0xFF && decimals && entry_n - point > decimals) {
         say(decimals == 1 ? "1 decimal only" : "2 decimals only");
         return;
     }
@@ -527,7 +538,9 @@ static void key_edit(void)
             return;
         }
         v = entry_value(pi->decimals);
-        if (v == ENTRY_TOO_BIG) {
+        if (!pi->decimals && entry_point() != 0xFF) {
+            say("Whole numbers");
+        } else if (v == ENTRY_TOO_BIG) {
             say_range(item);
         } else if (apply(item, v)) {
             state = S_MENU;
@@ -649,7 +662,7 @@ void console_init(void)
     item = 0;
     step = 0;
     entry_clear();
-    say_none();
+    say(diag_reset_text(hal_reset_cause()));   /* why the controller (re)started */
     next_draw_ms = (uint16_t)hal_ms();
 }
 

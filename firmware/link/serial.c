@@ -23,11 +23,16 @@ static struct {
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
+#define S_RX_LOST 4                 /* bytes of the line were lost (hal_uart_get): skip to its end */
+
+static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
 
 static const __code uint32_t pow10[10] = {
     1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
 };
 static const __code char hexd[] = "0123456789ABCDEF";
+/* the ERR word of each param_try() verdict (params.h PARAM_*) */
+static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
 void serial_init(void)
 {
@@ -36,6 +41,7 @@ void serial_init(void)
     se.state = S_RX;
     se.reported = 0;
     se.log_due = 0;
+    boot_due = 1;
 }
 
 void serial_log_request(void)
@@ -149,10 +155,13 @@ static void answer(void) __reentrant
     uint8_t n = se.n, i, x = 0;
     int8_t h1, h2;
     uint16_t a, b;
+    uint8_t csum = 0;
     const totals_t *t;
 
     se.n = 0;                       /* the reply is written over the line once it is parsed */
-    /* the optional checksum */
+    /* the checksum: optional for the commands that only read, required by those that change
+     * something (below), so that a damaged line ("SET 0 150" losing a digit is the valid
+     * "SET 0 10") is never acted on */
     for (i = 0; i < n && line[i] != '*'; i++)
         x ^= (uint8_t)line[i];
     if (i < n) {
@@ -163,6 +172,7 @@ static void answer(void) __reentrant
             return;
         }
         n = i;
+        csum = 1;
     }
     line[n] = 0;
     /* strict layout: words of A-Z, 0-9, + or -, single spaces between them */
@@ -176,6 +186,11 @@ static void answer(void) __reentrant
             return;
         }
     p = line + 3;
+    if (!csum && (word_is(line, "SET") || word_is(line, "CTL") || word_is(line, "SAV") ||
+                  word_is(line, "JOG") || word_is(line, "RST"))) {
+        reply_err("NOCSUM");
+        return;
+    }
     if (word_is(line, "GET") || word_is(line, "SET") || word_is(line, "CTL")) {
         if (*p != ' ' || !(p = number(p + 1, &a))) {
             reply_err("NUM");
@@ -204,8 +219,8 @@ static void answer(void) __reentrant
                 reply_err("ID");
                 return;
             }
-            if (!param_set((uint8_t)a, b)) {
-                reply_err("RANGE");
+            if ((h1 = (int8_t)param_try((uint8_t)a, b)) != PARAM_OK) {
+                reply_err(why_word[(uint8_t)h1]);
                 return;
             }
         } else {
@@ -213,7 +228,7 @@ static void answer(void) __reentrant
                 reply_err("ARG");
                 return;
             }
-            if (!param_set(P_CONTROLLER, a)) {
+            if (param_try(P_CONTROLLER, a) != PARAM_OK) {
                 reply_err("RANGE");
                 return;
             }
@@ -291,6 +306,14 @@ static void compose_next(void) __reentrant
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
+    if (boot_due) {                 /* first of all: why the controller started */
+        boot_due = 0;
+        se.n = 0;
+        tx_s("BOOT ");
+        tx_s(diag_reset_code(hal_reset_cause()));
+        tx_end();
+        return;
+    }
     if (diff) {
         for (bit = 0; !(diff & (1u << bit)); bit++)
             ;
@@ -347,10 +370,12 @@ void serial_poll(void) __reentrant
 
     if (se.state == S_TX && !drain())
         return;
-    while ((b = hal_uart_get()) >= 0) {
-        if (b == '\r' || b == '\n') {
+    while ((b = hal_uart_get()) != -1) {
+        if (b == HAL_UART_LOST) {
+            se.state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
+        } else if (b == '\r' || b == '\n') {
             if (se.state != S_RX) {
-                reply_err(se.state == S_RX_LONG ? "LONG" : "CHAR");
+                reply_err(se.state == S_RX_LONG ? "LONG" : se.state == S_RX_LOST ? "LOST" : "CHAR");
                 tx_end();
                 drain();
                 return;
@@ -371,9 +396,16 @@ void serial_poll(void) __reentrant
         }
     }
     if (se.n || se.state != S_RX) {
-        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on */
+        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
+         * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.log_due < 3)
             return;
+        if (se.state == S_RX_LOST) {
+            reply_err("LOST");
+            tx_end();
+            drain();
+            return;
+        }
         se.n = 0;
         se.state = S_RX;
     }

@@ -181,6 +181,9 @@ static void test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged(vo
 {
     (void)state;
     assert_int_equal(store_status(), STORE_DEFAULTS);
+    /* first the reset cause, for a message's time, then the EEPROM's state */
+    assert_string_equal(lcd(3), "Reset: power-on ");
+    run_ms(CONSOLE_MSG_MS);
     assert_string_equal(lcd(3), "!EE: defaults   ");
     press('*');
     assert_int_equal(store_status(), STORE_OK);
@@ -198,8 +201,12 @@ static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of
         const param_info_t *pi = param_info(id);
         to_item(id);
         assert_string_equal(lcd(1), (snprintf(want, sizeof want, "%-16s", pi->name), want));
-        /* a new value in range: stored and shown */
+        /* a new value in range (and within the cross-checks, tested below): stored and shown */
         uint16_t v = param_v[id] != pi->max ? pi->max : pi->min;
+        if (param_cross(id, v) != PARAM_OK)
+            v = param_v[id] != pi->min ? pi->min : pi->max;
+        if (param_cross(id, v) != PARAM_OK)
+            v = (uint16_t)(param_v[id] + 1);
         press('D');
         typed(s, v, pi->decimals);
         keys(s);
@@ -259,6 +266,17 @@ static void test_console_entry_takes_the_parameter_decimals_only(void **state)
     press('D');
     assert_int_equal(param_v[P_NOZZLES], 48);
     assert_int_equal(stored(P_NOZZLES), 48);
+    /* a point typed into a whole number spoils the entry: 12#5 is refused, not 125 */
+    static uint8_t before[HAL_EEPROM_SIZE];
+    eeprom_snapshot(before);
+    press('D');
+    keys("12#5");
+    assert_string_equal(lcd(2), "new 12.5_       ");
+    press('D');
+    assert_string_equal(lcd(3), "Whole numbers   ");
+    assert_int_equal(param_v[P_NOZZLES], 48);
+    assert_memory_equal(before, hal_host_eeprom(), HAL_EEPROM_SIZE);
+    press('C');
     to_item(P_NOZZLE_Q3);
     press('D');
     keys("1#2");                    /* 1.2 L/min = 120 in hundredths */
@@ -268,6 +286,41 @@ static void test_console_entry_takes_the_parameter_decimals_only(void **state)
     press('D');
     press('D');
     assert_int_equal(param_v[P_NOZZLE_Q3], 120);
+}
+
+/* A value in range that does not go with the other settings is refused with the reason,
+ * nothing stored: a tank minimum at or above the tank, P start at or above P max, a meter K
+ * whose pulses at the largest flow would exceed the interrupt budget. */
+static void test_console_cross_checks_refuse_with_the_reason(void **state)
+{
+    static const struct { uint8_t id; const char *typed, *why; } cases[] = {
+        {P_TANK_MIN, "1000", "Tank min>=size  "},
+        {P_TANK_L, "30", "Tank min>=size  "},
+        {P_P_MIN, "480", "P start>=P max  "},
+        {P_P_MAX, "100", "P start>=P max  "},
+        {P_METER_K, "6000", "Meter K:too fast"},
+        {P_NOZZLE_Q3, "20", "Meter K:too fast"},
+    };
+    static uint8_t before[HAL_EEPROM_SIZE];
+    (void)state;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        uint16_t was = param_v[cases[i].id];
+        to_item(cases[i].id);
+        press('D');
+        eeprom_snapshot(before);
+        keys(cases[i].typed);
+        press('D');
+        assert_string_equal(lcd(3), cases[i].why);
+        assert_int_equal(param_v[cases[i].id], was);
+        assert_memory_equal(before, hal_host_eeprom(), HAL_EEPROM_SIZE);
+        press('C');
+    }
+    /* just inside: accepted */
+    to_item(P_TANK_MIN);
+    press('D');
+    keys("999");
+    press('D');
+    assert_int_equal(param_v[P_TANK_MIN], 999);
 }
 
 static void test_console_controller_and_mode_are_chosen_by_name(void **state)
@@ -500,6 +553,7 @@ int main(void)
         cmocka_unit_test_setup(test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged, setup),
         cmocka_unit_test_setup(test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range, setup),
         cmocka_unit_test_setup(test_console_entry_takes_the_parameter_decimals_only, setup),
+        cmocka_unit_test_setup(test_console_cross_checks_refuse_with_the_reason, setup),
         cmocka_unit_test_setup(test_console_controller_and_mode_are_chosen_by_name, setup),
         cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),
