@@ -41,6 +41,10 @@
 
 app_status_t app_status;
 
+/* The I/O test (console): the technician's keys switch the relay and the buzzer and jog the
+ * valve; the boom's own control is off meanwhile. */
+static __bit io_on, io_relay, io_buzzer;
+
 static struct {
     uint32_t next_ms;
     uint16_t overruns;              /* steps late by a period or more */
@@ -79,6 +83,7 @@ void app_init(void)
     ap.log_div = 0;
     ap.internal = 0;
     ap.save_wait = 0;
+    io_on = io_relay = io_buzzer = 0;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -170,7 +175,7 @@ static void app_step(uint16_t dt_ms)
 
     /* spray or not */
     want = open && !((diag_alarms() >> AL_TANK_LOW) & 1u) && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
-           && (manual || v > 0) && !ap.internal;
+           && (manual || v > 0) && !ap.internal && !io_on;
     if (want != app_status.spraying) {
         app_status.spraying = want;
         hal_spray_enable(want);
@@ -181,6 +186,8 @@ static void app_step(uint16_t dt_ms)
             ctl_reset(0);
         }
     }
+    if (io_on)
+        hal_spray_enable(io_relay && !ap.internal);   /* never against an internal fault */
     if (manual != ap.was_manual) {
         ap.was_manual = manual;
         if (!manual)
@@ -191,7 +198,7 @@ static void app_step(uint16_t dt_ms)
     /* drive */
     overp = analog_pressure_ok() && p > param_v[P_P_MAX];
     drive = 0;
-    if (manual) {
+    if (manual || io_on) {
         if (ap.jog) {
             ap.jog--;
             drive = ap.jog_dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
@@ -223,7 +230,7 @@ static void app_step(uint16_t dt_ms)
             ap.parked = 1;                  /* open enough (or at the stop): stay, no retries */
         drive = ap.parked ? 0 : -Q15_MAX;
     }
-    if (app_status.spraying || manual)
+    if (app_status.spraying || manual || io_on)
         ap.parked = 0;
     if (overp && drive > -APP_RELIEVE_DRIVE)
         drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
@@ -251,7 +258,7 @@ static void app_step(uint16_t dt_ms)
     g = diag_step(app_status.spraying && !ap.prime);
     app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
     app_status.alarms = g;
-    hal_buzzer(app_status.alarms_unacked != 0);
+    hal_buzzer(io_on ? io_buzzer : app_status.alarms_unacked != 0);
 
     t = totals_get();
     app_status.job_volume_ml = t->job_ml;
@@ -296,10 +303,26 @@ void app_poll(void)
 
 void app_jog(int8_t dir)
 {
-    if (!app_status.manual || dir == 0)
+    if (!(app_status.manual || io_on) || dir == 0)
         return;
     ap.jog_dir = dir;
     ap.jog = APP_JOG_PERIODS;
+}
+
+void app_io_test(uint8_t flags) __reentrant
+{
+    io_on = (flags & APP_IO_ON) != 0;
+    io_relay = io_on && (flags & APP_IO_RELAY);
+    io_buzzer = io_on && (flags & APP_IO_BUZZER);
+    hal_spray_enable(io_on ? io_relay : app_status.spraying);
+    hal_buzzer(io_on ? io_buzzer : app_status.alarms_unacked != 0);
+    if (!io_on)
+        ap.jog = 0;
+}
+
+uint8_t app_io_test_flags(void)
+{
+    return (uint8_t)((io_on ? APP_IO_ON : 0) | (io_relay ? APP_IO_RELAY : 0) | (io_buzzer ? APP_IO_BUZZER : 0));
 }
 
 void app_alarm_ack(void)

@@ -38,8 +38,16 @@ extern app_status_t app_status;
 void app_init(void);
 /* Call as often as possible: runs whatever is due (control step, keypad, display, serial). */
 void app_poll(void);
-/* Manual mode: drive the valve for one jog (+1 more boom flow, -1 less). */
+/* Manual mode or the I/O test: drive the valve for one jog (+1 more boom flow, -1 less). */
 void app_jog(int8_t dir);
+/* The I/O test: APP_IO_ON hands the outputs to the technician (the boom's control stops,
+ * the spray relay and the buzzer follow APP_IO_RELAY and APP_IO_BUZZER, app_jog drives the
+ * valve); without APP_IO_ON everything goes back to the application. No parameter changes. */
+#define APP_IO_ON 1
+#define APP_IO_RELAY 2
+#define APP_IO_BUZZER 4
+void app_io_test(uint8_t flags) __reentrant;
+uint8_t app_io_test_flags(void);
 /* Acknowledge the alarms now shown (they stay active while their cause lasts). */
 void app_alarm_ack(void);
 /* Zero the job totals. */

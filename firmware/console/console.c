@@ -10,7 +10,7 @@
 #include "keypad.h"
 #include "console.h"
 
-enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK };
+enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK, S_IOTEST };
 
 #define ENTRY_MAX 7                 /* characters of a number being typed */
 
@@ -19,7 +19,16 @@ static uint8_t item;                /* menu entry: a parameter id or MENU_* */
 static uint8_t step;                /* step of a procedure; choice shown; totals: reset asked */
 static uint8_t entry_n;
 static char k;                      /* the key being handled */
-static char entry[ENTRY_MAX + 1];   /* the number being typed */
+/* the number being typed, or (never at the same time) the I/O test's counting window */
+static union {
+    char text[ENTRY_MAX + 1];
+    struct {
+        uint16_t t0_ms;             /* hal_ms() low 16 bits at the window's start */
+        uint16_t meter0;            /* meter pulses then (low 16 bits); wheel: cal_pulses */
+        uint16_t wheel_hz, meter_hz;    /* the last window's frequencies */
+    } io;
+} ent;
+#define entry ent.text
 static char line[SCREEN_COLS + 1];  /* one line being put together */
 static const char *msg;             /* the message on the bottom line, 0 for none ... */
 static uint8_t msg_range;           /* ... or the parameter whose range it shows, NO_RANGE */
@@ -226,6 +235,9 @@ static uint32_t cal_now(void)
 }
 
 /* ---- screens ------------------------------------------------------------------------------- */
+static void draw_iotest(void);
+static void go(uint8_t s);
+
 static void draw_bottom(const char *otherwise)
 {
     if (msg_on())
@@ -339,6 +351,8 @@ static const char *menu_name(uint8_t i)
         return "Meter cal tank";
     if (i == MENU_TOTALS)
         return "Totals";
+    if (i == MENU_IOTEST)
+        return "I/O test";
     return param_info(i)->name;
 }
 
@@ -439,7 +453,85 @@ static void draw(void)
     case S_MENU: draw_menu(); break;
     case S_EDIT: draw_edit(); break;
     case S_CHOICE: draw_choice(); break;
+    case S_IOTEST: draw_iotest(); break;
     default: draw_cal(); break;
+    }
+}
+
+/*
+ * The I/O test, for checking every wire from the keypad (docs/bringup.md):
+ *   "P 512 10.01mA R0"   pressure input: raw ADC counts, loop current; spray relay (key 1)
+ *   "L 205  4.01mA B0"   level input; buzzer (key 3)
+ *   "W 1234   12Hz V0"   wheel pulses since start and their rate; valve drive (2 / 8 jog it)
+ *   "M45678  340Hz"      meter pulses and rate
+ * The rates are counted over windows of a second or more. C leaves (outputs back to the
+ * application); no parameter is touched.
+ */
+static uint8_t cat_ma(uint8_t at, uint8_t ch)
+{
+    uint16_t counts = hal_adc_read(ch);
+    at = cat_num(at, 4, counts, 0, 0);
+    /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA */
+    at = cat_num(at, 6, ((uint32_t)counts * 2000u + 511u) / 1023u, 2, 0);
+    return cat(at, "mA ");
+}
+
+static void draw_iotest(void)
+{
+    uint8_t flags = app_io_test_flags();
+    uint16_t now = (uint16_t)hal_ms(), dt = (uint16_t)(now - ent.io.t0_ms);
+    uint8_t at;
+    if (dt >= 1000u) {
+        ent.io.wheel_hz = (uint16_t)((app_wheel_pulses() - cal_pulses) * 1000u / dt);
+        ent.io.meter_hz = (uint16_t)((uint32_t)(uint16_t)((uint16_t)app_flow_pulses() - ent.io.meter0) * 1000u / dt);
+        cal_pulses = app_wheel_pulses();
+        ent.io.meter0 = (uint16_t)app_flow_pulses();
+        ent.io.t0_ms = now;
+    }
+    at = cat_ma(cat(0, "P"), HAL_ADC_PRESSURE);
+    cat(at, (flags & APP_IO_RELAY) ? "R1" : "R0");
+    screen_line(0, line);
+    at = cat_ma(cat(0, "L"), HAL_ADC_LEVEL);
+    cat(at, (flags & APP_IO_BUZZER) ? "B1" : "B0");
+    screen_line(1, line);
+    at = cat_num(cat(0, "W"), 5, app_wheel_pulses() % 100000u, 0, 0);
+    at = cat_num(at, 5, ent.io.wheel_hz, 0, 0);
+    at = cat(at, "Hz ");
+    cat(at, app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
+    screen_line(2, line);
+    if (msg_on()) {
+        draw_msg();
+        return;
+    }
+    at = cat_num(cat(0, "M"), 5, app_flow_pulses() % 100000u, 0, 0);
+    at = cat_num(at, 5, ent.io.meter_hz, 0, 0);
+    cat(at, "Hz");
+    screen_line(3, line);
+}
+
+static void iotest_start(void)
+{
+    go(S_IOTEST);
+    app_io_test(APP_IO_ON);
+    cal_pulses = app_wheel_pulses();
+    ent.io.meter0 = (uint16_t)app_flow_pulses();
+    ent.io.t0_ms = (uint16_t)hal_ms();
+    ent.io.wheel_hz = ent.io.meter_hz = 0;
+    say("1R 3B 2/8V C:end");
+}
+
+static void key_iotest(void)
+{
+    uint8_t flags = app_io_test_flags();
+    if (k == '1')
+        app_io_test(flags ^ APP_IO_RELAY);
+    else if (k == '3')
+        app_io_test(flags ^ APP_IO_BUZZER);
+    else if (k == '2' || k == '8')
+        app_jog(k == '2' ? 1 : -1);
+    else if (k == 'C') {
+        app_io_test(0);
+        go(S_MENU);
     }
 }
 
@@ -503,6 +595,8 @@ static void key_menu(void)
             go(S_CAL_TANK);
         else if (item == MENU_TOTALS)
             go(S_TOTALS);
+        else if (item == MENU_IOTEST)
+            iotest_start();
         else if (is_choice(item)) {
             go(S_CHOICE);
             step = (uint8_t)param_v[item];
@@ -649,6 +743,7 @@ static void key(void)
     case S_MENU: key_menu(); break;
     case S_EDIT: key_edit(); break;
     case S_CHOICE: key_choice(); break;
+    case S_IOTEST: key_iotest(); break;
     default: key_cal(); break;
     }
 }

@@ -39,7 +39,7 @@ unsigned char _sdcc_external_startup(void)
 #define PCA_CL CL
 #define PCA_CF CF
 #define PCA_CF_CLEAR() do { CF = 0; } while (0)
-#define PCA_IRQ_STATE __bit
+#define PCA_IRQ_STATE uint8_t
 #define PCA_IRQ_OFF IRQ_OFF
 #define PCA_IRQ_RESTORE IRQ_RESTORE
 #include "pca_clock.h"
@@ -55,7 +55,7 @@ void stc12_pca_isr(void) __interrupt(7)
 uint32_t hal_pca_now(void)
 {
     uint32_t t;
-    __bit ea;
+    uint8_t ea;
     IRQ_OFF(ea);
     t = pca_read();
     IRQ_RESTORE(ea);
@@ -69,7 +69,7 @@ void stc12_int0_isr(void) __interrupt(0)
 
 void hal_flow_capture_take(hal_capture_t *c)
 {
-    __bit ea;
+    uint8_t ea;
     IRQ_OFF(ea);
     c->count = flow_count;
     c->last = flow_last;
@@ -79,7 +79,7 @@ void hal_flow_capture_take(hal_capture_t *c)
 
 void hal_wheel_capture_take(hal_capture_t *c)
 {
-    __bit ea;
+    uint8_t ea;
     IRQ_OFF(ea);
     c->count = wheel_count;
     c->last = wheel_last;
@@ -99,12 +99,12 @@ void hal_wheel_capture_take(hal_capture_t *c)
  * docs/bringup.md: the LOG time stamps against the PC's clock across saves).
  */
 static volatile uint32_t tick_ms;
-static __data uint32_t tick_next_pca;   /* PCA time of the next millisecond */
-static __data uint8_t tick_fifths;      /* fifths of a PCA tick carried */
+static __idata uint32_t tick_next_pca;   /* PCA time of the next millisecond */
+static __idata uint8_t tick_fifths;     /* fifths of a PCA tick carried */
 
 void stc12_timer0_isr(void) __interrupt(1)
 {
-    __bit ea, due;
+    uint8_t ea, due;
     TL0 = (uint8_t)(65536u - 11059u);   /* about a millisecond; its exactness does not matter */
     TH0 = (uint8_t)((65536u - 11059u) >> 8);
     for (;;) {
@@ -126,7 +126,7 @@ void stc12_timer0_isr(void) __interrupt(1)
 uint32_t hal_ms(void)
 {
     uint32_t t;
-    __bit ea;
+    uint8_t ea;
     IRQ_OFF(ea);
     t = tick_ms;
     IRQ_RESTORE(ea);
@@ -282,7 +282,7 @@ int16_t hal_uart_get(void)
 static uint8_t iap_cmd(uint8_t cmd, uint16_t addr)
 {
     uint8_t d;
-    __bit ea, ri0;
+    uint8_t ea, ri0;
     IAP_CONTR = IAP_EN_WT;
     IAP_CMD = cmd;
     IAP_ADDRL = (uint8_t)addr;
@@ -390,7 +390,7 @@ void hal_wdt_kick(void)
 }
 
 /* ---- the reset cause, read once before anything clears the flags -------------------------- */
-static __data uint8_t reset_cause;
+static __idata uint8_t reset_cause;
 
 uint8_t hal_reset_cause(void)
 {

@@ -323,6 +323,75 @@ static void test_console_cross_checks_refuse_with_the_reason(void **state)
     assert_int_equal(param_v[P_TANK_MIN], 999);
 }
 
+/* The I/O test screen: raw inputs and pulse rates shown, the relay, buzzer and valve each
+ * switched by a key; reached and left from the menu without a parameter or the EEPROM
+ * changing, the outputs back with the application afterwards. */
+static void test_console_io_test_screen_checks_every_wire_and_changes_nothing(void **state)
+{
+    static uint8_t ee_before[HAL_EEPROM_SIZE];
+    uint16_t p_before[P_COUNT];
+    (void)state;
+    store_status_clear();
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 300;    /* 5.87 mA: 187 kPa, below P max */
+    hal_host_io.adc[HAL_ADC_LEVEL] = 205;
+    wheel_every_ms = 100;                       /* 10 Hz */
+    flow_every_ms = 4;                          /* 250 Hz */
+    run_ms(1000);
+    memcpy(p_before, param_v, sizeof p_before);
+    eeprom_snapshot(ee_before);
+    to_item(MENU_IOTEST);
+    assert_string_equal(lcd(1), "I/O test        ");
+    press('D');
+    assert_true(app_io_test_flags() & APP_IO_ON);
+    assert_false(hal_host_io.spray_on);
+    run_ms(2500);
+    assert_string_equal(lcd(0), "P 300  5.87mA R0");
+    assert_string_equal(lcd(1), "L 205  4.01mA B0");
+    const char *l2 = lcd(2);
+    assert_true(strstr(l2, "  10Hz V0") != NULL);
+    const char *l3 = lcd(3);
+    assert_true(strstr(l3, "  250Hz") != NULL || strstr(l3, "  249Hz") != NULL || strstr(l3, "  251Hz") != NULL);
+    /* the relay, the buzzer, the valve */
+    press('1');
+    assert_true(hal_host_io.spray_on);
+    assert_string_equal(lcd(0), "P 300  5.87mA R1");
+    press('3');
+    assert_true(hal_host_io.buzzer);
+    assert_string_equal(lcd(1), "L 205  4.01mA B1");
+    press('1');
+    press('3');
+    assert_false(hal_host_io.spray_on);
+    assert_false(hal_host_io.buzzer);
+    hal_host_io.keys = 1u << 1;                 /* 2 held: the valve closes (more flow) */
+    int closed = 0, opened = 0;
+    for (int i = 0; i < 400; i++) {
+        run_ms(1);
+        closed |= hal_host_io.valve_dir == HAL_VALVE_CLOSE;
+    }
+    hal_host_io.keys = 0;
+    run_ms(600);
+    hal_host_io.keys = 1u << 9;                 /* 8 held: it opens */
+    for (int i = 0; i < 400; i++) {
+        run_ms(1);
+        opened |= hal_host_io.valve_dir == HAL_VALVE_OPEN;
+    }
+    hal_host_io.keys = 0;
+    run_ms(600);
+    assert_true(closed && opened);
+    /* the relay left on is switched off when the screen is left */
+    press('1');
+    assert_true(hal_host_io.spray_on);
+    press('C');
+    assert_false(app_io_test_flags());
+    assert_false(hal_host_io.spray_on);
+    assert_string_equal(lcd(1), "I/O test        ");
+    press('C');
+    run_ms(2000);
+    assert_memory_equal(p_before, param_v, sizeof p_before);
+    assert_memory_equal(ee_before, hal_host_eeprom(), HAL_EEPROM_SIZE);
+    assert_false(app_status.manual);
+}
+
 static void test_console_controller_and_mode_are_chosen_by_name(void **state)
 {
     char want[48];
@@ -554,6 +623,7 @@ int main(void)
         cmocka_unit_test_setup(test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range, setup),
         cmocka_unit_test_setup(test_console_entry_takes_the_parameter_decimals_only, setup),
         cmocka_unit_test_setup(test_console_cross_checks_refuse_with_the_reason, setup),
+        cmocka_unit_test_setup(test_console_io_test_screen_checks_every_wire_and_changes_nothing, setup),
         cmocka_unit_test_setup(test_console_controller_and_mode_are_chosen_by_name, setup),
         cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),
