@@ -161,7 +161,7 @@ static uint8_t apply(uint8_t id, uint16_t v)
         say(param_why_text(why));   /* in range, but not with the other settings */
         return 0;
     }
-    say(store_save() ? "Saved" : store_status_text(STORE_WRITE_ERR));
+    say(store_save() ? "Saved" : store_status_text(store_status()));   /* write error, low supply */
     return 1;
 }
 
