@@ -28,7 +28,8 @@
  *   diagnose, totals, a log line every 1000 ms (serial.c), the buzzer while alarms are unacked.
  * The watchdog is kicked after a step that ran on time (less than one period late) while no
  * internal fault is latched; a step late by a whole period or more is not rescheduled back to
- * back (the schedule restarts from now) and that step does not kick.
+ * back (the schedule skips the periods it missed, staying on its grid: the totals count them)
+ * and that step does not kick.
  */
 #define APP_PRIME_MAX_PERIODS 100u  /* start-up closing gives up after 10 s */
 #define APP_JOG_PERIODS 3u          /* a jog drives 0.3 s ... */
@@ -43,7 +44,8 @@ app_status_t app_status;
 
 /* The I/O test (console): the technician's keys switch the relay and the buzzer and jog the
  * valve; the boom's own control is off meanwhile. */
-static __bit io_on, io_relay, io_buzzer;
+static uint8_t io;                  /* APP_IO_* */
+#define io_on (io & APP_IO_ON)
 
 static struct {
     uint32_t next_ms;
@@ -83,7 +85,7 @@ void app_init(void)
     ap.log_div = 0;
     ap.internal = 0;
     ap.save_wait = 0;
-    io_on = io_relay = io_buzzer = 0;
+    io = 0;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -126,7 +128,7 @@ static void app_save_when_due(void)
         ap.save_wait = APP_SAVE_WAIT_PERIODS;
 }
 
-static void app_step(uint16_t dt_ms)
+static void app_step(uint8_t periods)
 {
     uint16_t v_meas, v, p;
     int16_t q_meter, q_used, target;
@@ -187,7 +189,7 @@ static void app_step(uint16_t dt_ms)
         }
     }
     if (io_on)
-        hal_spray_enable(io_relay && !ap.internal);   /* never against an internal fault */
+        hal_spray_enable((io & APP_IO_RELAY) && !ap.internal);   /* never against an internal fault */
     if (manual != ap.was_manual) {
         ap.was_manual = manual;
         if (!manual)
@@ -238,8 +240,11 @@ static void app_step(uint16_t dt_ms)
     ctl_applied(valve_applied(), valve_limit());   /* what the valve got, overrides included */
 
     /* totals: the area the open boom covers while it sprays, the volume it sprays */
-    totals_step(app_status.spraying ? v : 0, app_status.spraying ? target_width_cm() : 0,
-                app_status.spraying ? q_used : 0, dt_ms);
+    /* totals: every period since the last step, a late step's missed ones too */
+    do
+        totals_step(app_status.spraying ? v : 0, app_status.spraying ? target_width_cm() : 0,
+                    app_status.spraying ? q_used : 0);
+    while (--periods);
     app_save_when_due();
 
     /* status */
@@ -258,7 +263,7 @@ static void app_step(uint16_t dt_ms)
     g = diag_step(app_status.spraying && !ap.prime);
     app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
     app_status.alarms = g;
-    hal_buzzer(io_on ? io_buzzer : app_status.alarms_unacked != 0);
+    hal_buzzer(io_on ? (io & APP_IO_BUZZER) : app_status.alarms_unacked != 0);
 
     t = totals_get();
     app_status.job_volume_ml = t->job_ml;
@@ -284,19 +289,18 @@ void app_poll(void)
     console_poll();
     if ((int32_t)(now - ap.next_ms) < 0)
         return;
-    /* the time since the last step's start on the schedule: one period, or more for a late
-     * step (a held CPU), which restarts the schedule from now; the totals integrate it */
-    late = (now - ap.next_ms) >= APP_PERIOD_MS;
-    if (late) {
-        ap.overruns++;
-        now -= ap.next_ms;                  /* now: how late the step is */
-        ap.next_ms += now + APP_PERIOD_MS;  /* a period from the real now */
-        now += APP_PERIOD_MS;               /* now: the time since the last step's start */
-    } else {
+    /* a step late by a period or more (a held CPU, a stall) skips the periods it missed, so
+     * the schedule stays on its grid, and counts them into the totals */
+    late = 0;
+    do {
         ap.next_ms += APP_PERIOD_MS;
-        now = APP_PERIOD_MS;
-    }
-    app_step(now > 60000u ? 60000u : (uint16_t)now);
+        if (late < 255)
+            late++;
+    } while ((int32_t)(now - ap.next_ms) >= 0);
+    if (late > 1)
+        ap.overruns++;
+    app_step(late);
+    late = late > 1;
     if (!late && !ap.internal)
         hal_wdt_kick();
 }
@@ -309,20 +313,18 @@ void app_jog(int8_t dir)
     ap.jog = APP_JOG_PERIODS;
 }
 
-void app_io_test(uint8_t flags) __reentrant
+void app_io_test(uint8_t flags)
 {
-    io_on = (flags & APP_IO_ON) != 0;
-    io_relay = io_on && (flags & APP_IO_RELAY);
-    io_buzzer = io_on && (flags & APP_IO_BUZZER);
-    hal_spray_enable(io_on ? io_relay : app_status.spraying);
-    hal_buzzer(io_on ? io_buzzer : app_status.alarms_unacked != 0);
+    io = (flags & APP_IO_ON) ? flags : 0;
+    hal_spray_enable(io_on ? (io & APP_IO_RELAY) : app_status.spraying);
+    hal_buzzer(io_on ? (io & APP_IO_BUZZER) : app_status.alarms_unacked != 0);
     if (!io_on)
         ap.jog = 0;
 }
 
 uint8_t app_io_test_flags(void)
 {
-    return (uint8_t)((io_on ? APP_IO_ON : 0) | (io_relay ? APP_IO_RELAY : 0) | (io_buzzer ? APP_IO_BUZZER : 0));
+    return io;
 }
 
 void app_alarm_ack(void)

@@ -46,7 +46,7 @@ void app_jog(int8_t dir);
 #define APP_IO_ON 1
 #define APP_IO_RELAY 2
 #define APP_IO_BUZZER 4
-void app_io_test(uint8_t flags) __reentrant;
+void app_io_test(uint8_t flags);
 uint8_t app_io_test_flags(void);
 /* Acknowledge the alarms now shown (they stay active while their cause lasts). */
 void app_alarm_ack(void);

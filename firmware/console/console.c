@@ -5,6 +5,7 @@
 #include "ctl.h"
 #include "store.h"
 #include "diag.h"
+#include "umath.h"
 #include "screen.h"
 #include "lcd.h"
 #include "keypad.h"
@@ -471,9 +472,17 @@ static uint8_t cat_ma(uint8_t at, uint8_t ch)
 {
     uint16_t counts = hal_adc_read(ch);
     at = cat_num(at, 4, counts, 0, 0);
-    /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA */
-    at = cat_num(at, 6, ((uint32_t)counts * 2000u + 511u) / 1023u, 2, 0);
+    /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA: counts * 2000 / 1023 */
+    at = cat_num(at, 6, ((uint32_t)counts * 32032u + 8192u) >> 14, 2, 0);
     return cat(at, "mA ");
+}
+
+/* "W 1234   12Hz ": a pulse input's count (5 digits) and rate */
+static uint8_t cat_pulses(const char *name, uint32_t pulses, uint16_t hz)
+{
+    uint8_t at = cat_num(cat(0, name), 5, pulses % 100000u, 0, 0);
+    at = cat_num(at, 5, hz, 0, 0);
+    return cat(at, "Hz ");
 }
 
 static void draw_iotest(void)
@@ -482,8 +491,8 @@ static void draw_iotest(void)
     uint16_t now = (uint16_t)hal_ms(), dt = (uint16_t)(now - ent.io.t0_ms);
     uint8_t at;
     if (dt >= 1000u) {
-        ent.io.wheel_hz = (uint16_t)((app_wheel_pulses() - cal_pulses) * 1000u / dt);
-        ent.io.meter_hz = (uint16_t)((uint32_t)(uint16_t)((uint16_t)app_flow_pulses() - ent.io.meter0) * 1000u / dt);
+        ent.io.wheel_hz = (uint16_t)um_muldiv(app_wheel_pulses() - cal_pulses, 1000u, dt);
+        ent.io.meter_hz = (uint16_t)um_muldiv((uint16_t)((uint16_t)app_flow_pulses() - ent.io.meter0), 1000u, dt);
         cal_pulses = app_wheel_pulses();
         ent.io.meter0 = (uint16_t)app_flow_pulses();
         ent.io.t0_ms = now;
@@ -494,18 +503,14 @@ static void draw_iotest(void)
     at = cat_ma(cat(0, "L"), HAL_ADC_LEVEL);
     cat(at, (flags & APP_IO_BUZZER) ? "B1" : "B0");
     screen_line(1, line);
-    at = cat_num(cat(0, "W"), 5, app_wheel_pulses() % 100000u, 0, 0);
-    at = cat_num(at, 5, ent.io.wheel_hz, 0, 0);
-    at = cat(at, "Hz ");
+    at = cat_pulses("W", app_wheel_pulses(), ent.io.wheel_hz);
     cat(at, app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
     screen_line(2, line);
     if (msg_on()) {
         draw_msg();
         return;
     }
-    at = cat_num(cat(0, "M"), 5, app_flow_pulses() % 100000u, 0, 0);
-    at = cat_num(at, 5, ent.io.meter_hz, 0, 0);
-    cat(at, "Hz");
+    cat_pulses("M", app_flow_pulses(), ent.io.meter_hz);
     screen_line(3, line);
 }
 

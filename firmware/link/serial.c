@@ -31,6 +31,7 @@ static const __code uint32_t pow10[10] = {
     1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
 };
 static const __code char hexd[] = "0123456789ABCDEF";
+static const __code char changing[] = "SCJR";
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
@@ -186,11 +187,12 @@ static void answer(void) __reentrant
             return;
         }
     p = line + 3;
-    if (!csum && (word_is(line, "SET") || word_is(line, "CTL") || word_is(line, "SAV") ||
-                  word_is(line, "JOG") || word_is(line, "RST"))) {
-        reply_err("NOCSUM");
-        return;
-    }
+    /* SET SAV CTL JOG RST: the commands whose first letter no reading command has */
+    for (i = 0; !csum && changing[i]; i++)
+        if (line[0] == changing[i]) {
+            reply_err("NOCSUM");
+            return;
+        }
     if (word_is(line, "GET") || word_is(line, "SET") || word_is(line, "CTL")) {
         if (*p != ' ' || !(p = number(p + 1, &a))) {
             reply_err("NUM");

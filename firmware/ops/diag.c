@@ -239,12 +239,12 @@ static const char __code *const __code reset_texts[] = {
     "Reset: power-on", "Reset: watchdog", "Reset:brown-out", "Reset: reset pin"
 };
 
-const char *diag_reset_code(uint8_t cause) __reentrant
+const char *diag_reset_code(uint8_t cause)
 {
     return cause <= HAL_RESET_OTHER ? reset_codes[cause] : "?";
 }
 
-const char *diag_reset_text(uint8_t cause) __reentrant
+const char *diag_reset_text(uint8_t cause)
 {
     return cause <= HAL_RESET_OTHER ? reset_texts[cause] : "Reset: ?";
 }

@@ -23,7 +23,7 @@ uint8_t param_in_range(uint8_t id, uint16_t v)
     return id < P_COUNT && v >= table[id].min && v <= table[id].max;
 }
 
-uint8_t param_put(uint8_t id, uint16_t v) __reentrant
+uint8_t param_put(uint8_t id, uint16_t v)
 {
     if (!param_in_range(id, v))
         return 0;
@@ -34,40 +34,41 @@ uint8_t param_put(uint8_t id, uint16_t v) __reentrant
     return 1;
 }
 
-/* The meter's pulse rate at the largest flow the boom can pass: every nozzle at P max
- * (q = Q3 sqrt(P / 300 kPa)); Hz = K[0.1 p/L] / 10 * Q[L/min x100] / 100 / 60. */
-static uint32_t meter_hz_max(uint16_t k, uint16_t nozzles, uint16_t q3_x100, uint16_t p_max) __reentrant
+/* The meter's pulse rate with every nozzle open is f3 = K[0.1 p/L] n Q3[L/min x100] / 60000 Hz
+ * at 3 bar, f3 sqrt(P / 300 kPa) at P max: within the budget when f3 <= HZ and
+ * f3^2 P / 2048 <= HZ^2 300 / 2048 (the square then fits 32 bits). */
+uint8_t params_cross(void)
 {
-    uint16_t root_q8 = um_sqrt32(((uint32_t)p_max << 16) / 300u);   /* sqrt(P/300) x 256 */
-    uint32_t q_x100 = ((uint32_t)nozzles * q3_x100 * root_q8) >> 8;
-    return um_muldiv(q_x100, k, 60000UL);
-}
-
-uint8_t param_cross(uint8_t id, uint16_t v) __reentrant
-{
-#define V(i) ((i) == id ? v : param_v[i])
-    if (V(P_TANK_MIN) >= V(P_TANK_L))
+    uint32_t f3;
+    if (param_v[P_TANK_MIN] >= param_v[P_TANK_L])
         return PARAM_X_TANK;
-    if (V(P_P_MIN) >= V(P_P_MAX))
+    if (param_v[P_P_MIN] >= param_v[P_P_MAX])
         return PARAM_X_PRESSURE;
-    if (meter_hz_max(V(P_METER_K), V(P_NOZZLES), V(P_NOZZLE_Q3), V(P_P_MAX)) > PARAM_METER_HZ_MAX)
+    f3 = um_muldiv((uint32_t)param_v[P_METER_K] * param_v[P_NOZZLES], param_v[P_NOZZLE_Q3], 60000UL);
+    if (f3 > PARAM_METER_HZ_MAX
+        || um_mul32x16_shr16(f3 * f3, (uint16_t)(param_v[P_P_MAX] << 5))
+           > PARAM_METER_HZ_MAX * PARAM_METER_HZ_MAX * 300u / 2048u)
         return PARAM_X_METER;
     return PARAM_OK;
-#undef V
 }
 
-uint8_t param_try(uint8_t id, uint16_t v) __reentrant
+uint8_t param_try(uint8_t id, uint16_t v)
 {
+    uint16_t old;
     uint8_t why;
     if (!param_in_range(id, v))
         return PARAM_E_RANGE;
-    why = param_cross(id, v);
-    if (why == PARAM_OK)
-        param_put(id, v);
+    old = param_v[id];              /* the set with v in it, checked; kept only when it passes */
+    param_v[id] = v;
+    why = params_cross();
+    if (why != PARAM_OK)
+        param_v[id] = old;
+    else if (old != v)
+        param_generation++;
     return why;
 }
 
-uint8_t param_set(uint8_t id, uint16_t v) __reentrant
+uint8_t param_set(uint8_t id, uint16_t v)
 {
     return param_try(id, v) == PARAM_OK;
 }
@@ -76,7 +77,7 @@ static const char __code *const __code why_texts[] = {
     "", "Out of range", "Tank min>=size", "P start>=P max", "Meter K:too fast"
 };
 
-const char *param_why_text(uint8_t why) __reentrant
+const char *param_why_text(uint8_t why)
 {
     return why <= PARAM_X_METER ? why_texts[why] : "";
 }

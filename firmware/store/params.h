@@ -33,15 +33,18 @@
     X(P_NOZZLE_Q3,   "Nozzle Q3",  "L/min", 2,    10,  2000,  118)  /* one nozzle at 3 bar */ \
     X(P_VALVE_TRAVEL,"Valve time", "s",     1,     5,   600,   40)  /* full stroke of the valve */ \
     X(P_VALVE_BRK,   "Min duty",   "%",     0,     5,    90,   20)  /* the valve's break-away duty, or a little above */ \
-    X(P_VALVE_SLACK, "Backlash",   "%",     1,     0,   100,   20)  /* the valve's backlash, % of the stroke, or a little under */
+    X(P_VALVE_SLACK, "Backlash",   "%",     1,     0,   100,   20)  /* the valve's backlash, % of the stroke, or a little under */ \
+    X(P_WHEEL_PPR,   "Wheel p/rev","",      0,     1,    16,   12)  /* wheel pulses a turn: their spacing error is learnt */
 
 #define PARAM_ENUM(id, name, unit, dec, lo, hi, def) id,
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 3            /* bump when the table or the EEPROM record changes (2: lifetime totals,
-                                     * 3: Min duty and Backlash appended; a version 2 copy still loads) */
+#define PARAMS_VERSION 4            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+                                     * 3: Min duty and Backlash appended, 4: Wheel p/rev appended; a copy of
+                                     * version 2 or 3 still loads, the values appended since at their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
+#define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 
 typedef struct {
     const char *name;
@@ -70,16 +73,16 @@ void params_defaults(void);
 #define PARAM_X_PRESSURE 3
 #define PARAM_X_METER 4
 #define PARAM_METER_HZ_MAX 5000UL
-/* The rule the values would break with parameter id at v (id P_COUNT: as they are); PARAM_OK. */
-uint8_t param_cross(uint8_t id, uint16_t v) __reentrant;
+/* The rule param_v as it is breaks; PARAM_OK. */
+uint8_t params_cross(void);
 /* Set one value if it is in range and keeps every cross-check: PARAM_OK, or why not (nothing changes). */
-uint8_t param_try(uint8_t id, uint16_t v) __reentrant;
+uint8_t param_try(uint8_t id, uint16_t v);
 /* param_try as a yes / no: 1 when set. */
-uint8_t param_set(uint8_t id, uint16_t v) __reentrant;
-/* Set one value checking its range only (a whole set being loaded: check param_cross after). */
-uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
+uint8_t param_set(uint8_t id, uint16_t v);
+/* Set one value checking its range only (a whole set being loaded: check params_cross after). */
+uint8_t param_put(uint8_t id, uint16_t v);
 /* At most 16 characters on why a value was refused ("Tank min>=size"); "" for PARAM_OK. */
-const char *param_why_text(uint8_t why) __reentrant;
+const char *param_why_text(uint8_t why);
 /* 1 when v is within the range of parameter id. */
 uint8_t param_in_range(uint8_t id, uint16_t v);
 /* The table row of a parameter (NULL for a bad id). */

@@ -49,15 +49,17 @@ static uint32_t read32(uint16_t a)
 }
 
 /* The number of values the record at base holds when it has a known header, its CRC and every
- * value in range; 0 otherwise. Known: this version's table, or version 2's (PARAMS_V2_COUNT
- * values, the later ones appended since: they keep their defaults). */
+ * value in range; 0 otherwise. Known: this version's table, or version 2's or 3's
+ * (PARAMS_V2_COUNT, PARAMS_V3_COUNT values, the later ones appended since: they keep their
+ * defaults). */
 static uint8_t record_valid(uint16_t base) __reentrant
 {
     uint16_t crc = 0xFFFFu;
     uint16_t i, at;
     uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
     if (hal_eeprom_read(base) != STORE_MAGIC
-        || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)))
+        || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
+             || (ver == 3u && n == PARAMS_V3_COUNT)))
         return 0;
     at = CRC_N(n);
     for (i = 0; i < at; i++)
@@ -80,73 +82,50 @@ static uint8_t slot_blank(uint8_t slot) __reentrant
     return 1;
 }
 
-/* Load the record in slot s into the parameters and totals; the cross-check's verdict. */
-static uint8_t record_load(uint8_t s, uint8_t n) __reentrant
-{
-    uint16_t base = slot_base(s);
-    uint8_t i;
-    params_defaults();
-    for (i = 0; i < n; i++)
-        param_put(i, read16(base + HDR_VALUES + 2u * i));
-    totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    return param_cross(P_COUNT, 0);
-}
-
 uint8_t store_load(void) __reentrant
 {
-    uint8_t s, n, best, cross = PARAM_OK, tried = 0, top = NO_SLOT;
-    uint16_t q, best_q = 0, prev_q = 0, top_q = 0;
-    uint8_t have_prev = 0;
-    /* the newest record that loads and passes the cross-checks; one that fails them is
-     * passed over (its reason shown), an older one tried */
-    for (;;) {
-        best = NO_SLOT;
-        for (s = 0; s < STORE_SLOTS; s++) {
-            if (!record_valid(slot_base(s)))
-                continue;
-            q = read16(slot_base(s) + HDR_SEQ);
-            if (have_prev && (int16_t)(q - prev_q) >= 0)
-                continue;           /* not older than the one refused */
-            if (best == NO_SLOT || (int16_t)(q - best_q) > 0) {
-                best = s;
-                best_q = q;
-            }
+    uint8_t s, best = NO_SLOT, n;
+    uint16_t q, best_q = 0, base;
+    for (s = 0; s < STORE_SLOTS; s++) {
+        if (!record_valid(slot_base(s)))
+            continue;
+        q = read16(slot_base(s) + HDR_SEQ);
+        if (best == NO_SLOT || (int16_t)(q - best_q) > 0) {
+            best = s;
+            best_q = q;
         }
-        if (best == NO_SLOT)
-            break;
-        if (top == NO_SLOT) {
-            top = best;
-            top_q = best_q;
-        }
-        n = record_valid(slot_base(best));
-        cross = record_load(best, n);
-        if (cross == PARAM_OK)
-            break;
-        if (!tried)
-            tried = cross;
-        have_prev = 1;
-        prev_q = best_q;
     }
+    newest = best;                  /* the next save goes after it, above its sequence */
+    seq = best_q;
     if (best == NO_SLOT) {
         params_defaults();
-        totals_set_life(0, 0);
-        newest = top;               /* the next save goes after (and above) any refused record */
-        seq = top_q;
-        status = tried ? (uint8_t)(STORE_CROSS + tried - PARAM_X_TANK) : STORE_DEFAULTS;
+        status = STORE_DEFAULTS;
         return status;
     }
-    newest = best;
-    seq = best_q;
-    status = tried ? (uint8_t)(STORE_CROSS + tried - PARAM_X_TANK) : STORE_OK;
+    /* its values and totals (a shorter, older table: the values after it at their defaults) */
+    base = slot_base(best);
+    n = record_valid(base);
+    params_defaults();
+    for (s = 0; s < n; s++)
+        param_put(s, read16(base + HDR_VALUES + 2u * s));
+    totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
+    n = params_cross();
+    if (n != PARAM_OK) {
+        /* written by a firmware without the cross-checks: its set cannot run (a tank minimum
+         * above the tank stops the boom for good); the defaults, and the reason shown */
+        params_defaults();
+        totals_set_life(0, 0);
+        status = (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
+        return status;
+    }
+    status = STORE_OK;
     /* a started write after it (magic there, its sequence seq + 1 or not yet programmed):
      * a cut save, the previous values are loaded and the operator is told */
-    if (!tried) {
-        s = (uint8_t)((best + 1u) % STORE_SLOTS);
-        q = read16(slot_base(s) + HDR_SEQ);
-        if (hal_eeprom_read(slot_base(s)) == STORE_MAGIC && !record_valid(slot_base(s))
-            && (q == (uint16_t)(seq + 1u) || q == 0xFFFFu))
-            status = STORE_OLDER;
-    }
+    s = (uint8_t)((best + 1u) % STORE_SLOTS);
+    q = read16(slot_base(s) + HDR_SEQ);
+    if (hal_eeprom_read(slot_base(s)) == STORE_MAGIC && !record_valid(slot_base(s))
+        && (q == (uint16_t)(seq + 1u) || q == 0xFFFFu))
+        status = STORE_OLDER;
     return status;
 }
 

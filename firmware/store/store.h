@@ -21,8 +21,10 @@
  * records) and start there: one erase every STORE_SLOTS_PER_SECTOR saves, the two sectors
  * taking turns. A cut during the erase or at any byte leaves the newest record untouched and
  * the new one failing its CRC (a half-written slot is passed over by the next save).
- * A record is loaded only when its CRC matches, every value passes param_in_range() and the
- * set passes param_cross(); otherwise the next older one, otherwise the defaults.
+ * A record is loaded only when its CRC matches and every value passes param_in_range(),
+ * otherwise the next older one, otherwise the defaults; a newest record whose set breaks a
+ * cross-check (params_cross: written by a firmware without them) gives the defaults and the
+ * reason (STORE_CROSS).
  * No save starts while the supply is low (hal_supply_low): STORE_LOW_SUPPLY.
  */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + 2u)
@@ -37,7 +39,7 @@
 #define STORE_WRITE_ERR 3   /* the last save did not read back */
 #define STORE_LOW_SUPPLY 4  /* the last save was not started: the supply was low */
 #define STORE_CROSS 5       /* STORE_CROSS + (PARAM_X_* - PARAM_X_TANK): the newest record broke a
-                             * cross-check (params.h): an older one or the defaults loaded */
+                             * cross-check (params.h): the defaults loaded */
 
 /* Load the newest valid record into param_v and the lifetime totals (totals.c; call after
  * totals_init) -- defaults and zero totals when none is valid; returns the status. */

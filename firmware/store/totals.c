@@ -23,45 +23,29 @@ void totals_job_reset(void)
     to.t.job_ml = 0;
 }
 
-/* One control period's area a (dm^2, Q11) and volume v (ml, Q20) added. */
-static void totals_add(uint32_t a, uint32_t v) __reentrant
+void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __reentrant
 {
-    a += to.dm2_frac;
-    to.dm2_frac = (uint16_t)(a & 0x7FFu);
-    a >>= 11;
-    to.t.job_dm2 += a;
-    to.life_dm2 += (uint16_t)a;             /* a <= 16000 dm^2 a period */
-    while (to.life_dm2 >= 100u) {
-        to.life_dm2 -= 100u;
-        to.t.life_m2++;
+    uint32_t a;
+    if (speed_x100 && width_cm) {
+        /* 0.1 s at v[km/h x100] covers v * 0.0277778 cm; times the width in cm is cm^2, and
+         * / 100 dm^2: a * 2.777778e-4 dm^2 = a * 0.568889 in Q11 (37282 / 65536) */
+        a = um_mul32x16_shr16((uint32_t)speed_x100 * width_cm, 37282u) + to.dm2_frac;
+        to.dm2_frac = (uint16_t)(a & 0x7FFu);
+        a >>= 11;
+        to.t.job_dm2 += a;
+        to.life_dm2 += (uint16_t)a;             /* a <= 16000 dm^2 a period */
+        while (to.life_dm2 >= 100u) {
+            to.life_dm2 -= 100u;
+            to.t.life_m2++;
+        }
     }
-    to.ml_frac += v;
-    v = to.ml_frac >> 20;
-    to.ml_frac &= 0xFFFFFUL;
-    to.t.job_ml += v;
-    to.t.life_ml += v;
-}
-
-void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100, uint16_t dt_ms) __reentrant
-{
-    uint32_t a = 0, v = 0;
-    uint16_t part;
-    /* 0.1 s at v[km/h x100] covers v * 0.0277778 cm; times the width in cm is cm^2, and
-     * / 100 dm^2: a * 2.777778e-4 dm^2 = a * 0.568889 in Q11 (37282 / 65536) */
-    if (speed_x100 && width_cm)
-        a = um_mul32x16_shr16((uint32_t)speed_x100 * width_cm, 37282u);
-    /* ml in 0.1 s = q[L/min x100] / 60; Q20: 2^20 / 60 = 17476.27 */
-    if (flow_x100 > 0)
-        v = (uint32_t)flow_x100 * 17476u;
-    /* a late step (a held CPU, a stalled loop) covers more than one period: whole periods,
-     * then the rest as a fraction of one (Q16) */
-    while (dt_ms >= 100u) {
-        totals_add(a, v);
-        dt_ms -= 100u;
-    }
-    if (dt_ms) {
-        part = (uint16_t)(((uint32_t)dt_ms << 16) / 100u);
-        totals_add(um_mul32x16_shr16(a, part), um_mul32x16_shr16(v, part));
+    if (flow_x100 > 0) {
+        /* ml in 0.1 s = q[L/min x100] / 60; Q20: 2^20 / 60 = 17476.27 */
+        to.ml_frac += (uint32_t)flow_x100 * 17476u;
+        a = to.ml_frac >> 20;
+        to.ml_frac &= 0xFFFFFUL;
+        to.t.job_ml += a;
+        to.t.life_ml += a;
     }
 }
 

@@ -21,9 +21,8 @@ typedef struct {
 } totals_t;
 
 void totals_init(void);
-/* One control step: speed km/h x100, open width cm, flow L/min x100 (0 when not spraying),
- * over dt_ms since the last step (the period, 100 ms, or longer when the step was late). */
-void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100, uint16_t dt_ms) __reentrant;
+/* One control period: speed km/h x100, open width cm, flow L/min x100 (0 when not spraying). */
+void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __reentrant;
 /* Zero the job totals. */
 void totals_job_reset(void);
 const totals_t *totals_get(void);

@@ -8,6 +8,8 @@ typedef struct {
     uint32_t t[HAL_HOST_EDGES];     /* PCA time of each edge not yet taken */
     uint32_t n;                     /* edges waiting */
     uint32_t last;                  /* PCA time of the newest edge ever */
+    uint32_t min;                   /* edges sooner than this after the last are dropped (wheel) */
+    uint8_t rejected, seen;
 } edge_q_t;
 
 static edge_q_t flow_q, wheel_q;
@@ -76,6 +78,12 @@ uint32_t hal_pca_now(void)
 static void edge_push(edge_q_t *q, uint64_t t_ns)
 {
     uint32_t t = hal_host_pca_of_ns(t_ns);
+    if (q->min && q->seen && t - q->last < q->min) {
+        if (q->rejected < 255)
+            q->rejected++;          /* as the INT0 handler does: too early to be a pulse */
+        return;
+    }
+    q->seen = 1;
     if (q->n < HAL_HOST_EDGES)
         q->t[q->n++] = t;
     else
@@ -97,7 +105,14 @@ static void edge_take(edge_q_t *q, hal_capture_t *c)
 {
     c->count = (uint16_t)(q->n > 0xFFFFu ? 0xFFFFu : q->n);
     c->last = q->last;
+    c->rejected = q->rejected;
     q->n = 0;
+    q->rejected = 0;
+}
+
+void hal_wheel_min_interval(uint32_t min_ticks)
+{
+    wheel_q.min = min_ticks;
 }
 
 void hal_flow_capture_take(hal_capture_t *c)
@@ -168,23 +183,18 @@ static void rx_take(uint8_t b)
     }
 }
 
-/* The bytes that have arrived by now, in order. Those arriving while an erase held the CPU:
- * the first waits in SBUF and is queued when the hold ends, with the loss marked after it
- * (the chip cannot tell whether a second one came, so it marks it always). */
+/* The bytes that have arrived by now, in order. Those arriving while an erase held the CPU
+ * are a gap (SBUF keeps one, drops the rest; the chip cannot tell how many came, so it drops
+ * that one too and marks the loss), as hal_stc12.c's iap_cmd does. */
 static void uart_deliver(void)
 {
     uint64_t now = hal_host_io.time_ns;
-    uint8_t in_hold = 0;
     while (wire.tail != wire.head && wire.t_ns[wire.tail] <= now) {
         uint64_t t = wire.t_ns[wire.tail];
         uint8_t b = wire.b[wire.tail];
         wire.tail = (wire.tail + 1) % HAL_HOST_UART_Q;
         if (t >= hold_from_ns && t < hold_until_ns) {
-            if (!in_hold) {
-                rx_take(b);
-                rx_lost = 1;
-                in_hold = 1;
-            }
+            rx_lost = 1;
             continue;
         }
         rx_take(b);

@@ -67,12 +67,21 @@ void stc12_int0_isr(void) __interrupt(0)
     wheel_isr_body();
 }
 
+void hal_wheel_min_interval(uint32_t min_ticks)
+{
+    uint8_t ea;
+    IRQ_OFF(ea);
+    wheel_min = min_ticks;
+    IRQ_RESTORE(ea);
+}
+
 void hal_flow_capture_take(hal_capture_t *c)
 {
     uint8_t ea;
     IRQ_OFF(ea);
     c->count = flow_count;
     c->last = flow_last;
+    c->rejected = 0;
     flow_count = 0;
     IRQ_RESTORE(ea);
 }
@@ -83,7 +92,9 @@ void hal_wheel_capture_take(hal_capture_t *c)
     IRQ_OFF(ea);
     c->count = wheel_count;
     c->last = wheel_last;
+    c->rejected = wheel_rejected;
     wheel_count = 0;
+    wheel_rejected = 0;
     IRQ_RESTORE(ea);
 }
 
@@ -276,8 +287,8 @@ int16_t hal_uart_get(void)
  * ends (a sector erase about 21 ms, a byte program about 55 us, datasheet's IAP timing):
  * no interrupt is served meanwhile. The UART keeps one received byte in SBUF and, in mode 1,
  * drops the next while RI is still set. So a byte waiting after an erase, or after any
- * operation that found one already waiting, may have had others lost behind it: it is queued
- * and the loss marked, and the serial link discards that line with ERR LOST.
+ * operation that found one already waiting, may have had others lost before it: it is
+ * dropped and the loss marked there, and the serial link discards that line with ERR LOST.
  */
 static uint8_t iap_cmd(uint8_t cmd, uint16_t addr)
 {
@@ -299,7 +310,7 @@ static uint8_t iap_cmd(uint8_t cmd, uint16_t addr)
     IAP_ADDRH = 0x80;
     IAP_ADDRL = 0;
     if (RI && (ri0 || cmd == IAP_ERASE)) {
-        RX_TAKE();
+        RI = 0;                     /* that byte and any before it since the hold: a gap */
         rx_lost = 1;
     }
     IRQ_RESTORE(ea);

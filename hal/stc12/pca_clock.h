@@ -32,6 +32,8 @@ static volatile uint16_t flow_count;
 static volatile uint32_t flow_last;
 static volatile uint16_t wheel_count;
 static volatile uint32_t wheel_last;
+static volatile uint32_t wheel_min;     /* hal_wheel_min_interval: sooner is not a pulse */
+static volatile uint8_t wheel_rejected;
 
 /* PCA time now; the caller has interrupts off. */
 static uint32_t pca_read(void)
@@ -62,14 +64,22 @@ static void pca_isr_body(uint8_t captured, uint16_t cap)
     }
 }
 
-/* INT0's work: time-stamp a wheel pulse. Interrupts stay off from the first counter read to
- * the stored stamp, so neither the overflow count nor the flag can change under it. */
+/* INT0's work: time-stamp a wheel pulse, or drop an edge too early to be one (bounce,
+ * interference). Interrupts stay off from the first counter read to the stored stamp, so
+ * neither the overflow count nor the flag can change under it. */
 static void wheel_isr_body(void)
 {
     PCA_IRQ_STATE ea;
+    uint32_t t;
     PCA_IRQ_OFF(ea);
-    wheel_last = pca_read();
-    wheel_count++;
+    t = pca_read();
+    if (t - wheel_last < wheel_min) {
+        if (wheel_rejected != 255)
+            wheel_rejected++;
+    } else {
+        wheel_last = t;
+        wheel_count++;
+    }
     PCA_IRQ_RESTORE(ea);
 }
 

@@ -10,6 +10,7 @@
 #include "params.h"
 #include "app.h"
 #include "diag.h"
+#include "totals.h"
 
 static uint64_t t_ms;
 static char line[128];
@@ -254,6 +255,38 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
     assert_string_equal(scmd("SET 0 140"), "OK 0 140");
 }
 
+/* A loop that stalls (time jumps as when an IAP erase holds the CPU, or longer) counts the
+ * periods it missed into the area and volume: the same totals as a run without the stall. */
+static double area_after(uint32_t stall_ms)
+{
+    hal_host_reset();
+    hal_init();
+    t_ms = 0;
+    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(8.0);
+    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
+    hal_host_io.sections = 0x3F;
+    app_init();
+    assert_true(param_set(P_GIVEN_SPEED, 72));  /* 7.2 km/h = 2 m/s over 18 m */
+    run_ms(3000);
+    assert_true(app_status.spraying);
+    t_ms += stall_ms;
+    run_ms(6000 - stall_ms);
+    return totals_get()->job_dm2;
+}
+
+static void test_serial_a_stalled_loop_loses_no_area(void **state)
+{
+    (void)state;
+    double smooth = area_after(0);
+    assert_true(smooth > 1000.0);
+    assert_int_equal(app_overruns(), 0);
+    for (uint32_t stall = 250; stall <= 2250; stall += 500) {   /* a step 150 ms late or more */
+        double a = area_after(stall);
+        assert_int_equal(app_overruns(), 1);
+        assert_true(a >= smooth - 1.0 && a <= smooth + 1.0);
+    }
+}
+
 /* The totals are saved a second after the boom shuts, not in the step that shuts it (the
  * relay's switching and the erase's current together), and not while the supply is low. */
 static void test_serial_the_totals_are_saved_a_second_after_the_boom_shuts(void **state)
@@ -360,6 +393,7 @@ int main(void)
         cmocka_unit_test_setup(test_serial_changing_commands_require_their_checksum, setup),
         cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
+        cmocka_unit_test_setup(test_serial_a_stalled_loop_loses_no_area, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

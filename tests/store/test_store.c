@@ -78,9 +78,9 @@ static void values_k(uint16_t *v, int k)
     uint16_t keep[P_COUNT];
     memcpy(keep, param_v, sizeof keep);
     memcpy(param_v, v, sizeof keep);
-    if (param_cross(P_COUNT, 0) == PARAM_X_METER)
+    if (params_cross() == PARAM_X_METER)
         v[P_METER_K] = param_v[P_METER_K] = param_info(P_METER_K)->min;   /* 10 p/L */
-    assert_int_equal(param_cross(P_COUNT, 0), PARAM_OK);
+    assert_int_equal(params_cross(), PARAM_OK);
     memcpy(param_v, keep, sizeof keep);
 }
 
@@ -89,7 +89,7 @@ static void set_all(const uint16_t *v)
     /* a whole set: each in range, then all of them together within the cross-checks */
     for (int i = 0; i < P_COUNT; i++)
         assert_true(param_put((uint8_t)i, v[i]));
-    assert_int_equal(param_cross(P_COUNT, 0), PARAM_OK);
+    assert_int_equal(params_cross(), PARAM_OK);
 }
 
 static int equals(const uint16_t *v)
@@ -173,8 +173,8 @@ static void test_store_erases_a_sector_only_when_it_is_full(void **state)
     assert_true(equals(v));
 }
 
-/* A record whose values break a cross-check (a tank minimum above the tank) is passed over:
- * the older one is loaded and the reason shown; with no other record, the defaults. */
+/* A newest record whose values break a cross-check (a tank minimum above the tank, written by
+ * a firmware without the checks) is not loaded: the defaults, and the reason shown. */
 static void test_store_a_record_breaking_a_cross_check_is_not_loaded(void **state)
 {
     uint16_t a[P_COUNT], b[P_COUNT], def[P_COUNT];
@@ -190,7 +190,7 @@ static void test_store_a_record_breaking_a_cross_check_is_not_loaded(void **stat
     scramble();
     assert_int_equal(store_load(), STORE_CROSS);
     assert_string_equal(store_status_text(store_status()), "Tank min>=size");
-    assert_true(equals(a));
+    assert_true(equals(def));
     hal_host_reset();
     twin_write(1, 11, b, PARAMS_VERSION);
     scramble();
@@ -433,6 +433,23 @@ static void test_store_reads_the_documented_layout_and_wraps_the_sequence(void *
 /* a firmware update keeps the settings: a version 2 copy (the table up to Valve time, no Min
  * duty or Backlash) loads its values and totals, the values appended since take their defaults;
  * the next save writes this version's layout. A version 2 header with another count is refused. */
+/* A copy of version 3 (before Wheel p/rev) loads: its values, the wheel's pulses a turn at
+ * the default; a version 3 header with another count is refused. */
+static void test_store_loads_a_version_3_copy(void **state)
+{
+    uint16_t a[P_COUNT];
+    (void)state;
+    values_k(a, 3);
+    twin_write_n(1, 4, a, 3, PARAMS_V3_COUNT);
+    scramble();
+    assert_int_equal(store_load(), STORE_OK);
+    for (int i = 0; i < P_COUNT; i++)
+        assert_int_equal(param_v[i], i < PARAMS_V3_COUNT ? a[i] : param_info((uint8_t)i)->def);
+    hal_host_reset();
+    twin_write_n(1, 4, a, 3, PARAMS_V2_COUNT);
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+}
+
 static void test_store_loads_a_version_2_copy(void **state)
 {
     uint16_t a[P_COUNT];
@@ -517,6 +534,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_a_failed_write_is_reported, setup),
         cmocka_unit_test_setup(test_store_keeps_the_lifetime_totals, setup),
         cmocka_unit_test_setup(test_store_loads_a_version_2_copy, setup),
+        cmocka_unit_test_setup(test_store_loads_a_version_3_copy, setup),
         cmocka_unit_test_setup(test_store_erases_a_sector_only_when_it_is_full, setup),
         cmocka_unit_test_setup(test_store_a_record_breaking_a_cross_check_is_not_loaded, setup),
         cmocka_unit_test_setup(test_store_no_save_while_the_supply_is_low, setup),
