@@ -478,9 +478,11 @@ static uint8_t cat_ma(uint8_t at, uint8_t ch)
 }
 
 /* "W 1234   12Hz ": a pulse input's count (5 digits) and rate */
-static uint8_t cat_pulses(const char *name, uint32_t pulses, uint16_t hz)
+static uint8_t cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
-    uint8_t at = cat_num(cat(0, name), 5, pulses % 100000u, 0, 0);
+    uint8_t at;
+    line[0] = name;
+    at = cat_num(1, 5, pulses % 100000u, 0, 0);
     at = cat_num(at, 5, hz, 0, 0);
     return cat(at, "Hz ");
 }
@@ -503,14 +505,14 @@ static void draw_iotest(void)
     at = cat_ma(cat(0, "L"), HAL_ADC_LEVEL);
     cat(at, (flags & APP_IO_BUZZER) ? "B1" : "B0");
     screen_line(1, line);
-    at = cat_pulses("W", app_wheel_pulses(), ent.io.wheel_hz);
+    at = cat_pulses('W', app_wheel_pulses(), ent.io.wheel_hz);
     cat(at, app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
     screen_line(2, line);
     if (msg_on()) {
         draw_msg();
         return;
     }
-    cat_pulses("M", app_flow_pulses(), ent.io.meter_hz);
+    cat_pulses('M', app_flow_pulses(), ent.io.meter_hz);
     screen_line(3, line);
 }
 
@@ -527,11 +529,10 @@ static void iotest_start(void)
 
 static void key_iotest(void)
 {
-    uint8_t flags = app_io_test_flags();
     if (k == '1')
-        app_io_test(flags ^ APP_IO_RELAY);
+        app_io_test(app_io_test_flags() ^ APP_IO_RELAY);
     else if (k == '3')
-        app_io_test(flags ^ APP_IO_BUZZER);
+        app_io_test(app_io_test_flags() ^ APP_IO_BUZZER);
     else if (k == '2' || k == '8')
         app_jog(k == '2' ? 1 : -1);
     else if (k == 'C') {
@@ -762,7 +763,7 @@ void console_init(void)
     item = 0;
     step = 0;
     entry_clear();
-    say(diag_reset_text(hal_reset_cause()));   /* why the controller (re)started */
+    say(diag_reset_text());   /* why the controller (re)started */
     next_draw_ms = (uint16_t)hal_ms();
 }
 

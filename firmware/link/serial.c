@@ -312,7 +312,7 @@ static void compose_next(void) __reentrant
         boot_due = 0;
         se.n = 0;
         tx_s("BOOT ");
-        tx_s(diag_reset_code(hal_reset_cause()));
+        tx_s(diag_reset_code());
         tx_end();
         return;
     }

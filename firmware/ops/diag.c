@@ -239,14 +239,14 @@ static const char __code *const __code reset_texts[] = {
     "Reset: power-on", "Reset: watchdog", "Reset:brown-out", "Reset: reset pin"
 };
 
-const char *diag_reset_code(uint8_t cause)
+const char *diag_reset_code(void)
 {
-    return cause <= HAL_RESET_OTHER ? reset_codes[cause] : "?";
+    return hal_reset_cause() <= HAL_RESET_OTHER ? reset_codes[hal_reset_cause()] : "?";
 }
 
-const char *diag_reset_text(uint8_t cause)
+const char *diag_reset_text(void)
 {
-    return cause <= HAL_RESET_OTHER ? reset_texts[cause] : "Reset: ?";
+    return hal_reset_cause() <= HAL_RESET_OTHER ? reset_texts[hal_reset_cause()] : "Reset: ?";
 }
 
 uint8_t diag_meter_suspect(void)

@@ -64,7 +64,7 @@ uint32_t hal_pca_now(void)
 
 void stc12_int0_isr(void) __interrupt(0)
 {
-    wheel_isr_body();
+    WHEEL_ISR_WORK();
 }
 
 void hal_wheel_min_interval(uint32_t min_ticks)
@@ -104,25 +104,28 @@ void hal_wheel_capture_take(hal_capture_t *c)
  * off the PCA counter (921.6 ticks each: 921 and 3/5), which the hardware clocks without a
  * stop or a reload. A reload that stops the timer loses the clocks of every instruction
  * between the stop and the start (the compiler's, not a constant), and an IAP erase holds the
- * CPU for longer than a timer period; the PCA counter overflows every 71 ms, so a held CPU
- * or a late interrupt up to that long is caught up with whole milliseconds here. The PCA is
- * clocked from SYSCLK, not the CPU: it counts on while IAP holds the CPU (checked at bring-up,
- * docs/bringup.md: the LOG time stamps against the PC's clock across saves).
+ * CPU for longer than a timer period. Only the counter's 16 bits are compared (a signed
+ * difference: no overflow count, no 32-bit temporaries in the handler), so a held CPU or a
+ * late interrupt up to 35 ms (32768 ticks) is caught up with whole milliseconds here; an
+ * erase holds it about 21 ms. The PCA is clocked from SYSCLK, not the CPU: it counts on while
+ * IAP holds the CPU (checked at bring-up, docs/bringup.md: the LOG time stamps against the
+ * PC's clock across saves).
  */
 static volatile uint32_t tick_ms;
-static __idata uint32_t tick_next_pca;   /* PCA time of the next millisecond */
-static __idata uint8_t tick_fifths;     /* fifths of a PCA tick carried */
+static uint16_t tick_next_pca;      /* PCA count (low 16 bits) of the next millisecond */
+static uint8_t tick_fifths;         /* fifths of a PCA tick carried */
 
 void stc12_timer0_isr(void) __interrupt(1)
 {
-    uint8_t ea, due;
+    uint8_t h, l;
     TL0 = (uint8_t)(65536u - 11059u);   /* about a millisecond; its exactness does not matter */
     TH0 = (uint8_t)((65536u - 11059u) >> 8);
     for (;;) {
-        IRQ_OFF(ea);
-        due = (int32_t)(pca_read() - tick_next_pca) >= 0;
-        IRQ_RESTORE(ea);
-        if (!due)
+        do {
+            h = CH;
+            l = CL;
+        } while (h != CH);
+        if ((int16_t)(((uint16_t)h << 8 | l) - tick_next_pca) < 0)
             break;
         tick_ms++;
         tick_next_pca += 921u;
@@ -401,7 +404,7 @@ void hal_wdt_kick(void)
 }
 
 /* ---- the reset cause, read once before anything clears the flags -------------------------- */
-static __idata uint8_t reset_cause;
+static uint8_t reset_cause;
 
 uint8_t hal_reset_cause(void)
 {

@@ -66,21 +66,21 @@ static void pca_isr_body(uint8_t captured, uint16_t cap)
 
 /* INT0's work: time-stamp a wheel pulse, or drop an edge too early to be one (bounce,
  * interference). Interrupts stay off from the first counter read to the stored stamp, so
- * neither the overflow count nor the flag can change under it. */
-static void wheel_isr_body(void)
-{
-    PCA_IRQ_STATE ea;
-    uint32_t t;
-    PCA_IRQ_OFF(ea);
-    t = pca_read();
-    if (t - wheel_last < wheel_min) {
-        if (wheel_rejected != 255)
-            wheel_rejected++;
-    } else {
-        wheel_last = t;
-        wheel_count++;
-    }
-    PCA_IRQ_RESTORE(ea);
-}
+ * neither the overflow count nor the flag can change under it. A macro, so the handler
+ * calls no deeper than pca_read (the stack has no byte to spare). */
+#define WHEEL_ISR_WORK() do {                                                   \
+        PCA_IRQ_STATE ea_;                                                      \
+        uint32_t t_;                                                            \
+        PCA_IRQ_OFF(ea_);                                                       \
+        t_ = pca_read();                                                        \
+        if (t_ - wheel_last < wheel_min) {                                      \
+            if (wheel_rejected != 255)                                          \
+                wheel_rejected++;                                               \
+        } else {                                                                \
+            wheel_last = t_;                                                    \
+            wheel_count++;                                                      \
+        }                                                                       \
+        PCA_IRQ_RESTORE(ea_);                                                   \
+    } while (0)
 
 #endif

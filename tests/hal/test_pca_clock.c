@@ -55,6 +55,7 @@ static void m_point_hit(void)
 #define PCA_IRQ_RESTORE(s) do { m_ea = (s); m_serve(); } while (0)
 #define PCA_PREEMPT() m_point_hit()
 #include "stc12/pca_clock.h"
+static void wheel_isr_body(void) { WHEEL_ISR_WORK(); }
 
 /* The handler as it was before (INT0 read the counter with interrupts on), the same code
  * under other names: the model must find its race, or the test above proves nothing. */
@@ -71,7 +72,9 @@ static void m_point_hit(void)
 #define pca_read old_pca_read
 #define pca_isr_body old_pca_isr_body
 #define wheel_isr_body old_wheel_isr_body
+#undef WHEEL_ISR_WORK
 #include "stc12/pca_clock.h"
+static void wheel_isr_body(void) { WHEEL_ISR_WORK(); }
 #undef pca_hi
 #undef flow_count
 #undef flow_last
