@@ -74,17 +74,17 @@ void params_defaults(void);
 #define PARAM_X_METER 4
 #define PARAM_METER_HZ_MAX 5000UL
 /* The rule param_v as it is breaks; PARAM_OK. */
-uint8_t params_cross(void);
+uint8_t params_cross(void) __reentrant;
 /* Set one value if it is in range and keeps every cross-check: PARAM_OK, or why not (nothing changes). */
-uint8_t param_try(uint8_t id, uint16_t v);
+uint8_t param_try(uint8_t id, uint16_t v) __reentrant;
 /* param_try as a yes / no: 1 when set. */
-uint8_t param_set(uint8_t id, uint16_t v);
+uint8_t param_set(uint8_t id, uint16_t v) __reentrant;
 /* Set one value checking its range only (a whole set being loaded: check params_cross after). */
-uint8_t param_put(uint8_t id, uint16_t v);
+uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
 /* At most 16 characters on why a value was refused ("Tank min>=size"); "" for PARAM_OK. */
-const char *param_why_text(uint8_t why);
+const char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id. */
-uint8_t param_in_range(uint8_t id, uint16_t v);
+uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */
 const param_info_t *param_info(uint8_t id);
 /* Bumped by every change, so readers (controller, target) can tell when to pick values up. */

@@ -1,4 +1,7 @@
 /* store.c: parameters and lifetime totals in the IAP EEPROM as a log of CRC-checked records (see store.h). */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "hal.h"
 #include "params.h"
 #include "store.h"
