@@ -352,7 +352,7 @@ static void test_console_io_test_screen_checks_every_wire_and_changes_nothing(vo
     to_item(MENU_IOTEST);
     assert_string_equal(lcd(1), "I/O test        ");
     press('D');
-    assert_true(app_io_test_flags() & APP_IO_ON);
+    assert_true(ops_io & OPS_IO_ON);
     assert_false(hal_host_io.spray_on);
     run_ms(2500);
     assert_string_equal(lcd(0), "P 300  5.87mA R0");
@@ -392,7 +392,7 @@ static void test_console_io_test_screen_checks_every_wire_and_changes_nothing(vo
     press('1');
     assert_true(hal_host_io.spray_on);
     press('C');
-    assert_false(app_io_test_flags());
+    assert_false(ops_io);
     assert_false(hal_host_io.spray_on);
     assert_string_equal(lcd(1), "I/O test        ");
     press('C');
