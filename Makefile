@@ -193,7 +193,7 @@ compare: $(SIM_BIN)
 # the controllers over N sprayers drawn from the plant family (docs/SCENARIOS.md): median and 95th
 # percentile per controller; every run in build/family/runs.csv, the table in summary.json
 N ?= 200
-CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid
+CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid,aog,raven
 SEED ?= 1
 family: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --out $(BUILD)/family
