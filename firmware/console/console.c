@@ -3,6 +3,7 @@
 #include "params.h"
 #include "app.h"
 #include "ctl.h"
+#include "target.h"
 #include "store.h"
 #include "screen.h"
 #include "lcd.h"
@@ -23,6 +24,8 @@ static char line[SCREEN_COLS + 1];  /* one line being put together */
 static const char *msg;             /* the message on the bottom line, 0 for none ... */
 static uint8_t msg_range;           /* ... or the parameter whose range it shows, NO_RANGE */
 #define NO_RANGE 0xFF
+#define MSG_RC_REFUSED 0xFE         /* msg_range: "RC refused 250.0", a field computer's rate */
+static uint8_t rc_seen;             /* target_remote_refusals() last shown */
 static uint16_t msg_until_ms;      /* hal_ms() low 16 bits: messages and redraws are short */
 static uint16_t next_draw_ms;
 static uint32_t cal_pulses;         /* pulse total at the start, then the pulses counted */
@@ -91,13 +94,15 @@ static void right_align(uint8_t from)
 
 static uint8_t is_choice(uint8_t id)
 {
-    return id == P_CONTROLLER || id == P_MODE;
+    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
 }
 
 static const char *choice_name(uint8_t id, uint16_t v)
 {
     if (id == P_MODE)
         return v ? "Manual" : "Auto";
+    if (id == P_REMOTE)
+        return v ? "Raven" : "off";
     return ctl_name((uint8_t)v);
 }
 
@@ -129,6 +134,12 @@ static void draw_msg(void)
     uint8_t at;
     if (msg_range == NO_RANGE) {
         screen_line(3, msg);
+        return;
+    }
+    if (msg_range == MSG_RC_REFUSED) {
+        at = cat(0, "RC refused ");
+        cat_num(at, 0, target_remote_refused_x10(), 1, 0);
+        screen_line(3, line);
         return;
     }
     pi = param_info(msg_range);
@@ -286,7 +297,12 @@ static void draw_run(void)
         at = cat(0, "T");
         at = cat_num(at, 5, st->tank_l, 0, 0);
         at = cat(at, "L ");
-        cat(at, ctl_name(ctl_selected()));
+        if (target_rate_remote()) {         /* the rate comes from the field computer */
+            at = cat(at, "RC");
+            at = cat_num(at, 0, target_rate_x10(), 1, 0);
+        } else {
+            at = cat(at, ctl_name(ctl_selected()));
+        }
         right_align(at);
         screen_line(3, line);
     }
@@ -540,7 +556,7 @@ static void key_edit(void)
 
 static void key_choice(void)
 {
-    uint8_t n = item == P_MODE ? 2 : CTL_COUNT;
+    uint8_t n = item == P_MODE || item == P_REMOTE ? 2 : CTL_COUNT;
     if (k == 'A')
         step = step + 1 < n ? step + 1 : 0;
     else if (k == 'B')
@@ -650,6 +666,7 @@ void console_init(void)
     step = 0;
     entry_clear();
     say_none();
+    rc_seen = target_remote_refusals();
     next_draw_ms = (uint16_t)hal_ms();
 }
 
@@ -657,6 +674,13 @@ void console_poll(void)
 {
     uint16_t now = (uint16_t)hal_ms();
     k = keypad_poll();
+    if (rc_seen != target_remote_refusals()) {      /* a field computer's rate refused */
+        rc_seen = target_remote_refusals();
+        msg = 0;
+        msg_range = MSG_RC_REFUSED;
+        msg_until_ms = now + CONSOLE_MSG_MS;
+        next_draw_ms = now;
+    }
     if (k != KEY_NONE) {
         key();
         draw();

@@ -6,6 +6,7 @@
 #include "diag.h"
 #include "totals.h"
 #include "serial.h"
+#include "raven.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -42,6 +43,7 @@ void serial_log_request(void)
 {
     if (se.log_due < 255)
         se.log_due++;
+    raven_tick();
 }
 
 /* ---- composing a line ------------------------------------------------------------------ */
@@ -142,7 +144,8 @@ static void reply_err(const char *why) __reentrant
     tx_s(why);
 }
 
-static void answer(void) __reentrant
+/* Parse the line in buf and compose our reply over it: 1 when there is one to send. */
+static uint8_t answer(void) __reentrant
 {
     char *line = se.buf;
     const char *p;
@@ -160,94 +163,102 @@ static void answer(void) __reentrant
         h2 = i + 3 == n ? hexval(line[i + 2]) : -1;
         if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {
             reply_err("CSUM");
-            return;
+            return 1;
         }
         n = i;
     }
     line[n] = 0;
+    /* Raven's strings (raven.h): their answers are queued, a refusal is our own ERR line */
+    if (line[0] == '$') {
+        p = raven_command(line);
+        if (!p)
+            return 0;
+        reply_err(p);
+        return 1;
+    }
     /* strict layout: words of A-Z, 0-9, + or -, single spaces between them */
     if (n == 0 || line[0] == ' ' || line[n - 1] == ' ') {
         reply_err("ARG");
-        return;
+        return 1;
     }
     for (i = 1; i < n; i++)
         if (line[i] == ' ' && line[i - 1] == ' ') {
             reply_err("ARG");
-            return;
+            return 1;
         }
     p = line + 3;
     if (word_is(line, "GET") || word_is(line, "SET") || word_is(line, "CTL")) {
         if (*p != ' ' || !(p = number(p + 1, &a))) {
             reply_err("NUM");
-            return;
+            return 1;
         }
         if (line[0] == 'G') {
             if (*p) {
                 reply_err("ARG");
-                return;
+                return 1;
             }
             if (a >= P_COUNT) {
                 reply_err("ID");
-                return;
+                return 1;
             }
             b = param_v[a];
         } else if (line[0] == 'S') {
             if (*p != ' ' || !(p = number(p + 1, &b))) {
                 reply_err("NUM");
-                return;
+                return 1;
             }
             if (*p) {
                 reply_err("ARG");
-                return;
+                return 1;
             }
             if (a >= P_COUNT) {
                 reply_err("ID");
-                return;
+                return 1;
             }
             if (!param_set((uint8_t)a, b)) {
                 reply_err("RANGE");
-                return;
+                return 1;
             }
         } else {
             if (*p) {
                 reply_err("ARG");
-                return;
+                return 1;
             }
             if (!param_set(P_CONTROLLER, a)) {
                 reply_err("RANGE");
-                return;
+                return 1;
             }
             tx_s("OK CTL ");
             tx_u32(a);
-            return;
+            return 1;
         }
         tx_s("OK ");
         tx_u32(a);
         tx_c(' ');
         tx_u32(b);
-        return;
+        return 1;
     }
     if (word_is(line, "JOG")) {
         if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0)) {
             reply_err("ARG");
-            return;
+            return 1;
         }
         if (!app_status.manual) {
             reply_err("MODE");
-            return;
+            return 1;
         }
         app_jog(p[1] == '+' ? 1 : -1);
         tx_s("OK JOG");
-        return;
+        return 1;
     }
     if (!(word_is(line, "ACK") || word_is(line, "RST") || word_is(line, "TOT") ||
           word_is(line, "LIF") || word_is(line, "PUL") || word_is(line, "SAV"))) {
         reply_err("CMD");
-        return;
+        return 1;
     }
     if (*p) {                       /* these take no argument */
         reply_err("ARG");
-        return;
+        return 1;
     }
     if (word_is(line, "ACK")) {
         app_alarm_ack();
@@ -282,6 +293,7 @@ static void answer(void) __reentrant
     } else {
         reply_err("CMD");
     }
+    return 1;
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */
@@ -325,6 +337,12 @@ static void compose_next(void) __reentrant
         for (bit = 16; bit; bit -= 4)
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
         tx_end();
+        return;
+    }
+    se.n = raven_next(se.buf);      /* Raven's lines carry no checksum */
+    if (se.n) {
+        se.tx_i = 0;
+        se.state = S_TX;
     }
 }
 
@@ -356,10 +374,12 @@ void serial_poll(void) __reentrant
                 return;
             }
             if (se.n) {
-                answer();
-                tx_end();
-                drain();
-                return;
+                if (answer()) {
+                    tx_end();
+                    drain();
+                    return;
+                }
+                se.n = 0;           /* taken, answers queued (Raven) */
             }
         } else if (se.state == S_RX) {
             if (b < 0x20 || b > 0x7E)

@@ -61,6 +61,8 @@ static void values_k(uint16_t *v, int k)
         const param_info_t *pi = param_info((uint8_t)i);
         uint32_t span = (uint32_t)pi->max - pi->min;
         v[i] = (uint16_t)(pi->min + (span ? ((uint32_t)k * 7u + (uint32_t)i) % (span + 1) : 0));
+        if (i == P_RAVEN_CAL && v[i] % 10u == 0)
+            v[i]++;                         /* Valve cal's dead band digit is 1-9 */
     }
 }
 
@@ -346,6 +348,25 @@ static void test_store_loads_a_version_2_copy(void **state)
     assert_int_equal(store_load(), STORE_DEFAULTS);
 }
 
+/* a version 4 copy (up to Wheel p/rev, before the peers' settings and Remote) loads the same way;
+ * a version 4 header with this version's count is refused */
+static void test_store_loads_a_version_4_copy(void **state)
+{
+    uint16_t a[P_COUNT];
+    (void)state;
+    values_k(a, 6);
+    twin_write_n(0, 9, a, 4, PARAMS_V4_COUNT);
+    scramble();
+    assert_int_equal(store_load(), STORE_OK);
+    for (int i = 0; i < P_COUNT; i++)
+        assert_int_equal(param_v[i], i < PARAMS_V4_COUNT ? a[i] : param_info((uint8_t)i)->def);
+    assert_int_equal(param_v[P_RAVEN_CAL], 2123);
+    assert_int_equal(param_v[P_REMOTE], 0);
+    hal_host_reset();
+    twin_write_n(0, 9, a, 4, P_COUNT);
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+}
+
 /* the lifetime totals ride in the same record: written by hand, they are loaded; saved, they
  * come back after a "power cycle" (totals_init zeroes RAM, store_load restores it) */
 static void test_store_keeps_the_lifetime_totals(void **state)
@@ -403,6 +424,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_a_failed_write_is_reported, setup),
         cmocka_unit_test_setup(test_store_keeps_the_lifetime_totals, setup),
         cmocka_unit_test_setup(test_store_loads_a_version_2_copy, setup),
+        cmocka_unit_test_setup(test_store_loads_a_version_4_copy, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,176 @@
+/* raven.c: Raven's remote-computer strings on the serial link: rate change, calibration and data requests (raven.h). */
+#include "hal.h"
+#include "params.h"
+#include "app.h"
+#include "target.h"
+#include "totals.h"
+#include "umath.h"
+#include "serial.h"
+#include "raven.h"
+
+/* the lines queued, sent lowest bit first */
+#define RV_AR 0x01
+#define RV_C1 0x02
+#define RV_C2 0x04
+#define RV_C3 0x08
+#define RV_D1 0x10
+#define RV_D2 0x20
+#define RV_D3 0x40
+static uint8_t rv_due;
+
+static const __code uint32_t rv_pow10[10] = {
+    1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
+};
+
+/* ---- parsing ------------------------------------------------------------------------------ */
+static uint8_t starts(const char *s, const char *w) __reentrant
+{
+    while (*w)
+        if (*s++ != *w++)
+            return 0;
+    return 1;
+}
+
+const char *raven_command(const char *line) __reentrant
+{
+    uint32_t v = 0;
+    uint8_t n = 0;
+    if (!param_v[P_REMOTE])
+        return "REMOTE";
+    if (!starts(line, "$R,"))
+        return "CMD";
+    line += 3;
+    if (starts(line, "RC,")) {
+        for (line += 3; *line >= '0' && *line <= '9'; line++) {
+            v = v * 10u + (uint8_t)(*line - '0');
+            if (++n > 5)
+                return "NUM";
+        }
+        if (n == 0 || (*line && *line != ','))
+            return "NUM";
+        if (*line)
+            return "ARG";           /* one product: no rate 2 or 3 */
+        if (v > 65535UL || !target_remote_rate((uint16_t)v))
+            return "WINDOW";
+        rv_due |= RV_AR;
+        return 0;
+    }
+    if ((starts(line, "CR") || starts(line, "DR")) && line[2] == 0) {
+        rv_due |= line[0] == 'C' ? RV_C1 | RV_C2 | RV_C3 : RV_D1 | RV_D2 | RV_D3;
+        return 0;
+    }
+    if (starts(line, "CR") || starts(line, "DR"))
+        return "ARG";
+    return "CMD";
+}
+
+void raven_tick(void)
+{
+    if (param_v[P_REMOTE])
+        rv_due |= RV_AR;
+}
+
+/* ---- composing ------------------------------------------------------------------------------ */
+static char *rv_buf;
+static uint8_t rv_n;
+
+static void put_c(char c) __reentrant
+{
+    if (rv_n < SERIAL_TX_MAX - 2)   /* room for CR LF */
+        rv_buf[rv_n++] = c;
+}
+
+static void put_s(const char *s) __reentrant
+{
+    while (*s)
+        put_c(*s++);
+}
+
+/* ',' and a decimal, without a divide */
+static void put_u32(uint32_t v) __reentrant
+{
+    uint8_t i, d, started = 0;
+    put_c(',');
+    for (i = 0; i < 10; i++) {
+        for (d = 0; v >= rv_pow10[i]; d++)
+            v -= rv_pow10[i];
+        if (d || started || i == 9) {
+            put_c((char)('0' + d));
+            started = 1;
+        }
+    }
+}
+
+/* the actual rate, L/ha x10: flow x 600000 / (speed x width), 0 when not spraying */
+static uint16_t actual_x10(void) __reentrant
+{
+    uint32_t d = (uint32_t)app_status.speed_kmh_x100 * target_width_cm(), r;
+    if (!app_status.spraying || app_status.flow_lpm_x100 <= 0 || d == 0)
+        return 0;
+    r = um_muldiv((uint32_t)app_status.flow_lpm_x100 * 10u, 60000u, d);
+    return r > 65535UL ? 65535u : (uint16_t)r;
+}
+
+uint8_t raven_next(char *buf) __reentrant
+{
+    uint8_t bit, s, ns = (uint8_t)param_v[P_SECTIONS], sw = 0x80;
+    const totals_t *t = totals_get();
+    uint16_t w;
+
+    if (!rv_due)
+        return 0;
+    for (bit = 1; !(rv_due & bit); bit <<= 1)
+        ;
+    rv_due &= (uint8_t)~bit;
+    rv_buf = buf;
+    rv_n = 0;
+    put_s(RAVEN_ID);
+    switch (bit) {
+    case RV_AR:
+        put_s("AR");
+        put_u32(actual_x10());
+        break;
+    case RV_C1:                     /* booms 1-7 on, bit 7 set; auto: rate 1 */
+        put_s("C1");
+        for (s = 0; s < 7u && s < ns; s++)
+            if (hal_sections() & (1u << s))
+                sw |= (uint8_t)(1u << s);
+        put_u32(sw);
+        put_u32(app_status.manual ? 0x80u : 0x88u);
+        for (s = 0; s < 6u; s++) {
+            w = (uint16_t)target_section_nozzles(s) * param_v[P_SPACING];
+            put_u32(w > 9999u ? 9999u : w);    /* boom widths, cm */
+        }
+        put_u32(param_v[P_WHEEL]);              /* 0.1 mm a pulse */
+        break;
+    case RV_C2:
+        put_s("C2");
+        put_u32(param_v[P_METER_K]);            /* 0.1 pulse a litre */
+        put_u32(0);
+        break;
+    case RV_C3:
+        put_s("C3");
+        put_u32(param_v[P_RAVEN_CAL]);
+        put_u32(target_rate_x10());
+        put_u32(0);
+        break;
+    case RV_D1:                     /* areas, 0.1 ha: lifetime, job */
+        put_s("D1");
+        put_u32(t->life_m2 / 1000u);
+        put_u32(t->job_dm2 / 100000UL);
+        break;
+    case RV_D2:                     /* volumes, L */
+        put_s("D2");
+        put_u32(t->life_ml / 1000u);
+        put_u32(t->job_ml / 1000u);
+        break;
+    default:                        /* tank L, distance since power-up m */
+        put_s("D3");
+        put_u32(app_status.tank_l);
+        put_u32(um_muldiv(app_wheel_pulses(), param_v[P_WHEEL], 10000UL));
+        break;
+    }
+    buf[rv_n++] = '\r';
+    buf[rv_n++] = '\n';
+    return rv_n;
+}
