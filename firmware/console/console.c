@@ -297,12 +297,10 @@ static void draw_run(void)
         at = cat(0, "T");
         at = cat_num(at, 5, st->tank_l, 0, 0);
         at = cat(at, "L ");
-        if (target_rate_remote()) {         /* the rate comes from the field computer */
-            at = cat(at, "RC");
-            at = cat_num(at, 0, target_rate_x10(), 1, 0);
-        } else {
-            at = cat(at, ctl_name(ctl_selected()));
-        }
+        if (target_rate_remote())           /* the rate comes from the field computer */
+            cat_num(cat(at, "RC"), 0, target_rate_x10(), 1, 0);
+        else
+            cat(at, ctl_name(ctl_selected()));
         right_align(at);
         screen_line(3, line);
     }

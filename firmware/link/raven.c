@@ -50,7 +50,9 @@ const char *raven_command(const char *line) __reentrant
             return "NUM";
         if (*line)
             return "ARG";           /* one product: no rate 2 or 3 */
-        if (v > 65535UL || !target_remote_rate((uint16_t)v))
+        if (v > 65535UL)
+            return "NUM";
+        if (!target_remote_rate((uint16_t)v))
             return "WINDOW";
         rv_due |= RV_AR;
         return 0;
