@@ -23,69 +23,70 @@
  *    below the valve's Min duty is accumulated into one pulse, full duty and the end stops cut.
  */
 
+/* (v * m + d / 2) / d, the settings' scaling */
+static int16_t ag_scale(uint16_t v, uint16_t m, uint16_t d) CTL_SHARED
+{
+    return (int16_t)(((uint32_t)v * m + d / 2u) / d);
+}
+
 /* The settings to Q formats (once a parameter changes, ctl.c): 255 counts = 32767; kp in Q7,
  * ki in Q8 of the integral's Q23 a period (twice the 50 ms loop's), kd in Q8 (half the loop's). */
-void ag_derive(void)
+void ag_derive(void) CTL_SHARED
 {
-    ag_state_t *a = &ctl_st.ag;
-    a->kp = (int16_t)(((uint32_t)param_v[P_AOG_KP] * 16448u + 500u) / 1000u);   /* 32767 * 128 / 255 / 1000 */
-    a->ki = (int16_t)(((uint32_t)param_v[P_AOG_KI] * 65791u + 5000u) / 10000u); /* 2 * 32767 * 256 / 255 / 10000 */
-    a->kd = (int16_t)(((uint32_t)param_v[P_AOG_KD] * 16448u + 500u) / 1000u);   /* 32767 * 256 / 255 / 2000 */
-    a->min = (int16_t)(((uint32_t)param_v[P_AOG_MIN] * 32767u + 127u) / 255u);
-    a->max = (int16_t)(((uint32_t)param_v[P_AOG_MAX] * 32767u + 127u) / 255u);
-    if (a->max < a->min)
-        a->max = a->min;
+    ctl_st.ag.kp = ag_scale(param_v[P_AOG_KP], 16448u, 1000u);     /* 32767 * 128 / 255 / 1000 */
+    ctl_st.ag.ki = ag_scale(param_v[P_AOG_KI], 32896u, 5000u);     /* 2 * 32767 * 256 / 255 / 10000 */
+    ctl_st.ag.kd = ag_scale(param_v[P_AOG_KD], 16448u, 1000u);     /* 32767 * 256 / 255 / 2000 */
+    ctl_st.ag.min = ag_scale(param_v[P_AOG_MIN], 32767u, 255u);
+    ctl_st.ag.max = ag_scale(param_v[P_AOG_MAX], 32767u, 255u);
+    if (ctl_st.ag.max < ctl_st.ag.min)
+        ctl_st.ag.max = ctl_st.ag.min;
 }
 
 q15_t ag_step(void) CTL_SHARED
 {
-    ag_state_t *a = &ctl_st.ag;
     int16_t t = ctl_in->target_lpm_x100, y = ctl_in->flow_lpm_x100;
-    int16_t e, ae, lim;
-    int32_t o, p, top;
-    uint8_t far;
+    int16_t e, v, lim;
+    int32_t o;
+    uint8_t far, neg;
 
     if (t < 0)
         t = 0;
     e = ctl_clamp16(ctl_clamp_e((int16_t)fx_sat16((int32_t)t - y)), -t, t);
     if (ctl_first) {
-        a->y1 = y;
+        ctl_st.ag.y1 = y;
         ctl_first = 0;
     }
-    ae = e < 0 ? -e : e;
+    v = e < 0 ? -e : e;
     ctl_sat = 0;
-    if ((int32_t)ae <= (MUL(t, AG_DB_Q15) >> 15)) {
-        a->y1 = y;                  /* inside the dead band: the valve is not driven */
+    if (t == 0 || v <= ctl_of_target(AG_DB_Q15)) {
+        ctl_st.ag.y1 = y;           /* inside the dead band: the valve is not driven */
         ctl_carry = 0;
         ctl_last = 0;
         return 0;
     }
-    far = (int32_t)ae > (MUL(t, AG_BRAKE_Q15) >> 15);
-    top = (int32_t)a->max << 8;
-    a->integ += MUL(e, a->ki);
-    if (a->integ > top)
-        a->integ = top;
-    if (a->integ < -top)
-        a->integ = -top;
-    p = MUL(e, a->kp);
-    if (!far)
-        p -= p >> 2;                /* SF 0.75 inside the brake point */
-    o = (p >> 7) + (a->integ >> 8) + (MUL(fx_sat16((int32_t)a->y1 - y), a->kd) >> 8);
-    o += e > 0 ? a->min : -a->min;
-    a->y1 = y;
-    lim = far ? a->max : a->max - (a->max >> 2);
-    if (o == 0)
-        o = e > 0 ? 1 : -1;
-    if (o > 0) {
-        if (o < a->min)
-            o = a->min;
-        if (o > lim)
-            o = lim;
-    } else {
-        if (o > -a->min)
-            o = -a->min;
-        if (o < -lim)
-            o = -lim;
+    far = v > ctl_of_target(AG_BRAKE_Q15);
+    lim = ctl_st.ag.max;
+    o = ctl_st.ag.integ + MUL(e, ctl_st.ag.ki);
+    if (o > ((int32_t)lim << 8))
+        o = (int32_t)lim << 8;
+    if (o < -((int32_t)lim << 8))
+        o = -((int32_t)lim << 8);
+    ctl_st.ag.integ = o;
+    o = MUL(e, ctl_st.ag.kp);
+    if (!far) {
+        o -= o >> 2;                /* SF 0.75 inside the brake point */
+        lim -= lim >> 2;
     }
-    return ctl_out(o, ctl_in->valve_limit);
+    o = (o >> 7) + (ctl_st.ag.integ >> 8) + (MUL(fx_sat16((int32_t)ctl_st.ag.y1 - y), ctl_st.ag.kd) >> 8);
+    ctl_st.ag.y1 = y;
+    o += e > 0 ? ctl_st.ag.min : -ctl_st.ag.min;
+    v = ctl_clamp16(fx_sat16(o), -32767, 32767);
+    neg = v < 0 || (v == 0 && e < 0);   /* the sign kept (the error's when the sum is 0) */
+    if (neg)
+        v = -v;
+    if (v < ctl_st.ag.min)
+        v = ctl_st.ag.min;
+    if (v > lim)
+        v = lim;
+    return ctl_out(neg ? -v : v, ctl_in->valve_limit);
 }

@@ -219,6 +219,8 @@ extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
 /* The output stage (ctl_out.c). */
 int16_t ctl_clamp_e(int16_t e);
 int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi);
+/* frac (Q15) of this step's target, x100 L/min, floored (the peers' dead bands and brake points) */
+int16_t ctl_of_target(int16_t frac);
 /* du (Q12, x100 L/min of flow-equivalent) -> Q15 drive, 32 bit, not yet limited. */
 int32_t ctl_du_to_drive(int32_t du);
 /* pid, fuzzy_pid and bp_pid: pulse accumulation below stiction, drive limit and end stops. */
@@ -253,9 +255,9 @@ q15_t bp_step(void);
 void fm_init(void);
 q15_t fm_step(void) CTL_SHARED;
 q15_t ag_step(void) CTL_SHARED;
-void ag_derive(void);
+void ag_derive(void) CTL_SHARED;
 q15_t rv_step(void) CTL_SHARED;
-void rv_derive(void);
+void rv_derive(void) CTL_SHARED;
 /* ffmap: the stops the valve reports, the drive it got (ctl_applied). */
 void fm_stops(uint8_t limit) CTL_SHARED;
 void fm_account(q15_t d) CTL_SHARED;

@@ -23,47 +23,50 @@
  *    below the valve's Min duty is accumulated into one pulse, full duty and the end stops cut.
  */
 
-void rv_derive(void)
+void rv_derive(void) CTL_SHARED
 {
-    rv_state_t *r = &ctl_st.rv;
+    static const __code uint16_t p10[3] = {1000u, 100u, 10u};
+    static const __code int16_t band[10] = {0, 328, 655, 983, 1311, 1638, 1966, 2294, 2621, 2949};  /* d % */
     uint16_t c = param_v[P_RAVEN_CAL];
-    uint8_t b = (uint8_t)(c / 1000u), s = (uint8_t)(c / 100u % 10u), p = (uint8_t)(c / 10u % 10u);
-    uint8_t d = (uint8_t)(c % 10u);
-    r->fast = b == 0;
-    r->speed = (int16_t)(3277u * (r->fast ? 10u - s : s + 1u));
-    if (r->speed < 0)
-        r->speed = 32767;           /* 10 x 3277 wraps: full duty */
-    r->brake = (int16_t)(p ? 3277u * p : 1638u);
-    r->band = (int16_t)(((uint32_t)d * 32768u + 50u) / 100u);
-    r->pulse = (int16_t)(RV_PULSE_Q15 * b);
+    uint8_t d[4], i;
+    for (i = 0; i < 3u; i++)        /* the digits, without a divide */
+        for (d[i] = 0; c >= p10[i]; d[i]++)
+            c -= p10[i];
+    d[3] = (uint8_t)c;
+    ctl_st.rv.fast = d[0] == 0;
+    c = 3277u * (ctl_st.rv.fast ? 10u - d[1] : d[1] + 1u);
+    ctl_st.rv.speed = c > 32767u ? 32767 : (int16_t)c;     /* 10 x 3277: full duty */
+    ctl_st.rv.brake = (int16_t)(d[2] ? 3277u * d[2] : 1638u);
+    ctl_st.rv.band = band[d[3]];
+    ctl_st.rv.pulse = (int16_t)(RV_PULSE_Q15 * d[0]);
 }
 
 q15_t rv_step(void) CTL_SHARED
 {
-    rv_state_t *r = &ctl_st.rv;
     int16_t t = ctl_in->target_lpm_x100;
     int16_t e = ctl_clamp_e((int16_t)fx_sat16((int32_t)t - ctl_in->flow_lpm_x100));
     int16_t ae = e < 0 ? -e : e;
-    int32_t m, bk;
+    int32_t m;
+    int16_t bk;
     int8_t dir;
 
     ctl_first = 0;
     ctl_sat = 0;
-    if (t <= 0 || (int32_t)ae <= (MUL(t, r->band) >> 15)) {
+    if (t <= 0 || ae <= ctl_of_target(ctl_st.rv.band)) {
         ctl_carry = 0;              /* within the dead band: the valve is not driven */
         ctl_last = 0;
         return 0;
     }
-    bk = MUL(t, r->brake) >> 15;
-    m = r->speed;
-    if ((int32_t)ae < bk)
-        m = (int32_t)um_muldiv((uint32_t)ae, (uint16_t)r->speed, (uint32_t)bk);
+    bk = ctl_of_target(ctl_st.rv.brake);
+    m = ctl_st.rv.speed;
+    if (ae < bk)
+        m = (int32_t)um_muldiv((uint32_t)ae, (uint16_t)ctl_st.rv.speed, (uint32_t)bk);
     dir = e > 0 ? 1 : -1;
-    if (dir != r->dir) {
-        if (r->dir)
-            m += r->pulse;          /* the backlash pulse */
+    if (dir != ctl_st.rv.dir) {
+        if (ctl_st.rv.dir)
+            m += ctl_st.rv.pulse;          /* the backlash pulse */
         ctl_carry = 0;              /* a pulse the other way is not owed any more */
-        r->dir = dir;
+        ctl_st.rv.dir = dir;
     }
     return ctl_out(dir > 0 ? m : -m, ctl_in->valve_limit);
 }

@@ -27,12 +27,10 @@ uint8_t target_section_nozzles(uint8_t s) __reentrant
  * operator's window (P_REMOTE_WIN % of P_RATE) around the job's rate. */
 static uint8_t target_rate_window(uint16_t rate_x10) __reentrant
 {
-    uint32_t job = (uint32_t)param_v[P_RATE] * 10u;
-    uint32_t w = job * param_v[P_REMOTE_WIN] / 100u;
-    const param_info_t *pi = param_info(P_RATE);
-    if (rate_x10 < pi->min * 10u || rate_x10 > pi->max * 10UL)
+    uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;
+    if (rate_x10 < 100u || rate_x10 > 10000u)   /* P_RATE's range, 10-1000 L/ha */
         return 0;
-    return rate_x10 >= job ? rate_x10 - job <= w : job - rate_x10 <= w;
+    return (uint32_t)d * 100u <= (uint32_t)job * param_v[P_REMOTE_WIN];
 }
 
 uint16_t target_rate_x10(void)

@@ -18,10 +18,6 @@
 #define RV_D3 0x40
 static uint8_t rv_due;
 
-static const __code uint32_t rv_pow10[10] = {
-    1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
-};
-
 /* ---- parsing ------------------------------------------------------------------------------ */
 static uint8_t starts(const char *s, const char *w) __reentrant
 {
@@ -73,35 +69,13 @@ void raven_tick(void)
 }
 
 /* ---- composing ------------------------------------------------------------------------------ */
-static char *rv_buf;
-static uint8_t rv_n;
-
-static void put_c(char c) __reentrant
+/* ',' and v / 10^drop */
+static void put_d(uint32_t v, uint8_t drop) __reentrant
 {
-    if (rv_n < SERIAL_TX_MAX - 2)   /* room for CR LF */
-        rv_buf[rv_n++] = c;
+    serial_put_c(',');
+    serial_put_u32_div(v, drop);
 }
-
-static void put_s(const char *s) __reentrant
-{
-    while (*s)
-        put_c(*s++);
-}
-
-/* ',' and a decimal, without a divide */
-static void put_u32(uint32_t v) __reentrant
-{
-    uint8_t i, d, started = 0;
-    put_c(',');
-    for (i = 0; i < 10; i++) {
-        for (d = 0; v >= rv_pow10[i]; d++)
-            v -= rv_pow10[i];
-        if (d || started || i == 9) {
-            put_c((char)('0' + d));
-            started = 1;
-        }
-    }
-}
+#define put_n(v) put_d((v), 0)
 
 /* the actual rate, L/ha x10: flow x 600000 / (speed x width), 0 when not spraying */
 static uint16_t actual_x10(void) __reentrant
@@ -113,9 +87,9 @@ static uint16_t actual_x10(void) __reentrant
     return r > 65535UL ? 65535u : (uint16_t)r;
 }
 
-uint8_t raven_next(char *buf) __reentrant
+uint8_t raven_next(void) __reentrant
 {
-    uint8_t bit, s, ns = (uint8_t)param_v[P_SECTIONS], sw = 0x80;
+    uint8_t bit, s, sw = 0x80;
     const totals_t *t = totals_get();
     uint16_t w;
 
@@ -124,55 +98,51 @@ uint8_t raven_next(char *buf) __reentrant
     for (bit = 1; !(rv_due & bit); bit <<= 1)
         ;
     rv_due &= (uint8_t)~bit;
-    rv_buf = buf;
-    rv_n = 0;
-    put_s(RAVEN_ID);
+    serial_put_s(RAVEN_ID);
     switch (bit) {
     case RV_AR:
-        put_s("AR");
-        put_u32(actual_x10());
+        serial_put_s("AR");
+        put_n(actual_x10());
         break;
     case RV_C1:                     /* booms 1-7 on, bit 7 set; auto: rate 1 */
-        put_s("C1");
-        for (s = 0; s < 7u && s < ns; s++)
+        serial_put_s("C1");
+        for (s = 0; s < 7u && s < (uint8_t)param_v[P_SECTIONS]; s++)
             if (hal_sections() & (1u << s))
                 sw |= (uint8_t)(1u << s);
-        put_u32(sw);
-        put_u32(app_status.manual ? 0x80u : 0x88u);
+        put_n(sw);
+        put_n(app_status.manual ? 0x80u : 0x88u);
         for (s = 0; s < 6u; s++) {
             w = (uint16_t)target_section_nozzles(s) * param_v[P_SPACING];
-            put_u32(w > 9999u ? 9999u : w);    /* boom widths, cm */
+            put_n(w > 9999u ? 9999u : w);      /* boom widths, cm */
         }
-        put_u32(param_v[P_WHEEL]);              /* 0.1 mm a pulse */
+        put_n(param_v[P_WHEEL]);                /* 0.1 mm a pulse */
         break;
     case RV_C2:
-        put_s("C2");
-        put_u32(param_v[P_METER_K]);            /* 0.1 pulse a litre */
-        put_u32(0);
+        serial_put_s("C2");
+        put_n(param_v[P_METER_K]);              /* 0.1 pulse a litre */
+        put_n(0);
         break;
     case RV_C3:
-        put_s("C3");
-        put_u32(param_v[P_RAVEN_CAL]);
-        put_u32(target_rate_x10());
-        put_u32(0);
+        serial_put_s("C3");
+        put_n(param_v[P_RAVEN_CAL]);
+        put_n(target_rate_x10());
+        put_n(0);
         break;
     case RV_D1:                     /* areas, 0.1 ha: lifetime, job */
-        put_s("D1");
-        put_u32(t->life_m2 / 1000u);
-        put_u32(t->job_dm2 / 100000UL);
+        serial_put_s("D1");
+        put_d(t->life_m2, 3);
+        put_d(t->job_dm2, 5);
         break;
     case RV_D2:                     /* volumes, L */
-        put_s("D2");
-        put_u32(t->life_ml / 1000u);
-        put_u32(t->job_ml / 1000u);
+        serial_put_s("D2");
+        put_d(t->life_ml, 3);
+        put_d(t->job_ml, 3);
         break;
     default:                        /* tank L, distance since power-up m */
-        put_s("D3");
-        put_u32(app_status.tank_l);
-        put_u32(um_muldiv(app_wheel_pulses(), param_v[P_WHEEL], 10000UL));
+        serial_put_s("D3");
+        put_n(app_status.tank_l);
+        put_n(um_muldiv(app_wheel_pulses(), param_v[P_WHEEL], 10000UL));
         break;
     }
-    buf[rv_n++] = '\r';
-    buf[rv_n++] = '\n';
-    return rv_n;
+    return 1;
 }

@@ -27,9 +27,9 @@
 /* A line that starts with '$': 0 when it was taken (its answers are queued), else the reason
  * for our ERR line ("REMOTE", "CMD", "ARG", "NUM", "WINDOW"). */
 const char *raven_command(const char *line) __reentrant;
-/* The next queued Raven line into buf (at most SERIAL_TX_MAX bytes, CR LF included): its
- * length, 0 when none is due. */
-uint8_t raven_next(char *buf) __reentrant;
+/* The next queued Raven line, composed with serial_put_* (CR LF not included): 1, or 0 when
+ * none is due. */
+uint8_t raven_next(void) __reentrant;
 /* Once a second: queue the actual rate (with Remote on). */
 void raven_tick(void);
 

@@ -47,33 +47,41 @@ void serial_log_request(void)
 }
 
 /* ---- composing a line ------------------------------------------------------------------ */
-static void tx_c(char c) __reentrant
+#define tx_c serial_put_c
+#define tx_s serial_put_s
+#define tx_u32 serial_put_u32
+void serial_put_c(char c) __reentrant
 {
     if (se.n < SERIAL_TX_MAX - 5)       /* room for "*HH\r\n" */
         se.buf[se.n++] = c;
 }
 
-static void tx_s(const char *s) __reentrant
+void serial_put_s(const char *s) __reentrant
 {
     while (*s)
         tx_c(*s++);
 }
 
-/* decimal without a divide: subtract the powers of ten */
-static void tx_u32(uint32_t v) __reentrant
+/* decimal without a divide: subtract the powers of ten; the last `drop` digits left out (v / 10^drop) */
+void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant
 {
-    uint8_t i, d, started = 0;
-    for (i = 0; i < 10; i++) {
+    uint8_t i, d, started = 0, last = 9 - drop;
+    for (i = 0; i <= last; i++) {
         d = 0;
         while (v >= pow10[i]) {
             v -= pow10[i];
             d++;
         }
-        if (d || started || i == 9) {
+        if (d || started || i == last) {
             tx_c((char)('0' + d));
             started = 1;
         }
     }
+}
+
+void serial_put_u32(uint32_t v) __reentrant
+{
+    serial_put_u32_div(v, 0);
 }
 
 static void tx_i16(int16_t v) __reentrant
@@ -339,8 +347,10 @@ static void compose_next(void) __reentrant
         tx_end();
         return;
     }
-    se.n = raven_next(se.buf);      /* Raven's lines carry no checksum */
-    if (se.n) {
+    se.n = 0;
+    if (raven_next()) {             /* Raven's lines carry no checksum */
+        se.buf[se.n++] = '\r';
+        se.buf[se.n++] = '\n';
         se.tx_i = 0;
         se.state = S_TX;
     }
