@@ -189,6 +189,10 @@ compare: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
 	$(Q)echo
 	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN)
+	$(Q)echo
+	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN) --against aog
+	$(Q)echo
+	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN) --against raven
 
 # the controllers over N sprayers drawn from the plant family (docs/SCENARIOS.md): median and 95th
 # percentile per controller; every run in build/family/runs.csv, the table in summary.json

@@ -16,7 +16,7 @@ told in half of the runs); every controller runs every plant, spread over the ma
 Prints per controller the median and 95th percentile of abs(dose error), abs(the controller's
 share of it), CV, worst zone error, valve reversals a minute and mean settling, and the count of
 runs with an alarm the plant gave no cause for; writes every run to OUT/runs.csv and the table
-to OUT/summary.json.
+to OUT/summary.json (and as a Markdown table to OUT/table.md).
 """
 import argparse
 import csv
@@ -282,7 +282,16 @@ def main():
                                   else "-") for k, _, _ in FIGURES)
         print("%-12s%s  %d %s" % (c, cells, s["alarm_runs"],
                                   " ".join("%s:%d" % kv for kv in s["alarm_codes"].items())))
-    print("wrote %s and %s" % (os.path.join(a.out, "runs.csv"), os.path.join(a.out, "summary.json")))
+    with open(os.path.join(a.out, "table.md"), "w") as f:
+        f.write("| controller | " + " | ".join(lab for _, _, lab in FIGURES) + " | runs with alarms |\n")
+        f.write("|---" * (len(FIGURES) + 2) + "|\n")
+        for c in ctls:
+            s = summary["controllers"][c]
+            f.write("| %s | " % c + " | ".join("%.3g / %.3g" % (s[k]["median"], s[k]["p95"])
+                                              if s[k]["median"] is not None else "-" for k, _, _ in FIGURES)
+                    + " | %d |\n" % s["alarm_runs"])
+    print("wrote %s, %s and %s" % (os.path.join(a.out, "runs.csv"), os.path.join(a.out, "summary.json"),
+                                   os.path.join(a.out, "table.md")))
 
 
 if __name__ == "__main__":
