@@ -6,7 +6,8 @@
 #include "diag.h"
 #include "totals.h"
 #include "serial.h"
-#include "raven.h"
+#include "remote.h"
+#include "linebuf.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -43,7 +44,7 @@ void serial_log_request(void)
 {
     if (se.log_due < 255)
         se.log_due++;
-    raven_tick();
+    remote_tick();
 }
 
 /* ---- composing a line ------------------------------------------------------------------ */
@@ -176,9 +177,9 @@ static uint8_t answer(void) __reentrant
         n = i;
     }
     line[n] = 0;
-    /* Raven's strings (raven.h): their answers are queued, a refusal is our own ERR line */
+    /* Raven's strings (remote.h): their answers are queued, a refusal is our own ERR line */
     if (line[0] == '$') {
-        p = raven_command(line);
+        p = remote_command(line);
         if (!p)
             return 0;
         reply_err(p);
@@ -348,7 +349,7 @@ static void compose_next(void) __reentrant
         return;
     }
     se.n = 0;
-    if (raven_next()) {             /* Raven's lines carry no checksum */
+    if (remote_next()) {             /* Raven's lines carry no checksum */
         se.buf[se.n++] = '\r';
         se.buf[se.n++] = '\n';
         se.tx_i = 0;

@@ -25,7 +25,7 @@
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
  *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / LONG / CHAR.
- * With Remote = Raven, lines starting with '$' are Raven's strings (raven.h).
+ * With Remote = Raven, lines starting with '$' are Raven's strings (remote.h).
  * A command line that stalls unfinished for 3 s is dropped (the log lines go on).
  */
 #define SERIAL_LINE_MAX 31
@@ -36,7 +36,7 @@ void serial_init(void);
 void serial_poll(void) __reentrant;
 /* Ask for a log line (the application does it every 1000 ms). */
 void serial_log_request(void);
-/* Compose the line to be sent (raven.c): a character, a string, a plain decimal. */
+/* Compose the line to be sent (remote.c): a character, a string, a plain decimal. */
 void serial_put_c(char c) __reentrant;
 void serial_put_s(const char *s) __reentrant;
 void serial_put_u32(uint32_t v) __reentrant;

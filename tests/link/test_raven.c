@@ -1,4 +1,4 @@
-/* test_raven.c: a field computer's Raven strings through the host build: rate change within the window, calibration and data replies, refusals and malformed strings. */
+/* test_remote.c: a field computer's Raven strings through the host build: rate change within the window, calibration and data replies, refusals and malformed strings. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -12,7 +12,7 @@
 #include "target.h"
 #include "screen.h"
 #include "serial.h"
-#include "raven.h"
+#include "remote.h"
 #include "store.h"
 
 static uint64_t t_ms;
@@ -237,11 +237,11 @@ static void test_raven_actual_rate_once_a_second_after_the_log_line(void **state
     app_status.spraying = 1;
     app_status.speed_kmh_x100 = 800;
     app_status.flow_lpm_x100 = 3600;
-    raven_tick();
+    remote_tick();
     serial_poll();
     assert_string_equal(next_line(), "$R100A,AR,1500");
     app_status.flow_lpm_x100 = 3000;                /* 125.0 */
-    raven_tick();
+    remote_tick();
     serial_poll();
     assert_string_equal(next_line(), "$R100A,AR,1250");
 }

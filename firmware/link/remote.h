@@ -1,6 +1,6 @@
-/* raven.h: the subset of Raven's remote-computer serial strings a field computer uses to set the rate and read back. */
-#ifndef RAVEN_H
-#define RAVEN_H
+/* remote.h: the subset of Raven's remote-computer serial strings a field computer uses to set the rate and read back. */
+#ifndef REMOTE_H
+#define REMOTE_H
 
 #include "compiler.h"
 
@@ -26,11 +26,11 @@
 
 /* A line that starts with '$': 0 when it was taken (its answers are queued), else the reason
  * for our ERR line ("REMOTE", "CMD", "ARG", "NUM", "WINDOW"). */
-const char *raven_command(const char *line) __reentrant;
-/* The next queued Raven line, composed with serial_put_* (CR LF not included): 1, or 0 when
+const char *remote_command(const char *line) __reentrant;
+/* The next queued Raven line, composed with serial_put_* (linebuf.h; CR LF not included): 1, or 0 when
  * none is due. */
-uint8_t raven_next(void) __reentrant;
+uint8_t remote_next(void) __reentrant;
 /* Once a second: queue the actual rate (with Remote on). */
-void raven_tick(void);
+void remote_tick(void);
 
 #endif

@@ -1,12 +1,12 @@
-/* raven.c: Raven's remote-computer strings on the serial link: rate change, calibration and data requests (raven.h). */
+/* remote.c: Raven's remote-computer strings on the serial link: rate change, calibration and data requests (remote.h). */
 #include "hal.h"
 #include "params.h"
 #include "app.h"
 #include "target.h"
 #include "totals.h"
 #include "umath.h"
-#include "serial.h"
-#include "raven.h"
+#include "linebuf.h"
+#include "remote.h"
 
 /* the lines queued, sent lowest bit first */
 #define RV_AR 0x01
@@ -27,7 +27,7 @@ static uint8_t starts(const char *s, const char *w) __reentrant
     return 1;
 }
 
-const char *raven_command(const char *line) __reentrant
+const char *remote_command(const char *line) __reentrant
 {
     uint32_t v = 0;
     uint8_t n = 0;
@@ -62,7 +62,7 @@ const char *raven_command(const char *line) __reentrant
     return "CMD";
 }
 
-void raven_tick(void)
+void remote_tick(void)
 {
     if (param_v[P_REMOTE])
         rv_due |= RV_AR;
@@ -87,7 +87,7 @@ static uint16_t actual_x10(void) __reentrant
     return r > 65535UL ? 65535u : (uint16_t)r;
 }
 
-uint8_t raven_next(void) __reentrant
+uint8_t remote_next(void) __reentrant
 {
     uint8_t bit, s, sw = 0x80;
     const totals_t *t = totals_get();
