@@ -8,6 +8,7 @@
 #include "serial.h"
 #include "remote.h"
 #include "linebuf.h"
+#include "fmt.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -26,9 +27,6 @@ static struct {
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
 
-static const __code uint32_t pow10[10] = {
-    1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
-};
 static const __code char hexd[] = "0123456789ABCDEF";
 
 void serial_init(void)
@@ -63,21 +61,14 @@ void serial_put_s(const char *s) __reentrant
         tx_c(*s++);
 }
 
-/* decimal without a divide: subtract the powers of ten; the last `drop` digits left out (v / 10^drop) */
+/* decimal (fmt.c, the formatter the LCD uses too), the last `drop` digits left out: v / 10^drop */
 void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant
 {
-    uint8_t i, d, started = 0, last = 9 - drop;
-    for (i = 0; i <= last; i++) {
-        d = 0;
-        while (v >= pow10[i]) {
-            v -= pow10[i];
-            d++;
-        }
-        if (d || started || i == last) {
-            tx_c((char)('0' + d));
-            started = 1;
-        }
-    }
+    char num[FMT_MAX];
+    uint8_t i;
+    fmt_u32(num, v, drop, 0);
+    for (i = 0; num[i] && num[i] != '.'; i++)
+        tx_c(num[i]);
 }
 
 void serial_put_u32(uint32_t v) __reentrant
