@@ -170,7 +170,7 @@ static uint8_t answer(void) __reentrant
     line[n] = 0;
     /* Raven's strings (remote.h): their answers are queued, a refusal is our own ERR line */
     if (line[0] == '$') {
-        p = remote_command(line);
+        p = remote_command(se.buf);
         if (!p)
             return 0;
         reply_err(p);
