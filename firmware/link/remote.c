@@ -73,14 +73,13 @@ static const __code uint8_t rv_lines[7][11] = {
     {'D', '3', V_TANK, V_DIST},             /* tank L, distance since power-up m */
 };
 
-/* the actual rate, L/ha x10: flow x 600000 / (speed x width), 0 when not spraying */
+/* the actual rate, L/ha x10: flow x 6000 / (speed x width / 100), 0 when not spraying */
 static uint32_t actual_x10(void) __reentrant
 {
-    uint32_t d = (uint32_t)app_status.speed_kmh_x100 * target_width_cm(), r;
+    uint32_t d = (uint32_t)app_status.speed_kmh_x100 * target_width_cm() / 100u;
     if (!app_status.spraying || app_status.flow_lpm_x100 <= 0 || d == 0)
         return 0;
-    r = um_muldiv((uint32_t)app_status.flow_lpm_x100 * 10u, 60000u, d);
-    return r > 65535UL ? 65535u : r;
+    return (uint32_t)app_status.flow_lpm_x100 * 6000u / d;
 }
 
 static uint32_t value(uint8_t k) __reentrant
