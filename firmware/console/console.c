@@ -28,7 +28,6 @@ static char line[SCREEN_COLS + 1];  /* one line being put together */
 static const char *msg;             /* the message on the bottom line, 0 for none ... */
 static uint8_t msg_range;           /* ... or the parameter whose range it shows, NO_RANGE */
 #define NO_RANGE 0xFF
-#define MSG_RC_REFUSED 0xFE         /* msg_range: "RC refused 250.0", a field computer's rate */
 static uint8_t rc_seen;             /* target_remote_refusals() last shown */
 static uint16_t msg_until_ms;      /* hal_ms() low 16 bits: messages and redraws are short */
 static uint16_t next_draw_ms;
@@ -139,12 +138,6 @@ static void draw_msg(void)
     uint8_t at;
     if (msg_range == NO_RANGE) {
         screen_line(3, msg);
-        return;
-    }
-    if (msg_range == MSG_RC_REFUSED) {
-        at = cat(0, "RC refused ");
-        cat_num(at, 0, target_remote_refused_x10(), 1, 0);
-        screen_line(3, line);
         return;
     }
     pi = param_info(msg_range);
@@ -679,9 +672,7 @@ void console_poll(void)
     k = keypad_poll();
     if (rc_seen != target_remote_refusals()) {      /* a field computer's rate refused */
         rc_seen = target_remote_refusals();
-        msg = 0;
-        msg_range = MSG_RC_REFUSED;
-        msg_until_ms = now + CONSOLE_MSG_MS;
+        say("RC rate refused");
         next_draw_ms = now;
     }
     if (k != KEY_NONE) {

@@ -52,8 +52,9 @@ q15_t ag_step(void) CTL_SHARED
     if (t < 0)
         t = 0;
     e = ctl_clamp16(ctl_clamp_e((int16_t)fx_sat16((int32_t)t - y)), -t, t);
-    if (ctl_first) {
+    if (ctl_first) {                /* (re)started: from rest */
         ctl_st.ag.y1 = y;
+        ctl_st.ag.integ = 0;
         ctl_first = 0;
     }
     v = e < 0 ? -e : e;
@@ -80,7 +81,9 @@ q15_t ag_step(void) CTL_SHARED
     o = (o >> 7) + (ctl_st.ag.integ >> 8) + (MUL(fx_sat16((int32_t)ctl_st.ag.y1 - y), ctl_st.ag.kd) >> 8);
     ctl_st.ag.y1 = y;
     o += e > 0 ? ctl_st.ag.min : -ctl_st.ag.min;
-    v = ctl_clamp16(fx_sat16(o), -32767, 32767);
+    v = fx_sat16(o);
+    if (v < -32767)
+        v = -32767;
     neg = v < 0 || (v == 0 && e < 0);   /* the sign kept (the error's when the sum is 0) */
     if (neg)
         v = -v;

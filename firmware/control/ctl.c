@@ -117,10 +117,6 @@ void ctl_reset(q15_t drive_now)
 {
     ctl_first = 1;
     ctl_carry = 0;
-    if (ctl_id == CTL_AOG)
-        ctl_st.ag.integ = 0;        /* the peers restart from rest */
-    else if (ctl_id == CTL_RAVEN)
-        ctl_st.rv.dir = 0;
     ctl_last = drive_now;
     ctl_sat = 0;
     ctl_derive();
@@ -143,12 +139,8 @@ uint8_t ctl_select(uint8_t id)
         bp_init();
         break;
     case CTL_AOG:
-        ctl_st.ag.integ = 0;
-        ctl_st.ag.y1 = 0;
-        break;
     case CTL_RAVEN:
-        ctl_st.rv.dir = 0;
-        break;
+        break;                      /* their first step starts them from rest (ctl_first) */
     default:
         fm_init();
         break;

@@ -50,6 +50,8 @@ q15_t rv_step(void) CTL_SHARED
     int16_t bk;
     int8_t dir;
 
+    if (ctl_first)                  /* (re)started: from rest */
+        ctl_st.rv.dir = 0;
     ctl_first = 0;
     ctl_sat = 0;
     if (t <= 0 || ae <= ctl_of_target(ctl_st.rv.band)) {

@@ -6,7 +6,6 @@
 static struct {
     uint32_t k_q16;                 /* L/min x100 per km/h x100, Q16: C d m / 600000 (C in L/ha x10) */
     uint16_t remote_x10;            /* L/ha x10 from a field computer, 0: none (P_RATE) */
-    uint16_t refused_x10;           /* the last remote rate refused */
     uint8_t refusals;               /* remote rates refused since start (wraps) */
     uint16_t width_cm;
     uint8_t open;
@@ -23,12 +22,12 @@ uint8_t target_section_nozzles(uint8_t s) __reentrant
     return (uint8_t)(n / ns + (s < n % ns ? 1 : 0));
 }
 
-/* 1 when rate_x10 (L/ha x10) is a dose the firmware takes (P_RATE's range) within the
- * operator's window (P_REMOTE_WIN % of P_RATE) around the job's rate. */
+/* 1 when rate_x10 (L/ha x10) is at least P_RATE's least (10 L/ha) and within the operator's
+ * window (P_REMOTE_WIN % of P_RATE) around the job's rate. */
 static uint8_t target_rate_window(uint16_t rate_x10) __reentrant
 {
     uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;
-    if (rate_x10 < 100u || rate_x10 > 10000u)   /* P_RATE's range, 10-1000 L/ha */
+    if (rate_x10 < 100u)            /* P_RATE's least, 10 L/ha (the window's top is 2 x Dose) */
         return 0;
     return (uint32_t)d * 100u <= (uint32_t)job * param_v[P_REMOTE_WIN];
 }
@@ -46,7 +45,6 @@ uint8_t target_rate_remote(void)
 uint8_t target_remote_rate(uint16_t rate_x10) __reentrant
 {
     if (!param_v[P_REMOTE] || !target_rate_window(rate_x10)) {
-        tg.refused_x10 = rate_x10;
         tg.refusals++;
         return 0;
     }
@@ -58,11 +56,6 @@ uint8_t target_remote_rate(uint16_t rate_x10) __reentrant
 uint8_t target_remote_refusals(void)
 {
     return tg.refusals;
-}
-
-uint16_t target_remote_refused_x10(void)
-{
-    return tg.refused_x10;
 }
 
 static void target_derive(void) __reentrant

@@ -35,8 +35,7 @@ uint8_t target_remote_rate(uint16_t rate_x10) __reentrant;
 /* The rate in use, L/ha x10, and 1 when it came from the field computer. */
 uint16_t target_rate_x10(void);
 uint8_t target_rate_remote(void);
-/* Remote rates refused since start (wraps at 256) and the last one, L/ha x10 (for the LCD). */
+/* Remote rates refused since start (wraps at 256), for the LCD. */
 uint8_t target_remote_refusals(void);
-uint16_t target_remote_refused_x10(void);
 
 #endif

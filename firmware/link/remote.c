@@ -25,7 +25,7 @@ const char *remote_command(const __xdata char *line) __reentrant
     uint8_t n = 0, c;
     if (!param_v[P_REMOTE])
         return "REMOTE";
-    if (line[0] != '$' || line[1] != 'R' || line[2] != ',')
+    if (line[1] != 'R' || line[2] != ',')      /* line[0] is '$' (serial.c) */
         return "CMD";
     c = (uint8_t)line[3];
     if ((c == 'C' || c == 'D') && line[4] == 'R') {
@@ -84,7 +84,6 @@ static uint32_t actual_x10(void) __reentrant
 
 static uint32_t value(uint8_t k) __reentrant
 {
-    uint8_t s, sw = 0x80;
     uint16_t w;
     if (k & V_PARAM)
         return param_v[k & 0x7Fu];
@@ -94,10 +93,7 @@ static uint32_t value(uint8_t k) __reentrant
     case V_AR:
         return actual_x10();
     case V_SW1:                     /* sections 1-7 on, bit 7 set */
-        for (s = 0; s < 7u && s < (uint8_t)param_v[P_SECTIONS]; s++)
-            if (hal_sections() & (1u << s))
-                sw |= (uint8_t)(1u << s);
-        return sw;
+        return 0x80u | (hal_sections() & 0x7Fu & ((1u << param_v[P_SECTIONS]) - 1u));
     case V_SW2:                     /* auto: rate 1 */
         return app_status.manual ? 0x80u : 0x88u;
     case V_RATE:

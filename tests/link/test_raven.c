@@ -157,7 +157,7 @@ static void test_raven_rate_outside_the_window_is_refused_and_shown(void **state
     assert_string_equal(req("$R,RC,2300\r\n"), "ERR WINDOW");
     assert_int_equal(target_rate_x10(), 1300);          /* nothing changed */
     assert_int_equal(target_remote_refusals(), (uint8_t)(n0 + 1));
-    assert_string_equal(bottom(), "RC refused 230.0");
+    assert_string_equal(bottom(), "RC rate refused ");
     assert_string_equal(req("$R,RC,0\r\n"), "ERR WINDOW");
     assert_int_equal(target_rate_x10(), 1300);
     /* a new Dose whose window leaves the remote rate outside drops it */
