@@ -1,7 +1,7 @@
 /* remote.c: Raven's remote-computer strings on the serial link: rate change, calibration and data requests (remote.h). */
 #include "hal.h"
 #include "params.h"
-#include "app.h"
+#include "ops.h"
 #include "target.h"
 #include "totals.h"
 #include "umath.h"
@@ -101,7 +101,7 @@ static uint32_t value(uint8_t k) __reentrant
     case V_TANK:
         return app_status.tank_l;
     case V_DIST:
-        return um_muldiv(app_wheel_pulses(), param_v[P_WHEEL], 10000UL);
+        return um_muldiv(ops_wheel_pulses(), param_v[P_WHEEL], 10000UL);
     case V_ZERO:
         return 0;
     default:                        /* boom widths, cm */

@@ -36,10 +36,5 @@ void serial_init(void);
 void serial_poll(void) __reentrant;
 /* Ask for a log line (the application does it every 1000 ms). */
 void serial_log_request(void);
-/* Compose the line to be sent (remote.c): a character, a string, a plain decimal. */
-void serial_put_c(char c) __reentrant;
-void serial_put_s(const char *s) __reentrant;
-void serial_put_u32(uint32_t v) __reentrant;
-void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant;    /* v / 10^drop, truncated */
 
 #endif
