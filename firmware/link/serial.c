@@ -26,6 +26,9 @@ static struct {
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
+#define S_RX_LOST 4                 /* bytes of the line were lost (hal_uart_get): skip to its end */
+static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
+static __bit csum_seen;             /* the line being answered carried its checksum */
 
 static const __code char hexd[] = "0123456789ABCDEF";
 
@@ -36,6 +39,7 @@ void serial_init(void)
     se.state = S_RX;
     se.reported = 0;
     se.log_due = 0;
+    boot_due = 1;
 }
 
 void serial_log_request(void)
@@ -160,6 +164,11 @@ static const __code command_t commands[] = {
     {"SAV", ARG_NONE, C_SAV},       /* SAV               OK SAV */
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
+/* The commands that change something: refused without their checksum, so that a damaged
+ * line ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
+#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV))
+/* the ERR word of each param_try() verdict (params.h PARAM_*) */
+static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
 /* "OK <word> " then up to two numbers */
 static void ok(const char *word) __reentrant
@@ -185,8 +194,8 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     case C_SET:
         if (a >= P_COUNT) {
             reply_err("ID");
-        } else if (handler == C_SET && !param_set((uint8_t)a, b)) {
-            reply_err("RANGE");
+        } else if (handler == C_SET && (b = param_try((uint8_t)a, b)) != PARAM_OK) {
+            reply_err(why_word[b]);     /* out of range, or against another setting */
         } else {
             tx_s("OK ");
             tx_u32(a);
@@ -195,7 +204,7 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         }
         break;
     case C_CTL:
-        if (!param_set(P_CONTROLLER, a)) {
+        if (param_try(P_CONTROLLER, a) != PARAM_OK) {
             reply_err("RANGE");
         } else {
             ok("CTL ");
@@ -243,12 +252,14 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     }
 }
 
-/* The checksum (optional "*HH") and layout (words, single spaces) of the line in se.buf; 0 and
- * an error sent when it is not right, else the line's length without the checksum. */
+/* The checksum ("*HH": csum_seen says whether it came) and layout (words, single spaces) of
+ * the line in se.buf; 0 and an error sent when it is not right, else the line's length
+ * without the checksum. */
 static uint8_t line_ok(uint8_t n) __reentrant
 {
     uint8_t i, x = 0;
     int8_t h1, h2;
+    csum_seen = 0;
     for (i = 0; i < n && se.buf[i] != '*'; i++)
         x ^= (uint8_t)se.buf[i];
     if (i < n) {
@@ -259,6 +270,7 @@ static uint8_t line_ok(uint8_t n) __reentrant
             return 0;
         }
         n = i;
+        csum_seen = 1;
     }
     se.buf[n] = 0;
     if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ') {
@@ -299,6 +311,10 @@ static uint8_t answer(void) __reentrant
         reply_err("CMD");
         return 1;
     }
+    if (!csum_seen && ((CHANGES >> commands[c].handler) & 1u)) {
+        reply_err("NOCSUM");
+        return 1;
+    }
     switch (commands[c].args) {
     case ARG_NUM:
     case ARG_NUM2:
@@ -334,6 +350,14 @@ static void compose_next(void) __reentrant
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
+    if (boot_due) {                 /* first of all: why the controller started */
+        boot_due = 0;
+        se.n = 0;
+        tx_s("BOOT ");
+        tx_s(diag_reset_code());
+        tx_end();
+        return;
+    }
     if (diff) {
         for (bit = 0; !(diff & (1u << bit)); bit++)
             ;
@@ -398,10 +422,12 @@ void serial_poll(void) __reentrant
 
     if (se.state == S_TX && !drain())
         return;
-    while ((b = hal_uart_get()) >= 0) {
-        if (b == '\r' || b == '\n') {
+    while ((b = hal_uart_get()) != -1) {
+        if (b == HAL_UART_LOST) {
+            se.state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
+        } else if (b == '\r' || b == '\n') {
             if (se.state != S_RX) {
-                reply_err(se.state == S_RX_LONG ? "LONG" : "CHAR");
+                reply_err(se.state == S_RX_LONG ? "LONG" : se.state == S_RX_LOST ? "LOST" : "CHAR");
                 tx_end();
                 drain();
                 return;
@@ -424,9 +450,16 @@ void serial_poll(void) __reentrant
         }
     }
     if (se.n || se.state != S_RX) {
-        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on */
+        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
+         * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.log_due < 3)
             return;
+        if (se.state == S_RX_LOST) {
+            reply_err("LOST");
+            tx_end();
+            drain();
+            return;
+        }
         se.n = 0;
         se.state = S_RX;
     }

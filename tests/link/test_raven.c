@@ -14,25 +14,12 @@
 #include "serial.h"
 #include "remote.h"
 #include "store.h"
+#include "console.h"
 
 static uint64_t t_ms;
 static char line[128];
 
 #define MA(x) ((uint16_t)((x) * 51.15 + 0.5))
-
-static int setup(void **state)
-{
-    (void)state;
-    hal_host_reset();
-    hal_init();
-    t_ms = 0;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(4.0);
-    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
-    hal_host_io.sections = 0x3F;
-    app_init();
-    store_status_clear();                   /* a first boot's "EE: defaults" seen */
-    return 0;
-}
 
 static void run_ms(uint32_t ms)
 {
@@ -81,6 +68,22 @@ static void drain_lines(void)
 {
     while (next_line()[0])
         ;
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    hal_init();
+    t_ms = 0;
+    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(4.0);
+    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
+    hal_host_io.sections = 0x3F;
+    app_init();
+    store_status_clear();                   /* a first boot's "EE: defaults" seen */
+    run_ms(CONSOLE_MSG_MS + 100);           /* the reset cause's message gone */
+    drain_lines();                          /* the BOOT line */
+    return 0;
 }
 
 /* send a string, let the loop answer (well inside a second: no log line), return the first reply */
