@@ -47,7 +47,7 @@ HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
 HOST_INC := -Ihal -Ihal/host $(FW_INC) -Isim -Itests/target
 TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 TEST_LDFLAGS := -fsanitize=address,undefined
-OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -g
+OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -fno-math-errno -flto=auto -g
 
 # ==== build folders and products =====================================================================
 STC_DIR := $(BUILD)/stc12
@@ -136,7 +136,7 @@ $(TEST_LIB): $(patsubst %.c,$(TEST_DIR)/%.o,$(HOST_LIB_SRC))
 	$(Q)rm -f $@ && ar rcs $@ $^
 
 $(OPT_LIB): $(patsubst %.c,$(OPT_DIR)/%.o,$(HOST_LIB_SRC))
-	$(Q)rm -f $@ && ar rcs $@ $^
+	$(Q)rm -f $@ && gcc-ar rcs $@ $^
 
 # tests/<layer>/test_<module>.c -> build/host-test/test_<module>
 define unit_test_rule
@@ -199,7 +199,7 @@ CSV ?=
 $(SIM_PROGS): $(OPT_DIR)/bin/%: $(OPT_DIR)/sim/%_main.o $(OPT_LIB)
 	@mkdir -p $(dir $@)
 	$(call msg,LD,$@)
-	$(Q)$(CC) $< $(OPT_LIB) -lm -o $@
+	$(Q)$(CC) -O2 -flto=auto $< $(OPT_LIB) -lm -o $@
 
 sim-progs: $(SIM_PROGS)
 

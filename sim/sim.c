@@ -18,6 +18,13 @@ static double now_s(void)
 
 static void sample(sim_t *sim, double flow_lpm);
 
+/* The ADC's conversions come from the plant of the running simulation (one a process). */
+static plant_t *adc_plant;
+static uint16_t adc_convert(uint8_t ch)
+{
+    return ch == HAL_ADC_PRESSURE || ch == HAL_ADC_LEVEL ? plant_adc_sample(adc_plant, ch) : 0;
+}
+
 static void apply_params(const scenario_t *s)
 {
     uint8_t i;
@@ -42,6 +49,8 @@ void sim_init(sim_t *sim, const scenario_t *s)
     plant_init(&sim->plant, &s->plant, s->seed);
     sim->plant.flow_edge = hal_host_flow_edge;
     sim->plant.wheel_edge = hal_host_wheel_edge;
+    adc_plant = &sim->plant;
+    hal_host_adc_source(adc_convert);
     set_sections(sim, s->plant.nozzles);
     hal_host_io.adc[HAL_ADC_PRESSURE] = sim->plant.adc_pressure;
     hal_host_io.adc[HAL_ADC_LEVEL] = sim->plant.adc_level;
@@ -162,8 +171,6 @@ void sim_step(sim_t *sim)
     hal_host_set_time_ns(t1);
     plant_step(pl, &in, SIM_TICK_NS);
     sim->t_ns = t1;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = pl->adc_pressure;
-    hal_host_io.adc[HAL_ADC_LEVEL] = pl->adc_level;
 
     app_poll();
 

@@ -19,6 +19,7 @@ static uint8_t eeprom[HAL_EEPROM_SIZE];
 static int32_t eeprom_ops_left = -1;
 static uint8_t eeprom_cut;
 static void (*lcd_sink)(uint8_t rs, uint8_t b);
+static uint16_t (*adc_source)(uint8_t ch);
 
 void hal_host_reset(void)
 {
@@ -30,6 +31,7 @@ void hal_host_reset(void)
     eeprom_ops_left = -1;
     eeprom_cut = 0;
     lcd_sink = 0;
+    adc_source = 0;
 }
 
 void hal_init(void)
@@ -99,8 +101,15 @@ void hal_wheel_capture_take(hal_capture_t *c)
     edge_take(&wheel_q, c);
 }
 
+void hal_host_adc_source(uint16_t (*source)(uint8_t ch))
+{
+    adc_source = source;
+}
+
 uint16_t hal_adc_read(uint8_t ch)
 {
+    if (adc_source && ch < 8)
+        hal_host_io.adc[ch] = adc_source(ch);
     return ch < 8 ? hal_host_io.adc[ch] & 0x3FF : 0;
 }
 

@@ -48,6 +48,10 @@ void hal_host_eeprom_cut_after(int32_t n);
 uint8_t hal_host_eeprom_cut(void);   /* 1 once the cut has happened */
 
 /* LCD: the bytes written go to this function (the ST7920 emulator), when set. */
+/* Where a conversion comes from: with a source set, each hal_adc_read(ch) asks it (the plant
+ * draws the noise of that one conversion) and keeps the result in hal_host_io.adc[ch];
+ * without one (NULL, after hal_host_reset), hal_adc_read returns hal_host_io.adc[ch]. */
+void hal_host_adc_source(uint16_t (*source)(uint8_t ch));
 void hal_host_lcd_sink(void (*sink)(uint8_t rs, uint8_t b));
 
 #endif
