@@ -44,7 +44,7 @@ SDCC_MODEL := --model-large
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
-HOST_INC := -Ihal -Ihal/host $(FW_INC) -Isim -Itests/target
+HOST_INC := -Ihal -Ihal/host -Ihal/pil $(FW_INC) -Isim -Itests/target
 TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 TEST_LDFLAGS := -fsanitize=address,undefined
 OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -fno-math-errno -flto=auto -g
@@ -71,6 +71,12 @@ UC_TT_REL := $(UC_DIR)/tests/target/tt_common.rel $(UC_DIR)/hal/ucsim/tt_ucsim.r
 TT_IHX := $(patsubst tests/target/%.c,$(UC_DIR)/%.ihx,$(TT_PROGS))
 TT_HOST := $(patsubst tests/target/%.c,$(TEST_DIR)/target/%,$(TT_PROGS))
 
+# processor in the loop: the firmware as for the chip, hal/pil instead of hal/stc12, main in hal/pil
+PIL_DIR := $(BUILD)/pil
+PIL_SRC := $(FW_LIB_SRC) $(wildcard hal/pil/*.c)
+PIL_REL := $(patsubst %.c,$(PIL_DIR)/%.rel,$(PIL_SRC))
+PIL_IHX := $(PIL_DIR)/sprayer_pil.ihx
+
 SIM_PROGS := $(patsubst sim/%_main.c,$(OPT_DIR)/bin/%,$(SIM_MAIN))
 SIM_BIN := $(OPT_DIR)/bin/sim
 PANEL_BIN := $(OPT_DIR)/bin/panel
@@ -78,7 +84,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: firmware flash deps test host-tests target-tests bench sim sim-progs demo compare \
+.PHONY: firmware flash deps test host-tests target-tests bench sim pil pil-image sim-progs demo compare \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -90,6 +96,7 @@ help:
 	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
+	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen and a menu as PNG in docs/"
@@ -167,6 +174,23 @@ $(TEST_DIR)/target/tt_%: $(TEST_DIR)/tests/target/tt_%.o $(TEST_DIR)/tests/targe
 	$(Q)$(CC) $^ $(TEST_LDFLAGS) -lm -o $@
 
 target-tests: $(TT_IHX) $(TT_HOST)
+
+# ==== processor in the loop: the whole firmware in s51, the plant on the host (hal/pil, sim/pil_host.c) ====
+$(PIL_DIR)/%.rel: %.c
+	@mkdir -p $(dir $@)
+	$(call msg,SDCC,$< [pil])
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_PIL -Ihal/pil -MMD -c $< -o $@
+
+$(PIL_IHX): $(PIL_REL)
+	$(call msg,LINK,$@ [pil])
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $(PIL_REL) -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
+	$(Q)if grep -qi "error\|insufficient\|overlap\|exceed" $(PIL_DIR)/link.log; then cat $(PIL_DIR)/link.log; rm -f $@; exit 1; fi
+
+pil-image: $(PIL_IHX)
+
+# make pil SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: as make sim, the firmware running in s51
+pil: $(SIM_BIN) $(PIL_IHX)
+	$(Q)$(SIM_BIN) --pil $(PIL_IHX) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
 
 # ==== tests and measurements ==========================================================================
 test:

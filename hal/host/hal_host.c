@@ -174,6 +174,11 @@ int hal_host_uart_tx_pop(void)
     return b;
 }
 
+uint32_t hal_host_uart_rx_waiting(void)
+{
+    return (rx_head - rx_tail + HAL_HOST_UART_Q) % HAL_HOST_UART_Q;
+}
+
 void hal_host_uart_rx_push(uint8_t b)
 {
     uint32_t n = (rx_head + 1) % HAL_HOST_UART_Q;

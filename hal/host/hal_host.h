@@ -40,6 +40,7 @@ void hal_host_wheel_edge(uint64_t t_ns);
 /* Serial link: bytes the firmware sent, and bytes for it to receive. */
 int hal_host_uart_tx_pop(void);     /* -1 when empty */
 void hal_host_uart_rx_push(uint8_t b);
+uint32_t hal_host_uart_rx_waiting(void);    /* bytes pushed and not yet taken */
 
 /* EEPROM: direct access for tests, and a power cut after n more programmed bytes or erases
  * (-1: never). A cut operation leaves the cell as it was; later ones are lost as well. */
