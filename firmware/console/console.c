@@ -57,10 +57,22 @@ static uint8_t cat(uint8_t at, const char *s)
     return at;
 }
 
-/* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it is */
-static uint8_t cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t trim)
+/* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it is.
+ * fmt: CAT_TRIM (no trailing zeros after the point) or CAT_DROP(k): v / 10^k rounded, without a
+ * divide: v + 10^k / 2 with k more decimals, those digits cut off again */
+#define CAT_TRIM 1
+#define CAT_DROP(k) ((k) << 1)
+static uint8_t cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t fmt)
 {
-    uint8_t n = screen_fmt(screen_scratch, v, decimals, trim);
+    static const __code uint16_t half[4] = {0, 5, 50, 500};
+    uint8_t n, drop = (uint8_t)(fmt >> 1);
+    n = screen_fmt(screen_scratch, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)(fmt & CAT_TRIM));
+    if (drop) {
+        n -= drop;
+        if (!decimals)
+            n--;                    /* and the point */
+        screen_scratch[n] = 0;
+    }
     if (width && n > width) {
         while (width--)
             at = cat(at, "#");
@@ -250,7 +262,7 @@ static void draw_run(void)
     int8_t a;
     int16_t q;
     /* " 7.2km/h    AUTO": ground speed, mode */
-    at = cat_num(0, 4, (st->speed_kmh_x100 + 5u) / 10u, 1, 0);
+    at = cat_num(0, 4, st->speed_kmh_x100, 1, CAT_DROP(1));
     at = cat(at, "km/h ");
     cat(at, st->manual ? "MANUAL" : "AUTO");
     right_align(at);
@@ -258,14 +270,14 @@ static void draw_run(void)
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */
     at = cat(0, "Q");
     q = st->target_lpm_x100;
-    at = cat_num(at, 5, q > 0 ? ((uint16_t)q + 5u) / 10u : 0, 1, 0);
+    at = cat_num(at, 5, q > 0 ? (uint16_t)q : 0, 1, CAT_DROP(1));
     at = cat(at, ">");
     q = st->flow_lpm_x100;
-    at = cat_num(at, 5, q > 0 ? ((uint16_t)q + 5u) / 10u : 0, 1, 0);
+    at = cat_num(at, 5, q > 0 ? (uint16_t)q : 0, 1, CAT_DROP(1));
     cat(at, "L/mn");
     screen_line(1, line);
     /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
-    at = cat_num(0, 4, (st->applied_l_ha_x10 + 5u) / 10u, 0, 0);
+    at = cat_num(0, 4, st->applied_l_ha_x10, 0, CAT_DROP(1));
     at = cat(at, "L/ha");
     at = cat_num(at, 5, st->pressure_kpa, 2, 0);
     cat(at, "bar");
@@ -297,15 +309,15 @@ static void draw_totals(void)
     const app_status_t *st = &app_status;
     uint8_t at;
     at = cat(0, "Job ");
-    at = cat_num(at, 9, (st->job_area_m2 + 50u) / 100u, 2, 0);
+    at = cat_num(at, 9, st->job_area_m2, 2, CAT_DROP(2));
     cat(at, " ha");
     screen_line(0, line);
     at = cat(0, "Job ");
-    at = cat_num(at, 10, (st->job_volume_ml + 50u) / 100u, 1, 0);
+    at = cat_num(at, 10, st->job_volume_ml, 1, CAT_DROP(2));
     cat(at, " L");
     screen_line(1, line);
     at = cat(0, "Life");
-    at = cat_num(at, 9, (st->life_area_m2 + 50u) / 100u, 2, 0);
+    at = cat_num(at, 9, st->life_area_m2, 2, CAT_DROP(2));
     cat(at, " ha");
     screen_line(2, line);
     if (step) {
@@ -314,7 +326,7 @@ static void draw_totals(void)
         draw_msg();
     } else {
         at = cat(0, "Life");
-        at = cat_num(at, 10, (st->life_volume_ml + 500u) / 1000u, 0, 0);
+        at = cat_num(at, 10, st->life_volume_ml, 0, CAT_DROP(3));
         cat(at, " L");
         screen_line(3, line);
     }

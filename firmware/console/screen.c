@@ -42,26 +42,31 @@ void screen_line(uint8_t row, const char *s)
 
 char screen_scratch[12];
 
-uint8_t screen_fmt(char *out, uint32_t v, uint8_t decimals, uint8_t trim)
+static const __code uint32_t pow10[10] = {
+    1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
+};
+
+/* Decimal without a divide (a 32-bit divide costs thousands of cycles on the 8051): each digit
+ * is how often its power of ten can be subtracted; leading zeros are left out down to the
+ * units, the point goes in before the last `decimals` digits. */
+uint8_t screen_fmt(char *out, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant
 {
-    uint8_t n = 0, d = 0, i, j;
-    char c;
-    /* digits least significant first (at least decimals + 1), the point, then reversed */
-    do {
-        out[n++] = (char)('0' + (uint8_t)(v % 10u));
-        v /= 10u;
-        if (++d == decimals)
+    uint8_t n = 0, i;
+    char d;
+    for (i = 0; i < 10; i++) {      /* digit i stands 9 - i places left of the units */
+        d = '0';
+        while (v >= pow10[i]) {
+            v -= pow10[i];
+            d++;
+        }
+        if (!n && d == '0' && 9 - i > decimals)
+            continue;
+        if (decimals && 10 - i == decimals)
             out[n++] = '.';
-    } while (v || d <= decimals);
-    out[n] = 0;
-    if (!decimals)
-        trim = 0;
-    for (i = 0, j = n - 1; i < j; i++, j--) {
-        c = out[i];
-        out[i] = out[j];
-        out[j] = c;
+        out[n++] = d;
     }
-    if (trim) {
+    out[n] = 0;
+    if (trim && decimals) {
         while (out[n - 1] == '0')
             n--;
         if (out[n - 1] == '.')

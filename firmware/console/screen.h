@@ -21,7 +21,7 @@ extern char screen_scratch[12];
 /* An unsigned number with `decimals` implied decimals into buf (NUL terminated, at most 11
  * characters: "392.7", "0.05");
  * trim = 1 drops trailing fraction zeros ("10.0" -> "10", "0.10" -> "0.1"). Returns its length. */
-uint8_t screen_fmt(char *buf, uint32_t v, uint8_t decimals, uint8_t trim);
+uint8_t screen_fmt(char *buf, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant;
 char screen_char(uint8_t row, uint8_t col);
 
 /* For the LCD driver: the character pairs (ST7920 DDRAM words) changed since they were taken.
