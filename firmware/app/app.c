@@ -49,6 +49,8 @@ static struct {
     uint8_t log_div;
     uint8_t internal;
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
+    uint8_t prep;                   /* next module app_prepare derives for ... */
+    uint8_t prep_gen;               /* ... this param_generation (all done when it is current) */
 } ap;
 
 void app_init(void)
@@ -74,6 +76,8 @@ void app_init(void)
     ap.was_manual = 0;
     ap.log_div = 0;
     ap.internal = 0;
+    ap.prep = 0;
+    ap.prep_gen = param_generation;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -239,13 +243,41 @@ static void app_step(void)
     app_status.life_area_m2 = t->life_m2;
     app_status.life_volume_ml = t->life_ml;
 
-    /* once a second: the divisions of the display values, and the log line */
-    if (++ap.log_div >= APP_LOG_PERIODS) {
-        ap.log_div = 0;
-        app_status.job_area_m2 = totals_job_m2();
-        app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
-        serial_log_request();
+    /* once a second the display values and the log line: in a pass of their own (app_poll) */
+    if (++ap.log_div >= APP_LOG_PERIODS)
+        ap.log_div = APP_LOG_PERIODS;
+}
+
+/* After a settings change every module derives its constants again (divides, some thousands
+ * of cycles each): one module a pass here, so that neither these passes nor the next control
+ * step carry them all. Returns 1 while work was done. */
+static uint8_t app_prepare(void)
+{
+    if (ap.prep_gen == param_generation && ap.prep == 0)
+        return 0;
+    if (ap.prep_gen != param_generation) {
+        ap.prep_gen = param_generation;
+        ap.prep = 0;                /* a change during the round starts it again */
     }
+    switch (ap.prep++) {
+    case 0: speed_prepare(); break;
+    case 1: flow_prepare(); break;
+    case 2: analog_kpa_of_sum(0); break;            /* derives the scale when it is stale */
+    case 3: target_update(hal_sections()); break;
+    case 4: diag_set_nozzles(target_open_nozzles()); break;
+    case 5: valve_prepare(); break;
+    default: ctl_prepare(); ap.prep = 0; break;
+    }
+    return 1;
+}
+
+/* Once a second: the divisions of the display values, and the log line. */
+static void app_second(void)
+{
+    ap.log_div = 0;
+    app_status.job_area_m2 = totals_job_m2();
+    app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
+    serial_log_request();
 }
 
 void app_poll(void)
@@ -254,10 +286,21 @@ void app_poll(void)
     uint8_t late;
 
     valve_poll(now);
-    serial_poll();
-    console_poll();
-    if ((int32_t)(now - ap.next_ms) < 0)
+    /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
+     * modules' constants, one a pass (a due control step waits for them: a few ms); the
+     * control step alone when it is due; the once-a-second work alone in the pass after; else
+     * the serial link and the console (they wait a millisecond or two for those passes). */
+    if (app_prepare())
         return;
+    if ((int32_t)(now - ap.next_ms) < 0) {
+        if (ap.log_div >= APP_LOG_PERIODS) {
+            app_second();
+            return;
+        }
+        serial_poll();
+        console_poll();
+        return;
+    }
     late = (now - ap.next_ms) >= APP_PERIOD_MS;
     if (late) {
         ap.overruns++;

@@ -671,8 +671,8 @@ void console_poll(void)
     k = keypad_poll();
     if (k != KEY_NONE) {
         key();
-        draw();
-        next_draw_ms = now + CONSOLE_REDRAW_MS;
+        next_draw_ms = now + 1u;    /* the new screen in the next pass: a key's work (a save,
+                                       perhaps) and a redraw are a pass each */
     } else if ((int16_t)(now - next_draw_ms) >= 0) {
         draw();
         next_draw_ms = now + CONSOLE_REDRAW_MS;
