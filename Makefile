@@ -76,6 +76,9 @@ PIL_DIR := $(BUILD)/pil
 PIL_SRC := $(FW_LIB_SRC) $(wildcard hal/pil/*.c)
 PIL_REL := $(patsubst %.c,$(PIL_DIR)/%.rel,$(PIL_SRC))
 PIL_IHX := $(PIL_DIR)/sprayer_pil.ihx
+# s51 has 64 KB of XRAM: the PIL image may use more than the chip's 1 KB, so that it still runs
+# while a change is over the chip's budget (make firmware is what checks the chip's fit)
+PIL_XRAM_SIZE ?= 2048
 
 SIM_PROGS := $(patsubst sim/%_main.c,$(OPT_DIR)/bin/%,$(SIM_MAIN))
 SIM_BIN := $(OPT_DIR)/bin/sim
@@ -84,7 +87,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: firmware flash deps test host-tests target-tests bench sim pil pil-image sim-progs demo compare \
+.PHONY: firmware flash deps test host-tests target-tests bench sim pil pil-image sim-progs demo compare family report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -97,6 +100,8 @@ help:
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
 	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
+	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1]   the controllers over N sprayers of the plant family"
+	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen and a menu as PNG in docs/"
@@ -183,7 +188,7 @@ $(PIL_DIR)/%.rel: %.c
 
 $(PIL_IHX): $(PIL_REL)
 	$(call msg,LINK,$@ [pil])
-	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $(PIL_REL) -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) --xram-size $(PIL_XRAM_SIZE) $(PIL_REL) -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
 	$(Q)if grep -qi "error\|insufficient\|overlap\|exceed" $(PIL_DIR)/link.log; then cat $(PIL_DIR)/link.log; rm -f $@; exit 1; fi
 
 pil-image: $(PIL_IHX)
@@ -225,6 +230,14 @@ compare: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
 	$(Q)echo
 	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN)
+
+# the controllers over N sprayers drawn from the plant family (docs/SCENARIOS.md): median and 95th
+# percentile per controller; every run in build/family/runs.csv, the table in summary.json
+N ?= 200
+CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid
+SEED ?= 1
+family: $(SIM_BIN)
+	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --out $(BUILD)/family
 
 # ==== the simulator, the demo and the virtual panel ========================================================
 # Programs from sim/*_main.c, linked with the -O2 library: build/host/bin/<name> (build/host/sim/
@@ -285,3 +298,16 @@ clean:
 # SDCC has no -MP: a header that is gone is no reason to stop, the object is rebuilt
 %.h: ;
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
+
+# ==== the results report ==================================================================================
+# make report: docs/RESULTS.md and its plots from a clean build (tools/results.py): the paper's
+# Tables 2-4 and section 5.1 beside this project's figures, ISO 5682-3 style changes, the plant family,
+# single-factor sweeps, and the cost on the chip; also the README's headline table.
+REPORT_DIR := $(BUILD)/report
+report: firmware $(SIM_PROGS) $(TT_IHX) $(TT_HOST)
+	@mkdir -p $(REPORT_DIR)
+	$(Q)$(MAKE) --no-print-directory firmware > $(REPORT_DIR)/memory.txt 2>&1 || true
+	$(Q)tools/bench.sh $(UC_DIR) > $(REPORT_DIR)/bench.txt 2>&1 || true
+	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn > $(REPORT_DIR)/bench_sim.txt 2>&1 || true
+	$(Q)$(PYTHON) tools/results.py --sim $(SIM_BIN) --bench $(REPORT_DIR)/bench.txt \
+	    --memory $(REPORT_DIR)/memory.txt --bench-sim $(REPORT_DIR)/bench_sim.txt

@@ -149,7 +149,12 @@ static int serve(pil_t *p, int until)
                 hal_wheel_capture_take(&cap);
             put16(out, cap.count);
             put32(out + 2, cap.last);
-            wr(p, out, 6);
+            out[6] = cap.rejected;
+            wr(p, out, 7);
+            break;
+        case PIL_WHEEL_MIN:
+            a = rd16(p);
+            hal_wheel_min_interval(a | (uint32_t)rd16(p) << 16);
             break;
         case PIL_UART_PUT:
             out[0] = hal_uart_put((uint8_t)rd(p));
@@ -199,6 +204,7 @@ static void pass(void *ctx)
     uint8_t b[16 + 3 * P_COUNT];
     size_t n = 0;
     uint32_t cyc;
+    int fresh;
     if (p->failed)
         return;
     b[n++] = PIL_TICK;
@@ -214,7 +220,8 @@ static void pass(void *ctx)
         return;
     cyc = rd16(p);
     cyc |= (uint32_t)rd16(p) << 16;
-    if (rd(p) != 1)
+    fresh = rd(p);
+    if (!fresh)
         goto timing;
     app_status.speed_kmh_x100 = (uint16_t)rd16(p);
     app_status.target_lpm_x100 = (int16_t)rd16(p);
@@ -228,8 +235,10 @@ static void pass(void *ctx)
     app_status.alarms = (uint16_t)rd16(p);
     mirror(p, P_RATE, rd16(p));
     mirror(p, P_METER_K, rd16(p));
-    /* the host's copy of the rate target follows the settings, for the simulator's reference */
-    target_update(hal_sections());
+    /* the host's copy of the rate target follows the settings when the firmware's does: in its
+     * control step (the simulator's reference reads it) */
+    if (fresh & 2)
+        target_update(hal_sections());
 timing:
     if (p->n_pass == p->cap) {
         p->cap = p->cap ? 2 * p->cap : 65536;

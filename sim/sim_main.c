@@ -10,11 +10,13 @@
 static void usage(FILE *f)
 {
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
-          "           [--zones OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt] [--pil IMAGE.ihx]\n"
-          "           [--input KEYS_AND_LINES.txt]\n"
+          "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt]\n"
+          "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
-          "  prints the metrics of PLANT.md as one JSON object on the last line.\n"
+          "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n"
+          "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
+          "  build/host/bin/steps reads it back).\n"
           "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n"
           "  --input: operator input at given times ('t_s key K', 't_s serial TEXT' lines; sim/sim.h).\n"
           "  --drive-log: a line 'tick dir duty spray' whenever the valve drive or the boom valve changes.\n"
@@ -32,9 +34,25 @@ static int parse_u64(const char *s, unsigned long long *v)
     return (*end || errno) ? -1 : 0;
 }
 
+/* Write one of the metrics' CSV files to path; -1 (said on stderr) when it cannot. */
+static int write_out(const char *path, void (*write)(FILE *, const metrics_t *), const metrics_t *m)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "sim: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    write(f, m);
+    if (fclose(f) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL;
+    const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL, *samples_path = NULL;
     const char *serial_path = NULL, *drive_path = NULL, *pil_path = NULL;
     const char *input_path = NULL;
     FILE *serial = NULL, *drive_log = NULL;
@@ -68,6 +86,8 @@ int main(int argc, char **argv)
             csv_path = v;
         else if (!strcmp(a, "--zones"))
             zones_path = v;
+        else if (!strcmp(a, "--samples"))
+            samples_path = v;
         else if (!strcmp(a, "--serial"))
             serial_path = v;
         else if (!strcmp(a, "--drive-log"))
@@ -182,18 +202,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "sim: error writing %s: %s\n", csv_path, strerror(errno));
         return 1;
     }
-    if (zones_path) {
-        FILE *z = fopen(zones_path, "w");
-        if (!z) {
-            fprintf(stderr, "sim: cannot write %s: %s\n", zones_path, strerror(errno));
-            return 1;
-        }
-        metrics_zones_csv(z, &sim->metrics);
-        if (fclose(z) != 0) {
-            fprintf(stderr, "sim: error writing %s: %s\n", zones_path, strerror(errno));
-            return 1;
-        }
-    }
+    if ((zones_path && write_out(zones_path, metrics_zones_csv, &sim->metrics) < 0)
+        || (samples_path && write_out(samples_path, metrics_samples_csv, &sim->metrics) < 0))
+        return 1;
     printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.0fx real time)\n", s->name, r.sim_s,
            sim->wall_s, sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0);
     if (pil) {

@@ -250,7 +250,8 @@ static void app_step(void)
 
 /* After a settings change every module derives its constants again (divides, some thousands
  * of cycles each): one module a pass here, so that neither these passes nor the next control
- * step carry them all. Returns 1 while work was done. */
+ * step carry them all (the rate target's stays with the step: it follows the sections too).
+ * Returns 1 while work was done. */
 static uint8_t app_prepare(void)
 {
     if (ap.prep_gen == param_generation && ap.prep == 0)
@@ -263,9 +264,8 @@ static uint8_t app_prepare(void)
     case 0: speed_prepare(); break;
     case 1: flow_prepare(); break;
     case 2: analog_kpa_of_sum(0); break;            /* derives the scale when it is stale */
-    case 3: target_update(hal_sections()); break;
-    case 4: diag_set_nozzles(target_open_nozzles()); break;
-    case 5: valve_prepare(); break;
+    case 3: diag_set_nozzles(target_open_nozzles()); break;
+    case 4: valve_prepare(); break;
     default: ctl_prepare(); ap.prep = 0; break;
     }
     return 1;

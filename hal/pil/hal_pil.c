@@ -129,6 +129,7 @@ static void take(uint8_t what, hal_capture_t *c)
     pil_put(what);
     c->count = get16();
     c->last = get32();
+    c->rejected = pil_get();
 }
 
 void hal_flow_capture_take(hal_capture_t *c)
@@ -139,6 +140,13 @@ void hal_flow_capture_take(hal_capture_t *c)
 void hal_wheel_capture_take(hal_capture_t *c)
 {
     take(PIL_WHEEL, c);
+}
+
+void hal_wheel_min_interval(uint32_t min_ticks)
+{
+    pil_put(PIL_WHEEL_MIN);
+    pil_put16((uint16_t)min_ticks);
+    pil_put16((uint16_t)(min_ticks >> 16));
 }
 
 uint16_t hal_adc_read(uint8_t ch)

@@ -76,7 +76,7 @@ int main(void)
             continue;
         }
         generation = param_generation;
-        pil_put(1);
+        pil_put(pil_measured ? 3 : 1);
         status(app_status.speed_kmh_x100);
         status((uint16_t)app_status.target_lpm_x100);
         status((uint16_t)app_status.flow_lpm_x100);

@@ -14,9 +14,9 @@
  * Tick:   host PIL_TICK ms(4) pca(4) keys(2) sections(1) rx(1) n (id lo hi)*n: the tick's
  *         inputs (rx: bytes waiting in the host's UART queue, at most 255) and the settings the
  *         host changed (scenario events); fw: one app_poll(), its HAL calls as below, then
- *         PIL_DONE cycles(4) fresh(1) and, when fresh is 1, the status the metrics read. The
- *         status is fresh after a pass that measured (a control step: ADC or pulse capture) or
- *         that changed a setting; otherwise it is what the host last got.
+ *         PIL_DONE cycles(4) fresh(1) and, when fresh is not 0, the status the metrics read. The
+ *         status is fresh after a pass that measured (a control step: ADC or pulse capture,
+ *         fresh 3) or that changed a setting (fresh 1); otherwise it is what the host last got.
  * End:    host PIL_QUIT; fw PIL_REPORT stack_hwm(1) stack_start(1), then stops s51.
  * HAL calls during a pass, fw -> host (host answers only where a reply is listed):
  */
@@ -33,8 +33,9 @@
 #define PIL_WDT 'K'
 #define PIL_LCD 'L'         /* rs(1) byte(1) */
 #define PIL_ADC 'A'         /* ch(1) -> counts(2) */
-#define PIL_FLOW 'F'        /* -> count(2) last(4) */
-#define PIL_WHEEL 'H'       /* -> count(2) last(4) */
+#define PIL_FLOW 'F'        /* -> count(2) last(4) rejected(1) */
+#define PIL_WHEEL 'H'       /* -> count(2) last(4) rejected(1) */
+#define PIL_WHEEL_MIN 'N'   /* min_ticks(4) */
 #define PIL_UART_PUT 'P'    /* byte(1) -> taken(1) */
 #define PIL_UART_GET 'G'    /* -> int16(2), -1: none (only asked while the tick said rx > 0) */
 #define PIL_EE_READ 'R'     /* addr(2) -> byte(1) */
