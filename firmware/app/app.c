@@ -51,6 +51,7 @@ static struct {
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
     uint8_t prep;                   /* next module app_prepare derives for ... */
     uint8_t prep_gen;               /* ... this param_generation (all done when it is current) */
+    uint8_t save;                   /* a store_save is due */
 } ap;
 
 void app_init(void)
@@ -78,6 +79,7 @@ void app_init(void)
     ap.internal = 0;
     ap.prep = 0;
     ap.prep_gen = param_generation;
+    ap.save = 0;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -161,7 +163,8 @@ static void app_step(void)
         app_status.spraying = want;
         hal_spray_enable(want);
         if (!want)
-            store_save();               /* the boom shut after spraying: keep the lifetime totals */
+            ap.save = 1;                /* the boom shut after spraying: keep the lifetime totals
+                                           (in a pass of its own, app_poll) */
         if (want) {
             ap.prime = (!manual && analog_pressure_ok() && p < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
             ctl_reset(0);
@@ -288,11 +291,17 @@ void app_poll(void)
     valve_poll(now);
     /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
      * modules' constants, one a pass (a due control step waits for them: a few ms); the
-     * control step alone when it is due; the once-a-second work alone in the pass after; else
+     * control step alone when it is due; a save the step asked for, then the once-a-second
+     * work, alone in the passes after; else
      * the serial link and the console (they wait a millisecond or two for those passes). */
     if (app_prepare())
         return;
     if ((int32_t)(now - ap.next_ms) < 0) {
+        if (ap.save) {
+            ap.save = 0;
+            store_save();
+            return;
+        }
         if (ap.log_div >= APP_LOG_PERIODS) {
             app_second();
             return;
