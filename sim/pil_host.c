@@ -22,6 +22,14 @@ static const char *const k_name[K_COUNT] = {
     "EEPROM writes", "EEPROM erases", "valve outputs"
 };
 
+#define PIL_TOP 5                   /* the worst passes pil_report lists */
+typedef struct {
+    uint32_t cycles;
+    uint64_t tick;
+    unsigned k[K_COUNT];
+    int key, setting;               /* a key changed at the tick; the pass changed a setting */
+} pil_pass_t;
+
 struct pil {
     sim_t *sim;
     pid_t pid;
@@ -32,11 +40,9 @@ struct pil {
     uint16_t sent[P_COUNT];         /* the settings the firmware was given */
     uint32_t *cycles;               /* of each pass */
     size_t n_pass, cap;
-    uint32_t worst;
-    uint64_t worst_tick;
-    unsigned worst_k[K_COUNT], k[K_COUNT];
-    uint8_t keys_prev;
-    int worst_keys;
+    pil_pass_t top[PIL_TOP];        /* the worst passes, worst first */
+    unsigned k[K_COUNT];            /* this pass's HAL calls */
+    uint16_t keys_prev;
     int stack_hwm, stack_start;
     int failed;
 };
@@ -204,7 +210,7 @@ static void pass(void *ctx)
     uint8_t b[16 + 3 * P_COUNT];
     size_t n = 0;
     uint32_t cyc;
-    int fresh;
+    int fresh = 0;
     if (p->failed)
         return;
     b[n++] = PIL_TICK;
@@ -249,13 +255,19 @@ timing:
         }
     }
     p->cycles[p->n_pass++] = cyc;
-    if (cyc > p->worst) {
-        p->worst = cyc;
-        p->worst_tick = p->sim->t_ns / SIM_TICK_NS;
-        memcpy(p->worst_k, p->k, sizeof p->k);
-        p->worst_keys = hal_host_io.keys != p->keys_prev;
+    if (cyc > p->top[PIL_TOP - 1].cycles) {
+        int i = PIL_TOP - 1;
+        while (i > 0 && cyc > p->top[i - 1].cycles) {
+            p->top[i] = p->top[i - 1];
+            i--;
+        }
+        p->top[i].cycles = cyc;
+        p->top[i].tick = p->sim->t_ns / SIM_TICK_NS;
+        memcpy(p->top[i].k, p->k, sizeof p->k);
+        p->top[i].key = hal_host_io.keys != p->keys_prev;
+        p->top[i].setting = fresh == 1;
     }
-    p->keys_prev = (uint8_t)hal_host_io.keys;
+    p->keys_prev = hal_host_io.keys;
 }
 
 pil_t *pil_start(sim_t *sim, const char *ihx, char *err, size_t n)
@@ -378,7 +390,6 @@ void pil_report(const pil_t *p, FILE *f)
     uint32_t *s;
     size_t i, n = p->n_pass, per = 100, periods;
     double sum = 0, share_max = 0, share_sum = 0, period_cycles = PIL_CYCLES_PER_MS * per;
-    int any = 0;
     if (!n) {
         fprintf(f, "pil: no passes\n");
         return;
@@ -405,15 +416,28 @@ void pil_report(const pil_t *p, FILE *f)
                "1T estimate (/%.0f) mean %.0f, p99 %.0f, max %.0f\n",
             n, sum / n, s[(size_t)(0.99 * (n - 1))], s[n - 1], PIL_1T_FACTOR, sum / n / PIL_1T_FACTOR,
             s[(size_t)(0.99 * (n - 1))] / PIL_1T_FACTOR, s[n - 1] / PIL_1T_FACTOR);
-    fprintf(f, "pil: worst pass at tick %llu (%.3f s): %u cycles = %.2f ms at 12T, %.2f ms at 1T; it did:",
-            (unsigned long long)p->worst_tick, p->worst_tick * 1e-3, p->worst, p->worst / PIL_CYCLES_PER_MS,
-            p->worst / PIL_CYCLES_PER_MS / PIL_1T_FACTOR);
-    for (i = 0; i < K_COUNT; i++)
-        if (p->worst_k[i]) {
-            fprintf(f, " %u %s,", p->worst_k[i], k_name[i]);
-            any = 1;
-        }
-    fprintf(f, "%s%s\n", p->worst_keys ? " a key change," : "", any || p->worst_keys ? "" : " no HAL calls");
+    for (i = 0; i < PIL_TOP && p->top[i].cycles; i++) {
+        const pil_pass_t *w = &p->top[i];
+        size_t j;
+        int any = 0;
+        if (i == 0)
+            fprintf(f, "pil: worst pass at tick %llu (%.3f s): %u cycles = %.2f ms at 12T, %.2f ms at 1T; it did:",
+                    (unsigned long long)w->tick, w->tick * 1e-3, w->cycles, w->cycles / PIL_CYCLES_PER_MS,
+                    w->cycles / PIL_CYCLES_PER_MS / PIL_1T_FACTOR);
+        else
+            fprintf(f, "pil: worst pass %zu at tick %llu (%.3f s): %u cycles; it did:", i + 1,
+                    (unsigned long long)w->tick, w->tick * 1e-3, w->cycles);
+        for (j = 0; j < K_COUNT; j++)
+            if (w->k[j]) {
+                fprintf(f, "%s %u %s", any ? "," : "", w->k[j], k_name[j]);
+                any = 1;
+            }
+        if (w->key)
+            fprintf(f, "%s a key change", any ? "," : "");
+        if (w->setting)
+            fprintf(f, "%s a settings change", any || w->key ? "," : "");
+        fprintf(f, "%s\n", any || w->key || w->setting ? "" : " no HAL calls");
+    }
     if (periods)
         fprintf(f, "pil: control period (%zu ms) used: mean %.1f %%, max %.1f %% at 12T; "
                    "1T estimate mean %.1f %%, max %.1f %%\n",
