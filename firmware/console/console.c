@@ -1,10 +1,14 @@
 /* console.c: the operator console: run screen, menus for every parameter, calibrations, totals, alarms (keys in console.h). */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "hal.h"
 #include "params.h"
 #include "app.h"
 #include "ctl.h"
 #include "store.h"
 #include "screen.h"
+#include "fmt.h"
 #include "lcd.h"
 #include "keypad.h"
 #include "console.h"
@@ -65,13 +69,14 @@ static uint8_t cat(uint8_t at, const char *s)
 static uint8_t cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t fmt)
 {
     static const __code uint16_t half[4] = {0, 5, 50, 500};
+    char num[FMT_MAX];
     uint8_t n, drop = (uint8_t)(fmt >> 1);
-    n = screen_fmt(screen_scratch, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)(fmt & CAT_TRIM));
+    n = fmt_u32(num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)(fmt & CAT_TRIM));
     if (drop) {
         n -= drop;
         if (!decimals)
             n--;                    /* and the point */
-        screen_scratch[n] = 0;
+        num[n] = 0;
     }
     if (width && n > width) {
         while (width--)
@@ -80,7 +85,7 @@ static uint8_t cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, 
     }
     while (width-- > n)
         at = cat(at, " ");
-    return cat(at, screen_scratch);
+    return cat(at, num);
 }
 
 /* move line[from..] to the right end of the row, spaces in between */

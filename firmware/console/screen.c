@@ -1,4 +1,7 @@
 /* screen.c: the screen model: a 4 x 16 character buffer with a changed-bit per character pair, and number formatting. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "screen.h"
 
 static char buf[SCREEN_ROWS][SCREEN_COLS];
@@ -38,42 +41,6 @@ void screen_pad(uint8_t row, uint8_t col)
 void screen_line(uint8_t row, const char *s)
 {
     screen_pad(row, screen_puts(row, 0, s));
-}
-
-char screen_scratch[12];
-
-static const __code uint32_t pow10[10] = {
-    1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
-};
-
-/* Decimal without a divide (a 32-bit divide costs thousands of cycles on the 8051): each digit
- * is how often its power of ten can be subtracted; leading zeros are left out down to the
- * units, the point goes in before the last `decimals` digits. */
-uint8_t screen_fmt(char *out, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant
-{
-    uint8_t n = 0, i;
-    char d;
-    for (i = 0; i < 10; i++) {      /* digit i stands 9 - i places left of the units */
-        d = '0';
-        while (v >= pow10[i]) {
-            v -= pow10[i];
-            d++;
-        }
-        if (!n && d == '0' && 9 - i > decimals)
-            continue;
-        if (decimals && 10 - i == decimals)
-            out[n++] = '.';
-        out[n++] = d;
-    }
-    out[n] = 0;
-    if (trim && decimals) {
-        while (out[n - 1] == '0')
-            n--;
-        if (out[n - 1] == '.')
-            n--;
-        out[n] = 0;
-    }
-    return n;
 }
 
 char screen_char(uint8_t row, uint8_t col)
