@@ -158,6 +158,14 @@ static int serve(pil_t *p, int until)
             out[6] = cap.rejected;
             wr(p, out, 7);
             break;
+        case PIL_RESET_CAUSE:
+            out[0] = hal_reset_cause();
+            wr(p, out, 1);
+            break;
+        case PIL_SUPPLY_LOW:
+            out[0] = hal_supply_low();
+            wr(p, out, 1);
+            break;
         case PIL_WHEEL_MIN:
             a = rd16(p);
             hal_wheel_min_interval(a | (uint32_t)rd16(p) << 16);

@@ -157,6 +157,18 @@ uint16_t hal_adc_read(uint8_t ch)
     return get16();
 }
 
+uint8_t hal_reset_cause(void)
+{
+    pil_put(PIL_RESET_CAUSE);
+    return pil_get();
+}
+
+uint8_t hal_supply_low(void)
+{
+    pil_put(PIL_SUPPLY_LOW);
+    return pil_get();
+}
+
 uint8_t hal_sections(void)
 {
     return sections;

@@ -36,6 +36,8 @@
 #define PIL_FLOW 'F'        /* -> count(2) last(4) rejected(1) */
 #define PIL_WHEEL 'H'       /* -> count(2) last(4) rejected(1) */
 #define PIL_WHEEL_MIN 'N'   /* min_ticks(4) */
+#define PIL_RESET_CAUSE 'Y' /* -> cause(1) */
+#define PIL_SUPPLY_LOW 'U'  /* -> low(1) */
 #define PIL_UART_PUT 'P'    /* byte(1) -> taken(1) */
 #define PIL_UART_GET 'G'    /* -> int16(2), -1: none (only asked while the tick said rx > 0) */
 #define PIL_EE_READ 'R'     /* addr(2) -> byte(1) */
