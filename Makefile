@@ -106,7 +106,7 @@ help:
 	@echo "make memory    the 20 largest users of each memory region of the image, the deepest call chain"
 	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev; .venv)"
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
-	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
+	@echo "make bench     machine cycles in s51 of the building blocks and of each controller's step (budget 30,000)"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
 	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
@@ -231,8 +231,9 @@ $(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(STC_DIR)/hal/stc12/hal_stc12.
 	$(call msg,LINK,$@ [s51 program])
 	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $^ -o $@ > $(UC_DIR)/isr_cycles.log 2>&1 || { cat $(UC_DIR)/isr_cycles.log; exit 1; }
 
-# machine cycles in s51: the fixed-point blocks and one step of each controller; the interrupt
-# handlers; the whole firmware's passes, handlers' share and stack over pil_bench's scripted 60 s
+# machine cycles in s51: the fixed-point blocks and one step of each controller, each step against
+# the budget (ctl.h CTL_STEP_BUDGET_CYCLES: 30,000 classic cycles, under 4 ms on the chip); the
+# interrupt handlers; the whole firmware's passes and stack over pil_bench's scripted 60 s
 bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
 	$(Q)tools/bench.sh $(UC_DIR)
 	$(Q)tools/bench_pil.sh $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
