@@ -341,8 +341,8 @@ void console_poll(void)
     }
     if (con.k != KEY_NONE) {
         key();
-        con_draw();
-        con.next_draw_ms = now + CONSOLE_REDRAW_MS;
+        con.next_draw_ms = now + 1u;    /* the new screen in the next pass: a key's work (a save,
+                                           perhaps) and a redraw are a pass each */
     } else if ((int16_t)(now - con.next_draw_ms) >= 0) {
         con_draw();
         con.next_draw_ms = now + CONSOLE_REDRAW_MS;

@@ -159,6 +159,12 @@ int16_t ctl_gain(uint8_t i)
     return i < 3 ? ctl_k[i] : 0;
 }
 
+void ctl_prepare(void)
+{
+    if (ctl_gen != param_generation || ctl_kf == 0)
+        ctl_derive();
+}
+
 q15_t ctl_step(const __xdata ctl_in_t *step_in)
 {
     ctl_in = step_in;

@@ -44,6 +44,8 @@ void ctl_applied(q15_t drive, uint8_t limit) __reentrant;
 #define CTL_STEP_BUDGET_CYCLES 30000UL
 #endif
 q15_t ctl_step(const __xdata ctl_in_t *in);
+/* Derive the constants of changed parameters now, so that the next step need not. */
+void ctl_prepare(void);
 /* The gain (0 kp, 1 ki, 2 kd) the controller used in its last step, Q12, for logs and traces. */
 int16_t ctl_gain(uint8_t i);
 /* Name of a controller for the console and the logs ("pid", "fuzzy_pid", "bp_pid", "ffmap", "aog", "raven"). */
