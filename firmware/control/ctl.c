@@ -96,10 +96,12 @@ static void ctl_derive(void)
     ctl_backlash = b;
     ctl_stiction_half = ctl_stiction / 2;
     ctl_hunt_gap = (int8_t)FM_HUNT_GAP(ctl_travel);   /* Valve time is at most 600: 32 */
+#if FW_PEERS
     if (ctl_id == CTL_AOG)
         ag_derive();
     else if (ctl_id == CTL_RAVEN)
         rv_derive();
+#endif
     ctl_gen = param_generation;
 }
 
@@ -124,8 +126,13 @@ void ctl_reset(q15_t drive_now)
 
 uint8_t ctl_select(uint8_t id)
 {
+#if FW_PEERS
     if (id >= CTL_COUNT)
         return 0;
+#else
+    if (id >= CTL_AOG)
+        return 0;                   /* the field image has no peers (FW_PEERS) */
+#endif
     ctl_id = id;
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {
@@ -177,10 +184,12 @@ q15_t ctl_step(const __xdata ctl_in_t *step_in)
         return fz_step();
     case CTL_BP_PID:
         return bp_step();
+#if FW_PEERS
     case CTL_AOG:
         return ag_step();
     case CTL_RAVEN:
         return rv_step();
+#endif
     default:
         return fm_step();
     }
