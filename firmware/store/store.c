@@ -14,7 +14,9 @@
 #define CRC_N(n) (LIFE_N(n) + 8u)
 
 static uint8_t status;              /* STORE_* */
-static uint8_t newest;              /* sector (0, 1) holding the copy loaded or saved last */
+static uint8_t newest;              /* sector (0, 1) holding the copy loaded or saved last;
+                                     * NO_COPY when neither held a valid one */
+#define NO_COPY 2
 static uint16_t seq;                /* its sequence number */
 
 static const char __code *const __code status_texts[] = {
@@ -73,7 +75,7 @@ uint8_t store_load(void) __reentrant
     params_defaults();
     if (!v0 && !v1) {
         status = STORE_DEFAULTS;
-        newest = 1;                 /* the first save goes to sector 0 */
+        newest = NO_COPY;           /* the first save goes to sector 0 and erases sector 1 */
         seq = 0;
         return status;
     }
@@ -109,6 +111,10 @@ uint8_t store_save(void) __reentrant
     uint16_t next = (uint16_t)(seq + 1u);
     uint8_t i, b, ok = 1;
     const totals_t *t = totals_get();
+    /* After a boot on the defaults the other sector may hold anything (another version's copy,
+     * noise) that the next load would take for this save's cut successor: it goes too. */
+    if (newest == NO_COPY)
+        hal_eeprom_erase(HAL_EEPROM_SECTOR);
     hal_eeprom_erase(base);
     for (i = 0; i < CRC_AT; i++) {
         if (i == 0)
