@@ -67,6 +67,9 @@ typedef struct {
     int open_nozzles;               /* truth: nozzles in the open sections */
     int sections;                   /* switch bits the firmware reads */
     unsigned alarms;                /* firmware: app_status.alarms */
+    double ref_lpm;                 /* the metrics' reference target: the settings at the true wheel speed */
+    double rate_l_ha;               /* the set rate now */
+    double width_m;                 /* the open boom's width */
 } sim_row_t;
 
 typedef struct {
