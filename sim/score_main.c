@@ -45,6 +45,7 @@ typedef struct {
 static void usage(FILE *f)
 {
     fputs("usage: score RUN.csv [--scenario FILE] [--rate L_HA] [--nozzles N] [--spacing-cm CM] [--name NAME]\n"
+          "             [--zones OUT.csv]\n"
           "  the metrics of PLANT.md (sim/metrics.c, the simulator's own) of a recorded run, as one JSON line:\n"
           "  a simulator trace (sim --csv), a monitor or serial_log recording (tools/monitor.py, serial_log.py).\n"
           "  The settings (rate, nozzles, spacing) come from the scenario, the options, or the defaults.\n", f);
@@ -92,7 +93,7 @@ static int cmp_double(const void *a, const void *b)
 
 int main(int argc, char **argv)
 {
-    const char *path = NULL, *scn_path = NULL, *name = NULL;
+    const char *path = NULL, *scn_path = NULL, *name = NULL, *zones_path = NULL;
     double rate = -1, nozzles = -1, spacing = -1;
     int col[C_N], i, n_fields, line_no = 0, n_rows = 0, cap = 0;
     char line[4096], *f[MAX_COLS], err[512], extra[700], clean[256];
@@ -124,6 +125,8 @@ int main(int argc, char **argv)
         }
         if (!strcmp(a, "--scenario"))
             scn_path = v;
+        else if (!strcmp(a, "--zones"))
+            zones_path = v;
         else if (!strcmp(a, "--name"))
             name = v;
         else if (!strcmp(a, "--rate")) {
@@ -283,13 +286,14 @@ int main(int argc, char **argv)
         double p = col[C_PBAR] >= 0 ? rw->v[C_PBAR] : col[C_PKPA] >= 0 ? rw->v[C_PKPA] / 100.0
                  : col[C_PMPA] >= 0 ? rw->v[C_PMPA] * 10.0 : 0.0;
         int spray = col[C_SPRAY] >= 0 ? rw->v[C_SPRAY] != 0 : target > 0;
-        double width = col[C_WIDTH] >= 0 ? rw->v[C_WIDTH]
-                     : col[C_OPEN] >= 0 ? rw->v[C_OPEN] * param_v[P_SPACING] / 100.0 : width_set;
-        double rate_now = col[C_RATE] >= 0 ? rw->v[C_RATE] : param_v[P_RATE];
+        /* the settings are states at the row's instant: the slice up to it had the previous row's */
+        const row_t *st = i ? &rows[i - 1] : rw;
+        double width = col[C_WIDTH] >= 0 ? st->v[C_WIDTH]
+                     : col[C_OPEN] >= 0 ? st->v[C_OPEN] * param_v[P_SPACING] / 100.0 : width_set;
+        double rate_now = col[C_RATE] >= 0 ? st->v[C_RATE] : param_v[P_RATE];
         unsigned rise = rw->alarms & ~prev_alarms;
         uint8_t b;
         metrics_add(&m, dt, v_slice / 3.6, nozzle, width, rate_now, p, spray);
-        metrics_target(&m, dt, v_slice / 3.6, meas, target, 0);
         metrics_sample(&m, ref, target, flow, work, spray);
         for (b = 0; b < 16; b++)
             if (rise & (1u << b)) {
@@ -304,12 +308,10 @@ int main(int argc, char **argv)
         prev_alarms = rw->alarms;
     }
     metrics_finish(&m, &r);
-    /* what a recording cannot tell: the valve's wear; the meter's share of the dose error
-     * without the truth beside it */
+    /* what a recording cannot tell: the valve's wear, and the dose error's split (it needs what
+     * a meter true to its calibration reads and the valve's end stops, every millisecond) */
     r.valve_reversals = r.valve_reversals_per_min = r.valve_travel_strokes = NAN;
-    r.dose_ctl_stop_pct = NAN;
-    if (col[C_BOOM] < 0)
-        r.dose_meter_pct = NAN;
+    r.dose_target_pct = r.dose_meter_pct = r.dose_ctl_pct = r.dose_ctl_stop_pct = NAN;
     snprintf(clean, sizeof clean, "%s", name ? name : path);
     for (i = 0; clean[i]; i++)
         if ((unsigned char)clean[i] < 32 || clean[i] == '\\' || clean[i] == '"')
@@ -317,6 +319,18 @@ int main(int argc, char **argv)
     snprintf(extra, sizeof extra,
              "\"scenario\":\"%s\",\"score_source\":\"%s\",\"score_rows\":%d,\"score_sample_s\":%.3f,",
              clean, col[C_VTRUE] >= 0 && col[C_BOOM] >= 0 ? "truth" : "measured", n_rows, dt_sample);
+    if (zones_path) {
+        FILE *z = fopen(zones_path, "w");
+        if (!z) {
+            fprintf(stderr, "score: cannot write %s: %s\n", zones_path, strerror(errno));
+            return 1;
+        }
+        metrics_zones_csv(z, &m);
+        if (fclose(z) != 0) {
+            fprintf(stderr, "score: error writing %s: %s\n", zones_path, strerror(errno));
+            return 1;
+        }
+    }
     metrics_json(stdout, &m, &r, extra, 0.0);
     metrics_free(&m);
     free(rows);
