@@ -89,7 +89,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: fuzz fuzz-merge firmware flash deps test host-tests target-tests bench sim sim-progs demo compare \
+.PHONY: fuzz fuzz-merge firmware flash deps test host-tests target-tests bench sim sim-progs demo compare family \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -101,6 +101,7 @@ help:
 	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
+	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1]   the controllers over N sprayers of the plant family"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen and a menu as PNG in docs/"
@@ -206,6 +207,14 @@ compare: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
 	$(Q)echo
 	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN)
+
+# the controllers over N sprayers drawn from the plant family (docs/SCENARIOS.md): median and 95th
+# percentile per controller; every run in build/family/runs.csv, the table in summary.json
+N ?= 200
+CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid
+SEED ?= 1
+family: $(SIM_BIN)
+	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --out $(BUILD)/family
 
 # ==== the simulator, the demo and the virtual panel ========================================================
 # Programs from sim/*_main.c, linked with the -O2 library: build/host/bin/<name> (build/host/sim/

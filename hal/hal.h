@@ -24,9 +24,14 @@ uint32_t hal_pca_now(void);
 typedef struct {
     uint16_t count;     /* edges since the previous take */
     uint32_t last;      /* PCA time of the newest edge */
+    uint8_t rejected;   /* edges dropped as too early since the previous take (saturates) */
 } hal_capture_t;
 void hal_flow_capture_take(hal_capture_t *c);
 void hal_wheel_capture_take(hal_capture_t *c);
+/* The wheel input drops an edge that comes sooner than min_ticks after the last one it kept
+ * (bounce, interference: a real pulse cannot come that early) and counts it in `rejected`;
+ * 0 keeps every edge. The speed module sets it each period from the speed it measures. */
+void hal_wheel_min_interval(uint32_t min_ticks);
 
 /* ---- analog inputs: 10-bit ADC (0..1023 over 0..5 V), 4-20 mA through 250 ohm ------------ */
 #define HAL_ADC_PRESSURE 0

@@ -380,6 +380,16 @@ void metrics_start(const metrics_series_t *s, double *first, double *longest)
         *longest = worst;
 }
 
+static void step_means(const metrics_step_t *st, int n, metrics_result_t *r);
+
+static void num(FILE *f, const char *key, double v, int comma)
+{
+    if (isfinite(v))
+        fprintf(f, "\"%s\":%.6g%s", key, v, comma ? "," : "");
+    else
+        fprintf(f, "\"%s\":null%s", key, comma ? "," : "");
+}
+
 /* ---- the figures -------------------------------------------------------------------------------- */
 void metrics_finish(metrics_t *m, metrics_result_t *r)
 {
@@ -460,28 +470,87 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
         metrics_start(&ser, &r->start_s, &r->start_max_s);
     }
     r->steps = m->steps;
-    r->overshoot_mean_pct = r->overshoot_max_pct = r->settle_mean_s = r->settle_max_s = NAN;
-    if (r->n_steps > 0) {
-        double so = 0, ss = 0, mo = 0, ms = 0;
-        for (i = 0; i < r->n_steps; i++) {
-            so += m->steps[i].overshoot_pct;
-            ss += m->steps[i].settle_5pct_s;
-            mo = fmax(mo, m->steps[i].overshoot_pct);
-            ms = fmax(ms, m->steps[i].settle_5pct_s);
-        }
-        r->overshoot_mean_pct = so / r->n_steps;
-        r->overshoot_max_pct = mo;
-        r->settle_mean_s = ss / r->n_steps;
-        r->settle_max_s = ms;
-    }
+    step_means(m->steps, r->n_steps, r);
 }
 
-static void num(FILE *f, const char *key, double v, int comma)
+static void steps_array(FILE *f, const metrics_step_t *st, int n)
 {
-    if (isfinite(v))
-        fprintf(f, "\"%s\":%.6g%s", key, v, comma ? "," : "");
-    else
-        fprintf(f, "\"%s\":null%s", key, comma ? "," : "");
+    int i;
+    fputs("\"steps\":[", f);
+    for (i = 0; i < n; i++) {
+        const metrics_step_t *s = &st[i];
+        fputc('{', f);
+        num(f, "t_s", s->t_s, 1);
+        num(f, "from_lpm", s->from_lpm, 1);
+        num(f, "to_lpm", s->to_lpm, 1);
+        num(f, "rise_s", s->rise_s, 1);
+        num(f, "overshoot_pct", s->overshoot_pct, 1);
+        num(f, "settle_5pct_s", s->settle_5pct_s, 1);
+        num(f, "settle_2pct_s", s->settle_2pct_s, 1);
+        fprintf(f, "\"settled_5pct\":%s,\"settled_2pct\":%s,", s->settled_5 ? "true" : "false",
+                s->settled_2 ? "true" : "false");
+        num(f, "sse_pct", s->sse_pct, 0);
+        fprintf(f, "}%s", i + 1 < n ? "," : "");
+    }
+    fputs("],", f);
+}
+
+/* The means of a set of steps (NaN for none). */
+static void step_means(const metrics_step_t *st, int n, metrics_result_t *r)
+{
+    int i;
+    double so = 0, ss = 0, mo = 0, ms = 0;
+    r->overshoot_mean_pct = r->overshoot_max_pct = r->settle_mean_s = r->settle_max_s = NAN;
+    if (n <= 0)
+        return;
+    for (i = 0; i < n; i++) {
+        so += st[i].overshoot_pct;
+        ss += st[i].settle_5pct_s;
+        mo = fmax(mo, st[i].overshoot_pct);
+        ms = fmax(ms, st[i].settle_5pct_s);
+    }
+    r->overshoot_mean_pct = so / n;
+    r->overshoot_max_pct = mo;
+    r->settle_mean_s = ss / n;
+    r->settle_max_s = ms;
+}
+
+void metrics_steps_json(FILE *f, const metrics_series_t *s)
+{
+    metrics_result_t r;
+    metrics_step_t *st = NULL;
+    int n = metrics_find_steps(s, NULL, 0);
+    memset(&r, 0, sizeof r);
+    if (n > 0) {
+        st = malloc(sizeof *st * (size_t)n);
+        if (!st) {
+            fprintf(stderr, "metrics: out of memory\n");
+            abort();
+        }
+        metrics_find_steps(s, st, n);
+    }
+    step_means(st, n, &r);
+    metrics_start(s, &r.start_s, &r.start_max_s);
+    fputc('{', f);
+    steps_array(f, st, n);
+    num(f, "overshoot_mean_pct", r.overshoot_mean_pct, 1);
+    num(f, "overshoot_max_pct", r.overshoot_max_pct, 1);
+    num(f, "settle_mean_s", r.settle_mean_s, 1);
+    num(f, "settle_max_s", r.settle_max_s, 1);
+    fprintf(f, "\"steps_scored\":%d,", n);
+    num(f, "start_s", r.start_s, 1);
+    num(f, "start_max_s", r.start_max_s, 1);
+    fprintf(f, "\"samples\":%d}\n", s->n);
+    free(st);
+}
+
+void metrics_samples_csv(FILE *f, const metrics_t *m)
+{
+    int k;
+    fputs("t_s,ref_lpm,target_lpm,flow_lpm,work,spray\n", f);
+    for (k = 0; k < m->n_samples; k++)
+        fprintf(f, "%.1f,%.17g,%.17g,%.17g,%d,%d\n", k * m->sample_dt_s, m->ref[k], m->target[k], m->flow[k],
+                m->work[k], m->spray[k]);
 }
 
 void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s)
@@ -507,23 +576,7 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "zone_error_all_min_pct", r->zone_error_all_min_pct, 1);
     num(f, "zone_error_all_max_pct", r->zone_error_all_max_pct, 1);
     fprintf(f, "\"zones\":%d,\"zones_v4\":%d,", r->zones_all, r->zones_used);
-    fputs("\"steps\":[", f);
-    for (i = 0; i < r->n_steps; i++) {
-        const metrics_step_t *s = &r->steps[i];
-        fputc('{', f);
-        num(f, "t_s", s->t_s, 1);
-        num(f, "from_lpm", s->from_lpm, 1);
-        num(f, "to_lpm", s->to_lpm, 1);
-        num(f, "rise_s", s->rise_s, 1);
-        num(f, "overshoot_pct", s->overshoot_pct, 1);
-        num(f, "settle_5pct_s", s->settle_5pct_s, 1);
-        num(f, "settle_2pct_s", s->settle_2pct_s, 1);
-        fprintf(f, "\"settled_5pct\":%s,\"settled_2pct\":%s,", s->settled_5 ? "true" : "false",
-                s->settled_2 ? "true" : "false");
-        num(f, "sse_pct", s->sse_pct, 0);
-        fprintf(f, "}%s", i + 1 < r->n_steps ? "," : "");
-    }
-    fputs("],", f);
+    steps_array(f, r->steps, r->n_steps);
     num(f, "overshoot_mean_pct", r->overshoot_mean_pct, 1);
     num(f, "overshoot_max_pct", r->overshoot_max_pct, 1);
     num(f, "settle_mean_s", r->settle_mean_s, 1);

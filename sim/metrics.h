@@ -1,4 +1,4 @@
-/* metrics.h: the control-quality figures of PLANT.md (dose, 5 m zones, steps of the target, pressure, alarms). */
+/* metrics.h: the control-quality figures of docs/SCENARIOS.md (dose, 5 m zones, steps of the target, pressure, alarms). */
 #ifndef SIM_METRICS_H
 #define SIM_METRICS_H
 
@@ -135,9 +135,14 @@ void metrics_finish(metrics_t *m, metrics_result_t *r);
 int metrics_find_steps(const metrics_series_t *s, metrics_step_t *out, int max);
 /* start_s of the series: the first opening (first) and the longest (max); NaN where none. */
 void metrics_start(const metrics_series_t *s, double *first, double *longest);
+/* The step series as CSV: t_s, ref_lpm, target_lpm, flow_lpm, work, spray (one row a sample). */
+void metrics_samples_csv(FILE *f, const metrics_t *m);
+/* The step figures of a series alone (steps, their means, steps_scored, start_s) as one JSON
+ * object on one line: what `score` prints for a series read back from CSV. */
+void metrics_steps_json(FILE *f, const metrics_series_t *s);
 /* The finished zones as CSV: zone, start_m, vol_l, expect_l, time_s, mean_kmh, error_pct. */
 void metrics_zones_csv(FILE *f, const metrics_t *m);
-/* The result as one JSON object on one line (keys as in PLANT.md; NaN prints as null).
+/* The result as one JSON object on one line (keys as in docs/SCENARIOS.md; NaN prints as null).
  * extra (may be NULL) is inserted verbatim after the opening brace, e.g. "\"scenario\":\"x\",". */
 void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s);
 

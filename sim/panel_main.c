@@ -15,7 +15,7 @@
 #include "keypad.h"
 #include "app.h"
 
-/* Without --scenario: a field at a constant 8 km/h for an hour, the defaults of PLANT.md. */
+/* Without --scenario: a field at a constant 8 km/h for an hour, the defaults of docs/SCENARIOS.md. */
 static const char default_scn[] =
     "[run]\nduration_s = 3600\n[drive]\n0 0\n5 8\n3600 8\n";
 

@@ -1,4 +1,4 @@
-/* plant.c: the sprayer model of PLANT.md: one implicit step of the line pressure a tick, sensors with exact edge times. */
+/* plant.c: the sprayer model of docs/SCENARIOS.md: one implicit step of the line pressure a tick, sensors with exact edge times. */
 #include <math.h>
 #include <string.h>
 #include "plant.h"
@@ -99,7 +99,7 @@ double plant_boom_flow(const plant_t *pl, double p_bar)
     return p_bar > pl->p.check_valve_bar ? a * sqrt(p_bar - pl->p.check_valve_bar) : 0.0;
 }
 
-/* The turbine's K curve: the nominal K in its range, falling off below it (PLANT.md):
+/* The turbine's K curve: the nominal K in its range, falling off below it (docs/SCENARIOS.md):
  * -3 % at 7.5 L/min, -15 % at 3 L/min, -40 % at 1.5 L/min, nothing below 1.5; linear between
  * the points, the full K from 15 L/min up. */
 double plant_meter_k(const plant_t *pl, double q)
@@ -254,7 +254,7 @@ double plant_valve_speed(const plant_t *pl, double drive)
     return drive < 0.0 ? -w : w;
 }
 
-/* The DC gear motor (PLANT.md): from rest it starts only at abs(d) >= d_break; moving, a drive
+/* The DC gear motor (docs/SCENARIOS.md): from rest it starts only at abs(d) >= d_break; moving, a drive
  * that pushes its way with abs(d) >= d_run pulls its speed towards (abs(d) - d_run)/(1 - d_run)/T
  * with the time constant tau_m, anything else brakes it towards 0 with tau_m; below 1 % of full
  * speed, or at an end stop, it is at rest. Speed and position are integrated exactly over the

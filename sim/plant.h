@@ -1,4 +1,4 @@
-/* plant.h: the sprayer behind the host HAL: tractor, PTO pump, relief and bypass valves, boom, tank and sensors (PLANT.md). */
+/* plant.h: the sprayer behind the host HAL: tractor, PTO pump, relief and bypass valves, boom, tank and sensors (docs/SCENARIOS.md). */
 #ifndef SIM_PLANT_H
 #define SIM_PLANT_H
 
@@ -7,8 +7,7 @@
 
 /*
  * Every physical key of a scenario's [plant] section: X(key, default, min, max, integer).
- * The key carries its unit. Defaults and reasons are in ../shared/PLANT.md; the two keys
- * marked "extra" are not in PLANT.md's list and default to what PLANT.md implies.
+ * The key carries its unit. Defaults, ranges and reasons are in docs/SCENARIOS.md.
  */
 #define PLANT_KEYS(X)                                                                     \
     X(pump_lpm_at_540,           120,   0,     2000,   0)                                 \
@@ -28,7 +27,7 @@
     X(valve_motor_tau_s,         0.05,  0.001, 5,      0)                                 \
     X(valve_start_pos,           0,     0,     1,      0)                                 \
     X(line_compliance_l_per_bar, 0.03,  0.001, 10,     0)                                 \
-    X(line_loss_bar_at_50lpm,    0.025, 0,     5,      0)  /* extra: k_line = this/50^2 */ \
+    X(line_loss_bar_at_50lpm,    0.025, 0,     5,      0)  /* k_line = this/50^2 */ \
     X(nozzle_lpm_at_3bar,        1.18,  0.05,  20,     0)                                 \
     X(check_valve_bar,           0.3,   0,     5,      0)                                 \
     X(nozzle_wear_pct,           0,     -50,   200,    0)                                 \
@@ -45,7 +44,7 @@
     X(wheel_spacing_jitter_pct,  2,     0,     20,     0)                                 \
     X(speed_bounce_pct,          0,     0,     100,    0)                                 \
     X(pressure_noise_lsb,        1,     0,     100,    0)                                 \
-    X(level_noise_lsb,           1,     0,     100,    0)  /* extra: the level's ADC noise */ \
+    X(level_noise_lsb,           1,     0,     100,    0)  /* the level's ADC noise */ \
     X(tractor_lag_s,             1,     0.01,  60,     0)                                 \
     X(tractor_accel_max,         0.5,   0.01,  20,     0)
 
@@ -136,7 +135,7 @@ typedef struct {
     rng_t rng;
 } plant_t;
 
-/* The defaults of PLANT.md (36 nozzles at 50 cm). */
+/* The defaults of docs/SCENARIOS.md (36 nozzles at 50 cm). */
 void plant_params_default(plant_params_t *p);
 /* Start a plant at rest at time 0: tank at tank_start_l, valve at valve_start_pos, all nozzles
  * open, line pressure 0; the seed drives the sensor noise, the pulsation phase and bounce. */

@@ -31,6 +31,7 @@ static const cfg_key_t cfg_keys[] = {
     {"valve_stiction_duty", P_VALVE_BRK, 100},      /* ... its Min duty, stored in % */
     {"valve_backlash", P_VALVE_SLACK, 1000},        /* ... its Backlash, stored in 0.1 % */
     {"nozzle_lpm_at_3bar", P_NOZZLE_Q3, 100},
+    {"wheel_pulses_per_rev", P_WHEEL_PPR, 1},      /* the elements a turn whose spacing is learnt */
 };
 #define N_CFG (sizeof cfg_keys / sizeof cfg_keys[0])
 

@@ -1,4 +1,4 @@
-/* scenario.h: the scenario file of PLANT.md ([run] [config] [plant] [drive] [events]), read strictly. */
+/* scenario.h: the scenario file of docs/SCENARIOS.md ([run] [config] [plant] [drive] [events]), read strictly. */
 #ifndef SIM_SCENARIO_H
 #define SIM_SCENARIO_H
 

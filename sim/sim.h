@@ -15,7 +15,7 @@
  *     sim_run(sim, 60.0);                         // up to t = 60 s (or sim_step() tick by tick)
  *     sim_event(sim, EV_METER_FAIL, 0);           // apply an event now (scenario.h SCN_EVENTS)
  *     sim_run(sim, s->duration_s);
- *     metrics_result_t r; sim_finish(sim, &r);    // the metrics of PLANT.md
+ *     metrics_result_t r; sim_finish(sim, &r);    // the metrics of docs/SCENARIOS.md
  *     sim_json(sim, &r, stdout);                  // ... as one JSON line
  *     sim_free(sim);
  *

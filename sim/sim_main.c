@@ -12,10 +12,12 @@
 static void usage(FILE *f)
 {
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
-          "           [--zones OUT.csv] [--serial OUT.txt] [--pty [--pace X] [--wait S]]\n"
+          "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--pty [--pace X] [--wait S]]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
-          "  prints the metrics of PLANT.md as one JSON object on the last line.\n"
+          "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n"
+          "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
+          "  build/host/bin/steps reads it back).\n"
           "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n"
           "  --pty: the link on a new pseudo-terminal (its name on stderr) that tools/monitor.py opens like a\n"
           "    port; the run starts when it is opened (--wait S, default 60), at X times real time (--pace,\n"
@@ -107,7 +109,7 @@ static int parse_u64(const char *s, unsigned long long *v)
 
 int main(int argc, char **argv)
 {
-    const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL;
+    const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL, *samples_path = NULL;
     const char *serial_path = NULL;
     FILE *serial = NULL;
     unsigned long long seed = 0;
@@ -144,6 +146,8 @@ int main(int argc, char **argv)
             csv_path = v;
         else if (!strcmp(a, "--zones"))
             zones_path = v;
+        else if (!strcmp(a, "--samples"))
+            samples_path = v;
         else if (!strcmp(a, "--serial"))
             serial_path = v;
         else if (!strcmp(a, "--seed")) {
@@ -249,6 +253,18 @@ int main(int argc, char **argv)
         metrics_zones_csv(z, &sim->metrics);
         if (fclose(z) != 0) {
             fprintf(stderr, "sim: error writing %s: %s\n", zones_path, strerror(errno));
+            return 1;
+        }
+    }
+    if (samples_path) {
+        FILE *z = fopen(samples_path, "w");
+        if (!z) {
+            fprintf(stderr, "sim: cannot write %s: %s\n", samples_path, strerror(errno));
+            return 1;
+        }
+        metrics_samples_csv(z, &sim->metrics);
+        if (fclose(z) != 0) {
+            fprintf(stderr, "sim: error writing %s: %s\n", samples_path, strerror(errno));
             return 1;
         }
     }

@@ -50,7 +50,7 @@ def main():
     print("alarms: %s" % (", ".join("%s at %.1f s" % (a["code"], a["t_s"]) for a in alarms) or "none"))
     print("simulated %s s in %s s of wall time" % (fmt(m.get("sim_s")), fmt(m.get("wall_s"))))
     print("paper: field test of section 5.1 (150 L/ha, 4-11 km/h, throttle) and Table 4 (3220 m run);")
-    print("here the sprayer is the model of PLANT.md, so the figures compare control, not the field.")
+    print("here the sprayer is the model of docs/SCENARIOS.md, so the figures compare control, not the field.")
 
 
 if __name__ == "__main__":

@@ -228,21 +228,24 @@ def main():
         for key, col, _ in FIGURES:
             vals = [r[col] for r in rs]
             s[key] = {"median": pct(vals, 0.5), "p95": pct(vals, 0.95)}
+        # the family has no faults: every alarm is one the plant gave no cause for
         s["alarm_runs"] = sum(1 for r in rs if r["alarms"])
-        s["alarm_codes"] = sorted({x for r in rs for x in r["alarms"].split()})
+        codes = sorted({x for r in rs for x in r["alarms"].split()})
+        s["alarm_codes"] = {c2: sum(1 for r in rs if c2 in r["alarms"].split()) for c2 in codes}
         for told in (0, 1):
             s["cv_median_%s" % ("told" if told else "untold")] = pct([r["cv_pct"] for r in rs if r["told"] == told], 0.5)
         summary["controllers"][c] = s
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
-    head = "%-10s" % "" + "".join("%22s" % lab for _, _, lab in FIGURES) + "  alarm runs"
+    head = "%-10s" % "" + "".join("%22s" % lab for _, _, lab in FIGURES) + "  runs with alarms (code: runs)"
     print("plant family: %d plants (seed %d, %s runs), median / 95th percentile" % (a.n, a.seed, a.kind))
     print(head)
     for c in ctls:
         s = summary["controllers"][c]
         cells = "".join("%22s" % ("%.3g / %.3g" % (s[k]["median"], s[k]["p95"]) if s[k]["median"] is not None
                                   else "-") for k, _, _ in FIGURES)
-        print("%-10s%s  %d %s" % (c, cells, s["alarm_runs"], ",".join(s["alarm_codes"])))
+        print("%-10s%s  %d %s" % (c, cells, s["alarm_runs"],
+                                  " ".join("%s:%d" % kv for kv in s["alarm_codes"].items())))
     print("wrote %s and %s" % (os.path.join(a.out, "runs.csv"), os.path.join(a.out, "summary.json")))
 
 

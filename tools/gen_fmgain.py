@@ -7,7 +7,7 @@ ln(R) * hm(Q_v, Q_b P / (P - Pc)), hm(a, b) = a b / (a + b), Q_v = Cv(theta) sqr
 bypass flow, Q_b the boom flow, Pc the nozzles' check valves. ffmap scales its feedback by
 g = K_GS (1 / Q_v + (1 - Pc / P) / Q_b), a gain of 1 at 80 L/min a stroke, clamped to
 [0.7, 1.6]; no divide in the step: the reciprocals come from these tables (linear between
-nodes), for the valve of PLANT.md (Cv 120 L/min/sqrt(bar) open, rangeability 30) and check
+nodes), for the valve of docs/SCENARIOS.md (Cv 120 L/min/sqrt(bar) open, rangeability 30) and check
 valves at 0.3 bar.
 
   fm_inv_cv[17]   4096 / Cv(o), o = opening 0 .. 1 in 16 steps (capped at 32767)

@@ -138,7 +138,7 @@ def field(rate):
 
 
 def faults(rate):
-    """Every fault of PLANT.md once, at a steady 8 km/h: what the alarms must catch."""
+    """Every fault of docs/SCENARIOS.md once, at a steady 8 km/h: what the alarms must catch."""
     ev = [(60, "leak_lpm 12"), (90, "leak_lpm 0"), (120, "clog_nozzles 6"), (150, "clog_nozzles 0"),
           (180, "pressure_sensor_open"), (200, "pressure_sensor_restore"), (220, "valve_stuck"),
           (230, "rate_l_ha %d" % (rate - 25)), (250, "valve_free"), (260, "speed_sensor_fail"),

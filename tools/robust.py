@@ -2,7 +2,7 @@
 """robust.py: best and bp_pid on valves that differ from the defaults, told or not told.
 
 usage: robust.py SIM_BIN [--seeds A-B] [--only NAME,NAME...]
-Each case changes the simulated valve ([plant] keys of PLANT.md) and says what the firmware is
+Each case changes the simulated valve ([plant] keys of docs/SCENARIOS.md) and says what the firmware is
 told about it ([config] keys: its Valve time, Min duty and Backlash parameters). The scenarios
 are the 150 L/ha ones of scenarios/ (target steps, the paper's run coupled and with a fixed PTO,
 the field run), rewritten to a temporary directory; both controllers run on the same seeds

@@ -77,7 +77,7 @@ stack_check_fails() {  # the static stack-depth check must refuse an image given
     ! python3 tools/stackdepth.py $B/stc12 --free 16
 }
 check stack-depth-check-refuses-too-little-stack stack_check_fails
-sabotage_is_caught() {  # fx_mul_shift truncating on the target only must break the comparison
+sabotage_is_caught() {  # the controllers' multiply (mul_ab) wrong on the target only must break the comparison
     make $B/ucsim-variant/tt_fixed.ihx SDCC_EXTRA=-DFX_SABOTAGE || return 1
     ! tools/run_target.sh $B/ucsim-variant/tt_fixed.ihx $B/host-test/target/tt_fixed $B/ucsim-variant
 }

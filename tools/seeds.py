@@ -4,7 +4,7 @@
 usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--four | --split SCENARIO]
 One seed is one draw of the plant's noise (pump pulsation phase, sensor noise, meter and wheel
 pulse timing); a single run can favour either controller by luck. For each scenario below and
-each seed (default 1-16) both controllers run on the same plant; the figures of PLANT.md are
+each seed (default 1-16) both controllers run on the same plant; the figures of docs/SCENARIOS.md are
 averaged over the seeds, and best's mean is compared with bp_pid's on every figure (dose error
 as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
 table and the count of figures where best's mean is worse; -v also prints the per-seed values
@@ -12,7 +12,7 @@ of those; for a worse dose error, the split of the signed means into the target'
 the controller's (the JSON's dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct). --four:
 instead, the means of all four controllers on the 150 L/ha scenarios (the
 paper's ordering, without the luck of one seed). Also prints the valve's wear a minute (motor
-reversals, strokes travelled), which PLANT.md does not define and the count leaves out. Two runs at
+reversals, strokes travelled), which docs/SCENARIOS.md does not define and the count leaves out. Two runs at
 a time; stdlib only.
 --split SCENARIO: instead, where best's and bp_pid's flow leaves its target on that scenario
 (mean over the seeds, % of the target volume at v >= 4 km/h, from a 0.1 s trace): while the
@@ -164,7 +164,7 @@ def main():
             if bad:
                 worse.append((s, k, ma, mb, va, vb))
         print("  %-28s %s" % (s, "; ".join(cells)))
-    # the valve's wear (not a PLANT.md figure, so not counted above): motor reversals and strokes
+    # the valve's wear (not a docs/SCENARIOS.md figure, so not counted above): motor reversals and strokes
     # travelled a minute (the sim JSON's valve_reversals, valve_travel_strokes over sim_s)
     if all("valve_reversals" in r for r in res.values()):
         print("valve wear, a minute (best/bp_pid; not counted below):")

@@ -1,8 +1,9 @@
-/* ctl_int.h: the controllers' internal states and constants, for ctl.c and the tests (twins, target runs). */
+/* ctl_int.h: the controllers' internal states and constants, for the controllers' files and the tests. */
 #ifndef CTL_INT_H
 #define CTL_INT_H
 
 #include "ctl.h"
+#include "mul.h"
 
 /* ---- common ---------------------------------------------------------------------------- */
 #define CTL_FLOW_SCALE_LPM 100      /* L/min of boom flow per full valve stroke (normalisation) */
@@ -37,7 +38,6 @@ typedef struct {
 #define BP_HID 5
 #define BP_OUT 3
 #define BP_ETA Q12(0.2)
-#define BP_ALPHA Q12(0.05)
 #define BP_WMAX Q12(4.0)            /* weight bound (a deviation: keeps tanh out of its flat tails) */
 #define BP_SEED 0x2020u             /* initial weights: xorshift16 from this seed */
 #define BP_Q_NORM 26844             /* flows to the network: q / 50 L/min, Q12: x100 * 0.8192 (Q15 const) */
@@ -89,10 +89,23 @@ extern const FX_CODE int16_t fm_inv_q[33];      /* 65536 / Q, Q = 2.56 k L/min *
 #define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
 /* x100 L/min a Q15 stroke moves at the default slope (Q15): 512 * 32768 / FM_DEF_SLOPE */
 #define FM_COVER 9998
-#ifndef FM_WARM
 #define FM_WARM 200                 /* periods (20 s) after a (re)start before the map learns: the
                                      * pump may still spin up (coupled PTO) and the line prime */
-#endif
+#define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
+#define FM_KI Q12(0.5)
+#define FM_LEAD Q15(0.5)            /* p_ref stays within this of p_hat (anti-windup) */
+#define FM_REV_MIN Q15(0.004)       /* smallest move worth a reversal */
+#define FM_REV_MIN_REST Q15(0.001)  /* ... inside the band (the slow integral alone moves p_ref) */
+#define FM_CALM 5                   /* periods of calm before the map learns */
+#define FM_IGATE Q15(0.02)          /* integral only while |p_ref - p_hat| is under this */
+#define FM_DB_IN 8                  /* deadband: the feedback rests once |e| <= target >> FM_DB_IN (0.4 %) */
+#define FM_DB_OUT 7                 /* ... and re-engages beyond target >> FM_DB_OUT (0.8 %) */
+#define FM_REST_KI Q12(0.25)        /* integral only, at half the gain, inside the band */
+#define FM_REST_E0 10               /* ... and none while |e| <= target >> FM_REST_E0 (0.1 %) */
+#define FM_FF_UNLEARNED 208         /* Q8: the share of the feed-forward where the map is not learned (13/16) */
+#define FM_HOLD 3                   /* periods the integral waits after a feed-forward move */
+#define FM_LR_SHIFT 2               /* map learning rate 1/4 a calm period */
+#define FM_DU_F 13422L              /* du_q4 to Q15 stroke: 0.2048 * 65536, times the gain (Q8) */
 typedef struct {
     int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow, less off */
     int16_t off;                    /* Q15: the frame of the nodes (an end stop's calibration moves it) */
@@ -142,15 +155,78 @@ typedef union {
     fm_state_t fm;
 } ctl_state_t;
 
-/* The live state (read by the tests; only ctl.c writes it). */
+/* The live state (read by the tests; only the controllers' files write it). */
 extern ctl_state_t ctl_st;
 /* 1 when the last drive was cut: drive limit or end stop (learning is frozen then). */
 uint8_t ctl_saturated(void);
 /* Q15 sub-stiction drive accumulated by the output stage of pid / fuzzy_pid / bp_pid. */
 q15_t ctl_carry_now(void);
-/* Drive per unit of du (Q8, from P_VALVE_TRAVEL): drive = (du_q12 >> 8) * kf >> 8. */
-int16_t ctl_drive_factor(void);
 /* The fuzzy rule tables (rows e NB..PB, columns ec NB..PB, values -3..3). */
 extern const __code int8_t fz_tab[3][7][7];
+
+/* ---- shared by the controllers' files (ctl.c, ctl_out.c, pid.c, bp.c, ffmap.c) ------------ */
+/* CTL_SHARED: locals and compiler temporaries of the non-network controllers go on the stack
+ * (__reentrant), so the controllers share those bytes (only one runs) instead of each holding
+ * its own in the scarce internal RAM and XRAM. */
+#define CTL_SHARED __reentrant
+/* CTL_STEP: a named step of a control step, inlined where it is used: no call, and no copy of
+ * its own in the flash (a C99 inline definition; the host keeps a static one) */
+#if defined(__SDCC)
+#define CTL_STEP inline
+#else
+#define CTL_STEP static inline
+#endif
+
+extern const ctl_in_t *ctl_in;      /* the inputs of the step in progress */
+extern uint8_t ctl_first;           /* 1: the next step starts from rest (no P/D kick) */
+extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
+extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
+extern int16_t ctl_inv_travel;      /* Q15: 1 / ctl_travel */
+extern int16_t ctl_stiction_half;   /* Q15: half of Min duty (no divide in a step: SDCC calls one) */
+extern int8_t ctl_hunt_gap;         /* FM_HUNT_GAP for P_VALVE_TRAVEL */
+extern q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
+extern q15_t ctl_last;              /* Q15: last drive sent */
+extern uint8_t ctl_sat;             /* 1: the last drive was cut (limit or end stop) */
+extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
+
+/* The output stage (ctl_out.c). */
+int16_t ctl_clamp_e(int16_t e);
+int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi);
+/* du (Q12, x100 L/min of flow-equivalent) -> Q15 drive, 32 bit, not yet limited. */
+int32_t ctl_du_to_drive(int32_t du);
+/* pid, fuzzy_pid and bp_pid: pulse accumulation below stiction, drive limit and end stops. */
+q15_t ctl_out(int32_t d, uint8_t limit);
+/* A drive (int32, Q15) cut to full duty either way; ctl_sat says whether it was. */
+#define CTL_CLIP(d)                                                                          \
+    do {                                                                                     \
+        ctl_sat = 0;                                                                         \
+        if ((d) > 32767) {                                                                   \
+            (d) = 32767;                                                                     \
+            ctl_sat = 1;                                                                     \
+        } else if ((d) < -32767) {                                                           \
+            (d) = -32767;                                                                    \
+            ctl_sat = 1;                                                                     \
+        }                                                                                    \
+    } while (0)
+/* ... and nothing against an end stop: closing (d > 0) when `limit` has a bit of `closed`,
+ * opening when it has CTL_AT_OPEN (anti-windup: what the valve cannot do is dropped). */
+#define CTL_STOP(d, limit, closed)                                                           \
+    do {                                                                                     \
+        if (((d) > 0 && ((limit) & (closed))) || ((d) < 0 && ((limit) & CTL_AT_OPEN))) {     \
+            (d) = 0;                                                                         \
+            ctl_sat = 1;                                                                     \
+        }                                                                                    \
+    } while (0)
+
+/* The controllers (pid.c, bp.c, ffmap.c): start from scratch, one step. */
+q15_t pid_step(void) CTL_SHARED;
+q15_t fz_step(void) CTL_SHARED;
+void bp_init(void);
+q15_t bp_step(void);
+void fm_init(void);
+q15_t fm_step(void) CTL_SHARED;
+/* ffmap: the stops the valve reports, the drive it got (ctl_applied). */
+void fm_stops(uint8_t limit) CTL_SHARED;
+void fm_account(q15_t d) CTL_SHARED;
 
 #endif

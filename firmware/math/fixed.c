@@ -1,6 +1,96 @@
 /* fixed.c: saturating fixed-point arithmetic and table-driven tanh; same bits on SDCC and gcc. */
 #include "fixed.h"
 
+#if defined(__SDCC)
+/* The saturating basics in assembly: each touches only A, B, DPTR and PSW (fx_add_sat and
+ * fx_sub_sat borrow two bytes of stack), and fixed.h declares them __naked, so a caller keeps
+ * its registers across the call. The C versions below are the reference (the host build, and
+ * the target tests compare the two bit for bit). */
+int16_t fx_sat16(int32_t x) __naked
+{
+    (void)x;
+    __asm
+        jb acc.7,00010$         ; x in dpl, dph, b, a (msb)
+        orl a,b
+        jnz 00011$              ; >= 65536: above the top
+        mov a,dph
+        jb acc.7,00011$         ; 32768 .. 65535: above the top
+        ret
+00011$:
+        mov dptr,#0x7fff
+        ret
+00010$:
+        anl a,b
+        cpl a
+        jnz 00012$              ; < -65536: below the bottom
+        mov a,dph
+        jnb acc.7,00012$        ; -65536 .. -32769: below the bottom
+        ret
+00012$:
+        mov dptr,#0x8000
+        ret
+    __endasm;
+}
+
+int16_t fx_add_sat(int16_t a, int16_t b) __naked
+{
+    (void)a;
+    (void)b;
+    __asm
+        mov b,dpl               ; a in dpl, dph; b in its xdata parameter
+        push dph
+        mov dptr,#_fx_add_sat_PARM_2
+        movx a,@dptr
+        add a,b
+        mov b,a
+        inc dptr
+        movx a,@dptr
+        mov dpl,b
+        pop b
+        addc a,b
+        mov dph,a
+        jnb ov,00020$
+        jb acc.7,00021$         ; overflow: the sign flipped; negative means above the top
+        mov dptr,#0x8000
+        ret
+00021$:
+        mov dptr,#0x7fff
+00020$:
+        ret
+    __endasm;
+}
+
+int16_t fx_sub_sat(int16_t a, int16_t b) __naked
+{
+    (void)a;
+    (void)b;
+    __asm
+        mov b,dpl               ; a in dpl, dph; b in its xdata parameter
+        push dph
+        mov dptr,#_fx_sub_sat_PARM_2
+        movx a,@dptr
+        xch a,b
+        clr c
+        subb a,b
+        mov b,a
+        inc dptr
+        movx a,@dptr
+        mov dpl,b
+        mov b,a
+        pop acc
+        subb a,b
+        mov dph,a
+        jnb ov,00030$
+        jb acc.7,00031$
+        mov dptr,#0x8000
+        ret
+00031$:
+        mov dptr,#0x7fff
+00030$:
+        ret
+    __endasm;
+}
+#else
 int16_t fx_sat16(int32_t x)
 {
     if (x > 32767L)
@@ -19,24 +109,13 @@ int16_t fx_sub_sat(int16_t a, int16_t b)
 {
     return fx_sat16((int32_t)a - b);
 }
-
-int32_t fx_mul32(int16_t a, int16_t b)
-{
-    return (int32_t)a * b;
-}
+#endif
 
 int16_t fx_mul_shift(int16_t a, int16_t b, uint8_t shift)
 {
     int32_t p = (int32_t)a * b;
-#ifdef FX_SABOTAGE
-    /* deliberately different bits (truncation): only for the test that proves the s51
-     * comparison can fail; never in a real build */
-    if (shift)
-        p = p >> shift;
-#else
     if (shift)
         p = (p + (1L << (shift - 1))) >> shift;
-#endif
     return fx_sat16(p);
 }
 

@@ -35,14 +35,18 @@ typedef int32_t q16_t;
 #define FX_TANH_N 385
 extern const FX_CODE q15_t fx_tanh_tab[FX_TANH_N];
 
+/* FX_NAKED: an assembly routine on the 8051 that leaves R0-R7 alone (callers keep theirs). */
+#if defined(__SDCC)
+#define FX_NAKED __naked
+#else
+#define FX_NAKED
+#endif
 /* Saturate a 32-bit value to int16. */
-int16_t fx_sat16(int32_t x);
+int16_t fx_sat16(int32_t x) FX_NAKED;
 /* a + b saturated (any int16 format: both operands in the same one). */
-int16_t fx_add_sat(int16_t a, int16_t b);
+int16_t fx_add_sat(int16_t a, int16_t b) FX_NAKED;
 /* a - b saturated. */
-int16_t fx_sub_sat(int16_t a, int16_t b);
-/* The full 16x16->32 product (the only way SDCC gives 32 bits from two int16). */
-int32_t fx_mul32(int16_t a, int16_t b);
+int16_t fx_sub_sat(int16_t a, int16_t b) FX_NAKED;
 /* (a * b) >> shift rounded to nearest and saturated to int16: q15*q15 with shift 15 is Q15, and so on. */
 int16_t fx_mul_shift(int16_t a, int16_t b, uint8_t shift);
 /* Q15 x Q15 -> Q15, rounded, saturated (-1 * -1 gives 32767). */

@@ -20,6 +20,12 @@
  * (bounce, interference): rejected and counted. Rises are limited to SPEED_SLEW_X100 for
  * each period since the last measurement (3 m/s^2, six times what a tractor does) so a single extra edge cannot kick the
  * target; falls are not limited (the 1/t bound is physical).
+ * The pulses come from P_WHEEL_PPR elements a turn that are never evenly spaced: each
+ * element's offset from its even place is learnt at steady speed (the same element's edge
+ * one turn apart gives the turn's time, against which the span since the previous edge reads
+ * the two offsets' difference) and taken out of every span, so one period measures the speed
+ * as a whole turn would. A pulse sooner than a quarter of the period at 1.5 times the speed is
+ * dropped by the HAL (bounce, interference) and counted as a glitch.
  * The distance per pulse is P_WHEEL (0.1 mm); its 100 m calibration counts
  * speed_pulses() over a measured 100 m: P_WHEEL = 1000000 / pulses.
  */
@@ -27,6 +33,8 @@
 #define SPEED_MAX_X100 6000u        /* 60 km/h: faster pulses are glitches */
 #define SPEED_SLEW_X100 108u        /* 3 m/s^2 over 100 ms = 1.08 km/h */
 #define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
+#define SPEED_LOST_X100 200u        /* pulses that stop above 2 km/h: a lost sensor, not a stop */
+#define SPEED_TEETH_MAX 16u         /* most wheel pulses a turn (P_WHEEL_PPR) */
 
 void speed_init(void);
 /* One control period: take the wheel edges, return the speed in km/h x100. */

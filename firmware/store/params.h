@@ -33,15 +33,18 @@
     X(P_NOZZLE_Q3,   "Nozzle Q3",  "L/min", 2,    10,  2000,  118)  /* one nozzle at 3 bar */ \
     X(P_VALVE_TRAVEL,"Valve time", "s",     1,     5,   600,   40)  /* full stroke of the valve */ \
     X(P_VALVE_BRK,   "Min duty",   "%",     0,     5,    90,   20)  /* the valve's break-away duty, or a little above */ \
-    X(P_VALVE_SLACK, "Backlash",   "%",     1,     0,   100,   20)  /* the valve's backlash, % of the stroke, or a little under */
+    X(P_VALVE_SLACK, "Backlash",   "%",     1,     0,   100,   20)  /* the valve's backlash, % of the stroke, or a little under */ \
+    X(P_WHEEL_PPR,   "Wheel p/rev","",      0,     1,    16,   12)  /* wheel pulses a turn: their spacing error is learnt */
 
 #define PARAM_ENUM(id, name, unit, dec, lo, hi, def) id,
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 3            /* bump when the table or the EEPROM record changes (2: lifetime totals,
-                                     * 3: Min duty and Backlash appended; a version 2 copy still loads) */
+#define PARAMS_VERSION 4            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+                                     * 3: Min duty and Backlash appended, 4: Wheel p/rev appended; a copy of
+                                     * version 2 or 3 still loads, the values appended since at their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
+#define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 
 typedef struct {
     const char *name;

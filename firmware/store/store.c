@@ -43,8 +43,9 @@ static uint32_t read32(uint16_t a)
 }
 
 /* The number of values the copy in sector s holds when it has a known header, its CRC and every
- * value in range; 0 otherwise. Known: this version's table, or version 2's (PARAMS_V2_COUNT
- * values, the later ones appended since: they keep their defaults). */
+ * value in range; 0 otherwise. Known: this version's table, or version 2's or 3's
+ * (PARAMS_V2_COUNT, PARAMS_V3_COUNT values, the later ones appended since: they keep their
+ * defaults). */
 static uint8_t copy_valid(uint8_t s)
 {
     uint16_t base = s ? HAL_EEPROM_SECTOR : 0u;
@@ -52,7 +53,8 @@ static uint8_t copy_valid(uint8_t s)
     uint16_t i, at;
     uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
     if (hal_eeprom_read(base) != STORE_MAGIC
-        || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)))
+        || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
+             || (ver == 3u && n == PARAMS_V3_COUNT)))
         return 0;
     at = CRC_N(n);
     for (i = 0; i < at; i++)

@@ -8,6 +8,8 @@ typedef struct {
     uint32_t t[HAL_HOST_EDGES];     /* PCA time of each edge not yet taken */
     uint32_t n;                     /* edges waiting */
     uint32_t last;                  /* PCA time of the newest edge ever */
+    uint32_t min;                   /* edges sooner than this after the last are dropped (wheel) */
+    uint8_t rejected, seen;
 } edge_q_t;
 
 static edge_q_t flow_q, wheel_q;
@@ -65,6 +67,12 @@ uint32_t hal_pca_now(void)
 static void edge_push(edge_q_t *q, uint64_t t_ns)
 {
     uint32_t t = hal_host_pca_of_ns(t_ns);
+    if (q->min && q->seen && t - q->last < q->min) {
+        if (q->rejected < 255)
+            q->rejected++;          /* as the INT0 handler does: too early to be a pulse */
+        return;
+    }
+    q->seen = 1;
     if (q->n < HAL_HOST_EDGES)
         q->t[q->n++] = t;
     else
@@ -86,7 +94,14 @@ static void edge_take(edge_q_t *q, hal_capture_t *c)
 {
     c->count = (uint16_t)(q->n > 0xFFFFu ? 0xFFFFu : q->n);
     c->last = q->last;
+    c->rejected = q->rejected;
     q->n = 0;
+    q->rejected = 0;
+}
+
+void hal_wheel_min_interval(uint32_t min_ticks)
+{
+    wheel_q.min = min_ticks;
 }
 
 void hal_flow_capture_take(hal_capture_t *c)

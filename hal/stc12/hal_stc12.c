@@ -95,10 +95,26 @@ uint32_t hal_pca_now(void)
     return t;
 }
 
+static volatile uint32_t wheel_min;    /* hal_wheel_min_interval */
+static volatile uint8_t wheel_rejected;
+
 void stc12_int0_isr(void) __interrupt(0)
 {
-    wheel_last = pca_read();
+    uint32_t t = pca_read();
+    if (t - wheel_last < wheel_min) {   /* too early to be a pulse: bounce, interference */
+        if (wheel_rejected != 255)
+            wheel_rejected++;
+        return;
+    }
+    wheel_last = t;
     wheel_count++;
+}
+
+void hal_wheel_min_interval(uint32_t min_ticks)
+{
+    EA = 0;
+    wheel_min = min_ticks;
+    EA = 1;
 }
 
 void hal_flow_capture_take(hal_capture_t *c)
@@ -106,6 +122,7 @@ void hal_flow_capture_take(hal_capture_t *c)
     EA = 0;
     c->count = flow_count;
     c->last = flow_last;
+    c->rejected = 0;
     flow_count = 0;
     EA = 1;
 }
@@ -115,7 +132,9 @@ void hal_wheel_capture_take(hal_capture_t *c)
     EA = 0;
     c->count = wheel_count;
     c->last = wheel_last;
+    c->rejected = wheel_rejected;
     wheel_count = 0;
+    wheel_rejected = 0;
     EA = 1;
 }
 

@@ -22,93 +22,21 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
  * Closures (node, p_hat, p_ref, takeup) as fractions of the stroke (0 open .. 1 bypass closed),
  * flows in L/min, speeds in km/h; plain double arithmetic, no rounding and no Q formats. */
 
-/* ffmap's constants as plain numbers. The FM_* of ctl.c are private to ctl.c (only FM_NODES,
- * FM_BIN_SHIFT, FM_BACKLASH, FM_DEF_SLOPE, FM_COVER and FM_WARM are in ctl_int.h), so their values are
- * repeated here, each with the #define it comes from; where a build overrides one with -D (the
- * #ifndef defaults of ctl.c), the twin follows it. test_ctl.c checks kp and ki against
- * ctl_gain(), the ctl_int.h ones against their Q15 values, and the rest shows up as a mismatch. */
-#ifdef FM_KP
+/* ffmap's constants as plain numbers, from the firmware's own (ctl_int.h): nothing retyped. */
 #define CTLTW_FM_KP (FM_KP / 4096.0)
-#else
-#define CTLTW_FM_KP 0.6                 /* ctl.c FM_KP Q12(0.6) */
-#endif
-#ifdef FM_KI
 #define CTLTW_FM_KI (FM_KI / 4096.0)
-#else
-#define CTLTW_FM_KI 0.5                 /* ctl.c FM_KI Q12(0.5) */
-#endif
-#define CTLTW_FM_LEAD 0.5               /* ctl.c FM_LEAD Q15(0.5) */
-#ifdef FM_REV_MIN
+#define CTLTW_FM_LEAD (FM_LEAD / 32768.0)
 #define CTLTW_FM_REV_MIN (FM_REV_MIN / 32768.0)
-#else
-#define CTLTW_FM_REV_MIN 0.004          /* ctl.c FM_REV_MIN Q15(0.004) */
-#endif
-#ifdef FM_REV_MIN_REST
-#define CTLTW_FM_REV_MIN_REST (FM_REV_MIN_REST / 32768.0)
-#else
-#define CTLTW_FM_REV_MIN_REST 0.001     /* ctl.c FM_REV_MIN_REST Q15(0.001): inside the band */
-#endif
-#ifdef FM_SEEN_ONLY
-#define CTLTW_FM_SEEN_ONLY FM_SEEN_ONLY
-#else
-#define CTLTW_FM_SEEN_ONLY 0            /* ctl.c FM_SEEN_ONLY */
-#endif
-#ifdef FM_LEARN
-#define CTLTW_FM_LEARN FM_LEARN
-#else
-#define CTLTW_FM_LEARN 1                /* ctl.c FM_LEARN */
-#endif
-#ifdef FM_CALM
+#define CTLTW_FM_REV_MIN_REST (FM_REV_MIN_REST / 32768.0)   /* inside the band */
 #define CTLTW_FM_CALM FM_CALM
-#else
-#define CTLTW_FM_CALM 5                 /* ctl.c FM_CALM */
-#endif
-#ifdef FM_IGATE
 #define CTLTW_FM_IGATE (FM_IGATE / 32768.0)
-#else
-#define CTLTW_FM_IGATE 0.02             /* ctl.c FM_IGATE Q15(0.02) */
-#endif
-#ifdef FM_DB_IN
-#define CTLTW_FM_DB_IN (1 << FM_DB_IN)
-#else
-#define CTLTW_FM_DB_IN 256              /* ctl.c FM_DB_IN 8: rest once |e| <= target / 256 */
-#endif
-#ifdef FM_DB_OUT
-#define CTLTW_FM_DB_OUT (1 << FM_DB_OUT)
-#else
-#define CTLTW_FM_DB_OUT 128             /* ctl.c FM_DB_OUT 7: wake beyond target / 128 */
-#endif
-#ifdef FM_DB_STOP
-#define CTLTW_FM_DB_STOP FM_DB_STOP
-#else
-#define CTLTW_FM_DB_STOP 1              /* ctl.c FM_DB_STOP */
-#endif
-#ifdef FM_REST_KI
+#define CTLTW_FM_DB_IN (1 << FM_DB_IN)      /* rest once |e| <= target / 256 */
+#define CTLTW_FM_DB_OUT (1 << FM_DB_OUT)    /* wake beyond target / 128 */
 #define CTLTW_FM_REST_KI (FM_REST_KI / 4096.0)
-#else
-#define CTLTW_FM_REST_KI 0.25           /* ctl.c FM_REST_KI Q12(0.25) */
-#endif
-#ifdef FM_REST_E0
-#define CTLTW_FM_REST_E0 (1 << FM_REST_E0)
-#else
-#define CTLTW_FM_REST_E0 1024           /* ctl.c FM_REST_E0 10: no slow integral while |e| <= target / 1024 */
-#endif
-#ifdef FM_MINF_GATE
-#define CTLTW_FM_MINF_GATE FM_MINF_GATE
-#else
-#define CTLTW_FM_MINF_GATE 1            /* ctl.c FM_MINF_GATE */
-#endif
-#ifdef FM_HOLD
-#define CTLTW_FM_HOLD FM_HOLD
-#else
-#define CTLTW_FM_HOLD 3                 /* ctl.c FM_HOLD: periods the integral waits after a big feed-forward */
-#endif
-#ifdef FM_FF_UNLEARNED
-#define CTLTW_FM_FF_UNLEARNED (FM_FF_UNLEARNED / 256.0)
-#else
-#define CTLTW_FM_FF_UNLEARNED (208 / 256.0) /* ctl.c FM_FF_UNLEARNED: the feed-forward's share where the map is not learned */
-#endif
-#define CTLTW_FM_LR 0.25                /* ctl.c FM_LR_SHIFT 2: learning rate 1/4 */
+#define CTLTW_FM_REST_E0 (1 << FM_REST_E0)  /* no slow integral while |e| <= target / 1024 */
+#define CTLTW_FM_HOLD FM_HOLD               /* periods the integral waits after a big feed-forward */
+#define CTLTW_FM_FF_UNLEARNED (FM_FF_UNLEARNED / 256.0)  /* the feed-forward's share where the map is not learned */
+#define CTLTW_FM_LR (1.0 / (1 << FM_LR_SHIFT))   /* learning rate 1/4 */
 #define CTLTW_FM_BIN ((1 << FM_BIN_SHIFT) / 100.0)     /* node spacing, L/min (5.12) */
 #define CTLTW_FM_BACKLASH (param_v[P_VALVE_SLACK] / 1000.0)  /* ctl.c ctl_backlash: Backlash, 0.1 % */
 #define CTLTW_FM_COVER (FM_COVER / 100.0)  /* ctl_int.h FM_COVER: L/min a stroke moves on the default
@@ -121,11 +49,11 @@ void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, doub
 #define CTLTW_FM_DU_MAX (32767.0 / 16.0 / 100.0 / CTL_FLOW_SCALE_LPM)
 /* fm_step's increment to stroke: du_q4 times 13422 (0.2048 * 65536) times the gain (Q8) over
  * 2^24, the factor rounded to an integer first. The twin's increment is du * g; this is what
- * the firmware's factor is made of (ctl.c fm_step), for the interval of its rounding. */
-#define CTLTW_FM_DU_F 13422.0           /* ctl.c fm_step: (13422L * m->gain + 128) >> 8 */
+ * the firmware's factor is made of (ffmap.c fm_step), for the interval of its rounding. */
+#define CTLTW_FM_DU_F ((double)FM_DU_F)  /* ffmap.c fm_reference: (FM_DU_F * gain + 128) >> 8 */
 #define CTLTW_FM_DU_F_EXACT (0.2048 * 65536.0)  /* 13421.77: the factor of an exact 0.2048 */
 
-/* The gain schedule (ctl.c fm_gain): g = K (1/Q_v + (1 - Pc/P)/Q_b), clamped, 1 until an end stop
+/* The gain schedule (ffmap.c fm_gain): g = K (1/Q_v + (1 - Pc/P)/Q_b), clamped, 1 until an end stop
  * has set the frame. The sum comes from the firmware's tables (ctl_int.h, tools/gen_fmgain.py),
  * read as data and interpolated in double: 1/Q_v = fm_inv_cv(o) fm_inv_sqp(P) / 2^24, (1 - Pc/P)/Q_b
  * = fm_pc_p(P) fm_inv_q(y) / 2^31, as the firmware scales them (its s is this sum in Q16 of
@@ -255,7 +183,7 @@ typedef struct {
 /* The twin's state from the firmware's (Q15 closures, x100 L/min flows) and ctl.c's ctl_last
  * (last: what ctl_step returned last, or the drive ctl_reset was given); first as above. */
 void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t last);
-/* One step of ffmap (fm_step of ctl.c) on the twin's state. */
+/* One step of ffmap (fm_step of ffmap.c) on the twin's state. */
 ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in);
 /* ctl_applied(drive, limit): the valve got drive (duty) this period and sits at the stops in
  * limit (CTL_AT_*): calibration there, then the motion accounted. */

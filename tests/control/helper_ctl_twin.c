@@ -218,18 +218,6 @@ static int ctltw_fm_learned(const ctltw_fm_t *m, double q)
     return (m->seen >> i & 1u) && (m->seen >> (i + 1) & 1u);
 }
 
-/* fm_known: the map around q rests on learned nodes (always, unless FM_SEEN_ONLY) */
-static int ctltw_fm_known(const ctltw_fm_t *m, double q)
-{
-    int i;
-    double f;
-    if (!CTLTW_FM_SEEN_ONLY)
-        return 1;
-    if (q < 0 || !ctltw_fm_bin(q, &i, &f))
-        return 0;
-    return (m->seen >> i & 1u) && (m->seen >> (i + 1) & 1u);
-}
-
 /* the feed-forward map(q) - map(t1), and e_d, the firmware's minus it: the lookups' rounding
  * (off, the same in both, cancels unless a lookup may saturate) */
 static double ctltw_fm_ff(const ctltw_fm_t *m, double q, const ctltw_fm_err_t *er, ctltw_iv_t *e_d)
@@ -239,8 +227,6 @@ static double ctltw_fm_ff(const ctltw_fm_t *m, double q, const ctltw_fm_err_t *e
     int i;
     double f;
     *e_d = ctltw_iv(0, 0);
-    if (!(ctltw_fm_known(m, q) && ctltw_fm_known(m, m->t1)))
-        return 0;
     u1 = ctltw_fm_map_u(m, q, &r1);
     u2 = ctltw_fm_map_u(m, m->t1, &r2);
     d = ctltw_sat(u1) - ctltw_sat(u2);
@@ -666,11 +652,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
             m->rest = 0;
     } else if (!ctltw_gt(ae, band) && ctltw_gt(q, 0)) {
         m->rest = 1;
-        if (CTLTW_FM_DB_STOP) {
-            m->p_ref = m->p_hat;
-            er.ref = er.ph;
-            er.rel = ctltw_iv(0, 0);
-        }
+        m->p_ref = m->p_hat;        /* entering the band stops the servo where it is */
+        er.ref = er.ph;
+        er.rel = ctltw_iv(0, 0);
     }
 
     /* the PI increment in stroke: P on the measurement and on the part of the target's change
@@ -838,7 +822,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     /* learning where the loop is calm: target steady, |e| <= q / 16, nothing cut, no stop or
      * over-pressure, fast enough */
     calm_if = !moving && !ctltw_gt(ae * 16, q) && ctltw_gt(q, 0) && !in->limit
-              && (!CTLTW_FM_MINF_GATE || !ctltw_gt(in->minf_speed, in->speed));
+              && !ctltw_gt(in->minf_speed, in->speed);
     if (calm_if && o.sat_edge)
         o.border |= CTLTW_B_SAT;    /* calm, and the learning, hang on the saturation flag */
     if (calm_if && !o.sat) {
@@ -849,7 +833,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     }
     if (m->warm < FM_WARM)
         m->warm++;
-    else if (CTLTW_FM_LEARN && m->calm >= CTLTW_FM_CALM)
+    else if (m->calm >= CTLTW_FM_CALM)
         ctltw_fm_learn(m, q, &er, &o);
 
     m->y1 = y;

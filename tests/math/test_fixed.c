@@ -6,6 +6,7 @@
 #include <math.h>
 #include <cmocka.h>
 #include "fixed.h"
+#include "mul.h"
 
 static double sat(double x, double lo, double hi)
 {

@@ -199,7 +199,7 @@ static void test_speed_rejects_a_burst_of_impossible_pulses(void **state)
     for (int i = 0; i < 40; i++)                /* 40 edges in 4 ms: 14000 km/h */
         hal_host_wheel_edge(now_ns - 5000000 + (uint64_t)i * 100000);
     uint16_t v = speed_step();
-    assert_int_equal(speed_glitches(), g0 + 1);
+    assert_true(speed_glitches() >= g0 + 39);   /* the input drops all but (at most) the first */
     assert_true(v <= 701);
 }
 

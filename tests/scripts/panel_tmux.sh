@@ -49,7 +49,7 @@ if wait_for 'km/h' 30; then ok "runs under tmux and shows the run screen"; else
 if $T capture-pane -p -t panel | LC_ALL=C grep -q $'\xe2[\xa0-\xa3\x96]'; then ok "draws the 128x64 pixels"; else nok "draws the 128x64 pixels"; fi
 
 keys '*'                              # acknowledge the first-boot EEPROM message
-sleep 12                              # 24 s simulated: up to speed, flow settled
+sleep 20                              # 40 s simulated: up to speed, the wheel learnt, flow settled
 before=$(target)
 if [ -n "$before" ] && awk "BEGIN{exit !($before > 30 && $before < 42)}"; then
     ok "target flow at 150 L/ha and 8 km/h is $before L/min (36 expected)"

@@ -32,9 +32,9 @@ for s in m['steps']:
     for k in ('t_s', 'from_lpm', 'to_lpm', 'rise_s', 'overshoot_pct', 'settle_5pct_s', 'settle_2pct_s', 'sse_pct'):
         assert k in s, k
 " "$keys" > "$tmp/json.log" 2>&1; then
-    ok "the last line is one JSON object with PLANT.md's keys"
+    ok "the last line is one JSON object with docs/SCENARIOS.md's keys"
 else
-    nok "the last line is one JSON object with PLANT.md's keys" "$out $(cat "$tmp/json.log")"
+    nok "the last line is one JSON object with docs/SCENARIOS.md's keys" "$out $(cat "$tmp/json.log")"
 fi
 
 # the trace has what the issue lists

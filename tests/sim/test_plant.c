@@ -1,4 +1,4 @@
-/* test_plant.c: the plant model against numbers worked out by hand from PLANT.md's formulas and defaults. */
+/* test_plant.c: the plant model against numbers worked out by hand from docs/SCENARIOS.md's formulas and defaults. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -11,7 +11,7 @@
 
 static plant_t pl;
 
-/* A plant with PLANT.md's defaults, pulsation and sensor noise off unless a test wants them. */
+/* A plant with docs/SCENARIOS.md's defaults, pulsation and sensor noise off unless a test wants them. */
 static void setup(double theta0, int coupled, double pto_rpm)
 {
     plant_params_t p;
@@ -37,7 +37,7 @@ static void run(double seconds, double drive, int spray)
     if (!(fabs(x_ - w_) <= t_)) fail_msg("%s = %.6f, want %.6f +- %.6f", #x, x_, w_, t_); } while (0)
 
 /*
- * Sanity point 11 km/h (PLANT.md), fixed 540 rpm PTO, by hand:
+ * Sanity point 11 km/h (docs/SCENARIOS.md), fixed 540 rpm PTO, by hand:
  *   boom 150 L/ha * 11 km/h * 50 cm * 36 / 60000 = 49.5 L/min, 1.375 L/min a nozzle;
  *   K_n = 1.18/sqrt(3) = 0.68127; nozzle pressure = (1.375/0.68127)^2 + 0.3 = 4.0736 + 0.3 = 4.3736;
  *   line loss 0.025 bar at 50 L/min -> 0.025*(49.5/50)^2 = 0.0245: boom P = 4.398 bar ("about 4.4").
@@ -209,7 +209,7 @@ static void test_plant_line_drains_to_zero_through_the_open_bypass(void **state)
     assert_within(pl.q_pump, 0.0, 0.0);
 }
 
-/* Valve motor (PLANT.md): full drive runs at (1 - 0.12)/(1 - 0.12)/4 s = 0.25 stroke/s, reached
+/* Valve motor (docs/SCENARIOS.md): full drive runs at (1 - 0.12)/(1 - 0.12)/4 s = 0.25 stroke/s, reached
  * with tau_m = 0.05 s: from rest the motor has gone 0.25 (t - 0.05 (1 - e^(-t/0.05))), and the
  * valve 1 % (half the 2 % gap) less: 0.4775 at 2 s, 0.9775 at 4 s; the end stop holds it at 1. */
 static void test_plant_valve_travel_time_and_end_stop(void **state)
@@ -304,7 +304,7 @@ static void test_plant_valve_stuck_does_not_move(void **state)
     assert_within(pl.theta, 0.3, 0.0);
 }
 
-/* Meter K curve (PLANT.md): 380 p/L in range, -3 % at 7.5 L/min, -15 % at 3, none below 1.5.
+/* Meter K curve (docs/SCENARIOS.md): 380 p/L in range, -3 % at 7.5 L/min, -15 % at 3, none below 1.5.
  * Pulses in 10 s at steady flow (after the rotor has settled): 380*0.85*3/60*10 = 161.5 at
  * 3 L/min; 380*0.97*7.5/60*10 = 460.75 at 7.5; 380*30/60*10 = 1900 at 30; 0 at 1.4. */
 static uint64_t meter_pulses(double q, double seconds)

@@ -1,4 +1,4 @@
-/* test_scenario.c: the scenario reader: a good file, every kind of bad file (named by file, line and key), PLANT.md's example. */
+/* test_scenario.c: the scenario reader: a good file, every kind of bad file (named by file, line and key), docs/SCENARIOS.md's example. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -70,7 +70,7 @@ static void test_scenario_good_file(void **state)
     assert_true(s.plant.meter_k_ppl == 390.0);
     assert_true(s.plant.wheel_slip_pct == 3.5);
     assert_true(s.plant.tank_start_l == 400.0);
-    assert_true(s.plant.relief_bar == 5.0);          /* untouched keys keep PLANT.md's default */
+    assert_true(s.plant.relief_bar == 5.0);          /* untouched keys keep docs/SCENARIOS.md's default */
     assert_int_equal(s.plant.nozzles, 24);
     assert_true(s.plant.spacing_m == 0.75);
     assert_int_equal(s.n_drive, 4);
@@ -99,7 +99,7 @@ static void test_scenario_crlf_and_bom(void **state)
     assert_true(s.drive[0].kmh == 5);
 }
 
-/* An empty file is all defaults: 300 s, seed 7, the firmware's parameter defaults, PLANT.md's plant. */
+/* An empty file is all defaults: 300 s, seed 7, the firmware's parameter defaults, docs/SCENARIOS.md's plant. */
 static void test_scenario_empty_file_is_the_defaults(void **state)
 {
     (void)state;
@@ -169,6 +169,22 @@ static void test_scenario_values_out_of_range(void **state)
     bad("[config]\nrate_l_ha = 100\nrate_l_ha = 120\n", "bad.scn:3: key 'rate_l_ha': given twice in [config]");
     bad("[config]\nnozzles = 35\n", "bad.scn:2: key 'nozzles': 35 nozzles do not split evenly over 6 sections");
     bad("[plant]\ntank_l = 500\n", "key 'tank_start_l': 1000 L is more than the tank holds");
+    bad("[plant]\nvalve_stiction_duty = 0.1\n", "bad.scn:2: key 'valve_stiction_duty': running duty 0.12 is above the break-away duty 0.1");
+    bad("[plant]\nvalve_running_duty = 0.25\n", "bad.scn:2: key 'valve_running_duty': running duty 0.25 is above");
+    bad("[plant]\nmeter_blades = 0\n", "key 'meter_blades': 0 out of range");
+}
+
+/* A first-edition file (no motor, spacing or running-duty keys) still loads, the new keys at
+ * their defaults: 0.12 running duty, 50 ms motor, 6 blades at 1.5 %, 2 % wheel spacing. */
+static void test_scenario_first_edition_file_gets_the_new_defaults(void **state)
+{
+    (void)state;
+    if (scenario_parse(&s, "[plant]\nvalve_stiction_duty = 0.3\n", "old.scn", err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_true(s.plant.valve_running_duty == 0.12);
+    assert_true(s.plant.valve_motor_tau_s == 0.05);
+    assert_true(s.plant.meter_blades == 6 && s.plant.meter_blade_jitter_pct == 1.5);
+    assert_true(s.plant.wheel_spacing_jitter_pct == 2);
 }
 
 static void test_scenario_drive_rows(void **state)
@@ -226,7 +242,7 @@ static void test_scenario_controller_names(void **state)
     assert_int_equal(s.param[P_CONTROLLER], CTL_BP_PID);
 }
 
-/* Files: a missing one is named; the example of PLANT.md, copied verbatim, loads as written. */
+/* Files: a missing one is named; the example of docs/SCENARIOS.md, copied verbatim, loads as written. */
 static void test_scenario_files(void **state)
 {
     (void)state;
@@ -246,7 +262,7 @@ static void test_scenario_files(void **state)
     assert_int_equal(s.events[1].line, 21);
 }
 
-/* Every [plant] key PLANT.md lists, at the default it states, and every event it lists. */
+/* Every [plant] key docs/SCENARIOS.md lists, at the default it states, and every event it lists. */
 static void test_scenario_every_key_and_event_of_plant_md(void **state)
 {
     static const char text[] =
@@ -259,6 +275,8 @@ static void test_scenario_every_key_and_event_of_plant_md(void **state)
         "tank_start_l = 1000\nmeter_k_ppl = 380\nmeter_lag_s = 0.03\nwheel_elements = 12\n"
         "wheel_radius_m = 0.75\nwheel_slip_pct = 0\nspeed_bounce_pct = 0\npressure_noise_lsb = 1\n"
         "tractor_lag_s = 1\ntractor_accel_max = 0.5\n"
+        "valve_running_duty = 0.12\nvalve_motor_tau_s = 0.05\nmeter_blades = 6\nmeter_blade_jitter_pct = 1.5\n"
+        "wheel_spacing_jitter_pct = 2\n"
         "[config]\ngiven_speed_kmh = 0\n"
         "[events]\n"
         "1 sections_open 24\n2 rate_l_ha 125\n3 pto_rpm 450\n4 meter_fail\n5 meter_restore\n"
@@ -270,7 +288,7 @@ static void test_scenario_every_key_and_event_of_plant_md(void **state)
     if (scenario_parse(&s, text, "all.scn", err, sizeof err) != 0)
         fail_msg("%s", err);
     plant_params_default(&def);
-    /* the values PLANT.md states are the model's defaults, key by key */
+    /* the values docs/SCENARIOS.md states are the model's defaults, key by key */
 #define SAME(key, d, lo, hi, isint) if (s.plant.key != def.key) fail_msg("%s: %g, default %g", #key, s.plant.key, def.key);
     PLANT_KEYS(SAME)
 #undef SAME
@@ -304,6 +322,7 @@ int main(void)
         cmocka_unit_test(test_scenario_unknown_keys_and_sections),
         cmocka_unit_test(test_scenario_missing_and_bad_numbers),
         cmocka_unit_test(test_scenario_values_out_of_range),
+        cmocka_unit_test(test_scenario_first_edition_file_gets_the_new_defaults),
         cmocka_unit_test(test_scenario_drive_rows),
         cmocka_unit_test(test_scenario_event_rows),
         cmocka_unit_test(test_scenario_controller_names),

@@ -1,4 +1,4 @@
-/* test_sim.c: the lock-step simulator: determinism by seed, events, exact edge times, PLANT.md's example run unchanged. */
+/* test_sim.c: the lock-step simulator: determinism by seed, events, exact edge times, docs/SCENARIOS.md's example run unchanged. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -130,9 +130,9 @@ static void test_sim_events_now(void **state)
     sim_free(&sim);
 }
 
-/* The example of PLANT.md, verbatim: runs to its end; the sections event opens 24 nozzles (4 of
+/* The example of docs/SCENARIOS.md, verbatim: runs to its end; the sections event opens 24 nozzles (4 of
  * the 6 switches) at 100 s, the meter sends nothing after 150 s; the JSON line has every key
- * PLANT.md names. */
+ * docs/SCENARIOS.md names. */
 static void test_sim_plant_md_example_runs_unchanged(void **state)
 {
     metrics_result_t r;
@@ -200,7 +200,7 @@ static void test_sim_target_steps_found_where_the_scenario_puts_them(void **stat
     sim_free(&sim);
 }
 
-/* PLANT.md's sanity point: with the PTO coupled, on the paper's dynamic run the bypass position an
+/* docs/SCENARIOS.md's sanity point: with the PTO coupled, on the paper's dynamic run the bypass position an
  * ideal controller needs (the one that holds the boom at the reference target, steady state, at
  * the pump's speed of the moment) stays within 0.55-0.70 wherever the tractor does 4 km/h or more,
  * also while the speed changes. */

@@ -1,5 +1,6 @@
 /* tt_fixed.c: every fixed-point routine on edge and random vectors; s51 and host must print the same. */
 #include "fixed.h"
+#include "mul.h"
 #include "tt.h"
 
 static const __code int16_t edges[] = {
@@ -32,6 +33,7 @@ static void all_ops(int16_t a, int16_t b)
     line('t', a, 0, (uint16_t)fx_tanh(a));
     line('g', a, 0, (uint16_t)fx_sigmoid(a));
     line('z', a, 0, (uint16_t)fx_sat16((int32_t)a * 3));
+    line('Z', a, b, (uint16_t)fx_sat16((((int32_t)b * 32768L) >> (b & 15)) + a));
 }
 
 int main(void)

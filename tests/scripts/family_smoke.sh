@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# family_smoke.sh: tools/family.py on a few plants: the same seed gives the same table, every run scored, the files written.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+B=${BUILD:-build}
+SIM=$B/host/bin/sim
+PY=.venv/bin/python
+[ -x "$PY" ] || PY=python3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+ok() { echo "ok - family: $1"; }
+nok() { echo "not ok - family: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
+
+make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1 || { nok "the simulator builds" "$(cat "$tmp/build.log")"; exit 0; }
+if $PY tools/family.py "$SIM" --n 6 --controllers best,pid --out "$tmp/a" > "$tmp/a.out" 2>&1 \
+   && $PY tools/family.py "$SIM" --n 6 --controllers best,pid --out "$tmp/b" > "$tmp/b.out" 2>&1; then
+    ok "6 plants x 2 controllers run"
+else
+    nok "6 plants x 2 controllers run" "$(tail -3 "$tmp/a.out" "$tmp/b.out")"; exit 0
+fi
+cmp -s "$tmp/a/summary.json" "$tmp/b/summary.json" && cmp -s "$tmp/a/runs.csv" "$tmp/b/runs.csv" \
+    && ok "the same seed gives the same table and runs" || nok "the same seed gives the same table and runs"
+n=$(($(wc -l < "$tmp/a/runs.csv") - 1))
+[ "$n" -eq 12 ] && ok "runs.csv has every run (12)" || nok "runs.csv has every run ($n of 12)"
+if $PY - "$tmp/a/summary.json" <<'PYEOF'
+import json, sys
+s = json.load(open(sys.argv[1]))
+for c in ("best", "pid"):
+    for k in ("dose_abs_pct", "dose_ctl_abs_pct", "cv_pct", "zone_worst_pct", "reversals_per_min", "settle_mean_s"):
+        assert s["controllers"][c][k]["median"] is not None, (c, k)
+        assert s["controllers"][c][k]["p95"] >= s["controllers"][c][k]["median"], (c, k)
+    assert isinstance(s["controllers"][c]["alarm_runs"], int)
+PYEOF
+then ok "summary.json has the median and 95th percentile of every figure"; else nok "summary.json has the median and 95th percentile of every figure"; fi
+grep -q "plant family: 6 plants" "$tmp/a.out" && ok "the table is printed" || nok "the table is printed" "$(cat "$tmp/a.out")"
+$PY tools/family.py /nonexistent --n 1 > /dev/null 2> "$tmp/err" && nok "a missing simulator is refused" \
+    || { grep -q "not an executable" "$tmp/err" && ok "a missing simulator is refused in one line" || nok "a missing simulator is refused in one line" "$(cat "$tmp/err")"; }
