@@ -1,6 +1,7 @@
 /* pty.c: a pseudo-terminal for a simulated board (see pty.h). */
 #define _XOPEN_SOURCE 700
 #include <errno.h>
+#include <stdint.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <stdio.h>
@@ -100,4 +101,43 @@ int pty_drain(int fd, const char *name, double timeout_s)
     nanosleep(&d, NULL);
     close(s);
     return n > 0 ? -1 : 0;
+}
+
+int tty_open(const char *path, char *err, size_t n)
+{
+    struct termios t;
+    int fd = open(path, O_RDWR | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) {
+        if (errno == ENOENT)
+            snprintf(err, n, "no such port %s (is the adapter plugged in?)", path);
+        else if (errno == EACCES)
+            snprintf(err, n, "no permission to open %s (add yourself to the dialout group)", path);
+        else
+            snprintf(err, n, "cannot open %s: %s", path, strerror(errno));
+        return -1;
+    }
+    if (tcgetattr(fd, &t) < 0) {
+        snprintf(err, n, "%s is not a serial port: %s", path, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    cfmakeraw(&t);
+    cfsetispeed(&t, B38400);
+    cfsetospeed(&t, B38400);
+    t.c_cflag |= CLOCAL | CREAD;
+    tcsetattr(fd, TCSANOW, &t);
+    tcflush(fd, TCIOFLUSH);
+    return fd;
+}
+
+int link_read(int fd, uint8_t *buf, size_t n, double timeout_s)
+{
+    struct pollfd p = { fd, POLLIN, 0 };
+    ssize_t got;
+    if (poll(&p, 1, (int)(timeout_s * 1000)) <= 0)
+        return 0;
+    got = read(fd, buf, n);
+    if (got < 0)
+        return (errno == EAGAIN || errno == EINTR) ? 0 : -1;
+    return got == 0 && (p.revents & POLLHUP) ? -1 : (int)got;
 }

@@ -165,7 +165,10 @@ void sim_step(sim_t *sim)
     hal_host_io.adc[HAL_ADC_PRESSURE] = pl->adc_pressure;
     hal_host_io.adc[HAL_ADC_LEVEL] = pl->adc_level;
 
-    app_poll();
+    if (sim->poll)
+        sim->poll(sim);
+    else
+        app_poll();
 
     if (app_status.alarms & ~sim->prev_alarms) {
         unsigned rise = app_status.alarms & ~sim->prev_alarms;

@@ -72,7 +72,7 @@ typedef struct {
     double width_m;                 /* the open boom's width */
 } sim_row_t;
 
-typedef struct {
+typedef struct sim {
     const scenario_t *scn;          /* must outlive the simulation */
     plant_t plant;
     metrics_t metrics;
@@ -90,6 +90,10 @@ typedef struct {
     FILE *csv;
     uint64_t csv_period_ns, next_csv_ns;
     double wall_s;                  /* wall time spent in sim_step so far */
+    /* step 5 of sim_step: app_poll() when NULL; the HIL program (sim/hil_main.c) puts a board
+     * on the serial link there instead */
+    void (*poll)(struct sim *sim);
+    void *poll_ctx;
 } sim_t;
 
 /* Start a simulation of scenario s at time 0 (resets the host HAL and the firmware). */

@@ -11,6 +11,7 @@
 #include "diag.h"
 #include "totals.h"
 #include "serial.h"
+#include "hil.h"
 #include "store.h"
 #include "console.h"
 
@@ -51,10 +52,9 @@ static struct {
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
 } ap;
 
-void app_init(void)
+/* The control chain from rest, as at power-on (app_init, and the first frame of HIL mode). */
+static void app_start(void)
 {
-    totals_init();
-    store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
     hal_valve_out(HAL_VALVE_OFF, 0);
     hal_spray_enable(0);
     hal_buzzer(0);
@@ -64,7 +64,6 @@ void app_init(void)
     target_init();
     valve_init();
     diag_init();
-    serial_init();
     ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
     ctl_select(ap.ctl_id);
     ap.overruns = 0;
@@ -90,8 +89,32 @@ void app_init(void)
     app_status.job_area_m2 = app_status.job_volume_ml = 0;
     app_status.life_area_m2 = app_status.life_volume_ml = 0;
     ap.next_ms = hal_ms() + APP_PERIOD_MS;
+}
+
+void app_init(void)
+{
+    totals_init();
+    store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
+    serial_init();
+    app_start();
     console_init();
 }
+
+#if FW_HIL
+/* HIL mode: the outputs of the step just run, as the output frame (hil.h). */
+static void app_hil_answer(void) __reentrant
+{
+    hil_out_t o;
+    o.valve_delay_ms = valve_pending(&o.valve_dir, &o.valve_duty);
+    o.relays = (uint8_t)((app_status.spraying ? 1u : 0u) | (app_status.alarms_unacked ? 2u : 0u));
+    o.alarms = app_status.alarms;
+    o.speed_kmh_x100 = app_status.speed_kmh_x100;
+    o.target_lpm_x100 = app_status.target_lpm_x100;
+    o.flow_lpm_x100 = app_status.flow_lpm_x100;
+    o.pressure_kpa = app_status.pressure_kpa;
+    serial_hil_send(&o);
+}
+#endif
 
 /* Every parameter inside its range, or RAM is not what it should be. */
 static uint8_t params_sane(void)
@@ -256,6 +279,21 @@ void app_poll(void)
     valve_poll(now);
     serial_poll();
     console_poll();
+#if FW_HIL
+    if (hil_active()) {
+        /* one step a sensor frame, on its inputs; none without one (never on stale inputs:
+         * when the frames stop, so do the steps, and the watchdog resets the chip) */
+        if (!serial_hil_due())
+            return;
+        if (hil_first())
+            app_start();
+        app_step();
+        app_hil_answer();
+        if (!ap.internal)
+            hal_wdt_kick();
+        return;
+    }
+#endif
     if ((int32_t)(now - ap.next_ms) < 0)
         return;
     late = (now - ap.next_ms) >= APP_PERIOD_MS;

@@ -249,10 +249,10 @@ static void draw_run(void)
     uint8_t at;
     int8_t a;
     int16_t q;
-    /* " 7.2km/h    AUTO": ground speed, mode */
+    /* " 7.2km/h    AUTO": ground speed, mode (HIL: the inputs come from the PC's plant) */
     at = cat_num(0, 4, (st->speed_kmh_x100 + 5u) / 10u, 1, 0);
     at = cat(at, "km/h ");
-    cat(at, st->manual ? "MANUAL" : "AUTO");
+    cat(at, hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO");
     right_align(at);
     screen_line(0, line);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */

@@ -6,6 +6,7 @@
 #include "diag.h"
 #include "totals.h"
 #include "serial.h"
+#include "hil.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -23,6 +24,8 @@ static struct {
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
+#define S_TX_HIL 4                  /* sending the reply to HIL ON: then the HIL mode */
+#define S_HIL_DUE 5                 /* HIL mode: a sensor frame is in, its control step due */
 
 static const __code uint32_t pow10[10] = {
     1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
@@ -36,6 +39,9 @@ void serial_init(void)
     se.state = S_RX;
     se.reported = 0;
     se.log_due = 0;
+#if FW_HIL
+    hil_init();
+#endif
 }
 
 void serial_log_request(void)
@@ -95,7 +101,8 @@ static void tx_end(void) __reentrant
     se.buf[se.n++] = '\r';
     se.buf[se.n++] = '\n';
     se.tx_i = 0;
-    se.state = S_TX;
+    if (se.state != S_TX_HIL)
+        se.state = S_TX;
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
@@ -147,6 +154,9 @@ static void answer(void) __reentrant
     char *line = se.buf;
     const char *p;
     uint8_t n = se.n, i, x = 0;
+#if FW_HIL
+    uint8_t csum = 0;
+#endif
     int8_t h1, h2;
     uint16_t a, b;
     const totals_t *t;
@@ -163,6 +173,9 @@ static void answer(void) __reentrant
             return;
         }
         n = i;
+#if FW_HIL
+        csum = 1;
+#endif
     }
     line[n] = 0;
     /* strict layout: words of A-Z, 0-9, + or -, single spaces between them */
@@ -227,6 +240,22 @@ static void answer(void) __reentrant
         tx_u32(b);
         return;
     }
+#if FW_HIL
+    if (word_is(line, "HIL")) {
+        /* never by accident: the exact line, and with its checksum */
+        if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N' && p[3] == 0)) {
+            reply_err("ARG");
+            return;
+        }
+        if (!csum) {
+            reply_err("CSUM");
+            return;
+        }
+        tx_s("OK HIL");
+        se.state = S_TX_HIL;        /* tx_end keeps it: the mode starts once the reply is out */
+        return;
+    }
+#endif
     if (word_is(line, "JOG")) {
         if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0)) {
             reply_err("ARG");
@@ -337,16 +366,45 @@ static uint8_t drain(void) __reentrant
         se.tx_i++;
     }
     se.n = 0;
+#if FW_HIL
+    if (se.state == S_TX_HIL)
+        hil_begin();
+#endif
     se.state = S_RX;
     return 1;
 }
+
+#if FW_HIL
+uint8_t serial_hil_due(void)
+{
+    return se.state == S_HIL_DUE;
+}
+
+void serial_hil_send(hil_out_t *o) __reentrant
+{
+    hil_answer(o, (uint8_t *)se.buf);
+    se.n = HIL_OUT_BYTES;
+    se.tx_i = 0;
+    se.state = S_TX;
+    drain();
+}
+#endif
 
 void serial_poll(void) __reentrant
 {
     int16_t b;
 
-    if (se.state == S_TX && !drain())
+    if ((se.state == S_TX || se.state == S_TX_HIL) && !drain())
         return;
+#if FW_HIL
+    if (hil_active()) {
+        /* frames only; one at a time: its step runs before the next is read */
+        while (se.state == S_RX && (b = hal_uart_get()) >= 0)
+            if (hil_byte((uint8_t)b))
+                se.state = S_HIL_DUE;
+        return;
+    }
+#endif
     while ((b = hal_uart_get()) >= 0) {
         if (b == '\r' || b == '\n') {
             if (se.state != S_RX) {

@@ -3,6 +3,7 @@
 #define SERIAL_H
 
 #include "compiler.h"
+#include "hil.h"
 
 /*
  * Every line the controller sends ends in "*HH\r\n", HH the XOR of the bytes before '*' in
@@ -24,6 +25,7 @@
  *   PUL               OK PUL <wheel pulses> <meter pulses>   (calibration)
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
  *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
+ *   HIL ON*HH         OK HIL                   hardware in the loop (hil.h; the checksum is required)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / LONG / CHAR.
  * A command line that stalls unfinished for 3 s is dropped (the log lines go on).
  */
@@ -35,5 +37,11 @@ void serial_init(void);
 void serial_poll(void) __reentrant;
 /* Ask for a log line (the application does it every 1000 ms). */
 void serial_log_request(void);
+/* HIL mode (hil.h): 1 when a sensor frame is in and its control step is due; after the step
+ * the application sends its outputs (the frame's other fields are filled here). */
+#if FW_HIL
+uint8_t serial_hil_due(void);
+void serial_hil_send(hil_out_t *o) __reentrant;
+#endif
 
 #endif

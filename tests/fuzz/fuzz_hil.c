@@ -4,6 +4,7 @@
 #include <string.h>
 #include "fuzz.h"
 #include "hil.h"
+#include "hal_host.h"
 
 static void check_stream(const uint8_t *data, size_t size, uint8_t start)
 {
@@ -22,19 +23,32 @@ static void check_stream(const uint8_t *data, size_t size, uint8_t start)
                        "frame out with a bad CRC");
             if (start == HIL_IN_START) {
                 hil_in_t in;
-                hil_in_decode(rx.buf, &in);
+                hal_hil_t h;
+                memset(&in, 0, sizeof in);
+                in.seq = hil_in_decode(rx.buf, &h);
+                in.pca_now = h.pca_now;
+                in.wheel_count = h.wheel.count;
+                in.wheel_last = h.wheel.last;
+                in.wheel_rejected = h.wheel.rejected;
+                in.meter_count = h.meter.count;
+                in.meter_last = h.meter.last;
+                in.adc_pressure = h.adc[HAL_ADC_PRESSURE];
+                in.adc_level = h.adc[HAL_ADC_LEVEL];
+                in.sections = h.sections;
                 hil_in_encode(&in, f);
                 /* the ADC fields carry 10 bits: the rest is dropped on decoding */
-                FUZZ_CHECK(memcmp(f, rx.buf, 18) == 0 && f[22] == rx.buf[22], "sensor frame changed by decode/encode");
-                FUZZ_CHECK(in.adc_pressure < 1024 && in.adc_level < 1024, "ADC above 10 bits");
+                FUZZ_CHECK(memcmp(f, rx.buf, 20) == 0 && f[21] == rx.buf[21] && f[23] == rx.buf[23]
+                           && (f[20] & 3) == (rx.buf[20] & 3) && (f[22] & 3) == (rx.buf[22] & 3),
+                           "sensor frame changed by decode/encode");
+                FUZZ_CHECK(h.adc[0] < 1024 && h.adc[1] < 1024, "ADC above 10 bits");
             } else {
                 hil_out_t out;
                 hil_out_decode(rx.buf, &out);
                 hil_out_encode(&out, f);
                 FUZZ_CHECK(out.valve_dir >= -1 && out.valve_dir <= 1, "valve direction %d", out.valve_dir);
                 /* the direction and relay bytes keep only their defined values and bits */
-                FUZZ_CHECK(f[3] == rx.buf[3] && f[4] == (rx.buf[4] & 3) && memcmp(f + 5, rx.buf + 5, 12) == 0,
-                           "output frame changed by decode/encode");
+                FUZZ_CHECK(memcmp(f + 3, rx.buf + 3, 2) == 0 && f[5] == (rx.buf[5] & 3)
+                           && memcmp(f + 6, rx.buf + 6, 16) == 0, "output frame changed by decode/encode");
             }
         }
         FUZZ_CHECK(rx.n < rx.size, "receiver holds %u bytes", rx.n);
@@ -58,11 +72,39 @@ static void check_stream(const uint8_t *data, size_t size, uint8_t start)
     FUZZ_CHECK(tail >= 2, "receiver did not find good frames after the noise (%u)", tail);
 }
 
+/* The controller's mode on the same bytes: every frame taken is what the HAL reads, the lost
+ * count never runs backwards, and a frame's step leaves no capture to be taken twice. */
+static void check_mode(const uint8_t *data, size_t size)
+{
+    hal_capture_t c;
+    uint16_t lost = 0;
+    size_t k;
+    hil_out_t o;
+    uint8_t f[HIL_OUT_BYTES];
+    hal_host_reset();
+    hil_begin();
+    FUZZ_CHECK(hil_active() && hal_hil_active(), "HIL mode not on after hil_begin");
+    for (k = 0; k < size; k++) {
+        if (!hil_byte(data[k]))
+            continue;
+        FUZZ_CHECK(hal_adc_read(HAL_ADC_PRESSURE) < 1024 && hal_adc_read(HAL_ADC_LEVEL) < 1024, "ADC");
+        hal_flow_capture_take(&c);
+        hal_flow_capture_take(&c);
+        FUZZ_CHECK(c.count == 0, "a frame's meter edges taken twice");
+        memset(&o, 0, sizeof o);
+        hil_answer(&o, f);
+        FUZZ_CHECK(o.lost >= lost, "lost count ran backwards");
+        lost = o.lost;
+    }
+    hal_hil(0);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (size > 4096)
         return 0;
     check_stream(data, size, HIL_IN_START);
     check_stream(data, size, HIL_OUT_START);
+    check_mode(data, size);
     return 0;
 }
