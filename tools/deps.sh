@@ -39,4 +39,4 @@ if [ ! -f "$stamp" ] || ! cmp -s tools/requirements.txt "$stamp"; then
     .venv/bin/pip install -q --disable-pip-version-check -r tools/requirements.txt
     cp tools/requirements.txt "$stamp"
 fi
-say "sdcc $(sdcc --version 2>/dev/null | head -1 | grep -o '[0-9]\.[0-9]\.[0-9]' | head -1), s51, cmocka, .venv: ready"
+say "sdcc $(sdcc --version 2>/dev/null | head -1 | grep -o '[0-9]\.[0-9]\.[0-9]' | head -1), s51, cmocka,$([ $fuzz = 1 ] && echo " clang,") .venv: ready"
