@@ -46,7 +46,7 @@ static void usage(FILE *f)
 {
     fputs("usage: score RUN.csv [--scenario FILE] [--rate L_HA] [--nozzles N] [--spacing-cm CM] [--name NAME]\n"
           "             [--zones OUT.csv]\n"
-          "  the metrics of PLANT.md (sim/metrics.c, the simulator's own) of a recorded run, as one JSON line:\n"
+          "  the metrics of docs/SCENARIOS.md (sim/metrics.c, the simulator's own) of a recorded run, as one JSON line:\n"
           "  a simulator trace (sim --csv), a monitor or serial_log recording (tools/monitor.py, serial_log.py).\n"
           "  The settings (rate, nozzles, spacing) come from the scenario, the options, or the defaults.\n", f);
 }

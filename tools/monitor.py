@@ -116,6 +116,7 @@ class Monitor:
         self.other = 0              # data lines of the kind the rows do not come from
         self.plot = plot
         self.last_status = 0.0
+        self.last_row = None
 
     def _row(self, kind, d):
         if self.cols is None:
@@ -136,6 +137,7 @@ class Monitor:
             self.w.writerow([d[c] for c in self.cols])
         if self.plot:
             self.plot.add(d)
+        self.last_row = d
         self._status(d)
 
     def _status(self, d, force=False):
@@ -168,6 +170,8 @@ class Monitor:
             print("\n%s %s" % (kind, " ".join(d)), file=self.out)
 
     def close(self):
+        if self.last_row:
+            self._status(self.last_row, force=True)   # the last values, whatever the rate limit hid
         if self.f:
             self.f.close()
         if self.plot:
