@@ -88,9 +88,6 @@ static uint32_t pca_read(void)
 
 #if FW_HIL
 static hal_hil_t __xdata *hil;      /* hal_hil: the inputs from the PC's frames */
-#define HIL_ON (hil != 0)
-#else
-#define HIL_ON 0
 #endif
 
 uint32_t hal_pca_now(void)
@@ -221,7 +218,11 @@ uint8_t hal_keypad_row(uint8_t row)
 
 void hal_valve_out(int8_t dir, uint8_t duty)
 {
-    if (dir == HAL_VALVE_OFF || duty == 0 || HIL_ON) {
+#if FW_HIL
+    if (hil)
+        dir = HAL_VALVE_OFF;        /* the PC's plant gets the drive in a frame */
+#endif
+    if (dir == HAL_VALVE_OFF || duty == 0) {
         PCA_PWM1 = 0x03;            /* EPC1H/L: output stays low */
         CCAP1H = 0xFF;
         PIN_VALVE_A = 0;
@@ -237,12 +238,20 @@ void hal_valve_out(int8_t dir, uint8_t duty)
 
 void hal_spray_enable(uint8_t on)
 {
-    PIN_SPRAY = on && !HIL_ON ? 1 : 0;
+#if FW_HIL
+    if (hil)
+        on = 0;
+#endif
+    PIN_SPRAY = on ? 1 : 0;
 }
 
 void hal_buzzer(uint8_t on)
 {
-    PIN_BUZZER = on && !HIL_ON ? 1 : 0;
+#if FW_HIL
+    if (hil)
+        on = 0;
+#endif
+    PIN_BUZZER = on ? 1 : 0;
 }
 
 #if FW_HIL
