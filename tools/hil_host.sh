@@ -16,5 +16,6 @@ if [ -z "$port" ]; then
 fi
 "$bin/hil" --scenario "$scn" --port "$port" --pace 0 "$@"
 rc=$?
+kill $board 2>/dev/null     # it ends by itself when hil closes the port; not when hil never opened it
 wait $board 2>/dev/null
 exit $rc

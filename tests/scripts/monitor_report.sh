@@ -81,6 +81,14 @@ else
     nok "the log's report: $(tail -1 "$out/report_log/metrics.json" 2>/dev/null)"
 fi
 
+# the live plot's code on a display-less backend (the window itself needs a screen)
+DISPLAY=${DISPLAY:-:99} MPLBACKEND=Agg $PY tools/monitor.py --replay "$out/link.txt" > "$out/plot.out" 2>&1
+if [ $? -eq 0 ] && grep -q "monitor: 69 rows" "$out/plot.out" && ! grep -q Traceback "$out/plot.out"; then
+    ok "the live plot draws speed, target and actual flow, pressure and valve drive from the rows"
+else
+    nok "live plot: $(tail -3 "$out/plot.out")"
+fi
+
 # bad input: one line on stderr, exit status 1, no traceback
 one_line() {  # one_line NAME EXPECTED-TEXT COMMAND...
     local name=$1 want=$2; shift 2
