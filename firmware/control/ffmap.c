@@ -218,18 +218,21 @@ static int16_t fm_gain(int16_t q, uint16_t p_kpa) CTL_SHARED
 }
 
 /* ---- the control step, in named steps (each inlined into fm_step) ------------------------- */
+/* The step's values (M->w): e = target - flow (clamped), y the flow, q the target, dq the
+ * target's change since the last step, aq |dq|, ff the feed-forward, du the feedback. */
+#define W (&ctl_st.fm.w)
 
 /* A drive nobody reported is taken as applied; a restart begins from rest; end stops calibrate
  * the estimate (over-pressure, CTL_NO_CLOSE, is not a stop). */
-CTL_STEP void fm_begin(int16_t y, int16_t q) CTL_SHARED
+CTL_STEP void fm_begin(void) CTL_SHARED
 {
     if (M->pend) {
         M->pend = 0;
         fm_account(ctl_last);       /* nobody said what the valve got: what we asked */
     }
     if (ctl_first) {
-        M->y1 = y;
-        M->t1 = q;
+        M->y1 = W->y;
+        M->t1 = W->q;
         M->p_ref = M->p_hat;
         M->calm = 0;
         M->warm = 0;
@@ -245,14 +248,14 @@ CTL_STEP void fm_begin(int16_t y, int16_t q) CTL_SHARED
  * while the error still asks for more that way: the valve is stiffer than Min duty says. The
  * estimate takes the pulses back and the smallest pulse grows (brk). brk and the hunting
  * check's tk_cut step back after FM_BRK_AGE quiet periods; the last reversal ages. */
-CTL_STEP void fm_adapt_valve(int16_t e, int16_t y, int16_t q) CTL_SHARED
+CTL_STEP void fm_adapt_valve(void) CTL_SHARED
 {
     int16_t c;
     int32_t k;
     if (M->stall_n >= FM_STALL_N) {
-        c = (int16_t)(y - M->stall_y);
+        c = (int16_t)(W->y - M->stall_y);
         k = (int32_t)ctl_in->speed_kmh_x100 - M->stall_v;
-        if ((c < 0 ? -c : c) <= (q >> FM_DB_IN) && (M->dir > 0 ? e > 0 : e < 0)
+        if ((c < 0 ? -c : c) <= (W->q >> FM_DB_IN) && (M->dir > 0 ? W->e > 0 : W->e < 0)
             && ((k < 0 ? -k : k) << 6) <= (int32_t)ctl_in->speed_kmh_x100) {
             c = M->dir > 0 ? M->stall_mv : (int16_t)-M->stall_mv;
             M->p_hat = fx_sub_sat(M->p_hat, c);
@@ -289,8 +292,9 @@ CTL_STEP void fm_adapt_valve(int16_t e, int16_t y, int16_t q) CTL_SHARED
  * move; the feedback finishes it). A move bigger than one period at full duty holds the integral
  * for FM_HOLD periods (the meter shows it late; the integral would count the error the move is
  * still removing, and overshoot). */
-CTL_STEP int32_t fm_feedforward(int16_t e, int16_t q, int16_t dq) CTL_SHARED
+CTL_STEP void fm_feedforward(void) CTL_SHARED
 {
+    int16_t q = W->q, e = W->e, dq = W->dq;
     int32_t d = (int32_t)fm_map(q) - fm_map(M->t1);
     int16_t band = q >> FM_DB_IN;
     if ((dq > 0 && d < 0) || (dq < 0 && d > 0) || (d > 0 && e < -band) || (d < 0 && e > band))
@@ -301,16 +305,17 @@ CTL_STEP int32_t fm_feedforward(int16_t e, int16_t q, int16_t dq) CTL_SHARED
         M->hold = FM_HOLD;
     else if (M->hold)
         M->hold--;
-    return d;
+    W->ff = d;
 }
 
 /* Deadband with hysteresis: within target >> FM_DB_IN the feedback rests and the servo stops
  * where it is (no limit cycle of backlash take-ups and break-away pulses); it re-engages beyond
  * target >> FM_DB_OUT or when the target moves (|dq| > q/64, as for learning). */
-CTL_STEP void fm_deadband(int16_t e, int16_t q, int16_t aq) CTL_SHARED
+CTL_STEP void fm_deadband(void) CTL_SHARED
 {
-    int16_t c = e < 0 ? (int16_t)-e : e;
-    if (((int32_t)aq << 6) > q) {
+    int16_t q = W->q;
+    int16_t c = W->e < 0 ? (int16_t)-W->e : W->e;
+    if (((int32_t)W->aq << 6) > q) {
         M->rest = 0;                /* the target moves: the loop follows it */
         M->stall_n = 0;             /* ... and the flow with it: no stall to tell, */
         M->stall_mv = 0;
@@ -327,38 +332,39 @@ CTL_STEP void fm_deadband(int16_t e, int16_t q, int16_t aq) CTL_SHARED
 
 /* Feedback, du in Q12 x100 L/min. Inside the band a slow integral only (FM_REST_KI, none
  * within target >> FM_REST_E0). Outside it an incremental PI: P on the measurement plus the part
- * of the target's change the feed-forward d does not cover (FM_COVER: flow per stroke of the
+ * of the target's change the feed-forward does not cover (FM_COVER: flow per stroke of the
  * default slope), so a step is not kicked twice where the map follows the plant; the integral
  * held while the servo still travels (it would wind up) and while M->hold lasts. */
-CTL_STEP int32_t fm_feedback(int16_t e, int16_t y, int16_t q, int16_t dq,
-                             int32_t d) CTL_SHARED
+CTL_STEP void fm_feedback(void) CTL_SHARED
 {
+    int16_t e = W->e, dq = W->dq;
     int32_t du, k;
     int16_t c, need;
     if (M->rest) {
-        c = (int16_t)(q >> FM_REST_E0);
+        c = (int16_t)(W->q >> FM_REST_E0);
         c = e > c ? (int16_t)(e - c) : e < -c ? (int16_t)(e + c) : 0;
         du = MUL(FM_REST_KI, c);
     } else {
-        k = dq - ((MUL(fx_sat16(d), FM_COVER) + 16384) >> 15);
+        k = dq - ((MUL(fx_sat16(W->ff), FM_COVER) + 16384) >> 15);
         if (dq >= 0)
             k = k < 0 ? 0 : k > dq ? dq : k;
         else
             k = k > 0 ? 0 : k < dq ? dq : k;
-        du = MUL(FM_KP, fx_sat16((int32_t)M->y1 - y + k));
-        need = fx_sat16(d + M->p_ref - M->p_hat);
+        du = MUL(FM_KP, fx_sat16((int32_t)M->y1 - W->y + k));
+        need = fx_sat16(W->ff + M->p_ref - M->p_hat);
         if (need < FM_IGATE && need > -FM_IGATE && !M->hold)
             du += MUL(FM_KI, e);
     }
-    return du;
+    W->du = du;
 }
 
-/* The reference p_ref moves by the feed-forward d and the feedback du (du_q4 * 0.2048 = Q15
- * stroke, times the gain schedule), within FM_LEAD of the estimate, and not into a stop. */
-CTL_STEP void fm_reference(int32_t d, int32_t du, int16_t q) CTL_SHARED
+/* The reference p_ref moves by the feed-forward and the feedback (du_q4 * 0.2048 = Q15 stroke,
+ * times the gain schedule), within FM_LEAD of the estimate, and not into a stop. */
+CTL_STEP void fm_reference(void) CTL_SHARED
 {
-    M->gain = fm_gain(q, ctl_in->pressure_kpa);
-    d += (MUL(fx_sat16((du + 128) >> 8), (int16_t)((FM_DU_F * M->gain + 128) >> 8)) + 32768L) >> 16;
+    int32_t d;
+    M->gain = fm_gain(W->q, ctl_in->pressure_kpa);
+    d = W->ff + ((MUL(fx_sat16((W->du + 128) >> 8), (int16_t)((FM_DU_F * M->gain + 128) >> 8)) + 32768L) >> 16);
     d += M->p_ref;
     if (d > (int32_t)M->p_hat + FM_LEAD)
         d = (int32_t)M->p_hat + FM_LEAD;
@@ -375,9 +381,9 @@ CTL_STEP void fm_reference(int32_t d, int32_t du, int16_t q) CTL_SHARED
  * reversals in a row, each within FM_HUNT_GAP(T) periods of the last and against the error the
  * last one was made for, shrink the take-up (tk_cut). Nothing or at least the smallest pulse
  * (Min duty + brk; under half of Min duty nothing); limits and stops as the output stage. */
-CTL_STEP int32_t fm_servo(int16_t e) CTL_SHARED
+CTL_STEP q15_t fm_servo(void) CTL_SHARED
 {
-    int16_t need, c;
+    int16_t need, c, e = W->e;
     int8_t s;
     int32_t d, k;
     need = fx_sub_sat(M->p_ref, M->p_hat);
@@ -405,15 +411,16 @@ CTL_STEP int32_t fm_servo(int16_t e) CTL_SHARED
     if (d < k && d > -k)
         d = (d >= ctl_stiction_half) ? k : (d <= -ctl_stiction_half) ? -k : 0;
     CTL_STOP(d, ctl_in->valve_limit, CTL_CLOSE_BLOCKED);
-    return d;
+    return (q15_t)d;
 }
 
 /* The map learns where the loop is calm (target steady, error under 1/16 of it, no limit, at or
  * above the minimum-flow speed) for FM_CALM periods, and not for FM_WARM periods after a
  * (re)start (the pump may still spin up, the line prime). */
-CTL_STEP void fm_adapt_map(int16_t e, int16_t q, int16_t aq) CTL_SHARED
+CTL_STEP void fm_adapt_map(void) CTL_SHARED
 {
-    if (((int32_t)aq << 6) <= q && ((int32_t)(e < 0 ? -e : e) << 4) <= q && q > 0 && !ctl_sat && !ctl_in->valve_limit
+    int16_t q = W->q, e = W->e;
+    if (((int32_t)W->aq << 6) <= q && ((int32_t)(e < 0 ? -e : e) << 4) <= q && q > 0 && !ctl_sat && !ctl_in->valve_limit
         && ctl_in->speed_kmh_x100 >= (uint16_t)(param_v[P_MINF_SPEED] * 10u)) {
         if (M->calm < 255)
             M->calm++;
@@ -428,32 +435,30 @@ CTL_STEP void fm_adapt_map(int16_t e, int16_t q, int16_t aq) CTL_SHARED
 
 q15_t fm_step(void) CTL_SHARED
 {
-    int16_t e = ctl_clamp_e(ctl_in->target_lpm_x100 - ctl_in->flow_lpm_x100);
-    int16_t y = ctl_in->flow_lpm_x100;
-    int16_t q = ctl_in->target_lpm_x100;
-    int16_t dq, aq;
-    int32_t d, du;
-
-    fm_begin(y, q);
-    fm_adapt_valve(e, y, q);
-    dq = (int16_t)(q - M->t1);
-    aq = dq < 0 ? (int16_t)-dq : dq;
-    d = fm_feedforward(e, q, dq);
-    fm_deadband(e, q, aq);
-    du = fm_feedback(e, y, q, dq, d);
-    fm_reference(d, du, q);
-    d = fm_servo(e);
+    q15_t d;
+    W->e = ctl_clamp_e(ctl_in->target_lpm_x100 - ctl_in->flow_lpm_x100);
+    W->y = ctl_in->flow_lpm_x100;
+    W->q = ctl_in->target_lpm_x100;
+    fm_begin();
+    fm_adapt_valve();
+    W->dq = (int16_t)(W->q - M->t1);
+    W->aq = W->dq < 0 ? (int16_t)-W->dq : W->dq;
+    fm_feedforward();
+    fm_deadband();
+    fm_feedback();
+    fm_reference();
+    d = fm_servo();
     M->pend = 1;                    /* accounted by ctl_applied() (or the next step) */
-    fm_adapt_map(e, q, aq);
-    M->y1 = y;
-    M->t1 = q;
+    fm_adapt_map();
+    M->y1 = W->y;
+    M->t1 = W->q;
     if (M->stall_n == 0) {
-        M->stall_y = y;             /* where a run of smallest pulses starts from */
+        M->stall_y = W->y;          /* where a run of smallest pulses starts from */
         M->stall_v = ctl_in->speed_kmh_x100;
     }
     ctl_k[0] = FM_KP;
     ctl_k[1] = FM_KI;
     ctl_k[2] = 0;
-    ctl_last = (q15_t)d;
-    return (q15_t)d;
+    ctl_last = d;
+    return d;
 }
