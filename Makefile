@@ -100,8 +100,8 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests bench sim sim-progs demo compare \
-        family report \
+.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests bench sim sim-progs demo \
+        compare family report \
         bench-sim panel screenshots clean help FORCE
 
 help:
