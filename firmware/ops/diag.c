@@ -1,7 +1,6 @@
 /* diag.c: the alarm rules (tank, pump, leak, clog, meter, speed, sensors, pressure, off-rate, valve) and their texts. */
 #include "params.h"
 #include "umath.h"
-#include "app.h"
 #include "analog.h"
 #include "flow.h"
 #include "speed.h"
@@ -132,42 +131,38 @@ static uint8_t noise(uint8_t *score, uint8_t glitch) __reentrant
     return *score;
 }
 
-uint16_t diag_step(uint8_t settled) __reentrant
+/* Tank and pump, the sensors (debounced by analog.c), over-pressure with 5 % hysteresis. */
+static void diag_supply(const __xdata app_status_t *in) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
-    uint16_t tank = app_status.tank_l;
-    uint16_t p = app_status.pressure_kpa;
-    int16_t meter = flow_lpm_x100();
-    int16_t target = app_status.target_lpm_x100;
+    uint16_t tank = in->tank_l;
+    uint16_t p = in->pressure_kpa;
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
-    uint8_t judge, g;
-    uint16_t pexp;
-    uint32_t p100, x;
-    int16_t qp;
-
-    /* tank and pump */
-    x = (uint32_t)tank * 100u;
+    uint32_t x = (uint32_t)tank * 100u;
     rule(AL_TANK_LOW, lsens && tank < tmin, refill, DIAG_TANK_PERIODS);
     rule(AL_PUMP_DRY, lsens && x <= param_v[P_TANK_L], refill && x > param_v[P_TANK_L],
          DIAG_TANK_PERIODS);
-
-    /* sensors (debounced by analog.c) */
     rule(AL_PSENS, !psens, psens, 1);
     rule(AL_LSENS, !lsens, lsens, 1);
-
-    /* over-pressure, 5 % hysteresis */
     rule(AL_OVERPRESSURE, psens && p > param_v[P_P_MAX],
          !psens || (uint32_t)p * 20u < (uint32_t)param_v[P_P_MAX] * 19u, DIAG_OVERP_PERIODS);
+}
 
-    /* flow meter lost: the nozzles pass qp at this pressure, the meter sees under a quarter */
-    qp = diag_nozzle_flow_x100(p, dg.nozzles);
-    judge = settled && psens;
+/* The nozzle model against the meter: the meter lost (the nozzles pass qp at this pressure,
+ * the meter sees under a quarter), a leak or a clog (the pressure against the model's pressure
+ * for the metered flow). */
+static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    uint16_t p = in->pressure_kpa;
+    int16_t meter = flow_lpm_x100();
+    int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
+    uint8_t judge = settled && analog_pressure_ok();
+    uint16_t pexp;
+    uint32_t p100, x;
     dg.meter_suspect = judge && qp >= DIAG_MODEL_MIN_X100 && (int32_t)meter * 4 < qp;
     rule(AL_METER_LOST, dg.meter_suspect,
          meter >= DIAG_MODEL_MIN_X100 / 2 && (int32_t)meter * 2 >= qp, DIAG_METER_PERIODS);
-
-    /* leak and clog: the pressure against the nozzle model's pressure for the metered flow */
     judge = judge && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     p100 = (uint32_t)p * 100u;
@@ -175,20 +170,16 @@ uint16_t diag_step(uint8_t settled) __reentrant
     rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
     x = (uint32_t)pexp * (100u + param_v[P_PDEV]);
     rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
+}
 
-    /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
-     * down keeps making pulses; one that stops dead from working speed inside one pulse
-     * distance is the false alarm this rule accepts) */
-    g = target_speed_given();
-    rule(AL_SPEED_LOST, !g && speed_quiet_periods() >= DIAG_SPEED_PERIODS &&
-                            speed_at_last_pulse_x100() >= param_v[P_MINF_SPEED] * 10u,
-         g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u, 1);
-
-    /* off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S */
-    judge = !app_status.manual && settled && target > 0;
-    qp = app_status.flow_lpm_x100 - target;
-    p100 = (uint32_t)(qp < 0 ? -(int32_t)qp : qp) * 100u;
-    x = (uint32_t)param_v[P_OFFRATE] * (uint16_t)target;
+/* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, in auto with the boom settled. */
+static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    int16_t target = in->target_lpm_x100;
+    uint8_t judge = !in->manual && settled && target > 0;
+    int16_t qp = in->flow_lpm_x100 - target;
+    uint32_t p100 = (uint32_t)(qp < 0 ? -(int32_t)qp : qp) * 100u;
+    uint32_t x = (uint32_t)param_v[P_OFFRATE] * (uint16_t)target;
     if (!(dg.alarms & (1u << AL_OFFRATE))) {
         if (judge && p100 > x) {
             if (++dg.offrate_cnt >= param_v[P_OFFRATE_S] * 10u) {
@@ -201,11 +192,24 @@ uint16_t diag_step(uint8_t settled) __reentrant
     } else {
         rule(AL_OFFRATE, 0, !judge || p100 <= x, 1);
     }
+}
 
+uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    uint8_t g;
+    diag_supply(in);
+    diag_model(in, settled);
+    /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
+     * down keeps making pulses; one that stops dead from working speed inside one pulse
+     * distance is the false alarm this rule accepts) */
+    g = target_speed_given();
+    rule(AL_SPEED_LOST, !g && speed_quiet_periods() >= DIAG_SPEED_PERIODS &&
+                            speed_at_last_pulse_x100() >= param_v[P_MINF_SPEED] * 10u,
+         g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u, 1);
+    diag_offrate(in, settled);
     /* the valve refused at a stop */
     g = valve_refused();
     rule(AL_VALVE_STOP, g, !g, DIAG_VALVE_PERIODS);
-
     /* pulse noise */
     g = flow_glitches() != dg.meter_glitches;
     dg.meter_glitches = flow_glitches();
@@ -213,7 +217,6 @@ uint16_t diag_step(uint8_t settled) __reentrant
     g = speed_glitches() != dg.wheel_glitches;
     dg.wheel_glitches = speed_glitches();
     rule(AL_WHEEL_NOISE, noise(&dg.wheel_noise, g) > 60, dg.wheel_noise == 0, 1);
-
     return dg.alarms;
 }
 

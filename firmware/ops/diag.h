@@ -3,8 +3,9 @@
 #define DIAG_H
 
 #include "compiler.h"
+#include "ops.h"
 
-/* Alarm bits (app_status.alarms). */
+/* Alarm bits (app_status.alarms, ops.h). */
 enum {
     AL_TANK_LOW = 0,    /* tank below P_TANK_MIN: spraying stops */
     AL_PUMP_DRY,        /* tank empty (<= 1 % of P_TANK_L): the PTO pump runs dry, disengage it */
@@ -35,11 +36,11 @@ enum {
 #define DIAG_MODEL_MIN_X100 500     /* leak/clog/meter rules need 5 L/min or more */
 
 void diag_init(void);
-/* One period, after the application has filled app_status for it: evaluate every rule
- * (the inputs: app_status, the sensors' ok flags, the pulse modules' quiet counters and
- * glitch counts, the valve's refusals); `settled`: the boom sprays and start-up is over.
- * Returns the active alarm bits. */
-uint16_t diag_step(uint8_t settled) __reentrant;
+/* One period: evaluate every rule. The inputs: this period's figures `st` (tank, pressure,
+ * target, flow, manual), `settled` (the boom sprays and start-up is over), the sensors' ok
+ * flags, the pulse modules' quiet counters and glitch counts, the valve's refusals. Returns
+ * the active alarm bits. */
+uint16_t diag_step(const __xdata app_status_t *st, uint8_t settled) __reentrant;
 uint16_t diag_alarms(void);
 /* The flow the nozzles pass at this pressure, q = n Q3 / sqrt(3 bar) * sqrt(P - P_check), L/min x100. */
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant;
