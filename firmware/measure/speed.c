@@ -75,7 +75,7 @@ void speed_init(void)
  * and within a turn of that measurement, the span of `count` pulses just measured (sl_dt) should
  * be (count + off[new] - off[old]) t_rev / n: what it differs by moves the new element's offset
  * (element 0 is the zero; when it is the new one, the old one's moves instead). */
-static void speed_learn(uint8_t count, uint8_t old) __reentrant
+static void speed_learn(uint8_t count, uint8_t old)
 {
     uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg;
     int32_t err;
@@ -120,10 +120,13 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         sp.off[old] -= e;
 }
 
+/* The speed step's working values in the direct RAM: the cheapest addressing the 8051 has, and
+ * no stack frame to reach (the step runs once a period, never inside itself). */
+static __data hal_capture_t c;
+static __data uint32_t v;
+
 uint16_t speed_step(void) __reentrant
 {
-    hal_capture_t c;
-    uint32_t v;
 
     if (sp.gen != param_generation)
         speed_derive();
