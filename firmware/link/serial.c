@@ -90,7 +90,9 @@ static void tx_end(void) __reentrant
     se.buf[se.n++] = '\r';
     se.buf[se.n++] = '\n';
     se.tx_i = 0;
+#if FW_HIL
     if (se.state != S_TX_HIL)       /* the reply to HIL ON keeps its state: the mode follows it */
+#endif
         se.state = S_TX;
 }
 
@@ -292,12 +294,16 @@ static void answer(void) __reentrant
     uint16_t a = 0, b = 0;
 
     se.n = 0;                       /* the reply is written over the line once it is parsed */
+#if FW_HIL
     c = line_ok(line, n);
     if (!c)
         return;
     if (c < n)
         a = 1;                      /* the line had its checksum (HIL ON requires it) */
-    n = c;
+#else
+    if (!line_ok(line, n))
+        return;
+#endif
     for (c = 0; c < N_COMMANDS; c++)
         if (line[0] == commands[c].word[0] && line[1] == commands[c].word[1]
             && line[2] == commands[c].word[2] && (line[3] == ' ' || line[3] == 0))
@@ -309,7 +315,9 @@ static void answer(void) __reentrant
     switch (commands[c].args) {
     case ARG_NUM:
     case ARG_NUM2:
+#if FW_HIL
         a = 0;
+#endif
         if (*p != ' ' || !(p = number(p + 1, &a))
             || (commands[c].args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, &b))))) {
             reply_err("NUM");
@@ -324,6 +332,7 @@ static void answer(void) __reentrant
         a = p[1] == '+' ? 1 : (uint16_t)-1;
         p += 2;
         break;
+#if FW_HIL
     case ARG_ON:
         if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N')) {
             reply_err("ARG");
@@ -331,6 +340,7 @@ static void answer(void) __reentrant
         }
         p += 3;
         break;
+#endif
     default:
         break;
     }
@@ -422,9 +432,9 @@ void serial_poll(void) __reentrant
 {
     int16_t b;
 
+#if FW_HIL
     if ((se.state == S_TX || se.state == S_TX_HIL) && !drain())
         return;
-#if FW_HIL
     if (hil_active()) {
         /* frames only; one at a time: its step runs before the next is read */
         while (se.state == S_RX && (b = hal_uart_get()) >= 0)
@@ -432,6 +442,9 @@ void serial_poll(void) __reentrant
                 se.state = S_HIL_DUE;
         return;
     }
+#else
+    if (se.state == S_TX && !drain())
+        return;
 #endif
     while ((b = hal_uart_get()) >= 0) {
         if (b == '\r' || b == '\n') {
