@@ -24,8 +24,8 @@ IRAM_SIZE ?= 256
 XRAM_SIZE ?= 1024
 # headroom floors: `make firmware` fails below them (room for the next feature, fix or figure;
 # docs/MEMORY.md). Issue 13 asks 15 % of the code free: not reached yet, the floor holds what
-# is (12 %) so that nothing grows back; raise it as code comes out.
-CODE_FREE_PCT ?= 12
+# is (13 %) so that nothing grows back; raise it as code comes out.
+CODE_FREE_PCT ?= 13
 XRAM_FREE_MIN ?= 205
 STACK_MARGIN_MIN ?= 40
 

@@ -167,15 +167,13 @@ void fm_account(q15_t d) CTL_SHARED
         fm_calibrate(FM_AT_OPEN);
 }
 
-/* Table t at x, nodes 1 << SH apart, linear between them (x >= 0, within the table); the
- * shift a constant, so no shift loops on the 8051. */
-#define FM_TAB(t, x, SH, out)                                                                    \
-    do {                                                                                         \
-        uint8_t i_ = (uint8_t)((x) >> (SH));                                                     \
-        int16_t a_ = (t)[i_];                                                                    \
-        (out) = (int16_t)(a_ + ((MUL((int16_t)((t)[i_ + 1] - a_), (int16_t)((x) & ((1u << (SH)) - 1u))) \
-                                 + (1L << ((SH) - 1))) >> (SH)));                                 \
-    } while (0)
+/* Table t between node i and i + 1 at the fraction f (Q15 of the node spacing), linear. With the
+ * spacing 1 << SH and x's low bits r, f = r << (15 - SH) gives exactly (d r + 2^(SH-1)) >> SH. */
+static int16_t fm_tab(const FX_CODE int16_t *t, uint8_t i, int16_t f) CTL_SHARED
+{
+    int16_t a = t[i];
+    return (int16_t)(a + ((MUL((int16_t)(t[i + 1] - a), f) + 16384L) >> 15));
+}
 
 /* The gain schedule, Q8 (256 = 1): 80 L/min a stroke over how much boom flow a stroke of the
  * bypass moves here. With an equal-percentage valve that sensitivity is ln(R) hm(Q_v, Q_b P/(P -
@@ -205,11 +203,11 @@ static int16_t fm_gain(int16_t q, uint16_t p_kpa) CTL_SHARED
         q = 8191;
     /* 1/Q_v = 1/Cv(o) 1/sqrt(P), Q16 of 1/(L/min); (1 - Pc/P)/Q_b, Q16 */
     /* (the table lookups multiply too: on the 8051 MUL's operands are shared, so one at a time) */
-    FM_TAB(fm_inv_cv, o, 11, a);
-    FM_TAB(fm_inv_sqp, p_kpa, 6, b);
+    a = fm_tab(fm_inv_cv, (uint8_t)(o >> 11), (int16_t)((o & 2047u) << 4));
+    b = fm_tab(fm_inv_sqp, (uint8_t)(p_kpa >> 6), (int16_t)((p_kpa & 63u) << 9));
     s = (MUL(a, b) + 128) >> 8;
-    FM_TAB(fm_pc_p, p_kpa, 6, a);
-    FM_TAB(fm_inv_q, (uint16_t)q, 8, b);
+    a = fm_tab(fm_pc_p, (uint8_t)(p_kpa >> 6), (int16_t)((p_kpa & 63u) << 9));
+    b = fm_tab(fm_inv_q, (uint8_t)((uint16_t)q >> 8), (int16_t)(((uint16_t)q & 255u) << 7));
     s += (MUL(a, b) + 16384) >> 15;
     if (s > 8191)
         s = 8191;

@@ -255,30 +255,30 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     }
 }
 
-/* The line's checksum (optional "*HH") and layout (words, single spaces); 0 and an error sent
- * when it is not right, else the line's length without the checksum. */
-static uint8_t line_ok(char *line, uint8_t n) __reentrant
+/* The checksum (optional "*HH") and layout (words, single spaces) of the line in se.buf; 0 and
+ * an error sent when it is not right, else the line's length without the checksum. */
+static uint8_t line_ok(uint8_t n) __reentrant
 {
     uint8_t i, x = 0;
     int8_t h1, h2;
-    for (i = 0; i < n && line[i] != '*'; i++)
-        x ^= (uint8_t)line[i];
+    for (i = 0; i < n && se.buf[i] != '*'; i++)
+        x ^= (uint8_t)se.buf[i];
     if (i < n) {
-        h1 = i + 3 == n ? hexval(line[i + 1]) : -1;
-        h2 = i + 3 == n ? hexval(line[i + 2]) : -1;
+        h1 = i + 3 == n ? hexval(se.buf[i + 1]) : -1;
+        h2 = i + 3 == n ? hexval(se.buf[i + 2]) : -1;
         if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {
             reply_err("CSUM");
             return 0;
         }
         n = i;
     }
-    line[n] = 0;
-    if (n == 0 || line[0] == ' ' || line[n - 1] == ' ') {
+    se.buf[n] = 0;
+    if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ') {
         reply_err("ARG");
         return 0;
     }
     for (i = 1; i < n; i++)
-        if (line[i] == ' ' && line[i - 1] == ' ') {
+        if (se.buf[i] == ' ' && se.buf[i - 1] == ' ') {
             reply_err("ARG");
             return 0;
         }
@@ -288,25 +288,24 @@ static uint8_t line_ok(char *line, uint8_t n) __reentrant
 /* The command in se.buf: look its word up, parse its arguments, run its handler. */
 static void answer(void) __reentrant
 {
-    char *line = se.buf;
-    const char *p = line + 3;
+    const char *p = se.buf + 3;
     uint8_t n = se.n, c;
     uint16_t a = 0, b = 0;
 
     se.n = 0;                       /* the reply is written over the line once it is parsed */
 #if FW_HIL
-    c = line_ok(line, n);
+    c = line_ok(n);
     if (!c)
         return;
     if (c < n)
         a = 1;                      /* the line had its checksum (HIL ON requires it) */
 #else
-    if (!line_ok(line, n))
+    if (!line_ok(n))
         return;
 #endif
     for (c = 0; c < N_COMMANDS; c++)
-        if (line[0] == commands[c].word[0] && line[1] == commands[c].word[1]
-            && line[2] == commands[c].word[2] && (line[3] == ' ' || line[3] == 0))
+        if (se.buf[0] == commands[c].word[0] && se.buf[1] == commands[c].word[1]
+            && se.buf[2] == commands[c].word[2] && (se.buf[3] == ' ' || se.buf[3] == 0))
             break;
     if (c == N_COMMANDS) {
         reply_err("CMD");
