@@ -118,7 +118,7 @@ help:
 	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
-	@echo "make screenshots  the run screen and a menu as PNG in docs/"
+	@echo "make screenshots  the run screen, a menu, a refused entry and the I/O test as PNG in docs/"
 	@echo "make hil PORT=/dev/ttyUSB0 SCENARIO=f   the scenario's plant against a flashed board over RS232 (metrics JSON)"
 	@echo "make hil-host SCENARIO=f   the same with the host build standing in for the board (a pseudo-terminal)"
 	@echo "make fuzz [FUZZ_S=60]  libFuzzer (ASan+UBSan) on every parser, FUZZ_S seconds each; fuzz-merge keeps new coverage"
@@ -273,7 +273,7 @@ demo:
 
 # make panel [PANEL_SCENARIO=file] [PANEL_ARGS="--speed 2 ..."]: the LCD12864 and the keypad in the
 # terminal, the firmware against the simulated sprayer in real time (sim/panel_main.c; q quits).
-# make screenshots: the run screen, a menu and a refused entry as PNG in docs/ (the README shows
+# make screenshots: the run screen, a menu, a refused entry and the I/O test as PNG in docs/ (the README shows
 # them; the panel writes uncompressed PNG, Pillow recompresses).
 PANEL_SCENARIO ?=
 PANEL_ARGS ?=
@@ -286,7 +286,8 @@ screenshots: $(PANEL_BIN)
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......" --screenshot docs/panel_run.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......ABBBB" --screenshot docs/panel_menu.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......AD1500D" --screenshot docs/panel_refused.png
-	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png
+	$(Q)$(PANEL_BIN) --time 40 --keys "*......AAD1......" --screenshot docs/panel_iotest.png
+	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png docs/panel_iotest.png
 
 # ==== hardware in the loop (docs/HIL.md): the plant on the PC, the controller on the serial link ===========
 # make hil PORT=/dev/ttyUSB0 SCENARIO=f [CONTROLLER=n]: against a flashed board, in real time (reset
