@@ -10,11 +10,12 @@
 
 /*
  * The firmware (app_init, app_poll) on the host HAL, its serial link on a pseudo-terminal
- * (sim --pty's): what a board does on its RS232 port, this does there. The board's clock is
- * the PC's: idle, it stands still (commands are answered at once); a sensor frame of the HIL
- * mode carries the PC's PCA time, and the clock runs up to it a millisecond at a time (the
- * main loop polled each, as on the chip) before the frame's last byte arrives, so the board
- * steps at the very instant the simulator's firmware would.
+ * (sim --pty's): what a board does on its RS232 port, this does there. The board's clock runs
+ * a millisecond at a time (the main loop polled each, as on the chip) while commands come in,
+ * and in HIL mode with the PC's: a sensor frame carries the PC's PCA time; it goes on the
+ * host HAL's wire (38400 baud) so that its last byte arrives within the millisecond it stands
+ * for, and the board steps at the instant the simulator's firmware would (its clock then
+ * runs ahead of the PC's by the set-up's time, which only moves hal_ms).
  */
 
 static uint64_t t_ms;
@@ -52,6 +53,7 @@ int main(int argc, char **argv)
     uint8_t buf[256];
     hil_rx_t peek;                  /* finds the frames in the bytes to learn their time */
     uint32_t pca_prev = 0;
+    uint64_t t_prev = 0;
 
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--wait") && i + 1 < argc) {
@@ -87,23 +89,30 @@ int main(int argc, char **argv)
         if (got < 0 || pty_peer_gone(fd))
             break;
         for (k = 0; k < got; k++) {
-            if (hil_active() && hil_rx_byte(&peek, buf[k])) {
-                /* a whole frame: the clock to its instant, then its last byte */
+            if (!hil_active()) {
+                /* a command: on the wire at 38400 baud, read as the main loop polls */
+                hal_host_uart_rx_push(buf[k]);
+                if (buf[k] == '\n' || k + 1 == got)
+                    poll_at(t_ms + 6);
+                if (hil_active()) {         /* OK HIL went out: the frames' clock starts here */
+                    pca_prev = 0;
+                    t_prev = t_ms;
+                }
+            } else if (hil_rx_byte(&peek, buf[k])) {
+                /* a whole frame for the instant it stands for: put it on the wire 7 ms before
+                 * (26 bytes take 6.8 ms), so that its last byte arrives within that millisecond */
                 uint32_t pca = (uint32_t)peek.buf[2] | (uint32_t)peek.buf[3] << 8 | (uint32_t)peek.buf[4] << 16
                                | (uint32_t)peek.buf[5] << 24;
-                uint64_t dms = ((uint64_t)(uint32_t)(pca - pca_prev) * 1000u + HAL_PCA_HZ / 2) / HAL_PCA_HZ;
+                uint64_t t = t_prev + ((uint64_t)(uint32_t)(pca - pca_prev) * 1000u + HAL_PCA_HZ / 2) / HAL_PCA_HZ;
+                int i;
                 pca_prev = pca;
-                poll_at(t_ms + dms - 1);
-                hal_host_uart_rx_push(buf[k]);
-                poll_at(t_ms + 1);
-            } else {
-                hal_host_uart_rx_push(buf[k]);
-                if (!hil_active())
-                    app_poll();     /* commands: answered now, the clock stands still */
+                t_prev = t;
+                poll_at(t > t_ms + 7 ? t - 7 : t_ms);
+                for (i = 0; i < HIL_IN_BYTES; i++)
+                    hal_host_uart_rx_push(peek.buf[i]);
+                poll_at(t);
             }
         }
-        if (!hil_active())
-            app_poll();
         flush_tx(fd);
     }
     close(fd);
