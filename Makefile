@@ -232,11 +232,15 @@ compare: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
 	$(Q)echo
 	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN)
+	$(Q)echo
+	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN) --against aog
+	$(Q)echo
+	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN) --against raven
 
 # the controllers over N sprayers drawn from the plant family (docs/SCENARIOS.md): median and 95th
 # percentile per controller; every run in build/family/runs.csv, the table in summary.json
 N ?= 200
-CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid
+CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid,aog,raven
 SEED ?= 1
 family: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --out $(BUILD)/family

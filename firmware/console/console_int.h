@@ -27,6 +27,7 @@ typedef struct {
                                      * I/O test: the wheel's at the rate window's start */
     uint16_t cal_value;             /* the new calibration value, in the parameter's units;
                                      * I/O test: hal_ms() low 16 bits at the window's start */
+    uint8_t rc_seen;                /* target_remote_refusals() last shown */
 } console_t;
 extern console_t con;
 

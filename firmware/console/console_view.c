@@ -7,6 +7,7 @@
 #include "ops.h"
 #include "diag.h"
 #include "ctl.h"
+#include "target.h"
 #include "store.h"
 #include "screen.h"
 #include "fmt.h"
@@ -82,13 +83,15 @@ void con_right_align(uint8_t from)
 
 uint8_t con_is_choice(uint8_t id)
 {
-    return id == P_CONTROLLER || id == P_MODE;
+    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
 }
 
 const char *con_choice_name(uint8_t id, uint16_t v)
 {
     if (id == P_MODE)
         return v ? "Manual" : "Auto";
+    if (id == P_REMOTE)
+        return v ? "Raven" : "off";
     return ctl_name((uint8_t)v);
 }
 
@@ -218,7 +221,10 @@ static void draw_run(void)
         at = con_cat(0, "T");
         at = con_cat_num(at, 5, st->tank_l, 0, 0);
         at = con_cat(at, "L ");
-        con_cat(at, ctl_name(ctl_selected()));
+        if (target_rate_remote())           /* the rate comes from the field computer */
+            con_cat_num(con_cat(at, "RC"), 0, target_rate_x10(), 1, 0);
+        else
+            con_cat(at, ctl_name(ctl_selected()));
         con_right_align(at);
         screen_line(3, con.line);
     }

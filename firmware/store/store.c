@@ -51,9 +51,9 @@ static uint32_t read32(uint16_t a)
     return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
 }
 
-/* The number of values the record at base holds when it has a known header, its CRC and every
- * value in range; 0 otherwise. Known: this version's table, or version 2's or 3's
- * (PARAMS_V2_COUNT, PARAMS_V3_COUNT values, the later ones appended since: they keep their
+/* The number of values the copy in sector s holds when it has a known header, its CRC and every
+ * value in range; 0 otherwise. Known: this version's table, or version 2's, 3's or 4's
+ * (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended since: they keep their
  * defaults). */
 static uint8_t record_valid(uint16_t base) __reentrant
 {
@@ -62,7 +62,7 @@ static uint8_t record_valid(uint16_t base) __reentrant
     uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
     if (hal_eeprom_read(base) != STORE_MAGIC
         || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
-             || (ver == 3u && n == PARAMS_V3_COUNT)))
+             || (ver == 3u && n == PARAMS_V3_COUNT) || (ver == 4u && n == PARAMS_V4_COUNT)))
         return 0;
     at = CRC_N(n);
     for (i = 0; i < at; i++)

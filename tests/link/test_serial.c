@@ -8,6 +8,7 @@
 #include <cmocka.h>
 #include "hal_host.h"
 #include "params.h"
+#include "store.h"
 #include "app.h"
 #include "diag.h"
 #include "totals.h"
@@ -238,8 +239,8 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
     assert_string_equal(cmd("\r\n"), "ERR LOST");
     assert_int_equal(param_v[P_RATE], 150);
     assert_string_equal(scmd("SET 0 130"), "OK 0 130");
-    /* an erase: fill the log's 16 slots, so the next save erases a sector */
-    for (int i = 0; i < 16; i++)
+    /* an erase: fill the log's slots, so the next save erases a sector */
+    for (int i = 0; i < (int)STORE_SLOTS; i++)
         assert_string_equal(scmd("SAV"), "OK SAV");
     uint32_t erases = hal_host_io.eeprom_erases;
     send(signed_line("SAV"));
