@@ -185,7 +185,7 @@ static void exchange(sim_t *sim, hil_pc_t *h)
 }
 
 /* sim_step's step 5: the board instead of app_poll() */
-static void hil_poll(sim_t *sim)
+static void pc_poll(sim_t *sim)
 {
     hil_pc_t *h = sim->poll_ctx;
     uint32_t now = hal_ms();
@@ -325,7 +325,7 @@ int main(int argc, char **argv)
         return 1;
     }
     sim_init(sim, s);
-    sim->poll = hil_poll;
+    sim->poll = pc_poll;
     sim->poll_ctx = &h;
     h.next_ms = APP_PERIOD_MS;
     hil_rx_init(&h.rx, HIL_OUT_START);

@@ -103,6 +103,9 @@ void app_init(void)
     totals_init();
     store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
     serial_init();
+#if FW_HIL
+    hil_init();                     /* out of the HIL mode, as at power-on */
+#endif
     app_start();
     console_init();
 }
@@ -331,7 +334,7 @@ void app_poll(void)
     if (hil_active()) {
         /* one step a sensor frame, on its inputs; none without one (never on stale inputs:
          * when the frames stop, so do the steps, and the watchdog resets the chip) */
-        if (!serial_hil_due())
+        if (!hil_due())
             return;
         if (hil_first())
             app_start();

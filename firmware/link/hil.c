@@ -122,6 +122,7 @@ static struct {
     uint8_t on;                     /* HIL_OFF, HIL_WAIT (no frame yet), HIL_RUN */
     uint8_t first;                  /* the frame just taken is the mode's first */
     uint8_t seq;                    /* the sequence number of the last frame taken */
+    uint8_t due;                    /* a frame is in, its step not yet answered */
 } hm;
 
 #define HIL_OFF 0
@@ -139,6 +140,7 @@ void hil_begin(void)
     hil_rx_init(&hm.rx, HIL_IN_START);
     hm.lost = 0;
     hm.first = 0;
+    hm.due = 0;
     hm.on = HIL_WAIT;
     hm.in.wheel.count = hm.in.meter.count = 0;
     hm.wheel_total = hm.meter_total = 0;
@@ -182,8 +184,22 @@ uint8_t hil_byte(uint8_t b)
     return 1;
 }
 
+uint8_t hil_due(void)
+{
+    return hm.due;
+}
+
+void hil_poll(void)
+{
+    int16_t b;
+    /* one frame at a time: its step runs before the next is read */
+    while (!hm.due && (b = hal_uart_get()) >= 0)
+        hm.due = hil_byte((uint8_t)b);
+}
+
 void hil_answer(hil_out_t *o, uint8_t *f) __reentrant
 {
+    hm.due = 0;
     o->seq = hm.seq;
     o->lost = hm.lost;
     o->wheel_min = hm.in.wheel_min;

@@ -110,6 +110,10 @@ uint8_t hil_active(void);
 /* A received byte in the mode; 1 when it completed a sensor frame: its inputs are what the
  * HAL reads now (hal_hil), and one control step is due. */
 uint8_t hil_byte(uint8_t b);
+/* Read the serial link's bytes as frames until one is in (serial.c, in the mode); hil_due()
+ * is 1 from then until its answer (one control step a frame). */
+void hil_poll(void);
+uint8_t hil_due(void);
 /* 1 at the first frame of the mode: the application starts afresh on it. */
 uint8_t hil_first(void);
 /* After the step: o (valve, relays, alarms, the status values, filled by the application)

@@ -28,8 +28,6 @@ static struct {
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
 #define S_RX_LOST 4                 /* bytes of the line were lost (hal_uart_get): skip to its end */
-#define S_TX_HIL 5                  /* sending the reply to HIL ON: then the HIL mode */
-#define S_HIL_DUE 6                 /* HIL mode: a sensor frame is in, its control step due */
 static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
 static __bit csum_seen;             /* the line being answered carried its checksum */
 
@@ -43,9 +41,6 @@ void serial_init(void)
     se.reported = 0;
     se.log_due = 0;
     boot_due = 1;
-#if FW_HIL
-    hil_init();
-#endif
 }
 
 void serial_log_request(void)
@@ -106,10 +101,7 @@ static void tx_end(void) __reentrant
     se.buf[se.n++] = '\r';
     se.buf[se.n++] = '\n';
     se.tx_i = 0;
-#if FW_HIL
-    if (se.state != S_TX_HIL)       /* the reply to HIL ON keeps its state: the mode follows it */
-#endif
-        se.state = S_TX;
+    se.state = S_TX;
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
@@ -179,8 +171,7 @@ static const __code command_t commands[] = {
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
 /* The commands that change something: refused without their checksum, so that a damaged
  * line ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
-#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV) \
-                 | (1u << C_HIL))
+#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV) | (1u << C_HIL))
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
@@ -258,10 +249,9 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         ok_2(ops_wheel_pulses(), ops_flow_pulses());
         break;
 #if FW_HIL
-    case C_HIL:
-        /* never by accident: the exact line, with its checksum (CHANGES) */
+    case C_HIL:                     /* never by accident: the exact line with its checksum (CHANGES) */
         ok("HIL");
-        se.state = S_TX_HIL;
+        hil_begin();                /* its reply goes out first (serial_poll drains before frames) */
         break;
 #endif
     default:
@@ -353,15 +343,9 @@ static uint8_t answer(void) __reentrant
         a = p[1] == '+' ? 1 : (uint16_t)-1;
         p += 2;
         break;
-#if FW_HIL
-    case ARG_ON:
-        if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N')) {
-            reply_err("ARG");
-            return 1;
-        }
-        p += 3;
+    case ARG_ON:                    /* the word ON; anything else fails the ARG check below */
+        p = (p[0] == ' ' && p[1] == 'O' && p[2] == 'N') ? p + 3 : "?";
         break;
-#endif
     default:
         break;
     }
@@ -442,20 +426,11 @@ static uint8_t drain(void) __reentrant
         se.tx_i++;
     }
     se.n = 0;
-#if FW_HIL
-    if (se.state == S_TX_HIL)
-        hil_begin();
-#endif
     se.state = S_RX;
     return 1;
 }
 
 #if FW_HIL
-uint8_t serial_hil_due(void)
-{
-    return se.state == S_HIL_DUE;
-}
-
 void serial_hil_send(hil_out_t *o) __reentrant
 {
     hil_answer(o, (uint8_t *)se.buf);
@@ -465,24 +440,17 @@ void serial_hil_send(hil_out_t *o) __reentrant
     drain();
 }
 #endif
-
 void serial_poll(void) __reentrant
 {
     int16_t b;
 
-#if FW_HIL
-    if ((se.state == S_TX || se.state == S_TX_HIL) && !drain())
-        return;
-    if (hil_active()) {
-        /* frames only; one at a time: its step runs before the next is read */
-        while (se.state == S_RX && (b = hal_uart_get()) >= 0)
-            if (hil_byte((uint8_t)b))
-                se.state = S_HIL_DUE;
-        return;
-    }
-#else
     if (se.state == S_TX && !drain())
         return;
+#if FW_HIL
+    if (hil_active()) {             /* frames only (hil.c) */
+        hil_poll();
+        return;
+    }
 #endif
     while ((b = hal_uart_get()) != -1) {
         if (b == HAL_UART_LOST) {

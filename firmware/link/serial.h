@@ -45,10 +45,9 @@ void serial_init(void);
 void serial_poll(void) __reentrant;
 /* Ask for a log line (the application does it every 1000 ms). */
 void serial_log_request(void);
-/* HIL mode (hil.h): 1 when a sensor frame is in and its control step is due; after the step
- * the application sends its outputs (the frame's other fields are filled here). */
+/* HIL mode (hil.h): after the step on a frame the application sends its outputs (the frame's
+ * other fields are filled here). */
 #if FW_HIL
-uint8_t serial_hil_due(void);
 void serial_hil_send(hil_out_t *o) __reentrant;
 #endif
 
