@@ -39,6 +39,7 @@ SIM_MAIN := $(wildcard sim/*_main.c)
 SIM_LIB_SRC := $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
 UNIT_TEST_SRC := $(wildcard tests/*/test_*.c)
 TEST_HELPER_SRC := $(wildcard tests/*/helper_*.c)
+FUZZ_TARGETS := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 TT_PROGS := $(filter-out tests/target/tt_common.c tests/target/tt_host.c,$(wildcard tests/target/tt_[a-z]*.c))
 
 # ==== compiler flags =================================================================================
@@ -47,7 +48,9 @@ TT_PROGS := $(filter-out tests/target/tt_common.c tests/target/tt_host.c,$(wildc
 # there by default (movx, slower) and the few hot ones are placed in __data by hand.
 # -MMD: each object's header dependencies in a .d beside it (included at the end).
 SDCC_MODEL := --model-large
-SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) $(SDCC_EXTRA)
+# HIL=1: hardware in the loop built into the chip's image (docs/HIL.md; it does not fit yet)
+HIL ?= 0
+SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
 HOST_INC := -Ihal -Ihal/host -Ihal/pil $(FW_INC) -Isim -Itests/target
@@ -73,6 +76,16 @@ OPT_LIB := $(OPT_DIR)/libsprayer.a
 UNIT_TESTS := $(addprefix $(TEST_DIR)/,$(basename $(notdir $(UNIT_TEST_SRC))))
 TEST_HELPERS := $(patsubst %.c,$(TEST_DIR)/%.o,$(TEST_HELPER_SRC))
 
+# fuzzing: libFuzzer harnesses built by clang (make fuzz), and the same harnesses built by gcc
+# with a replay main that runs the corpus kept in tests/fuzz/corpus/ (make test)
+FUZZ_DIR := $(BUILD)/fuzz
+FUZZ_CC ?= clang
+FUZZ_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+FUZZ_LIB_OBJ := $(patsubst %.c,$(FUZZ_DIR)/%.o,$(HOST_LIB_SRC))
+FUZZ_BINS := $(addprefix $(FUZZ_DIR)/bin/fuzz_,$(FUZZ_TARGETS))
+FUZZ_REPLAY := $(addprefix $(TEST_DIR)/fuzz/replay_,$(FUZZ_TARGETS))
+FUZZ_S ?= 60
+
 UC_DIR := $(BUILD)/ucsim$(if $(SDCC_EXTRA),-variant)
 UC_CFLAGS := $(SDCC_CFLAGS) -DHAL_UCSIM -Itests/target
 UC_LIB_REL := $(patsubst %.c,$(UC_DIR)/%.rel,$(FW_LIB_SRC))
@@ -96,7 +109,8 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: firmware memory flash deps test host-tests target-tests bench sim pil pil-image sim-progs demo compare family report \
+.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests bench sim pil pil-image \
+        sim-progs demo compare family report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -115,6 +129,9 @@ help:
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen, a menu, a refused entry and the I/O test as PNG in docs/"
+	@echo "make hil PORT=/dev/ttyUSB0 SCENARIO=f   the scenario's plant against a flashed board over RS232 (metrics JSON)"
+	@echo "make hil-host SCENARIO=f   the same with the host build standing in for the board (a pseudo-terminal)"
+	@echo "make fuzz [FUZZ_S=60]  libFuzzer (ASan+UBSan) on every parser, FUZZ_S seconds each; fuzz-merge keeps new coverage"
 	@echo "make clean     remove build/"
 
 # ==== the firmware image ==============================================================================
@@ -176,7 +193,13 @@ $(TEST_DIR)/$(basename $(notdir $(1))): $(TEST_DIR)/$(1:.c=.o) $(TEST_HELPERS) $
 endef
 $(foreach t,$(UNIT_TEST_SRC),$(eval $(call unit_test_rule,$(t))))
 
-host-tests: $(UNIT_TESTS)
+host-tests: $(UNIT_TESTS) $(FUZZ_REPLAY)
+
+# tests/fuzz/fuzz_<t>.c + the replay main -> build/host-test/fuzz/replay_<t> (gcc, ASan, UBSan)
+$(TEST_DIR)/fuzz/replay_%: $(TEST_DIR)/tests/fuzz/fuzz_%.o $(TEST_DIR)/tests/fuzz/replay_main.o $(TEST_LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,LD,$@)
+	$(Q)$(CC) $(TEST_LDFLAGS) $^ -lm -o $@
 
 # ==== target tests: the SDCC build run in s51 against the same program built for the host ================
 $(UC_DIR)/%.rel: %.c
@@ -310,6 +333,45 @@ screenshots: $(PANEL_BIN)
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......AD1500D" --screenshot docs/panel_refused.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......AAD1......" --screenshot docs/panel_iotest.png
 	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png docs/panel_iotest.png
+
+# ==== hardware in the loop (docs/HIL.md): the plant on the PC, the controller on the serial link ===========
+# make hil PORT=/dev/ttyUSB0 SCENARIO=f [CONTROLLER=n]: against a flashed board, in real time (reset
+# it first: the run sets it up with the scenario's settings, then HIL ON). make hil-host SCENARIO=f:
+# the host build stands in for the board on a pseudo-terminal, as fast as it answers. Both print
+# the metrics JSON of `make sim` last (with hil_frames, hil_lost), exit 3 when frames were lost.
+HIL_BIN := $(OPT_DIR)/bin/hil
+HILBOARD_BIN := $(OPT_DIR)/bin/hilboard
+HIL_ARGS ?=
+
+hil: $(HIL_BIN)
+	$(Q)$(HIL_BIN) --scenario $(SCENARIO) --port $(PORT) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(HIL_ARGS)
+
+hil-host: $(HIL_BIN) $(HILBOARD_BIN)
+	$(Q)tools/hil_host.sh $(OPT_DIR)/bin $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(HIL_ARGS)
+
+# ==== fuzzing: libFuzzer with ASan and UBSan (clang, installed by tools/deps.sh) =====================
+# make fuzz [FUZZ_S=60] [FUZZ_TARGETS="serial hil"]: each target FUZZ_S seconds from the corpus in
+# tests/fuzz/corpus/<t>/ (read only); new inputs in build/fuzz/<t>/corpus, findings (crash-*,
+# with the input) in build/fuzz/<t>/; the summary per target in build/fuzz/summary.txt.
+# make fuzz-merge: add what build/fuzz/<t>/corpus covers beyond the kept corpus to tests/fuzz/corpus/<t>/.
+$(FUZZ_DIR)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(call msg,CLANG,$<)
+	$(Q)$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -MMD -MP -c $< -o $@
+
+$(FUZZ_DIR)/bin/fuzz_%: $(FUZZ_DIR)/tests/fuzz/fuzz_%.o $(FUZZ_LIB_OBJ)
+	@mkdir -p $(dir $@)
+	$(call msg,LD,$@ [libFuzzer])
+	$(Q)$(FUZZ_CC) -fsanitize=fuzzer,address,undefined $^ -lm -o $@
+
+fuzz:
+	$(Q)tools/deps.sh --quiet --fuzz
+	$(Q)$(MAKE) --no-print-directory -j2 $(addprefix $(FUZZ_DIR)/bin/fuzz_,$(FUZZ_TARGETS))
+	$(Q)tools/fuzz.sh $(FUZZ_DIR) $(FUZZ_S) $(FUZZ_TARGETS)
+
+fuzz-merge:
+	$(Q)for t in $(FUZZ_TARGETS); do mkdir -p tests/fuzz/corpus/$$t; \
+	    $(FUZZ_DIR)/bin/fuzz_$$t -merge=1 tests/fuzz/corpus/$$t $(FUZZ_DIR)/$$t/corpus 2>&1 | grep -E 'MERGE-OUTER: [0-9]+ new files' | sed "s/^/$$t: /"; done
 
 # ==== set-up and cleaning ====================================================================================
 deps:

@@ -58,6 +58,32 @@ void hal_valve_out(int8_t dir, uint8_t duty);
 void hal_spray_enable(uint8_t on);
 void hal_buzzer(uint8_t on);
 
+/* ---- hardware in the loop (firmware/link/hil.h) --------------------------------------------
+ * Built in unless FW_HIL is 0: the chip's image leaves it out until its memory plan makes
+ * room (make firmware HIL=1 builds it in; docs/HIL.md). */
+#ifndef FW_HIL
+#define FW_HIL 1
+#endif
+#if FW_HIL
+/* hal_hil(s) with s set: the inputs above read *s, which the PC's plant model fills each
+ * period over the serial link (PCA time, both captures, the two ADC channels, the section
+ * switches), hal_wheel_min_interval writes s->wheel_min for the PC's edge filter, and the
+ * valve bridge, boom relay and buzzer pins are held off: the outputs go to the PC in a frame,
+ * never to a sprayer that may still be connected. hal_hil(0) gives the pins back. */
+typedef struct {
+    uint32_t pca_now;
+    hal_capture_t wheel, meter;
+    uint16_t adc[2];                /* HAL_ADC_PRESSURE, HAL_ADC_LEVEL */
+    uint8_t sections;
+    uint32_t wheel_min;             /* hal_wheel_min_interval's ticks, for the PC */
+} hal_hil_t;
+void hal_hil(hal_hil_t *s);
+/* 1 while hal_hil holds a frame's inputs (the console shows "HIL"). */
+uint8_t hal_hil_active(void);
+#else
+#define hal_hil_active() 0
+#endif
+
 /* ---- serial link (RS232 to the PC) -------------------------------------------------------- */
 #define HAL_UART_BAUD 38400UL
 /* Queue one byte; returns 0 when the transmit buffer is full (the byte is not taken). */

@@ -260,6 +260,8 @@ void sim_step(sim_t *sim)
 
     if (sim->pass)
         sim->pass(sim->pass_ctx);
+    else if (sim->poll)
+        sim->poll(sim);
     else
         app_poll();
     if (sim->drive_log && (hal_host_io.valve_dir != sim->log_dir || hal_host_io.valve_duty != sim->log_duty ||
@@ -358,24 +360,28 @@ void sim_row(const sim_t *sim, sim_row_t *r)
     r->open_nozzles = pl->open_nozzles;
     r->sections = hal_host_io.sections;
     r->alarms = app_status.alarms;
+    r->ref_lpm = reference_lpm(sim);
+    r->rate_l_ha = param_v[P_RATE];
+    r->width_m = pl->open_nozzles * pl->p.spacing_m;
 }
 
 void sim_csv_header(FILE *f)
 {
     fputs("t_s,v_cmd_kmh,v_true_kmh,v_meas_kmh,target_lpm,flow_meas_lpm,flow_true_lpm,boom_lpm,"
           "pump_lpm,bypass_lpm,relief_lpm,p_bar,p_meas_kpa,adc_pressure,adc_level,valve_pos,valve_drive,"
-          "ctl_drive,kp,ki,kd,tank_l,tank_meas_l,pto_rpm,spray_on,open_nozzles,sections,alarms\n", f);
+          "ctl_drive,kp,ki,kd,tank_l,tank_meas_l,pto_rpm,spray_on,open_nozzles,sections,alarms,ref_lpm,rate_l_ha,"
+          "width_m\n", f);
 }
 
 void sim_csv_row(FILE *f, const sim_row_t *r)
 {
     fprintf(f, "%.3f,%.4f,%.4f,%.2f,%.2f,%.2f,%.4f,%.4f,%.3f,%.3f,%.3f,%.4f,%.0f,%d,%d,%.5f,%.4f,"
-               "%.5f,%.4f,%.4f,%.4f,%.3f,%.0f,%.1f,%d,%d,%d,0x%04x\n",
+               "%.5f,%.4f,%.4f,%.4f,%.3f,%.0f,%.1f,%d,%d,%d,0x%04x,%.4f,%.0f,%.3f\n",
             r->t_s, r->v_cmd_kmh, r->v_true_kmh, r->v_meas_kmh, r->target_lpm, r->flow_meas_lpm,
             r->flow_true_lpm, r->boom_lpm, r->pump_lpm, r->bypass_lpm, r->relief_lpm, r->p_bar,
             r->p_meas_kpa, r->adc_pressure, r->adc_level, r->valve_pos, r->valve_drive, r->ctl_drive,
             r->kp, r->ki, r->kd, r->tank_l, r->tank_meas_l, r->pto_rpm, r->spray_on, r->open_nozzles,
-            r->sections, r->alarms);
+            r->sections, r->alarms, r->ref_lpm, r->rate_l_ha, r->width_m);
 }
 
 void sim_trace_csv(sim_t *sim, FILE *f, double period_s)

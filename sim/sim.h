@@ -68,9 +68,12 @@ typedef struct {
     int open_nozzles;               /* truth: nozzles in the open sections */
     int sections;                   /* switch bits the firmware reads */
     unsigned alarms;                /* firmware: app_status.alarms */
+    double ref_lpm;                 /* the metrics' reference target: the settings at the true wheel speed */
+    double rate_l_ha;               /* the set rate now */
+    double width_m;                 /* the open boom's width */
 } sim_row_t;
 
-typedef struct {
+typedef struct sim {
     const scenario_t *scn;          /* must outlive the simulation */
     plant_t plant;
     metrics_t metrics;
@@ -99,6 +102,10 @@ typedef struct {
     struct sim_input *input;
     int n_input, next_input;
     uint64_t key_release_ns;        /* the key held now is let go at this time (0: none held) */
+    /* step 5 of sim_step: app_poll() when NULL; the HIL program (sim/hil_main.c) puts a board
+     * on the serial link there instead */
+    void (*poll)(struct sim *sim);
+    void *poll_ctx;
 } sim_t;
 
 /* One timed operator input: a key held SIM_KEY_HOLD_MS, or a line sent to the serial link. */

@@ -3,15 +3,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 #include "sim.h"
 #include "hal_host.h"
 #include "pil_host.h"
+#include "pty.h"
 
 static void usage(FILE *f)
 {
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
           "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt]\n"
-          "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt]\n"
+          "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt] [--pty [--pace X] [--wait S]]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
           "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, ffmap or 'best' (the project's own), aog, raven. --seed replaces [run] seed.\n"
@@ -21,7 +24,83 @@ static void usage(FILE *f)
           "  --input: operator input at given times ('t_s key K', 't_s serial TEXT' lines; sim/sim.h).\n"
           "  --drive-log: a line 'tick dir duty spray' whenever the valve drive or the boom valve changes.\n"
           "  --pil: the firmware runs inside s51 from IMAGE (make pil-image: build/pil/sprayer_pil.ihx),\n"
-          "         in lock step with the plant; 'pil:' lines give its pass timing and stack.\n", f);
+          "         in lock step with the plant; 'pil:' lines give its pass timing and stack.\n"
+          "  --pty: the link on a new pseudo-terminal (its name on stderr) that tools/monitor.py opens like a\n"
+          "    port; the run starts when it is opened (--wait S, default 60), at X times real time (--pace,\n"
+          "    default 1; 0 as fast as the reader takes it); commands sent to it reach the firmware, and\n"
+          "    every 0.1 s a truth line 'SIM ...*HH' follows the firmware's (docs/MONITOR.md).\n", f);
+}
+
+/* "SIM t_s v_true_kmh v_meas_kmh target_lpm ref_lpm flow_meas_lpm flow_true_lpm boom_lpm p_bar
+ * p_meas_kpa valve_drive spray_on width_m rate_l_ha alarms*HH\r\n": the simulator's truth beside
+ * the firmware's view, checksummed like the firmware's lines. */
+static int sim_line(char *buf, size_t n, const sim_row_t *r)
+{
+    int len = snprintf(buf, n, "SIM %.3f %.4f %.2f %.2f %.4f %.2f %.4f %.4f %.4f %.0f %.4f %d %.3f %.0f %04X",
+                       r->t_s, r->v_true_kmh, r->v_meas_kmh, r->target_lpm, r->ref_lpm, r->flow_meas_lpm,
+                       r->flow_true_lpm, r->boom_lpm, r->p_bar, r->p_meas_kpa, r->valve_drive, r->spray_on,
+                       r->width_m, r->rate_l_ha, r->alarms);
+    unsigned x = 0;
+    int i;
+    for (i = 0; i < len; i++)
+        x ^= (unsigned char)buf[i];
+    return len + snprintf(buf + len, n - (size_t)len, "*%02X\r\n", x);
+}
+
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* The run on a pseudo-terminal: 0.1 s slices, commands in, the firmware's bytes and a truth line
+ * out, paced to pace x real time; stops early when the PC closes the port. */
+static int run_pty(sim_t *sim, const scenario_t *s, double pace, double wait_s)
+{
+    char name[256], line[256];
+    uint8_t buf[4096];
+    double t, w0;
+    int fd = pty_open(name, sizeof name), b, len;
+    sim_row_t row;
+    if (fd < 0) {
+        fprintf(stderr, "sim: %s\n", name);
+        return -1;
+    }
+    fprintf(stderr, "sim: serial link on %s (waiting %.0f s for the PC to open it)\n", name, wait_s);
+    if (pty_wait_peer(fd, wait_s) < 0) {
+        fprintf(stderr, "sim: nobody opened %s in %.0f s\n", name, wait_s);
+        close(fd);
+        return -1;
+    }
+    w0 = wall_now();
+    for (t = 0.1; !sim_done(sim); t += 0.1) {
+        ssize_t got;
+        size_t k;
+        while ((got = read(fd, buf, sizeof buf)) > 0)
+            for (k = 0; k < (size_t)got; k++)
+                hal_host_uart_rx_push(buf[k]);
+        sim_run(sim, t < s->duration_s ? t : s->duration_s);
+        for (k = 0; k < sizeof buf && (b = hal_host_uart_tx_pop()) >= 0; k++)
+            buf[k] = (uint8_t)b;
+        sim_row(sim, &row);
+        len = sim_line(line, sizeof line, &row);
+        if (pty_write(fd, buf, k) < 0 || pty_write(fd, line, (size_t)len) < 0 || pty_peer_gone(fd)) {
+            fprintf(stderr, "sim: the PC closed the link at %.1f s\n", sim_time_s(sim));
+            break;
+        }
+        if (pace > 0) {
+            double ahead = sim_time_s(sim) / pace - (wall_now() - w0);
+            if (ahead > 0) {
+                struct timespec d = { (time_t)ahead, (long)((ahead - (time_t)ahead) * 1e9) };
+                nanosleep(&d, NULL);
+            }
+        }
+    }
+    if (pty_drain(fd, name, 10.0) < 0)
+        fprintf(stderr, "sim: the PC did not read the last bytes of the link\n");
+    close(fd);
+    return 0;
 }
 
 static int parse_u64(const char *s, unsigned long long *v)
@@ -59,7 +138,8 @@ int main(int argc, char **argv)
     pil_t *pil = NULL;
     unsigned long long seed = 0;
     int have_seed = 0, i;
-    double period = 0.1;
+    double period = 0.1, pace = 1.0, wait_s = 60.0;
+    int use_pty = 0;
     char err[512];
     scenario_t *s;
     sim_t *sim;
@@ -72,6 +152,10 @@ int main(int argc, char **argv)
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;
+        }
+        if (!strcmp(a, "--pty")) {
+            use_pty = 1;
+            continue;
         }
         if (!v) {
             fprintf(stderr, "sim: %s needs a value\n", a);
@@ -102,6 +186,14 @@ int main(int argc, char **argv)
                 return 2;
             }
             have_seed = 1;
+        } else if (!strcmp(a, "--pace") || !strcmp(a, "--wait")) {
+            char *end;
+            double x = strtod(v, &end);
+            if (*end || !*v || !(x >= 0 && x <= 1e6)) {
+                fprintf(stderr, "sim: %s '%s' is not a number 0..1e6\n", a, v);
+                return 2;
+            }
+            *(a[2] == 'p' ? &pace : &wait_s) = x;
         } else if (!strcmp(a, "--trace-period")) {
             char *end;
             period = strtod(v, &end);
@@ -173,7 +265,14 @@ int main(int argc, char **argv)
     }
     if (csv)
         sim_trace_csv(sim, csv, period);
-    if (serial) {
+    if (use_pty && serial) {
+        fprintf(stderr, "sim: --pty and --serial: one link at a time\n");
+        return 2;
+    }
+    if (use_pty) {
+        if (run_pty(sim, s, pace, wait_s) < 0)
+            return 1;
+    } else if (serial) {
         /* run in 0.1 s slices and take what the UART sent in each (the host queue holds 4 KB) */
         double t;
         int b;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # run_tests.sh: every test of the project; TAP lines, then one line "N passed, N failed".
 #   host unit tests (cmocka, ASan+UBSan), target tests (s51 vs host, bit for bit), the firmware
-#   build and its memory check, and the script tests in tests/scripts/*.sh (they print TAP lines).
+#   build and its memory check, the fuzz corpus replayed (tests/fuzz/), and the script tests in
+#   tests/scripts/*.sh (they print TAP lines).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 export MAKEFLAGS="${MAKEFLAGS:-} --no-print-directory"
@@ -50,6 +51,13 @@ for t in $B/host-test/test_*; do
     elif [ $rc -ne 0 ] && ! echo "$out" | grep -q '^not ok [0-9]'; then
         fail=$((fail + 1)); echo "not ok - $name exited $rc (see $log/$name.log)"
     fi
+done
+
+echo "# fuzz corpus replay: every kept input of tests/fuzz/corpus/<t> through its harness (gcc, ASan, UBSan)"
+for r in $B/host-test/fuzz/replay_*; do
+    [ -x "$r" ] || continue
+    t=${r##*/replay_}
+    check "fuzz-corpus-$t-($(ls tests/fuzz/corpus/$t | wc -l)-inputs)" timeout 600 "$r" "tests/fuzz/corpus/$t"
 done
 
 echo "# target tests: the SDCC build in s51 against the host build"

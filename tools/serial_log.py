@@ -97,15 +97,30 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if not a.port and not a.replay:
         ap.error("give --port or --replay")
-    log = Logger(a.csv)
+    if a.replay:
+        try:
+            f = open(a.replay, errors="replace")
+        except OSError as e:
+            print("serial_log: cannot read %s: %s" % (a.replay, e.strerror), file=sys.stderr)
+            return 1
+    else:
+        import monitor
+        try:
+            port = monitor.open_port(a.port, a.baud)
+        except monitor.MonitorError as e:
+            print("serial_log: %s" % e, file=sys.stderr)
+            return 1
+    try:
+        log = Logger(a.csv)
+    except OSError as e:
+        print("serial_log: cannot write %s: %s" % (a.csv, e.strerror), file=sys.stderr)
+        return 1
     try:
         if a.replay:
-            with open(a.replay, errors="replace") as f:
+            with f:
                 for line in f:
                     log.feed(line)
             return 0 if log.dropped == 0 else 2
-        import serial  # pyserial, from the .venv
-        port = serial.serial_for_url(a.port, baudrate=a.baud, timeout=0.2)
         for cmd in a.send:
             port.write((with_checksum(cmd) + "\r\n").encode("ascii"))
         end = time.time() + a.seconds if a.seconds else None

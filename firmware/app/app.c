@@ -15,6 +15,7 @@
 #include "ops.h"
 #include "totals.h"
 #include "serial.h"
+#include "hil.h"
 #include "store.h"
 #include "console.h"
 
@@ -61,10 +62,9 @@ static struct {
     uint8_t periods;                /* periods this step covers (more than 1: it was late) */
 } ap;
 
-void app_init(void)
+/* The control chain from rest, as at power-on (app_init, and the first frame of HIL mode). */
+static void app_start(void)
 {
-    totals_init();
-    store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
     hal_valve_out(HAL_VALVE_OFF, 0);
     hal_spray_enable(0);
     hal_buzzer(0);
@@ -74,7 +74,6 @@ void app_init(void)
     target_init();
     valve_init();
     diag_init();
-    serial_init();
     ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
     ctl_select(ap.ctl_id);
     ap.overruns = 0;
@@ -103,8 +102,35 @@ void app_init(void)
     app_status.job_area_m2 = app_status.job_volume_ml = 0;
     app_status.life_area_m2 = app_status.life_volume_ml = 0;
     ap.next_ms = hal_ms() + APP_PERIOD_MS;
+}
+
+void app_init(void)
+{
+    totals_init();
+    store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
+    serial_init();
+#if FW_HIL
+    hil_init();                     /* out of the HIL mode, as at power-on */
+#endif
+    app_start();
     console_init();
 }
+
+#if FW_HIL
+/* HIL mode: the outputs of the step just run, as the output frame (hil.h). */
+static void app_hil_answer(void) __reentrant
+{
+    hil_out_t o;
+    o.valve_delay_ms = valve_pending(&o.valve_dir, &o.valve_duty);
+    o.relays = (uint8_t)((app_status.spraying ? 1u : 0u) | (app_status.alarms_unacked ? 2u : 0u));
+    o.alarms = app_status.alarms;
+    o.speed_kmh_x100 = app_status.speed_kmh_x100;
+    o.target_lpm_x100 = app_status.target_lpm_x100;
+    o.flow_lpm_x100 = app_status.flow_lpm_x100;
+    o.pressure_kpa = app_status.pressure_kpa;
+    serial_hil_send(&o);
+}
+#endif
 
 /* Every parameter inside its range, or RAM is not what it should be. */
 static uint8_t params_sane(void)
@@ -346,6 +372,30 @@ void app_poll(void)
     uint8_t late;
 
     valve_poll(now);
+#if FW_HIL
+    if (hil_active()) {
+        /* one step a sensor frame, on its inputs; none without one (never on stale inputs:
+         * when the frames stop, so do the steps, and the watchdog resets the chip); the PC
+         * waits for the answer, so the step takes its constants, save and log with it */
+        serial_poll();
+        console_poll();
+        if (!hil_due())
+            return;
+        if (hil_first())
+            app_start();
+        while (app_prepare())
+            ;
+        app_step();
+        if (ap.save)
+            app_save();
+        if (ap.log_div >= APP_LOG_PERIODS)
+            app_second();
+        app_hil_answer();
+        if (!ap.internal)
+            hal_wdt_kick();
+        return;
+    }
+#endif
     /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
      * modules' constants, one a pass (a due control step waits for them: a few ms); the
      * control step alone when it is due; a save the step asked for, then the once-a-second

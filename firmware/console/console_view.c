@@ -193,10 +193,10 @@ static void draw_run(void)
     uint8_t at;
     int8_t a;
     int16_t q;
-    /* " 7.2km/h    AUTO": ground speed, mode */
+    /* " 7.2km/h    AUTO": ground speed, mode (HIL: the inputs come from the PC's plant) */
     at = con_cat_num(0, 4, st->speed_kmh_x100, 1, CON_DROP(1));
     at = con_cat(at, "km/h ");
-    con_cat(at, st->manual ? "MANUAL" : "AUTO");
+    con_cat(at, hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO");
     con_right_align(at);
     screen_line(0, con.line);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */

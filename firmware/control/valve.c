@@ -196,3 +196,17 @@ uint8_t valve_refused(void)
 {
     return va.refused;
 }
+
+#if FW_HIL
+uint8_t valve_pending(int8_t *dir, uint8_t *duty) __reentrant
+{
+    uint16_t since;
+    *dir = va.want_dir;
+    *duty = va.want_duty;
+    if (va.want_dir == va.out_dir || va.want_dir == HAL_VALVE_OFF || va.want_duty == 0
+        || va.last_dir == HAL_VALVE_OFF || va.want_dir == va.last_dir)
+        return 0;
+    since = (uint16_t)((uint16_t)hal_ms() - va.off_ms);
+    return since >= VALVE_DEAD_MS ? 0 : (uint8_t)(VALVE_DEAD_MS - since);
+}
+#endif

@@ -45,5 +45,10 @@ q15_t valve_applied(void);
 uint16_t valve_position(void);
 /* 1 when this period's demand was refused (the valve is at that stop). */
 uint8_t valve_refused(void);
+/* What the bridge is to drive (dir, duty) and in how many ms: the rest of a reversal's dead
+ * time, 0 when it drives it now (hardware in the loop tells the PC's plant). */
+#if FW_HIL
+uint8_t valve_pending(int8_t *dir, uint8_t *duty) __reentrant;
+#endif
 
 #endif

@@ -7,6 +7,7 @@
 #include "totals.h"
 #include "serial.h"
 #include "fmt.h"
+#include "hil.h"
 #include "remote.h"
 #include "linebuf.h"
 
@@ -144,7 +145,8 @@ static void reply_err(const char *why) __reentrant
 #define ARG_NUM 1                   /* one number */
 #define ARG_NUM2 2                  /* two numbers */
 #define ARG_SIGN 3                  /* + or - */
-enum { C_GET, C_SET, C_CTL, C_JOG, C_ACK, C_RST, C_TOT, C_LIF, C_PUL, C_SAV };
+#define ARG_ON 4                    /* the word ON */
+enum { C_GET, C_SET, C_CTL, C_JOG, C_ACK, C_RST, C_TOT, C_LIF, C_PUL, C_SAV, C_HIL };
 typedef struct {
     char word[4];                   /* three letters and the end */
     uint8_t args;                   /* ARG_* */
@@ -162,11 +164,14 @@ static const __code command_t commands[] = {
     {"LIF", ARG_NONE, C_LIF},       /* LIF               OK LIF <life m^2> <life ml> */
     {"PUL", ARG_NONE, C_PUL},       /* PUL               OK PUL <wheel pulses> <meter pulses> */
     {"SAV", ARG_NONE, C_SAV},       /* SAV               OK SAV */
+#if FW_HIL
+    {"HIL", ARG_ON, C_HIL},         /* HIL ON*HH         OK HIL, then frames (hil.h); the checksum required */
+#endif
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
 /* The commands that change something: refused without their checksum, so that a damaged
  * line ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
-#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV))
+#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV) | (1u << C_HIL))
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
@@ -243,6 +248,12 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         ok("PUL");
         ok_2(ops_wheel_pulses(), ops_flow_pulses());
         break;
+#if FW_HIL
+    case C_HIL:                     /* never by accident: the exact line with its checksum (CHANGES) */
+        ok("HIL");
+        hil_begin();                /* its reply goes out first (serial_poll drains before frames) */
+        break;
+#endif
     default:
         if (store_save())
             ok("SAV");
@@ -332,6 +343,9 @@ static uint8_t answer(void) __reentrant
         a = p[1] == '+' ? 1 : (uint16_t)-1;
         p += 2;
         break;
+    case ARG_ON:                    /* the word ON; anything else fails the ARG check below */
+        p = (p[0] == ' ' && p[1] == 'O' && p[2] == 'N') ? p + 3 : "?";
+        break;
     default:
         break;
     }
@@ -416,12 +430,28 @@ static uint8_t drain(void) __reentrant
     return 1;
 }
 
+#if FW_HIL
+void serial_hil_send(hil_out_t *o) __reentrant
+{
+    hil_answer(o, (uint8_t *)se.buf);
+    se.n = HIL_OUT_BYTES;
+    se.tx_i = 0;
+    se.state = S_TX;
+    drain();
+}
+#endif
 void serial_poll(void) __reentrant
 {
     int16_t b;
 
     if (se.state == S_TX && !drain())
         return;
+#if FW_HIL
+    if (hil_active()) {             /* frames only (hil.c) */
+        hil_poll();
+        return;
+    }
+#endif
     while ((b = hal_uart_get()) != -1) {
         if (b == HAL_UART_LOST) {
             se.state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */

@@ -3,6 +3,7 @@
 #define SERIAL_H
 
 #include "compiler.h"
+#include "hil.h"
 
 /*
  * Every line the controller sends ends in "*HH\r\n", HH the XOR of the bytes before '*' in
@@ -27,6 +28,7 @@
  *   PUL               OK PUL <wheel pulses> <meter pulses>   (calibration)
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
  *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
+ *   HIL ON*HH         OK HIL                   hardware in the loop (hil.h; the checksum is required)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / NOCSUM / LONG / CHAR.
  * With Remote = Raven, lines starting with '$' are Raven's strings (remote.h).
  * A line during which received bytes were lost (the HAL's receive queue overflowed, or an IAP
@@ -43,5 +45,10 @@ void serial_init(void);
 void serial_poll(void) __reentrant;
 /* Ask for a log line (the application does it every 1000 ms). */
 void serial_log_request(void);
+/* HIL mode (hil.h): after the step on a frame the application sends its outputs (the frame's
+ * other fields are filled here). */
+#if FW_HIL
+void serial_hil_send(hil_out_t *o) __reentrant;
+#endif
 
 #endif

@@ -30,6 +30,7 @@ static int32_t eeprom_ops_left = -1;
 static uint8_t eeprom_cut;
 static void (*lcd_sink)(uint8_t rs, uint8_t b);
 static uint16_t (*adc_source)(uint8_t ch);
+static hal_hil_t *hil;              /* hal_hil: the inputs from the PC's frames */
 
 void hal_host_reset(void)
 {
@@ -45,6 +46,7 @@ void hal_host_reset(void)
     eeprom_cut = 0;
     lcd_sink = 0;
     adc_source = 0;
+    hil = 0;
 }
 
 void hal_init(void)
@@ -74,7 +76,7 @@ uint32_t hal_host_pca_of_ns(uint64_t t_ns)
 
 uint32_t hal_pca_now(void)
 {
-    return hal_host_pca_of_ns(hal_host_io.time_ns);
+    return hil ? hil->pca_now : hal_host_pca_of_ns(hal_host_io.time_ns);
 }
 
 static void edge_push(edge_q_t *q, uint64_t t_ns)
@@ -114,17 +116,30 @@ static void edge_take(edge_q_t *q, hal_capture_t *c)
 
 void hal_wheel_min_interval(uint32_t min_ticks)
 {
-    wheel_q.min = min_ticks;
+    if (hil)
+        hil->wheel_min = min_ticks;
+    else
+        wheel_q.min = min_ticks;
 }
 
 void hal_flow_capture_take(hal_capture_t *c)
 {
-    edge_take(&flow_q, c);
+    if (hil) {
+        *c = hil->meter;
+        hil->meter.count = 0;       /* taken: the next take sees only the next frame's */
+        hil->meter.rejected = 0;
+    } else
+        edge_take(&flow_q, c);
 }
 
 void hal_wheel_capture_take(hal_capture_t *c)
 {
-    edge_take(&wheel_q, c);
+    if (hil) {
+        *c = hil->wheel;
+        hil->wheel.count = 0;
+        hil->wheel.rejected = 0;
+    } else
+        edge_take(&wheel_q, c);
 }
 
 void hal_host_adc_source(uint16_t (*source)(uint8_t ch))
@@ -134,6 +149,8 @@ void hal_host_adc_source(uint16_t (*source)(uint8_t ch))
 
 uint16_t hal_adc_read(uint8_t ch)
 {
+    if (hil)
+        return ch < 2 ? hil->adc[ch] & 0x3FF : 0;
     if (adc_source && ch < 8)
         hal_host_io.adc[ch] = adc_source(ch);
     return ch < 8 ? hal_host_io.adc[ch] & 0x3FF : 0;
@@ -141,7 +158,23 @@ uint16_t hal_adc_read(uint8_t ch)
 
 uint8_t hal_sections(void)
 {
-    return hal_host_io.sections;
+    return hil ? hil->sections : hal_host_io.sections;
+}
+
+uint8_t hal_hil_active(void)
+{
+    return hil != 0;
+}
+
+void hal_hil(hal_hil_t *s)
+{
+    hil = s;
+    if (s) {                        /* the pins held off while the PC's plant stands in */
+        hal_host_io.valve_dir = HAL_VALVE_OFF;
+        hal_host_io.valve_duty = 0;
+        hal_host_io.spray_on = 0;
+        hal_host_io.buzzer = 0;
+    }
 }
 
 uint8_t hal_keypad_row(uint8_t row)
@@ -151,7 +184,7 @@ uint8_t hal_keypad_row(uint8_t row)
 
 void hal_valve_out(int8_t dir, uint8_t duty)
 {
-    if (dir == HAL_VALVE_OFF || duty == 0) {
+    if (dir == HAL_VALVE_OFF || duty == 0 || hil) {
         hal_host_io.valve_dir = HAL_VALVE_OFF;
         hal_host_io.valve_duty = 0;
     } else {
@@ -162,12 +195,12 @@ void hal_valve_out(int8_t dir, uint8_t duty)
 
 void hal_spray_enable(uint8_t on)
 {
-    hal_host_io.spray_on = on ? 1 : 0;
+    hal_host_io.spray_on = on && !hil ? 1 : 0;
 }
 
 void hal_buzzer(uint8_t on)
 {
-    hal_host_io.buzzer = on ? 1 : 0;
+    hal_host_io.buzzer = on && !hil ? 1 : 0;
 }
 
 uint8_t hal_uart_put(uint8_t b)

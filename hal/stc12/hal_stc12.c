@@ -52,10 +52,18 @@ void stc12_pca_isr(void) __interrupt(7)
     pca_isr_body(captured, cap);
 }
 
+#if FW_HIL
+static hal_hil_t __xdata *hil;      /* hal_hil: the inputs from the PC's frames */
+#endif
+
 uint32_t hal_pca_now(void)
 {
     uint32_t t;
     uint8_t ea;
+#if FW_HIL
+    if (hil)
+        return hil->pca_now;
+#endif
     IRQ_OFF(ea);
     t = pca_read();
     IRQ_RESTORE(ea);
@@ -70,14 +78,38 @@ void stc12_int0_isr(void) __interrupt(0)
 void hal_wheel_min_interval(uint32_t min_ticks)
 {
     uint8_t ea;
+#if FW_HIL
+    if (hil) {
+        hil->wheel_min = min_ticks;
+        return;
+    }
+#endif
     IRQ_OFF(ea);
     wheel_min = min_ticks;
     IRQ_RESTORE(ea);
 }
 
+#if FW_HIL
+/* a frame's capture, taken: the next take sees only the next frame's */
+static void hil_take(hal_capture_t __xdata *f, hal_capture_t *c)
+{
+    c->count = f->count;
+    c->last = f->last;
+    c->rejected = f->rejected;
+    f->count = 0;
+    f->rejected = 0;
+}
+#endif
+
 void hal_flow_capture_take(hal_capture_t *c)
 {
     uint8_t ea;
+#if FW_HIL
+    if (hil) {
+        hil_take(&hil->meter, c);
+        return;
+    }
+#endif
     IRQ_OFF(ea);
     c->count = flow_count;
     c->last = flow_last;
@@ -89,6 +121,12 @@ void hal_flow_capture_take(hal_capture_t *c)
 void hal_wheel_capture_take(hal_capture_t *c)
 {
     uint8_t ea;
+#if FW_HIL
+    if (hil) {
+        hil_take(&hil->wheel, c);
+        return;
+    }
+#endif
     IRQ_OFF(ea);
     c->count = wheel_count;
     c->last = wheel_last;
@@ -156,6 +194,10 @@ uint32_t hal_ms(void)
 uint16_t hal_adc_read(uint8_t ch)
 {
     uint8_t n = 0;
+#if FW_HIL
+    if (hil)
+        return ch < 2 ? hil->adc[ch] & 0x3FF : 0;
+#endif
     ADC_CONTR = ADC_POWER | ADC_SPEED_90 | ADC_START | (ch & 7);
     NOP(); NOP(); NOP(); NOP();     /* the flag is valid four clocks after the start */
     /* a conversion takes 90 clocks; a converter that never finishes reads 0, an open
@@ -170,6 +212,10 @@ uint16_t hal_adc_read(uint8_t ch)
 /* ---- digital I/O ---------------------------------------------------------------------------- */
 uint8_t hal_sections(void)
 {
+#if FW_HIL
+    if (hil)
+        return hil->sections;
+#endif
     return (uint8_t)~PORT_SECTIONS;
 }
 
@@ -185,6 +231,10 @@ uint8_t hal_keypad_row(uint8_t row)
 
 void hal_valve_out(int8_t dir, uint8_t duty)
 {
+#if FW_HIL
+    if (hil)
+        dir = HAL_VALVE_OFF;        /* the PC's plant gets the drive in a frame */
+#endif
     if (dir == HAL_VALVE_OFF || duty == 0) {
         PCA_PWM1 = 0x03;            /* EPC1H/L: output stays low */
         CCAP1H = 0xFF;
@@ -201,13 +251,38 @@ void hal_valve_out(int8_t dir, uint8_t duty)
 
 void hal_spray_enable(uint8_t on)
 {
+#if FW_HIL
+    if (hil)
+        on = 0;
+#endif
     PIN_SPRAY = on ? 1 : 0;
 }
 
 void hal_buzzer(uint8_t on)
 {
+#if FW_HIL
+    if (hil)
+        on = 0;
+#endif
     PIN_BUZZER = on ? 1 : 0;
 }
+
+#if FW_HIL
+uint8_t hal_hil_active(void)
+{
+    return hil != 0;
+}
+
+void hal_hil(hal_hil_t *s)
+{
+    hil = (hal_hil_t __xdata *)s;
+    if (s) {                        /* the pins held off while the PC's plant stands in */
+        hal_valve_out(HAL_VALVE_OFF, 0);
+        PIN_SPRAY = 0;
+        PIN_BUZZER = 0;
+    }
+}
+#endif
 
 /* ---- UART 1 from the BRT generator in 1T mode: 11059200 / 32 / 9 = 38400 baud ------------- */
 #define UART_TXQ 16     /* powers of two: the index wraps with a mask, not a divide */

@@ -314,6 +314,26 @@ static void test_store_power_cut_at_every_byte_leaves_the_newest_or_the_previous
     }
 }
 
+/* Found by the fuzzer (tests/fuzz/corpus/store/regress_foreign_copy_after_defaults.bin): another
+ * version's header in sector 1 with no valid copy anywhere; after the first save the load said
+ * "EE: older copy", taking the foreign header for a cut successor of that save. */
+static void test_store_first_save_after_defaults_clears_a_foreign_copy(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    uint8_t *ee = hal_host_eeprom();
+    ee[HAL_EEPROM_SECTOR] = 0x5A;                   /* magic, an unknown version, seq erased */
+    ee[HAL_EEPROM_SECTOR + 1] = 0xD1;
+    ee[HAL_EEPROM_SECTOR + 2] = 0xD1;
+    params_defaults();
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+    assert_true(param_set(P_RATE, 125));
+    assert_true(store_save());
+    params_defaults();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_int_equal(param_v[P_RATE], 125);
+}
+
 static void test_store_after_a_cut_the_next_save_is_good(void **state)
 {
     uint16_t a[P_COUNT], b[P_COUNT], c[P_COUNT];
@@ -547,6 +567,7 @@ static void test_store_a_failed_write_is_reported(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_store_first_save_after_defaults_clears_a_foreign_copy),
         cmocka_unit_test_setup(test_store_first_boot_gives_defaults_and_the_alarm, setup),
         cmocka_unit_test_setup(test_store_save_then_load_gives_the_values_back_in_both_sectors, setup),
         cmocka_unit_test_setup(test_store_power_cut_at_every_byte_leaves_the_newest_or_the_previous_copy, setup),

@@ -1,0 +1,370 @@
+/* hil_main.c: hardware in the loop, the PC's side: the plant model of a scenario drives a controller on the serial link, frame by frame. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "sim.h"
+#include "hal_host.h"
+#include "hil.h"
+#include "params.h"
+#include "app.h"
+#include "target.h"
+#include "ctl.h"
+#include "pty.h"
+
+/*
+ * The simulator's loop (sim.c) with the firmware replaced by a board on the serial link
+ * (docs/HIL.md): the board is set up with the scenario's settings (SET, then HIL ON), then at
+ * every control period (100 ms of plant time) the plant's inputs as the firmware would take
+ * them from the HAL (captures, PCA time, ADC, switches) go out as a sensor frame, and the
+ * answer's outputs drive the plant (the valve after the reversal's dead time the answer
+ * states) and stand for the firmware's status in the metrics. A frame that gets no good answer
+ * is counted (the plant keeps the last outputs), and the run says so.
+ */
+
+typedef struct {
+    int fd;
+    double pace;                    /* x real time; 0: as fast as the board answers */
+    double timeout_s;               /* for an answer */
+    unsigned drop_every;            /* test: this frame number's multiples are never sent */
+    unsigned corrupt_every;         /* test: ... are sent with a byte flipped */
+    uint8_t seq;
+    uint16_t wheel_total, meter_total;  /* running edge totals (hil.h) */
+    uint8_t rejected_total;
+    uint32_t next_ms;               /* the next control step */
+    unsigned frames, answered, no_answer, dropped, corrupted;
+    uint16_t board_lost;            /* the board's count, from its last answer */
+    int pend;                       /* a valve output waiting for its dead time */
+    int8_t pend_dir;
+    uint8_t pend_duty;
+    uint32_t pend_ms;
+    hil_rx_t rx;
+    double wall0;
+    int failed;                     /* the link went away */
+} hil_pc_t;
+
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void usage(FILE *f)
+{
+    fputs("usage: hil --scenario FILE --port DEV [--controller NAME] [--pace X] [--timeout S]\n"
+          "           [--csv OUT.csv] [--drop-every N] [--corrupt-every N]\n"
+          "  runs FILE's plant against the controller on DEV (a flashed board on /dev/ttyUSB0, or the\n"
+          "  host build's stand-in `hilboard --pty`) frame by frame and prints the metrics JSON last,\n"
+          "  as `sim` does, with hil_frames and hil_lost. --pace 1 (default): real time, the board's\n"
+          "  own clock; 0: as fast as it answers. --drop-every / --corrupt-every N: every Nth sensor\n"
+          "  frame is not sent / sent damaged (to see the loss counted). Exit 3 when frames were lost.\n", f);
+}
+
+/* a command line with its checksum; the reply that starts with want (other lines skipped) */
+static int command(hil_pc_t *h, const char *cmd, const char *want, char *reply, size_t n)
+{
+    char line[96];
+    unsigned x = 0;
+    size_t i, k = 0;
+    double end = wall_now() + 3.0;
+    for (i = 0; cmd[i]; i++)
+        x ^= (unsigned char)cmd[i];
+    snprintf(line, sizeof line, "%s*%02X\r\n", cmd, x);
+    if (pty_write(h->fd, line, strlen(line)) < 0)
+        return -1;
+    while (wall_now() < end) {
+        uint8_t b;
+        int got = link_read(h->fd, &b, 1, 0.1);
+        if (got < 0)
+            return -1;
+        if (got == 0)
+            continue;
+        if (b == '\n') {
+            reply[k] = 0;
+            if (k && reply[k - 1] == '\r')
+                reply[--k] = 0;
+            if (!strncmp(reply, want, strlen(want)) || !strncmp(reply, "ERR", 3))
+                return !strncmp(reply, want, strlen(want)) ? 0 : -1;
+            k = 0;
+        } else if (k + 1 < n) {
+            reply[k++] = (char)b;
+        }
+    }
+    snprintf(reply, n, "no answer in 3 s");
+    return -1;
+}
+
+/* One sensor frame out, its answer in (or a count of why not). */
+static void exchange(sim_t *sim, hil_pc_t *h)
+{
+    hil_in_t in;
+    hal_capture_t c;
+    uint8_t f[HIL_IN_BYTES], buf[64];
+    hil_out_t o;
+    double end;
+    int got, i, ok = 0;
+
+    memset(&in, 0, sizeof in);
+    in.seq = ++h->seq;
+    in.pca_now = hal_pca_now();
+    hal_wheel_capture_take(&c);
+    h->wheel_total = (uint16_t)(h->wheel_total + c.count);
+    h->rejected_total = (uint8_t)(h->rejected_total + c.rejected);
+    in.wheel_count = h->wheel_total;
+    in.wheel_last = c.last;
+    in.wheel_rejected = h->rejected_total;
+    hal_flow_capture_take(&c);
+    h->meter_total = (uint16_t)(h->meter_total + c.count);
+    in.meter_count = h->meter_total;
+    in.meter_last = c.last;
+    in.adc_pressure = hal_adc_read(HAL_ADC_PRESSURE);
+    in.adc_level = hal_adc_read(HAL_ADC_LEVEL);
+    in.sections = hal_sections();
+    hil_in_encode(&in, f);
+    h->frames++;
+    if (h->drop_every && h->frames % h->drop_every == 0) {
+        h->dropped++;
+        h->no_answer++;             /* never sent: nothing can answer it */
+        return;
+    }
+    if (h->corrupt_every && h->frames % h->corrupt_every == 0) {
+        f[6] ^= 0x10;               /* the wheel count: the CRC must catch it */
+        h->corrupted++;
+    }
+    if (pty_write(h->fd, f, sizeof f) < 0) {
+        h->failed = 1;
+        return;
+    }
+    end = wall_now() + h->timeout_s;
+    while (!ok && wall_now() < end) {
+        got = link_read(h->fd, buf, sizeof buf, end - wall_now() > 0 ? end - wall_now() : 0);
+        if (got < 0) {
+            h->failed = 1;
+            return;
+        }
+        for (i = 0; i < got; i++)
+            if (hil_rx_byte(&h->rx, buf[i])) {
+                hil_out_decode(h->rx.buf, &o);
+                if (o.seq == in.seq)
+                    ok = 1;         /* an answer to an older frame (late) is dropped */
+            }
+    }
+    if (!ok) {
+        h->no_answer++;
+        return;
+    }
+    h->answered++;
+    h->board_lost = o.lost;
+    /* the outputs, as the firmware's HAL would have set them */
+    h->pend = 0;
+    if (o.valve_delay_ms == 0) {
+        hal_host_io.valve_dir = o.valve_dir;
+        hal_host_io.valve_duty = o.valve_dir ? o.valve_duty : 0;
+    } else {
+        hal_host_io.valve_dir = HAL_VALVE_OFF;
+        hal_host_io.valve_duty = 0;
+        h->pend = 1;
+        h->pend_dir = o.valve_dir;
+        h->pend_duty = o.valve_duty;
+        h->pend_ms = hal_ms() + o.valve_delay_ms;
+    }
+    hal_host_io.spray_on = o.relays & 1u;
+    hal_host_io.buzzer = (o.relays >> 1) & 1u;
+    hal_wheel_min_interval(o.wheel_min);
+    app_status.speed_kmh_x100 = o.speed_kmh_x100;
+    app_status.target_lpm_x100 = o.target_lpm_x100;
+    app_status.flow_lpm_x100 = o.flow_lpm_x100;
+    app_status.pressure_kpa = o.pressure_kpa;
+    app_status.alarms = o.alarms;
+    app_status.spraying = o.relays & 1u;
+    (void)sim;
+}
+
+/* sim_step's step 5: the board instead of app_poll() */
+static void pc_poll(sim_t *sim)
+{
+    hil_pc_t *h = sim->poll_ctx;
+    uint32_t now = hal_ms();
+    if (h->pend && (int32_t)(now - h->pend_ms) >= 0) {
+        hal_host_io.valve_dir = h->pend_dir;
+        hal_host_io.valve_duty = h->pend_duty;
+        h->pend = 0;
+    }
+    if (h->failed || (int32_t)(now - h->next_ms) < 0)
+        return;
+    h->next_ms += APP_PERIOD_MS;
+    /* the reference target of the metrics reads the firmware's target module: keep it on the
+     * switches as the board's step does */
+    target_update(hal_sections());
+    if (h->pace > 0) {
+        double ahead = sim_time_s(sim) / h->pace - (wall_now() - h->wall0);
+        if (ahead > 0) {
+            struct timespec d = { (time_t)ahead, (long)((ahead - (time_t)ahead) * 1e9) };
+            nanosleep(&d, NULL);
+        }
+    }
+    exchange(sim, h);
+}
+
+static int num(const char *opt, const char *v, double lo, double hi, double *x)
+{
+    char *end;
+    *x = strtod(v, &end);
+    if (!*v || *end || !(*x >= lo && *x <= hi)) {
+        fprintf(stderr, "hil: %s '%s' is not a number %g..%g\n", opt, v, lo, hi);
+        return -1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *scn_path = NULL, *port = NULL, *controller = NULL, *csv_path = NULL;
+    char err[512], reply[128], cmd[48];
+    scenario_t *s;
+    sim_t *sim;
+    hil_pc_t h;
+    metrics_result_t r;
+    FILE *csv = NULL;
+    double x;
+    int i;
+    unsigned lost;
+
+    memset(&h, 0, sizeof h);
+    h.pace = 1.0;
+    h.timeout_s = -1;
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        }
+        if (!v) {
+            fprintf(stderr, "hil: %s needs a value\n", a);
+            return 2;
+        }
+        if (!strcmp(a, "--scenario"))
+            scn_path = v;
+        else if (!strcmp(a, "--port"))
+            port = v;
+        else if (!strcmp(a, "--controller"))
+            controller = v;
+        else if (!strcmp(a, "--csv"))
+            csv_path = v;
+        else if (!strcmp(a, "--pace")) {
+            if (num(a, v, 0, 1000, &h.pace) < 0)
+                return 2;
+        } else if (!strcmp(a, "--timeout")) {
+            if (num(a, v, 0.001, 60, &h.timeout_s) < 0)
+                return 2;
+        } else if (!strcmp(a, "--drop-every") || !strcmp(a, "--corrupt-every")) {
+            if (num(a, v, 2, 1e6, &x) < 0)
+                return 2;
+            *(a[2] == 'd' ? &h.drop_every : &h.corrupt_every) = (unsigned)x;
+        } else {
+            fprintf(stderr, "hil: unknown option '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+        i++;
+    }
+    if (!scn_path || !port) {
+        fprintf(stderr, "hil: --scenario FILE and --port DEV are required\n");
+        usage(stderr);
+        return 2;
+    }
+    /* the answer comes within the period in real time: 38400 baud, 50 bytes, the step */
+    if (h.timeout_s < 0)
+        h.timeout_s = h.pace > 0 ? 0.08 / h.pace : 2.0;
+    s = malloc(sizeof *s);
+    sim = malloc(sizeof *sim);
+    if (!s || !sim) {
+        fprintf(stderr, "hil: out of memory\n");
+        return 1;
+    }
+    if (scenario_load(s, scn_path, err, sizeof err) < 0) {
+        fprintf(stderr, "hil: %s\n", err);
+        return 1;
+    }
+    if (controller && scenario_set_controller(s, controller, err, sizeof err) < 0) {
+        fprintf(stderr, "hil: --controller: %s\n", err);
+        return 1;
+    }
+    for (i = 0; i < s->n_events; i++)
+        if (s->events[i].kind == EV_RATE || s->events[i].kind == EV_GIVEN_SPEED) {
+            fprintf(stderr, "hil: %s:%d: event '%s' changes a setting during the run, which HIL frames do "
+                    "not carry yet\n", scn_path, s->events[i].line, scenario_event_name(s->events[i].kind));
+            return 1;
+        }
+    h.fd = tty_open(port, err, sizeof err);
+    if (h.fd < 0) {
+        fprintf(stderr, "hil: %s\n", err);
+        return 1;
+    }
+    /* the board: the scenario's settings, then the mode */
+    for (i = 0; i < P_COUNT; i++) {
+        char want[32];
+        snprintf(cmd, sizeof cmd, "SET %d %u", i, s->param[i]);
+        snprintf(want, sizeof want, "OK %d %u", i, s->param[i]);
+        if (command(&h, cmd, want, reply, sizeof reply) < 0) {
+            fprintf(stderr, "hil: %s: '%s' got '%s' (a controller with this firmware, freshly reset?)\n", port,
+                    cmd, reply);
+            return 1;
+        }
+    }
+    if (command(&h, "HIL ON", "OK HIL", reply, sizeof reply) < 0) {
+        fprintf(stderr, "hil: %s: 'HIL ON' got '%s'\n", port, reply);
+        return 1;
+    }
+    if (csv_path && !(csv = fopen(csv_path, "w"))) {
+        fprintf(stderr, "hil: cannot write %s: %s\n", csv_path, strerror(errno));
+        return 1;
+    }
+    sim_init(sim, s);
+    sim->poll = pc_poll;
+    sim->poll_ctx = &h;
+    h.next_ms = APP_PERIOD_MS;
+    hil_rx_init(&h.rx, HIL_OUT_START);
+    if (csv)
+        sim_trace_csv(sim, csv, 0.1);
+    h.wall0 = wall_now();
+    while (!sim_done(sim) && !h.failed)
+        sim_run(sim, sim_time_s(sim) + 1.0);
+    if (h.failed) {
+        fprintf(stderr, "hil: the link to %s went away at %.1f s\n", port, sim_time_s(sim));
+        return 1;
+    }
+    sim_finish(sim, &r);
+    if (csv && fclose(csv) != 0) {
+        fprintf(stderr, "hil: error writing %s: %s\n", csv_path, strerror(errno));
+        return 1;
+    }
+    lost = h.no_answer;
+    printf("hil: %s on %s: %u frames, %u answered, %u without a good answer (%u not sent, %u sent damaged), "
+           "%u damaged answers; the controller counted %u lost or damaged\n", s->name, port, h.frames, h.answered,
+           lost, h.dropped, h.corrupted, h.rx.damaged, h.board_lost);
+    if (lost || h.board_lost)
+        printf("hil: FRAMES LOST: the plant held the last outputs %u times; the figures below are not those "
+               "of a clean run\n", lost);
+    {
+        char extra[768], name[256];
+        size_t k;
+        snprintf(name, sizeof name, "%s", s->name);
+        for (k = 0; name[k]; k++)
+            if (name[k] == '"' || name[k] == '\\' || (unsigned char)name[k] < 32)
+                name[k] = '?';
+        snprintf(extra, sizeof extra,
+                 "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,\"hil_frames\":%u,\"hil_answered\":%u,"
+                 "\"hil_lost\":%u,\"hil_lost_controller\":%u,",
+                 name, ctl_name((uint8_t)s->param[P_CONTROLLER]), (unsigned long long)s->seed, h.frames,
+                 h.answered, lost, h.board_lost);
+        metrics_json(stdout, &sim->metrics, &r, extra, sim->wall_s);
+    }
+    sim_free(sim);
+    close(h.fd);
+    return lost || h.board_lost ? 3 : 0;
+}

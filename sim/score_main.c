@@ -1,0 +1,339 @@
+/* score_main.c: the simulator's metrics (sim/metrics.c) of a recorded run: a CSV from the simulator, the monitor or the serial logger. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "metrics.h"
+#include "scenario.h"
+#include "params.h"
+#include "app.h"
+#include "target.h"
+
+/*
+ * Columns are found by name in the header; what a row does not carry is taken from the best
+ * stand-in, and the JSON's "score_source" says which was used:
+ *   time          t_s (required)
+ *   ground speed  v_true_kmh (simulator), else the firmware's speed_kmh / v_meas_kmh
+ *   nozzle flow   boom_lpm (simulator), else the measured flow_lpm / flow_meas_lpm
+ *   sample flow   flow_true_lpm (simulator: through the meter), else the measured flow
+ *   target        target_lpm (required); reference ref_lpm, else the target
+ *   work speed    v_meas_kmh, else speed_kmh
+ *   pressure      p_bar, else pressure_kpa / 100, else pressure_mpa * 10
+ *   spraying      spray_on, else target > 0
+ *   width, rate   width_m, rate_l_ha; else the settings (--scenario, or --nozzles/--spacing-cm/--rate)
+ *   alarms        alarms / alarms_hex (hex bits; a rising bit is an alarm at that row)
+ * Row i stands for the slice (t[i-1], t[i]] (the first for one sample period before it); the
+ * step series takes one sample a row, at the rows' median spacing.
+ */
+
+#define MAX_COLS 64
+
+enum { C_T, C_VTRUE, C_SPEED, C_VMEAS, C_BOOM, C_FLOW, C_FLOWMEAS, C_FLOWTRUE, C_TARGET, C_REF, C_PBAR,
+       C_PKPA, C_PMPA, C_SPRAY, C_WIDTH, C_RATE, C_ALARMS, C_ALARMSHEX, C_OPEN, C_N };
+static const char *const col_names[C_N] = {
+    "t_s", "v_true_kmh", "speed_kmh", "v_meas_kmh", "boom_lpm", "flow_lpm", "flow_meas_lpm", "flow_true_lpm",
+    "target_lpm", "ref_lpm", "p_bar", "pressure_kpa", "pressure_mpa", "spray_on", "width_m", "rate_l_ha",
+    "alarms", "alarms_hex", "open_nozzles"
+};
+
+typedef struct {
+    double t, v[C_N];
+    unsigned alarms;
+} row_t;
+
+static void usage(FILE *f)
+{
+    fputs("usage: score RUN.csv [--scenario FILE] [--rate L_HA] [--nozzles N] [--spacing-cm CM] [--name NAME]\n"
+          "             [--zones OUT.csv]\n"
+          "  the metrics of docs/SCENARIOS.md (sim/metrics.c, the simulator's own) of a recorded run, as one JSON line:\n"
+          "  a simulator trace (sim --csv), a monitor or serial_log recording (tools/monitor.py, serial_log.py).\n"
+          "  The settings (rate, nozzles, spacing) come from the scenario, the options, or the defaults.\n", f);
+}
+
+static int num_arg(const char *opt, const char *s, double lo, double hi, double *v)
+{
+    char *end;
+    errno = 0;
+    *v = strtod(s, &end);
+    if (!*s || *end || errno || !(*v >= lo && *v <= hi)) {
+        fprintf(stderr, "score: %s '%s' is not a number %g..%g\n", opt, s, lo, hi);
+        return -1;
+    }
+    return 0;
+}
+
+/* Split a CSV line in place (no quoting: the recorders write none); returns the field count. */
+static int split(char *line, char **f, int max)
+{
+    int n = 0;
+    char *p = line;
+    line[strcspn(line, "\r\n")] = 0;
+    while (n < max) {
+        f[n++] = p;
+        p = strchr(p, ',');
+        if (!p)
+            break;
+        *p++ = 0;
+    }
+    return p ? -1 : n;
+}
+
+/* The ground speed of a row: the truth when the row has it, else the firmware's. */
+static double speed_of(const row_t *rw, const int *col)
+{
+    return col[C_VTRUE] >= 0 ? rw->v[C_VTRUE] : col[C_SPEED] >= 0 ? rw->v[C_SPEED] : rw->v[C_VMEAS];
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+int main(int argc, char **argv)
+{
+    const char *path = NULL, *scn_path = NULL, *name = NULL, *zones_path = NULL;
+    double rate = -1, nozzles = -1, spacing = -1;
+    int col[C_N], i, n_fields, line_no = 0, n_rows = 0, cap = 0;
+    char line[4096], *f[MAX_COLS], err[512], extra[700], clean[256];
+    row_t *rows = NULL;
+    FILE *in;
+    scenario_t *s = NULL;
+    metrics_t m;
+    metrics_result_t r;
+    double dt_sample, width_set, *gaps;
+    unsigned prev_alarms = 0;
+
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        }
+        if (a[0] != '-') {
+            if (path) {
+                fprintf(stderr, "score: one CSV at a time ('%s' and '%s')\n", path, a);
+                return 2;
+            }
+            path = a;
+            continue;
+        }
+        if (!v) {
+            fprintf(stderr, "score: %s needs a value\n", a);
+            return 2;
+        }
+        if (!strcmp(a, "--scenario"))
+            scn_path = v;
+        else if (!strcmp(a, "--zones"))
+            zones_path = v;
+        else if (!strcmp(a, "--name"))
+            name = v;
+        else if (!strcmp(a, "--rate")) {
+            if (num_arg(a, v, 10, 1000, &rate) < 0)
+                return 2;
+        } else if (!strcmp(a, "--nozzles")) {
+            if (num_arg(a, v, 1, 96, &nozzles) < 0)
+                return 2;
+        } else if (!strcmp(a, "--spacing-cm")) {
+            if (num_arg(a, v, 10, 200, &spacing) < 0)
+                return 2;
+        } else {
+            fprintf(stderr, "score: unknown option '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+        i++;
+    }
+    if (!path) {
+        usage(stderr);
+        return 2;
+    }
+    /* the settings: defaults, then the scenario's, then the options */
+    params_defaults();
+    if (scn_path) {
+        s = malloc(sizeof *s);
+        if (!s || scenario_load(s, scn_path, err, sizeof err) < 0) {
+            fprintf(stderr, "score: %s\n", s ? err : "out of memory");
+            return 1;
+        }
+        for (i = 0; i < P_COUNT; i++)
+            param_set((uint8_t)i, s->param[i]);
+    }
+    if (rate > 0 && !param_set(P_RATE, (uint16_t)floor(rate + 0.5)))
+        return 2;
+    if (nozzles > 0)
+        param_v[P_NOZZLES] = (uint16_t)floor(nozzles + 0.5);
+    if (spacing > 0)
+        param_v[P_SPACING] = (uint16_t)floor(spacing + 0.5);
+    width_set = param_v[P_NOZZLES] * param_v[P_SPACING] / 100.0;
+
+    in = fopen(path, "r");
+    if (!in) {
+        fprintf(stderr, "score: cannot read %s: %s\n", path, strerror(errno));
+        return 1;
+    }
+    if (!fgets(line, sizeof line, in)) {
+        fprintf(stderr, "score: %s: empty file (a CSV with a header line was expected)\n", path);
+        return 1;
+    }
+    line_no = 1;
+    n_fields = split(line, f, MAX_COLS);
+    if (n_fields < 0) {
+        fprintf(stderr, "score: %s:1: more than %d columns\n", path, MAX_COLS);
+        return 1;
+    }
+    for (i = 0; i < C_N; i++) {
+        int k;
+        col[i] = -1;
+        for (k = 0; k < n_fields; k++)
+            if (!strcmp(f[k], col_names[i]))
+                col[i] = k;
+    }
+    if (col[C_T] < 0 || col[C_TARGET] < 0) {
+        fprintf(stderr, "score: %s:1: the header has no t_s or no target_lpm column (not a recorded run)\n", path);
+        return 1;
+    }
+    if (col[C_VTRUE] < 0 && col[C_SPEED] < 0 && col[C_VMEAS] < 0) {
+        fprintf(stderr, "score: %s:1: no speed column (v_true_kmh, speed_kmh or v_meas_kmh)\n", path);
+        return 1;
+    }
+    if (col[C_BOOM] < 0 && col[C_FLOW] < 0 && col[C_FLOWMEAS] < 0) {
+        fprintf(stderr, "score: %s:1: no flow column (boom_lpm, flow_lpm or flow_meas_lpm)\n", path);
+        return 1;
+    }
+    while (fgets(line, sizeof line, in)) {
+        row_t *rw;
+        line_no++;
+        if (line[0] == '\n' || line[0] == '\r' || line[0] == 0)
+            continue;
+        if (split(line, f, MAX_COLS) != n_fields) {
+            fprintf(stderr, "score: %s:%d: %d columns expected\n", path, line_no, n_fields);
+            return 1;
+        }
+        if (n_rows == cap) {
+            cap = cap ? cap * 2 : 4096;
+            rows = realloc(rows, (size_t)cap * sizeof *rows);
+            if (!rows) {
+                fprintf(stderr, "score: out of memory\n");
+                return 1;
+            }
+        }
+        rw = &rows[n_rows];
+        memset(rw, 0, sizeof *rw);
+        for (i = 0; i < C_N; i++) {
+            char *end;
+            const char *txt;
+            if (col[i] < 0)
+                continue;
+            txt = f[col[i]];
+            if (i == C_ALARMS || i == C_ALARMSHEX) {
+                unsigned long a;
+                errno = 0;
+                a = strtoul(txt, &end, 16);
+                if (!*txt || *end || errno || a > 0xFFFFu) {
+                    fprintf(stderr, "score: %s:%d: %s '%s' is not hex alarm bits\n", path, line_no, col_names[i], txt);
+                    return 1;
+                }
+                rw->alarms = (unsigned)a;
+                continue;
+            }
+            errno = 0;
+            rw->v[i] = strtod(txt, &end);
+            if (!*txt || *end || errno || !isfinite(rw->v[i])) {
+                fprintf(stderr, "score: %s:%d: %s '%s' is not a number\n", path, line_no, col_names[i], txt);
+                return 1;
+            }
+        }
+        rw->t = rw->v[C_T];
+        if (n_rows > 0 && !(rw->t > rows[n_rows - 1].t)) {
+            fprintf(stderr, "score: %s:%d: time %.3f s does not follow %.3f s\n", path, line_no, rw->t,
+                    rows[n_rows - 1].t);
+            return 1;
+        }
+        n_rows++;
+    }
+    fclose(in);
+    if (n_rows < 2) {
+        fprintf(stderr, "score: %s: %d rows: a run needs at least 2\n", path, n_rows);
+        return 1;
+    }
+    /* the sample period: the rows' median spacing */
+    gaps = malloc((size_t)(n_rows - 1) * sizeof *gaps);
+    for (i = 1; i < n_rows; i++)
+        gaps[i - 1] = rows[i].t - rows[i - 1].t;
+    qsort(gaps, (size_t)(n_rows - 1), sizeof *gaps, cmp_double);
+    dt_sample = gaps[(n_rows - 1) / 2];
+    free(gaps);
+
+    metrics_init(&m, dt_sample);
+    /* the simulator's first sample is at time 0, before its first row: at rest */
+    if (rows[0].t > 0.5 * dt_sample && rows[0].t < 1.5 * dt_sample)
+        metrics_sample(&m, 0.0, 0.0, 0.0, 0.0, 0);
+    for (i = 0; i < n_rows; i++) {
+        const row_t *rw = &rows[i];
+        double dt = i ? rw->t - rows[i - 1].t : (rw->t > 0 && rw->t < 1.5 * dt_sample ? rw->t : dt_sample);
+        double v_kmh = speed_of(rw, col);
+        /* the speed is the row's instant: the slice's distance by the trapezoid (the flows
+         * are already means over the slice) */
+        double v_slice = i ? 0.5 * (v_kmh + speed_of(&rows[i - 1], col)) : v_kmh;
+        double work = col[C_VMEAS] >= 0 ? rw->v[C_VMEAS] : col[C_SPEED] >= 0 ? rw->v[C_SPEED] : v_kmh;
+        double meas = col[C_FLOW] >= 0 ? rw->v[C_FLOW] : col[C_FLOWMEAS] >= 0 ? rw->v[C_FLOWMEAS] : rw->v[C_BOOM];
+        double nozzle = col[C_BOOM] >= 0 ? rw->v[C_BOOM] : meas;
+        double flow = col[C_FLOWTRUE] >= 0 ? rw->v[C_FLOWTRUE] : meas;
+        double target = rw->v[C_TARGET];
+        double ref = col[C_REF] >= 0 ? rw->v[C_REF] : target;
+        double p = col[C_PBAR] >= 0 ? rw->v[C_PBAR] : col[C_PKPA] >= 0 ? rw->v[C_PKPA] / 100.0
+                 : col[C_PMPA] >= 0 ? rw->v[C_PMPA] * 10.0 : 0.0;
+        int spray = col[C_SPRAY] >= 0 ? rw->v[C_SPRAY] != 0 : target > 0;
+        /* the settings are states at the row's instant: the slice up to it had the previous row's */
+        const row_t *st = i ? &rows[i - 1] : rw;
+        double width = col[C_WIDTH] >= 0 ? st->v[C_WIDTH]
+                     : col[C_OPEN] >= 0 ? st->v[C_OPEN] * param_v[P_SPACING] / 100.0 : width_set;
+        double rate_now = col[C_RATE] >= 0 ? st->v[C_RATE] : param_v[P_RATE];
+        unsigned rise = rw->alarms & ~prev_alarms;
+        uint8_t b;
+        metrics_add(&m, dt, v_slice / 3.6, nozzle, width, rate_now, p, spray);
+        metrics_sample(&m, ref, target, flow, work, spray);
+        for (b = 0; b < 16; b++)
+            if (rise & (1u << b)) {
+                char code[24];
+                const char *c = app_alarm_code(b);
+                if (!c || !*c) {
+                    snprintf(code, sizeof code, "ALARM_%u", b);
+                    c = code;
+                }
+                metrics_alarm(&m, rw->t, c);
+            }
+        prev_alarms = rw->alarms;
+    }
+    metrics_finish(&m, &r);
+    /* what a recording cannot tell: the valve's wear, and the dose error's split (it needs what
+     * a meter true to its calibration reads and the valve's end stops, every millisecond) */
+    r.valve_reversals = r.valve_reversals_per_min = r.valve_travel_strokes = NAN;
+    r.dose_target_pct = r.dose_meter_pct = r.dose_ctl_pct = r.dose_ctl_stop_pct = NAN;
+    snprintf(clean, sizeof clean, "%s", name ? name : path);
+    for (i = 0; clean[i]; i++)
+        if ((unsigned char)clean[i] < 32 || clean[i] == '\\' || clean[i] == '"')
+            clean[i] = '?';
+    snprintf(extra, sizeof extra,
+             "\"scenario\":\"%s\",\"score_source\":\"%s\",\"score_rows\":%d,\"score_sample_s\":%.3f,",
+             clean, col[C_VTRUE] >= 0 && col[C_BOOM] >= 0 ? "truth" : "measured", n_rows, dt_sample);
+    if (zones_path) {
+        FILE *z = fopen(zones_path, "w");
+        if (!z) {
+            fprintf(stderr, "score: cannot write %s: %s\n", zones_path, strerror(errno));
+            return 1;
+        }
+        metrics_zones_csv(z, &m);
+        if (fclose(z) != 0) {
+            fprintf(stderr, "score: error writing %s: %s\n", zones_path, strerror(errno));
+            return 1;
+        }
+    }
+    metrics_json(stdout, &m, &r, extra, 0.0);
+    metrics_free(&m);
+    free(rows);
+    free(s);
+    return 0;
+}

@@ -1,0 +1,110 @@
+/* fuzz_hil.c: the hardware-in-the-loop frame receiver (firmware/link/hil.c) on any byte stream: only frames
+ * whose CRC holds come out, they decode and encode back to the same bytes, and a good frame after
+ * the noise is always found. */
+#include <string.h>
+#include "fuzz.h"
+#include "hil.h"
+#include "hal_host.h"
+
+static void check_stream(const uint8_t *data, size_t size, uint8_t start)
+{
+    hil_rx_t rx;
+    uint8_t f[HIL_IN_BYTES], good[HIL_IN_BYTES];
+    size_t k;
+    unsigned frames = 0, tail = 0;
+    uint16_t crc;
+    hil_rx_init(&rx, start);
+    for (k = 0; k < size; k++) {
+        if (hil_rx_byte(&rx, data[k])) {
+            frames++;
+            FUZZ_CHECK(rx.buf[0] == start, "frame without its start byte");
+            crc = hil_crc(rx.buf, (uint8_t)(rx.size - 2));
+            FUZZ_CHECK(rx.buf[rx.size - 2] == (uint8_t)(crc >> 8) && rx.buf[rx.size - 1] == (uint8_t)crc,
+                       "frame out with a bad CRC");
+            if (start == HIL_IN_START) {
+                hil_in_t in;
+                hal_hil_t h;
+                memset(&in, 0, sizeof in);
+                in.seq = hil_in_decode(rx.buf, &h);
+                in.pca_now = h.pca_now;
+                in.wheel_count = h.wheel.count;
+                in.wheel_last = h.wheel.last;
+                in.wheel_rejected = h.wheel.rejected;
+                in.meter_count = h.meter.count;
+                in.meter_last = h.meter.last;
+                in.adc_pressure = h.adc[HAL_ADC_PRESSURE];
+                in.adc_level = h.adc[HAL_ADC_LEVEL];
+                in.sections = h.sections;
+                hil_in_encode(&in, f);
+                /* the ADC fields carry 10 bits: the rest is dropped on decoding */
+                FUZZ_CHECK(memcmp(f, rx.buf, 20) == 0 && f[21] == rx.buf[21] && f[23] == rx.buf[23]
+                           && (f[20] & 3) == (rx.buf[20] & 3) && (f[22] & 3) == (rx.buf[22] & 3),
+                           "sensor frame changed by decode/encode");
+                FUZZ_CHECK(h.adc[0] < 1024 && h.adc[1] < 1024, "ADC above 10 bits");
+            } else {
+                hil_out_t out;
+                hil_out_decode(rx.buf, &out);
+                hil_out_encode(&out, f);
+                FUZZ_CHECK(out.valve_dir >= -1 && out.valve_dir <= 1, "valve direction %d", out.valve_dir);
+                /* the direction and relay bytes keep only their defined values and bits */
+                FUZZ_CHECK(memcmp(f + 3, rx.buf + 3, 2) == 0 && f[5] == (rx.buf[5] & 3)
+                           && memcmp(f + 6, rx.buf + 6, 16) == 0, "output frame changed by decode/encode");
+            }
+        }
+        FUZZ_CHECK(rx.n < rx.size, "receiver holds %u bytes", rx.n);
+    }
+    /* after any noise, at most one frame's worth of good frames is needed to find them again */
+    memset(good, 0, sizeof good);
+    if (start == HIL_IN_START) {
+        hil_in_t in;
+        memset(&in, 0, sizeof in);
+        in.seq = 7;
+        in.adc_pressure = 300;
+        hil_in_encode(&in, good);
+    } else {
+        hil_out_t out;
+        memset(&out, 0, sizeof out);
+        out.seq = 7;
+        hil_out_encode(&out, good);
+    }
+    for (k = 0; k < 3u * rx.size; k++)
+        tail += hil_rx_byte(&rx, good[k % rx.size]);
+    FUZZ_CHECK(tail >= 2, "receiver did not find good frames after the noise (%u)", tail);
+}
+
+/* The controller's mode on the same bytes: every frame taken is what the HAL reads, the lost
+ * count never runs backwards, and a frame's step leaves no capture to be taken twice. */
+static void check_mode(const uint8_t *data, size_t size)
+{
+    hal_capture_t c;
+    uint16_t lost = 0;
+    size_t k;
+    hil_out_t o;
+    uint8_t f[HIL_OUT_BYTES];
+    hal_host_reset();
+    hil_begin();
+    FUZZ_CHECK(hil_active() && hal_hil_active(), "HIL mode not on after hil_begin");
+    for (k = 0; k < size; k++) {
+        if (!hil_byte(data[k]))
+            continue;
+        FUZZ_CHECK(hal_adc_read(HAL_ADC_PRESSURE) < 1024 && hal_adc_read(HAL_ADC_LEVEL) < 1024, "ADC");
+        hal_flow_capture_take(&c);
+        hal_flow_capture_take(&c);
+        FUZZ_CHECK(c.count == 0, "a frame's meter edges taken twice");
+        memset(&o, 0, sizeof o);
+        hil_answer(&o, f);
+        FUZZ_CHECK(o.lost >= lost, "lost count ran backwards");
+        lost = o.lost;
+    }
+    hal_hil(0);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size > 4096)
+        return 0;
+    check_stream(data, size, HIL_IN_START);
+    check_stream(data, size, HIL_OUT_START);
+    check_mode(data, size);
+    return 0;
+}

@@ -1,0 +1,224 @@
+/* test_hil.c: the controller's hardware-in-the-loop mode through the main loop: entered only on purpose, one step per sensor frame on its inputs, pins held off, lost frames counted. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+#include "hal_host.h"
+#include "params.h"
+#include "app.h"
+#include "hil.h"
+#include "screen.h"
+
+static uint64_t t_ms;
+static hil_rx_t out_rx;
+
+#define MA(x) ((uint16_t)((x) * 51.15 + 0.5))
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    hal_init();
+    t_ms = 0;
+    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(4.0);
+    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
+    hal_host_io.sections = 0x3F;
+    app_init();
+    hil_rx_init(&out_rx, HIL_OUT_START);
+    return 0;
+}
+
+static void run_ms(uint32_t ms)
+{
+    for (uint32_t i = 0; i < ms; i++) {
+        t_ms++;
+        hal_host_set_time_ns(t_ms * 1000000ull);
+        app_poll();
+    }
+}
+
+static void send(const char *s)
+{
+    while (*s)
+        hal_host_uart_rx_push((uint8_t)*s++);
+}
+
+/* everything the controller sent as text ('\0' for a binary byte) */
+static size_t take_text(char *buf, size_t n)
+{
+    size_t k = 0;
+    int b;
+    while ((b = hal_host_uart_tx_pop()) >= 0)
+        if (k + 1 < n)
+            buf[k++] = (char)b;
+    buf[k] = 0;
+    return k;
+}
+
+/* the output frames the controller sent since the last call; the last one in o */
+static int take_frames(hil_out_t *o)
+{
+    int b, n = 0;
+    while ((b = hal_host_uart_tx_pop()) >= 0)
+        if (hil_rx_byte(&out_rx, (uint8_t)b)) {
+            hil_out_decode(out_rx.buf, o);
+            n++;
+        }
+    return n;
+}
+
+static void hil_on(void)
+{
+    char buf[256];
+    unsigned x = 0;
+    const char *c = "HIL ON";
+    for (const char *p = c; *p; p++)
+        x ^= (uint8_t)*p;
+    snprintf(buf, sizeof buf, "%s*%02X\r\n", c, x);
+    take_text(buf + 64, sizeof buf - 64);
+    send(buf);
+    run_ms(5);
+    take_text(buf, sizeof buf);
+    assert_non_null(strstr(buf, "OK HIL*"));
+}
+
+static void frame(uint8_t seq, uint32_t at_ms, uint16_t wheel_total, uint16_t meter_total, uint16_t adc_p)
+{
+    hil_in_t in;
+    uint8_t f[HIL_IN_BYTES];
+    memset(&in, 0, sizeof in);
+    in.seq = seq;
+    in.pca_now = hal_host_pca_of_ns(at_ms * 1000000ull);
+    in.wheel_count = wheel_total;
+    in.wheel_last = in.pca_now - 1000;
+    in.meter_count = meter_total;
+    in.meter_last = in.pca_now - 100;
+    in.adc_pressure = adc_p;
+    in.adc_level = MA(20.0);
+    in.sections = 0x3F;
+    hil_in_encode(&in, f);
+    for (size_t i = 0; i < sizeof f; i++)
+        hal_host_uart_rx_push(f[i]);
+}
+
+static void test_hil_is_entered_only_by_the_checksummed_command(void **state)
+{
+    char buf[256];
+    (void)state;
+    send("HIL ON\r\n");
+    run_ms(5);
+    take_text(buf, sizeof buf);
+    assert_non_null(strstr(buf, "ERR NOCSUM"));
+    assert_false(hal_hil_active());
+    send("HIL ONX*00\r\n");
+    run_ms(5);
+    take_text(buf, sizeof buf);
+    assert_non_null(strstr(buf, "ERR"));
+    assert_false(hal_hil_active());
+    hil_on();
+    assert_true(hal_hil_active());
+    /* the run screen says so */
+    run_ms(300);
+    char row0[17];
+    for (int c = 0; c < 16; c++)
+        row0[c] = screen_char(0, (uint8_t)c);
+    row0[16] = 0;
+    assert_non_null(strstr(row0, "HIL"));
+}
+
+static void test_hil_steps_once_per_frame_on_its_inputs_and_never_without_one(void **state)
+{
+    hil_out_t o;
+    char buf[512];
+    (void)state;
+    hil_on();
+    uint8_t kicks = hal_host_io.wdt_kicks;
+    run_ms(2000);                       /* no frame: no step, no log line, no watchdog kick */
+    assert_int_equal(take_text(buf, sizeof buf), 0);
+    assert_int_equal(hal_host_io.wdt_kicks, kicks);
+    /* 3 bar on the frame's pressure ADC (16 bar sensor: 4 mA + 3/16 of 16 mA) */
+    frame(1, t_ms + 8, 0, 0, MA(4.0 + 16.0 * 3.0 / 16.0));
+    run_ms(8);                          /* 26 bytes at 38400 baud: 6.8 ms on the wire */
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.seq, 1);
+    assert_int_equal(o.lost, 0);
+    assert_in_range(o.pressure_kpa, 290, 310);
+    assert_int_equal((uint8_t)(hal_host_io.wdt_kicks - kicks), 1);
+    run_ms(92);
+    assert_int_equal(take_frames(&o), 0);   /* one answer a frame, nothing in between */
+    frame(2, t_ms + 8, 0, 0, MA(4.0));
+    run_ms(8);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.seq, 2);
+    assert_in_range(o.pressure_kpa, 0, 10);
+}
+
+static void test_hil_counts_lost_frames_and_loses_no_edge_with_them(void **state)
+{
+    hil_out_t o;
+    (void)state;
+    hil_on();
+    frame(1, 100, 0, 0, MA(4.0));
+    run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    /* frames 2 and 3 never come; 4 carries the running totals */
+    frame(4, 400, 0, 0, MA(4.0));
+    run_ms(300);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.seq, 4);
+    assert_int_equal(o.lost, 2);
+    /* a damaged frame: dropped, counted at the next good one */
+    hil_in_t in;
+    uint8_t f[HIL_IN_BYTES];
+    memset(&in, 0, sizeof in);
+    in.seq = 5;
+    hil_in_encode(&in, f);
+    f[10] ^= 1;
+    for (size_t i = 0; i < sizeof f; i++)
+        hal_host_uart_rx_push(f[i]);
+    run_ms(100);
+    assert_int_equal(take_frames(&o), 0);
+    frame(6, 600, 0, 0, MA(4.0));
+    run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.lost, 3);
+}
+
+static void test_hil_holds_the_pins_off_and_reports_the_outputs(void **state)
+{
+    hil_out_t o;
+    (void)state;
+    assert_true(param_set(P_GIVEN_SPEED, 60));      /* 6 km/h given: the boom sprays */
+    hil_on();
+    uint16_t meter = 0;
+    int sprayed = 0, drove = 0;
+    for (uint8_t seq = 1; seq <= 30; seq++) {
+        meter = (uint16_t)(meter + 20);             /* 20 edges a period: 31.6 L/min at 380 /L */
+        frame(seq, (uint32_t)seq * 100u, 0, meter, MA(4.0 + 16.0 * 1.0 / 16.0));
+        run_ms(100);
+        assert_int_equal(take_frames(&o), 1);
+        sprayed |= o.relays & 1;
+        drove |= o.valve_dir != 0;
+        assert_int_equal(hal_host_io.spray_on, 0);
+        assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
+        assert_int_equal(hal_host_io.buzzer, 0);
+    }
+    assert_true(sprayed);
+    assert_true(drove);
+    assert_int_equal(o.target_lpm_x100, 2700);      /* 150 L/ha, 18 m, 6 km/h */
+    assert_in_range(o.flow_lpm_x100, 3000, 3300);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_hil_is_entered_only_by_the_checksummed_command, setup),
+        cmocka_unit_test_setup(test_hil_steps_once_per_frame_on_its_inputs_and_never_without_one, setup),
+        cmocka_unit_test_setup(test_hil_counts_lost_frames_and_loses_no_edge_with_them, setup),
+        cmocka_unit_test_setup(test_hil_holds_the_pins_off_and_reports_the_outputs, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
