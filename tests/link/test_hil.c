@@ -80,7 +80,7 @@ static void hil_on(void)
     snprintf(buf, sizeof buf, "%s*%02X\r\n", c, x);
     take_text(buf + 64, sizeof buf - 64);
     send(buf);
-    run_ms(5);
+    run_ms(20);                     /* the loop serves the link in its idle passes */
     take_text(buf, sizeof buf);
     assert_non_null(strstr(buf, "OK HIL*"));
 }
