@@ -229,7 +229,7 @@ static void app_step(void)
     app_status.open_nozzles = open;
 
     /* diagnose (reads app_status) */
-    g = diag_step(app_status.spraying && !ap.prime);
+    g = diag_step(app_status.spraying && !ap.prime, app_status.spraying || ap.parked);
     app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
     app_status.alarms = g;
     hal_buzzer(app_status.alarms_unacked != 0);

@@ -132,7 +132,7 @@ static uint8_t noise(uint8_t *score, uint8_t glitch) __reentrant
     return *score;
 }
 
-uint16_t diag_step(uint8_t settled) __reentrant
+uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
     uint16_t tank = app_status.tank_l;
@@ -156,8 +156,10 @@ uint16_t diag_step(uint8_t settled) __reentrant
     rule(AL_PSENS, !psens, psens, 1);
     rule(AL_LSENS, !lsens, lsens, 1);
 
-    /* over-pressure, 5 % hysteresis */
-    rule(AL_OVERPRESSURE, psens && p > param_v[P_P_MAX],
+    /* over-pressure, 5 % hysteresis: while spraying or with the bypass parked open (at power-up
+     * the pump may push against a bypass left closed until the parking opens it: the relief
+     * valve's job, not a fault) */
+    rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX],
          !psens || (uint32_t)p * 20u < (uint32_t)param_v[P_P_MAX] * 19u, DIAG_OVERP_PERIODS);
 
     /* flow meter lost: the nozzles pass qp at this pressure, the meter sees under a quarter */

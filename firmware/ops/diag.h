@@ -37,9 +37,10 @@ enum {
 void diag_init(void);
 /* One period, after the application has filled app_status for it: evaluate every rule
  * (the inputs: app_status, the sensors' ok flags, the pulse modules' quiet counters and
- * glitch counts, the valve's refusals); `settled`: the boom sprays and start-up is over.
+ * glitch counts, the valve's refusals); `settled`: the boom sprays and start-up is over;
+ * `p_watch`: the pressure must stay under P max now (spraying, or the bypass parked open).
  * Returns the active alarm bits. */
-uint16_t diag_step(uint8_t settled) __reentrant;
+uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant;
 uint16_t diag_alarms(void);
 /* The flow the nozzles pass at this pressure, q = n Q3 / sqrt(3 bar) * sqrt(P - P_check), L/min x100. */
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant;
