@@ -35,6 +35,9 @@
 #define APP_JOG_DRIVE Q15(0.6)      /* ... at 60 % duty */
 #define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
 #define APP_LOG_PERIODS (1000u / APP_PERIOD_MS)
+/* periods after power-up before over-pressure is an alarm even if the pressure never fell under
+ * P max (the pump may push against a bypass left closed while the slowest valve opens) */
+#define APP_P_WAIT 150u
 
 app_status_t app_status;
 
@@ -49,6 +52,7 @@ static struct {
     uint8_t log_div;
     uint8_t internal;
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
+    uint8_t p_watch;                /* APP_P_WAIT: the pressure was under P max once spraying or parked since power-up, or APP_P_WAIT passed */
 } ap;
 
 void app_init(void)
@@ -74,6 +78,7 @@ void app_init(void)
     ap.was_manual = 0;
     ap.log_div = 0;
     ap.internal = 0;
+    ap.p_watch = 0;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -138,18 +143,14 @@ static void app_step(void)
     manual = param_v[P_MODE] != 0;
     app_status.manual = manual;
 
-    /* the flow the loop follows: the meter, or the nozzle model when the meter is lost */
+    /* the flow the loop follows: the meter while it pulses; the nozzle model (from the pressure)
+     * once its pulses have stopped while the pressure says liquid flows (the alarm waits to be
+     * sure; a dead meter read as no flow would close the bypass and take the line to the relief
+     * valve). A live meter that reads low is a clog (diag.c), and the loop stays on the meter. */
     meter_lost = (diag_alarms() >> AL_METER_LOST) & 1u;
     q_used = q_meter;
-    if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok()) {
-        /* the alarm waits 1 s to be sure; the loop does not trust a meter that reads under a
-         * quarter of what the nozzles pass (a dead meter read as no flow closed the bypass for a
-         * whole second and took the line to the relief valve) */
-        int16_t qp = diag_nozzle_flow_x100(p, open);
-        if (meter_lost || (int32_t)q_meter * 4 < qp)
-            q_used = qp;
-    }
-
+    if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok())
+        q_used = diag_nozzle_flow_x100(p, open);
     /* spray or not */
     want = open && !((diag_alarms() >> AL_TANK_LOW) & 1u) && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
            && (manual || v > 0) && !ap.internal;
@@ -229,7 +230,11 @@ static void app_step(void)
     app_status.open_nozzles = open;
 
     /* diagnose (reads app_status) */
-    g = diag_step(app_status.spraying && !ap.prime, app_status.spraying || ap.parked);
+    if (ap.p_watch < APP_P_WAIT
+        && (++ap.p_watch >= APP_P_WAIT || (!overp && (app_status.spraying || ap.parked))))
+        ap.p_watch = APP_P_WAIT;
+    g = diag_step(app_status.spraying && !ap.prime,
+                  (app_status.spraying || ap.parked) && ap.p_watch >= APP_P_WAIT);
     app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
     app_status.alarms = g;
     hal_buzzer(app_status.alarms_unacked != 0);

@@ -28,7 +28,9 @@ int16_t ctl_travel;
 int16_t ctl_inv_travel;
 int16_t ctl_stiction = CTL_STICTION_DEF;    /* P_VALVE_BRK in Q15 */
 int16_t ctl_stiction_half = CTL_STICTION_DEF / 2;
-int8_t ctl_hunt_gap = FM_HUNT_GAP(40);
+int16_t ctl_drun;
+int16_t ctl_run_gain = 16384;
+int16_t ctl_run_span = 32767;
 int16_t ctl_backlash = FM_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 q15_t ctl_carry;
 q15_t ctl_last;
@@ -82,23 +84,25 @@ static void ctl_derive(void)
     b = (int16_t)(((uint32_t)param_v[P_VALVE_SLACK] * 32768u + 500u) / 1000u);
     if ((s != ctl_stiction || b != ctl_backlash) && ctl_id == CTL_BEST) {
         ctl_st.fm.brk = 0;
-        ctl_st.fm.tk_cut = 0;
+        ctl_st.fm.brk_age = 0;
     }
     ctl_stiction = s;
     ctl_backlash = b;
     ctl_stiction_half = ctl_stiction / 2;
-    ctl_hunt_gap = (int8_t)FM_HUNT_GAP(ctl_travel);   /* Valve time is at most 600: 32 */
+    ctl_drun = (int16_t)(((int32_t)ctl_stiction * CTL_RUN_NUM + 8) >> 4);
+    if (ctl_drun > Q15(0.45))
+        ctl_drun = Q15(0.45);       /* 1 / (1 - d_run) within Q14 */
+    ctl_run_span = (int16_t)(32767 - ctl_drun);
+    ctl_run_gain = (int16_t)((((uint32_t)1 << 29) + (uint16_t)ctl_run_span / 2u) / (uint16_t)ctl_run_span);
     ctl_gen = param_generation;
 }
 
 /* ---- the interface ------------------------------------------------------------------------ */
 void ctl_applied(q15_t drive, uint8_t limit)
 {
-    if (ctl_id != CTL_BEST)
-        return;
-    ctl_st.fm.pend = 0;
-    fm_stops(limit);
-    fm_account(drive);
+    (void)limit;
+    if (ctl_id == CTL_BEST && drive != ctl_last)
+        ctl_carry = 0;              /* overridden (relief, jog, priming): nothing owed any more */
 }
 
 void ctl_reset(q15_t drive_now)

@@ -37,12 +37,20 @@ static struct {
     uint32_t nq;                    /* n * Q3 (L/min x100 at 3 bar) */
     uint16_t offrate_cnt;
     uint16_t meter_glitches, wheel_glitches;    /* counts seen last period */
+    uint16_t wheel_pulses;                      /* low bits of speed_pulses() last period */
     uint16_t alarms;
     uint8_t cnt[AL_COUNT];
     uint8_t meter_noise, wheel_noise;
     uint8_t meter_suspect;                      /* this period: the meter under a quarter of the nozzle model */
     uint8_t nozzles;
     uint8_t gen;
+    /* the nozzle model learnt from the sprayer: P = pc + kp (q / n Q3)^2 (diag_learn) */
+    uint32_t sx, sy, sxx, sxy;                  /* sums of x = (q / n Q3)^2 (Q8), y = P (kPa) */
+    uint8_t ln;                                 /* samples summed */
+    uint8_t learnt;                             /* 0 no model, 1 near xm only, 2 the whole range */
+    uint16_t xm;                                /* Q8: the mean x of a model learnt near one flow */
+    uint8_t ldiv;                               /* clean periods since the last sample */
+    uint16_t pc_kpa, kp_kpa;                    /* the model: check valves, kPa at the rated flow */
 } dg;
 
 void diag_init(void)
@@ -56,9 +64,95 @@ void diag_init(void)
     dg.meter_suspect = 0;
     dg.meter_glitches = flow_glitches();
     dg.wheel_glitches = speed_glitches();
+    dg.wheel_pulses = (uint16_t)speed_pulses();
     dg.nozzles = 0;
     dg.gen = (uint8_t)(param_generation - 1u);
-    diag_set_nozzles(0);
+    diag_nozzle_relearn();
+}
+
+void diag_nozzle_relearn(void)
+{
+    dg.sx = dg.sy = dg.sxx = dg.sxy = 0;
+    dg.ln = 0;
+    dg.ldiv = 0;
+    dg.learnt = 0;
+    dg.xm = 0;
+    dg.pc_kpa = DIAG_P_CHECK_KPA;
+    dg.kp_kpa = 300u;
+    dg.gen = (uint8_t)(param_generation - 1u);
+    diag_set_nozzles(dg.nozzles);
+}
+
+uint8_t diag_nozzle_learnt(void)
+{
+    return dg.learnt;
+}
+
+/* x = (q / n Q3)^2, Q8; 0xFFFF beyond twice the rated pressure */
+static uint16_t x_of(int16_t meter) __reentrant
+{
+    uint32_t r = um_muldiv((uint32_t)meter, 4096u, dg.nq);    /* Q12: q / (n Q3) */
+    if (r > 5792u)
+        return 0xFFFFu;
+    return (uint16_t)((r * r) >> 16);
+}
+
+/* The fit of the summed samples: a least-squares line when their flows spread enough (the whole
+ * range: learnt 2), else the rated curve scaled through their mean (check valves as the default),
+ * trusted near that flow only (learnt 1: the sums are halved and learning goes on); clamped to
+ * sane nozzles. */
+static void learn_fit(void) __reentrant
+{
+    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx, b = dg.sx * dg.sx, num, k = 0, c;
+    uint32_t p = (uint32_t)DIAG_LEARN_N * dg.sxy, m = dg.sx * dg.sy;
+    if (a > b && a - b >= DIAG_LEARN_SPREAD && p > m) {
+        num = p - m;
+        k = um_muldiv(num, 256u, a - b);
+        c = um_muldiv(dg.sx, (uint16_t)(k > 2000u ? 2000u : k), 256u);
+        c = dg.sy > c ? (dg.sy - c) / DIAG_LEARN_N : 0;
+        if (k >= 100u && k <= 1000u && c <= 150u) {
+            dg.kp_kpa = (uint16_t)k;
+            dg.pc_kpa = (uint16_t)c;
+            dg.learnt = 2;
+            return;
+        }
+    }
+    c = (uint32_t)DIAG_P_CHECK_KPA * DIAG_LEARN_N;
+    if (dg.sy > c && dg.sx > 0) {
+        k = um_muldiv(dg.sy - c, 256u, dg.sx);
+        dg.kp_kpa = (uint16_t)(k < 100u ? 100u : k > 1000u ? 1000u : k);
+        dg.pc_kpa = DIAG_P_CHECK_KPA;
+        dg.xm = (uint16_t)(dg.sx / DIAG_LEARN_N);
+        dg.learnt = 1;
+    }
+    dg.sx >>= 1;
+    dg.sy >>= 1;
+    dg.sxx >>= 1;
+    dg.sxy >>= 1;
+    dg.ln = DIAG_LEARN_N / 2;
+}
+
+/* One clean period (steady flow on target, no flow alarm): every DIAG_LEARN_EVERY a sample. */
+static void learn(int16_t meter, uint16_t p) __reentrant
+{
+    uint32_t r;
+    if (dg.learnt == 2 || ++dg.ldiv < DIAG_LEARN_EVERY)
+        return;
+    dg.ldiv = 0;
+    r = x_of(meter);
+    if (r == 0xFFFFu)
+        return;
+    if (p > 511u)
+        p = 511u;
+    dg.sx += r;
+    dg.sy += p;
+    dg.sxx += r * r;
+    dg.sxy += r * p;
+    if (++dg.ln >= DIAG_LEARN_N) {
+        learn_fit();
+        dg.gen = (uint8_t)(param_generation - 1u);
+        diag_set_nozzles(dg.nozzles);
+    }
 }
 
 void diag_set_nozzles(uint8_t open_nozzles) __reentrant
@@ -68,17 +162,18 @@ void diag_set_nozzles(uint8_t open_nozzles) __reentrant
     dg.nozzles = open_nozzles;
     dg.gen = param_generation;
     dg.nq = (uint32_t)open_nozzles * param_v[P_NOZZLE_Q3];
-    /* 65536 / (256 sqrt(300)) = 14.7802 = 60539 / 4096 */
-    dg.knoz = um_mul32x16_shr16(dg.nq << 4, 60539u);
+    /* q = n Q3 sqrt(dp / kp): knoz = 256 n Q3 / sqrt(kp), 65536 / (256 sqrt(kp)) from the root
+     * of kp << 16 (a divide, only when the nozzles or the model change) */
+    dg.knoz = um_muldiv(dg.nq, 65535u, um_sqrt32((uint32_t)dg.kp_kpa << 16));
 }
 
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant
 {
     uint32_t dp, q;
     diag_set_nozzles(open_nozzles);
-    if (pressure_kpa <= DIAG_P_CHECK_KPA)
+    if (pressure_kpa <= dg.pc_kpa)
         return 0;
-    dp = pressure_kpa - DIAG_P_CHECK_KPA;
+    dp = pressure_kpa - dg.pc_kpa;
     if (dp > 65535u)
         dp = 65535u;
     q = um_mul32x16_shr16(dg.knoz, um_sqrt32(dp << 16));    /* sqrt(dp << 16) = 256 sqrt(dp) */
@@ -95,7 +190,7 @@ uint16_t diag_nozzle_pressure_kpa(int16_t flow_x100, uint8_t open_nozzles) __ree
     if (r > 65535u)
         return 0xFFFFu;
     r = (r * r) >> 12;                                      /* Q12 */
-    p = DIAG_P_CHECK_KPA + ((r * 300u + 2048u) >> 12);
+    p = dg.pc_kpa + ((r * dg.kp_kpa + 2048u) >> 12);
     return p > 65535u ? 0xFFFFu : (uint16_t)p;
 }
 
@@ -141,7 +236,7 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
     int16_t target = app_status.target_lpm_x100;
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
-    uint8_t judge, g;
+    uint8_t judge, g, working;
     uint16_t pexp;
     uint32_t p100, x;
     int16_t qp;
@@ -162,20 +257,33 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
     rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX],
          !psens || (uint32_t)p * 20u < (uint32_t)param_v[P_P_MAX] * 19u, DIAG_OVERP_PERIODS);
 
-    /* flow meter lost: the nozzles pass qp at this pressure, the meter sees under a quarter */
+    /* flow meter lost: its pulses stopped while the nozzle model says liquid flows. A live meter
+     * that reads low against the pressure is a clog (or a wrong nozzle setting), never this. */
     qp = diag_nozzle_flow_x100(p, dg.nozzles);
     judge = settled && psens;
-    dg.meter_suspect = judge && qp >= DIAG_MODEL_MIN_X100 && (int32_t)meter * 4 < qp;
-    rule(AL_METER_LOST, dg.meter_suspect,
-         meter >= DIAG_MODEL_MIN_X100 / 2 && (int32_t)meter * 2 >= qp, DIAG_METER_PERIODS);
+    working = app_status.speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
+    /* (at working speed: at a headland stop the meter falls silent below its range while the
+     * line still holds the check valves' pressure) */
+    dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && flow_quiet_periods() >= DIAG_METER_QUIET;
+    rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
 
-    /* leak and clog: the pressure against the nozzle model's pressure for the metered flow */
+    /* leak and clog: the pressure above the check valves against what the learnt nozzle model
+     * needs for the metered flow (not judged before the model is learnt, nor at low pressure) */
     judge = judge && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
-    p100 = (uint32_t)p * 100u;
-    x = (uint32_t)pexp * (100u - param_v[P_PDEV]);
+    g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
+        && target > 0 && (uint32_t)(meter > target ? meter - target : target - meter) * 20u <= (uint16_t)target;
+    if (g)
+        learn(meter, p);
+    judge = judge && dg.learnt && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA && pexp != 0xFFFFu;
+    if (judge && dg.learnt == 1) {              /* a model learnt near one flow: judged near it */
+        x = x_of(meter);
+        judge = x * 4u >= (uint32_t)dg.xm * 3u && x * 3u <= (uint32_t)dg.xm * 4u;
+    }
+    p100 = (uint32_t)(p > dg.pc_kpa ? p - dg.pc_kpa : 0) * 100u;
+    x = (uint32_t)(pexp - dg.pc_kpa) * (100u - (param_v[P_PDEV] >> 1));
     rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
-    x = (uint32_t)pexp * (100u + param_v[P_PDEV]);
+    x = (uint32_t)(pexp - dg.pc_kpa) * (100u + (param_v[P_PDEV] >> 1));
     rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
 
     /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
@@ -186,8 +294,10 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
                             speed_at_last_pulse_x100() >= param_v[P_MINF_SPEED] * 10u,
          g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u, 1);
 
-    /* off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S */
-    judge = !app_status.manual && settled && target > 0;
+    /* off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, at working speed (below it the
+     * minimum-flow rule sets the target, and a coupled pump slowing to a headland stop cannot
+     * give it) */
+    judge = !app_status.manual && settled && target > 0 && working;
     qp = app_status.flow_lpm_x100 - target;
     p100 = (uint32_t)(qp < 0 ? -(int32_t)qp : qp) * 100u;
     x = (uint32_t)param_v[P_OFFRATE] * (uint16_t)target;
@@ -212,9 +322,16 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
     g = flow_glitches() != dg.meter_glitches;
     dg.meter_glitches = flow_glitches();
     rule(AL_METER_NOISE, noise(&dg.meter_noise, g) > 60, dg.meter_noise == 0, 1);
-    g = speed_glitches() != dg.wheel_glitches;
+    /* the wheel's: +DIAG_WHEEL_GLITCH a rejected pulse, -1 a good one, so the score climbs only
+     * while more than 1 pulse in DIAG_WHEEL_GLITCH + 1 is rejected (a bounce now and then is
+     * rejected and forgotten) */
+    x = (uint16_t)(speed_glitches() - dg.wheel_glitches) * (uint32_t)DIAG_WHEEL_GLITCH + dg.wheel_noise;
     dg.wheel_glitches = speed_glitches();
-    rule(AL_WHEEL_NOISE, noise(&dg.wheel_noise, g) > 60, dg.wheel_noise == 0, 1);
+    pexp = (uint16_t)((uint16_t)speed_pulses() - dg.wheel_pulses);
+    dg.wheel_pulses = (uint16_t)speed_pulses();
+    x = x > pexp ? x - pexp : 0;
+    dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
+    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60, dg.wheel_noise == 0, 1);
 
     return dg.alarms;
 }
