@@ -8,11 +8,12 @@
 /* ---- common ---------------------------------------------------------------------------- */
 #define CTL_FLOW_SCALE_LPM 100      /* L/min of boom flow per full valve stroke (normalisation) */
 /* The valve's break-away duty (the smallest drive that moves it) and backlash (stroke lost on a
- * reversal, which ffmap takes up before counting): the parameters Min duty and Backlash, in Q15,
- * derived when a parameter changes. CTL_STICTION_DEF / FM_BACKLASH_DEF: their defaults. */
+ * reversal): the parameters Min duty and Backlash, in Q15, derived when a parameter changes.
+ * CTL_STICTION_DEF / CTL_BACKLASH_DEF: their defaults. */
 extern int16_t ctl_stiction, ctl_backlash;
 #define CTL_STICTION ctl_stiction
 #define CTL_STICTION_DEF Q15(0.2)
+#define CTL_BACKLASH_DEF Q15(0.02)
 #define CTL_E_MAX 16000             /* errors clamped to +-160 L/min (x100) */
 
 /* ---- pid: eq. (7), the paper's gains ----------------------------------------------------- */
@@ -67,21 +68,25 @@ typedef struct {
 } bp_state_t;
 
 /* ---- ffmap (the project's own, `best`): a damped incremental PID with a deadband, an output
- * stage that knows the motor's running friction, and a break-away learnt from the flow ---------- */
-#define FM_BACKLASH ctl_backlash    /* stroke lost on a reversal (the parameter Backlash) */
-#define FM_BACKLASH_DEF Q15(0.02)
-#define FM_KP Q12(1.0) /* gains on the pid normalisation (ctl.c) */
-#define FM_KI Q12(1.2) 
-#define FM_KD Q12(0.8) 
-#define FM_DB_IN 8 /* deadband: the loop rests once the filtered error <= target >> 7 */
-#define FM_DB_OUT 7 /* ... and wakes beyond target >> 6, or when the target moves */
-#define FM_REST_KI Q12(0.15) /* inside it a slow integral only, on the filtered error */
+ * stage that knows the motor's running friction, a break-away and a loop gain learnt from the
+ * flow (docs/CONTROLLERS.md) ------------------------------------------------------------------ */
+#define FM_KP Q12(1.0)              /* gains on the pid normalisation (ctl.c) */
+#define FM_KI Q12(1.2)
+#define FM_KD Q12(0.8)
+#define FM_DB_IN 8                  /* deadband: the valve rests once the filtered error <= target >> 8 */
+#define FM_DB_OUT 7                 /* ... and wakes beyond target >> 7, or when the target moves */
 #define FM_MOVE_SHIFT 6             /* the target moves: |dq| > target >> 6 in one period */
-#define FM_TK_NUM 0 /* a reversal adds FM_TK_NUM/16 of Backlash (taken up first) */
-#define FM_STALL_N 3 /* smallest pulses one way without the error shrinking: a stall */
+#define FM_REST_KI Q12(0.15)        /* resting, a slow integral only, on the filtered error */
+#define FM_STALL_N 3                /* smallest pulses one way without the error shrinking: a stall */
 #define FM_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
 #define FM_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
 #define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
+#define FM_G_MIN 64                 /* the learnt loop gain, Q8: 1/4 .. 2 of what Valve time gives */
+#define FM_G_MAX 512
+#define FM_OSC_GAP 8                /* a reversal this soon after the last, near the target: -1/8 */
+#define FM_SLOW_N 20                /* this long awake with the error one way: +1/16 */
+#define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
+                                     * up, the line primes, the flow overshoots from the parked valve */
 typedef struct {
     int16_t e1, e2;                 /* x100 L/min: e(k-1), e(k-2) */
     int16_t ef;                     /* x100 the error filtered over 4 periods (the deadband's) */
@@ -97,12 +102,6 @@ typedef struct {
     uint8_t slow_n;                 /* periods awake with the error one way and no reversal */
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
 } fm_state_t;
-#define FM_G_MIN 64                 /* the learnt gain: 1/4 .. 2 of what Valve time gives */
-#define FM_G_MAX 512
-#define FM_OSC_GAP 8 /* a reversal this soon after the last: overshoot, gain -1/8 */
-#define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
-                                     * up, the line primes, the flow overshoots from the parked valve */
-#define FM_SLOW_N 20 /* this long one way without reaching the band: gain +1/16 */
 
 typedef union {
     pid_state_t pid;
@@ -142,8 +141,7 @@ extern int16_t ctl_stiction_half;   /* Q15: half of Min duty (no divide in a ste
 /* The motor's running friction: moving, it runs at (duty - d_run) / (1 - d_run) of full speed.
  * d_run is taken as CTL_RUN_NUM/16 of Min duty (the break-away duty). */
 #define CTL_RUN_NUM 10
-extern int16_t ctl_drun;            /* Q15: d_run */
-extern int16_t ctl_run_gain;        /* Q14: 1 / (1 - d_run) */
+extern int16_t ctl_drun;            /* Q15: d_run (at most 0.45) */
 extern int16_t ctl_run_span;        /* Q15: 1 - d_run */
 extern q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
 extern q15_t ctl_last;              /* Q15: last drive sent */

@@ -15,11 +15,14 @@
  *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
  *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way without the error
  *     coming toward zero are a stall, and the smallest pulse grows (brk, forgotten slowly);
- *   - backlash: a reversal first takes up part of Backlash (a larger share overshoots on a valve
- *     with less slack than it was told).
+ *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
+ *     answers (reversals in quick succession near the target lower it, a long run of error one
+ *     way raises it);
+ *   - backlash is not taken up: on a valve with less slack than it was told that overshoots,
+ *     and with the deadband reversals are rare.
  * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
  * the valve near the target (the noise of the meter, the pump's pulsation and the target's own
- * jitter move nothing), and what is owed is dropped on entering it.
+ * jitter move nothing); resting, a slow integral removes a steady bias.
  */
 void fm_init(void)
 {
@@ -39,12 +42,13 @@ void fm_init(void)
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
  * FM_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
- * 1/8; FM_SLOW_N periods awake with the error one way (slower than told) raise it by 1/16. */
+ * 1/8; FM_SLOW_N periods awake with the error one way (slower than told) raise it by 1/16;
+ * nothing is learnt in the first FM_WARM periods nor against a stop (saturated). */
 CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 {
     if (M->warm < FM_WARM)
         M->warm++;
-    if (M->rest || (e > 0) != (M->e1 > 0) || M->warm < FM_WARM) {
+    if (M->rest || (e > 0) != (M->e1 > 0) || M->warm < FM_WARM || ctl_in->valve_limit) {
         M->slow_n = 0;
     } else if (++M->slow_n >= FM_SLOW_N) {
         M->slow_n = 0;
@@ -61,12 +65,11 @@ CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
     int16_t c, dq = (int16_t)(q - M->t1);
     M->ef = (int16_t)(M->ef + ((e - M->ef + 2) >> 2));
     c = M->ef < 0 ? (int16_t)-M->ef : M->ef;
-    if (((int32_t)(dq < 0 ? -dq : dq) << FM_MOVE_SHIFT) > q) {
+    if (((int32_t)(dq < 0 ? -dq : dq) << FM_MOVE_SHIFT) > q || (M->rest && c > (q >> FM_DB_OUT))) {
+        if (M->rest && (ctl_carry > 0) != (e > 0))
+            ctl_carry = 0;          /* waking: what the slow integral owed the other way is stale */
         M->rest = 0;
-    } else if (M->rest) {
-        if (c > (q >> FM_DB_OUT))
-            M->rest = 0;
-    } else if (c <= (q >> FM_DB_IN) && q > 0) {
+    } else if (!M->rest && c <= (q >> FM_DB_IN) && q > 0) {
         M->rest = 1;
         ctl_carry = 0;              /* entering the band: nothing owed */
         M->stall_n = 0;
@@ -81,7 +84,7 @@ CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
     if (M->stall_n >= FM_STALL_N) {
         k = M->dir > 0 ? (int32_t)M->stall_e - e : (int32_t)e - M->stall_e;
         if (k <= (q >> FM_DB_IN) && (M->dir > 0 ? e > 0 : e < 0)) {
-            if (M->brk < FM_BRK_MAX)
+            if (M->brk <= FM_BRK_MAX - FM_BRK_STEP)
                 M->brk += FM_BRK_STEP;
             M->brk_age = 0;
         }
@@ -94,8 +97,8 @@ CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
 }
 
 /* The output stage: the motion owed plus this period's (Q15 share of full speed for a period),
- * the take-up of a reversal, limits and stops; below the smallest pulse it stays owed; a pulse
- * is sent at the duty that makes the motion against the running friction. */
+ * limits and stops; below the smallest pulse it stays owed; a pulse is sent at the duty that
+ * makes the motion against the running friction. */
 CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
 {
     int32_t d, k;
@@ -109,11 +112,6 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         return 0;
     }
     d = m > 0 ? m : -m;
-    if (s != M->dir) {              /* a reversal: the backlash's share, in periods of full speed */
-        d += (MUL(FM_BACKLASH, (int16_t)(ctl_travel * FM_TK_NUM)) + 8) >> 4;
-    }
-    if (d > 32767)
-        d = 32767;
     d = ctl_drun + ((MUL((int16_t)d, ctl_run_span) + 16384) >> 15);
     k = (int32_t)CTL_STICTION + M->brk;
     if (d < k) {
@@ -124,7 +122,8 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     if (d > 32767)
         d = 32767;
     if (s != M->dir && M->dir != 0) {
-        if (M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN && M->warm >= FM_WARM
+        /* (a pulse near the smallest: the valve's resolution, not the gain) */
+        if (M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN && M->warm >= FM_WARM && d > 2 * k
             && ((int32_t)(e < 0 ? -e : e) << 4) <= ctl_in->target_lpm_x100)
             M->g -= M->g >> 3;
         M->rev_age = 0;

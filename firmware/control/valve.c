@@ -29,7 +29,7 @@ static void valve_derive(void) __reentrant
     /* one period at full duty moves APP_PERIOD (100 ms) / (P_VALVE_TRAVEL x 100 ms) strokes */
     va.rate = (q15_t)(32768UL / param_v[P_VALVE_TRAVEL]);
     /* a turning motor runs at (duty - d_run) / (1 - d_run) of full speed (ctl_int.h) */
-    va.drun = (q15_t)(((uint32_t)param_v[P_VALVE_BRK] * 32768u * 10u / 16u + 50u) / 100u);
+    va.drun = (q15_t)(((uint32_t)param_v[P_VALVE_BRK] * 20480UL + 50UL) / 100UL);   /* 10/16 of Min duty, Q15 */
     if (va.drun > Q15(0.45))
         va.drun = Q15(0.45);
     va.rgain = (int16_t)(((uint32_t)1 << 29) / (uint16_t)(32767 - va.drun));

@@ -267,24 +267,38 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
     dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && flow_quiet_periods() >= DIAG_METER_QUIET;
     rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
 
-    /* leak and clog: the pressure above the check valves against what the learnt nozzle model
-     * needs for the metered flow (not judged before the model is learnt, nor at low pressure) */
+    /* leak and clog: the pressure against what the nozzle model learnt from this sprayer needs
+     * for the metered flow; clean spraying teaches the model */
     judge = judge && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
         && target > 0 && (uint32_t)(meter > target ? meter - target : target - meter) * 20u <= (uint16_t)target;
     if (g)
         learn(meter, p);
-    judge = judge && dg.learnt && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA && pexp != 0xFFFFu;
-    if (judge && dg.learnt == 1) {              /* a model learnt near one flow: judged near it */
+    judge = judge && pexp != 0xFFFFu;
+    /* near the learnt model (learnt over the range, or near the flow it was learnt at) the
+     * pressure above the check valves must be within P_PDEV / 2; elsewhere (not learnt yet, far
+     * from a model learnt at one flow) only a gross deviation counts: P_PDEV of it and
+     * DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can make */
+    g = dg.learnt == 2;
+    if (dg.learnt == 1) {
         x = x_of(meter);
-        judge = x * 4u >= (uint32_t)dg.xm * 3u && x * 3u <= (uint32_t)dg.xm * 4u;
+        g = x * 4u >= (uint32_t)dg.xm * 3u && x * 3u <= (uint32_t)dg.xm * 4u;
     }
-    p100 = (uint32_t)(p > dg.pc_kpa ? p - dg.pc_kpa : 0) * 100u;
-    x = (uint32_t)(pexp - dg.pc_kpa) * (100u - (param_v[P_PDEV] >> 1));
-    rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
-    x = (uint32_t)(pexp - dg.pc_kpa) * (100u + (param_v[P_PDEV] >> 1));
-    rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
+    if (g) {
+        judge = judge && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA;
+        p100 = (uint32_t)(p > dg.pc_kpa ? p - dg.pc_kpa : 0) * 100u;
+        x = (uint32_t)(pexp - dg.pc_kpa) * (100u - (param_v[P_PDEV] >> 1));
+        rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
+        x = (uint32_t)(pexp - dg.pc_kpa) * (100u + (param_v[P_PDEV] >> 1));
+        rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
+    } else {
+        x = ((uint32_t)pexp * param_v[P_PDEV] + 50u) / 100u;
+        if (x < DIAG_PDEV_FAR_KPA)
+            x = DIAG_PDEV_FAR_KPA;
+        rule(AL_LEAK, judge && (uint32_t)p + x < pexp, judge && (uint32_t)p + x >= pexp, DIAG_PDEV_PERIODS);
+        rule(AL_CLOG, judge && p > pexp + x, judge && p <= pexp + x, DIAG_PDEV_PERIODS);
+    }
 
     /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
      * down keeps making pulses; one that stops dead from working speed inside one pulse
