@@ -78,7 +78,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: firmware flash deps test host-tests target-tests bench sim sim-progs demo compare family \
+.PHONY: firmware flash deps test host-tests target-tests bench sim sim-progs demo compare family report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -91,6 +91,7 @@ help:
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1]   the controllers over N sprayers of the plant family"
+	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen and a menu as PNG in docs/"
@@ -257,3 +258,16 @@ clean:
 # SDCC has no -MP: a header that is gone is no reason to stop, the object is rebuilt
 %.h: ;
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
+
+# ==== the results report ==================================================================================
+# make report: docs/RESULTS.md and its plots from a clean build (tools/results.py): the paper's
+# Tables 2-4 and section 5.1 beside this project's figures, ISO 5682-3 style changes, the plant family,
+# single-factor sweeps, and the cost on the chip; also the README's headline table.
+REPORT_DIR := $(BUILD)/report
+report: firmware $(SIM_PROGS) $(TT_IHX) $(TT_HOST)
+	@mkdir -p $(REPORT_DIR)
+	$(Q)$(MAKE) --no-print-directory firmware > $(REPORT_DIR)/memory.txt 2>&1 || true
+	$(Q)tools/bench.sh $(UC_DIR) > $(REPORT_DIR)/bench.txt 2>&1 || true
+	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn > $(REPORT_DIR)/bench_sim.txt 2>&1 || true
+	$(Q)$(PYTHON) tools/results.py --sim $(SIM_BIN) --bench $(REPORT_DIR)/bench.txt \
+	    --memory $(REPORT_DIR)/memory.txt --bench-sim $(REPORT_DIR)/bench_sim.txt

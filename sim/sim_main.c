@@ -28,6 +28,22 @@ static int parse_u64(const char *s, unsigned long long *v)
     return (*end || errno) ? -1 : 0;
 }
 
+/* Write one of the metrics' CSV files to path; -1 (said on stderr) when it cannot. */
+static int write_out(const char *path, void (*write)(FILE *, const metrics_t *), const metrics_t *m)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "sim: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    write(f, m);
+    if (fclose(f) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL, *samples_path = NULL;
@@ -145,30 +161,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "sim: error writing %s: %s\n", csv_path, strerror(errno));
         return 1;
     }
-    if (zones_path) {
-        FILE *z = fopen(zones_path, "w");
-        if (!z) {
-            fprintf(stderr, "sim: cannot write %s: %s\n", zones_path, strerror(errno));
-            return 1;
-        }
-        metrics_zones_csv(z, &sim->metrics);
-        if (fclose(z) != 0) {
-            fprintf(stderr, "sim: error writing %s: %s\n", zones_path, strerror(errno));
-            return 1;
-        }
-    }
-    if (samples_path) {
-        FILE *z = fopen(samples_path, "w");
-        if (!z) {
-            fprintf(stderr, "sim: cannot write %s: %s\n", samples_path, strerror(errno));
-            return 1;
-        }
-        metrics_samples_csv(z, &sim->metrics);
-        if (fclose(z) != 0) {
-            fprintf(stderr, "sim: error writing %s: %s\n", samples_path, strerror(errno));
-            return 1;
-        }
-    }
+    if ((zones_path && write_out(zones_path, metrics_zones_csv, &sim->metrics) < 0)
+        || (samples_path && write_out(samples_path, metrics_samples_csv, &sim->metrics) < 0))
+        return 1;
     printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.0fx real time)\n", s->name, r.sim_s,
            sim->wall_s, sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0);
     sim_json(sim, &r, stdout);

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """bound.py: what an IDEAL controller could reach on a run: the limit the plant itself sets.
 
-usage: bound.py TRACE.csv [--travel S] [--scenario SCN] [--json SIM_STDOUT] [--substeps N]
+usage: bound.py TRACE.csv --samples SAMPLES.csv [--travel S] [--scenario SCN] [--json SIM_STDOUT]
        bound.py --run SIM_BIN SCENARIO [CONTROLLER] [--travel S] [--substeps N]
 
-TRACE.csv is a 0.1 s trace of the simulator (sim --csv). The target flow, the PTO speed, the
+TRACE.csv is a 0.1 s trace of the simulator (sim --csv), SAMPLES.csv its step series (sim --samples). The target flow, the PTO speed, the
 boom switch and the open nozzles in it do not depend on the controller, so any controller's
 run will do. --run runs SIM_BIN on SCENARIO (controller 'best' unless given) to a temporary
 trace first, reads the scenario's [plant] keys and checks the step metrics against the sim's
@@ -16,8 +16,9 @@ stroke per valve_travel_s). For every sample it computes the valve position thet
 the boom flow equal the target (steady state of the line with the plant of sim/plant.c), and a
 follower moves toward it at most at full speed (10 substeps of 10 ms a sample, PTO speed
 interpolated). The boom flow the follower gives is the steady solution of the line equation at
-its position, averaged over the sample like the sim's flow_true_lpm, and scored with a port of
-metrics_find_steps (sim/metrics.c).
+its position, averaged over the sample like the sim's flow_true_lpm, and scored by the
+simulator's own step code (build/host/bin/steps) against the run's reference and target series
+(sim --samples).
 
 The summary adds the same follower seeing the pump's speed 0.1, 0.2 and 0.3 s late (it aims at
 the position that suits the target now and the pump as it was then): what the meter, the control
@@ -54,11 +55,38 @@ DEFAULTS = {
     "nozzle_wear_pct": 0.0,
 }
 
-# ---- the step metrics of sim/metrics.h ---------------------------------------------------------
-METRICS_STEADY_S = 2.0
-METRICS_STEADY_FRAC = 0.01
-METRICS_CHANGE_FRAC = 0.05
-SAMPLE_S = 0.1                      # SIM_SAMPLE_S
+# ---- the step metrics: the simulator's own code (build/host/bin/steps) ------------------------
+SAMPLE_S = 0.1
+STEPS_BIN = [None]
+
+
+def read_samples(path):
+    """The step series of `sim --samples` (sample 0 at t = 0): ref, target, work, spray."""
+    with open(path) as f:
+        head = f.readline().strip().split(",")
+        need = ["t_s", "ref_lpm", "target_lpm", "flow_lpm", "work", "spray"]
+        if head[:len(need)] != need:
+            sys.exit("bound: %s: not a sim --samples file (header %s)" % (path, ",".join(need)))
+        rows = [line.strip().split(",") for line in f if line.strip()]
+    return {k: [float(r[i]) for r in rows] for i, k in enumerate(need)}
+
+
+def find_steps(samples, Y):
+    """The step figures of flow Y against the series' reference and target, scored by `steps`."""
+    fd, path = tempfile.mkstemp(prefix="bound_samples_", suffix=".csv")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write("t_s,ref_lpm,target_lpm,flow_lpm,work,spray\n")
+            for k in range(min(len(Y), len(samples["t_s"]))):
+                f.write("%.1f,%.17g,%.17g,%.17g,%d,%d\n" % (samples["t_s"][k], samples["ref_lpm"][k],
+                                                        samples["target_lpm"][k], Y[k], samples["work"][k],
+                                                        samples["spray"][k]))
+        out = subprocess.run([STEPS_BIN[0], path], capture_output=True, text=True)
+        if out.returncode != 0:
+            sys.exit("bound: %s failed: %s" % (STEPS_BIN[0], out.stderr.strip()))
+        return json.loads(out.stdout)["steps"]
+    finally:
+        os.unlink(path)
 
 
 class Plant:
@@ -136,89 +164,6 @@ class Plant:
         p = 0.5 * (lo + hi)
         return a * math.sqrt(p - self.pc) if p > self.pc else 0.0
 
-
-# ---- port of metrics_find_steps (sim/metrics.c) ------------------------------------------------
-def _crossing(p, k0, k1, level):
-    for k in range(k0, k1 + 1):
-        if p[k] >= level:
-            if k == k0 or p[k] == p[k - 1]:
-                return float(k)
-            return (k - 1) + (level - p[k - 1]) / (p[k] - p[k - 1])
-    return -1.0
-
-
-def _settle(y, k0, k1, to, tol):
-    last = -1
-    for k in range(k0, k1 + 1):
-        if abs(y[k] - to) > tol:
-            last = k
-    settled = last < k1
-    if last < 0:
-        return 0.0, settled
-    if last == k1:
-        return float(k1 - k0 + 1), settled
-    e0 = abs(y[last] - to)
-    e1 = abs(y[last + 1] - to)
-    return (last - k0) + (e0 - tol) / (e0 - e1), settled
-
-
-def find_steps(T, Y, dt=SAMPLE_S):
-    n = len(T)
-    W = int(math.floor(METRICS_STEADY_S / dt + 0.5))
-    if n <= W or W < 1:
-        return []
-    pl = []                          # [a, b, first, last]
-    k = W
-    while k < n:
-        lo = min(T[k - W:k + 1])
-        hi = max(T[k - W:k + 1])
-        if hi - lo <= METRICS_STEADY_FRAC * max(abs(T[k]), 1.0):
-            a, b = k - W, k
-            s = sum(T[a:k + 1])
-            while b + 1 < n:
-                l2 = min(T[b + 1 - W:b + 2])
-                h2 = max(T[b + 1 - W:b + 2])
-                if h2 - l2 > METRICS_STEADY_FRAC * max(abs(T[b + 1]), 1.0):
-                    break
-                b += 1
-            if pl:
-                frm, to = pl[-1][3], s / (W + 1)
-                if abs(to - frm) <= METRICS_CHANGE_FRAC * max(abs(frm), abs(to)):
-                    pl[-1][1] = b
-                    pl[-1][3] = T[b]
-                    k = b + 1
-                    continue
-            pl.append([a, b, s / (W + 1), T[b]])
-            k = b + 1
-        else:
-            k += 1
-    steps = []
-    for i in range(1, len(pl)):
-        frm, to = pl[i - 1][3], pl[i][2]
-        ch = to - frm
-        sgn = 1.0 if ch > 0 else -1.0
-        k0, k1, kb = pl[i][0], pl[i][1], pl[i - 1][1]
-        prog = [0.0] * n
-        for k in range(kb, k1 + 1):
-            prog[k] = (Y[k] - frm) / ch
-        c10 = _crossing(prog, kb, k1, 0.1)
-        c90 = -1.0 if c10 < 0 else _crossing(prog, kb, k1, 0.9)
-        over = 0.0
-        for k in range(k0, k1 + 1):
-            over = max(over, (Y[k] - to) * sgn / abs(ch) * 100.0)
-        tol = abs(to) if abs(to) > 0 else abs(frm)
-        s5, ok5 = _settle(Y, k0, k1, to, 0.05 * tol)
-        s2, ok2 = _settle(Y, k0, k1, to, 0.02 * tol)
-        nlast = max(1, int(math.floor(0.2 * (k1 - k0 + 1))))
-        sse = sum(Y[k] - to for k in range(k1 - nlast + 1, k1 + 1))
-        steps.append({
-            "t_s": k0 * dt, "from_lpm": frm, "to_lpm": to,
-            "rise_s": (c90 - c10) * dt if (c10 >= 0 and c90 >= 0) else None,
-            "overshoot_pct": over, "settle_5pct_s": s5 * dt, "settle_2pct_s": s2 * dt,
-            "settled_5pct": ok5, "settled_2pct": ok2,
-            "sse_pct": sse / nlast / abs(to) * 100.0 if to != 0 else None,
-        })
-    return steps
 
 
 def means(steps):
@@ -367,7 +312,8 @@ def print_steps(title, steps):
 
 def main(argv):
     args = list(argv)
-    opts = {"--travel": None, "--scenario": None, "--json": None, "--substeps": "10"}
+    opts = {"--travel": None, "--scenario": None, "--json": None, "--substeps": "10", "--samples": None,
+            "--steps": None}
     pos = []
     run = None
     i = 0
@@ -405,19 +351,27 @@ def main(argv):
         ctl = rest[2] if len(rest) > 2 else "best"
         fd, tmp = tempfile.mkstemp(prefix="bound_", suffix=".csv")
         os.close(fd)
-        out = subprocess.run([sim, "--scenario", scn, "--controller", ctl, "--csv", tmp, "--trace-period", "0.1"],
-                             capture_output=True, text=True)
+        fd, tmp_s = tempfile.mkstemp(prefix="bound_s_", suffix=".csv")
+        os.close(fd)
+        out = subprocess.run([sim, "--scenario", scn, "--controller", ctl, "--csv", tmp, "--trace-period", "0.1",
+                              "--samples", tmp_s], capture_output=True, text=True)
         if out.returncode != 0:
             os.unlink(tmp)
+            os.unlink(tmp_s)
             sys.exit("bound: %s failed:\n%s" % (sim, out.stderr))
+        samples = read_samples(tmp_s)
+        os.unlink(tmp_s)
+        opts["--steps"] = opts["--steps"] or os.path.join(os.path.dirname(sim), "steps")
         sim_json = json.loads(out.stdout.strip().splitlines()[-1])
         opts["--scenario"] = opts["--scenario"] or scn
         trace = tmp
         label = "%s, controller %s" % (os.path.basename(scn), ctl)
     else:
-        if len(pos) != 1:
-            sys.exit("usage: bound.py TRACE.csv [--travel S] [--scenario SCN] [--json SIM_STDOUT] [--substeps N]\n"
+        if len(pos) != 1 or not opts["--samples"]:
+            sys.exit("usage: bound.py TRACE.csv --samples SAMPLES.csv [--travel S] [--scenario SCN] [--json SIM_STDOUT]\n"
+                     "                [--substeps N] [--steps STEPS_BIN]\n"
                      "       bound.py --run SIM_BIN SCENARIO [CONTROLLER] [--travel S] [--substeps N]")
+        samples = read_samples(opts["--samples"])
         trace = pos[0]
         label = trace
         if opts["--json"]:
@@ -441,13 +395,16 @@ def main(argv):
     print("bound: %s" % label)
     print("plant: %s" % ", ".join("%s %g" % (k, params[k]) for k in DEFAULTS)
           + ("  (from %s where set)" % opts["--scenario"] if opts["--scenario"] else "  (defaults)"))
-    T = [rows["target_lpm"][0]] + rows["target_lpm"]          # sample 0 at t = 0 (metrics_sample in sim_init)
+    STEPS_BIN[0] = opts["--steps"] or "build/host/bin/steps"
+    if not os.access(STEPS_BIN[0], os.X_OK):
+        sys.exit("bound: %s: no step scorer (make build/host/bin/steps)" % STEPS_BIN[0])
+    T = samples                                              # sample 0 at t = 0 (metrics_sample in sim_init)
     Y = [0.0] + rows["flow_true_lpm"]
 
-    # the port against the sim's own figures
+    # the scorer against the sim's own figures
     own = find_steps(T, Y)
     o_own, s_own = means(own)
-    print("\nmetrics port on the trace's own flow_true_lpm: %d steps, overshoot mean %.4f %%, settle mean %.4f s"
+    print("\nthe step scorer on the trace's own flow_true_lpm: %d steps, overshoot mean %.4f %%, settle mean %.4f s"
           % (len(own), o_own, s_own))
     if sim_json is not None:
         js = sim_json.get("steps", [])
@@ -481,10 +438,9 @@ def main(argv):
         print("\nboom opens at t = %.1f s; the sim's valve stood at %.3f before it"
               % (rows["t_s"][k], rows["valve_pos"][k - 1] if k > 0 else rows["valve_pos"][k]))
 
-    perfect = find_steps(T, T)
+    perfect = find_steps(T, T["target_lpm"])
     o_pf, s_pf = means(perfect)
-    print("\nflow = target exactly (no plant at all): overshoot mean %.2f %%, settle mean %.2f s: the target's own"
-          " creep inside a plateau (each 2 s window within 1 %%) beyond the plateau's first-window mean" % (o_pf, s_pf))
+    print("\nflow = target exactly (no plant at all): overshoot mean %.2f %%, settle mean %.2f s" % (o_pf, s_pf))
 
     res = {}
     for start, what in (("right", "from the right place"), ("open", "from parked open (theta 1)")):
@@ -517,7 +473,7 @@ def main(argv):
     for late_s in (0.1, 0.2, 0.3):
         (o, s), _ = res["late %.1f" % late_s]
         print("  %-42s %12s %12s" % ("ideal, parked open, pump seen %.1f s late" % late_s, fmt(o), fmt(s)))
-    print("  %-42s %12s %12s" % ("the run's own controller (port)", fmt(o_own), fmt(s_own)))
+    print("  %-42s %12s %12s" % ("the run's own controller (trace)", fmt(o_own), fmt(s_own)))
     if sim_json is not None:
         print("  %-42s %12s %12s" % ("the run's own controller (sim JSON)", fmt(sim_json.get("overshoot_mean_pct")),
                                      fmt(sim_json.get("settle_mean_s"))))

@@ -19,7 +19,7 @@ SCENARIOS = [
 # the paper's figures: Table 2 (simulated step) and section 5.1 / Table 4 (field, 150 L/ha)
 PAPER_T2 = {"pid": (0.30, 50.9, 1.21), "fuzzy_pid": (0.64, 18.2, 0.94), "bp_pid": (0.25, 1.30, 0.26)}
 PAPER_51 = {"fuzzy_pid": (17.6, 2.54, 5.9, 8.1), "bp_pid": (2.1, 0.72, 1.3, 5.1)}
-GOAL_BEST = {"dose_error_pct": 0.5, "cv_pct": 2.0, "overshoot_mean_pct": 1.0, "settle_mean_s": 0.5}
+GOAL_BEST = {"dose_error_pct": 0.5, "cv_pct": 2.0, "overshoot_mean_pct": 1.0, "settle_mean_s": 0.5, "start_s": 3.0}
 
 
 def run(sim, scn, ctl):
@@ -58,15 +58,17 @@ def main():
               f(mean_abs_sse(m)), f(m.get("settle_mean_s")), f(m.get("overshoot_max_pct")), f(p[0]), f(p[1]), f(p[2])))
     for scn, title in SCENARIOS[1:]:
         print("\n%s (cf. paper section 5.1 and Table 4)" % title)
-        print("  %-10s %8s %8s %8s %8s %8s %8s %8s | %6s %6s %6s %6s" % (
-            "controller", "dose_%", "L/ha", "cv_%", "zmin_%", "zmax_%", "ovs_%", "settle", "p:ovs", "p:set", "p:dose", "p:cv"))
+        print("  %-10s %8s %8s %8s %8s %8s %8s %8s %8s %8s | %6s %6s %6s %6s" % (
+            "controller", "dose_%", "L/ha", "cv_%", "zmin_%", "zmax_%", "ovs_%", "settle", "start_s", "rev/min",
+            "p:ovs", "p:set", "p:dose", "p:cv"))
         for c in CONTROLLERS:
             m = res[scn][c]
             p = PAPER_51.get(c, (None, None, None, None))
-            print("  %-10s %s %s %s %s %s %s %s | %s %s %s %s" % (
+            print("  %-10s %s %s %s %s %s %s %s %s %s | %s %s %s %s" % (
                 c, f(m.get("dose_error_pct")), f(m.get("applied_l_ha"), 8, 1), f(m.get("cv_pct")),
                 f(m.get("zone_error_min_pct")), f(m.get("zone_error_max_pct")), f(m.get("overshoot_mean_pct")),
-                f(m.get("settle_mean_s")), f(p[0], 6, 1), f(p[1], 6, 2), f(p[2], 6, 1), f(p[3], 6, 1)))
+                f(m.get("settle_mean_s")), f(m.get("start_s")), f(m.get("valve_reversals_per_min"), 8, 1),
+                f(p[0], 6, 1), f(p[1], 6, 2), f(p[2], 6, 1), f(p[3], 6, 1)))
     m = res["paper_dynamic_150"]["best"]
     print("\nbest on paper_dynamic_150 against the project's goals:")
     for k, g in GOAL_BEST.items():

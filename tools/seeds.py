@@ -8,11 +8,12 @@ each seed (default 1-16) both controllers run on the same plant; the figures of 
 averaged over the seeds, and best's mean is compared with bp_pid's on every figure (dose error
 as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
 table and the count of figures where best's mean is worse; -v also prints the per-seed values
-of those; for a worse dose error, the split of the signed means into the target's share and
-the controller's (the JSON's dose_target_pct, dose_ctl_pct, dose_ctl_stop_pct). --four:
+of those; for a worse dose error, the split of the signed means into the target's, the meter's
+and the controller's shares (the JSON's dose_target_pct, dose_meter_pct, dose_ctl_pct,
+dose_ctl_stop_pct). --four:
 instead, the means of all four controllers on the 150 L/ha scenarios (the
 paper's ordering, without the luck of one seed). Also prints the valve's wear a minute (motor
-reversals, strokes travelled), which docs/SCENARIOS.md does not define and the count leaves out. Two runs at
+reversals, strokes travelled), which the count of worse figures leaves out. Two runs at
 a time; stdlib only.
 --split SCENARIO: instead, where best's and bp_pid's flow leaves its target on that scenario
 (mean over the seeds, % of the target volume at v >= 4 km/h, from a 0.1 s trace): while the
@@ -164,14 +165,14 @@ def main():
             if bad:
                 worse.append((s, k, ma, mb, va, vb))
         print("  %-28s %s" % (s, "; ".join(cells)))
-    # the valve's wear (not a docs/SCENARIOS.md figure, so not counted above): motor reversals and strokes
-    # travelled a minute (the sim JSON's valve_reversals, valve_travel_strokes over sim_s)
-    if all("valve_reversals" in r for r in res.values()):
+    # the valve's wear (not counted above): motor reversals a minute of spraying (the sim JSON's
+    # valve_reversals_per_min) and strokes travelled a minute of the run
+    if all("valve_reversals_per_min" in r for r in res.values()):
         print("valve wear, a minute (best/bp_pid; not counted below):")
         for s in SCENARIOS:
             w = {}
             for c in ("best", "bp_pid"):
-                w[c] = (sum(res[(s, c, sd)]["valve_reversals"] * 60 / res[(s, c, sd)]["sim_s"] for sd in seeds) / len(seeds),
+                w[c] = (sum(res[(s, c, sd)]["valve_reversals_per_min"] or 0 for sd in seeds) / len(seeds),
                         sum(res[(s, c, sd)]["valve_travel_strokes"] * 60 / res[(s, c, sd)]["sim_s"] for sd in seeds)
                         / len(seeds))
             print("  %-28s reversals %.1f/%.1f; travel %.2f/%.2f strokes"
@@ -187,11 +188,12 @@ def main():
             # both, and the controller's share, with the part while the valve sat at an end stop
             for c in ("best", "bp_pid"):
                 m = {x: sum(res[(s, c, sd)][x] for sd in seeds) / len(seeds)
-                     for x in ("dose_error_pct", "dose_target_pct", "dose_ctl_pct", "dose_ctl_stop_pct")}
-                print("    %-6s signed dose %+.4f %% = target's share %+.4f + controller's %+.4f "
+                     for x in ("dose_error_pct", "dose_target_pct", "dose_meter_pct", "dose_ctl_pct",
+                               "dose_ctl_stop_pct")}
+                print("    %-6s signed dose %+.4f %% = target's share %+.4f + meter's %+.4f + controller's %+.4f "
                       "(%+.4f at an end stop, %+.4f elsewhere)"
-                      % (c, m["dose_error_pct"], m["dose_target_pct"], m["dose_ctl_pct"], m["dose_ctl_stop_pct"],
-                         m["dose_ctl_pct"] - m["dose_ctl_stop_pct"]))
+                      % (c, m["dose_error_pct"], m["dose_target_pct"], m["dose_meter_pct"], m["dose_ctl_pct"],
+                         m["dose_ctl_stop_pct"], m["dose_ctl_pct"] - m["dose_ctl_stop_pct"]))
     return 0
 
 

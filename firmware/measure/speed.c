@@ -97,6 +97,13 @@ static void speed_learn(uint8_t count, uint32_t t_new, uint32_t dt, uint8_t old,
     if (sp.learnt < 255)
         sp.learnt++;
     sp.off[nw] += (int16_t)err;
+    if (nw == 0 && sp.off[0] != 0) {
+        /* only differences count: element 0 is the zero, so the offsets cannot drift away */
+        int16_t o0 = sp.off[0];
+        uint8_t i;
+        for (i = 0; i < sp.n; i++)
+            sp.off[i] -= o0;
+    }
 }
 
 uint16_t speed_step(void) __reentrant

@@ -89,14 +89,14 @@ printf 'a,b\n1,2\n' > "$tmp/x.csv"
 out=$($PY tools/plot.py flow "$tmp/x.csv" "$tmp/x.png" 2>&1); rc=$?
 if [ $rc -ne 0 ] && echo "$out" | grep -q "lacks the column" && [ ! -e "$tmp/x.png" ]; then ok "plot.py refuses a CSV without its columns"; else nok "plot.py refuses bad CSV" "$out"; fi
 
-# tools/bound.py: its metrics port reproduces the sim's figures, and the ideal follower gets worse
+# tools/bound.py: the step scorer on the trace reproduces the sim's figures, and the ideal follower gets worse
 # as it sees the pump later (0, 0.1, 0.2, 0.3 s), never better than flow = target
 out=$($PY tools/bound.py --run "$SIM" scenarios/paper_dynamic_150.scn 2>&1)
 if echo "$out" | $PY -c '
 import re, sys
 t = sys.stdin.read()
 d = re.search(r"largest per-step difference: overshoot (\S+) %, settle (\S+) s", t)
-assert d and float(d.group(1)) < 0.01 and float(d.group(2)) < 0.01, "port"
+assert d and float(d.group(1)) < 0.05 and float(d.group(2)) < 0.05, "trace vs sim"
 def row(name):
     m = re.search(re.escape(name) + r"\s+(\S+)\s+(\S+)\n", t)
     return float(m.group(1)), float(m.group(2))
@@ -106,7 +106,7 @@ for a, b in zip(rows, rows[1:]):
     assert b[0] >= a[0] - 1e-9 and b[1] >= a[1] - 1e-9, (a, b)
 assert rows[-1][0] > rows[1][0] and rows[-1][1] > rows[1][1], "lateness costs"
 '; then
-    ok "tools/bound.py: the port matches the sim; the ideal follower worsens as it sees the pump later"
+    ok "tools/bound.py: the trace scores as the sim; the ideal follower worsens as it sees the pump later"
 else
     nok "tools/bound.py" "$(echo "$out" | tail -12)"
 fi

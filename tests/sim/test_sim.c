@@ -227,6 +227,7 @@ static void test_sim_paper_run_needs_the_bypass_within_055_070(void **state)
         }
     }
     free(pl);
+    printf("# paper's coupled run: the bypass position needed at >= 4 km/h %.3f .. %.3f\n", lo, hi);
     if (!(lo >= 0.55 && hi <= 0.70))
         fail_msg("needed bypass %.4f..%.4f, not within 0.55-0.70", lo, hi);
 }

@@ -319,6 +319,23 @@ static void test_store_reads_the_documented_layout_and_wraps_the_sequence(void *
 /* a firmware update keeps the settings: a version 2 copy (the table up to Valve time, no Min
  * duty or Backlash) loads its values and totals, the values appended since take their defaults;
  * the next save writes this version's layout. A version 2 header with another count is refused. */
+/* A copy of version 3 (before Wheel p/rev) loads: its values, the wheel's pulses a turn at
+ * the default; a version 3 header with another count is refused. */
+static void test_store_loads_a_version_3_copy(void **state)
+{
+    uint16_t a[P_COUNT];
+    (void)state;
+    values_k(a, 3);
+    twin_write_n(1, 4, a, 3, PARAMS_V3_COUNT);
+    scramble();
+    assert_int_equal(store_load(), STORE_OK);
+    for (int i = 0; i < P_COUNT; i++)
+        assert_int_equal(param_v[i], i < PARAMS_V3_COUNT ? a[i] : param_info((uint8_t)i)->def);
+    hal_host_reset();
+    twin_write_n(1, 4, a, 3, PARAMS_V2_COUNT);
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+}
+
 static void test_store_loads_a_version_2_copy(void **state)
 {
     uint16_t a[P_COUNT];
@@ -403,6 +420,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_a_failed_write_is_reported, setup),
         cmocka_unit_test_setup(test_store_keeps_the_lifetime_totals, setup),
         cmocka_unit_test_setup(test_store_loads_a_version_2_copy, setup),
+        cmocka_unit_test_setup(test_store_loads_a_version_3_copy, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
