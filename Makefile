@@ -22,6 +22,12 @@ SDAR ?= sdar
 CODE_SIZE ?= 61440
 IRAM_SIZE ?= 256
 XRAM_SIZE ?= 1024
+# headroom floors: `make firmware` fails below them (room for the next feature, fix or figure;
+# docs/MEMORY.md). Issue 13 asks 15 % of the code free: not reached yet, the floor holds what
+# is (12 %) so that nothing grows back; raise it as code comes out.
+CODE_FREE_PCT ?= 12
+XRAM_FREE_MIN ?= 205
+STACK_MARGIN_MIN ?= 40
 
 # ==== sources: firmware/ in layers, bottom to top ====================================================
 # math -> store -> measure -> control -> ops -> console, link -> app (tools/incgraph.py checks it)
@@ -51,8 +57,11 @@ OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -g
 
 # ==== build folders and products =====================================================================
 STC_DIR := $(BUILD)/stc12
-STC_SRC := $(FW_SRC) $(wildcard hal/stc12/*.c)
-STC_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(STC_SRC))
+# the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
+# firmware's archive only the modules something calls
+STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
+STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(FW_LIB_SRC))
+STC_LIB := $(STC_DIR)/fw.lib
 FW_IHX := $(STC_DIR)/sprayer.ihx
 FW_HEX := $(STC_DIR)/sprayer.hex
 
@@ -78,13 +87,14 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: firmware flash deps test host-tests target-tests bench sim sim-progs demo compare family report \
+.PHONY: firmware memory flash deps test host-tests target-tests bench sim sim-progs demo compare family report \
         bench-sim panel screenshots clean help FORCE
 
 help:
 	@echo "make demo      the main job: firmware image + the paper's run in the simulator, metrics and plot"
 	@echo "make test      every test: host unit tests, s51 target tests, firmware build"
-	@echo "make firmware  (default) the STC12C5A60S2 image in $(STC_DIR), with its memory use"
+	@echo "make firmware  (default) the STC12C5A60S2 image in $(STC_DIR), with its memory use and headroom floors"
+	@echo "make memory    the 20 largest users of each memory region of the image, the deepest call chain"
 	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev; .venv)"
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
 	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
@@ -99,17 +109,25 @@ help:
 
 # ==== the firmware image ==============================================================================
 firmware: $(FW_HEX)
-	$(Q)tools/memuse.sh $(STC_DIR)/sprayer $(CODE_SIZE) $(IRAM_SIZE) $(XRAM_SIZE)
-	$(Q)$(PYTHON) tools/stackdepth.py $(STC_DIR) --free $$(sed -n 's/.*with \([0-9]*\) bytes available.*/\1/p' $(STC_DIR)/sprayer.mem)
+	$(Q)$(PYTHON) tools/memuse.py $(STC_DIR)/sprayer --code $(CODE_SIZE) --iram $(IRAM_SIZE) --xram $(XRAM_SIZE) \
+	    --code-free $(CODE_FREE_PCT) --xram-free $(XRAM_FREE_MIN) --stack-margin $(STACK_MARGIN_MIN)
+
+memory: $(FW_HEX)
+	$(Q)$(PYTHON) tools/memmap.py $(STC_DIR) 20
+	$(Q)$(PYTHON) tools/stackdepth.py $(STC_DIR) --path
 
 $(STC_DIR)/%.rel: %.c
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$<)
 	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -MMD -c $< -o $@
 
-$(FW_IHX): $(STC_REL)
+$(STC_LIB): $(STC_LIB_REL)
+	$(call msg,AR,$@)
+	$(Q)rm -f $@ && $(SDAR) -rcs $@ $^
+
+$(FW_IHX): $(STC_MAIN_REL) $(STC_LIB)
 	$(call msg,LINK,$@)
-	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $(STC_REL) -o $@ > $(STC_DIR)/link.log 2>&1 || { cat $(STC_DIR)/link.log; rm -f $@; exit 1; }
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $(STC_MAIN_REL) -L $(STC_DIR) -l fw.lib -o $@ > $(STC_DIR)/link.log 2>&1 || { cat $(STC_DIR)/link.log; rm -f $@; exit 1; }
 	$(Q)if grep -qi "error\|insufficient\|overlap\|exceed" $(STC_DIR)/link.log; then cat $(STC_DIR)/link.log; rm -f $@; exit 1; fi
 
 $(FW_HEX): $(FW_IHX)

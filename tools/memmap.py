@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """memmap.py DIR [N]: the N (20) largest users of each memory region of the SDCC image built in DIR.
 
-Reads the assembler listings (.lst) of every module under DIR: each label's share of its area is
+Reads the assembler listings (.lst) of every module under DIR that the image links (the map's
+"Files Linked" and the members of fw.lib it pulled): each label's share of its area is
 the distance to the next label of the same area in the same module (or to the area's end, from
 the .rel). Regions: code (CSEG, CONST, HOME, GSINIT*, the initial values XINIT), xdata (XSEG,
 XISEG), pdata (PSEG), data (DSEG, OSEG, REG_BANK_*, BSEG as bytes), idata (ISEG). Library routines
@@ -62,12 +63,37 @@ def module_users(lst, rel):
     return users
 
 
+def linked_modules(d):
+    """Names of the project's modules the image linked (the map's files and fw.lib members)."""
+    maps = glob.glob(os.path.join(d, "*.map"))
+    if not maps:
+        return None
+    names, lib = set(), None
+    for line in open(maps[0], errors="replace"):
+        m = re.match(r"^(\S+)\.(rel|lib)\b\s*(?:\[ (\S+)\.rel \])?", line)
+        if m:
+            if m.group(2) == "rel":
+                names.add(os.path.basename(m.group(1)))
+            else:
+                lib = m.group(1)
+                if m.group(3) and lib.endswith("fw"):
+                    names.add(m.group(3))
+            continue
+        m = re.match(r"^\s+\[ (\S+)\.rel \]", line)
+        if m and lib and lib.endswith("fw"):
+            names.add(m.group(1))
+    return names
+
+
 def main():
     d = sys.argv[1]
     n = int(sys.argv[2]) if len(sys.argv) > 2 else 20
     users = {}
+    linked = linked_modules(d)
     for lst in glob.glob(os.path.join(d, "**", "*.lst"), recursive=True):
         rel = lst[:-4] + ".rel"
+        if linked is not None and os.path.splitext(os.path.basename(lst))[0] not in linked:
+            continue
         if os.path.exists(rel):
             for k, v in module_users(lst, rel).items():
                 users[k] = users.get(k, 0) + v

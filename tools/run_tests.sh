@@ -69,6 +69,13 @@ stack_check_fails() {  # the static stack-depth check must refuse an image given
     ! python3 tools/stackdepth.py $B/stc12 --free 16
 }
 check stack-depth-check-refuses-too-little-stack stack_check_fails
+floor_fails() {  # floor_fails VAR=VALUE: the same image under a floor it does not meet must fail the build
+    make firmware "$1" > "$log/floor.out" 2>&1 && return 1
+    grep -q 'BELOW THE FLOOR' "$log/floor.out"
+}
+check firmware-below-the-code-floor-fails floor_fails CODE_FREE_PCT=50
+check firmware-below-the-xdata-floor-fails floor_fails XRAM_FREE_MIN=900
+check firmware-below-the-stack-margin-floor-fails floor_fails STACK_MARGIN_MIN=200
 sabotage_is_caught() {  # the controllers' multiply (mul_ab) wrong on the target only must break the comparison
     make $B/ucsim-variant/tt_fixed.ihx SDCC_EXTRA=-DFX_SABOTAGE || return 1
     ! tools/run_target.sh $B/ucsim-variant/tt_fixed.ihx $B/host-test/target/tt_fixed $B/ucsim-variant

@@ -44,6 +44,9 @@ def parse(dirname):
             elif s.replace(" ", "").replace("\t", "") == "mova,sp":
                 pending_sp = True
                 continue
+            elif pending_sp and s.replace(" ", "").replace("\t", "") == "mov_bp,a":
+                cur["bp"] = cur["depth"]     # the frame pointer set between (mov a,sp / mov _bp,a / add a,#n)
+                continue
             elif pending_sp and re.match(r"add\s+a,#(0x[0-9a-fA-F]+|\d+)", s):
                 n = int(re.match(r"add\s+a,#(0x[0-9a-fA-F]+|\d+)", s).group(1), 0)
                 if n < 0x80:             # a frame being made (negative adds release it)
@@ -67,7 +70,8 @@ def parse(dirname):
     return funcs
 
 
-def deepest(funcs, name, memo, path):
+def deepest(funcs, name, memo, path, via=None):
+    """Deepest stack use from name down; via[name] = the callee on that path."""
     if name in memo:
         return memo[name]
     if name in path:
@@ -79,9 +83,20 @@ def deepest(funcs, name, memo, path):
     for callee, at in f["calls"]:
         if callee == name or not (callee in funcs or callee.startswith("__")):
             continue                  # a jump to a local label of the same function
-        best = max(best, at + deepest(funcs, callee, memo, path + [name]))
+        d = at + deepest(funcs, callee, memo, path + [name], via)
+        if d > best:
+            best = d
+            if via is not None:
+                via[name] = callee
     memo[name] = best
     return best
+
+
+def path_of(via, name):
+    out = [name]
+    while out[-1] in via and len(out) < 64:
+        out.append(via[out[-1]])
+    return " > ".join(n.lstrip("_") for n in out)
 
 
 def main():
@@ -91,15 +106,19 @@ def main():
         i = args.index("--free")
         limit = int(args[i + 1])
         del args[i:i + 2]
+    show_path = "--path" in args
+    args = [a for a in args if a != "--path"]
     funcs = parse(args[0])
-    memo = {}
-    main_depth = 2 + deepest(funcs, "_main", memo, [])        # the reset's call into main
+    memo, via = {}, {}
+    main_depth = 2 + deepest(funcs, "_main", memo, [], via)   # the reset's call into main
     isrs = [n for n in funcs if n.endswith("_isr")]
-    low = [2 + deepest(funcs, n, memo, []) for n in isrs if n not in HIGH_PRIORITY]
-    high = [2 + deepest(funcs, n, memo, []) for n in isrs if n in HIGH_PRIORITY]
+    low = [2 + deepest(funcs, n, memo, [], via) for n in isrs if n not in HIGH_PRIORITY]
+    high = [2 + deepest(funcs, n, memo, [], via) for n in isrs if n in HIGH_PRIORITY]
     total = main_depth + max(low or [0]) + max(high or [0])
     print("stack: worst case %d B (main %d, deepest low-priority interrupt %d, high-priority %d)"
           % (total, main_depth, max(low or [0]), max(high or [0])))
+    if show_path:
+        print("stack: deepest path: " + path_of(via, "_main"))
     if limit is not None and total > limit:
         print("stack: OVERFLOW: %d B needed, %d B free" % (total, limit))
         sys.exit(1)

@@ -1,4 +1,7 @@
 /* app.c: the main loop: every APP_PERIOD_MS measure, target, control, drive the valve, diagnose, log; the watchdog fed while healthy. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "hal.h"
 #include "params.h"
 #include "ctl.h"
@@ -115,7 +118,7 @@ static void app_step(void)
     uint8_t sections, open, want, manual, meter_lost, overp;
     uint16_t g;
     q15_t drive;
-    ctl_in_t in;
+    static __xdata ctl_in_t in;     /* the controller reads it through an XRAM pointer */
     const totals_t *t;
 
     if (!params_sane()) {

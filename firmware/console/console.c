@@ -1,10 +1,14 @@
 /* console.c: the operator console: run screen, menus for every parameter, calibrations, totals, alarms (keys in console.h). */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "hal.h"
 #include "params.h"
 #include "app.h"
 #include "ctl.h"
 #include "store.h"
 #include "screen.h"
+#include "fmt.h"
 #include "lcd.h"
 #include "keypad.h"
 #include "console.h"
@@ -60,7 +64,8 @@ static uint8_t cat(uint8_t at, const char *s)
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it is */
 static uint8_t cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t trim)
 {
-    uint8_t n = screen_fmt(screen_scratch, v, decimals, trim);
+    char num[FMT_MAX];
+    uint8_t n = fmt_u32(num, v, decimals, trim);
     if (width && n > width) {
         while (width--)
             at = cat(at, "#");
@@ -68,7 +73,7 @@ static uint8_t cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, 
     }
     while (width-- > n)
         at = cat(at, " ");
-    return cat(at, screen_scratch);
+    return cat(at, num);
 }
 
 /* move line[from..] to the right end of the row, spaces in between */

@@ -1,4 +1,7 @@
 /* keypad.c: 4x4 keypad scan every KEYPAD_SCAN_MS from the main loop, debounce by stable readings, auto-repeat. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "hal.h"
 #include "keypad.h"
 

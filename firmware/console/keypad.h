@@ -30,6 +30,6 @@ void keypad_init(void);
 /* The next key event, or KEY_NONE. Call as often as the main loop runs. */
 char keypad_poll(void);
 /* Character of the key at row, col (for the host's panel and tests). */
-char keypad_char(uint8_t row, uint8_t col);
+char keypad_char(uint8_t row, uint8_t col) __reentrant;
 
 #endif

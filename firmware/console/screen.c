@@ -1,4 +1,7 @@
 /* screen.c: the screen model: a 4 x 16 character buffer with a changed-bit per character pair, and number formatting. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "screen.h"
 
 static char buf[SCREEN_ROWS][SCREEN_COLS];
@@ -38,37 +41,6 @@ void screen_pad(uint8_t row, uint8_t col)
 void screen_line(uint8_t row, const char *s)
 {
     screen_pad(row, screen_puts(row, 0, s));
-}
-
-char screen_scratch[12];
-
-uint8_t screen_fmt(char *out, uint32_t v, uint8_t decimals, uint8_t trim)
-{
-    uint8_t n = 0, d = 0, i, j;
-    char c;
-    /* digits least significant first (at least decimals + 1), the point, then reversed */
-    do {
-        out[n++] = (char)('0' + (uint8_t)(v % 10u));
-        v /= 10u;
-        if (++d == decimals)
-            out[n++] = '.';
-    } while (v || d <= decimals);
-    out[n] = 0;
-    if (!decimals)
-        trim = 0;
-    for (i = 0, j = n - 1; i < j; i++, j--) {
-        c = out[i];
-        out[i] = out[j];
-        out[j] = c;
-    }
-    if (trim) {
-        while (out[n - 1] == '0')
-            n--;
-        if (out[n - 1] == '.')
-            n--;
-        out[n] = 0;
-    }
-    return n;
 }
 
 char screen_char(uint8_t row, uint8_t col)

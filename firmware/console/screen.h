@@ -9,25 +9,19 @@
 
 /* All spaces (only the characters that change are marked for the LCD). */
 void screen_clear(void);
-void screen_putc(uint8_t row, uint8_t col, char c);
+void screen_putc(uint8_t row, uint8_t col, char c) __reentrant;
 /* A string from col on, cut at the end of the line; returns the column after it. */
-uint8_t screen_puts(uint8_t row, uint8_t col, const char *s);
+uint8_t screen_puts(uint8_t row, uint8_t col, const char *s) __reentrant;
 /* A whole line: the string, then spaces to the end. */
-void screen_line(uint8_t row, const char *s);
+void screen_line(uint8_t row, const char *s) __reentrant;
 /* Spaces from col to the end of the line. */
-void screen_pad(uint8_t row, uint8_t col);
-/* A buffer for one formatted number, shared by the console's modules (saves XRAM). */
-extern char screen_scratch[12];
-/* An unsigned number with `decimals` implied decimals into buf (NUL terminated, at most 11
- * characters: "392.7", "0.05");
- * trim = 1 drops trailing fraction zeros ("10.0" -> "10", "0.10" -> "0.1"). Returns its length. */
-uint8_t screen_fmt(char *buf, uint32_t v, uint8_t decimals, uint8_t trim);
-char screen_char(uint8_t row, uint8_t col);
+void screen_pad(uint8_t row, uint8_t col) __reentrant;
+char screen_char(uint8_t row, uint8_t col) __reentrant;
 
 /* For the LCD driver: the character pairs (ST7920 DDRAM words) changed since they were taken.
  * Bit p of screen_dirty(row) = columns 2p and 2p+1; screen_take(row, p) clears it. */
 uint8_t screen_dirty(uint8_t row);
-void screen_take(uint8_t row, uint8_t pair);
+void screen_take(uint8_t row, uint8_t pair) __reentrant;
 /* Mark everything changed (after an LCD reset). */
 void screen_touch_all(void);
 

@@ -42,7 +42,7 @@ void bp_init(void)
  * layer 0: output row `row` (inputs: the hidden outputs, Q15); 1: hidden row (inputs x, Q12).
  * 16-bit arithmetic wherever the ranges allow it (|w| <= BP_WMAX, |momentum| <= 8), one
  * 16x16 multiply a weight, pointers walked: ~300 machine cycles a weight. */
-static void bp_upd_row(uint8_t layer, uint8_t row, int16_t eg)
+static void bp_upd_row(uint8_t layer, uint8_t row, int16_t eg) CTL_SHARED
 {
     uint8_t n;
     int16_t d, mom, w0, nw, dd;
@@ -92,7 +92,7 @@ static void bp_upd_row(uint8_t layer, uint8_t row, int16_t eg)
 
 /* Forward: the hidden layer on phase 0, the output layer (new gains) on phase 1; the gains
  * are held in between. n: the normalised error (Q12). */
-CTL_STEP void bp_forward(int16_t n)
+CTL_STEP void bp_forward(int16_t n) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     __xdata int16_t *x = b->xs;     /* Q12 */
@@ -127,7 +127,7 @@ CTL_STEP void bp_forward(int16_t n)
 }
 
 /* The incremental law of pid with the network's gains, through the output stage. */
-CTL_STEP q15_t bp_law(int16_t e)
+CTL_STEP q15_t bp_law(int16_t e) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     __xdata int16_t *de = b->de;
@@ -144,7 +144,7 @@ CTL_STEP q15_t bp_law(int16_t e)
 
 /* Phase 1 of learning: the output deltas of this sample; its inputs and hidden outputs kept
  * for the update. */
-CTL_STEP void bp_deltas(int16_t n)
+CTL_STEP void bp_deltas(int16_t n) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     __xdata int16_t *dn = b->dn;
@@ -166,7 +166,7 @@ CTL_STEP void bp_deltas(int16_t n)
 
 /* Phases 2..5 of learning: two units a period, units 0-2 the output rows, 3-7 the hidden rows
  * (their deltas with the output weights just updated, as the reference code does). */
-CTL_STEP void bp_update(void)
+CTL_STEP void bp_update(void) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     int16_t eg;                     /* Q12: eta * delta */
@@ -191,7 +191,7 @@ CTL_STEP void bp_update(void)
 
 /* Learning, frozen while saturated or at an end stop; one update spread over BP_PHASES periods.
  * A frozen update is dropped, the next one starts afresh; the forward pass goes on. */
-CTL_STEP void bp_learn(int16_t n)
+CTL_STEP void bp_learn(int16_t n) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     if (ctl_sat || ctl_in->valve_limit) {
@@ -207,7 +207,7 @@ CTL_STEP void bp_learn(int16_t n)
     }
 }
 
-q15_t bp_step(void)
+q15_t bp_step(void) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
     int16_t e = ctl_clamp_e(ctl_in->target_lpm_x100 - ctl_in->flow_lpm_x100);

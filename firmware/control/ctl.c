@@ -1,4 +1,7 @@
 /* ctl.c: the one interface of the four flow controllers: select, reset, step, dispatched by a switch. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "ctl_int.h"
 #include "params.h"
 
@@ -34,7 +37,7 @@ int16_t ctl_backlash = CTL_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 q15_t ctl_carry;
 q15_t ctl_last;
 uint8_t ctl_sat;
-const ctl_in_t *ctl_in;
+const __xdata ctl_in_t *ctl_in;
 int16_t ctl_k[3];
 
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */
@@ -148,7 +151,7 @@ int16_t ctl_gain(uint8_t i)
     return i < 3 ? ctl_k[i] : 0;
 }
 
-q15_t ctl_step(const ctl_in_t *step_in)
+q15_t ctl_step(const __xdata ctl_in_t *step_in)
 {
     ctl_in = step_in;
     if (ctl_gen != param_generation || ctl_kf == 0)

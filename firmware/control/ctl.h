@@ -34,9 +34,10 @@ void ctl_reset(q15_t drive_now);
  * from the valve's own estimate, not over-pressure): called every period, stepping or not. A
  * controller that estimates the valve's position (ffmap) integrates this drive, not its own
  * demand, and calibrates at the stops; without the call it assumes its demand was applied. */
-void ctl_applied(q15_t drive, uint8_t limit);
-/* One control step. */
-q15_t ctl_step(const ctl_in_t *in);
+void ctl_applied(q15_t drive, uint8_t limit) __reentrant;
+/* One control step; `in` in XRAM (the large model's default for a non-reentrant function's
+ * locals and for globals): the controllers read it through a 2-byte pointer. */
+q15_t ctl_step(const __xdata ctl_in_t *in);
 /* The gain (0 kp, 1 ki, 2 kd) the controller used in its last step, Q12, for logs and traces. */
 int16_t ctl_gain(uint8_t i);
 /* Name of a controller for the console and the logs ("pid", "fuzzy_pid", "bp_pid", ...). */

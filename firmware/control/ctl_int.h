@@ -132,7 +132,7 @@ extern const __code int8_t fz_tab[3][7][7];
 #define CTL_STEP static inline
 #endif
 
-extern const ctl_in_t *ctl_in;      /* the inputs of the step in progress */
+extern const __xdata ctl_in_t *ctl_in;  /* the inputs of the step in progress */
 extern uint8_t ctl_first;           /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
@@ -150,11 +150,11 @@ extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
 
 /* The output stage (ctl_out.c). */
 int16_t ctl_clamp_e(int16_t e);
-int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi);
+int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi) CTL_SHARED;
 /* du (Q12, x100 L/min of flow-equivalent) -> Q15 drive, 32 bit, not yet limited. */
 int32_t ctl_du_to_drive(int32_t du);
 /* pid, fuzzy_pid and bp_pid: pulse accumulation below stiction, drive limit and end stops. */
-q15_t ctl_out(int32_t d, uint8_t limit);
+q15_t ctl_out(int32_t d, uint8_t limit) CTL_SHARED;
 /* A drive (int32, Q15) cut to full duty either way; ctl_sat says whether it was. */
 #define CTL_CLIP(d)                                                                          \
     do {                                                                                     \
@@ -181,7 +181,7 @@ q15_t ctl_out(int32_t d, uint8_t limit);
 q15_t pid_step(void) CTL_SHARED;
 q15_t fz_step(void) CTL_SHARED;
 void bp_init(void);
-q15_t bp_step(void);
+q15_t bp_step(void) CTL_SHARED;
 void fm_init(void);
 q15_t fm_step(void) CTL_SHARED;
 

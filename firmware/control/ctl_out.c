@@ -1,4 +1,7 @@
 /* ctl_out.c: the output stage the controllers share: error clamp, du to drive, pulse accumulation, limits. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "ctl_int.h"
 
 /*

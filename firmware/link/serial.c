@@ -6,6 +6,7 @@
 #include "diag.h"
 #include "totals.h"
 #include "serial.h"
+#include "fmt.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -24,9 +25,6 @@ static struct {
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
 
-static const __code uint32_t pow10[10] = {
-    1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
-};
 static const __code char hexd[] = "0123456789ABCDEF";
 
 void serial_init(void)
@@ -57,21 +55,12 @@ static void tx_s(const char *s) __reentrant
         tx_c(*s++);
 }
 
-/* decimal without a divide: subtract the powers of ten */
+/* decimal (fmt.c, the formatter the LCD uses too) */
 static void tx_u32(uint32_t v) __reentrant
 {
-    uint8_t i, d, started = 0;
-    for (i = 0; i < 10; i++) {
-        d = 0;
-        while (v >= pow10[i]) {
-            v -= pow10[i];
-            d++;
-        }
-        if (d || started || i == 9) {
-            tx_c((char)('0' + d));
-            started = 1;
-        }
-    }
+    char num[FMT_MAX];
+    fmt_u32(num, v, 0, 0);
+    tx_s(num);
 }
 
 static void tx_i16(int16_t v) __reentrant

@@ -111,26 +111,7 @@ int16_t fx_sub_sat(int16_t a, int16_t b)
 }
 #endif
 
-int16_t fx_mul_shift(int16_t a, int16_t b, uint8_t shift)
-{
-    int32_t p = (int32_t)a * b;
-    if (shift)
-        p = (p + (1L << (shift - 1))) >> shift;
-    return fx_sat16(p);
-}
-
-/* constant shifts: SDCC turns them into byte moves, a variable shift is a loop of ~30 cycles a bit */
-q15_t q15_mul(q15_t a, q15_t b)
-{
-    return fx_sat16(((int32_t)a * b + 0x4000L) >> 15);
-}
-
-q12_t q12_mul(q12_t a, q12_t b)
-{
-    return fx_sat16(((int32_t)a * b + 0x0800L) >> 12);
-}
-
-q15_t fx_tanh(q12_t x)
+q15_t fx_tanh(q12_t x) __reentrant
 {
     uint16_t ax;            /* |x| in Q12 */
     uint16_t i;             /* table interval, 1/64 wide */
@@ -148,10 +129,4 @@ q15_t fx_tanh(q12_t x)
         y += (int16_t)((d * (int16_t)(ax & 63u) + 32) >> 6);
     }
     return x < 0 ? (q15_t)-y : (q15_t)y;
-}
-
-q15_t fx_sigmoid(q12_t x)
-{
-    /* (32768 + tanh) / 2 rounded to nearest; tanh = 32767 would round to 32768: saturate */
-    return fx_sat16((32769L + fx_tanh(x)) >> 1);
 }

@@ -54,7 +54,7 @@ q15_t q15_mul(q15_t a, q15_t b);
 /* Q12 x Q12 -> Q12, rounded, saturated. */
 q12_t q12_mul(q12_t a, q12_t b);
 /* tanh of a Q12 argument, Q15 result; linear interpolation in the table; |error| < 2 LSB (1.53 measured). */
-q15_t fx_tanh(q12_t x);
+q15_t fx_tanh(q12_t x) __reentrant;
 /* (1 + tanh(x)) / 2 of a Q12 argument as Q15 in [0, 1), |error| < 2 LSB: the network's non-negative output. */
 q15_t fx_sigmoid(q12_t x);
 

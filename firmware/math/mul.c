@@ -99,6 +99,14 @@ void dot_ab(uint8_t n) __naked
 {
     (void)n;
     __asm
+        ar0 = 0x00              ; bank 0 register addresses for push / pop
+        ar1 = 0x01
+        ar2 = 0x02
+        ar3 = 0x03
+        ar4 = 0x04
+        ar5 = 0x05
+        ar6 = 0x06
+        ar7 = 0x07
         push ar0
         push ar1
         push ar2
@@ -214,8 +222,3 @@ void dot_c(const int16_t *w, const int16_t *x, uint8_t n)
         mul_acc += (int32_t)*w++ * *x++;
 }
 #endif
-
-int32_t fx_mul32(int16_t a, int16_t b)
-{
-    return MUL(a, b);
-}

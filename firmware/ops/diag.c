@@ -103,13 +103,12 @@ static uint16_t x_of(int16_t meter) __reentrant
  * sane nozzles. */
 static void learn_fit(void) __reentrant
 {
-    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx, b = dg.sx * dg.sx, num, k = 0, c;
-    uint32_t p = (uint32_t)DIAG_LEARN_N * dg.sxy, m = dg.sx * dg.sy;
-    if (a > b && a - b >= DIAG_LEARN_SPREAD && p > m) {
-        num = p - m;
-        k = um_muldiv(num, 256u, a - b);
+    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx - dg.sx * dg.sx;        /* N^2 var(x) */
+    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = dg.sx * dg.sy;
+    if ((uint32_t)DIAG_LEARN_N * dg.sxx > dg.sx * dg.sx && a >= DIAG_LEARN_SPREAD && k > c) {
+        k = um_muldiv(k - c, 256u, a);                                  /* kPa at the rated flow */
         c = um_muldiv(dg.sx, (uint16_t)(k > 2000u ? 2000u : k), 256u);
-        c = dg.sy > c ? (dg.sy - c) / DIAG_LEARN_N : 0;
+        c = dg.sy > c ? (dg.sy - c) / DIAG_LEARN_N : 0;                 /* the check valves */
         if (k >= 100u && k <= 1000u && c <= 150u) {
             dg.kp_kpa = (uint16_t)k;
             dg.pc_kpa = (uint16_t)c;
@@ -132,27 +131,24 @@ static void learn_fit(void) __reentrant
     dg.ln = DIAG_LEARN_N / 2;
 }
 
-/* One clean period (steady flow on target, no flow alarm): every DIAG_LEARN_EVERY a sample. */
-static void learn(int16_t meter, uint16_t p) __reentrant
+/* One clean period (steady flow on target, no flow alarm): every DIAG_LEARN_EVERY a sample;
+ * 1 when DIAG_LEARN_N are summed (the caller fits them). */
+static uint8_t learn(int16_t meter, uint16_t p) __reentrant
 {
     uint32_t r;
     if (dg.learnt == 2 || ++dg.ldiv < DIAG_LEARN_EVERY)
-        return;
+        return 0;
     dg.ldiv = 0;
     r = x_of(meter);
     if (r == 0xFFFFu)
-        return;
+        return 0;
     if (p > 511u)
         p = 511u;
     dg.sx += r;
     dg.sy += p;
     dg.sxx += r * r;
     dg.sxy += r * p;
-    if (++dg.ln >= DIAG_LEARN_N) {
-        learn_fit();
-        dg.gen = (uint8_t)(param_generation - 1u);
-        diag_set_nozzles(dg.nozzles);
-    }
+    return ++dg.ln >= DIAG_LEARN_N;
 }
 
 void diag_set_nozzles(uint8_t open_nozzles) __reentrant
@@ -273,8 +269,11 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
         && target > 0 && (uint32_t)(meter > target ? meter - target : target - meter) * 20u <= (uint16_t)target;
-    if (g)
-        learn(meter, p);
+    if (g && learn(meter, p)) {
+        learn_fit();
+        dg.gen = (uint8_t)(param_generation - 1u);
+        diag_set_nozzles(dg.nozzles);
+    }
     judge = judge && pexp != 0xFFFFu;
     /* near the learnt model (learnt over the range, or near the flow it was learnt at) the
      * pressure above the check valves must be within P_PDEV / 2; elsewhere (not learnt yet, far

@@ -1,4 +1,7 @@
 /* params.c: the parameter table, its defaults and range checks. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include <stddef.h>
 #include "params.h"
 

@@ -59,9 +59,9 @@ extern uint16_t param_v[P_COUNT];
 /* Every value back to its default. */
 void params_defaults(void);
 /* Set one value; 0 (and nothing changes) when the id or the value is out of range. */
-uint8_t param_set(uint8_t id, uint16_t v);
+uint8_t param_set(uint8_t id, uint16_t v) __reentrant;
 /* 1 when v is within the range of parameter id. */
-uint8_t param_in_range(uint8_t id, uint16_t v);
+uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */
 const param_info_t *param_info(uint8_t id);
 /* Bumped by every change, so readers (controller, target) can tell when to pick values up. */

@@ -1,4 +1,7 @@
 /* store.c: parameters in the IAP EEPROM: versioned layout, CRC, two copies written alternately (see store.h). */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "hal.h"
 #include "params.h"
 #include "store.h"

@@ -1,4 +1,7 @@
 /* totals.c: job and lifetime area and volume, the applied dose. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
 #include "umath.h"
 #include "totals.h"
 

@@ -27,7 +27,7 @@ void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __re
 void totals_job_reset(void);
 const totals_t *totals_get(void);
 /* The lifetime totals read back from the EEPROM (store_load). */
-void totals_set_life(uint32_t m2, uint32_t ml);
+void totals_set_life(uint32_t m2, uint32_t ml) __reentrant;
 uint32_t totals_job_m2(void);
 /* Applied dose of the job, L/ha x10 (0 before 1 m^2), saturates at 65535. */
 uint16_t totals_applied_l_ha_x10(void) __reentrant;

@@ -163,32 +163,6 @@ static void test_lcd_png_has_the_signature_and_size(void **state)
     assert_int_equal((hdr[20] << 24) | (hdr[21] << 16) | (hdr[22] << 8) | hdr[23], (64 + 8) * 2);
 }
 
-static void test_screen_numbers_are_formatted_with_their_decimals(void **state)
-{
-    char s[12];
-    (void)state;
-    assert_int_equal(screen_fmt(s, 3927, 1, 0), 5);
-    assert_string_equal(s, "392.7");
-    screen_fmt(s, 5, 2, 0);
-    assert_string_equal(s, "0.05");
-    screen_fmt(s, 0, 0, 0);
-    assert_string_equal(s, "0");
-    screen_fmt(s, 0, 1, 1);
-    assert_string_equal(s, "0");
-    screen_fmt(s, 1230, 2, 1);
-    assert_string_equal(s, "12.3");
-    assert_int_equal(screen_fmt(s, 100, 1, 1), 2);
-    assert_string_equal(s, "10");
-    screen_fmt(s, 10, 2, 1);
-    assert_string_equal(s, "0.1");
-    screen_fmt(s, 60000, 1, 1);
-    assert_string_equal(s, "6000");
-    screen_fmt(s, 4294967295u, 0, 0);
-    assert_string_equal(s, "4294967295");
-    screen_fmt(s, 7, 3, 0);
-    assert_string_equal(s, "0.007");
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -199,7 +173,6 @@ int main(void)
         cmocka_unit_test_setup(test_lcd_render_draws_the_font_glyph_at_its_cell, setup),
         cmocka_unit_test_setup(test_lcd_font_has_a_distinct_glyph_for_every_printable_character, setup),
         cmocka_unit_test_setup(test_lcd_png_has_the_signature_and_size, setup),
-        cmocka_unit_test_setup(test_screen_numbers_are_formatted_with_their_decimals, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -30,7 +30,7 @@ static void plant(q15_t drive, ctl_in_t *in)
 static uint32_t cyc_max, cyc_sum;
 static uint32_t cyc_ph[BP_PHASES];          /* bp_pid: worst step of each learning phase */
 
-static q15_t timed_step(const ctl_in_t *in)
+static q15_t timed_step(const __xdata ctl_in_t *in)
 {
     q15_t d;
     uint32_t c;

@@ -1,6 +1,7 @@
 /* tt_fixed.c: every fixed-point routine on edge and random vectors; s51 and host must print the same. */
 #include "fixed.h"
 #include "mul.h"
+#include "fmt.h"
 #include "tt.h"
 
 static const __code int16_t edges[] = {
@@ -36,6 +37,19 @@ static void all_ops(int16_t a, int16_t b)
     line('Z', a, b, (uint16_t)fx_sat16((((int32_t)b * 32768L) >> (b & 15)) + a));
 }
 
+static void fmt_line(uint32_t v, uint8_t decimals, uint8_t trim)
+{
+    char s[FMT_MAX];
+    uint8_t i, n = fmt_u32(s, v, decimals, trim);
+    tt_putc('f');
+    tt_putc(' ');
+    tt_hex32(v);
+    tt_putc(' ');
+    for (i = 0; i < n; i++)
+        tt_putc(s[i]);
+    tt_putc('\n');
+}
+
 int main(void)
 {
     uint8_t i, j;
@@ -53,6 +67,11 @@ int main(void)
         int16_t a = (int16_t)tt_rand16();   /* one statement each: argument order is unspecified */
         int16_t b = (int16_t)tt_rand16();
         all_ops(a, b);
+    }
+    for (k = 0; k < 200; k++) {             /* the number formatter */
+        uint32_t hi = tt_rand16();
+        uint32_t v = (hi << 16 | tt_rand16()) >> (k & 31);
+        fmt_line(v, (uint8_t)(k & 3), (uint8_t)(k & 4));
     }
 
     /* the cost of the building blocks, in machine cycles (stopwatch overhead included) */

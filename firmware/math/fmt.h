@@ -1,0 +1,16 @@
+/* fmt.h: the one number formatter of the firmware (the LCD and the serial link): decimal, fixed point. */
+#ifndef FMT_H
+#define FMT_H
+
+#include "compiler.h"
+
+/* Room for any result: 10 digits, a point and the terminating 0. */
+#define FMT_MAX 12
+
+/* v as decimal into out (FMT_MAX bytes), with `decimals` digits after a point (v counts in
+ * units of 10^-decimals; at least one digit before the point: 5 with 2 decimals is "0.05");
+ * trim (with decimals): trailing zeros and then a trailing point dropped ("12.50" -> "12.5",
+ * "3.0" -> "3"). No divide: the powers of ten are subtracted. Returns the length. */
+uint8_t fmt_u32(char *out, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant;
+
+#endif
