@@ -11,7 +11,7 @@ trap 'rm -rf "$tmp"' EXIT
 ok() { echo "ok - sim_cli: $1"; }
 nok() { echo "not ok - sim_cli: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
 
-if ! make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1; then
+if ! make -s --no-print-directory "$SIM" "$B/host/bin/steps" BUILD="$B" > "$tmp/build.log" 2>&1; then
     nok "the simulator builds" "$(cat "$tmp/build.log")"
     exit 0
 fi
