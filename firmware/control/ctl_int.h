@@ -83,7 +83,7 @@ typedef struct {
 #define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
 #define FM_G_MIN 64                 /* the learnt loop gain, Q8: 1/4 .. 2 of what Valve time gives */
 #define FM_G_MAX 512
-#define FM_OSC_GAP 8                /* a reversal this soon after the last, near the target: -1/8 */
+#define FM_OSC_GAP 8                /* a reversal this soon after the last, |e| <= target/4: -1/8 */
 #define FM_SLOW_N 20                /* this long awake with the error one way: +1/16 */
 #define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
                                      * up, the line primes, the flow overshoots from the parked valve */

@@ -124,7 +124,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     if (s != M->dir && M->dir != 0) {
         /* (a pulse near the smallest: the valve's resolution, not the gain) */
         if (M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN && M->warm >= FM_WARM && d > 2 * k
-            && ((int32_t)(e < 0 ? -e : e) << 4) <= ctl_in->target_lpm_x100)
+            && ((int32_t)(e < 0 ? -e : e) << 2) <= ctl_in->target_lpm_x100)
             M->g -= M->g >> 3;
         M->rev_age = 0;
         M->slow_n = 0;

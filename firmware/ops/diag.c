@@ -264,8 +264,9 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
     rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
 
     /* leak and clog: the pressure against what the nozzle model learnt from this sprayer needs
-     * for the metered flow; clean spraying teaches the model */
-    judge = judge && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
+     * for the metered flow, at working speed (a headland's low pressures are where a model is
+     * least sure); clean spraying teaches the model */
+    judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
         && target > 0 && (uint32_t)(meter > target ? meter - target : target - meter) * 20u <= (uint16_t)target;

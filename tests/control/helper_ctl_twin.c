@@ -179,7 +179,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
             if (s != m->dir && m->dir != 0) {
                 o.near |= ctltw_near(d, 2 * k, 0.002);
                 if (m->rev_age <= FM_OSC_GAP && m->g > FM_G_MIN / 256.0 && m->warm >= FM_WARM && d > 2 * k
-                    && fabs(e) * 16 <= q)
+                    && fabs(e) * 4 <= q)
                     m->g -= floor(m->g * 256 / 8) / 256;
                 m->rev_age = 0;
                 m->slow_n = 0;
