@@ -5,7 +5,7 @@
 #include "compiler.h"
 
 #if !defined(HAL_STC12) && !defined(HAL_HOST) && !defined(HAL_UCSIM)
-#error "unknown HAL backend: build with -DHAL_STC12, -DHAL_HOST or -DHAL_UCSIM (the Makefile's HAL=stc12|host|ucsim)"
+#error "unknown HAL backend: build with -DHAL_STC12, -DHAL_HOST or -DHAL_UCSIM (the Makefile passes the one each build needs)"
 #endif
 
 /* ---- clocks ------------------------------------------------------------------------------

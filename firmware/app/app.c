@@ -12,6 +12,7 @@
 #include "target.h"
 #include "valve.h"
 #include "diag.h"
+#include "ops.h"
 #include "totals.h"
 #include "serial.h"
 #include "store.h"
@@ -34,22 +35,17 @@
  * back (the schedule restarts from now) and that step does not kick.
  */
 #define APP_PRIME_MAX_PERIODS 100u  /* start-up closing gives up after 10 s */
-#define APP_JOG_PERIODS 3u          /* a jog drives 0.3 s ... */
-#define APP_JOG_DRIVE Q15(0.6)      /* ... at 60 % duty */
+#define APP_JOG_DRIVE Q15(0.6)      /* a jog (OPS_JOG_PERIODS) at 60 % duty */
 #define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
 #define APP_LOG_PERIODS (1000u / APP_PERIOD_MS)
 /* periods after power-up before over-pressure is an alarm even if the pressure never fell under
  * P max (the pump may push against a bypass left closed while the slowest valve opens) */
 #define APP_P_WAIT 150u
 
-app_status_t app_status;
-
 static struct {
     uint32_t next_ms;
     uint16_t overruns;              /* steps late by a period or more */
     uint8_t prime;                  /* periods of start-up closing left (0: done) */
-    uint8_t jog;                    /* periods of jog left */
-    int8_t jog_dir;
     uint8_t ctl_id;                 /* P_CONTROLLER the controller was selected for */
     uint8_t was_manual;
     uint8_t log_div;
@@ -76,8 +72,7 @@ void app_init(void)
     ctl_select(ap.ctl_id);
     ap.overruns = 0;
     ap.prime = 0;
-    ap.jog = 0;
-    ap.jog_dir = 0;
+    ops_init();
     ap.was_manual = 0;
     ap.log_div = 0;
     ap.internal = 0;
@@ -111,41 +106,27 @@ static uint8_t params_sane(void)
     return 1;
 }
 
-static void app_step(void)
+/* Measure: speed, flow, pressure, level, the sections; the target (eq. (1), Table 1, or 0 with
+ * the boom's sections off) and the flow the loop follows: the meter, or the nozzle model when
+ * the meter is lost or reads under a quarter of what the nozzles pass (a dead meter read as no
+ * flow closed the bypass for a whole second and took the line to the relief valve); the alarm
+ * waits 1 s to be sure, the loop does not. Into app_status. */
+static void app_measure(void)
 {
-    uint16_t v_meas, v, p;
-    int16_t q_meter, q_used, target;
-    uint8_t sections, open, want, manual, meter_lost, overp;
-    uint16_t g;
-    q15_t drive;
-    static __xdata ctl_in_t in;     /* the controller reads it through an XRAM pointer */
-    const totals_t *t;
+    uint16_t v_meas, p;
+    int16_t q_meter, q_used;
+    uint8_t open, meter_lost;
 
-    if (!params_sane()) {
-        ap.internal = 1;
-        diag_internal_fault();
-    }
-    /* the controller the operator chose */
-    if ((uint8_t)param_v[P_CONTROLLER] != ap.ctl_id) {
-        ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
-        ctl_select(ap.ctl_id);
-        ctl_reset(app_status.drive);
-    }
-
-    /* measure */
     v_meas = speed_step();
     q_meter = flow_step();
     analog_step();
     p = analog_pressure_kpa();
-    sections = hal_sections();
-    target_update(sections);
+    target_update(hal_sections());
     open = target_open_nozzles();
     diag_set_nozzles(open);
-    v = target_speed_x100(v_meas);
-    target = open ? target_flow_x100(v) : 0;
-    manual = param_v[P_MODE] != 0;
-    app_status.manual = manual;
-
+    app_status.speed_kmh_x100 = target_speed_x100(v_meas);
+    app_status.target_lpm_x100 = open ? target_flow_x100(app_status.speed_kmh_x100) : 0;
+    app_status.manual = param_v[P_MODE] != 0;
     /* the flow the loop follows: the meter while it pulses; the nozzle model (from the pressure)
      * once its pulses have stopped while the pressure says liquid flows (the alarm waits to be
      * sure; a dead meter read as no flow would close the bypass and take the line to the relief
@@ -154,16 +135,28 @@ static void app_step(void)
     q_used = q_meter;
     if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok())
         q_used = diag_nozzle_flow_x100(p, open);
-    /* spray or not */
-    want = open && !((diag_alarms() >> AL_TANK_LOW) & 1u) && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
-           && (manual || v > 0) && !ap.internal;
+    app_status.flow_lpm_x100 = q_used;
+    app_status.pressure_kpa = p;
+    app_status.open_nozzles = open;
+}
+
+/* Spray or not: sections on, the tank above its minimum, (auto) the machine moving, no
+ * internal fault. Opening starts the start-up closing; shutting saves the lifetime totals.
+ * Back to auto: bumpless from the drive now. */
+static void app_spray(void)
+{
+    uint8_t manual = app_status.manual;
+    uint8_t want = app_status.open_nozzles && !((diag_alarms() >> AL_TANK_LOW) & 1u)
+                   && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
+                   && (manual || app_status.speed_kmh_x100 > 0) && !ap.internal;
     if (want != app_status.spraying) {
         app_status.spraying = want;
         hal_spray_enable(want);
         if (!want)
             store_save();               /* the boom shut after spraying: keep the lifetime totals */
         if (want) {
-            ap.prime = (!manual && analog_pressure_ok() && p < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
+            ap.prime = (!manual && analog_pressure_ok() && app_status.pressure_kpa < param_v[P_P_MIN])
+                       ? APP_PRIME_MAX_PERIODS : 0;
             ctl_reset(0);
         }
     }
@@ -171,39 +164,59 @@ static void app_step(void)
         ap.was_manual = manual;
         if (!manual)
             ctl_reset(app_status.drive);    /* bumpless: the loop starts from the drive now */
-        ap.jog = 0;
+        ops_jog_req.periods = 0;
     }
+}
 
-    /* drive */
-    overp = analog_pressure_ok() && p > param_v[P_P_MAX];
-    drive = 0;
+/* The pressure above P max (the sensor working). */
+static uint8_t app_overp(void)
+{
+    return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
+}
+
+/* The drive of a spraying boom in auto: the start-up closing at full duty until the line
+ * reaches P_P_MIN (the paper's start), then the controller. */
+static q15_t app_auto_drive(uint8_t overp)
+{
+    static __xdata ctl_in_t in;     /* the controller reads it through an XRAM pointer */
+    q15_t drive = 0;
+    if (ap.prime) {
+        ap.prime--;
+        if (app_status.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok())
+            ap.prime = 0;
+        else
+            drive = Q15_MAX;
+        if (!ap.prime)
+            ctl_reset(drive);
+    }
+    if (!ap.prime) {
+        in.target_lpm_x100 = app_status.target_lpm_x100;
+        in.flow_lpm_x100 = app_status.flow_lpm_x100;
+        in.speed_kmh_x100 = app_status.speed_kmh_x100;
+        in.pressure_kpa = app_status.pressure_kpa;
+        in.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
+        drive = ctl_step(&in);
+    }
+    return drive;
+}
+
+/* Drive the valve: manual mode only jogs; a spraying boom in auto as app_auto_drive; a shut
+ * boom parks the bypass open (the pump circulates to the tank at low pressure instead of
+ * through the relief valve, and the next start rises to its target from below); over-pressure
+ * never closes further and opens the bypass. The controller hears what the valve got. */
+static void app_drive(void)
+{
+    uint8_t manual = app_status.manual;
+    uint8_t overp = app_overp();
+    q15_t drive = 0;
     if (manual) {
-        if (ap.jog) {
-            ap.jog--;
-            drive = ap.jog_dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
+        if (ops_jog_req.periods) {
+            ops_jog_req.periods--;
+            drive = ops_jog_req.dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
         }
     } else if (app_status.spraying) {
-        if (ap.prime) {
-            ap.prime--;
-            if (p >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok())
-                ap.prime = 0;
-            else
-                drive = Q15_MAX;
-            if (!ap.prime)
-                ctl_reset(drive);
-        }
-        if (!ap.prime) {
-            in.target_lpm_x100 = target;
-            in.flow_lpm_x100 = q_used;
-            in.speed_kmh_x100 = v;
-            in.pressure_kpa = p;
-            in.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
-            drive = ctl_step(&in);
-        }
+        drive = app_auto_drive(overp);
     } else {
-        /* boom shut (standstill, no section on, empty tank): park the bypass open, so the pump
-         * circulates to the tank at low pressure instead of through the relief valve, and the
-         * next start rises to its target from below (the start-up then closes it, as the paper) */
         if ((valve_limit() & CTL_AT_OPEN)
             || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9)))
             ap.parked = 1;                  /* open enough (or at the stop): stay, no retries */
@@ -215,29 +228,30 @@ static void app_step(void)
         drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
     valve_set(drive);
     ctl_applied(valve_applied(), valve_limit());   /* what the valve got, overrides included */
+}
 
-    /* totals: the area the open boom covers while it sprays, the volume it sprays */
-    totals_step(app_status.spraying ? v : 0, app_status.spraying ? target_width_cm() : 0,
-                app_status.spraying ? q_used : 0);
+/* Totals, the rest of the status, the alarms (diag.c, with this period's figures), the buzzer
+ * while alarms are unacked; once a second the display's divisions and a log line. */
+static void app_account(void)
+{
+    const totals_t *t;
+    uint16_t g;
+    uint8_t on = app_status.spraying;
 
-    /* status */
-    app_status.speed_kmh_x100 = v;
-    app_status.target_lpm_x100 = target;
-    app_status.flow_lpm_x100 = q_used;
-    app_status.pressure_kpa = p;
+    totals_step(on ? app_status.speed_kmh_x100 : 0, on ? target_width_cm() : 0,
+                on ? app_status.flow_lpm_x100 : 0);
     app_status.tank_l = analog_tank_l();
     app_status.drive = valve_applied();
     app_status.gain[0] = ctl_gain(0);
     app_status.gain[1] = ctl_gain(1);
     app_status.gain[2] = ctl_gain(2);
-    app_status.open_nozzles = open;
 
-    /* diagnose (reads app_status) */
+    /* over-pressure is an alarm while spraying or parked open, once the pressure was under P max
+     * there after power-up (or after APP_P_WAIT) */
     if (ap.p_watch < APP_P_WAIT
-        && (++ap.p_watch >= APP_P_WAIT || (!overp && (app_status.spraying || ap.parked))))
+        && (++ap.p_watch >= APP_P_WAIT || (!app_overp() && (on || ap.parked))))
         ap.p_watch = APP_P_WAIT;
-    g = diag_step(app_status.spraying && !ap.prime,
-                  (app_status.spraying || ap.parked) && ap.p_watch >= APP_P_WAIT);
+    g = diag_step(&app_status, on && !ap.prime, (on || ap.parked) && ap.p_watch >= APP_P_WAIT);
     app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
     app_status.alarms = g;
     hal_buzzer(app_status.alarms_unacked != 0);
@@ -246,14 +260,29 @@ static void app_step(void)
     app_status.job_volume_ml = t->job_ml;
     app_status.life_area_m2 = t->life_m2;
     app_status.life_volume_ml = t->life_ml;
-
-    /* once a second: the divisions of the display values, and the log line */
     if (++ap.log_div >= APP_LOG_PERIODS) {
         ap.log_div = 0;
         app_status.job_area_m2 = totals_job_m2();
         app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
         serial_log_request();
     }
+}
+
+static void app_step(void)
+{
+    if (!params_sane()) {
+        ap.internal = 1;
+        diag_internal_fault();
+    }
+    if ((uint8_t)param_v[P_CONTROLLER] != ap.ctl_id) {     /* the controller the operator chose */
+        ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
+        ctl_select(ap.ctl_id);
+        ctl_reset(app_status.drive);
+    }
+    app_measure();
+    app_spray();
+    app_drive();
+    app_account();
 }
 
 void app_poll(void)
@@ -278,28 +307,6 @@ void app_poll(void)
         hal_wdt_kick();
 }
 
-void app_jog(int8_t dir)
-{
-    if (!app_status.manual || dir == 0)
-        return;
-    ap.jog_dir = dir;
-    ap.jog = APP_JOG_PERIODS;
-}
-
-void app_alarm_ack(void)
-{
-    app_status.alarms_unacked = 0;
-    hal_buzzer(0);
-}
-
-void app_totals_reset(void)
-{
-    totals_job_reset();
-    app_status.job_area_m2 = 0;
-    app_status.job_volume_ml = 0;
-    app_status.applied_l_ha_x10 = 0;
-}
-
 const char *app_alarm_code(uint8_t bit)
 {
     return diag_code(bit);
@@ -308,16 +315,6 @@ const char *app_alarm_code(uint8_t bit)
 const char *app_alarm_text(uint8_t bit)
 {
     return diag_text(bit);
-}
-
-uint32_t app_wheel_pulses(void)
-{
-    return speed_pulses();
-}
-
-uint32_t app_flow_pulses(void)
-{
-    return flow_pulses();
 }
 
 uint16_t app_overruns(void)

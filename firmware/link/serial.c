@@ -2,7 +2,7 @@
 #include "hal.h"
 #include "params.h"
 #include "store.h"
-#include "app.h"
+#include "ops.h"
 #include "diag.h"
 #include "totals.h"
 #include "serial.h"
@@ -116,14 +116,6 @@ static const char *number(const char *p, uint16_t *v) __reentrant
     return p;
 }
 
-static uint8_t word_is(const char *line, const char *w) __reentrant
-{
-    while (*w)
-        if (*line++ != *w++)
-            return 0;
-    return *line == ' ' || *line == 0;
-}
-
 static void reply_err(const char *why) __reentrant
 {
     se.n = 0;
@@ -131,17 +123,120 @@ static void reply_err(const char *why) __reentrant
     tx_s(why);
 }
 
-static void answer(void) __reentrant
-{
-    char *line = se.buf;
-    const char *p;
-    uint8_t n = se.n, i, x = 0;
-    int8_t h1, h2;
-    uint16_t a, b;
-    const totals_t *t;
+/* ---- the commands: one table of word, arguments and handler ------------------------------ */
+#define ARG_NONE 0                  /* nothing after the word */
+#define ARG_NUM 1                   /* one number */
+#define ARG_NUM2 2                  /* two numbers */
+#define ARG_SIGN 3                  /* + or - */
+enum { C_GET, C_SET, C_CTL, C_JOG, C_ACK, C_RST, C_TOT, C_LIF, C_PUL, C_SAV };
+typedef struct {
+    char word[4];                   /* three letters and the end */
+    uint8_t args;                   /* ARG_* */
+    uint8_t handler;                /* C_*: the case of run() (no function pointers: the stack
+                                     * check follows every call, and SDCC's calls stay plain) */
+} command_t;
+static const __code command_t commands[] = {
+    {"GET", ARG_NUM, C_GET},        /* GET <id>          OK <id> <value> */
+    {"SET", ARG_NUM2, C_SET},       /* SET <id> <value>  OK <id> <value> */
+    {"CTL", ARG_NUM, C_CTL},        /* CTL <n>           OK CTL <n> */
+    {"JOG", ARG_SIGN, C_JOG},       /* JOG +|-           OK JOG */
+    {"ACK", ARG_NONE, C_ACK},       /* ACK               OK ACK */
+    {"RST", ARG_NONE, C_RST},       /* RST               OK RST */
+    {"TOT", ARG_NONE, C_TOT},       /* TOT               OK TOT <job dm^2> <job ml> <L/ha x10> */
+    {"LIF", ARG_NONE, C_LIF},       /* LIF               OK LIF <life m^2> <life ml> */
+    {"PUL", ARG_NONE, C_PUL},       /* PUL               OK PUL <wheel pulses> <meter pulses> */
+    {"SAV", ARG_NONE, C_SAV},       /* SAV               OK SAV */
+};
+#define N_COMMANDS (sizeof commands / sizeof commands[0])
 
-    se.n = 0;                       /* the reply is written over the line once it is parsed */
-    /* the optional checksum */
+/* "OK <word> " then up to two numbers */
+static void ok(const char *word) __reentrant
+{
+    tx_s("OK ");
+    tx_s(word);
+}
+
+static void ok_2(uint32_t a, uint32_t b) __reentrant
+{
+    tx_c(' ');
+    tx_u32(a);
+    tx_c(' ');
+    tx_u32(b);
+}
+
+/* The handlers, after the arguments were parsed as the table says. */
+static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
+{
+    const totals_t *t;
+    switch (handler) {
+    case C_GET:
+    case C_SET:
+        if (a >= P_COUNT) {
+            reply_err("ID");
+        } else if (handler == C_SET && !param_set((uint8_t)a, b)) {
+            reply_err("RANGE");
+        } else {
+            tx_s("OK ");
+            tx_u32(a);
+            tx_c(' ');
+            tx_u32(param_v[a]);
+        }
+        break;
+    case C_CTL:
+        if (!param_set(P_CONTROLLER, a)) {
+            reply_err("RANGE");
+        } else {
+            ok("CTL ");
+            tx_u32(a);
+        }
+        break;
+    case C_JOG:
+        if (!app_status.manual) {
+            reply_err("MODE");
+        } else {
+            ops_jog((int8_t)a);
+            ok("JOG");
+        }
+        break;
+    case C_ACK:
+        ops_alarm_ack();
+        ok("ACK");
+        break;
+    case C_RST:
+        ops_totals_reset();
+        ok("RST");
+        break;
+    case C_TOT:
+        t = totals_get();
+        ok("TOT");
+        ok_2(t->job_dm2, t->job_ml);
+        tx_c(' ');
+        tx_u32(totals_applied_l_ha_x10());
+        break;
+    case C_LIF:
+        t = totals_get();
+        ok("LIF");
+        ok_2(t->life_m2, t->life_ml);
+        break;
+    case C_PUL:
+        ok("PUL");
+        ok_2(ops_wheel_pulses(), ops_flow_pulses());
+        break;
+    default:
+        if (store_save())
+            ok("SAV");
+        else
+            reply_err("SAVE");
+        break;
+    }
+}
+
+/* The line's checksum (optional "*HH") and layout (words, single spaces); 0 and an error sent
+ * when it is not right, else the line's length without the checksum. */
+static uint8_t line_ok(char *line, uint8_t n) __reentrant
+{
+    uint8_t i, x = 0;
+    int8_t h1, h2;
     for (i = 0; i < n && line[i] != '*'; i++)
         x ^= (uint8_t)line[i];
     if (i < n) {
@@ -149,128 +244,67 @@ static void answer(void) __reentrant
         h2 = i + 3 == n ? hexval(line[i + 2]) : -1;
         if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {
             reply_err("CSUM");
-            return;
+            return 0;
         }
         n = i;
     }
     line[n] = 0;
-    /* strict layout: words of A-Z, 0-9, + or -, single spaces between them */
     if (n == 0 || line[0] == ' ' || line[n - 1] == ' ') {
         reply_err("ARG");
-        return;
+        return 0;
     }
     for (i = 1; i < n; i++)
         if (line[i] == ' ' && line[i - 1] == ' ') {
             reply_err("ARG");
-            return;
+            return 0;
         }
-    p = line + 3;
-    if (word_is(line, "GET") || word_is(line, "SET") || word_is(line, "CTL")) {
-        if (*p != ' ' || !(p = number(p + 1, &a))) {
+    return n;
+}
+
+/* The command in se.buf: look its word up, parse its arguments, run its handler. */
+static void answer(void) __reentrant
+{
+    char *line = se.buf;
+    const char *p = line + 3;
+    uint8_t n = se.n, c;
+    uint16_t a = 0, b = 0;
+
+    se.n = 0;                       /* the reply is written over the line once it is parsed */
+    if (!line_ok(line, n))
+        return;
+    for (c = 0; c < N_COMMANDS; c++)
+        if (line[0] == commands[c].word[0] && line[1] == commands[c].word[1]
+            && line[2] == commands[c].word[2] && (line[3] == ' ' || line[3] == 0))
+            break;
+    if (c == N_COMMANDS) {
+        reply_err("CMD");
+        return;
+    }
+    switch (commands[c].args) {
+    case ARG_NUM:
+    case ARG_NUM2:
+        if (*p != ' ' || !(p = number(p + 1, &a))
+            || (commands[c].args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, &b))))) {
             reply_err("NUM");
             return;
         }
-        if (line[0] == 'G') {
-            if (*p) {
-                reply_err("ARG");
-                return;
-            }
-            if (a >= P_COUNT) {
-                reply_err("ID");
-                return;
-            }
-            b = param_v[a];
-        } else if (line[0] == 'S') {
-            if (*p != ' ' || !(p = number(p + 1, &b))) {
-                reply_err("NUM");
-                return;
-            }
-            if (*p) {
-                reply_err("ARG");
-                return;
-            }
-            if (a >= P_COUNT) {
-                reply_err("ID");
-                return;
-            }
-            if (!param_set((uint8_t)a, b)) {
-                reply_err("RANGE");
-                return;
-            }
-        } else {
-            if (*p) {
-                reply_err("ARG");
-                return;
-            }
-            if (!param_set(P_CONTROLLER, a)) {
-                reply_err("RANGE");
-                return;
-            }
-            tx_s("OK CTL ");
-            tx_u32(a);
-            return;
-        }
-        tx_s("OK ");
-        tx_u32(a);
-        tx_c(' ');
-        tx_u32(b);
-        return;
-    }
-    if (word_is(line, "JOG")) {
+        break;
+    case ARG_SIGN:
         if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0)) {
             reply_err("ARG");
             return;
         }
-        if (!app_status.manual) {
-            reply_err("MODE");
-            return;
-        }
-        app_jog(p[1] == '+' ? 1 : -1);
-        tx_s("OK JOG");
-        return;
+        a = p[1] == '+' ? 1 : (uint16_t)-1;
+        p += 2;
+        break;
+    default:
+        break;
     }
-    if (!(word_is(line, "ACK") || word_is(line, "RST") || word_is(line, "TOT") ||
-          word_is(line, "LIF") || word_is(line, "PUL") || word_is(line, "SAV"))) {
-        reply_err("CMD");
-        return;
-    }
-    if (*p) {                       /* these take no argument */
+    if (*p) {
         reply_err("ARG");
         return;
     }
-    if (word_is(line, "ACK")) {
-        app_alarm_ack();
-        tx_s("OK ACK");
-    } else if (word_is(line, "RST")) {
-        app_totals_reset();
-        tx_s("OK RST");
-    } else if (word_is(line, "TOT")) {
-        t = totals_get();
-        tx_s("OK TOT ");
-        tx_u32(t->job_dm2);
-        tx_c(' ');
-        tx_u32(t->job_ml);
-        tx_c(' ');
-        tx_u32(totals_applied_l_ha_x10());
-    } else if (word_is(line, "LIF")) {
-        t = totals_get();
-        tx_s("OK LIF ");
-        tx_u32(t->life_m2);
-        tx_c(' ');
-        tx_u32(t->life_ml);
-    } else if (word_is(line, "PUL")) {
-        tx_s("OK PUL ");
-        tx_u32(app_wheel_pulses());
-        tx_c(' ');
-        tx_u32(app_flow_pulses());
-    } else if (word_is(line, "SAV")) {
-        if (store_save())
-            tx_s("OK SAV");
-        else
-            reply_err("SAVE");
-    } else {
-        reply_err("CMD");
-    }
+    run(commands[c].handler, a, b);
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */

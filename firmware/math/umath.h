@@ -10,7 +10,7 @@
 /* (a * b) >> 16, rounded to nearest; saturates at 0xFFFFFFFF. Two 16x16 products. */
 uint32_t um_mul32x16_shr16(uint32_t a, uint16_t b) __reentrant;
 /* a * n / d by normalised mantissas and a 129-entry reciprocal table with linear
- * interpolation: relative error below 2e-4 (tests/test_umath.c measures it), saturates at
+ * interpolation: relative error below 2e-4 (tests/math/test_umath.c measures it), saturates at
  * 0xFFFFFFFF, d = 0 gives 0xFFFFFFFF, a or n = 0 gives 0. Three 16x16 products, no divide. */
 uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant;
 /* floor(sqrt(x)), bit by bit: shifts, adds and compares only. */

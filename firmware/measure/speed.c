@@ -8,7 +8,9 @@ static struct {
     uint32_t k;             /* km/h x100 * PCA ticks a pulse: P_WHEEL * 33177.6 */
     uint32_t last_pca;      /* PCA time of the newest edge */
     uint32_t pulses;
-    uint32_t t_rev_last;    /* the last turn's time measured, PCA ticks (0: none) */
+    uint32_t t0;            /* PCA time of element 0's last edge seen as a period's newest */
+    uint32_t t_rev;         /* the last turn's time (element 0 to element 0), 0: none */
+    int32_t d_rev;          /* how much it changed from the turn before */
     uint16_t v_x100;
     uint16_t v_pulse_x100;  /* speed at the last pulse */
     uint16_t quiet;         /* periods since the last pulse */
@@ -18,21 +20,27 @@ static struct {
     uint8_t gen;
     uint8_t n;              /* elements a turn (P_WHEEL_PPR) */
     uint8_t idx;            /* element of the newest edge */
-    uint8_t learnt;         /* offsets learnt since they were forgotten (saturates) */
-    int16_t off[SPEED_TEETH_MAX];   /* each element's position offset, 1/4096 of a spacing */
-    uint32_t t_el[SPEED_TEETH_MAX]; /* PCA time of each element's last edge seen alone */
-    uint8_t stamp[SPEED_TEETH_MAX]; /* low byte of `pulses` at that edge */
+    uint8_t t0_stamp;       /* low byte of `pulses` at t0 */
+    uint8_t t0_ok;
+    uint8_t learnt;         /* offsets learnt in this turn of learning */
+    uint8_t turns;          /* turns learnt at this gain */
+    uint8_t shift;          /* the gain: 1 / 2^shift */
+    int16_t off[SPEED_TEETH_MAX];   /* each element's position against element 0's, 1/4096 of a spacing */
 } sp;
+
+/* scratch of speed_learn (not on the stack: the speed step runs deep in the main loop) */
+static uint32_t sl_dt;
 
 static void speed_forget_offsets(void) __reentrant
 {
     uint8_t i;
-    for (i = 0; i < SPEED_TEETH_MAX; i++) {
+    for (i = 0; i < SPEED_TEETH_MAX; i++)
         sp.off[i] = 0;
-        sp.stamp[i] = (uint8_t)(sp.pulses + 128u);   /* never exactly a turn ago */
-    }
-    sp.t_rev_last = 0;
+    sp.t0_ok = 0;
+    sp.t_rev = 0;
     sp.learnt = 0;
+    sp.turns = 0;
+    sp.shift = 0;
 }
 
 static void speed_derive(void) __reentrant
@@ -62,54 +70,63 @@ void speed_init(void)
     speed_derive();
 }
 
-/* Learn the new edge's offset against the old one's from the turn that ends with it: the same
- * element's edge exactly one turn ago gives the turn's time T, and the span dt of `count`
- * pulses should then be (count + off[new] - off[old]) T_end / n, T_end the turn time at the
- * span: the turn's time is that of its middle, half a turn before, so T_end = T + n d / 2 with
- * d how much T changed since the last edge's turn (a steady acceleration). Not while the
- * speed changes by more than 1/512 a pulse. */
-static void speed_learn(uint8_t count, uint32_t t_new, uint32_t dt, uint8_t old, uint8_t nw) __reentrant
+/* Element 0's edges time the wheel's turns (t_rev, and d_rev how much the last turn's time
+ * changed from the one before). At a steady speed (the turn's time changed by at most 1/512)
+ * and within a turn of that measurement, the span of `count` pulses just measured (sl_dt) should
+ * be (count + off[new] - off[old]) t_rev / n: what it differs by moves the new element's offset
+ * (element 0 is the zero; when it is the new one, the old one's moves instead). */
+static void speed_learn(uint8_t count, uint8_t old)
 {
-    uint32_t t_rev, t_end, seen;
-    int32_t err, d;
-    uint8_t stamp = sp.stamp[nw];
-    t_rev = t_new - sp.t_el[nw];
-    sp.t_el[nw] = t_new;
-    sp.stamp[nw] = (uint8_t)sp.pulses;
-    if ((uint8_t)((uint8_t)sp.pulses - stamp) != sp.n)
-        return;
-    d = (int32_t)(t_rev - sp.t_rev_last);
-    if (sp.t_rev_last == 0 || d > (int32_t)(sp.t_rev_last >> 9) || -d > (int32_t)(sp.t_rev_last >> 9)) {
-        sp.t_rev_last = t_rev;
-        return;
+    uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg;
+    int32_t err;
+    int16_t e;
+    if (sp.idx == 0) {
+        if (sp.t0_ok && m == sp.n) {
+            /* the change needs two turns in a row; until then it reads as too fast to learn */
+            sp.d_rev = sp.t_rev ? (int32_t)(sp.last_pca - sp.t0 - sp.t_rev) : 0x7FFFFFFFL;
+            sp.t_rev = sp.last_pca - sp.t0;
+        } else {
+            sp.t_rev = 0;
+        }
+        sp.t0 = sp.last_pca;
+        sp.t0_stamp = (uint8_t)sp.pulses;
+        sp.t0_ok = 1;
+        m = 0;
     }
-    sp.t_rev_last = t_rev;
-    t_end = (uint32_t)((int32_t)t_rev + d * (int32_t)sp.n / 2);
-    /* where the new edge sits against the old one, in 1/4096 of a spacing: dt n 4096 / T_end */
-    seen = um_muldiv(dt, (uint16_t)sp.n * 2048u, t_end) << 1;
-    err = (int32_t)seen - ((int32_t)count << 12) - ((int32_t)sp.off[nw] - sp.off[old]);
+    if (!sp.t_rev || m > sp.n || sp.d_rev > (int32_t)(sp.t_rev >> 9) || -sp.d_rev > (int32_t)(sp.t_rev >> 9))
+        return;
+    /* where the new edge sits against the old one, in 1/4096 of a spacing: dt n 4096 / T */
+    err = (int32_t)(um_muldiv(sl_dt, (uint16_t)sp.n * 2048u, sp.t_rev) << 1) - ((int32_t)count << 12)
+          - ((int32_t)sp.off[sp.idx] - sp.off[old]);
     if (err > 1024 || err < -1024)
         return;                 /* a quarter of a spacing: a missed or extra pulse, not an offset */
-    /* only the new edge's offset moves, towards the old one's plus what the span saw: round a
-     * turn the spans add up to the turn, so the chain closes on itself. The first turn takes
-     * what it sees, then a mean growing to about 16 turns. */
-    err /= sp.learnt < sp.n ? 1 : sp.learnt < 2u * sp.n ? 2 : sp.learnt < 4u * sp.n ? 4 : sp.learnt < 8u * sp.n ? 8 : 16;
-    if (sp.learnt < 255)
-        sp.learnt++;
-    sp.off[nw] += (int16_t)err;
-    if (nw == 0 && sp.off[0] != 0) {
-        /* only differences count: element 0 is the zero, so the offsets cannot drift away */
-        int16_t o0 = sp.off[0];
-        uint8_t i;
-        for (i = 0; i < sp.n; i++)
-            sp.off[i] -= o0;
+    /* the first turn takes what it sees, then a mean growing to about 16 turns: halved for
+     * every doubling of the turns learnt (on the magnitude: shifts, no divide) */
+    e = (int16_t)err;
+    neg = e < 0;
+    if (neg)
+        e = -e;
+    e >>= sp.shift;
+    if (neg)
+        e = -e;
+    if (++sp.learnt >= sp.n) {
+        sp.learnt = 0;
+        if (sp.shift < 4 && ++sp.turns >= (uint8_t)(1u << sp.shift))
+            sp.shift++, sp.turns = 0;
     }
+    if (sp.idx != 0)
+        sp.off[sp.idx] += e;
+    else
+        sp.off[old] -= e;
 }
+
+/* The speed step's working values in the direct RAM: the cheapest addressing the 8051 has, and
+ * no stack frame to reach (the step runs once a period, never inside itself). */
+static __data hal_capture_t c;
+static __data uint32_t v;
 
 uint16_t speed_step(void) __reentrant
 {
-    hal_capture_t c;
-    uint32_t v;
 
     if (sp.gen != param_generation)
         speed_derive();
@@ -119,17 +136,21 @@ uint16_t speed_step(void) __reentrant
     if (sp.since < 255)
         sp.since++;
     if (c.count) {
-        uint8_t old = sp.idx, nw = (uint8_t)((sp.idx + c.count) % sp.n);
+        uint8_t old = sp.idx, nw;
+        uint16_t w = sp.idx + c.count;
+        while (w >= sp.n)
+            w -= sp.n;              /* (idx + count) mod n without a divide */
+        nw = (uint8_t)w;
         sp.pulses += c.count;
         sp.quiet = 0;
         if (sp.have_edge) {
             uint32_t dt = c.last - sp.last_pca;
             /* the distance the span covers, in 1/4096 of a pulse spacing: each element's
              * learnt offset takes the wheel's spacing error out of the period */
-            uint32_t dist = c.count < 15u ? ((uint32_t)c.count << 12) + sp.off[nw] - sp.off[old]
-                                          : (uint32_t)c.count << 12;
-            v = c.count < 15u ? (um_muldiv(sp.k, (uint16_t)dist, dt) + 2048u) >> 12
-                              : um_muldiv(sp.k, c.count, dt);
+            w = c.count < 15u ? (uint16_t)(((uint16_t)c.count << 12) + sp.off[nw] - sp.off[old]) : c.count;
+            v = um_muldiv(sp.k, w, dt);
+            if (c.count < 15u)
+                v = (v + 2048u) >> 12;
             if (c.last == sp.last_pca || v > SPEED_MAX_X100) {
                 sp.glitches++;
             } else {
@@ -138,12 +159,13 @@ uint16_t speed_step(void) __reentrant
                     v = (uint32_t)sp.v_x100 + (uint32_t)SPEED_SLEW_X100 * sp.since;
                 sp.v_x100 = (uint16_t)v;
                 sp.since = 0;
-                if (sp.n > 1 && c.count < 15u)
-                    speed_learn((uint8_t)c.count, c.last, dt, old, nw);
             }
         }
+        sl_dt = c.last - sp.last_pca;
         sp.idx = nw;
         sp.last_pca = c.last;
+        if (sp.n > 1 && sp.have_edge && c.count < 15u)
+            speed_learn((uint8_t)c.count, old);
         sp.have_edge = 1;
         sp.v_pulse_x100 = sp.v_x100;
     } else {
@@ -151,7 +173,7 @@ uint16_t speed_step(void) __reentrant
             sp.quiet++;
         if (sp.have_edge) {
             /* the next element is (1 + its offset - this one's) spacings away */
-            uint8_t nx = (uint8_t)((sp.idx + 1u) % sp.n);
+            uint8_t nx = sp.idx + 1u == sp.n ? 0 : sp.idx + 1u;
             v = (um_muldiv(sp.k, (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]), hal_pca_now() - sp.last_pca)
                  + 2048u) >> 12;
             if (v < sp.v_x100)
@@ -168,7 +190,7 @@ uint16_t speed_step(void) __reentrant
     if (sp.v_x100 < SPEED_ZERO_X100)
         sp.v_x100 = 0;
     /* a pulse sooner than a quarter of the period at 1.5 times this speed is not a pulse */
-    hal_wheel_min_interval(sp.v_x100 ? um_muldiv(sp.k, 1, (uint32_t)sp.v_x100 * 6u) : sp.k / (SPEED_MAX_X100 * 4u));
+    hal_wheel_min_interval(um_muldiv(sp.k, 1, sp.v_x100 ? (uint32_t)sp.v_x100 * 6u : SPEED_MAX_X100 * 4ul));
     return sp.v_x100;
 }
 

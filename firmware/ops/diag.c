@@ -1,7 +1,6 @@
 /* diag.c: the alarm rules (tank, pump, leak, clog, meter, speed, sensors, pressure, off-rate, valve) and their texts. */
 #include "params.h"
 #include "umath.h"
-#include "app.h"
 #include "analog.h"
 #include "flow.h"
 #include "speed.h"
@@ -223,49 +222,44 @@ static uint8_t noise(uint8_t *score, uint8_t glitch) __reentrant
     return *score;
 }
 
-uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
+/* Tank and pump, the sensors (debounced by analog.c), over-pressure with 5 % hysteresis: while
+ * `p_watch` (spraying or the bypass parked open; at power-up the pump may push against a bypass
+ * left closed until the parking opens it: the relief valve's job, not a fault). */
+static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
-    uint16_t tank = app_status.tank_l;
-    uint16_t p = app_status.pressure_kpa;
-    int16_t meter = flow_lpm_x100();
-    int16_t target = app_status.target_lpm_x100;
+    uint16_t tank = in->tank_l;
+    uint16_t p = in->pressure_kpa;
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
-    uint8_t judge, g, working;
-    uint16_t pexp;
-    uint32_t p100, x;
-    int16_t qp;
-
-    /* tank and pump */
-    x = (uint32_t)tank * 100u;
+    uint32_t x = (uint32_t)tank * 100u;
     rule(AL_TANK_LOW, lsens && tank < tmin, refill, DIAG_TANK_PERIODS);
     rule(AL_PUMP_DRY, lsens && x <= param_v[P_TANK_L], refill && x > param_v[P_TANK_L],
          DIAG_TANK_PERIODS);
-
-    /* sensors (debounced by analog.c) */
     rule(AL_PSENS, !psens, psens, 1);
     rule(AL_LSENS, !lsens, lsens, 1);
-
-    /* over-pressure, 5 % hysteresis: while spraying or with the bypass parked open (at power-up
-     * the pump may push against a bypass left closed until the parking opens it: the relief
-     * valve's job, not a fault) */
     rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX],
          !psens || (uint32_t)p * 20u < (uint32_t)param_v[P_P_MAX] * 19u, DIAG_OVERP_PERIODS);
+}
 
-    /* flow meter lost: its pulses stopped while the nozzle model says liquid flows. A live meter
-     * that reads low against the pressure is a clog (or a wrong nozzle setting), never this. */
-    qp = diag_nozzle_flow_x100(p, dg.nozzles);
-    judge = settled && psens;
-    working = app_status.speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
-    /* (at working speed: at a headland stop the meter falls silent below its range while the
-     * line still holds the check valves' pressure) */
+/* The nozzle model against the meter. Flow meter lost: its pulses stopped while the model says
+ * liquid flows, at working speed (at a headland stop the meter falls silent below its range
+ * while the line still holds the check valves' pressure); a live meter that reads low against
+ * the pressure is a clog (or a wrong nozzle setting), never this. Leak and clog: the pressure
+ * against what the model learnt from this sprayer needs for the metered flow, at working speed
+ * (a headland's low pressures are where a model is least sure); clean spraying teaches it. */
+static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    uint16_t p = in->pressure_kpa;
+    int16_t meter = flow_lpm_x100();
+    int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
+    int16_t target = in->target_lpm_x100;
+    uint8_t working = in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
+    uint8_t judge = settled && analog_pressure_ok(), g;
+    uint16_t pexp;
+    uint32_t p100, x;
     dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && flow_quiet_periods() >= DIAG_METER_QUIET;
     rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
-
-    /* leak and clog: the pressure against what the nozzle model learnt from this sprayer needs
-     * for the metered flow, at working speed (a headland's low pressures are where a model is
-     * least sure); clean spraying teaches the model */
     judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
@@ -299,22 +293,19 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
         rule(AL_LEAK, judge && (uint32_t)p + x < pexp, judge && (uint32_t)p + x >= pexp, DIAG_PDEV_PERIODS);
         rule(AL_CLOG, judge && p > pexp + x, judge && p <= pexp + x, DIAG_PDEV_PERIODS);
     }
+}
 
-    /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
-     * down keeps making pulses; one that stops dead from working speed inside one pulse
-     * distance is the false alarm this rule accepts) */
-    g = target_speed_given();
-    rule(AL_SPEED_LOST, !g && speed_quiet_periods() >= DIAG_SPEED_PERIODS &&
-                            speed_at_last_pulse_x100() >= param_v[P_MINF_SPEED] * 10u,
-         g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u, 1);
-
-    /* off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, at working speed (below it the
-     * minimum-flow rule sets the target, and a coupled pump slowing to a headland stop cannot
-     * give it) */
-    judge = !app_status.manual && settled && target > 0 && working;
-    qp = app_status.flow_lpm_x100 - target;
-    p100 = (uint32_t)(qp < 0 ? -(int32_t)qp : qp) * 100u;
-    x = (uint32_t)param_v[P_OFFRATE] * (uint16_t)target;
+/* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, in auto with the boom settled, at
+ * working speed (below it the minimum-flow rule sets the target, and a coupled pump slowing to
+ * a headland stop cannot give it). */
+static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    int16_t target = in->target_lpm_x100;
+    uint8_t judge = !in->manual && settled && target > 0
+                    && in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
+    int16_t qp = in->flow_lpm_x100 - target;
+    uint32_t p100 = (uint32_t)(qp < 0 ? -(int32_t)qp : qp) * 100u;
+    uint32_t x = (uint32_t)param_v[P_OFFRATE] * (uint16_t)target;
     if (!(dg.alarms & (1u << AL_OFFRATE))) {
         if (judge && p100 > x) {
             if (++dg.offrate_cnt >= param_v[P_OFFRATE_S] * 10u) {
@@ -327,11 +318,26 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
     } else {
         rule(AL_OFFRATE, 0, !judge || p100 <= x, 1);
     }
+}
 
+uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_watch) __reentrant
+{
+    uint8_t g;
+    uint16_t n;
+    uint32_t x;
+    diag_supply(in, p_watch);
+    diag_model(in, settled);
+    /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
+     * down keeps making pulses; one that stops dead from working speed inside one pulse
+     * distance is the false alarm this rule accepts) */
+    g = target_speed_given();
+    rule(AL_SPEED_LOST, !g && speed_quiet_periods() >= DIAG_SPEED_PERIODS &&
+                            speed_at_last_pulse_x100() >= param_v[P_MINF_SPEED] * 10u,
+         g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u, 1);
+    diag_offrate(in, settled);
     /* the valve refused at a stop */
     g = valve_refused();
     rule(AL_VALVE_STOP, g, !g, DIAG_VALVE_PERIODS);
-
     /* pulse noise */
     g = flow_glitches() != dg.meter_glitches;
     dg.meter_glitches = flow_glitches();
@@ -341,12 +347,11 @@ uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant
      * rejected and forgotten) */
     x = (uint16_t)(speed_glitches() - dg.wheel_glitches) * (uint32_t)DIAG_WHEEL_GLITCH + dg.wheel_noise;
     dg.wheel_glitches = speed_glitches();
-    pexp = (uint16_t)((uint16_t)speed_pulses() - dg.wheel_pulses);
+    n = (uint16_t)((uint16_t)speed_pulses() - dg.wheel_pulses);
     dg.wheel_pulses = (uint16_t)speed_pulses();
-    x = x > pexp ? x - pexp : 0;
+    x = x > n ? x - n : 0;
     dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
     rule(AL_WHEEL_NOISE, dg.wheel_noise > 60, dg.wheel_noise == 0, 1);
-
     return dg.alarms;
 }
 

@@ -3,8 +3,9 @@
 #define DIAG_H
 
 #include "compiler.h"
+#include "ops.h"
 
-/* Alarm bits (app_status.alarms). */
+/* Alarm bits (app_status.alarms, ops.h). */
 enum {
     AL_TANK_LOW = 0,    /* tank below P_TANK_MIN: spraying stops */
     AL_PUMP_DRY,        /* tank empty (<= 1 % of P_TANK_L): the PTO pump runs dry, disengage it */
@@ -45,12 +46,12 @@ enum {
 #define DIAG_LEARN_SPREAD 2700000UL
 
 void diag_init(void);
-/* One period, after the application has filled app_status for it: evaluate every rule
- * (the inputs: app_status, the sensors' ok flags, the pulse modules' quiet counters and
- * glitch counts, the valve's refusals); `settled`: the boom sprays and start-up is over;
- * `p_watch`: the pressure must stay under P max now (spraying, or the bypass parked open).
- * Returns the active alarm bits. */
-uint16_t diag_step(uint8_t settled, uint8_t p_watch) __reentrant;
+/* One period: evaluate every rule. The inputs: this period's figures `st` (tank, pressure,
+ * target, flow, speed, manual), `settled` (the boom sprays and start-up is over), `p_watch`
+ * (the pressure must stay under P max now: spraying, or the bypass parked open), the sensors'
+ * ok flags, the pulse modules' quiet counters and glitch counts, the valve's refusals. Returns
+ * the active alarm bits. */
+uint16_t diag_step(const __xdata app_status_t *st, uint8_t settled, uint8_t p_watch) __reentrant;
 uint16_t diag_alarms(void);
 /* Forget the learnt nozzle model (new nozzles, a meter calibration, the menu): learn it again. */
 void diag_nozzle_relearn(void);

@@ -175,7 +175,7 @@ static void test_serial_alarm_messages_and_the_buzzer(void **state)
     assert_string_equal(next_line(), "ALM PSENS_FAULT P sensor fault");
     assert_true(hal_host_io.buzzer);
     assert_true(app_status.alarms_unacked & (1u << AL_PSENS));
-    app_alarm_ack();
+    ops_alarm_ack();
     run_ms(100);
     assert_false(hal_host_io.buzzer);
     assert_true(app_status.alarms & (1u << AL_PSENS));           /* still active */
@@ -210,7 +210,7 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
     assert_string_equal(cmd("JOG +\n"), "OK JOG");
     run_ms(100);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
-    app_jog(-1);
+    ops_jog(-1);
     int off_ms = 0;
     while (hal_host_io.valve_dir != HAL_VALVE_OPEN && off_ms < 300) {
         run_ms(1);

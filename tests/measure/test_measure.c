@@ -1,4 +1,4 @@
-/* test_measure.c: speed and flow from pulse periods, the 4-20 mA inputs, and the divide-free arithmetic under them. */
+/* test_measure.c: speed and flow from pulse periods, and the 4-20 mA inputs. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -9,7 +9,6 @@
 #include <cmocka.h>
 #include "hal_host.h"
 #include "params.h"
-#include "umath.h"
 #include "speed.h"
 #include "flow.h"
 #include "analog.h"
@@ -59,43 +58,6 @@ static double meter_period_ns(double lpm)
     return 60.0 / (380.0 * lpm) * 1e9;
 }
 
-static uint32_t rng = 99;
-static uint32_t rnd(void)
-{
-    rng = rng * 1664525u + 1013904223u;
-    return rng;
-}
-
-/* a * n / d against the exact quotient: within 2e-4 (plus the integer's rounding) everywhere */
-static void test_umath_muldiv_is_within_2e_4_of_the_quotient(void **state)
-{
-    double worst = 0;
-    (void)state;
-    for (int i = 0; i < 200000; i++) {
-        uint32_t a = rnd() >> (rnd() % 32), d = (rnd() >> (rnd() % 32)) | 1u;
-        uint16_t n = (uint16_t)(rnd() >> (16 + rnd() % 16));
-        double exact = (double)a * n / d;
-        uint32_t r = um_muldiv(a, n, d);
-        if (exact >= 4294967295.0) {
-            assert_true(r == 0xFFFFFFFFu);
-        } else {
-            assert_true(fabs(r - exact) <= 0.5 + exact * 2e-4);
-            if (exact >= 1e5 && fabs(r - exact) / exact > worst)
-                worst = fabs(r - exact) / exact;
-        }
-    }
-    printf("# um_muldiv worst relative error %.2e\n", worst);
-    assert_true(worst < 2e-4);
-    assert_true(um_muldiv(5, 3, 0) == 0xFFFFFFFFu);
-    assert_true(um_muldiv(0, 3, 7) == 0);
-    for (uint32_t x = 0; x < 200000; x += 7)
-        assert_int_equal(um_sqrt32(x), (int)floor(sqrt((double)x)));
-    assert_int_equal(um_sqrt32(0xFFFFFFFFu), 65535);
-    assert_true(um_mul32x16_shr16(0xFFFFFFFFu, 65535) == 0xFFFEFFFFu);
-}
-
-/* 4, 7 and 11 km/h with the default 0.3927 m a pulse: within 1 LSB (0.01 km/h) every period
- * after the second pulse, though at 4 km/h a period holds 0 or 1 pulse */
 static void test_speed_is_measured_from_periods_at_4_7_11_kmh(void **state)
 {
     static const double kmh[] = {4.0, 7.0, 11.0};
@@ -395,7 +357,6 @@ static void test_analog_a_saturated_pressure_input_is_a_short(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_umath_muldiv_is_within_2e_4_of_the_quotient),
         cmocka_unit_test_setup(test_speed_is_measured_from_periods_at_4_7_11_kmh, setup),
         cmocka_unit_test_setup(test_speed_falls_as_the_missing_pulse_allows_and_is_zero_at_standstill, setup),
         cmocka_unit_test_setup(test_speed_follows_a_change_within_two_pulse_intervals, setup),

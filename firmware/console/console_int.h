@@ -1,0 +1,51 @@
+/* console_int.h: the console's shared state and helpers, for console.c (keys) and console_view.c (screens). */
+#ifndef CONSOLE_INT_H
+#define CONSOLE_INT_H
+
+#include "compiler.h"
+#include "screen.h"
+
+enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK };
+
+#define ENTRY_MAX 7                 /* characters of a number being typed */
+#define ENTRY_TOO_BIG 0xFFFFu       /* above every parameter's maximum (60000 at most) */
+#define NO_RANGE 0xFF
+
+typedef struct {
+    uint8_t state;                  /* S_* */
+    uint8_t item;                   /* menu entry: a parameter id or MENU_* */
+    uint8_t step;                   /* step of a procedure; choice shown; totals: reset asked */
+    uint8_t entry_n;
+    char k;                         /* the key being handled */
+    char entry[ENTRY_MAX + 1];      /* the number being typed */
+    char line[SCREEN_COLS + 1];     /* one line being put together */
+    const char *msg;                /* the message on the bottom line, 0 for none ... */
+    uint8_t msg_range;              /* ... or the parameter whose range it shows, NO_RANGE */
+    uint16_t msg_until_ms;          /* hal_ms() low 16 bits: messages and redraws are short */
+    uint16_t next_draw_ms;
+    uint32_t cal_pulses;            /* pulse total at the start, then the pulses counted */
+    uint16_t cal_value;             /* the new calibration value, in the parameter's units */
+} console_t;
+extern console_t con;
+
+/* text helpers and number entry (console_view.c, console.c); all __reentrant: both files keep
+ * their locals on the stack */
+void con_say(const char *s) __reentrant;
+void con_say_none(void) __reentrant;
+uint8_t con_msg_on(void) __reentrant;
+uint8_t con_cat(uint8_t at, const char *s) __reentrant;
+uint8_t con_cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant;
+void con_right_align(uint8_t from) __reentrant;
+uint8_t con_is_choice(uint8_t id) __reentrant;
+const char *con_choice_name(uint8_t id, uint16_t v) __reentrant;
+uint8_t con_cat_value(uint8_t at, uint8_t id, uint16_t v) __reentrant;
+void con_say_range(uint8_t id) __reentrant;
+void con_draw_msg(void) __reentrant;
+uint8_t con_apply(uint8_t id, uint16_t v) __reentrant;
+void con_entry_clear(void) __reentrant;
+void con_entry_key(uint8_t decimals) __reentrant;
+uint16_t con_entry_value(uint8_t decimals) __reentrant;
+uint32_t con_cal_now(void) __reentrant;
+void con_draw(void) __reentrant;
+
+#endif

@@ -1,0 +1,358 @@
+/* console_view.c: the console's screens: run, totals, menus, entry, choices, calibrations, messages. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
+#include "hal.h"
+#include "params.h"
+#include "ops.h"
+#include "diag.h"
+#include "ctl.h"
+#include "store.h"
+#include "screen.h"
+#include "fmt.h"
+#include "lcd.h"
+#include "keypad.h"
+#include "console.h"
+#include "console_int.h"
+
+/* ---- small text helpers ---------------------------------------------------------------- */
+void con_say(const char *s)
+{
+    con.msg = s;
+    con.msg_range = NO_RANGE;
+    con.msg_until_ms = (uint16_t)hal_ms() + CONSOLE_MSG_MS;
+}
+
+void con_say_none(void)
+{
+    con.msg = 0;
+    con.msg_range = NO_RANGE;
+}
+
+uint8_t con_msg_on(void)
+{
+    return con.msg || con.msg_range != NO_RANGE;
+}
+
+/* The bottom-line screens put a whole line together in `line`, then screen_line() it: each
+ * column is written once, so only real changes reach the LCD. */
+uint8_t con_cat(uint8_t at, const char *s)
+{
+    while (*s && at < SCREEN_COLS)
+        con.line[at++] = *s++;
+    con.line[at] = 0;
+    return at;
+}
+
+/* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it is */
+uint8_t con_cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t trim)
+{
+    char num[FMT_MAX];
+    uint8_t n = fmt_u32(num, v, decimals, trim);
+    if (width && n > width) {
+        while (width--)
+            at = con_cat(at, "#");
+        return at;
+    }
+    while (width-- > n)
+        at = con_cat(at, " ");
+    return con_cat(at, num);
+}
+
+/* move line[from..] to the right end of the row, spaces in between */
+void con_right_align(uint8_t from)
+{
+    uint8_t n = 0, shift;
+    while (con.line[n])
+        n++;
+    shift = (uint8_t)(SCREEN_COLS - n);
+    if (!shift || from > n)
+        return;
+    con.line[SCREEN_COLS] = 0;
+    while (n > from) {
+        n--;
+        con.line[n + shift] = con.line[n];
+    }
+    while (shift--)
+        con.line[from + shift] = ' ';
+}
+
+uint8_t con_is_choice(uint8_t id)
+{
+    return id == P_CONTROLLER || id == P_MODE;
+}
+
+const char *con_choice_name(uint8_t id, uint16_t v)
+{
+    if (id == P_MODE)
+        return v ? "Manual" : "Auto";
+    return ctl_name((uint8_t)v);
+}
+
+/* append a parameter's value and unit, "150 L/ha" */
+uint8_t con_cat_value(uint8_t at, uint8_t id, uint16_t v)
+{
+    const param_info_t *pi = param_info(id);
+    if (con_is_choice(id))
+        return con_cat(at, con_choice_name(id, v));
+    at = con_cat_num(at, 0, v, pi->decimals, 0);
+    if (pi->unit[0]) {
+        at = con_cat(at, " ");
+        at = con_cat(at, pi->unit);
+    }
+    return at;
+}
+
+/* "Range 10..1000", the limits with their decimals, trailing zeros dropped */
+void con_say_range(uint8_t id)
+{
+    con_say(0);
+    con.msg_range = id;
+}
+
+/* The message on the bottom line. */
+void con_draw_msg(void)
+{
+    const param_info_t *pi;
+    uint8_t at;
+    if (con.msg_range == NO_RANGE) {
+        screen_line(3, con.msg);
+        return;
+    }
+    pi = param_info(con.msg_range);
+    at = con_cat(0, "Range ");
+    at = con_cat_num(at, 0, pi->min, pi->decimals, 1);
+    at = con_cat(at, "..");
+    con_cat_num(at, 0, pi->max, pi->decimals, 1);
+    screen_line(3, con.line);
+}
+
+/* Set and store a value; the message says what happened. 0 when refused. */
+uint8_t con_apply(uint8_t id, uint16_t v)
+{
+    if (!param_set(id, v)) {
+        con_say_range(id);
+        return 0;
+    }
+    con_say(store_save() ? "Saved" : store_status_text(STORE_WRITE_ERR));
+    return 1;
+}
+
+/* ---- screens ------------------------------------------------------------------------------- */
+static void draw_bottom(const char *otherwise)
+{
+    if (con_msg_on())
+        con_draw_msg();
+    else
+        screen_line(3, otherwise);
+}
+
+/* The alarm to show: unacknowledged ones first, several take turns every 2 s; -1 for none. */
+static int8_t alarm_shown(void)
+{
+    uint16_t set = app_status.alarms_unacked ? app_status.alarms_unacked : app_status.alarms;
+    uint8_t n = 0, b, turn;
+    for (b = 0; b < OPS_ALARM_BITS; b++)
+        if (set & (1u << b))
+            n++;
+    if (!n)
+        return -1;
+    turn = (uint8_t)((hal_ms() / 2000u) % n);
+    for (b = 0; b < OPS_ALARM_BITS; b++)
+        if (set & (1u << b)) {
+            if (!turn)
+                return (int8_t)b;
+            turn--;
+        }
+    return -1;
+}
+
+static void draw_run(void)
+{
+    const app_status_t *st = &app_status;
+    uint8_t at;
+    int8_t a;
+    int16_t q;
+    /* " 7.2km/h    AUTO": ground speed, mode */
+    at = con_cat_num(0, 4, (st->speed_kmh_x100 + 5u) / 10u, 1, 0);
+    at = con_cat(at, "km/h ");
+    con_cat(at, st->manual ? "MANUAL" : "AUTO");
+    con_right_align(at);
+    screen_line(0, con.line);
+    /* "Q 49.5> 49.3L/mn": target flow > measured flow */
+    at = con_cat(0, "Q");
+    q = st->target_lpm_x100;
+    at = con_cat_num(at, 5, q > 0 ? ((uint16_t)q + 5u) / 10u : 0, 1, 0);
+    at = con_cat(at, ">");
+    q = st->flow_lpm_x100;
+    at = con_cat_num(at, 5, q > 0 ? ((uint16_t)q + 5u) / 10u : 0, 1, 0);
+    con_cat(at, "L/mn");
+    screen_line(1, con.line);
+    /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
+    at = con_cat_num(0, 4, (st->applied_l_ha_x10 + 5u) / 10u, 0, 0);
+    at = con_cat(at, "L/ha");
+    at = con_cat_num(at, 5, st->pressure_kpa, 2, 0);
+    con_cat(at, "bar");
+    screen_line(2, con.line);
+    /* bottom: a message, EEPROM trouble, an alarm ("!" not yet acknowledged), or tank and controller */
+    a = alarm_shown();
+    if (con_msg_on()) {
+        con_draw_msg();
+    } else if (store_status() != STORE_OK) {
+        at = con_cat(0, "!");
+        con_cat(at, store_status_text(store_status()));
+        screen_line(3, con.line);
+    } else if (a >= 0) {
+        at = con_cat(0, (st->alarms_unacked & (1u << a)) ? "!" : " ");
+        con_cat(at, diag_text((uint8_t)a));
+        screen_line(3, con.line);
+    } else {
+        at = con_cat(0, "T");
+        at = con_cat_num(at, 5, st->tank_l, 0, 0);
+        at = con_cat(at, "L ");
+        con_cat(at, ctl_name(ctl_selected()));
+        con_right_align(at);
+        screen_line(3, con.line);
+    }
+}
+
+static void draw_totals(void)
+{
+    const app_status_t *st = &app_status;
+    uint8_t at;
+    at = con_cat(0, "Job ");
+    at = con_cat_num(at, 9, (st->job_area_m2 + 50u) / 100u, 2, 0);
+    con_cat(at, " ha");
+    screen_line(0, con.line);
+    at = con_cat(0, "Job ");
+    at = con_cat_num(at, 10, (st->job_volume_ml + 50u) / 100u, 1, 0);
+    con_cat(at, " L");
+    screen_line(1, con.line);
+    at = con_cat(0, "Life");
+    at = con_cat_num(at, 9, (st->life_area_m2 + 50u) / 100u, 2, 0);
+    con_cat(at, " ha");
+    screen_line(2, con.line);
+    if (con.step) {
+        draw_bottom("Reset job? D=yes");
+    } else if (con_msg_on()) {
+        con_draw_msg();
+    } else {
+        at = con_cat(0, "Life");
+        at = con_cat_num(at, 10, (st->life_volume_ml + 500u) / 1000u, 0, 0);
+        con_cat(at, " L");
+        screen_line(3, con.line);
+    }
+}
+
+static const char *menu_name(uint8_t i)
+{
+    if (i == MENU_CAL_SPEED)
+        return "Speed cal 100 m";
+    if (i == MENU_CAL_TANK)
+        return "Meter cal tank";
+    if (i == MENU_TOTALS)
+        return "Totals";
+    return param_info(i)->name;
+}
+
+static void draw_menu(void)
+{
+    uint8_t at = con_cat(0, "Menu ");
+    at = con_cat_num(at, 2, con.item + 1u, 0, 0);
+    at = con_cat(at, "/");
+    con_cat_num(at, 0, MENU_COUNT, 0, 0);
+    con_right_align(5);
+    screen_line(0, con.line);
+    screen_line(1, menu_name(con.item));
+    if (con.item < P_COUNT) {
+        con_cat_value(0, con.item, param_v[con.item]);
+        con_right_align(0);
+        screen_line(2, con.line);
+    } else {
+        screen_line(2, con.item == MENU_TOTALS ? "D: show, reset" : "D: start");
+    }
+    draw_bottom("A^ Bv D:ok C:run");
+}
+
+static void draw_edit(void)
+{
+    const param_info_t *pi = param_info(con.item);
+    uint8_t at;
+    screen_line(0, pi->name);
+    at = con_cat(0, "now ");
+    con_cat_value(at, con.item, param_v[con.item]);
+    con_right_align(at);
+    screen_line(1, con.line);
+    at = con_cat(0, "new ");
+    at = con_cat(at, con.entry);
+    at = con_cat(at, "_");
+    if (pi->unit[0]) {
+        at = con_cat(at, " ");
+        con_cat(at, pi->unit);
+    }
+    screen_line(2, con.line);
+    draw_bottom("D:ok C:clear");
+}
+
+static void draw_choice(void)
+{
+    uint8_t at;
+    screen_line(0, param_info(con.item)->name);
+    at = con_cat(0, "now ");
+    con_cat(at, con_choice_name(con.item, param_v[con.item]));
+    con_right_align(at);
+    screen_line(1, con.line);
+    at = con_cat(0, "new ");
+    con_cat(at, con_choice_name(con.item, con.step));
+    con_right_align(at);
+    screen_line(2, con.line);
+    draw_bottom("A/B:choose D:ok");
+}
+
+static void draw_cal(void)
+{
+    uint8_t tank = con.state == S_CAL_TANK;
+    uint32_t now = con_cal_now();
+    uint8_t at;
+    screen_line(0, tank ? "Meter cal tank" : "Speed cal 100 m");
+    if (con.step == 0) {
+        screen_line(1, tank ? "Tank at a mark" : "At the start");
+        screen_line(2, "D: start count");
+        draw_bottom("C:back");
+        return;
+    }
+    at = con_cat(0, "Pulses");
+    con_cat_num(at, 10, con.step == 1 ? now - con.cal_pulses : con.cal_pulses, 0, 0);
+    screen_line(1, con.line);
+    if (con.step == 1) {
+        screen_line(2, tank ? "Spray; D: stop" : "At 100 m: D");
+        draw_bottom("C:cancel");
+    } else if (con.step == 2) {             /* tank: litres sprayed */
+        at = con_cat(0, "Litres ");
+        at = con_cat(at, con.entry);
+        con_cat(at, "_");
+        screen_line(2, con.line);
+        draw_bottom("D:ok C:clear");
+    } else {                            /* the new value, to save */
+        at = con_cat(0, "New ");
+        con_cat_value(at, tank ? P_METER_K : P_WHEEL, con.cal_value);
+        con_right_align(at);
+        screen_line(2, con.line);
+        draw_bottom("D:save C:cancel");
+    }
+}
+
+void con_draw(void)
+{
+    if (con_msg_on() && (int16_t)((uint16_t)hal_ms() - con.msg_until_ms) >= 0)
+        con_say_none();
+    switch (con.state) {
+    case S_RUN: draw_run(); break;
+    case S_TOTALS: draw_totals(); break;
+    case S_MENU: draw_menu(); break;
+    case S_EDIT: draw_edit(); break;
+    case S_CHOICE: draw_choice(); break;
+    default: draw_cal(); break;
+    }
+}
+

@@ -1,0 +1,47 @@
+/* ops.c: what the operator can do from the keypad or the serial link: jog, acknowledge, reset totals. */
+#include "hal.h"
+#include "speed.h"
+#include "flow.h"
+#include "totals.h"
+#include "ops.h"
+
+app_status_t app_status;
+ops_jog_t ops_jog_req;
+
+void ops_init(void)
+{
+    ops_jog_req.periods = 0;
+    ops_jog_req.dir = 0;
+}
+
+void ops_jog(int8_t dir)
+{
+    if (!app_status.manual || dir == 0)
+        return;
+    ops_jog_req.dir = dir;
+    ops_jog_req.periods = OPS_JOG_PERIODS;
+}
+
+void ops_alarm_ack(void)
+{
+    app_status.alarms_unacked = 0;
+    hal_buzzer(0);
+}
+
+void ops_totals_reset(void)
+{
+    totals_job_reset();
+    app_status.job_area_m2 = 0;
+    app_status.job_volume_ml = 0;
+    app_status.applied_l_ha_x10 = 0;
+}
+
+uint32_t ops_wheel_pulses(void)
+{
+    return speed_pulses();
+}
+
+uint32_t ops_flow_pulses(void)
+{
+    return flow_pulses();
+}

@@ -1,0 +1,53 @@
+/* ops.h: the operations the console and the serial link call down into, and the status they read. */
+#ifndef OPS_H
+#define OPS_H
+
+#include "compiler.h"
+
+/* What the application measured and decided in its last control step: the console, the
+ * serial log and the simulator's trace read it; app.c writes it (and ops.c, for the
+ * operator's acknowledgement and totals reset). */
+typedef struct {
+    uint16_t speed_kmh_x100;        /* ground speed used for the target (measured or given) */
+    int16_t target_lpm_x100;        /* target boom flow, eq. (1) and Table 1 */
+    int16_t flow_lpm_x100;          /* measured boom flow */
+    uint16_t pressure_kpa;          /* boom line pressure */
+    uint16_t tank_l;                /* tank contents from the level sensor */
+    uint16_t applied_l_ha_x10;      /* dose applied over the job so far */
+    int16_t drive;                  /* Q15 valve drive from the controller (+ = more flow) */
+    int16_t gain[3];                /* kp, ki, kd the controller used in its last step, Q12 */
+    uint16_t alarms;                /* active alarm bits */
+    uint16_t alarms_unacked;        /* alarm bits raised and not yet acknowledged */
+    uint8_t spraying;               /* master boom valve open */
+    uint8_t manual;                 /* manual mode (operator jogs the valve) */
+    uint8_t open_nozzles;           /* nozzles in the switched-on sections */
+    uint32_t job_area_m2;           /* totals: area and volume of this job ... */
+    uint32_t job_volume_ml;
+    uint32_t life_area_m2;          /* ... and of the machine's life */
+    uint32_t life_volume_ml;
+} app_status_t;
+
+extern app_status_t app_status;
+/* Bits of app_status.alarms (diag.h names them; codes and texts from diag_code/_text). */
+#define OPS_ALARM_BITS 16
+
+/* A jog asked for (manual mode): the control step drives it, OPS_JOG_PERIODS periods. */
+#define OPS_JOG_PERIODS 3u
+typedef struct {
+    uint8_t periods;                /* periods of jog left (0: none) */
+    int8_t dir;                     /* +1 more boom flow, -1 less */
+} ops_jog_t;
+extern ops_jog_t ops_jog_req;
+
+void ops_init(void);
+/* Manual mode: drive the valve for one jog (+1 more boom flow, -1 less); ignored in auto. */
+void ops_jog(int8_t dir);
+/* Acknowledge the alarms now shown (they stay active while their cause lasts). */
+void ops_alarm_ack(void);
+/* Zero the job totals. */
+void ops_totals_reset(void);
+/* Running pulse totals since start, for the calibration procedures (100 m, tank method). */
+uint32_t ops_wheel_pulses(void);
+uint32_t ops_flow_pulses(void);
+
+#endif
