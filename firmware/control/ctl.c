@@ -28,9 +28,7 @@ static uint8_t ctl_gen;             /* param_generation the derived constants be
 uint8_t ctl_first;
 int16_t ctl_kf;
 int16_t ctl_travel;
-int16_t ctl_inv_travel;
 int16_t ctl_stiction = CTL_STICTION_DEF;    /* P_VALVE_BRK in Q15 */
-int16_t ctl_stiction_half = CTL_STICTION_DEF / 2;
 int16_t ctl_drun;
 int16_t ctl_run_span = 32767;
 int16_t ctl_backlash = CTL_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
@@ -79,7 +77,6 @@ static void ctl_derive(void)
         ctl_travel = 40;
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
     ctl_kf = (int16_t)(((uint32_t)ctl_travel * 839u + 8u) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
-    ctl_inv_travel = (int16_t)((32768UL + (uint16_t)ctl_travel / 2u) / (uint16_t)ctl_travel);
     /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded); told new values of
      * these or of Valve time, ffmap drops the break-away and the loop gain it had learnt against
      * the old ones (the operator knows the valve now) */
@@ -92,7 +89,6 @@ static void ctl_derive(void)
     }
     ctl_stiction = s;
     ctl_backlash = b;
-    ctl_stiction_half = ctl_stiction / 2;
     ctl_drun = (int16_t)(((int32_t)ctl_stiction * CTL_RUN_NUM + 8) >> 4);
     if (ctl_drun > Q15(0.45))
         ctl_drun = Q15(0.45);       /* 1 / (1 - d_run) within Q14 */

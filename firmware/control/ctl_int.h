@@ -136,8 +136,6 @@ extern const __xdata ctl_in_t *ctl_in;  /* the inputs of the step in progress */
 extern uint8_t ctl_first;           /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
-extern int16_t ctl_inv_travel;      /* Q15: 1 / ctl_travel */
-extern int16_t ctl_stiction_half;   /* Q15: half of Min duty (no divide in a step: SDCC calls one) */
 /* The motor's running friction: moving, it runs at (duty - d_run) / (1 - d_run) of full speed.
  * d_run is taken as CTL_RUN_NUM/16 of Min duty (the break-away duty). */
 #define CTL_RUN_NUM 10

@@ -44,7 +44,8 @@ static struct {
     uint8_t nozzles;
     uint8_t gen;
     /* the nozzle model learnt from the sprayer: P = pc + kp (q / n Q3)^2 (diag_learn) */
-    uint32_t sx, sy, sxx, sxy;                  /* sums of x = (q / n Q3)^2 (Q8), y = P (kPa) */
+    uint16_t sx, sy;                            /* sums of x = (q / n Q3)^2 (Q8, < 512), y = P (kPa, < 512) */
+    uint32_t sxx, sxy;                          /* ... of x^2 and x y */
     uint8_t ln;                                 /* samples summed */
     uint8_t learnt;                             /* 0 no model, 1 near xm only, 2 the whole range */
     uint16_t xm;                                /* Q8: the mean x of a model learnt near one flow */
@@ -102,9 +103,9 @@ static uint16_t x_of(int16_t meter) __reentrant
  * sane nozzles. */
 static void learn_fit(void) __reentrant
 {
-    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx - dg.sx * dg.sx;        /* N^2 var(x) */
-    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = dg.sx * dg.sy;
-    if ((uint32_t)DIAG_LEARN_N * dg.sxx > dg.sx * dg.sx && a >= DIAG_LEARN_SPREAD && k > c) {
+    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx - (uint32_t)dg.sx * dg.sx;   /* N^2 var(x) */
+    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = (uint32_t)dg.sx * dg.sy;
+    if ((uint32_t)DIAG_LEARN_N * dg.sxx > (uint32_t)dg.sx * dg.sx && a >= DIAG_LEARN_SPREAD && k > c) {
         k = um_muldiv(k - c, 256u, a);                                  /* kPa at the rated flow */
         c = um_muldiv(dg.sx, (uint16_t)(k > 2000u ? 2000u : k), 256u);
         c = dg.sy > c ? (dg.sy - c) / DIAG_LEARN_N : 0;                 /* the check valves */
@@ -112,6 +113,7 @@ static void learn_fit(void) __reentrant
             dg.kp_kpa = (uint16_t)k;
             dg.pc_kpa = (uint16_t)c;
             dg.learnt = 2;
+            dg.ln = 0;
             return;
         }
     }
@@ -132,21 +134,19 @@ static void learn_fit(void) __reentrant
 
 /* One clean period (steady flow on target, no flow alarm): every DIAG_LEARN_EVERY a sample;
  * 1 when DIAG_LEARN_N are summed (the caller fits them). */
-static uint8_t learn(int16_t meter, uint16_t p) __reentrant
+static uint8_t learn(uint16_t r, uint16_t p) __reentrant
 {
-    uint32_t r;
     if (dg.learnt == 2 || ++dg.ldiv < DIAG_LEARN_EVERY)
         return 0;
     dg.ldiv = 0;
-    r = x_of(meter);
     if (r == 0xFFFFu)
         return 0;
     if (p > 511u)
         p = 511u;
     dg.sx += r;
     dg.sy += p;
-    dg.sxx += r * r;
-    dg.sxy += r * p;
+    dg.sxx += (uint32_t)r * r;
+    dg.sxy += (uint32_t)r * p;
     return ++dg.ln >= DIAG_LEARN_N;
 }
 
@@ -264,21 +264,17 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
         && target > 0 && (uint32_t)(meter > target ? meter - target : target - meter) * 20u <= (uint16_t)target;
-    if (g && learn(meter, p)) {
-        learn_fit();
-        dg.gen = (uint8_t)(param_generation - 1u);
-        diag_set_nozzles(dg.nozzles);
-    }
+    x = judge ? x_of(meter) : 0xFFFFu;
+    if (g)
+        learn((uint16_t)x, p);      /* (the fit is diag_step's: a shorter call chain) */
     judge = judge && pexp != 0xFFFFu;
     /* near the learnt model (learnt over the range, or near the flow it was learnt at) the
      * pressure above the check valves must be within P_PDEV / 2; elsewhere (not learnt yet, far
      * from a model learnt at one flow) only a gross deviation counts: P_PDEV of it and
      * DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can make */
     g = dg.learnt == 2;
-    if (dg.learnt == 1) {
-        x = x_of(meter);
+    if (dg.learnt == 1)
         g = x * 4u >= (uint32_t)dg.xm * 3u && x * 3u <= (uint32_t)dg.xm * 4u;
-    }
     if (g) {
         judge = judge && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA;
         p100 = (uint32_t)(p > dg.pc_kpa ? p - dg.pc_kpa : 0) * 100u;
@@ -323,10 +319,14 @@ static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reen
 uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_watch) __reentrant
 {
     uint8_t g;
-    uint16_t n;
-    uint32_t x;
+    uint16_t n, x;
     diag_supply(in, p_watch);
     diag_model(in, settled);
+    if (dg.ln >= DIAG_LEARN_N) {    /* the samples are in: the nozzle model */
+        learn_fit();
+        dg.gen = (uint8_t)(param_generation - 1u);
+        diag_set_nozzles(dg.nozzles);
+    }
     /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
      * down keeps making pulses; one that stops dead from working speed inside one pulse
      * distance is the false alarm this rule accepts) */
@@ -345,7 +345,8 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     /* the wheel's: +DIAG_WHEEL_GLITCH a rejected pulse, -1 a good one, so the score climbs only
      * while more than 1 pulse in DIAG_WHEEL_GLITCH + 1 is rejected (a bounce now and then is
      * rejected and forgotten) */
-    x = (uint16_t)(speed_glitches() - dg.wheel_glitches) * (uint32_t)DIAG_WHEEL_GLITCH + dg.wheel_noise;
+    x = (uint16_t)(speed_glitches() - dg.wheel_glitches);
+    x = (x > 21u ? 255u : x * DIAG_WHEEL_GLITCH) + dg.wheel_noise;
     dg.wheel_glitches = speed_glitches();
     n = (uint16_t)((uint16_t)speed_pulses() - dg.wheel_pulses);
     dg.wheel_pulses = (uint16_t)speed_pulses();
