@@ -24,8 +24,8 @@ IRAM_SIZE ?= 256
 XRAM_SIZE ?= 1024
 # headroom floors: `make firmware` fails below them (room for the next feature, fix or figure;
 # docs/MEMORY.md). Issue 13 asks 15 % of the code free: not reached yet, the floor holds what
-# is (12 %) so that nothing grows back; raise it as code comes out.
-CODE_FREE_PCT ?= 12
+# is (13 %) so that nothing grows back; raise it as code comes out.
+CODE_FREE_PCT ?= 13
 XRAM_FREE_MIN ?= 205
 STACK_MARGIN_MIN ?= 40
 
@@ -104,7 +104,7 @@ help:
 	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
-	@echo "make screenshots  the run screen and a menu as PNG in docs/"
+	@echo "make screenshots  the run screen, a menu, a refused entry and the I/O test as PNG in docs/"
 	@echo "make clean     remove build/"
 
 # ==== the firmware image ==============================================================================
@@ -250,7 +250,7 @@ demo:
 
 # make panel [PANEL_SCENARIO=file] [PANEL_ARGS="--speed 2 ..."]: the LCD12864 and the keypad in the
 # terminal, the firmware against the simulated sprayer in real time (sim/panel_main.c; q quits).
-# make screenshots: the run screen, a menu and a refused entry as PNG in docs/ (the README shows
+# make screenshots: the run screen, a menu, a refused entry and the I/O test as PNG in docs/ (the README shows
 # them; the panel writes uncompressed PNG, Pillow recompresses).
 PANEL_SCENARIO ?=
 PANEL_ARGS ?=
@@ -263,7 +263,8 @@ screenshots: $(PANEL_BIN)
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......" --screenshot docs/panel_run.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......ABBBB" --screenshot docs/panel_menu.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......AD1500D" --screenshot docs/panel_refused.png
-	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png
+	$(Q)$(PANEL_BIN) --time 40 --keys "*......AAD1......" --screenshot docs/panel_iotest.png
+	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png docs/panel_iotest.png
 
 # ==== set-up and cleaning ====================================================================================
 deps:

@@ -9,7 +9,8 @@
 #endif
 
 /* ---- clocks ------------------------------------------------------------------------------
- * hal_ms: milliseconds since start, from the 1 ms system tick (wraps after 49 days).
+ * hal_ms: milliseconds since start, counted off the PCA counter (wraps after 49 days); true
+ * time also across a late interrupt or a CPU held by an IAP erase.
  * The capture clock is the PCA counter at SYSCLK/12 = 921600 Hz (1.085 us), extended to
  * 32 bits by counting its overflows (wraps after 77.7 min: use unsigned differences).  */
 #define HAL_SYSCLK_HZ 11059200UL
@@ -61,7 +62,10 @@ void hal_buzzer(uint8_t on);
 #define HAL_UART_BAUD 38400UL
 /* Queue one byte; returns 0 when the transmit buffer is full (the byte is not taken). */
 uint8_t hal_uart_put(uint8_t b);
-/* Next received byte, or -1 when none. */
+/* Next received byte, -1 when none, or HAL_UART_LOST where bytes were lost (the 16-byte
+ * receive queue full, or bytes arriving while an IAP operation held the CPU); the bytes
+ * before the gap come first, the ones after it next. */
+#define HAL_UART_LOST (-2)
 int16_t hal_uart_get(void);
 
 /* ---- parameter EEPROM (IAP flash: 2 sectors of 512 bytes, erased bytes read 0xFF) -------- */
@@ -78,6 +82,16 @@ void hal_lcd_write(uint8_t rs, uint8_t b);
 
 /* ---- watchdog (about 1.1 s) ---------------------------------------------------------------- */
 void hal_wdt_kick(void);
+
+/* ---- reset cause and supply --------------------------------------------------------------- */
+#define HAL_RESET_POWER 0           /* the supply came up */
+#define HAL_RESET_WATCHDOG 1        /* the watchdog was not fed (a hung loop, an internal fault) */
+#define HAL_RESET_BROWNOUT 2        /* the supply dipped below the low-voltage threshold */
+#define HAL_RESET_OTHER 3           /* the reset pin */
+/* Why the chip last reset (read once in hal_init). */
+uint8_t hal_reset_cause(void);
+/* 1 while the supply is below the low-voltage detector's threshold: no EEPROM writes then. */
+uint8_t hal_supply_low(void);
 
 #ifdef HAL_STC12
 /* SDCC puts an interrupt vector only where the handler's prototype is seen by main()'s file. */

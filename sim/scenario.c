@@ -426,6 +426,17 @@ static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const ch
         return fail(c, duty_line, duty_key, "running duty %g is above the break-away duty %g "
                     "(valve_running_duty <= valve_stiction_duty)",
                     s->plant.valve_running_duty, s->plant.valve_stiction_duty);
+    {
+        /* the firmware's cross-checks between parameters (params.h), on this set */
+        uint16_t live[P_COUNT];
+        uint8_t why;
+        memcpy(live, param_v, sizeof live);
+        memcpy(param_v, s->param, sizeof live);
+        why = params_cross();
+        memcpy(param_v, live, sizeof live);
+        if (why != PARAM_OK)
+            return fail(c, 0, "[config]", "the firmware refuses this set of values: %s", param_why_text(why));
+    }
     for (i = 0; i < s->n_events; i++) {
         const scn_event_t *e = &s->events[i];
         char msg[200];

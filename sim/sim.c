@@ -22,7 +22,7 @@ static void apply_params(const scenario_t *s)
 {
     uint8_t i;
     for (i = 0; i < P_COUNT; i++)
-        param_set(i, s->param[i]);          /* all were range-checked by the reader */
+        param_put(i, s->param[i]);          /* range- and cross-checked by the reader */
 }
 
 static void set_sections(sim_t *sim, int open_nozzles)

@@ -6,7 +6,8 @@
 
 Every line the controller sends ends in "*HH" (XOR of the bytes before '*', see firmware/link/serial.h);
 a line whose checksum is wrong is counted and dropped, never logged. LOG lines (one a second,
-like the paper's PC monitor) become CSV rows; ALM / CLR / OK / ERR lines are printed.
+like the paper's PC monitor) become CSV rows; BOOT (the reset cause) / ALM / CLR / OK / ERR lines are
+printed.
 """
 import argparse
 import csv
@@ -50,7 +51,7 @@ def parse_line(line):
             return None, "LOG with a bad number"
         return "LOG", [t_ms / 1000.0, speed / 100.0, p_kpa / 1000.0, target / 100.0, flow / 100.0,
                        "%04X" % alarms]
-    if kind in ("ALM", "CLR", "OK", "ERR"):
+    if kind in ("ALM", "CLR", "OK", "ERR", "BOOT"):
         return kind, words[1:]
     return None, "unknown line " + kind
 

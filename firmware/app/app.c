@@ -32,7 +32,9 @@
  *   diagnose, totals, a log line every 1000 ms (serial.c), the buzzer while alarms are unacked.
  * The watchdog is kicked after a step that ran on time (less than one period late) while no
  * internal fault is latched; a step late by a whole period or more is not rescheduled back to
- * back (the schedule restarts from now) and that step does not kick.
+ * back (the schedule skips the periods it missed, staying on its grid: the totals count them)
+ * and that step does not kick. The I/O test (ops_io) hands the relay, the buzzer and the jog
+ * to the technician: the boom's own control is off meanwhile.
  */
 #define APP_PRIME_MAX_PERIODS 100u  /* start-up closing gives up after 10 s */
 #define APP_JOG_DRIVE Q15(0.6)      /* a jog (OPS_JOG_PERIODS) at 60 % duty */
@@ -41,6 +43,10 @@
 /* periods after power-up before over-pressure is an alarm even if the pressure never fell under
  * P max (the pump may push against a bypass left closed while the slowest valve opens) */
 #define APP_P_WAIT 150u
+/* The totals are saved this long after the boom shuts: not in the step that switches the
+ * relay off, when its coil's energy and the supply's dip meet the IAP erase's current. */
+#define APP_SAVE_WAIT_PERIODS (1000u / APP_PERIOD_MS)
+#define IO_ON (ops_io & OPS_IO_ON)
 
 static struct {
     uint32_t next_ms;
@@ -52,6 +58,8 @@ static struct {
     uint8_t internal;
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
     uint8_t p_watch;                /* APP_P_WAIT: the pressure was under P max once spraying or parked since power-up, or APP_P_WAIT passed */
+    uint8_t save_wait;              /* periods until the totals are saved (0: none due) */
+    uint8_t periods;                /* periods this step covers (more than 1: it was late) */
 } ap;
 
 void app_init(void)
@@ -77,6 +85,7 @@ void app_init(void)
     ap.log_div = 0;
     ap.internal = 0;
     ap.p_watch = 0;
+    ap.save_wait = 0;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -148,18 +157,20 @@ static void app_spray(void)
     uint8_t manual = app_status.manual;
     uint8_t want = app_status.open_nozzles && !((diag_alarms() >> AL_TANK_LOW) & 1u)
                    && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
-                   && (manual || app_status.speed_kmh_x100 > 0) && !ap.internal;
+                   && (manual || app_status.speed_kmh_x100 > 0) && !ap.internal && !IO_ON;
     if (want != app_status.spraying) {
         app_status.spraying = want;
         hal_spray_enable(want);
         if (!want)
-            store_save();               /* the boom shut after spraying: keep the lifetime totals */
+            ap.save_wait = APP_SAVE_WAIT_PERIODS;   /* keep the lifetime totals, a while later */
         if (want) {
             ap.prime = (!manual && analog_pressure_ok() && app_status.pressure_kpa < param_v[P_P_MIN])
                        ? APP_PRIME_MAX_PERIODS : 0;
             ctl_reset(0);
         }
     }
+    if (IO_ON)
+        hal_spray_enable((ops_io & OPS_IO_RELAY) && !ap.internal);   /* never against an internal fault */
     if (manual != ap.was_manual) {
         ap.was_manual = manual;
         if (!manual)
@@ -209,7 +220,7 @@ static void app_drive(void)
     uint8_t manual = app_status.manual;
     uint8_t overp = app_overp();
     q15_t drive = 0;
-    if (manual) {
+    if (manual || IO_ON) {
         if (ops_jog_req.periods) {
             ops_jog_req.periods--;
             drive = ops_jog_req.dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
@@ -222,12 +233,25 @@ static void app_drive(void)
             ap.parked = 1;                  /* open enough (or at the stop): stay, no retries */
         drive = ap.parked ? 0 : -Q15_MAX;
     }
-    if (app_status.spraying || manual)
+    if (app_status.spraying || manual || IO_ON)
         ap.parked = 0;
     if (overp && drive > -APP_RELIEVE_DRIVE)
         drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
     valve_set(drive);
     ctl_applied(valve_applied(), valve_limit());   /* what the valve got, overrides included */
+}
+
+/* The totals after the boom shut: APP_SAVE_WAIT_PERIODS later, and not while the supply is
+ * low (store_save refuses then; tried again a wait later). Spraying again cancels it: the
+ * next shut saves. */
+static void app_save_when_due(void)
+{
+    if (app_status.spraying) {
+        ap.save_wait = 0;
+        return;
+    }
+    if (ap.save_wait && --ap.save_wait == 0 && !store_save() && store_status() == STORE_LOW_SUPPLY)
+        ap.save_wait = APP_SAVE_WAIT_PERIODS;
 }
 
 /* Totals, the rest of the status, the alarms (diag.c, with this period's figures), the buzzer
@@ -238,8 +262,12 @@ static void app_account(void)
     uint16_t g;
     uint8_t on = app_status.spraying;
 
-    totals_step(on ? app_status.speed_kmh_x100 : 0, on ? target_width_cm() : 0,
-                on ? app_status.flow_lpm_x100 : 0);
+    /* every period since the last step, a late step's missed ones too */
+    do
+        totals_step(on ? app_status.speed_kmh_x100 : 0, on ? target_width_cm() : 0,
+                    on ? app_status.flow_lpm_x100 : 0);
+    while (--ap.periods);
+    app_save_when_due();
     app_status.tank_l = analog_tank_l();
     app_status.drive = valve_applied();
     app_status.gain[0] = ctl_gain(0);
@@ -254,7 +282,7 @@ static void app_account(void)
     g = diag_step(&app_status, on && !ap.prime, (on || ap.parked) && ap.p_watch >= APP_P_WAIT);
     app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
     app_status.alarms = g;
-    hal_buzzer(app_status.alarms_unacked != 0);
+    hal_buzzer(IO_ON ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
 
     t = totals_get();
     app_status.job_volume_ml = t->job_ml;
@@ -295,13 +323,17 @@ void app_poll(void)
     console_poll();
     if ((int32_t)(now - ap.next_ms) < 0)
         return;
-    late = (now - ap.next_ms) >= APP_PERIOD_MS;
-    if (late) {
-        ap.overruns++;
-        ap.next_ms = now + APP_PERIOD_MS;
-    } else {
+    /* a step late by a period or more (a held CPU, a stall) skips the periods it missed, so
+     * the schedule stays on its grid, and counts them into the totals */
+    ap.periods = 0;
+    do {
         ap.next_ms += APP_PERIOD_MS;
-    }
+        if (ap.periods < 255)
+            ap.periods++;
+    } while ((int32_t)(now - ap.next_ms) >= 0);
+    late = ap.periods > 1;
+    if (late)
+        ap.overruns++;
     app_step();
     if (!late && !ap.internal)
         hal_wdt_kick();

@@ -24,20 +24,25 @@ void con_entry_clear(void)
     con.entry[0] = 0;
 }
 
-void con_entry_key(uint8_t decimals)
+/* where the decimal point is in the entry, 0xFF for none */
+static uint8_t entry_point(void)
 {
-    uint8_t i, point = 0xFF;
+    uint8_t i;
     for (i = 0; i < con.entry_n; i++)
         if (con.entry[i] == '.')
-            point = i;
+            return i;
+    return 0xFF;
+}
+
+void con_entry_key(uint8_t decimals)
+{
+    uint8_t point = entry_point();
     if (con.k == '#') {
-        if (!decimals) {
-            con_say("Whole numbers");
-            return;
-        }
+        if (!decimals)
+            con_say("Whole numbers");   /* the point is kept: D refuses the entry, not 12#5 = 125 */
         if (point != 0xFF)
             return;
-    } else if (point != 0xFF && con.entry_n - point > decimals) {
+    } else if (point != 0xFF && decimals && con.entry_n - point > decimals) {
         con_say(decimals == 1 ? "1 decimal only" : "2 decimals only");
         return;
     }
@@ -140,6 +145,10 @@ static void key_menu(void)
             go(S_CAL_TANK);
         else if (con.item == MENU_TOTALS)
             go(S_TOTALS);
+        else if (con.item == MENU_IOTEST) {
+            go(S_IOTEST);
+            con_iotest_start();
+        }
         else if (con_is_choice(con.item)) {
             go(S_CHOICE);
             con.step = (uint8_t)param_v[con.item];
@@ -175,7 +184,9 @@ static void key_edit(void)
             return;
         }
         v = con_entry_value(pi->decimals);
-        if (v == ENTRY_TOO_BIG) {
+        if (!pi->decimals && entry_point() != 0xFF) {
+            con_say("Whole numbers");
+        } else if (v == ENTRY_TOO_BIG) {
             con_say_range(con.item);
         } else if (con_apply(con.item, v)) {
             con.state = S_MENU;
@@ -266,6 +277,21 @@ static void key_cal(void)
     }
 }
 
+/* The I/O test: 1 the relay, 3 the buzzer, 2 / 8 jog the valve, C back (outputs returned). */
+static void key_iotest(void)
+{
+    if (con.k == '1')
+        ops_io_test(ops_io ^ OPS_IO_RELAY);
+    else if (con.k == '3')
+        ops_io_test(ops_io ^ OPS_IO_BUZZER);
+    else if (con.k == '2' || con.k == '8')
+        ops_jog(con.k == '2' ? 1 : -1);
+    else if (con.k == 'C') {
+        ops_io_test(0);
+        go(S_MENU);
+    }
+}
+
 static void key(void)
 {
     if (con.k == '*') {
@@ -284,6 +310,7 @@ static void key(void)
     case S_MENU: key_menu(); break;
     case S_EDIT: key_edit(); break;
     case S_CHOICE: key_choice(); break;
+    case S_IOTEST: key_iotest(); break;
     default: key_cal(); break;
     }
 }
@@ -297,7 +324,7 @@ void console_init(void)
     con.item = 0;
     con.step = 0;
     con_entry_clear();
-    con_say_none();
+    con_say(diag_reset_text());     /* why the controller (re)started */
     con.next_draw_ms = (uint16_t)hal_ms();
 }
 

@@ -15,6 +15,8 @@
  *   choice       A / B step through the choices, D accept, C back
  *   calibration  D start / stop / save, C cancel
  *   totals       D "Reset job? D=yes", D again resets the job totals, C back
+ *   I/O test     1 spray relay on/off, 3 buzzer on/off, 2 / 8 jog the valve, C back (the
+ *                boom's control is off while it shows; inputs as raw counts and pulses)
  * Every accepted change goes through param_set() and is written to the EEPROM (store.h).
  */
 #define CONSOLE_REDRAW_MS 250       /* the run screen's refresh */
@@ -24,7 +26,8 @@
 #define MENU_CAL_SPEED (P_COUNT + 0)
 #define MENU_CAL_TANK (P_COUNT + 1)
 #define MENU_TOTALS (P_COUNT + 2)
-#define MENU_COUNT (P_COUNT + 3)
+#define MENU_IOTEST (P_COUNT + 3)
+#define MENU_COUNT (P_COUNT + 4)
 
 void console_init(void);
 /* From the main loop: keypad scan, key handling, screen refresh, LCD update. */

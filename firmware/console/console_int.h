@@ -5,7 +5,7 @@
 #include "compiler.h"
 #include "screen.h"
 
-enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK };
+enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK, S_IOTEST };
 
 #define ENTRY_MAX 7                 /* characters of a number being typed */
 #define ENTRY_TOO_BIG 0xFFFFu       /* above every parameter's maximum (60000 at most) */
@@ -23,10 +23,19 @@ typedef struct {
     uint8_t msg_range;              /* ... or the parameter whose range it shows, NO_RANGE */
     uint16_t msg_until_ms;          /* hal_ms() low 16 bits: messages and redraws are short */
     uint16_t next_draw_ms;
-    uint32_t cal_pulses;            /* pulse total at the start, then the pulses counted */
-    uint16_t cal_value;             /* the new calibration value, in the parameter's units */
+    uint32_t cal_pulses;            /* pulse total at the start, then the pulses counted;
+                                     * I/O test: the wheel's at the rate window's start */
+    uint16_t cal_value;             /* the new calibration value, in the parameter's units;
+                                     * I/O test: hal_ms() low 16 bits at the window's start */
 } console_t;
 extern console_t con;
+
+/* The I/O test's rate window (console_view.c). */
+typedef struct {
+    uint16_t meter0;                /* meter pulses at the window's start (low 16 bits) */
+    uint16_t wheel_hz, meter_hz;    /* the last window's rates */
+} con_io_t;
+extern con_io_t con_io;
 
 /* text helpers and number entry (console_view.c, console.c); all __reentrant: both files keep
  * their locals on the stack */
@@ -47,5 +56,6 @@ void con_entry_key(uint8_t decimals) __reentrant;
 uint16_t con_entry_value(uint8_t decimals) __reentrant;
 uint32_t con_cal_now(void) __reentrant;
 void con_draw(void) __reentrant;
+void con_iotest_start(void) __reentrant;
 
 #endif

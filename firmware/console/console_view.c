@@ -14,6 +14,9 @@
 #include "keypad.h"
 #include "console.h"
 #include "console_int.h"
+#include "umath.h"
+
+con_io_t con_io;
 
 /* ---- small text helpers ---------------------------------------------------------------- */
 void con_say(const char *s)
@@ -130,11 +133,16 @@ void con_draw_msg(void)
 /* Set and store a value; the message says what happened. 0 when refused. */
 uint8_t con_apply(uint8_t id, uint16_t v)
 {
-    if (!param_set(id, v)) {
+    uint8_t why = param_try(id, v);
+    if (why == PARAM_E_RANGE) {
         con_say_range(id);
         return 0;
     }
-    con_say(store_save() ? "Saved" : store_status_text(STORE_WRITE_ERR));
+    if (why != PARAM_OK) {
+        con_say(param_why_text(why));   /* in range, but not with the other settings */
+        return 0;
+    }
+    con_say(store_save() ? "Saved" : store_status_text(store_status()));   /* write error, low supply */
     return 1;
 }
 
@@ -250,6 +258,8 @@ static const char *menu_name(uint8_t i)
         return "Speed cal 100 m";
     if (i == MENU_CAL_TANK)
         return "Meter cal tank";
+    if (i == MENU_IOTEST)
+        return "I/O test";
     if (i == MENU_TOTALS)
         return "Totals";
     return param_info(i)->name;
@@ -342,6 +352,72 @@ static void draw_cal(void)
     }
 }
 
+/*
+ * The I/O test, for checking every wire from the keypad (docs/bringup.md):
+ *   "P 512 10.01mA R0"   pressure input: raw ADC counts, loop current; spray relay (key 1)
+ *   "L 205  4.01mA B0"   level input; buzzer (key 3)
+ *   "W 1234   12Hz V0"   wheel pulses since start and their rate; valve drive (2 / 8 jog it)
+ *   "M45678  340Hz"      meter pulses and rate
+ * The rates are counted over windows of a second or more. C leaves (outputs back to the
+ * application); no parameter is touched.
+ */
+static uint8_t cat_ma(uint8_t at, uint8_t ch)
+{
+    uint16_t counts = hal_adc_read(ch);
+    at = con_cat_num(at, 4, counts, 0, 0);
+    /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA: counts * 2000 / 1023 */
+    at = con_cat_num(at, 6, ((uint32_t)counts * 32032u + 8192u) >> 14, 2, 0);
+    return con_cat(at, "mA ");
+}
+
+/* "W 1234   12Hz ": a pulse input's count (5 digits) and rate */
+static uint8_t cat_pulses(char name, uint32_t pulses, uint16_t hz)
+{
+    uint8_t at;
+    con.line[0] = name;
+    at = con_cat_num(1, 5, pulses % 100000u, 0, 0);
+    at = con_cat_num(at, 5, hz, 0, 0);
+    return con_cat(at, "Hz ");
+}
+
+void con_iotest_start(void)
+{
+    ops_io_test(OPS_IO_ON);
+    con.cal_pulses = ops_wheel_pulses();
+    con_io.meter0 = (uint16_t)ops_flow_pulses();
+    con.cal_value = (uint16_t)hal_ms();
+    con_io.wheel_hz = con_io.meter_hz = 0;
+    con_say("1R 3B 2/8V C:end");
+}
+
+static void draw_iotest(void)
+{
+    uint16_t now = (uint16_t)hal_ms(), dt = (uint16_t)(now - con.cal_value);
+    uint8_t at;
+    if (dt >= 1000u) {
+        con_io.wheel_hz = (uint16_t)um_muldiv(ops_wheel_pulses() - con.cal_pulses, 1000u, dt);
+        con_io.meter_hz = (uint16_t)um_muldiv((uint16_t)((uint16_t)ops_flow_pulses() - con_io.meter0), 1000u, dt);
+        con.cal_pulses = ops_wheel_pulses();
+        con_io.meter0 = (uint16_t)ops_flow_pulses();
+        con.cal_value = now;
+    }
+    at = cat_ma(con_cat(0, "P"), HAL_ADC_PRESSURE);
+    con_cat(at, (ops_io & OPS_IO_RELAY) ? "R1" : "R0");
+    screen_line(0, con.line);
+    at = cat_ma(con_cat(0, "L"), HAL_ADC_LEVEL);
+    con_cat(at, (ops_io & OPS_IO_BUZZER) ? "B1" : "B0");
+    screen_line(1, con.line);
+    at = cat_pulses('W', ops_wheel_pulses(), con_io.wheel_hz);
+    con_cat(at, app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
+    screen_line(2, con.line);
+    if (con_msg_on()) {
+        con_draw_msg();
+        return;
+    }
+    cat_pulses('M', ops_flow_pulses(), con_io.meter_hz);
+    screen_line(3, con.line);
+}
+
 void con_draw(void)
 {
     if (con_msg_on() && (int16_t)((uint16_t)hal_ms() - con.msg_until_ms) >= 0)
@@ -352,6 +428,7 @@ void con_draw(void)
     case S_MENU: draw_menu(); break;
     case S_EDIT: draw_edit(); break;
     case S_CHOICE: draw_choice(); break;
+    case S_IOTEST: draw_iotest(); break;
     default: draw_cal(); break;
     }
 }

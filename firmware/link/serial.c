@@ -24,6 +24,9 @@ static struct {
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
+#define S_RX_LOST 4                 /* bytes of the line were lost (hal_uart_get): skip to its end */
+static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
+static __bit csum_seen;             /* the line being answered carried its checksum */
 
 static const __code char hexd[] = "0123456789ABCDEF";
 
@@ -34,6 +37,7 @@ void serial_init(void)
     se.state = S_RX;
     se.reported = 0;
     se.log_due = 0;
+    boot_due = 1;
 }
 
 void serial_log_request(void)
@@ -148,6 +152,11 @@ static const __code command_t commands[] = {
     {"SAV", ARG_NONE, C_SAV},       /* SAV               OK SAV */
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
+/* The commands that change something: refused without their checksum, so that a damaged
+ * line ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
+#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV))
+/* the ERR word of each param_try() verdict (params.h PARAM_*) */
+static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
 /* "OK <word> " then up to two numbers */
 static void ok(const char *word) __reentrant
@@ -173,8 +182,8 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     case C_SET:
         if (a >= P_COUNT) {
             reply_err("ID");
-        } else if (handler == C_SET && !param_set((uint8_t)a, b)) {
-            reply_err("RANGE");
+        } else if (handler == C_SET && (b = param_try((uint8_t)a, b)) != PARAM_OK) {
+            reply_err(why_word[b]);     /* out of range, or against another setting */
         } else {
             tx_s("OK ");
             tx_u32(a);
@@ -183,7 +192,7 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         }
         break;
     case C_CTL:
-        if (!param_set(P_CONTROLLER, a)) {
+        if (param_try(P_CONTROLLER, a) != PARAM_OK) {
             reply_err("RANGE");
         } else {
             ok("CTL ");
@@ -231,30 +240,33 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     }
 }
 
-/* The line's checksum (optional "*HH") and layout (words, single spaces); 0 and an error sent
- * when it is not right, else the line's length without the checksum. */
-static uint8_t line_ok(char *line, uint8_t n) __reentrant
+/* The checksum ("*HH": csum_seen says whether it came) and layout (words, single spaces) of
+ * the line in se.buf; 0 and an error sent when it is not right, else the line's length
+ * without the checksum. */
+static uint8_t line_ok(uint8_t n) __reentrant
 {
     uint8_t i, x = 0;
     int8_t h1, h2;
-    for (i = 0; i < n && line[i] != '*'; i++)
-        x ^= (uint8_t)line[i];
+    csum_seen = 0;
+    for (i = 0; i < n && se.buf[i] != '*'; i++)
+        x ^= (uint8_t)se.buf[i];
     if (i < n) {
-        h1 = i + 3 == n ? hexval(line[i + 1]) : -1;
-        h2 = i + 3 == n ? hexval(line[i + 2]) : -1;
+        h1 = i + 3 == n ? hexval(se.buf[i + 1]) : -1;
+        h2 = i + 3 == n ? hexval(se.buf[i + 2]) : -1;
         if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {
             reply_err("CSUM");
             return 0;
         }
         n = i;
+        csum_seen = 1;
     }
-    line[n] = 0;
-    if (n == 0 || line[0] == ' ' || line[n - 1] == ' ') {
+    se.buf[n] = 0;
+    if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ') {
         reply_err("ARG");
         return 0;
     }
     for (i = 1; i < n; i++)
-        if (line[i] == ' ' && line[i - 1] == ' ') {
+        if (se.buf[i] == ' ' && se.buf[i - 1] == ' ') {
             reply_err("ARG");
             return 0;
         }
@@ -264,20 +276,23 @@ static uint8_t line_ok(char *line, uint8_t n) __reentrant
 /* The command in se.buf: look its word up, parse its arguments, run its handler. */
 static void answer(void) __reentrant
 {
-    char *line = se.buf;
-    const char *p = line + 3;
+    const char *p = se.buf + 3;
     uint8_t n = se.n, c;
     uint16_t a = 0, b = 0;
 
     se.n = 0;                       /* the reply is written over the line once it is parsed */
-    if (!line_ok(line, n))
+    if (!line_ok(n))
         return;
     for (c = 0; c < N_COMMANDS; c++)
-        if (line[0] == commands[c].word[0] && line[1] == commands[c].word[1]
-            && line[2] == commands[c].word[2] && (line[3] == ' ' || line[3] == 0))
+        if (se.buf[0] == commands[c].word[0] && se.buf[1] == commands[c].word[1]
+            && se.buf[2] == commands[c].word[2] && (se.buf[3] == ' ' || se.buf[3] == 0))
             break;
     if (c == N_COMMANDS) {
         reply_err("CMD");
+        return;
+    }
+    if (!csum_seen && ((CHANGES >> commands[c].handler) & 1u)) {
+        reply_err("NOCSUM");
         return;
     }
     switch (commands[c].args) {
@@ -314,6 +329,14 @@ static void compose_next(void) __reentrant
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
+    if (boot_due) {                 /* first of all: why the controller started */
+        boot_due = 0;
+        se.n = 0;
+        tx_s("BOOT ");
+        tx_s(diag_reset_code());
+        tx_end();
+        return;
+    }
     if (diff) {
         for (bit = 0; !(diff & (1u << bit)); bit++)
             ;
@@ -370,10 +393,12 @@ void serial_poll(void) __reentrant
 
     if (se.state == S_TX && !drain())
         return;
-    while ((b = hal_uart_get()) >= 0) {
-        if (b == '\r' || b == '\n') {
+    while ((b = hal_uart_get()) != -1) {
+        if (b == HAL_UART_LOST) {
+            se.state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
+        } else if (b == '\r' || b == '\n') {
             if (se.state != S_RX) {
-                reply_err(se.state == S_RX_LONG ? "LONG" : "CHAR");
+                reply_err(se.state == S_RX_LONG ? "LONG" : se.state == S_RX_LOST ? "LOST" : "CHAR");
                 tx_end();
                 drain();
                 return;
@@ -394,9 +419,16 @@ void serial_poll(void) __reentrant
         }
     }
     if (se.n || se.state != S_RX) {
-        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on */
+        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
+         * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.log_due < 3)
             return;
+        if (se.state == S_RX_LOST) {
+            reply_err("LOST");
+            tx_end();
+            drain();
+            return;
+        }
         se.n = 0;
         se.state = S_RX;
     }

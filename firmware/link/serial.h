@@ -7,15 +7,18 @@
 /*
  * Every line the controller sends ends in "*HH\r\n", HH the XOR of the bytes before '*' in
  * hex (NMEA style), so the PC can reject a garbled line:
+ *   BOOT <POWER|WATCHDOG|BROWNOUT|PIN>  first, once: why the controller (re)started
  *   LOG <t_ms> <speed km/h x100> <pressure kPa> <target L/min x100> <flow L/min x100> <alarms hex>
  *   ALM <code> <LCD text>          an alarm was raised
  *   CLR <code>                     an alarm cleared
  *   OK ...   /   ERR <reason>      the reply to a command
  * Commands from the PC, one a line (CR or LF ends it), at most SERIAL_LINE_MAX characters,
- * upper-case words and plain decimal numbers separated by single spaces; an optional "*HH"
- * checksum is verified when present:
+ * upper-case words and plain decimal numbers separated by single spaces, then "*HH": the
+ * checksum is verified when present, and required (ERR NOCSUM) by the commands that change
+ * something (SET, CTL, SAV, JOG, RST), so that a damaged line is never acted on:
  *   GET <id>          OK <id> <value>          (id: row of params.h)
- *   SET <id> <value>  OK <id> <value>          ERR RANGE when param_set refuses, ERR ID
+ *   SET <id> <value>  OK <id> <value>          ERR RANGE, ERR ID; a value that breaks a cross-check
+ *                                              (params.h): ERR TANKMIN / PSTART / METERHZ
  *   CTL <n>           OK CTL <n>               choose the controller (P_CONTROLLER)
  *   ACK               OK ACK                   acknowledge the alarms
  *   TOT               OK TOT <job dm^2> <job ml> <L/ha x10>
@@ -24,8 +27,12 @@
  *   PUL               OK PUL <wheel pulses> <meter pulses>   (calibration)
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
  *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
- * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / LONG / CHAR.
- * A command line that stalls unfinished for 3 s is dropped (the log lines go on).
+ * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / NOCSUM / LONG / CHAR.
+ * A line during which received bytes were lost (the HAL's receive queue overflowed, or an IAP
+ * erase held the CPU: hal_uart_get's HAL_UART_LOST) is discarded whole with ERR LOST, at its
+ * end (or at the next line end when its own was lost).
+ * A command line that stalls unfinished for 3 s is dropped (the log lines go on; ERR LOST when
+ * it had lost bytes).
  */
 #define SERIAL_LINE_MAX 31
 #define SERIAL_TX_MAX 56           /* one buffer for the line in and the line out */

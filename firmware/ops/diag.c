@@ -1,4 +1,5 @@
 /* diag.c: the alarm rules (tank, pump, leak, clog, meter, speed, sensors, pressure, off-rate, valve) and their texts. */
+#include "hal.h"
 #include "params.h"
 #include "umath.h"
 #include "analog.h"
@@ -369,6 +370,22 @@ const char *diag_code(uint8_t bit)
 const char *diag_text(uint8_t bit)
 {
     return bit < AL_COUNT ? texts[bit] : "";
+}
+
+/* the reset cause (hal.h HAL_RESET_*): a word for the serial link, a line for the LCD */
+static const char __code *const __code reset_codes[] = {"POWER", "WATCHDOG", "BROWNOUT", "PIN"};
+static const char __code *const __code reset_texts[] = {
+    "Reset: power-on", "Reset: watchdog", "Reset:brown-out", "Reset: reset pin"
+};
+
+const char *diag_reset_code(void)
+{
+    return hal_reset_cause() <= HAL_RESET_OTHER ? reset_codes[hal_reset_cause()] : "?";
+}
+
+const char *diag_reset_text(void)
+{
+    return hal_reset_cause() <= HAL_RESET_OTHER ? reset_texts[hal_reset_cause()] : "Reset: ?";
 }
 
 uint8_t diag_meter_suspect(void)

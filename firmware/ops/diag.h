@@ -66,6 +66,10 @@ void diag_set_nozzles(uint8_t open_nozzles) __reentrant;
 void diag_internal_fault(void);
 const char *diag_code(uint8_t bit);
 const char *diag_text(uint8_t bit);
+/* The reset cause (hal_reset_cause): "WATCHDOG" for the serial link's BOOT line, and a line
+ * of at most 16 characters for the LCD ("Reset: watchdog"). */
+const char *diag_reset_code(void);
+const char *diag_reset_text(void);
 
 /* The meter reads under a quarter of what the nozzles pass at this pressure, this period (the
  * METER_LOST rule before its 1 s of persistence): the control stops trusting the meter at once. */

@@ -7,16 +7,27 @@
 
 app_status_t app_status;
 ops_jog_t ops_jog_req;
+uint8_t ops_io;
 
 void ops_init(void)
 {
     ops_jog_req.periods = 0;
     ops_jog_req.dir = 0;
+    ops_io = 0;
+}
+
+void ops_io_test(uint8_t flags)
+{
+    ops_io = (flags & OPS_IO_ON) ? flags : 0;
+    hal_spray_enable((ops_io & OPS_IO_ON) ? (ops_io & OPS_IO_RELAY) : app_status.spraying);
+    hal_buzzer((ops_io & OPS_IO_ON) ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
+    if (!(ops_io & OPS_IO_ON))
+        ops_jog_req.periods = 0;
 }
 
 void ops_jog(int8_t dir)
 {
-    if (!app_status.manual || dir == 0)
+    if (!(app_status.manual || (ops_io & OPS_IO_ON)) || dir == 0)
         return;
     ops_jog_req.dir = dir;
     ops_jog_req.periods = OPS_JOG_PERIODS;

@@ -39,8 +39,18 @@ typedef struct {
 } ops_jog_t;
 extern ops_jog_t ops_jog_req;
 
+/* The I/O test (console): OPS_IO_ON hands the outputs to the technician: the boom's control
+ * stops, the spray relay and the buzzer follow OPS_IO_RELAY and OPS_IO_BUZZER, ops_jog drives
+ * the valve; without OPS_IO_ON everything goes back to the application. No parameter changes. */
+#define OPS_IO_ON 1
+#define OPS_IO_RELAY 2
+#define OPS_IO_BUZZER 4
+extern uint8_t ops_io;              /* OPS_IO_*, app.c follows it */
+void ops_io_test(uint8_t flags);
+
 void ops_init(void);
-/* Manual mode: drive the valve for one jog (+1 more boom flow, -1 less); ignored in auto. */
+/* Manual mode or the I/O test: drive the valve for one jog (+1 more boom flow, -1 less);
+ * ignored otherwise. */
 void ops_jog(int8_t dir);
 /* Acknowledge the alarms now shown (they stay active while their cause lasts). */
 void ops_alarm_ack(void);

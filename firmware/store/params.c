@@ -3,6 +3,7 @@
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
 #include <stddef.h>
+#include "umath.h"
 #include "params.h"
 
 #define PARAM_ROW(id, name, unit, dec, lo, hi, def) {name, unit, dec, lo, hi, def},
@@ -25,7 +26,7 @@ uint8_t param_in_range(uint8_t id, uint16_t v)
     return id < P_COUNT && v >= table[id].min && v <= table[id].max;
 }
 
-uint8_t param_set(uint8_t id, uint16_t v)
+uint8_t param_put(uint8_t id, uint16_t v)
 {
     if (!param_in_range(id, v))
         return 0;
@@ -34,6 +35,54 @@ uint8_t param_set(uint8_t id, uint16_t v)
         param_generation++;
     }
     return 1;
+}
+
+/* The meter's pulse rate with every nozzle open is f3 = K[0.1 p/L] n Q3[L/min x100] / 60000 Hz
+ * at 3 bar, f3 sqrt(P / 300 kPa) at P max: within the budget when f3 <= HZ and
+ * f3^2 P / 2048 <= HZ^2 300 / 2048 (the square then fits 32 bits). */
+uint8_t params_cross(void)
+{
+    uint32_t f3;
+    if (param_v[P_TANK_MIN] >= param_v[P_TANK_L])
+        return PARAM_X_TANK;
+    if (param_v[P_P_MIN] >= param_v[P_P_MAX])
+        return PARAM_X_PRESSURE;
+    f3 = um_muldiv((uint32_t)param_v[P_METER_K] * param_v[P_NOZZLES], param_v[P_NOZZLE_Q3], 60000UL);
+    if (f3 > PARAM_METER_HZ_MAX
+        || um_mul32x16_shr16(f3 * f3, (uint16_t)(param_v[P_P_MAX] << 5))
+           > PARAM_METER_HZ_MAX * PARAM_METER_HZ_MAX * 300u / 2048u)
+        return PARAM_X_METER;
+    return PARAM_OK;
+}
+
+uint8_t param_try(uint8_t id, uint16_t v)
+{
+    uint16_t old;
+    uint8_t why;
+    if (!param_in_range(id, v))
+        return PARAM_E_RANGE;
+    old = param_v[id];              /* the set with v in it, checked; kept only when it passes */
+    param_v[id] = v;
+    why = params_cross();
+    if (why != PARAM_OK)
+        param_v[id] = old;
+    else if (old != v)
+        param_generation++;
+    return why;
+}
+
+uint8_t param_set(uint8_t id, uint16_t v)
+{
+    return param_try(id, v) == PARAM_OK;
+}
+
+static const char __code *const __code why_texts[] = {
+    "", "Out of range", "Tank min>=size", "P start>=P max", "Meter K:too fast"
+};
+
+const char *param_why_text(uint8_t why)
+{
+    return why <= PARAM_X_METER ? why_texts[why] : "";
 }
 
 const param_info_t *param_info(uint8_t id)

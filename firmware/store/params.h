@@ -58,8 +58,31 @@ extern uint16_t param_v[P_COUNT];
 
 /* Every value back to its default. */
 void params_defaults(void);
-/* Set one value; 0 (and nothing changes) when the id or the value is out of range. */
+
+/*
+ * Cross-checks between parameters, at the keypad, the serial link and the EEPROM load:
+ *   PARAM_X_TANK      Tank min below Tank size (else the boom stops at once, for good)
+ *   PARAM_X_PRESSURE  P start below P max (else start-up closes the valve into over-pressure)
+ *   PARAM_X_METER     the meter's pulse rate at the largest flow (every nozzle at P max)
+ *                     within PARAM_METER_HZ_MAX: each pulse is a PCA interrupt, and a rate
+ *                     beyond the budget starves the main loop into a watchdog reset loop
+ */
+#define PARAM_OK 0
+#define PARAM_E_RANGE 1
+#define PARAM_X_TANK 2
+#define PARAM_X_PRESSURE 3
+#define PARAM_X_METER 4
+#define PARAM_METER_HZ_MAX 5000UL
+/* The rule param_v as it is breaks; PARAM_OK. */
+uint8_t params_cross(void) __reentrant;
+/* Set one value if it is in range and keeps every cross-check: PARAM_OK, or why not (nothing changes). */
+uint8_t param_try(uint8_t id, uint16_t v) __reentrant;
+/* param_try as a yes / no: 1 when set. */
 uint8_t param_set(uint8_t id, uint16_t v) __reentrant;
+/* Set one value checking its range only (a whole set being loaded: check params_cross after). */
+uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
+/* At most 16 characters on why a value was refused ("Tank min>=size"); "" for PARAM_OK. */
+const char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id. */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */

@@ -1,4 +1,4 @@
-/* store.c: parameters in the IAP EEPROM: versioned layout, CRC, two copies written alternately (see store.h). */
+/* store.c: parameters and lifetime totals in the IAP EEPROM as a log of CRC-checked records (see store.h). */
 #if defined(__SDCC)
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
@@ -15,14 +15,22 @@
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
+typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_* */
-static uint8_t newest;              /* sector (0, 1) holding the copy loaded or saved last */
+static uint8_t newest;              /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT */
 static uint16_t seq;                /* its sequence number */
+#define NO_SLOT 0xFFu
 
 static const char __code *const __code status_texts[] = {
-    "", "EE: older copy", "EE: defaults", "EE: write error"
+    "", "EE: older copy", "EE: defaults", "EE: write error", "EE: low supply"
 };
+
+static uint16_t slot_base(uint8_t slot)
+{
+    return (uint16_t)((slot / STORE_SLOTS_PER_SECTOR) * HAL_EEPROM_SECTOR
+                      + (slot % STORE_SLOTS_PER_SECTOR) * STORE_SLOT_BYTES);
+}
 
 static uint16_t crc_byte(uint16_t crc, uint8_t b)
 {
@@ -43,13 +51,12 @@ static uint32_t read32(uint16_t a)
     return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
 }
 
-/* The number of values the copy in sector s holds when it has a known header, its CRC and every
+/* The number of values the record at base holds when it has a known header, its CRC and every
  * value in range; 0 otherwise. Known: this version's table, or version 2's or 3's
  * (PARAMS_V2_COUNT, PARAMS_V3_COUNT values, the later ones appended since: they keep their
  * defaults). */
-static uint8_t copy_valid(uint8_t s)
+static uint8_t record_valid(uint16_t base) __reentrant
 {
-    uint16_t base = s ? HAL_EEPROM_SECTOR : 0u;
     uint16_t crc = 0xFFFFu;
     uint16_t i, at;
     uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
@@ -68,53 +75,100 @@ static uint8_t copy_valid(uint8_t s)
     return n;
 }
 
+/* 1 when every byte of a slot reads erased */
+static uint8_t slot_blank(uint8_t slot) __reentrant
+{
+    uint16_t base = slot_base(slot), i;
+    for (i = 0; i < STORE_SLOT_BYTES; i++)
+        if (hal_eeprom_read(base + i) != 0xFFu)
+            return 0;
+    return 1;
+}
+
 uint8_t store_load(void) __reentrant
 {
-    uint8_t v0 = copy_valid(0), v1 = copy_valid(1);
-    uint8_t s, i, n;
-    uint16_t base;
-    uint8_t both = v0 && v1;
-    uint16_t q0 = read16(HDR_SEQ), q1 = read16(HAL_EEPROM_SECTOR + HDR_SEQ);
-    params_defaults();
-    if (!v0 && !v1) {
+    uint8_t s, best = NO_SLOT, n;
+    uint16_t q, best_q = 0, base;
+    for (s = 0; s < STORE_SLOTS; s++) {
+        if (!record_valid(slot_base(s)))
+            continue;
+        q = read16(slot_base(s) + HDR_SEQ);
+        if (best == NO_SLOT || (int16_t)(q - best_q) > 0) {
+            best = s;
+            best_q = q;
+        }
+    }
+    newest = best;                  /* the next save goes after it, above its sequence */
+    seq = best_q;
+    if (best == NO_SLOT) {
+        params_defaults();
         status = STORE_DEFAULTS;
-        newest = 1;                 /* the first save goes to sector 0 */
-        seq = 0;
         return status;
     }
-    if (both)
-        s = ((int16_t)(q1 - q0) > 0) ? 1 : 0;
-    else
-        s = v1 ? 1 : 0;
-    base = s ? HAL_EEPROM_SECTOR : 0u;
-    n = s ? v1 : v0;
-    for (i = 0; i < n; i++)
-        param_set(i, read16(base + HDR_VALUES + 2u * i));
+    /* its values and totals (a shorter, older table: the values after it at their defaults) */
+    base = slot_base(best);
+    n = record_valid(base);
+    params_defaults();
+    for (s = 0; s < n; s++)
+        param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    newest = s;
-    seq = s ? q1 : q0;
-    /* One copy bad. It was the newer one when it shows a started write of the next sequence
-     * (magic there, sequence seq + 1 or not yet programmed): a cut save, the previous values
-     * are loaded and the operator is told. Otherwise (a fresh second sector) all is well. */
-    status = STORE_OK;
-    if (!both) {
-        uint16_t ob = s ? 0u : HAL_EEPROM_SECTOR;
-        uint16_t oq = read16(ob + HDR_SEQ);
-        if (hal_eeprom_read(ob) == STORE_MAGIC && (oq == (uint16_t)(seq + 1u) || oq == 0xFFFFu))
-            status = STORE_OLDER;
+    n = params_cross();
+    if (n != PARAM_OK) {
+        /* written by a firmware without the cross-checks: its set cannot run (a tank minimum
+         * above the tank stops the boom for good); the defaults, and the reason shown */
+        params_defaults();
+        totals_set_life(0, 0);
+        status = (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
+        return status;
     }
+    status = STORE_OK;
+    /* a started write after it (magic there, its sequence seq + 1 or not yet programmed):
+     * a cut save, the previous values are loaded and the operator is told */
+    s = (uint8_t)((best + 1u) % STORE_SLOTS);
+    q = read16(slot_base(s) + HDR_SEQ);
+    if (hal_eeprom_read(slot_base(s)) == STORE_MAGIC && !record_valid(slot_base(s))
+        && (q == (uint16_t)(seq + 1u) || q == 0xFFFFu))
+        status = STORE_OLDER;
     return status;
+}
+
+/* The slot the next record goes to: the first erased one after the newest, erasing the next
+ * sector when the current one is full; NO_SLOT when the erase did not take. */
+static uint8_t next_slot(void) __reentrant
+{
+    uint8_t s = newest == NO_SLOT ? 0 : (uint8_t)((newest + 1u) % STORE_SLOTS);
+    while (!slot_blank(s)) {
+        if (s % STORE_SLOTS_PER_SECTOR == 0) {
+            /* the start of the other sector, which holds only records older than the
+             * current sector's: erased as a whole */
+            hal_eeprom_erase(slot_base(s));
+            return slot_blank(s) ? s : NO_SLOT;
+        }
+        s = (uint8_t)((s + 1u) % STORE_SLOTS);
+        if (s % STORE_SLOTS_PER_SECTOR == 0 && newest != NO_SLOT
+            && s / STORE_SLOTS_PER_SECTOR == newest / STORE_SLOTS_PER_SECTOR)
+            return NO_SLOT;         /* back at the newest's sector: nothing to erase safely */
+    }
+    return s;
 }
 
 uint8_t store_save(void) __reentrant
 {
-    uint8_t s = newest ? 0 : 1;
-    uint16_t base = s ? HAL_EEPROM_SECTOR : 0u;
+    uint16_t base;
     uint16_t crc = 0xFFFFu;
     uint16_t next = (uint16_t)(seq + 1u);
-    uint8_t i, b, ok = 1;
+    uint8_t i, b, s, ok = 1;
     const totals_t *t = totals_get();
-    hal_eeprom_erase(base);
+    if (hal_supply_low()) {
+        status = STORE_LOW_SUPPLY;  /* a write that the supply may cut: not started */
+        return 0;
+    }
+    s = next_slot();
+    if (s == NO_SLOT) {
+        status = STORE_WRITE_ERR;
+        return 0;
+    }
+    base = slot_base(s);
     for (i = 0; i < CRC_AT; i++) {
         if (i == 0)
             b = STORE_MAGIC;
@@ -139,7 +193,7 @@ uint8_t store_save(void) __reentrant
     }
     ok &= hal_eeprom_write(base + CRC_AT, (uint8_t)(crc >> 8));
     ok &= hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)crc);
-    if (ok && copy_valid(s)) {
+    if (ok && record_valid(base)) {
         newest = s;
         seq = next;
         status = STORE_OK;
@@ -161,5 +215,7 @@ void store_status_clear(void)
 
 const char *store_status_text(uint8_t st)
 {
-    return st < 4 ? status_texts[st] : "";
+    if (st >= STORE_CROSS)
+        return param_why_text((uint8_t)(st - STORE_CROSS + PARAM_X_TANK));
+    return status_texts[st];
 }

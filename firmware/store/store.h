@@ -1,42 +1,56 @@
-/* store.h: the parameters in the IAP EEPROM: two CRC-checked copies, written alternately, so a power cut never loses both. */
+/* store.h: the parameters and lifetime totals in the IAP EEPROM: a log of CRC-checked records that a power cut never loses whole. */
 #ifndef STORE_H
 #define STORE_H
 
 #include "compiler.h"
 
 /*
- * Layout of one copy (one per 512-byte sector, at 0x000 and 0x200):
+ * The EEPROM is a log. Each record (one slot of STORE_SLOT_BYTES; STORE_SLOTS_PER_SECTOR
+ * slots in each of the two 512-byte sectors, slot 0 of a sector at its start):
  *   0      magic 0x5A
  *   1      PARAMS_VERSION (version 2's shorter table still loads, the values appended since at
- *          their defaults; any other version is not loaded: defaults instead)
- *   2      P_COUNT (PARAMS_V2_COUNT in a version 2 copy)
- *   3..4   sequence number, little endian (the newer of two valid copies is the one whose
- *          sequence is ahead by 1..32767, so it may wrap)
+ *          their defaults; any other version is not loaded)
+ *   2      P_COUNT (PARAMS_V2_COUNT in a version 2 record)
+ *   3..4   sequence number, little endian (the newest record is the one whose sequence is
+ *          ahead of the others by 1..32767, so it may wrap)
  *   5..    P_COUNT values, uint16 little endian, in the order of params.h
  *   then   the lifetime totals: area m^2 and volume ml, uint32 little endian each
  *   then   CRC-16/CCITT (poly 0x1021, init 0xFFFF) of all the bytes before it, high byte first
- * A save erases the sector that does not hold the newest copy and writes there, CRC last:
- * a cut during the erase or at any byte leaves the previous copy untouched and the new one
- * failing its CRC. A copy is loaded only when its CRC matches and every value passes
- * param_in_range(); otherwise the other copy, otherwise the defaults.
+ * A save appends a record to the first erased slot after the newest one, CRC last; only when
+ * a sector is full does the next save erase the other sector (which holds only older
+ * records) and start there: one erase every STORE_SLOTS_PER_SECTOR saves, the two sectors
+ * taking turns. A cut during the erase or at any byte leaves the newest record untouched and
+ * the new one failing its CRC (a half-written slot is passed over by the next save).
+ * A record is loaded only when its CRC matches and every value passes param_in_range(),
+ * otherwise the next older one, otherwise the defaults; a newest record whose set breaks a
+ * cross-check (params_cross: written by a firmware without them) gives the defaults and the
+ * reason (STORE_CROSS).
+ * No save starts while the supply is low (hal_supply_low): STORE_LOW_SUPPLY.
  */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + 2u)
+#define STORE_SLOT_BYTES 64u
+#define STORE_SLOTS_PER_SECTOR 8u
+#define STORE_SLOTS 16u
 
-/* What store_load() found (store_status()). */
-#define STORE_OK 0          /* the newest copy is good */
-#define STORE_OLDER 1       /* the newest copy was bad (a cut write): the previous one is loaded */
-#define STORE_DEFAULTS 2    /* no valid copy (first boot, both corrupt, other version): defaults */
+/* What store_load() or the last store_save() found (store_status()). */
+#define STORE_OK 0          /* the newest record is good */
+#define STORE_OLDER 1       /* the newest record was bad (a cut write): the previous one is loaded */
+#define STORE_DEFAULTS 2    /* no valid record (first boot, all corrupt, other version): defaults */
 #define STORE_WRITE_ERR 3   /* the last save did not read back */
+#define STORE_LOW_SUPPLY 4  /* the last save was not started: the supply was low */
+#define STORE_CROSS 5       /* STORE_CROSS + (PARAM_X_* - PARAM_X_TANK): the newest record broke a
+                             * cross-check (params.h): the defaults loaded */
 
-/* Load the newest valid copy into param_v and the lifetime totals (totals.c; call after
+/* Load the newest valid record into param_v and the lifetime totals (totals.c; call after
  * totals_init) -- defaults and zero totals when none is valid; returns the status. */
 uint8_t store_load(void) __reentrant;
-/* Write param_v and the lifetime totals as a new copy (into the other sector); 1 when it reads back. */
+/* Append param_v and the lifetime totals as a new record; 1 when it reads back. */
 uint8_t store_save(void) __reentrant;
 /* Status of the last load or save; store_status_clear() once the operator has seen it. */
 uint8_t store_status(void);
 void store_status_clear(void);
-/* One line (at most 16 characters) explaining a status, "" for STORE_OK. */
+/* One line (at most 16 characters) explaining a status, "" for STORE_OK (the cross-check's
+ * reason for STORE_CROSS + n). */
 const char *store_status_text(uint8_t st);
 
 #endif

@@ -15,8 +15,16 @@ typedef struct {
 static edge_q_t flow_q, wheel_q;
 static uint8_t uart_tx[HAL_HOST_UART_Q];
 static uint32_t tx_head, tx_tail;
-static uint8_t uart_rx[HAL_HOST_UART_Q];
+static struct {
+    uint8_t b[HAL_HOST_UART_Q];     /* the wire: bytes sent by the PC, not yet arrived */
+    uint64_t t_ns[HAL_HOST_UART_Q]; /* when each one's stop bit ends */
+    uint32_t head, tail;
+    uint64_t last_ns;               /* arrival of the newest byte on the wire */
+} wire;
+static uint8_t rxq[HAL_HOST_UART_RXQ];  /* the chip's receive queue, as hal_stc12.c's */
 static uint32_t rx_head, rx_tail;
+static uint8_t rx_lost;
+static uint64_t hold_from_ns, hold_until_ns;    /* the last IAP erase held the CPU */
 static uint8_t eeprom[HAL_EEPROM_SIZE];
 static int32_t eeprom_ops_left = -1;
 static uint8_t eeprom_cut;
@@ -28,6 +36,9 @@ void hal_host_reset(void)
     memset(&flow_q, 0, sizeof flow_q);
     memset(&wheel_q, 0, sizeof wheel_q);
     tx_head = tx_tail = rx_head = rx_tail = 0;
+    memset(&wire, 0, sizeof wire);
+    rx_lost = 0;
+    hold_from_ns = hold_until_ns = 0;
     memset(eeprom, 0xFF, sizeof eeprom);
     eeprom_ops_left = -1;
     eeprom_cut = 0;
@@ -160,13 +171,49 @@ uint8_t hal_uart_put(uint8_t b)
     return 1;
 }
 
+/* a byte into the chip's queue, or the loss marked (as hal_stc12.c's RX_TAKE) */
+static void rx_take(uint8_t b)
+{
+    uint32_t n = (rx_head + 1) % HAL_HOST_UART_RXQ;
+    if (!rx_lost && n != rx_tail) {
+        rxq[rx_head] = b;
+        rx_head = n;
+    } else {
+        rx_lost = 1;
+    }
+}
+
+/* The bytes that have arrived by now, in order. Those arriving while an erase held the CPU
+ * are a gap (SBUF keeps one, drops the rest; the chip cannot tell how many came, so it drops
+ * that one too and marks the loss), as hal_stc12.c's iap_cmd does. */
+static void uart_deliver(void)
+{
+    uint64_t now = hal_host_io.time_ns;
+    while (wire.tail != wire.head && wire.t_ns[wire.tail] <= now) {
+        uint64_t t = wire.t_ns[wire.tail];
+        uint8_t b = wire.b[wire.tail];
+        wire.tail = (wire.tail + 1) % HAL_HOST_UART_Q;
+        if (t >= hold_from_ns && t < hold_until_ns) {
+            rx_lost = 1;
+            continue;
+        }
+        rx_take(b);
+    }
+}
+
 int16_t hal_uart_get(void)
 {
     int16_t b;
-    if (rx_tail == rx_head)
+    uart_deliver();
+    if (rx_tail == rx_head) {
+        if (rx_lost) {
+            rx_lost = 0;
+            return HAL_UART_LOST;
+        }
         return -1;
-    b = uart_rx[rx_tail];
-    rx_tail = (rx_tail + 1) % HAL_HOST_UART_Q;
+    }
+    b = rxq[rx_tail];
+    rx_tail = (rx_tail + 1) % HAL_HOST_UART_RXQ;
     return b;
 }
 
@@ -182,11 +229,27 @@ int hal_host_uart_tx_pop(void)
 
 void hal_host_uart_rx_push(uint8_t b)
 {
-    uint32_t n = (rx_head + 1) % HAL_HOST_UART_Q;
-    if (n == rx_tail)
+    uint32_t n = (wire.head + 1) % HAL_HOST_UART_Q;
+    uint64_t t = hal_host_io.time_ns;
+    if (n == wire.tail)
         return;
-    uart_rx[rx_head] = b;
-    rx_head = n;
+    if (wire.last_ns > t)
+        t = wire.last_ns;
+    t += HAL_HOST_BYTE_NS;
+    wire.b[wire.head] = b;
+    wire.t_ns[wire.head] = t;
+    wire.last_ns = t;
+    wire.head = n;
+}
+
+uint8_t hal_reset_cause(void)
+{
+    return hal_host_io.reset_cause;
+}
+
+uint8_t hal_supply_low(void)
+{
+    return hal_host_io.supply_low;
 }
 
 /* one EEPROM operation may proceed unless the power is (or now goes) out */
@@ -212,6 +275,10 @@ void hal_eeprom_erase(uint16_t addr)
 {
     if (addr >= HAL_EEPROM_SIZE || !eeprom_power())
         return;
+    uart_deliver();                 /* what came before the hold */
+    hold_from_ns = hal_host_io.time_ns;
+    hold_until_ns = hold_from_ns + HAL_HOST_IAP_ERASE_NS;
+    hal_host_io.eeprom_erases++;
     memset(eeprom + (addr & ~(HAL_EEPROM_SECTOR - 1)), 0xFF, HAL_EEPROM_SECTOR);
 }
 

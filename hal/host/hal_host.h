@@ -23,6 +23,9 @@ typedef struct {
     uint16_t keys;                  /* bit 4*row + col set while that key is held */
     uint8_t wdt_kicks;              /* counts kicks (wraps) so tests can see the loop feeds it */
     uint32_t wdt_last_kick_ms;
+    uint8_t reset_cause;            /* HAL_RESET_*, what hal_reset_cause() reports */
+    uint8_t supply_low;             /* the low-voltage detector's answer */
+    uint32_t eeprom_erases;         /* sector erases since the reset, for wear figures */
 } hal_host_io_t;
 
 extern hal_host_io_t hal_host_io;
@@ -37,7 +40,15 @@ uint32_t hal_host_pca_of_ns(uint64_t t_ns);
 void hal_host_flow_edge(uint64_t t_ns);
 void hal_host_wheel_edge(uint64_t t_ns);
 
-/* Serial link: bytes the firmware sent, and bytes for it to receive. */
+/* Serial link: bytes the firmware sent, and bytes for it to receive. A pushed byte travels
+ * the wire at 38400 baud (one byte every 260.4 us after the one before, from the time it is
+ * pushed) into the chip's 16-byte receive queue (15 bytes waiting at most, as the chip's
+ * ring): a firmware that does not read for 4 ms loses bytes, and the bytes arriving while an
+ * IAP erase holds the CPU (HAL_HOST_IAP_ERASE_NS) are lost; the firmware reads HAL_UART_LOST
+ * where the gap is. */
+#define HAL_HOST_UART_RXQ 16
+#define HAL_HOST_BYTE_NS 260417u
+#define HAL_HOST_IAP_ERASE_NS 21000000u
 int hal_host_uart_tx_pop(void);     /* -1 when empty */
 void hal_host_uart_rx_push(uint8_t b);
 

@@ -6,136 +6,145 @@
 
 
 /* ---- start-up: before the C runtime clears and initialises RAM ---------------------------- */
+/*
+ * Safe states first. From reset until here every pin is quasi-bidirectional with its latch at 1:
+ * a weak pull-up. The board's pull-downs at the relay, buzzer and H-bridge driver inputs
+ * (docs/bringup.md) hold those lines low against it; now the latches go to 0 and the output
+ * pins to push-pull, so "off" is driven and "on" has the strong drive a driver input needs.
+ * The ADC pins become input-only: a quasi-bidirectional pin's pull-up would add its current
+ * to the 250 ohm shunt (datasheet, I/O port configuration: PxM1 = 1, PxM0 = 0 is input-only).
+ * The watchdog flag is kept (written back as read) for hal_init to report the reset cause.
+ */
+#define P1_OUTPUTS 0x70             /* P1.4 bridge enable (CCP1), P1.5 IN_A, P1.6 IN_B */
+#define P3_OUTPUTS 0xF8             /* P3.3 LCD SCLK, P3.4 relay, P3.5 buzzer, P3.6 CS, P3.7 SID */
 unsigned char _sdcc_external_startup(void)
 {
+    P1 &= (unsigned char)~P1_OUTPUTS;
+    P3 &= (unsigned char)~0x30;     /* relay and buzzer off; the LCD lines idle as they are */
+    P1M1 = ADC_PINS_MASK;           /* P1.0, P1.1 input-only */
+    P1M0 = P1_OUTPUTS;              /* push-pull */
+    P3M1 = 0;
+    P3M0 = P3_OUTPUTS;
     AUXR &= (unsigned char)~0x02;   /* EXTRAM = 0: the 1024 bytes of on-chip XRAM */
-    WDT_CONTR = 0x34;               /* clear and keep the watchdog (if the bootloader set it) */
+    WDT_CONTR = (unsigned char)((WDT_CONTR & 0x80) | 0x34);   /* kick, keep WDT_FLAG */
     return 0;                       /* 0: let the runtime initialise the variables */
 }
 
-/* ---- system tick: timer 0 in 1T mode, 11059.2 clocks a millisecond ------------------------ */
-static volatile uint32_t tick_ms;
-static uint8_t tick_frac;           /* fifths of a clock: every 5th period is one clock longer */
-
-void stc12_timer0_isr(void) __interrupt(1)
-{
-    uint16_t reload = 65536u - 11059u;
-    if (++tick_frac == 5) {
-        tick_frac = 0;
-        reload--;                   /* 4 x 11059 + 11060 = 5 x 11059.2 */
-    }
-    TR0 = 0;
-    /* add to what the timer already counted since the overflow, so latency does not drift */
-    {
-        uint16_t t = ((uint16_t)TH0 << 8 | TL0) + reload + 7u;  /* 7: the clocks TR0 was off */
-        TL0 = (uint8_t)t;
-        TH0 = (uint8_t)(t >> 8);
-    }
-    TR0 = 1;
-    tick_ms++;
-}
-
-uint32_t hal_ms(void)
-{
-    uint32_t t;
-    EA = 0;
-    t = tick_ms;
-    EA = 1;
-    return t;
-}
+/* ---- critical sections: interrupts off, then back as they were (they nest) ---------------- */
+#define IRQ_OFF(s) do { (s) = EA; EA = 0; } while (0)
+#define IRQ_RESTORE(s) do { EA = (s); } while (0)
 
 /* ---- PCA: counter at SYSCLK/12, extended to 32 bits by its overflow count ----------------- */
-static volatile uint16_t pca_hi;    /* overflows of the 16-bit PCA counter */
-static volatile uint16_t flow_count;
-static volatile uint32_t flow_last;
-static volatile uint16_t wheel_count;
-static volatile uint32_t wheel_last;
-
-/* 32-bit PCA time of a 16-bit reading taken while the overflow flag read cf. A reading in the
- * lower half of the range with an overflow still pending was taken after that overflow. */
-static uint32_t pca_extend(uint16_t lo, uint8_t cf)
-{
-    uint16_t hi = pca_hi;
-    if (cf && lo < 0x8000u)
-        hi++;
-    return (uint32_t)hi << 16 | lo;
-}
+#define PCA_CH CH
+#define PCA_CL CL
+#define PCA_CF CF
+#define PCA_CF_CLEAR() do { CF = 0; } while (0)
+#define PCA_IRQ_STATE uint8_t
+#define PCA_IRQ_OFF IRQ_OFF
+#define PCA_IRQ_RESTORE IRQ_RESTORE
+#include "pca_clock.h"
 
 void stc12_pca_isr(void) __interrupt(7)
 {
-    if (CCF0) {
-        uint16_t cap = (uint16_t)CCAP0H << 8 | CCAP0L;
-        CCF0 = 0;
-        flow_last = pca_extend(cap, CF);
-        flow_count++;
-    }
-    if (CF) {
-        CF = 0;
-        pca_hi++;
-    }
-}
-
-/* PCA time now; interrupts must be off. */
-static uint32_t pca_read(void)
-{
-    uint8_t h, l;
-    do {
-        h = CH;
-        l = CL;
-    } while (h != CH);
-    return pca_extend((uint16_t)h << 8 | l, CF);
+    uint16_t cap = (uint16_t)CCAP0H << 8 | CCAP0L;
+    uint8_t captured = CCF0;
+    CCF0 = 0;
+    pca_isr_body(captured, cap);
 }
 
 uint32_t hal_pca_now(void)
 {
     uint32_t t;
-    EA = 0;
+    uint8_t ea;
+    IRQ_OFF(ea);
     t = pca_read();
-    EA = 1;
+    IRQ_RESTORE(ea);
     return t;
 }
 
-static volatile uint32_t wheel_min;    /* hal_wheel_min_interval */
-static volatile uint8_t wheel_rejected;
-
 void stc12_int0_isr(void) __interrupt(0)
 {
-    uint32_t t = pca_read();
-    if (t - wheel_last < wheel_min) {   /* too early to be a pulse: bounce, interference */
-        if (wheel_rejected != 255)
-            wheel_rejected++;
-        return;
-    }
-    wheel_last = t;
-    wheel_count++;
+    WHEEL_ISR_WORK();
 }
 
 void hal_wheel_min_interval(uint32_t min_ticks)
 {
-    EA = 0;
+    uint8_t ea;
+    IRQ_OFF(ea);
     wheel_min = min_ticks;
-    EA = 1;
+    IRQ_RESTORE(ea);
 }
 
 void hal_flow_capture_take(hal_capture_t *c)
 {
-    EA = 0;
+    uint8_t ea;
+    IRQ_OFF(ea);
     c->count = flow_count;
     c->last = flow_last;
     c->rejected = 0;
     flow_count = 0;
-    EA = 1;
+    IRQ_RESTORE(ea);
 }
 
 void hal_wheel_capture_take(hal_capture_t *c)
 {
-    EA = 0;
+    uint8_t ea;
+    IRQ_OFF(ea);
     c->count = wheel_count;
     c->last = wheel_last;
     c->rejected = wheel_rejected;
     wheel_count = 0;
     wheel_rejected = 0;
-    EA = 1;
+    IRQ_RESTORE(ea);
+}
+
+/* ---- milliseconds from the PCA counter ---------------------------------------------------- */
+/*
+ * Timer 0 only wakes the count about once a millisecond; the milliseconds themselves are read
+ * off the PCA counter (921.6 ticks each: 921 and 3/5), which the hardware clocks without a
+ * stop or a reload. A reload that stops the timer loses the clocks of every instruction
+ * between the stop and the start (the compiler's, not a constant), and an IAP erase holds the
+ * CPU for longer than a timer period. Only the counter's 16 bits are compared (a signed
+ * difference: no overflow count, no 32-bit temporaries in the handler), so a held CPU or a
+ * late interrupt up to 35 ms (32768 ticks) is caught up with whole milliseconds here; an
+ * erase holds it about 21 ms. The PCA is clocked from SYSCLK, not the CPU: it counts on while
+ * IAP holds the CPU (checked at bring-up, docs/bringup.md: the LOG time stamps against the
+ * PC's clock across saves).
+ */
+static volatile uint32_t tick_ms;
+static uint16_t tick_next_pca;      /* PCA count (low 16 bits) of the next millisecond */
+static uint8_t tick_fifths;         /* fifths of a PCA tick carried */
+
+void stc12_timer0_isr(void) __interrupt(1)
+{
+    uint8_t h, l;
+    TL0 = (uint8_t)(65536u - 11059u);   /* about a millisecond; its exactness does not matter */
+    TH0 = (uint8_t)((65536u - 11059u) >> 8);
+    for (;;) {
+        do {
+            h = CH;
+            l = CL;
+        } while (h != CH);
+        if ((int16_t)(((uint16_t)h << 8 | l) - tick_next_pca) < 0)
+            break;
+        tick_ms++;
+        tick_next_pca += 921u;
+        tick_fifths += 3u;
+        if (tick_fifths >= 5u) {
+            tick_fifths -= 5u;
+            tick_next_pca++;
+        }
+    }
+}
+
+uint32_t hal_ms(void)
+{
+    uint32_t t;
+    uint8_t ea;
+    IRQ_OFF(ea);
+    t = tick_ms;
+    IRQ_RESTORE(ea);
+    return t;
 }
 
 /* ---- ADC: 10 bits, result high 8 bits in ADC_RES, low 2 in ADC_RESL (ADRJ = 0) ----------- */
@@ -146,10 +155,14 @@ void hal_wheel_capture_take(hal_capture_t *c)
 
 uint16_t hal_adc_read(uint8_t ch)
 {
+    uint8_t n = 0;
     ADC_CONTR = ADC_POWER | ADC_SPEED_90 | ADC_START | (ch & 7);
     NOP(); NOP(); NOP(); NOP();     /* the flag is valid four clocks after the start */
+    /* a conversion takes 90 clocks; a converter that never finishes reads 0, an open
+     * 4-20 mA loop, so the sensor fault alarms instead of the loop hanging until the watchdog */
     while (!(ADC_CONTR & ADC_FLAG))
-        ;
+        if (++n == 0)
+            return 0;
     ADC_CONTR &= (unsigned char)~ADC_FLAG;
     return (uint16_t)ADC_RES << 2 | (ADC_RESL & 3);
 }
@@ -203,17 +216,26 @@ static volatile uint8_t txq[UART_TXQ];   /* short queues: serial.c refills as th
 static volatile uint8_t tx_head, tx_tail, tx_busy;
 static volatile uint8_t rxq[UART_RXQ];
 static volatile uint8_t rx_head, rx_tail;
+/* A byte was lost: nothing more is queued until the queue has been read empty, where
+ * hal_uart_get reports HAL_UART_LOST, so the reader knows exactly where the gap is. */
+static volatile __bit rx_lost;
+
+/* the received byte in SBUF into the queue, or the loss marked (interrupts off) */
+#define RX_TAKE() do {                                                      \
+        uint8_t n_ = (uint8_t)((rx_head + 1) & (UART_RXQ - 1));             \
+        RI = 0;                                                             \
+        if (!rx_lost && n_ != rx_tail) {                                    \
+            rxq[rx_head] = SBUF;                                            \
+            rx_head = n_;                                                   \
+        } else {                                                            \
+            rx_lost = 1;                                                    \
+        }                                                                   \
+    } while (0)
 
 void stc12_uart_isr(void) __interrupt(4)
 {
-    if (RI) {
-        uint8_t n = (uint8_t)((rx_head + 1) & (UART_RXQ - 1));
-        RI = 0;
-        if (n != rx_tail) {         /* a full queue drops the byte; the frame check catches it */
-            rxq[rx_head] = SBUF;
-            rx_head = n;
-        }
-    }
+    if (RI)
+        RX_TAKE();
     if (TI) {
         TI = 0;
         if (tx_tail != tx_head) {
@@ -245,8 +267,13 @@ uint8_t hal_uart_put(uint8_t b)
 int16_t hal_uart_get(void)
 {
     int16_t b;
-    if (rx_tail == rx_head)
+    if (rx_tail == rx_head) {
+        if (rx_lost) {
+            rx_lost = 0;
+            return HAL_UART_LOST;
+        }
         return -1;
+    }
     b = rxq[rx_tail];
     rx_tail = (uint8_t)((rx_tail + 1) & (UART_RXQ - 1));
     return b;
@@ -258,30 +285,46 @@ int16_t hal_uart_get(void)
 #define IAP_PROGRAM 2
 #define IAP_ERASE 3
 
-static void iap_cmd(uint8_t cmd, uint16_t addr)
+/*
+ * One IAP operation; returns IAP_DATA (a read's byte). The CPU is held until the operation
+ * ends (a sector erase about 21 ms, a byte program about 55 us, datasheet's IAP timing):
+ * no interrupt is served meanwhile. The UART keeps one received byte in SBUF and, in mode 1,
+ * drops the next while RI is still set. So a byte waiting after an erase, or after any
+ * operation that found one already waiting, may have had others lost before it: it is
+ * dropped and the loss marked there, and the serial link discards that line with ERR LOST.
+ */
+static uint8_t iap_cmd(uint8_t cmd, uint16_t addr)
 {
+    uint8_t d;
+    uint8_t ea, ri0;
     IAP_CONTR = IAP_EN_WT;
     IAP_CMD = cmd;
     IAP_ADDRL = (uint8_t)addr;
     IAP_ADDRH = (uint8_t)(addr >> 8);
-    EA = 0;                         /* the trigger pair must not be split */
+    IRQ_OFF(ea);                    /* the trigger pair must not be split */
+    ri0 = RI;
     IAP_TRIG = 0x5A;
     IAP_TRIG = 0xA5;
     NOP();
-    EA = 1;
+    d = IAP_DATA;                   /* before the unit is idled, as STC's examples read it */
     IAP_CONTR = 0;                  /* leave IAP disabled and pointing outside the EEPROM */
     IAP_CMD = 0;
     IAP_TRIG = 0;
     IAP_ADDRH = 0x80;
     IAP_ADDRL = 0;
+    if (RI && (ri0 || cmd == IAP_ERASE)) {
+        RI = 0;                     /* that byte and any before it since the hold: a gap */
+        rx_lost = 1;
+    }
+    IRQ_RESTORE(ea);
+    return d;
 }
 
 uint8_t hal_eeprom_read(uint16_t addr)
 {
     if (addr >= HAL_EEPROM_SIZE)
         return 0xFF;
-    iap_cmd(IAP_READ, addr);
-    return IAP_DATA;
+    return iap_cmd(IAP_READ, addr);
 }
 
 void hal_eeprom_erase(uint16_t addr)
@@ -298,6 +341,21 @@ uint8_t hal_eeprom_write(uint16_t addr, uint8_t b)
     IAP_DATA = b;
     iap_cmd(IAP_PROGRAM, addr);
     return hal_eeprom_read(addr) == b;
+}
+
+/* ---- supply: the low-voltage detector's flag (PCON.LVDF) ------------------------------------ */
+#define PCON_LVDF 0x20
+#define PCON_POF 0x10
+
+/* The flag latches a dip below the threshold since it was last cleared: clear it, give the
+ * detector a few microseconds, and read it again. */
+uint8_t hal_supply_low(void)
+{
+    uint8_t i;
+    PCON &= (unsigned char)~PCON_LVDF;
+    for (i = 0; i < 40; i++)
+        NOP();
+    return (PCON & PCON_LVDF) ? 1 : 0;
 }
 
 /* ---- LCD12864, ST7920 serial mode: sync byte, then the high and low nibbles ---------------- */
@@ -326,20 +384,55 @@ void hal_lcd_write(uint8_t rs, uint8_t b)
     lcd_shift(b & 0xF0);
     lcd_shift((uint8_t)(b << 4));
     PIN_LCD_CS = 0;
-    /* ST7920 needs 72 us per command, 1.6 ms for clear (0x01) and home (0x02/0x03) */
-    delay_us((!rs && b < 0x04) ? 1600 : 80);
+    /* the ST7920's initialisation flowchart: more than 100 us after function set (0x30) and
+     * display control, more than 10 ms after clear (0x01), 72 us after a data write or entry
+     * mode; return home (0x02/0x03) 1.6 ms */
+    if (rs)
+        delay_us(80);
+    else if (b == 0x01)
+        delay_us(11000);
+    else if (b < 0x04)
+        delay_us(1600);
+    else
+        delay_us(120);
 }
 
 /* ---- watchdog: prescaler 32 -> 12 * 32 * 32768 / 11059200 = 1.14 s ------------------------ */
 void hal_wdt_kick(void)
 {
-    WDT_CONTR = 0x34;               /* EN_WDT | CLR_WDT | PS = 4 */
+    WDT_CONTR = 0x34;               /* EN_WDT | CLR_WDT | PS = 4 (writes WDT_FLAG 0) */
+}
+
+/* ---- the reset cause, read once before anything clears the flags -------------------------- */
+static uint8_t reset_cause;
+
+uint8_t hal_reset_cause(void)
+{
+    return reset_cause;
+}
+
+/* WDT_FLAG: the watchdog overflowed; POF: the supply came up from off; LVDF without POF: the
+ * supply fell below the low-voltage threshold since power-on and the chip reset (brown-out);
+ * none of them: the reset pin or a software reset. Then all three cleared for the next one. */
+static void reset_cause_read(void)
+{
+    if (WDT_CONTR & 0x80)
+        reset_cause = HAL_RESET_WATCHDOG;
+    else if (PCON & PCON_POF)
+        reset_cause = HAL_RESET_POWER;
+    else if (PCON & PCON_LVDF)
+        reset_cause = HAL_RESET_BROWNOUT;
+    else
+        reset_cause = HAL_RESET_OTHER;
+    WDT_CONTR = 0x34;
+    PCON &= (unsigned char)~(PCON_POF | PCON_LVDF);
 }
 
 /* ---- everything at power-up --------------------------------------------------------------- */
 void hal_init(void)
 {
-    /* ports: all quasi-bidirectional (reset state); valve, spray and buzzer off */
+    reset_cause_read();
+    /* outputs: off and push-pull since _sdcc_external_startup; inputs pulled up */
     PIN_VALVE_A = 0;
     PIN_VALVE_B = 0;
     PIN_SPRAY = 0;
@@ -349,26 +442,30 @@ void hal_init(void)
     PORT_KEYPAD = 0xFF;
     PORT_SECTIONS = 0xFF;
 
-    /* timer 0: 16-bit, 1T, 1 ms */
+    /* timer 0: 16-bit, 1T, wakes the millisecond count from the PCA */
     AUXR |= 0x80;                   /* T0x12 */
     TMOD = (TMOD & 0xF0) | 0x01;
     TL0 = (uint8_t)(65536u - 11059u);
     TH0 = (uint8_t)((65536u - 11059u) >> 8);
-    ET0 = 1;
-    TR0 = 1;
+    tick_ms = 0;
+    tick_next_pca = 921u;           /* the first millisecond ends at 921.6 */
+    tick_fifths = 3u;
 
-    /* PCA: SYSCLK/12, overflow interrupt; module 0 captures falling edges; module 1 PWM */
+    /* PCA: SYSCLK/12, overflow interrupt; module 0 captures falling edges; module 1 PWM, its
+     * compare registers set (output held low) before the module is switched to PWM */
     CMOD = 0x01;                    /* CPS = 000 (SYSCLK/12), ECF */
     CCON = 0;
     CL = 0;
     CH = 0;
-    CCAPM0 = 0x11;                  /* CAPN | ECCF */
-    CCAPM1 = 0x42;                  /* ECOM | PWM */
-    PCA_PWM1 = 0x03;
+    PCA_PWM1 = 0x03;                /* EPC1H/L: 9-bit compare above any count, output low */
     CCAP1L = 0xFF;
     CCAP1H = 0xFF;
+    CCAPM0 = 0x11;                  /* CAPN | ECCF */
+    CCAPM1 = 0x42;                  /* ECOM | PWM */
     CR = 1;
     PPCA = 1;                       /* captures first */
+    ET0 = 1;
+    TR0 = 1;
 
     /* INT0: falling edge */
     IT0 = 1;

@@ -122,6 +122,16 @@ static void trimmed(char *out, uint32_t v, uint8_t dec)
     strcpy(out, s);
 }
 
+/* The cross-check's verdict on the settings with parameter id at v (they stay as they were). */
+static uint8_t cross_with(uint8_t id, uint16_t v)
+{
+    uint16_t old = param_v[id];
+    param_v[id] = v;
+    uint8_t why = params_cross();
+    param_v[id] = old;
+    return why;
+}
+
 /* From the run screen to menu entry i. */
 static void to_item(uint8_t i)
 {
@@ -181,6 +191,9 @@ static void test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged(vo
 {
     (void)state;
     assert_int_equal(store_status(), STORE_DEFAULTS);
+    /* first the reset cause, for a message's time, then the EEPROM's state */
+    assert_string_equal(lcd(3), "Reset: power-on ");
+    run_ms(CONSOLE_MSG_MS);
     assert_string_equal(lcd(3), "!EE: defaults   ");
     press('*');
     assert_int_equal(store_status(), STORE_OK);
@@ -198,8 +211,12 @@ static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of
         const param_info_t *pi = param_info(id);
         to_item(id);
         assert_string_equal(lcd(1), (snprintf(want, sizeof want, "%-16s", pi->name), want));
-        /* a new value in range: stored and shown */
+        /* a new value in range (and within the cross-checks, tested below): stored and shown */
         uint16_t v = param_v[id] != pi->max ? pi->max : pi->min;
+        if (cross_with(id, v) != PARAM_OK)
+            v = param_v[id] != pi->min ? pi->min : pi->max;
+        if (cross_with(id, v) != PARAM_OK)
+            v = (uint16_t)(param_v[id] + 1);
         press('D');
         typed(s, v, pi->decimals);
         keys(s);
@@ -259,6 +276,17 @@ static void test_console_entry_takes_the_parameter_decimals_only(void **state)
     press('D');
     assert_int_equal(param_v[P_NOZZLES], 48);
     assert_int_equal(stored(P_NOZZLES), 48);
+    /* a point typed into a whole number spoils the entry: 12#5 is refused, not 125 */
+    static uint8_t before[HAL_EEPROM_SIZE];
+    eeprom_snapshot(before);
+    press('D');
+    keys("12#5");
+    assert_string_equal(lcd(2), "new 12.5_       ");
+    press('D');
+    assert_string_equal(lcd(3), "Whole numbers   ");
+    assert_int_equal(param_v[P_NOZZLES], 48);
+    assert_memory_equal(before, hal_host_eeprom(), HAL_EEPROM_SIZE);
+    press('C');
     to_item(P_NOZZLE_Q3);
     press('D');
     keys("1#2");                    /* 1.2 L/min = 120 in hundredths */
@@ -268,6 +296,110 @@ static void test_console_entry_takes_the_parameter_decimals_only(void **state)
     press('D');
     press('D');
     assert_int_equal(param_v[P_NOZZLE_Q3], 120);
+}
+
+/* A value in range that does not go with the other settings is refused with the reason,
+ * nothing stored: a tank minimum at or above the tank, P start at or above P max, a meter K
+ * whose pulses at the largest flow would exceed the interrupt budget. */
+static void test_console_cross_checks_refuse_with_the_reason(void **state)
+{
+    static const struct { uint8_t id; const char *typed, *why; } cases[] = {
+        {P_TANK_MIN, "1000", "Tank min>=size  "},
+        {P_TANK_L, "30", "Tank min>=size  "},
+        {P_P_MIN, "480", "P start>=P max  "},
+        {P_P_MAX, "100", "P start>=P max  "},
+        {P_METER_K, "6000", "Meter K:too fast"},
+        {P_NOZZLE_Q3, "20", "Meter K:too fast"},
+    };
+    static uint8_t before[HAL_EEPROM_SIZE];
+    (void)state;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        uint16_t was = param_v[cases[i].id];
+        to_item(cases[i].id);
+        press('D');
+        eeprom_snapshot(before);
+        keys(cases[i].typed);
+        press('D');
+        assert_string_equal(lcd(3), cases[i].why);
+        assert_int_equal(param_v[cases[i].id], was);
+        assert_memory_equal(before, hal_host_eeprom(), HAL_EEPROM_SIZE);
+        press('C');
+    }
+    /* just inside: accepted */
+    to_item(P_TANK_MIN);
+    press('D');
+    keys("999");
+    press('D');
+    assert_int_equal(param_v[P_TANK_MIN], 999);
+}
+
+/* The I/O test screen: raw inputs and pulse rates shown, the relay, buzzer and valve each
+ * switched by a key; reached and left from the menu without a parameter or the EEPROM
+ * changing, the outputs back with the application afterwards. */
+static void test_console_io_test_screen_checks_every_wire_and_changes_nothing(void **state)
+{
+    static uint8_t ee_before[HAL_EEPROM_SIZE];
+    uint16_t p_before[P_COUNT];
+    (void)state;
+    store_status_clear();
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 300;    /* 5.87 mA: 187 kPa, below P max */
+    hal_host_io.adc[HAL_ADC_LEVEL] = 205;
+    wheel_every_ms = 100;                       /* 10 Hz */
+    flow_every_ms = 4;                          /* 250 Hz */
+    run_ms(1000);
+    memcpy(p_before, param_v, sizeof p_before);
+    eeprom_snapshot(ee_before);
+    to_item(MENU_IOTEST);
+    assert_string_equal(lcd(1), "I/O test        ");
+    press('D');
+    assert_true(ops_io & OPS_IO_ON);
+    assert_false(hal_host_io.spray_on);
+    run_ms(2500);
+    assert_string_equal(lcd(0), "P 300  5.87mA R0");
+    assert_string_equal(lcd(1), "L 205  4.01mA B0");
+    const char *l2 = lcd(2);
+    assert_true(strstr(l2, "  10Hz V0") != NULL);
+    const char *l3 = lcd(3);
+    assert_true(strstr(l3, "  250Hz") != NULL || strstr(l3, "  249Hz") != NULL || strstr(l3, "  251Hz") != NULL);
+    /* the relay, the buzzer, the valve */
+    press('1');
+    assert_true(hal_host_io.spray_on);
+    assert_string_equal(lcd(0), "P 300  5.87mA R1");
+    press('3');
+    assert_true(hal_host_io.buzzer);
+    assert_string_equal(lcd(1), "L 205  4.01mA B1");
+    press('1');
+    press('3');
+    assert_false(hal_host_io.spray_on);
+    assert_false(hal_host_io.buzzer);
+    hal_host_io.keys = 1u << 1;                 /* 2 held: the valve closes (more flow) */
+    int closed = 0, opened = 0;
+    for (int i = 0; i < 400; i++) {
+        run_ms(1);
+        closed |= hal_host_io.valve_dir == HAL_VALVE_CLOSE;
+    }
+    hal_host_io.keys = 0;
+    run_ms(600);
+    hal_host_io.keys = 1u << 9;                 /* 8 held: it opens */
+    for (int i = 0; i < 400; i++) {
+        run_ms(1);
+        opened |= hal_host_io.valve_dir == HAL_VALVE_OPEN;
+    }
+    hal_host_io.keys = 0;
+    run_ms(600);
+    assert_true(closed && opened);
+    /* the relay left on is switched off when the screen is left */
+    press('1');
+    assert_true(hal_host_io.spray_on);
+    press('C');
+    assert_false(ops_io);
+    assert_false(hal_host_io.spray_on);
+    assert_string_equal(lcd(1), "I/O test        ");
+    press('C');
+    run_ms(2000);
+    assert_memory_equal(p_before, param_v, sizeof p_before);
+    assert_memory_equal(ee_before, hal_host_eeprom(), HAL_EEPROM_SIZE);
+    assert_false(app_status.manual);
 }
 
 static void test_console_controller_and_mode_are_chosen_by_name(void **state)
@@ -500,6 +632,8 @@ int main(void)
         cmocka_unit_test_setup(test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged, setup),
         cmocka_unit_test_setup(test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range, setup),
         cmocka_unit_test_setup(test_console_entry_takes_the_parameter_decimals_only, setup),
+        cmocka_unit_test_setup(test_console_cross_checks_refuse_with_the_reason, setup),
+        cmocka_unit_test_setup(test_console_io_test_screen_checks_every_wire_and_changes_nothing, setup),
         cmocka_unit_test_setup(test_console_controller_and_mode_are_chosen_by_name, setup),
         cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),

@@ -10,6 +10,7 @@
 #include "params.h"
 #include "app.h"
 #include "diag.h"
+#include "totals.h"
 
 static uint64_t t_ms;
 static char line[128];
@@ -66,14 +67,30 @@ static const char *next_line(void)
     return line;
 }
 
-/* send a command, let the loop answer, return the reply line */
+/* send a command, let the loop answer (the bytes travel at 38400 baud), return the reply line */
 static const char *cmd(const char *c)
 {
     while (next_line()[0])
         ;
     send(c);
-    run_ms(5);
+    run_ms((uint32_t)strlen(c) / 3 + 5);
     return next_line();
+}
+
+/* the same with its checksum, as the commands that change something require: "SET 0 1*HH\r\n" */
+static const char *signed_line(const char *c)
+{
+    static char l[64];
+    unsigned x = 0;
+    for (const char *p = c; *p; p++)
+        x ^= (uint8_t)*p;
+    snprintf(l, sizeof l, "%s*%02X\r\n", c, x);
+    return l;
+}
+
+static const char *scmd(const char *c)
+{
+    return cmd(signed_line(c));
 }
 
 static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **state)
@@ -106,6 +123,7 @@ static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **sta
     unsigned long t;
     unsigned v, p, al;
     int q1, q3;
+    assert_string_equal(next_line(), "BOOT POWER");    /* the reset cause, first */
     const char *l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu %u %u %d %d %4X", &t, &v, &p, &q1, &q3, &al), 6);
     assert_int_equal(t, 1001);
@@ -123,15 +141,15 @@ static void test_serial_commands_read_and_set_parameters_strictly(void **state)
     (void)state;
     run_ms(200);
     assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
-    assert_string_equal(cmd("SET 0 120\n"), "OK 0 120");
+    assert_string_equal(scmd("SET 0 120"), "OK 0 120");
     assert_int_equal(param_v[P_RATE], 120);
-    assert_string_equal(cmd("SET 0 5\n"), "ERR RANGE");          /* below 10 L/ha */
+    assert_string_equal(scmd("SET 0 5"), "ERR RANGE");           /* below 10 L/ha */
     assert_int_equal(param_v[P_RATE], 120);
-    assert_string_equal(cmd("SET 0 70000\n"), "ERR NUM");
-    assert_string_equal(cmd("SET 99 1\n"), "ERR ID");
-    assert_string_equal(cmd("SET 0  100\n"), "ERR ARG");
-    assert_string_equal(cmd("SET 0 -100\n"), "ERR NUM");
-    assert_string_equal(cmd("SET 0 1e2\n"), "ERR NUM");
+    assert_string_equal(scmd("SET 0 70000"), "ERR NUM");
+    assert_string_equal(scmd("SET 99 1"), "ERR ID");
+    assert_string_equal(scmd("SET 0  100"), "ERR ARG");
+    assert_string_equal(scmd("SET 0 -100"), "ERR NUM");
+    assert_string_equal(scmd("SET 0 1e2"), "ERR NUM");
     assert_string_equal(cmd("FOO\n"), "ERR CMD");
     assert_string_equal(cmd("set 0 100\n"), "ERR CMD");
     assert_int_equal(param_v[P_RATE], 120);
@@ -151,15 +169,154 @@ static void test_serial_commands_read_and_set_parameters_strictly(void **state)
     assert_string_equal(cmd("SET 0 1\x01" "00\n"), "ERR CHAR");
     assert_int_equal(param_v[P_RATE], 130);
     /* controller, pulse totals, totals, ack, jog outside manual */
-    assert_string_equal(cmd("CTL 0\n"), "OK CTL 0");
+    assert_string_equal(scmd("CTL 0"), "OK CTL 0");
     run_ms(200);
     assert_int_equal(param_v[P_CONTROLLER], 0);
-    assert_string_equal(cmd("CTL 9\n"), "ERR RANGE");
+    assert_string_equal(scmd("CTL 9"), "ERR RANGE");
     assert_string_equal(cmd("PUL\n"), "OK PUL 0 0");
     assert_string_equal(cmd("ACK now\n"), "ERR ARG");
     assert_string_equal(cmd("ACK\n"), "OK ACK");
-    assert_string_equal(cmd("JOG +\n"), "ERR MODE");
+    assert_string_equal(scmd("JOG +"), "ERR MODE");
     assert_string_equal(cmd("TOT\n"), "OK TOT 0 0 0");
+}
+
+/* Commands that change something are refused without their checksum: a line that lost a
+ * digit ("SET 0 150" arriving as "SET 0 10") would otherwise be a valid command. Those that
+ * only read need none. Cross-checks between parameters answer with their reason. */
+static void test_serial_changing_commands_require_their_checksum(void **state)
+{
+    (void)state;
+    run_ms(200);
+    static const char *const changing[] = {"SET 0 120", "CTL 0", "SAV", "JOG +", "RST"};
+    uint8_t before[HAL_EEPROM_SIZE];
+    memcpy(before, hal_host_eeprom(), sizeof before);
+    for (size_t i = 0; i < sizeof changing / sizeof changing[0]; i++) {
+        char l[32];
+        snprintf(l, sizeof l, "%s\r\n", changing[i]);
+        assert_string_equal(cmd(l), "ERR NOCSUM");
+    }
+    assert_int_equal(param_v[P_RATE], 150);
+    assert_int_equal(param_v[P_CONTROLLER], 3);
+    assert_memory_equal(before, hal_host_eeprom(), sizeof before);
+    /* the damaged line with the sender's checksum of the intact one */
+    char l[32];
+    strcpy(l, signed_line("SET 0 150"));
+    memmove(l + 7, l + 8, strlen(l + 8) + 1);   /* "SET 0 10*HH" */
+    assert_string_equal(cmd(l), "ERR CSUM");
+    assert_int_equal(param_v[P_RATE], 150);
+    /* reading needs no checksum */
+    assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
+    assert_string_equal(cmd("PUL\r\n"), "OK PUL 0 0");
+    /* the cross-checks' reasons */
+    assert_string_equal(scmd("SET 11 2000"), "ERR TANKMIN");    /* Tank min above the tank */
+    assert_string_equal(scmd("SET 15 480"), "ERR PSTART");      /* P start at P max */
+    assert_string_equal(scmd("SET 5 60000"), "ERR METERHZ");    /* 6000 p/L: too many pulses */
+    assert_int_equal(param_v[P_TANK_MIN], 30);
+    assert_int_equal(param_v[P_P_MIN], 100);
+    assert_int_equal(param_v[P_METER_K], 3800);
+    assert_string_equal(scmd("SET 11 999"), "OK 11 999");
+}
+
+/* A line that lost a byte is discarded whole with ERR LOST: the 16-byte receive queue
+ * overflowing while the loop does not read, and bytes arriving while an IAP erase holds the
+ * CPU. The lines before and after are answered as usual. */
+static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void **state)
+{
+    (void)state;
+    run_ms(200);
+    while (next_line()[0])
+        ;
+    /* a stall: 21 bytes arrive in 6 ms while the loop is not polled */
+    send("GET 0\r\n");
+    send(signed_line("SET 0 130"));
+    t_ms += 10;
+    hal_host_set_time_ns(t_ms * 1000000ull);
+    run_ms(10);
+    assert_string_equal(next_line(), "OK 0 150");
+    assert_int_equal(param_v[P_RATE], 150);
+    /* the damaged line's end was lost too: the PC's next line end closes it */
+    assert_string_equal(cmd("\r\n"), "ERR LOST");
+    assert_int_equal(param_v[P_RATE], 150);
+    assert_string_equal(scmd("SET 0 130"), "OK 0 130");
+    /* an erase: fill the log's 16 slots, so the next save erases a sector */
+    for (int i = 0; i < 16; i++)
+        assert_string_equal(scmd("SAV"), "OK SAV");
+    uint32_t erases = hal_host_io.eeprom_erases;
+    send(signed_line("SAV"));
+    send(signed_line("SET 0 140"));             /* arrives during the erase */
+    run_ms(30);
+    assert_int_equal(hal_host_io.eeprom_erases, erases + 1);
+    assert_string_equal(next_line(), "OK SAV");
+    const char *l = next_line();
+    if (!l[0])
+        l = cmd("\r\n");                     /* its end lost as well */
+    assert_string_equal(l, "ERR LOST");
+    assert_int_equal(param_v[P_RATE], 130);
+    assert_string_equal(scmd("SET 0 140"), "OK 0 140");
+}
+
+/* A loop that stalls (time jumps as when an IAP erase holds the CPU, or longer) counts the
+ * periods it missed into the area and volume: the same totals as a run without the stall. */
+static double area_after(uint32_t stall_ms)
+{
+    hal_host_reset();
+    hal_init();
+    t_ms = 0;
+    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(8.0);
+    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
+    hal_host_io.sections = 0x3F;
+    app_init();
+    assert_true(param_set(P_GIVEN_SPEED, 72));  /* 7.2 km/h = 2 m/s over 18 m */
+    run_ms(3000);
+    assert_true(app_status.spraying);
+    t_ms += stall_ms;
+    run_ms(6000 - stall_ms);
+    return totals_get()->job_dm2;
+}
+
+static void test_serial_a_stalled_loop_loses_no_area(void **state)
+{
+    (void)state;
+    double smooth = area_after(0);
+    assert_true(smooth > 1000.0);
+    assert_int_equal(app_overruns(), 0);
+    for (uint32_t stall = 250; stall <= 2250; stall += 500) {   /* a step 150 ms late or more */
+        double a = area_after(stall);
+        assert_int_equal(app_overruns(), 1);
+        assert_true(a >= smooth - 1.0 && a <= smooth + 1.0);
+    }
+}
+
+/* The totals are saved a second after the boom shuts, not in the step that shuts it (the
+ * relay's switching and the erase's current together), and not while the supply is low. */
+static void test_serial_the_totals_are_saved_a_second_after_the_boom_shuts(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_GIVEN_SPEED, 70));
+    run_ms(2000);
+    assert_true(app_status.spraying);
+    uint8_t before[HAL_EEPROM_SIZE];
+    memcpy(before, hal_host_eeprom(), sizeof before);
+    hal_host_io.sections = 0;                   /* the operator shuts the boom */
+    run_ms(200);
+    assert_false(app_status.spraying);
+    assert_false(hal_host_io.spray_on);
+    run_ms(700);
+    assert_memory_equal(before, hal_host_eeprom(), sizeof before);
+    run_ms(300);
+    assert_memory_not_equal(before, hal_host_eeprom(), sizeof before);
+    /* again, with the supply low: no save until it recovers */
+    hal_host_io.sections = 0x3F;
+    run_ms(1000);
+    assert_true(app_status.spraying);
+    memcpy(before, hal_host_eeprom(), sizeof before);
+    hal_host_io.supply_low = 1;
+    hal_host_io.sections = 0;
+    run_ms(5000);
+    assert_memory_equal(before, hal_host_eeprom(), sizeof before);
+    hal_host_io.supply_low = 0;
+    run_ms(1100);
+    assert_memory_not_equal(before, hal_host_eeprom(), sizeof before);
 }
 
 /* an alarm is told once when raised (code and LCD text) and once when it clears; the
@@ -201,13 +358,13 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
     run_ms(200);
     assert_true(app_status.manual);
     assert_true(app_status.spraying);                            /* sections on, tank full */
-    assert_string_equal(cmd("JOG +\n"), "OK JOG");
+    assert_string_equal(scmd("JOG +"), "OK JOG");
     run_ms(100);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
     run_ms(400);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
     /* a jog the other way while one runs: the bridge is off for the dead time first */
-    assert_string_equal(cmd("JOG +\n"), "OK JOG");
+    assert_string_equal(scmd("JOG +"), "OK JOG");
     run_ms(100);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
     ops_jog(-1);
@@ -233,6 +390,10 @@ int main(void)
         cmocka_unit_test_setup(test_serial_commands_read_and_set_parameters_strictly, setup),
         cmocka_unit_test_setup(test_serial_alarm_messages_and_the_buzzer, setup),
         cmocka_unit_test_setup(test_serial_manual_jog_drives_the_valve_for_a_jog, setup),
+        cmocka_unit_test_setup(test_serial_changing_commands_require_their_checksum, setup),
+        cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
+        cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
+        cmocka_unit_test_setup(test_serial_a_stalled_loop_loses_no_area, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,4 +1,4 @@
-/* test_store.c: the parameter store survives a power cut at every byte, rejects corrupt and out-of-range images. */
+/* test_store.c: the EEPROM log survives a power cut at every byte, erases a sector only when full, rejects corrupt, out-of-range and inconsistent records. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -11,6 +11,14 @@
 #include "totals.h"
 
 /* An independent twin of the documented layout (store.h), to build images by hand. */
+#define SLOT_BYTES 64
+#define SLOTS_PER_SECTOR 8
+/* the address of the slot the j-th save of a fresh EEPROM goes to (j = 0, 1, ...) */
+static size_t slot_at(int j)
+{
+    j %= 2 * SLOTS_PER_SECTOR;
+    return (size_t)(j / SLOTS_PER_SECTOR) * HAL_EEPROM_SECTOR + (size_t)(j % SLOTS_PER_SECTOR) * SLOT_BYTES;
+}
 static uint16_t twin_crc(const uint8_t *p, size_t n)
 {
     uint16_t crc = 0xFFFF;
@@ -62,12 +70,26 @@ static void values_k(uint16_t *v, int k)
         uint32_t span = (uint32_t)pi->max - pi->min;
         v[i] = (uint16_t)(pi->min + (span ? ((uint32_t)k * 7u + (uint32_t)i) % (span + 1) : 0));
     }
+    /* kept within the cross-checks (params.h): tank minimum and P start below their limits */
+    if (v[P_TANK_MIN] >= v[P_TANK_L])
+        v[P_TANK_MIN] = (uint16_t)(v[P_TANK_L] - 1);
+    if (v[P_P_MIN] >= v[P_P_MAX])
+        v[P_P_MIN] = (uint16_t)(v[P_P_MAX] - 1);
+    uint16_t keep[P_COUNT];
+    memcpy(keep, param_v, sizeof keep);
+    memcpy(param_v, v, sizeof keep);
+    if (params_cross() == PARAM_X_METER)
+        v[P_METER_K] = param_v[P_METER_K] = param_info(P_METER_K)->min;   /* 10 p/L */
+    assert_int_equal(params_cross(), PARAM_OK);
+    memcpy(param_v, keep, sizeof keep);
 }
 
 static void set_all(const uint16_t *v)
 {
+    /* a whole set: each in range, then all of them together within the cross-checks */
     for (int i = 0; i < P_COUNT; i++)
-        assert_true(param_set((uint8_t)i, v[i]));
+        assert_true(param_put((uint8_t)i, v[i]));
+    assert_int_equal(params_cross(), PARAM_OK);
 }
 
 static int equals(const uint16_t *v)
@@ -115,22 +137,104 @@ static void test_store_save_then_load_gives_the_values_back_in_both_sectors(void
         assert_int_equal(store_load(), STORE_OK);
         assert_true(equals(v));
     }
-    /* the copies alternate: both sectors hold a copy now */
-    assert_int_equal(hal_host_eeprom()[0], 0x5A);
-    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR], 0x5A);
+    /* a log: the records fill the slots of sector 0 in turn, none erased */
+    for (int j = 0; j < 5; j++)
+        assert_int_equal(hal_host_eeprom()[slot_at(j)], 0x5A);
+    assert_int_equal(hal_host_eeprom()[slot_at(5)], 0xFF);
+    assert_int_equal(hal_host_io.eeprom_erases, 0);
 }
 
-/* Operations (erase + bytes) one save takes, counted by letting a save run to the end. */
+/* A sector is erased only when full, the two taking turns: one erase every 8 saves once both
+ * have been used; every reload between saves gives the newest record. */
+static void test_store_erases_a_sector_only_when_it_is_full(void **state)
+{
+    uint16_t v[P_COUNT];
+    (void)state;
+    store_load();
+    for (int j = 0; j < 16; j++) {
+        values_k(v, j);
+        set_all(v);
+        assert_true(store_save());
+    }
+    assert_int_equal(hal_host_io.eeprom_erases, 0);     /* a fresh EEPROM: 16 erased slots */
+    for (int j = 16; j < 16 + 800; j++) {
+        values_k(v, j);
+        set_all(v);
+        assert_true(store_save());
+        if (j % 97 == 0) {
+            scramble();
+            assert_int_equal(store_load(), STORE_OK);
+            assert_true(equals(v));
+        }
+    }
+    assert_int_equal(hal_host_io.eeprom_erases, 800 / 8);
+    scramble();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(v));
+}
+
+/* A newest record whose values break a cross-check (a tank minimum above the tank, written by
+ * a firmware without the checks) is not loaded: the defaults, and the reason shown. */
+static void test_store_a_record_breaking_a_cross_check_is_not_loaded(void **state)
+{
+    uint16_t a[P_COUNT], b[P_COUNT], def[P_COUNT];
+    (void)state;
+    params_defaults();
+    memcpy(def, param_v, sizeof def);
+    values_k(a, 3);
+    memcpy(b, a, sizeof b);
+    b[P_TANK_L] = 100;
+    b[P_TANK_MIN] = 2000;
+    twin_write(0, 10, a, PARAMS_VERSION);
+    twin_write(1, 11, b, PARAMS_VERSION);
+    scramble();
+    assert_int_equal(store_load(), STORE_CROSS);
+    assert_string_equal(store_status_text(store_status()), "Tank min>=size");
+    assert_true(equals(def));
+    hal_host_reset();
+    twin_write(1, 11, b, PARAMS_VERSION);
+    scramble();
+    assert_int_equal(store_load(), STORE_CROSS);
+    assert_true(equals(def));
+    /* the next save goes after it, and is the one loaded next */
+    assert_true(store_save());
+    scramble();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(def));
+}
+
+/* No save starts while the supply is low: nothing written, the status says why. */
+static void test_store_no_save_while_the_supply_is_low(void **state)
+{
+    (void)state;
+    store_load();
+    hal_host_io.supply_low = 1;
+    assert_false(store_save());
+    assert_int_equal(store_status(), STORE_LOW_SUPPLY);
+    assert_string_equal(store_status_text(STORE_LOW_SUPPLY), "EE: low supply");
+    for (unsigned i = 0; i < HAL_EEPROM_SIZE; i++)
+        assert_int_equal(hal_host_eeprom()[i], 0xFF);
+    hal_host_io.supply_low = 0;
+    assert_true(store_save());
+    assert_int_equal(store_status(), STORE_OK);
+}
+
+/* Operations (erase + bytes) one save takes, counted by letting a save run to the end on a
+ * copy of the EEPROM as it is. */
 static int32_t ops_of_a_save(void)
 {
+    uint8_t keep[HAL_EEPROM_SIZE];
     int32_t n;
+    memcpy(keep, hal_host_eeprom(), sizeof keep);
     for (n = 0; n < 2000; n++) {
+        memcpy(hal_host_eeprom(), keep, sizeof keep);
         hal_host_eeprom_cut_after(n);
         store_save();
         if (!hal_host_eeprom_cut())
             break;
     }
     hal_host_eeprom_cut_after(-1);
+    memcpy(hal_host_eeprom(), keep, sizeof keep);
     return n;
 }
 
@@ -147,15 +251,15 @@ static int cut_run(int k, int32_t n, int partial, const uint16_t *prev, const ui
         set_all(j == k - 1 ? prev : v);
         assert_true(store_save());
     }
-    /* where the cut save writes: the sector the last good save did not use */
-    int sector = (k % 2 == 1) ? 1 : 0;
+    /* where the cut save writes: the k-th slot, after an erase when it starts a used sector */
+    int erase = k >= 2 * SLOTS_PER_SECTOR && k % SLOTS_PER_SECTOR == 0;
     set_all(next);
     hal_host_eeprom_cut_after(n);
     store_save();
     int was_cut = hal_host_eeprom_cut();
-    if (partial && was_cut && n >= 1) {
-        /* the interrupted byte: the (n-1)th of the copy, some of its zero bits programmed */
-        uint8_t *cell = hal_host_eeprom() + sector * HAL_EEPROM_SECTOR + (n - 1);
+    if (partial && was_cut && n >= 1 + erase) {
+        /* the interrupted byte: the last one the save began, some of its zero bits programmed */
+        uint8_t *cell = hal_host_eeprom() + slot_at(k) + (n - 1 - erase);
         *cell &= 0xF0 | (uint8_t)(n & 0x0F);
     }
     hal_host_eeprom_cut_after(-1);
@@ -174,13 +278,22 @@ static int cut_run(int k, int32_t n, int partial, const uint16_t *prev, const ui
 static void test_store_power_cut_at_every_byte_leaves_the_newest_or_the_previous_copy(void **state)
 {
     uint16_t prev[P_COUNT], next[P_COUNT];
+    static const int ks[] = {1, 2, 3, 7, 8, 15, 16, 17, 24};
     (void)state;
-    store_load();
-    int32_t ops = ops_of_a_save();
-    assert_int_equal(ops, 1 + STORE_COPY_BYTES);    /* one erase, then every byte */
     values_k(prev, 1);
     values_k(next, 2);
-    for (int k = 1; k <= 3; k++)
+    for (size_t ki = 0; ki < sizeof ks / sizeof ks[0]; ki++) {
+        int k = ks[ki];
+        /* the operations of the (k+1)th save: every byte, and an erase first when it starts
+         * a sector that holds older records */
+        hal_host_reset();
+        params_defaults();
+        store_load();
+        for (int j = 0; j < k; j++)
+            assert_true(store_save());
+        int32_t ops = ops_of_a_save();
+        int erase = k >= 16 && k % 8 == 0;
+        assert_int_equal(ops, erase + STORE_COPY_BYTES);
         for (int partial = 0; partial <= 1; partial++) {
             int got_next = 0, got_prev = 0;
             for (int32_t n = 0; n <= ops; n++) {
@@ -193,6 +306,7 @@ static void test_store_power_cut_at_every_byte_leaves_the_newest_or_the_previous
             assert_int_equal(got_prev, ops);
             assert_int_equal(got_next, 1);
         }
+    }
 }
 
 static void test_store_after_a_cut_the_next_save_is_good(void **state)
@@ -222,10 +336,10 @@ static void test_store_a_corrupt_byte_in_the_newest_copy_loads_the_previous(void
         hal_host_reset();
         store_load();
         set_all(a);
-        assert_true(store_save());   /* sector 0 */
+        assert_true(store_save());   /* slot 0 */
         set_all(b);
-        assert_true(store_save());   /* sector 1 */
-        hal_host_eeprom()[HAL_EEPROM_SECTOR + at] ^= 0x10;
+        assert_true(store_save());   /* slot 1 */
+        hal_host_eeprom()[slot_at(1) + at] ^= 0x10;
         scramble();
         store_load();
         assert_true(equals(a));
@@ -243,8 +357,8 @@ static void test_store_a_corrupted_image_boots_to_defaults_with_the_alarm(void *
     set_all(a);
     assert_true(store_save());
     assert_true(store_save());
-    hal_host_eeprom()[7] ^= 0x01;                       /* a value byte in sector 0 */
-    hal_host_eeprom()[HAL_EEPROM_SECTOR + 5] ^= 0x80;   /* and in sector 1 */
+    hal_host_eeprom()[slot_at(0) + 7] ^= 0x01;          /* a value byte in each record */
+    hal_host_eeprom()[slot_at(1) + 5] ^= 0x80;
     scramble();
     assert_int_equal(store_load(), STORE_DEFAULTS);
     assert_true(equals(def));
@@ -307,9 +421,9 @@ static void test_store_reads_the_documented_layout_and_wraps_the_sequence(void *
     twin_write(0, 0x0001, a, PARAMS_VERSION);
     store_load();
     assert_true(equals(a));
-    /* the next save goes to the other sector with the next number */
+    /* the next save goes to the slot after the newest with the next number */
     assert_true(store_save());
-    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR + 3], 2);
+    assert_int_equal(hal_host_eeprom()[slot_at(1) + 3], 2);
     /* another layout version is not loaded */
     hal_host_reset();
     twin_write(0, 5, a, PARAMS_VERSION + 1);
@@ -353,8 +467,8 @@ static void test_store_loads_a_version_2_copy(void **state)
     assert_int_equal(totals_get()->life_m2, 4321u);
     assert_int_equal(totals_get()->life_ml, 98765u);
     assert_true(store_save());
-    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR + 1], PARAMS_VERSION);
-    assert_int_equal(hal_host_eeprom()[HAL_EEPROM_SECTOR + 2], P_COUNT);
+    assert_int_equal(hal_host_eeprom()[slot_at(1) + 1], PARAMS_VERSION);
+    assert_int_equal(hal_host_eeprom()[slot_at(1) + 2], P_COUNT);
     assert_int_equal(store_load(), STORE_OK);
     assert_int_equal(param_v[0], a[0]);
     assert_int_equal(totals_get()->life_ml, 98765u);
@@ -387,7 +501,7 @@ static void test_store_keeps_the_lifetime_totals(void **state)
     assert_int_equal(totals_get()->life_m2, 42u);
     assert_int_equal(totals_get()->life_ml, 4200000UL);
     /* a corrupt newest copy gives the previous totals, never a mix */
-    hal_host_eeprom()[HAL_EEPROM_SECTOR + 5 + 2 * P_COUNT] ^= 0x01;
+    hal_host_eeprom()[slot_at(1) + 5 + 2 * P_COUNT] ^= 0x01;
     totals_init();
     store_load();
     assert_int_equal(totals_get()->life_m2, 123456789UL);
@@ -421,6 +535,9 @@ int main(void)
         cmocka_unit_test_setup(test_store_keeps_the_lifetime_totals, setup),
         cmocka_unit_test_setup(test_store_loads_a_version_2_copy, setup),
         cmocka_unit_test_setup(test_store_loads_a_version_3_copy, setup),
+        cmocka_unit_test_setup(test_store_erases_a_sector_only_when_it_is_full, setup),
+        cmocka_unit_test_setup(test_store_a_record_breaking_a_cross_check_is_not_loaded, setup),
+        cmocka_unit_test_setup(test_store_no_save_while_the_supply_is_low, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
