@@ -97,7 +97,7 @@ help:
 	@echo "make memory    the 20 largest users of each memory region of the image, the deepest call chain"
 	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev; .venv)"
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
-	@echo "make bench     machine cycles of the firmware's building blocks and controllers in s51"
+	@echo "make bench     machine cycles in s51 of the building blocks and of each controller's step (budget 30,000)"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1]   the controllers over N sprayers of the plant family"
@@ -193,7 +193,8 @@ test:
 	$(Q)tools/deps.sh --quiet
 	$(Q)tools/run_tests.sh
 
-# machine cycles of the fixed-point blocks and of one step of each controller, measured in s51
+# machine cycles of the fixed-point blocks and of one step of each controller, measured in s51,
+# each step against the budget (ctl.h CTL_STEP_BUDGET_CYCLES: 30,000 classic cycles, under 4 ms on the chip)
 bench: $(TT_IHX) $(TT_HOST)
 	$(Q)tools/bench.sh $(UC_DIR)
 

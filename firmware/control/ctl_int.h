@@ -44,27 +44,19 @@ typedef struct {
 #define BP_Q_NORM 26844             /* flows to the network: q / 50 L/min, Q12: x100 * 0.8192 (Q15 const) */
 #define BP_E_NORM 16777             /* error: e / 5 L/min, Q12: x100 * 8.192 (Q11 const) */
 #define BP_E_CLAMP 1500             /* error input clamped to +-15 L/min (x100) */
-/* The network's work spread over BP_PHASES periods (each under 10,000 machine cycles):
- * 0 hidden layer forward; 1 output layer forward (new gains) and the output deltas of that
- * sample; 2..5 two units each (units 0-2 the output rows, 3-7 the hidden rows). The gains are
- * held between forward passes (renewed every 6 periods while learning, every 2 while frozen). */
-#define BP_PHASES 6
 typedef struct {
     int16_t w[BP_HID][BP_IN];       /* Q12 input -> hidden, column 0 = bias */
     int16_t v[BP_OUT][BP_HID];      /* Q12 hidden -> output */
     int8_t dw[BP_HID][BP_IN];       /* Q12 last change of w (momentum), saturated to +-127 */
     int8_t dv[BP_OUT][BP_HID];      /* Q12 last change of v */
-    int16_t xs[BP_IN];              /* scratch of the step: this period's inputs, Q12 */
+    int16_t x[BP_IN];               /* Q12 this period's inputs */
+    int16_t o[BP_HID];              /* Q15 this period's hidden outputs */
+    int16_t k[BP_OUT];              /* Q15 kp, ki, kd */
     int16_t de[BP_OUT];             /* scratch: the law's e - e1, e, e - 2e1 + e2 (x100) */
     int16_t dn[BP_OUT];             /* scratch: the same of the normalised error (Q12) */
-    int16_t x[BP_IN];               /* Q12 inputs of the step whose hidden update is pending */
-    int16_t o[BP_HID];              /* Q15 hidden outputs */
-    int16_t k[BP_OUT];              /* Q15 kp, ki, kd */
-    int16_t dl[BP_OUT];             /* Q12 output deltas of the update in progress */
-    int16_t oh[BP_HID];             /* Q15 hidden outputs of the update in progress */
+    int16_t dl[BP_OUT];             /* Q12 output deltas of this period */
     int16_t e1, e2;                 /* x100 L/min */
     int16_t n1, n2;                 /* Q12 normalised error e(k-1), e(k-2) */
-    uint8_t phase;                  /* learning schedule, see BP_PHASES */
 } bp_state_t;
 
 /* ---- ffmap (the project's own, `best`): a damped incremental PID with a deadband, an output

@@ -1,4 +1,4 @@
-/* mul.h: the 16x16 -> 32 signed multiply of the control steps, and the dot product of the network. */
+/* mul.h: the 16x16 -> 32 signed multiply of the control steps; the network's dot product and learning row. */
 #ifndef MUL_H
 #define MUL_H
 
@@ -15,6 +15,15 @@
  *   MUL(a, b)     a * b, int16 operands, int32 product
  *   MAC(a, b)     mul_acc += a * b
  *   DOT(w, x, n)  mul_acc += w[0] * x[0] + ... + w[n-1] * x[n-1], w and x int16 arrays in xdata
+ *   UPD(w, dw, x, eg, lim, n, s)   one row of a network's learning step (below)
+ *
+ * UPD, for j = 0 .. n-1 (w int16, dw int8 and x int16 arrays in xdata; s = 1 or 4):
+ *   d     = (eg * x[j] + 2^(15-s)) >> (16-s)      eg * x rounded (x Q15: s = 1, x Q12: s = 4)
+ *   d    += (dw[j] >> 4) - (dw[j] >> 6) + (dw[j] >> 8)    the momentum term, 0.0508 dw
+ *   w[j]  = w[j] + d, held within +-lim
+ *   dw[j] = the change made, held within +-127
+ * The caller keeps (eg * x[j]) >> (16-s) within int16 and w[j] within +-lim (nothing else
+ * saturates); the host's C and the 8051's assembly give the same bits (tt_ctl).
  */
 #if defined(__SDCC)
 extern __data int16_t mul_a, mul_b;
@@ -23,13 +32,27 @@ extern __data int32_t mul_acc;
 int32_t mul_ab(void) __naked;
 void mac_ab(void) __naked;
 void dot_ab(uint8_t n) __naked;
+extern __data int16_t upd_eg, upd_lim;
+extern __data uint16_t upd_dw;
+void upd_ab(uint16_t n_s) __naked;
 #define MUL(a, b) (mul_a = (a), mul_b = (b), mul_ab())
 #define MAC(a, b) do { mul_a = (a); mul_b = (b); mac_ab(); } while (0)
 #define DOT(w, x, n) do { mul_a = (int16_t)(uint16_t)(w); mul_b = (int16_t)(uint16_t)(x); dot_ab(n); } while (0)
+#define UPD(w, dw, x, eg, lim, n, s)                                                          \
+    do {                                                                                     \
+        mul_a = (int16_t)(uint16_t)(w);                                                      \
+        upd_dw = (uint16_t)(dw);                                                             \
+        mul_b = (int16_t)(uint16_t)(x);                                                      \
+        upd_eg = (eg);                                                                       \
+        upd_lim = (lim);                                                                     \
+        upd_ab((uint16_t)(((uint16_t)(s) << 8) | (n)));                                      \
+    } while (0)
 #else
 extern int32_t mul_acc;
 void dot_c(const int16_t *w, const int16_t *x, uint8_t n);
 #define DOT(w, x, n) dot_c(w, x, n)
+void upd_c(int16_t *w, int8_t *dw, const int16_t *x, int16_t eg, int16_t lim, uint8_t n, uint8_t s);
+#define UPD(w, dw, x, eg, lim, n, s) upd_c(w, dw, x, eg, lim, n, s)
 #define MUL(a, b) ((int32_t)(int16_t)(a) * (int16_t)(b))
 #define MAC(a, b) (mul_acc += (int32_t)(int16_t)(a) * (int16_t)(b))
 #endif

@@ -15,8 +15,14 @@ void ctltw_fuzzy_gains(double e_lpm, double ec_lpm, double k[3]);
 /* bp_pid's forward pass: weights as plain numbers, inputs target/flow in L/min; hidden and outputs. */
 void ctltw_bp_forward(const double w[5][4], const double v[3][5], double target_lpm, double flow_lpm,
                       double o[5], double k[3]);
-/* bp_pid's output-layer change for one step: dv = eta * delta_l * o_j (momentum excluded). */
-void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, double n2, double dv[3][5]);
+/* bp_pid's learning step as the paper has it (eta 0.2, momentum 0.05, E = n^2 / 2 through the
+ * incremental law, sgn(dy/du) = +1): the output rows v, then the hidden rows w with the output
+ * weights just updated, each weight held within +-wmax. dw0, dv0: the last changes (momentum);
+ * x: the inputs (bias first), o: the hidden outputs, k: the gains of the forward pass; n, n1, n2:
+ * the normalised error e(k), e(k-1), e(k-2). */
+void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], const double dv0[3][5],
+                    const double x[4], const double o[5], const double k[3], double n, double n1, double n2,
+                    double wmax);
 
 /* ---- ffmap (`best`): one step of the damped PID with its deadband and motor-aware output ------
  * Flows in L/min, drives as fractions of full duty, plain double arithmetic, no rounding. */

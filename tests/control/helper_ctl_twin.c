@@ -65,13 +65,24 @@ void ctltw_bp_forward(const double w[5][4], const double v[3][5], double target_
     }
 }
 
-void ctltw_bp_dv(const double k[3], const double o[5], double n, double n1, double n2, double dv[3][5])
+void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], const double dv0[3][5],
+                    const double x[4], const double o[5], const double k[3], double n, double n1, double n2,
+                    double wmax)
 {
-    double dn[3] = {n - n1, n, n - 2 * n1 + n2};
+    const double eta = 0.2, alpha = 0.05;
+    double dn[3] = {n - n1, n, n - 2 * n1 + n2}, delta[3];
     for (int l = 0; l < 3; l++) {
-        double delta = n * dn[l] * 2 * k[l] * (1 - k[l]);
-        for (int j = 0; j < 5; j++)
-            dv[l][j] = 0.2 * delta * o[j];
+        delta[l] = n * dn[l] * 2 * k[l] * (1 - k[l]);
+        for (int i = 0; i < 5; i++)
+            v[l][i] = ctltw_clamp(v[l][i] + eta * delta[l] * o[i] + alpha * dv0[l][i], -wmax, wmax);
+    }
+    for (int i = 0; i < 5; i++) {
+        double sigma = 0;
+        for (int l = 0; l < 3; l++)
+            sigma += delta[l] * v[l][i];    /* the output weights just updated */
+        double dh = (1 - o[i] * o[i]) * sigma;
+        for (int j = 0; j < 4; j++)
+            w[i][j] = ctltw_clamp(w[i][j] + eta * dh * x[j] + alpha * dw0[i][j], -wmax, wmax);
     }
 }
 

@@ -113,6 +113,13 @@ static void test_ctl_fuzzy_gains_match_twin_within_14_lsb(void **state)
     print_message("fuzzy_pid: worst gain %.2f LSB of Q12 against the twin\n", worst);
 }
 
+/* bp_pid's normalised error as a plain number: clamped to +-15 L/min, over 5 L/min */
+static double ctltw_clamp_e5(int t, int f)
+{
+    double e = (t - f) / 100.0;
+    return (e > 15 ? 15 : e < -15 ? -15 : e) / 5.0;
+}
+
 static void bp_weights(double w[5][4], double v[3][5])
 {
     for (int i = 0; i < 5; i++)
@@ -123,77 +130,130 @@ static void bp_weights(double w[5][4], double v[3][5])
             v[i][j] = ctl_st.bp.v[i][j] / 4096.0;
 }
 
-/* bp forward pass against the twin from the same weights: hidden outputs (phase 0) within 12
- * LSB of Q15 (net input rounded to Q12: 4 LSB, tanh table 2 LSB, inputs' scaling 1e-4), gains
- * (phase 1, from the hidden outputs held) within 12 LSB of Q15; the output layer's change,
- * made on phases 2 and 3 from the deltas of phase 1, within 3.5 LSB of Q12 + 5 % of it (the
- * gradient and eta*delta rounded to Q12, the momentum's shifts floor: up to 2 LSB). */
-static void test_ctl_bp_matches_twin(void **state)
+/* bp_pid every period against the twin: the forward pass from the same weights (hidden outputs
+ * and gains within 12 LSB of Q15: net inputs rounded to Q12, 4 LSB; tanh table, 2 LSB; the
+ * inputs' scaling 1e-4), and the learning step that follows in the same period: every weight's
+ * change against the paper's rule (ctltw_bp_learn, fed the firmware's hidden outputs and gains,
+ * the error and inputs as exact numbers) within 3 LSB of Q12 + 1 % of the change for the output
+ * rows (the error's and the gradient's Q12 roundings, eta in Q12, the momentum's three floored
+ * shifts for alpha: up to 1 LSB, the change rounded) and 4 LSB + 2 % for the hidden rows (the
+ * output rows' errors through their deltas, 1 - O^2 and the backed-up sum rounded). A period
+ * whose drive was cut changes no weight. */
+static void test_ctl_bp_learns_every_period_as_the_twin(void **state)
 {
     (void)state;
-    double wo = 0, wk = 0, wdv = 0;
-    int checked = 0, have = 0;
-    double dv[3][5], ok[5], kf[3];
-    int16_t v0[3][5];
-    int8_t dv0[3][5];
+    double wo = 0, wk = 0, wv = 0, ww = 0, n1 = 0, n2 = 0;
+    int learned = 0, frozen = 0, moved_v[3][5] = {{0}}, moved_w[5][4] = {{0}};
     ctl_select(CTL_BP_PID);
     for (int k = 0; k < 6000; k++) {
         int t = rnd(1500, 5000), f = t + rnd(-600, 600);
         ctl_in_t in = mk(t, f, 0);
-        double w[5][4], v[3][5], o[5], kk[3];
-        uint8_t phase = ctl_st.bp.phase;
-        int16_t n1 = ctl_st.bp.n1, n2 = ctl_st.bp.n2;
+        double w[5][4], v[3][5], dw0[5][4], dv0[3][5], o[5], kk[3], x[4], ko[3], oo[5];
+        int16_t wq[5][4], vq[3][5];
+        double n = ctltw_clamp_e5(t, f);
         bp_weights(w, v);
+        memcpy(wq, ctl_st.bp.w, sizeof wq);
+        memcpy(vq, ctl_st.bp.v, sizeof vq);
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 4; j++)
+                dw0[i][j] = ctl_st.bp.dw[i][j] / 4096.0;
+        for (int l = 0; l < 3; l++)
+            for (int i = 0; i < 5; i++)
+                dv0[l][i] = ctl_st.bp.dv[l][i] / 4096.0;
+        if (k == 0)
+            n1 = n2 = n;
         ctl_step(&in);
-        if (phase == 0) {
-            ctltw_bp_forward(w, v, t / 100.0, f / 100.0, o, kk);
-            for (int i = 0; i < 5; i++) {
-                double err = fabs(ctl_st.bp.o[i] - o[i] * 32768);
-                wo = err > wo ? err : wo;
-                assert_true(err <= 12.0);
-            }
+        /* forward pass of this period */
+        ctltw_bp_forward(w, v, t / 100.0, f / 100.0, o, kk);
+        for (int i = 0; i < 5; i++) {
+            double err = fabs(ctl_st.bp.o[i] - o[i] * 32768);
+            wo = err > wo ? err : wo;
+            assert_true(err <= 12.0);
+            oo[i] = ctl_st.bp.o[i] / 32768.0;
         }
-        if (phase == 1) {
-            for (int l = 0; l < 3; l++) {
-                double a = 0;
-                for (int j = 0; j < 5; j++)
-                    a += v[l][j] * ctl_st.bp.o[j] / 32768.0;
-                double err = fabs(ctl_st.bp.k[l] - (1 + tanh(a)) / 2 * 32768);
-                wk = err > wk ? err : wk;
-                assert_true(err <= 12.0);
-            }
+        for (int l = 0; l < 3; l++) {
+            double err = fabs(ctl_st.bp.k[l] - kk[l] * 32768);
+            wk = err > wk ? err : wk;
+            assert_true(err <= 12.0);
+            ko[l] = ctl_st.bp.k[l] / 32768.0;
         }
-        if (phase == 1 && ctl_st.bp.phase == 2 && k > 1) {
-            double n = ctl_st.bp.n1 / 4096.0;
-            for (int j = 0; j < 5; j++)
-                ok[j] = ctl_st.bp.o[j] / 32768.0;
+        if (ctl_saturated()) {
+            assert_memory_equal(wq, ctl_st.bp.w, sizeof wq);
+            assert_memory_equal(vq, ctl_st.bp.v, sizeof vq);
+            frozen++;
+        } else {
+            /* the learning step of this period */
+            x[0] = 1.0;
+            x[1] = t / 5000.0;
+            x[2] = f / 5000.0;
+            x[3] = n;
+            ctltw_bp_learn(w, v, dw0, dv0, x, oo, ko, n, n1, n2, BP_WMAX / 4096.0);
             for (int l = 0; l < 3; l++)
-                kf[l] = ctl_st.bp.k[l] / 32768.0;
-            ctltw_bp_dv(kf, ok, n, n1 / 4096.0, n2 / 4096.0, dv);
-            memcpy(v0, ctl_st.bp.v, sizeof v0);
-            memcpy(dv0, ctl_st.bp.dv, sizeof dv0);
-            have = 1;
-        } else if (ctl_st.bp.phase != 3 && !(phase == 3 && ctl_st.bp.phase == 4)) {
-            have = 0;
-        }
-        if (have && phase == 3 && ctl_st.bp.phase == 4) {
-            for (int i = 0; i < 3; i++)
-                for (int j = 0; j < 5; j++) {
-                    double want = dv[i][j] * 4096 + 0.0508 * dv0[i][j];
-                    double got = ctl_st.bp.v[i][j] - v0[i][j];
-                    if (fabs(v0[i][j] + want) >= BP_WMAX)
-                        continue;       /* at the bound */
+                for (int i = 0; i < 5; i++) {
+                    double want = v[l][i] * 4096 - vq[l][i], got = ctl_st.bp.v[l][i] - vq[l][i];
                     double err = fabs(got - want);
-                    wdv = err > wdv ? err : wdv;
-                    assert_true(err <= 3.5 + 0.05 * fabs(want));
+                    wv = err > wv ? err : wv;
+                    assert_true(err <= 3.0 + 0.01 * fabs(want));
+                    if (fabs(want) >= 5.0) {
+                        assert_true(got * want > 0);
+                        moved_v[l][i]++;
+                    }
                 }
-            checked++;
-            have = 0;
+            for (int i = 0; i < 5; i++)
+                for (int j = 0; j < 4; j++) {
+                    double want = w[i][j] * 4096 - wq[i][j], got = ctl_st.bp.w[i][j] - wq[i][j];
+                    double err = fabs(got - want);
+                    ww = err > ww ? err : ww;
+                    assert_true(err <= 4.0 + 0.02 * fabs(want));
+                    if (fabs(want) >= 5.0) {
+                        assert_true(got * want > 0);
+                        moved_w[i][j]++;
+                    }
+                }
+            learned++;
         }
+        n2 = n1;
+        n1 = n;
     }
-    assert_true(checked > 10);      /* saturation drops many updates; these were complete */
-    print_message("bp_pid: worst hidden %.1f, gain %.1f LSB of Q15; weight change %.2f LSB of Q12 (%d updates)\n",
-                  wo, wk, wdv, checked);
+    /* every weight was asked to move by more than the tolerance (5 LSB) in 20 periods or more, and moved that way */
+    int least = learned;
+    for (int l = 0; l < 3; l++)
+        for (int i = 0; i < 5; i++)
+            least = moved_v[l][i] < least ? moved_v[l][i] : least;
+    for (int i = 0; i < 5; i++)
+        for (int j = 0; j < 4; j++)
+            least = moved_w[i][j] < least ? moved_w[i][j] : least;
+    print_message("bp_pid: worst hidden %.1f, gain %.1f LSB of Q15; weight change output %.2f, hidden %.2f LSB of "
+                  "Q12 (%d periods learned, %d frozen; each weight moved >= 5 LSB in %d or more)\n",
+                  wo, wk, wv, ww, learned, frozen, least);
+    for (int l = 0; l < 3; l++)
+        for (int i = 0; i < 5; i++)
+            assert_true(moved_v[l][i] >= 20);
+    for (int i = 0; i < 5; i++)
+        for (int j = 0; j < 4; j++)
+            assert_true(moved_w[i][j] >= 20);
+    assert_true(learned > 1000);
+}
+
+/* The gains change every period while learning: on a steady error (constant target and flow)
+ * the forward pass alone would give the same gains each period; the network learns in every
+ * one, so the gains and the output weights move every period. */
+static void test_ctl_bp_gains_change_every_period_while_learning(void **state)
+{
+    (void)state;
+    ctl_select(CTL_BP_PID);
+    ctl_in_t in = mk(3000, 2800, 0);            /* 2 L/min short, steady */
+    int16_t k0[3], v0[3][5];
+    ctl_step(&in);
+    for (int p = 0; p < 200; p++) {
+        memcpy(k0, ctl_st.bp.k, sizeof k0);
+        memcpy(v0, ctl_st.bp.v, sizeof v0);
+        ctl_step(&in);
+        assert_false(ctl_saturated());
+        assert_true(memcmp(v0, ctl_st.bp.v, sizeof v0) != 0);
+        assert_true(memcmp(k0, ctl_st.bp.k, sizeof k0) != 0);
+        assert_true(ctl_st.bp.k[1] > k0[1]);    /* ki grows: the steady error's gradient */
+    }
 }
 
 /* Anti-windup: against an end stop nothing is driven or stored; when the error turns, the
@@ -495,7 +555,8 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_names_and_selection, setup),
         cmocka_unit_test_setup(test_ctl_pid_matches_twin_within_10_lsb_and_0_06_pct, setup),
         cmocka_unit_test_setup(test_ctl_fuzzy_gains_match_twin_within_14_lsb, setup),
-        cmocka_unit_test_setup(test_ctl_bp_matches_twin, setup),
+        cmocka_unit_test_setup(test_ctl_bp_learns_every_period_as_the_twin, setup),
+        cmocka_unit_test_setup(test_ctl_bp_gains_change_every_period_while_learning, setup),
         cmocka_unit_test_setup(test_ctl_anti_windup_at_end_stop, setup),
         cmocka_unit_test_setup(test_ctl_bumpless_reset_has_no_kick, setup),
         cmocka_unit_test_setup(test_ctl_learning_frozen_while_saturated, setup),

@@ -37,6 +37,44 @@ static void all_ops(int16_t a, int16_t b)
     line('Z', a, b, (uint16_t)fx_sat16((((int32_t)b * 32768L) >> (b & 15)) + a));
 }
 
+/* UPD (mul.h), one learning row, on random rows within its contract: bounds, momentum and the
+ * change's clamp all reached; the row's weights and changes printed */
+#define UPD_N 8
+static __xdata int16_t uw[UPD_N], ux[UPD_N];
+static __xdata int8_t udw[UPD_N];
+
+static void upd_rows(uint16_t rows)
+{
+    uint8_t j, n, sh;
+    int16_t eg, lim, v;
+    while (rows--) {
+        n = (uint8_t)(1 + (tt_rand16() & 7u));
+        sh = (tt_rand16() & 1u) ? 1 : 4;
+        lim = (tt_rand16() & 3u) ? 16384 : (int16_t)(tt_rand16() & 0x7FFFu);
+        eg = (int16_t)tt_rand16();
+        if (sh == 4)
+            eg >>= 4;               /* (eg * x) >> 12 within int16 */
+        for (j = 0; j < n; j++) {
+            ux[j] = (int16_t)tt_rand16();
+            if (sh == 1 && ux[j] == -32768 && eg == -32768)
+                ux[j] = 0;
+            v = (int16_t)tt_rand16();
+            if (tt_rand16() & 1u)
+                v >>= 3;
+            uw[j] = v > lim ? lim : v < -lim ? -lim : v;
+            udw[j] = (int8_t)tt_rand16();
+        }
+        UPD(uw, udw, ux, eg, lim, n, sh);
+        tt_putc('u');
+        for (j = 0; j < n; j++) {
+            tt_putc(' ');
+            tt_hex16((uint16_t)uw[j]);
+            tt_hex8((uint8_t)udw[j]);
+        }
+        tt_putc('\n');
+    }
+}
+
 static void fmt_line(uint32_t v, uint8_t decimals, uint8_t trim)
 {
     char s[FMT_MAX];
@@ -74,6 +112,8 @@ int main(void)
         fmt_line(v, (uint8_t)(k & 3), (uint8_t)(k & 4));
     }
 
+    upd_rows(400);
+
     /* the cost of the building blocks, in machine cycles (stopwatch overhead included) */
     tt_cycles_start();
     c = tt_cycles_stop();
@@ -93,6 +133,9 @@ int main(void)
     tt_cycles_start();
     sink16 = q15_mul(va, vb);
     tt_bench("q15_mul", tt_cycles_stop());
+    tt_cycles_start();
+    UPD(uw, udw, ux, 100, 16384, 5, 1);
+    tt_bench("upd_row_of_5", tt_cycles_stop());
     (void)sink32;
     (void)sink16;
     tt_end();
