@@ -50,10 +50,10 @@ SDCC_MODEL := --model-large
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
-HOST_INC := -Ihal -Ihal/host $(FW_INC) -Isim -Itests/target
+HOST_INC := -Ihal -Ihal/host -Ihal/pil $(FW_INC) -Isim -Itests/target
 TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 TEST_LDFLAGS := -fsanitize=address,undefined
-OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -g
+OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -fno-math-errno -flto=auto -g
 
 # ==== build folders and products =====================================================================
 STC_DIR := $(BUILD)/stc12
@@ -80,6 +80,15 @@ UC_TT_REL := $(UC_DIR)/tests/target/tt_common.rel $(UC_DIR)/hal/ucsim/tt_ucsim.r
 TT_IHX := $(patsubst tests/target/%.c,$(UC_DIR)/%.ihx,$(TT_PROGS))
 TT_HOST := $(patsubst tests/target/%.c,$(TEST_DIR)/target/%,$(TT_PROGS))
 
+# processor in the loop: the firmware as for the chip, hal/pil instead of hal/stc12, main in hal/pil
+PIL_DIR := $(BUILD)/pil
+PIL_SRC := $(FW_LIB_SRC) $(wildcard hal/pil/*.c)
+PIL_REL := $(patsubst %.c,$(PIL_DIR)/%.rel,$(PIL_SRC))
+PIL_IHX := $(PIL_DIR)/sprayer_pil.ihx
+# s51 has 64 KB of XRAM: the PIL image may use more than the chip's 1 KB, so that it still runs
+# while a change is over the chip's budget (make firmware is what checks the chip's fit)
+PIL_XRAM_SIZE ?= 2048
+
 SIM_PROGS := $(patsubst sim/%_main.c,$(OPT_DIR)/bin/%,$(SIM_MAIN))
 SIM_BIN := $(OPT_DIR)/bin/sim
 PANEL_BIN := $(OPT_DIR)/bin/panel
@@ -87,7 +96,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: firmware memory flash deps test host-tests target-tests bench sim sim-progs demo compare family report \
+.PHONY: firmware memory flash deps test host-tests target-tests bench sim pil pil-image sim-progs demo compare family report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -100,6 +109,7 @@ help:
 	@echo "make bench     machine cycles in s51 of the building blocks and of each controller's step (budget 30,000)"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
+	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1]   the controllers over N sprayers of the plant family"
 	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per wall second of the paper's run"
@@ -156,7 +166,7 @@ $(TEST_LIB): $(patsubst %.c,$(TEST_DIR)/%.o,$(HOST_LIB_SRC))
 	$(Q)rm -f $@ && ar rcs $@ $^
 
 $(OPT_LIB): $(patsubst %.c,$(OPT_DIR)/%.o,$(HOST_LIB_SRC))
-	$(Q)rm -f $@ && ar rcs $@ $^
+	$(Q)rm -f $@ && gcc-ar rcs $@ $^
 
 # tests/<layer>/test_<module>.c -> build/host-test/test_<module>
 define unit_test_rule
@@ -188,15 +198,45 @@ $(TEST_DIR)/target/tt_%: $(TEST_DIR)/tests/target/tt_%.o $(TEST_DIR)/tests/targe
 
 target-tests: $(TT_IHX) $(TT_HOST)
 
+# ==== processor in the loop: the whole firmware in s51, the plant on the host (hal/pil, sim/pil_host.c) ====
+$(PIL_DIR)/%.rel: %.c
+	@mkdir -p $(dir $@)
+	$(call msg,SDCC,$< [pil])
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_PIL -Ihal/pil -MMD -c $< -o $@
+
+$(PIL_IHX): $(PIL_REL)
+	$(call msg,LINK,$@ [pil])
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) --xram-size $(PIL_XRAM_SIZE) $(PIL_REL) -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
+	$(Q)if grep -qi "error\|insufficient\|overlap\|exceed" $(PIL_DIR)/link.log; then cat $(PIL_DIR)/link.log; rm -f $@; exit 1; fi
+
+pil-image: $(PIL_IHX)
+
+# make pil SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: as make sim, the firmware running in s51
+pil: $(SIM_BIN) $(PIL_IHX)
+	$(Q)$(SIM_BIN) --pil $(PIL_IHX) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
+
 # ==== tests and measurements ==========================================================================
 test:
 	$(Q)tools/deps.sh --quiet
 	$(Q)tools/run_tests.sh
 
-# machine cycles of the fixed-point blocks and of one step of each controller, measured in s51,
-# each step against the budget (ctl.h CTL_STEP_BUDGET_CYCLES: 30,000 classic cycles, under 4 ms on the chip)
-bench: $(TT_IHX) $(TT_HOST)
+# the chip's interrupt handlers (hal/stc12) timed in s51: built as for the chip, called by a driver
+ISR_IHX := $(UC_DIR)/isr_cycles.ihx
+$(UC_DIR)/tests/bench/isr_cycles.rel: tests/bench/isr_cycles.c
+	@mkdir -p $(dir $@)
+	$(call msg,SDCC,$< [s51])
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -Ihal/stc12 -MMD -c $< -o $@
+
+$(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(STC_DIR)/hal/stc12/hal_stc12.rel
+	$(call msg,LINK,$@ [s51 program])
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $^ -o $@ > $(UC_DIR)/isr_cycles.log 2>&1 || { cat $(UC_DIR)/isr_cycles.log; exit 1; }
+
+# machine cycles in s51: the fixed-point blocks and one step of each controller, each step against
+# the budget (ctl.h CTL_STEP_BUDGET_CYCLES: 30,000 classic cycles, under 4 ms on the chip); the
+# interrupt handlers; the whole firmware's passes and stack over pil_bench's scripted 60 s
+bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
 	$(Q)tools/bench.sh $(UC_DIR)
+	$(Q)tools/bench_pil.sh $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
 
 # simulated seconds per wall second for the paper's run (one process, one core; best of 3)
 bench-sim: $(SIM_BIN)
@@ -209,11 +249,15 @@ compare: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
 	$(Q)echo
 	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN)
+	$(Q)echo
+	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN) --against aog
+	$(Q)echo
+	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN) --against raven
 
 # the controllers over N sprayers drawn from the plant family (docs/SCENARIOS.md): median and 95th
 # percentile per controller; every run in build/family/runs.csv, the table in summary.json
 N ?= 200
-CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid
+CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid,aog,raven
 SEED ?= 1
 family: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --out $(BUILD)/family
@@ -228,7 +272,7 @@ CSV ?=
 $(SIM_PROGS): $(OPT_DIR)/bin/%: $(OPT_DIR)/sim/%_main.o $(OPT_LIB)
 	@mkdir -p $(dir $@)
 	$(call msg,LD,$@)
-	$(Q)$(CC) $< $(OPT_LIB) -lm -o $@
+	$(Q)$(CC) -O2 -flto=auto $< $(OPT_LIB) -lm -o $@
 
 sim-progs: $(SIM_PROGS)
 

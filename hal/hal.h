@@ -4,8 +4,8 @@
 
 #include "compiler.h"
 
-#if !defined(HAL_STC12) && !defined(HAL_HOST) && !defined(HAL_UCSIM)
-#error "unknown HAL backend: build with -DHAL_STC12, -DHAL_HOST or -DHAL_UCSIM (the Makefile passes the one each build needs)"
+#if !defined(HAL_STC12) && !defined(HAL_HOST) && !defined(HAL_UCSIM) && !defined(HAL_PIL)
+#error "unknown HAL backend: build with -DHAL_STC12, -DHAL_HOST, -DHAL_UCSIM or -DHAL_PIL (the Makefile passes the one each build needs)"
 #endif
 
 /* ---- clocks ------------------------------------------------------------------------------

@@ -39,6 +39,7 @@ static void teeth_init(plant_teeth_t *t, int n, double jitter_pct, uint64_t seed
         t->e[i] = e > PLANT_JITTER_MAX ? PLANT_JITTER_MAX : e < -PLANT_JITTER_MAX ? -PLANT_JITTER_MAX : e;
     }
     t->idx = 0;
+    t->next = 1 % n;
     t->pos = first;
 }
 
@@ -59,12 +60,39 @@ void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed)
     pl->open_nozzles = p->nozzles;
     pl->tank_v = p->tank_start_l;
     pl->bounce_pct = p->speed_bounce_pct;
+    pl->boom_m = -1;
     rng_seed(&pl->rng, seed);
     pl->pulse_phase = TWO_PI * rng_uniform(&pl->rng);
+    pl->pulse_c = cos(pl->pulse_phase);
+    pl->pulse_s = sin(pl->pulse_phase);
+    pl->pulse_a = 0.0;                      /* no turn yet: cos 0, sin 0 */
+    pl->pulse_ca = 1.0;
+    pl->pulse_sa = 0.0;
     teeth_init(&pl->meter_teeth, (int)p->meter_blades, p->meter_blade_jitter_pct, seed, 0x6d65746572ull,
                rng_uniform(&pl->rng));
     teeth_init(&pl->wheel_teeth, (int)p->wheel_elements, p->wheel_spacing_jitter_pct, seed, 0x776865656cull,
                rng_uniform(&pl->rng));
+}
+
+/* exp(-dt / tau) and log(r) of the last arguments: the tick and the constants rarely change. */
+static double decay_of(plant_decay_t *c, double dt, double tau)
+{
+    if (dt != c->dt || tau != c->tau) {
+        c->dt = dt;
+        c->tau = tau;
+        c->k = exp(-dt / tau);
+    }
+    return c->k;
+}
+
+static double log_of(double r)
+{
+    static double last_r = 1.0, last_log = 0.0;
+    if (r != last_r) {
+        last_log = log(r);
+        last_r = r;
+    }
+    return last_log;
 }
 
 /* Equal percentage with rangeability R, shifted so that Cv(0) = 0 and Cv(1) = valve_cv_open. */
@@ -75,7 +103,7 @@ double plant_cv(const plant_t *pl, double theta)
         return 0.0;
     if (theta > 1.0)
         theta = 1.0;
-    return pl->p.valve_cv_open * (exp((theta - 1.0) * log(r)) - 1.0 / r) / (1.0 - 1.0 / r);
+    return pl->p.valve_cv_open * (exp((theta - 1.0) * log_of(r)) - 1.0 / r) / (1.0 - 1.0 / r);
 }
 
 /* Nozzles that pass liquid now: open sections less the clogged ones, none with the boom shut. */
@@ -135,6 +163,7 @@ double plant_speed_kmh(const plant_t *pl)
  * Newton (bisection whenever a step leaves the bracket). */
 typedef struct {
     double g, p0, qp0, ks, kr, ps, cb, a, pc, kl;
+    double guess;                   /* where Newton starts (inside the bracket or not) */
 } line_eq_t;
 
 static double line_f(const line_eq_t *e, double p, double *df)
@@ -166,7 +195,7 @@ static double line_f(const line_eq_t *e, double p, double *df)
 static double line_solve(const line_eq_t *e)
 {
     double lo = 0.0, hi = e->p0 + e->qp0 / e->g + 1e-12;
-    double x = e->p0, d, f;
+    double x = e->guess, d, f;
     int i;
     if (x < lo || x > hi)
         x = 0.5 * (lo + hi);
@@ -178,7 +207,10 @@ static double line_solve(const line_eq_t *e)
         else
             lo = x;
         xn = x - f / d;
-        if (fabs(xn - x) < 1e-12)   /* converged (tested before the bracket: xn may sit on lo) */
+        /* converged (tested before the bracket: xn may sit on lo): the compliance term makes
+         * f' at least g = 60 C / dt, so f''/2f' is small and a step this short leaves xn far
+         * closer to the root than the pressure's own 1e-9 bar */
+        if (fabs(xn - x) < 1e-6)
             return xn < lo ? lo : xn > hi ? hi : xn;
         if (!(xn > lo && xn < hi))
             xn = 0.5 * (lo + hi);
@@ -196,7 +228,7 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
     double start = t->pos, end = t->pos + n;
     uint64_t count = 0;
     for (;;) {
-        double thr = 1.0 + t->e[(t->idx + 1) % (uint64_t)t->n];
+        double thr = 1.0 + t->e[t->next];
         uint64_t te;
         if (end < thr)
             break;
@@ -217,6 +249,8 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
                 fn(tb);
         }
         t->idx++;
+        if (++t->next == t->n)
+            t->next = 0;
         start -= 1.0;
         end -= 1.0;
     }
@@ -231,6 +265,28 @@ static uint16_t adc_of_ma(plant_t *pl, double ma, double noise_lsb)
         c += noise_lsb * rng_normal(&pl->rng);
     c = floor(c + 0.5);
     return (uint16_t)(c < 0.0 ? 0.0 : c > 1023.0 ? 1023.0 : c);
+}
+
+/* The pulsation's phase as a unit vector turned by angle a each tick (a recurrence instead of a
+ * sin a tick): cos a and sin a from their series (a is at most 0.5 rad: the terms left out are
+ * below 1e-12), again only when a changes; the length is pulled back to 1 each turn so that
+ * rounding cannot make it drift. */
+static void pulse_turn(plant_t *pl, double a)
+{
+    double c, s, k;
+    if (a != pl->pulse_a) {
+        double a2 = a * a;
+        pl->pulse_a = a;
+        pl->pulse_ca = 1.0 - a2 * (1.0 / 2) * (1.0 - a2 * (1.0 / 12) * (1.0 - a2 * (1.0 / 30) *
+                       (1.0 - a2 * (1.0 / 56) * (1.0 - a2 * (1.0 / 90)))));
+        pl->pulse_sa = a * (1.0 - a2 * (1.0 / 6) * (1.0 - a2 * (1.0 / 20) * (1.0 - a2 * (1.0 / 42) *
+                       (1.0 - a2 * (1.0 / 72) * (1.0 - a2 * (1.0 / 110))))));
+    }
+    c = pl->pulse_c * pl->pulse_ca - pl->pulse_s * pl->pulse_sa;
+    s = pl->pulse_s * pl->pulse_ca + pl->pulse_c * pl->pulse_sa;
+    k = 1.5 - 0.5 * (c * c + s * s);
+    pl->pulse_c = c * k;
+    pl->pulse_s = s * k;
 }
 
 static void step_tractor(plant_t *pl, double dt)
@@ -285,7 +341,7 @@ void plant_valve_step(plant_t *pl, double drive, double dt)
         w_aim = plant_valve_speed(pl, drive);
     else
         w_aim = 0.0;
-    decay = exp(-dt / p->valve_motor_tau_s);
+    decay = decay_of(&pl->motor_decay, dt, p->valve_motor_tau_s);
     w0 = pl->omega;
     dx = w_aim * dt + (pl->omega - w_aim) * p->valve_motor_tau_s * (1.0 - decay);
     pl->omega = w_aim + (pl->omega - w_aim) * decay;
@@ -317,7 +373,7 @@ void plant_valve_step(plant_t *pl, double drive, double dt)
 void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns)
 {
     double dt = dt_ns * 1e-9, lag = pl->p.meter_lag_s;
-    pl->q_rotor = lag > 0.0 ? pl->q_rotor + (q_lpm - pl->q_rotor) * (1.0 - exp(-dt / lag)) : q_lpm;
+    pl->q_rotor = lag > 0.0 ? pl->q_rotor + (q_lpm - pl->q_rotor) * (1.0 - decay_of(&pl->rotor_decay, dt, lag)) : q_lpm;
     if (!pl->meter_fail) {
         double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor / 60.0 * dt;
         if (n > 0.0)
@@ -358,22 +414,28 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
         ? pl->pto_rpm * plant_speed_kmh(pl) * (1.0 + p->wheel_slip_pct / 100.0) / p->v_rated_kmh
         : pl->pto_rpm;
     /* 3 diaphragms: pulsation at 3 n / 60 Hz, after the air chamber */
-    pl->pulse_phase += TWO_PI * 3.0 * pl->pto_now_rpm / 60.0 * dt;
-    if (pl->pulse_phase > TWO_PI)
-        pl->pulse_phase -= TWO_PI * floor(pl->pulse_phase / TWO_PI);
-    puls = 1.0 + p->pump_pulsation_pct / 100.0 * sin(pl->pulse_phase);
+    pulse_turn(pl, TWO_PI * 3.0 * pl->pto_now_rpm / 60.0 * dt);
+    puls = 1.0 + p->pump_pulsation_pct / 100.0 * pl->pulse_s;
     dry = pl->tank_v / PLANT_DRY_L;
     dry = dry > 1.0 ? 1.0 : dry < 0.0 ? 0.0 : dry;
 
     m = flowing_nozzles(pl);
     e.g = p->line_compliance_l_per_bar * 60.0 / dt;
     e.p0 = pl->p_bar;
+    e.guess = 2.0 * pl->p_bar - pl->p_last;     /* the pressure's own trend over the last tick */
+    pl->p_last = pl->p_bar;
     e.qp0 = p->pump_lpm_at_540 * pl->pto_now_rpm / 540.0 * puls * dry;
     e.ks = p->pump_slip_per_bar;
     e.kr = p->relief_lpm_per_bar;
     e.ps = p->relief_bar;
     e.cb = pl->cv;
-    e.a = m > 0 ? boom_coef(pl, m) : 0.0;
+    if (m != pl->boom_m || pl->kn != pl->boom_kn || pl->k_line != pl->boom_kline) {
+        pl->boom_m = m;                     /* the coefficient a sqrt: only when the boom changes */
+        pl->boom_kn = pl->kn;
+        pl->boom_kline = pl->k_line;
+        pl->boom_a = m > 0 ? boom_coef(pl, m) : 0.0;
+    }
+    e.a = pl->boom_a;
     e.pc = p->check_valve_bar;
     e.kl = pl->spray_on ? pl->leak_lpm / sqrt(PLANT_LEAK_REF_BAR) : 0.0;
     pl->p_bar = line_solve(&e);
@@ -402,9 +464,18 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
             ma = 21.0;                  /* the transmitter's output saturates just above 20 mA */
         if (pl->psens_open)
             ma = 0.0;
-        pl->adc_pressure = adc_of_ma(pl, ma, p->pressure_noise_lsb);
-        pl->adc_level = adc_of_ma(pl, 4.0 + 16.0 * pl->tank_v / p->tank_l, p->level_noise_lsb);
+        pl->ma_pressure = ma;
+        pl->ma_level = 4.0 + 16.0 * pl->tank_v / p->tank_l;
+        pl->adc_pressure = adc_of_ma(pl, ma, 0.0);
+        pl->adc_level = adc_of_ma(pl, pl->ma_level, 0.0);
     }
+}
+
+uint16_t plant_adc_sample(plant_t *pl, int ch)
+{
+    if (ch == 0)
+        return pl->adc_pressure = adc_of_ma(pl, pl->ma_pressure, pl->p.pressure_noise_lsb);
+    return pl->adc_level = adc_of_ma(pl, pl->ma_level, pl->p.level_noise_lsb);
 }
 
 double plant_bypass_needed(const plant_t *pl, double q_boom)

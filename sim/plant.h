@@ -74,6 +74,7 @@ typedef struct {
     double pos;                     /* position since pulse `idx`, in pulses (may be < 0) */
     uint64_t idx;                   /* pulses emitted so far (the tooth of pulse j is j % n) */
     int n;                          /* teeth a revolution */
+    int next;                       /* the tooth of the next pulse: (idx + 1) % n */
     double e[PLANT_MAX_TEETH];      /* each tooth's offset, in pulse spacings */
 } plant_teeth_t;
 
@@ -84,6 +85,11 @@ typedef struct {
 } plant_in_t;
 
 typedef void (*plant_edge_fn)(uint64_t t_ns);
+
+/* exp(-dt / tau) for the last dt and tau it was asked for (plant.c computes it again on a change). */
+typedef struct {
+    double dt, tau, k;
+} plant_decay_t;
 
 typedef struct {
     plant_params_t p;
@@ -100,7 +106,9 @@ typedef struct {
     /* pump and PTO */
     double pto_rpm;                 /* rated (coupled) or fixed (uncoupled) PTO speed */
     double pto_now_rpm;             /* PTO speed this tick */
-    double pulse_phase;             /* pulsation phase, rad */
+    double pulse_phase;             /* pulsation phase, rad (at plant_init; then the rotor below) */
+    double pulse_c, pulse_s;        /* cos and sin of the pulsation phase, turned each tick */
+    double pulse_a, pulse_ca, pulse_sa;  /* the last tick's turn, its cos and sin */
     /* valve */
     double theta;                   /* bypass valve position 0 closed .. 1 open */
     double motor;                   /* motor side of the backlash, in stroke units */
@@ -114,9 +122,12 @@ typedef struct {
     double drive;                   /* drive applied this tick (after the HAL) */
     /* line */
     double p_bar;                   /* line pressure at the boom */
+    double p_last;                  /* the one before (Newton's first guess follows the trend) */
     double q_pump, q_relief, q_bypass, q_boom, q_leak;   /* L/min over the last tick */
     double q_meter;                 /* through the flow meter: boom + leak */
     int spray_on;
+    int boom_m;                     /* flowing nozzles boom_a was computed for (-1: none yet) */
+    double boom_kn, boom_kline, boom_a;
     /* boom */
     int open_nozzles;               /* nozzles in the open sections */
     int clogged;                    /* nozzles that pass nothing (of the open ones) */
@@ -124,9 +135,12 @@ typedef struct {
     double tank_v;                  /* litres in the tank */
     /* sensors */
     double q_rotor;                 /* turbine rotor's flow (lagged), L/min */
+    plant_decay_t motor_decay, rotor_decay;   /* the valve motor's and the rotor's lag a tick */
     plant_teeth_t meter_teeth, wheel_teeth;   /* blade and element spacing, pulse positions */
     uint64_t flow_pulses, wheel_pulses;  /* pulses sent so far */
-    uint16_t adc_pressure, adc_level;    /* 10-bit counts */
+    double ma_pressure, ma_level;        /* the 4-20 mA loops this tick */
+    uint16_t adc_pressure, adc_level;    /* 10-bit counts: noise-free after plant_step, the last
+                                            conversion's after plant_adc_sample */
     double bounce_pct;
     /* faults */
     int meter_fail, speed_fail, psens_open, valve_stuck;
@@ -143,6 +157,10 @@ void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed);
 /* Advance the plant by dt_ns: tractor, valve, pressure (implicit step), tank, then the sensors;
  * edges inside the tick go to the edge functions with their exact times in (t, t + dt]. */
 void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns);
+
+/* One ADC conversion of channel ch (0 pressure, 1 level) now, with its own noise draw: the
+ * noise is drawn when the firmware converts, not every tick. Also stores it in adc_*. */
+uint16_t plant_adc_sample(plant_t *pl, int ch);
 
 /* The sensors' pulse trains alone (plant_step calls them with the line flow and the ground
  * speed of the tick): the turbine rotor follows q with its lag and pulses at K(q) q; the

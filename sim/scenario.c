@@ -32,6 +32,12 @@ static const cfg_key_t cfg_keys[] = {
     {"valve_backlash", P_VALVE_SLACK, 1000},        /* ... its Backlash, stored in 0.1 % */
     {"nozzle_lpm_at_3bar", P_NOZZLE_Q3, 100},
     {"wheel_pulses_per_rev", P_WHEEL_PPR, 1},      /* the elements a turn whose spacing is learnt */
+    {"aog_kp", P_AOG_KP, 10},                       /* aog's settings: PWM counts a L/min, 0.1 steps */
+    {"aog_ki", P_AOG_KI, 100},                      /* ... a 50 ms loop, 0.01 steps */
+    {"aog_kd", P_AOG_KD, 10},
+    {"aog_min_pwm", P_AOG_MIN, 1},                  /* ... PWM counts of 255 */
+    {"aog_max_pwm", P_AOG_MAX, 1},
+    {"raven_valve_cal", P_RAVEN_CAL, 1},            /* raven's four digits */
 };
 #define N_CFG (sizeof cfg_keys / sizeof cfg_keys[0])
 
@@ -258,6 +264,8 @@ static int config_key(const ctx_t *c, scenario_t *s, int line, const char *key, 
         if (!is_whole(scaled))
             return fail(c, line, key, "%g has more decimals than the firmware keeps (steps of %g)",
                         v, 1.0 / cfg_keys[i].scale);
+        if (!param_in_range(cfg_keys[i].id, (uint16_t)floor(scaled + 0.5)))
+            return fail(c, line, key, "%g refused by the firmware (a valve cal's last digit, the dead band, is 1-9)", v);
         s->param[cfg_keys[i].id] = (uint16_t)floor(scaled + 0.5);
     }
     return 0;

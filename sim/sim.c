@@ -8,6 +8,8 @@
 #include "app.h"
 #include "ctl.h"
 #include "target.h"
+#include "keypad.h"
+#include <stdlib.h>
 
 static double now_s(void)
 {
@@ -17,6 +19,13 @@ static double now_s(void)
 }
 
 static void sample(sim_t *sim, double flow_lpm);
+
+/* The ADC's conversions come from the plant of the running simulation (one a process). */
+static plant_t *adc_plant;
+static uint16_t adc_convert(uint8_t ch)
+{
+    return ch == HAL_ADC_PRESSURE || ch == HAL_ADC_LEVEL ? plant_adc_sample(adc_plant, ch) : 0;
+}
 
 static void apply_params(const scenario_t *s)
 {
@@ -42,6 +51,8 @@ void sim_init(sim_t *sim, const scenario_t *s)
     plant_init(&sim->plant, &s->plant, s->seed);
     sim->plant.flow_edge = hal_host_flow_edge;
     sim->plant.wheel_edge = hal_host_wheel_edge;
+    adc_plant = &sim->plant;
+    hal_host_adc_source(adc_convert);
     set_sections(sim, s->plant.nozzles);
     hal_host_io.adc[HAL_ADC_PRESSURE] = sim->plant.adc_pressure;
     hal_host_io.adc[HAL_ADC_LEVEL] = sim->plant.adc_level;
@@ -143,6 +154,88 @@ static double drive_kmh(sim_t *sim, double t)
     return d[i].kmh + (d[i + 1].kmh - d[i].kmh) * (t - d[i].t_s) / (d[i + 1].t_s - d[i].t_s);
 }
 
+int sim_input_load(sim_t *sim, const char *path, char *err, size_t n)
+{
+    FILE *f = fopen(path, "r");
+    char buf[256];
+    int line = 0;
+    double last = 0.0;
+    if (!f) {
+        snprintf(err, n, "%s: cannot read", path);
+        return -1;
+    }
+    while (fgets(buf, sizeof buf, f)) {
+        sim_input_t in;
+        char what[16];
+        int used = 0;
+        size_t len;
+        line++;
+        buf[strcspn(buf, "\r\n")] = 0;
+        if (buf[strspn(buf, " \t")] == '#' || buf[strspn(buf, " \t")] == 0)
+            continue;
+        memset(&in, 0, sizeof in);
+        if (sscanf(buf, "%lf %15s %n", &in.t_s, what, &used) < 2 || in.t_s < last) {
+            snprintf(err, n, "%s:%d: expected 't_s key K' or 't_s serial TEXT', times ascending", path, line);
+            fclose(f);
+            return -1;
+        }
+        last = in.t_s;
+        len = strlen(buf + used);
+        if (!strcmp(what, "key") && len == 1 && strchr("0123456789ABCD*#", buf[used]))
+            in.key = buf[used];
+        else if (!strcmp(what, "serial") && len > 0 && len < sizeof in.line)
+            memcpy(in.line, buf + used, len + 1);
+        else {
+            snprintf(err, n, "%s:%d: a key is one of 0-9 A-D * #; a serial line 1-%d characters", path, line,
+                     (int)sizeof in.line - 1);
+            fclose(f);
+            return -1;
+        }
+        sim->input = realloc(sim->input, (size_t)(sim->n_input + 1) * sizeof *sim->input);
+        if (!sim->input) {
+            snprintf(err, n, "out of memory");
+            fclose(f);
+            return -1;
+        }
+        sim->input[sim->n_input++] = in;
+    }
+    fclose(f);
+    return 0;
+}
+
+static int key_bit(char k)
+{
+    uint8_t r, c;
+    for (r = 0; r < 4; r++)
+        for (c = 0; c < 4; c++)
+            if (keypad_char(r, c) == k)
+                return 4 * r + c;
+    return -1;
+}
+
+/* the operator's inputs due by t1: keys pressed and let go, lines into the UART */
+static void input_step(sim_t *sim, uint64_t t1)
+{
+    if (sim->key_release_ns && t1 >= sim->key_release_ns) {
+        hal_host_io.keys = 0;
+        sim->key_release_ns = 0;
+    }
+    while (sim->next_input < sim->n_input && sim->input[sim->next_input].t_s * 1e9 <= (double)t1) {
+        const sim_input_t *in = &sim->input[sim->next_input++];
+        if (in->key) {
+            int b = key_bit(in->key);
+            hal_host_io.keys = b >= 0 ? (uint16_t)(1u << b) : 0;
+            sim->key_release_ns = t1 + SIM_KEY_HOLD_MS * 1000000ull;
+        } else {
+            const char *c;
+            for (c = in->line; *c; c++)
+                hal_host_uart_rx_push((uint8_t)*c);
+            hal_host_uart_rx_push('\r');
+            hal_host_uart_rx_push('\n');
+        }
+    }
+}
+
 void sim_step(sim_t *sim)
 {
     const scenario_t *s = sim->scn;
@@ -155,6 +248,8 @@ void sim_step(sim_t *sim)
         const scn_event_t *e = &s->events[sim->next_event++];
         sim_event(sim, e->kind, e->value);          /* checked when the file was read */
     }
+    if (sim->n_input)
+        input_step(sim, t1);
     pl->v_cmd_kmh = drive_kmh(sim, t1 * 1e-9);
     in.drive = hal_host_io.valve_dir * (hal_host_io.valve_duty / 255.0);
     in.spray_on = hal_host_io.spray_on;
@@ -162,10 +257,19 @@ void sim_step(sim_t *sim)
     hal_host_set_time_ns(t1);
     plant_step(pl, &in, SIM_TICK_NS);
     sim->t_ns = t1;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = pl->adc_pressure;
-    hal_host_io.adc[HAL_ADC_LEVEL] = pl->adc_level;
 
-    app_poll();
+    if (sim->pass)
+        sim->pass(sim->pass_ctx);
+    else
+        app_poll();
+    if (sim->drive_log && (hal_host_io.valve_dir != sim->log_dir || hal_host_io.valve_duty != sim->log_duty ||
+                           hal_host_io.spray_on != sim->log_spray)) {
+        sim->log_dir = hal_host_io.valve_dir;
+        sim->log_duty = hal_host_io.valve_duty;
+        sim->log_spray = hal_host_io.spray_on;
+        fprintf(sim->drive_log, "%llu %d %d %d\n", (unsigned long long)(t1 / SIM_TICK_NS), sim->log_dir,
+                sim->log_duty, sim->log_spray);
+    }
 
     if (app_status.alarms & ~sim->prev_alarms) {
         unsigned rise = app_status.alarms & ~sim->prev_alarms;
@@ -308,5 +412,7 @@ void sim_json(const sim_t *sim, const metrics_result_t *r, FILE *f)
 
 void sim_free(sim_t *sim)
 {
+    free(sim->input);
+    sim->input = NULL;
     metrics_free(&sim->metrics);
 }

@@ -26,7 +26,8 @@
  *   4. the plant advances one tick; the simulated clock (hal_host_set_time_ns) moves to the
  *      tick's end, then the pulse edges of the tick reach hal_host_flow_edge/_wheel_edge with
  *      their exact times, and hal_host_io.adc[HAL_ADC_PRESSURE], [HAL_ADC_LEVEL] are updated;
- *   5. app_poll() runs once (it does its control step when APP_PERIOD_MS has passed);
+ *   5. app_poll() runs once (it does its control step when APP_PERIOD_MS has passed), or the
+ *      firmware's pass in s51 (sim->pass, sim/pil_host.h);
  *   6. metrics and the trace take the tick.
  * Firmware parameters from [config] are set with param_set() before and again after app_init()
  * (so an app that loads its parameters from the erased EEPROM in app_init still gets them, and
@@ -87,7 +88,33 @@ typedef struct {
     FILE *csv;
     uint64_t csv_period_ns, next_csv_ns;
     double wall_s;                  /* wall time spent in sim_step so far */
+    /* the firmware's pass of a tick: app_poll() here, or (pass set) the same firmware elsewhere
+     * (hal/pil: inside s51), which leaves its outputs in hal_host_io and app_status */
+    void (*pass)(void *ctx);
+    void *pass_ctx;
+    /* the valve drive sequence: a line "tick dir duty spray" whenever one of them changes */
+    FILE *drive_log;
+    int log_dir, log_duty, log_spray;
+    /* operator input (sim_input_load): key presses and serial command lines at given times */
+    struct sim_input *input;
+    int n_input, next_input;
+    uint64_t key_release_ns;        /* the key held now is let go at this time (0: none held) */
 } sim_t;
+
+/* One timed operator input: a key held SIM_KEY_HOLD_MS, or a line sent to the serial link. */
+typedef struct sim_input {
+    double t_s;
+    char key;                       /* keypad character, or 0 for a serial line */
+    char line[72];                  /* the line without its end; "\r\n" is added */
+} sim_input_t;
+#define SIM_KEY_HOLD_MS 100
+
+/* Read operator input for the run from a text file, one event a line, times ascending:
+ *     t_s key K         hold keypad key K (0-9 A-D * #) for SIM_KEY_HOLD_MS
+ *     t_s serial TEXT   the characters of TEXT and "\r\n" arrive at the UART
+ * ('#' starts a comment where a line starts with it). 0, or -1 with "file:line: reason" in err.
+ * Call after sim_init(). */
+int sim_input_load(sim_t *sim, const char *path, char *err, size_t n);
 
 /* Start a simulation of scenario s at time 0 (resets the host HAL and the firmware). */
 void sim_init(sim_t *sim, const scenario_t *s);

@@ -5,17 +5,23 @@
 #include <string.h>
 #include "sim.h"
 #include "hal_host.h"
+#include "pil_host.h"
 
 static void usage(FILE *f)
 {
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
-          "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt]\n"
+          "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt]\n"
+          "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
           "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
-          "  NAME: pid, fuzzy_pid, bp_pid, the project's own or 'best'. --seed replaces [run] seed.\n"
+          "  NAME: pid, fuzzy_pid, bp_pid, ffmap or 'best' (the project's own), aog, raven. --seed replaces [run] seed.\n"
           "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
           "  build/host/bin/steps reads it back).\n"
-          "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n", f);
+          "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n"
+          "  --input: operator input at given times ('t_s key K', 't_s serial TEXT' lines; sim/sim.h).\n"
+          "  --drive-log: a line 'tick dir duty spray' whenever the valve drive or the boom valve changes.\n"
+          "  --pil: the firmware runs inside s51 from IMAGE (make pil-image: build/pil/sprayer_pil.ihx),\n"
+          "         in lock step with the plant; 'pil:' lines give its pass timing and stack.\n", f);
 }
 
 static int parse_u64(const char *s, unsigned long long *v)
@@ -47,8 +53,10 @@ static int write_out(const char *path, void (*write)(FILE *, const metrics_t *),
 int main(int argc, char **argv)
 {
     const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL, *samples_path = NULL;
-    const char *serial_path = NULL;
-    FILE *serial = NULL;
+    const char *serial_path = NULL, *drive_path = NULL, *pil_path = NULL;
+    const char *input_path = NULL;
+    FILE *serial = NULL, *drive_log = NULL;
+    pil_t *pil = NULL;
     unsigned long long seed = 0;
     int have_seed = 0, i;
     double period = 0.1;
@@ -82,6 +90,12 @@ int main(int argc, char **argv)
             samples_path = v;
         else if (!strcmp(a, "--serial"))
             serial_path = v;
+        else if (!strcmp(a, "--drive-log"))
+            drive_path = v;
+        else if (!strcmp(a, "--pil"))
+            pil_path = v;
+        else if (!strcmp(a, "--input"))
+            input_path = v;
         else if (!strcmp(a, "--seed")) {
             if (parse_u64(v, &seed) < 0) {
                 fprintf(stderr, "sim: --seed '%s' is not a whole number 0..2^64-1\n", v);
@@ -137,7 +151,26 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    if (drive_path) {
+        drive_log = fopen(drive_path, "w");
+        if (!drive_log) {
+            fprintf(stderr, "sim: cannot write %s: %s\n", drive_path, strerror(errno));
+            return 1;
+        }
+    }
     sim_init(sim, s);
+    sim->drive_log = drive_log;
+    if (input_path && sim_input_load(sim, input_path, err, sizeof err) < 0) {
+        fprintf(stderr, "sim: --input: %s\n", err);
+        return 1;
+    }
+    if (pil_path) {
+        pil = pil_start(sim, pil_path, err, sizeof err);
+        if (!pil) {
+            fprintf(stderr, "sim: --pil: %s\n", err);
+            return 1;
+        }
+    }
     if (csv)
         sim_trace_csv(sim, csv, period);
     if (serial) {
@@ -156,7 +189,15 @@ int main(int argc, char **argv)
     } else {
         sim_run(sim, s->duration_s);
     }
+    if (pil && pil_finish(pil) < 0) {
+        fprintf(stderr, "sim: --pil: the firmware in s51 stopped answering\n");
+        return 1;
+    }
     sim_finish(sim, &r);
+    if (drive_log && fclose(drive_log) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", drive_path, strerror(errno));
+        return 1;
+    }
     if (csv && fclose(csv) != 0) {
         fprintf(stderr, "sim: error writing %s: %s\n", csv_path, strerror(errno));
         return 1;
@@ -166,6 +207,10 @@ int main(int argc, char **argv)
         return 1;
     printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.0fx real time)\n", s->name, r.sim_s,
            sim->wall_s, sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0);
+    if (pil) {
+        pil_report(pil, stdout);
+        pil_free(pil);
+    }
     sim_json(sim, &r, stdout);
     sim_free(sim);
     free(sim);

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""compare.py: the four controllers on the same plant and seed, beside the paper's Table 2 and section 5.1.
+"""compare.py: the paper's four controllers and the two peers (aog, raven) on the same plant and seed, beside the paper's Table 2 and section 5.1.
 
 usage: compare.py SIM_BIN [--json OUT.json]
 Runs SIM_BIN --scenario S --controller C for every scenario below and every controller, reads
@@ -9,7 +9,8 @@ import json
 import subprocess
 import sys
 
-CONTROLLERS = ["pid", "fuzzy_pid", "bp_pid", "best"]
+CONTROLLERS = ["pid", "fuzzy_pid", "bp_pid", "best", "aog", "raven"]
+PEERS = ["bp_pid", "aog", "raven"]      # best is compared with each, figure by figure
 SCENARIOS = [
     ("target_step_150", "target steps (given speed 6/8/7 km/h, PTO 540 rpm)"),
     ("paper_dynamic_150", "paper's dynamic following, 150 L/ha, 4-11 km/h, PTO coupled"),
@@ -78,17 +79,21 @@ def main():
     # every figure printed above, in the sense "smaller is better" (magnitudes for signed ones)
     keys = ["dose_error_pct", "cv_pct", "cv_all_pct", "zone_error_min_pct", "zone_error_max_pct",
             "overshoot_mean_pct", "overshoot_max_pct", "settle_mean_s"]
-    worse = []
-    for scn, _ in SCENARIOS:
-        both = {c: dict(res[scn][c], rise_mean_s=mean_rise(res[scn][c]), sse_mean_abs_pct=mean_abs_sse(res[scn][c]))
-                for c in ("best", "bp_pid")}
-        for k in keys + (["rise_mean_s", "sse_mean_abs_pct"] if scn.startswith("target_step") else []):
-            b, n = both["best"].get(k), both["bp_pid"].get(k)
-            if not isinstance(b, (int, float)) or not isinstance(n, (int, float)):
-                continue
-            if round(abs(b), 2) > round(abs(n), 2):
-                worse.append("%s/%s %.3g > %.3g" % (scn, k, b, n))
-    print("best at least as good as bp_pid on every metric: %s" % ("yes" if not worse else "no: " + "; ".join(worse)))
+    for other in PEERS:
+        worse = []
+        for scn, _ in SCENARIOS:
+            both = {c: dict(res[scn][c], rise_mean_s=mean_rise(res[scn][c]), sse_mean_abs_pct=mean_abs_sse(res[scn][c]))
+                    for c in ("best", other)}
+            for k in keys + (["rise_mean_s", "sse_mean_abs_pct"] if scn.startswith("target_step") else []):
+                b, n = both["best"].get(k), both[other].get(k)
+                if not isinstance(b, (int, float)) or not isinstance(n, (int, float)):
+                    continue
+                if round(abs(b), 2) > round(abs(n), 2):
+                    worse.append("%s/%s %.3g > %.3g" % (scn, k, b, n))
+        print("best at least as good as %s on every metric: %s" % (other, "yes" if not worse else "no: " + "; ".join(worse)))
+    print("valve wear (motor reversals a minute while spraying, not counted above): "
+          + "; ".join("%s %s" % (c, " / ".join("%.1f" % res[scn][c].get("valve_reversals_per_min", float("nan"))
+                                                for scn, _ in SCENARIOS)) for c in CONTROLLERS))
     if "--json" in sys.argv:
         with open(sys.argv[sys.argv.index("--json") + 1], "w") as fp:
             json.dump(res, fp)

@@ -389,6 +389,8 @@ SWEEPS = [
 
 
 def section_family(sim, ctls, n, jobs_n, out):
+    # the peers also with settings tuned for each plant's valve (tools/family.py tuned_config)
+    ctls = ctls + ["%s_tuned" % c for c in ("aog", "raven") if c in ctls]
     fam_out = os.path.join("build", "family-report")
     cmd = [sys.executable, "tools/family.py", sim, "--n", str(n), "--controllers", ",".join(ctls), "--seed", "1",
            "--out", fam_out, "--jobs", str(jobs_n)]
@@ -409,7 +411,9 @@ def section_family(sim, ctls, n, jobs_n, out):
             "(valve 1.5-12 s, told or not, break-away 0.10-0.35, backlash 0.5-4 %%, pump, pulsation, PTO, meter, "
             "wheel, bounce, nozzle wear, check valves), each run with every controller. Median / 95th "
             "percentile; alarm runs: runs with any alarm (the family has no faults); the last two columns: "
-            "median CV where the firmware was told the valve's stroke time and where it was told 4 s.\n\n"
+            "median CV where the firmware was told the valve's stroke time and where it was told 4 s. "
+            "The peers aog and raven run at their default settings, and as `aog_tuned` / `raven_tuned` with "
+            "settings for each plant's valve as a careful user would set them (docs/PEERS.md).\n\n"
             % (n, n))
     text += table(["controller", "abs dose %", "abs ctl share %", "CV %", "worst zone %", "reversals/min",
                    "settle s", "alarm runs", "CV told", "CV untold"], rows) + "\n\n"

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""seeds.py: best against bp_pid over many seeds and every scenario family, figure by figure.
+"""seeds.py: best against bp_pid (or a peer) over many seeds and every scenario family, figure by figure.
 
-usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--four | --split SCENARIO]
+usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--against bp_pid|aog|raven|pid|fuzzy_pid] [--four | --split SCENARIO]
 One seed is one draw of the plant's noise (pump pulsation phase, sensor noise, meter and wheel
 pulse timing); a single run can favour either controller by luck. For each scenario below and
 each seed (default 1-16) both controllers run on the same plant; the figures of docs/SCENARIOS.md are
@@ -10,10 +10,11 @@ as its absolute value, the worst zone as its magnitude; lower is better everywhe
 table and the count of figures where best's mean is worse; -v also prints the per-seed values
 of those; for a worse dose error, the split of the signed means into the target's, the meter's
 and the controller's shares (the JSON's dose_target_pct, dose_meter_pct, dose_ctl_pct,
-dose_ctl_stop_pct). --four:
-instead, the means of all four controllers on the 150 L/ha scenarios (the
-paper's ordering, without the luck of one seed). Also prints the valve's wear a minute (motor
-reversals, strokes travelled), which the count of worse figures leaves out. Two runs at
+dose_ctl_stop_pct). --against C: best against C instead of bp_pid (the peers aog and raven at
+their default settings). --four: instead, the means of the paper's four controllers and the two
+peers on the 150 L/ha scenarios (the paper's ordering, without the luck of one seed). Also
+prints the valve's wear a minute (motor reversals, strokes travelled), which the count of worse
+figures leaves out. Two runs at
 a time; stdlib only.
 --split SCENARIO: instead, where best's and bp_pid's flow leaves its target on that scenario
 (mean over the seeds, % of the target volume at v >= 4 km/h, from a 0.1 s trace): while the
@@ -102,11 +103,11 @@ def split(sim, scn, seeds):
 
 def four(sim, seeds):
     scns = ["target_step_150", "paper_dynamic_150", "paper_dynamic_150_fixed_pto", "field_3220m_150"]
-    ctls = ["pid", "fuzzy_pid", "bp_pid", "best"]
+    ctls = ["pid", "fuzzy_pid", "bp_pid", "best", "aog", "raven"]
     jobs = [(sim, s, c, seed) for s in scns for c in ctls for seed in seeds]
     with ThreadPoolExecutor(2) as ex:
         res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
-    print("the four controllers: means over seeds %d-%d" % (seeds[0], seeds[-1]))
+    print("the paper's four controllers and the two peers: means over seeds %d-%d" % (seeds[0], seeds[-1]))
     for s in scns:
         keys = (["rise_mean_s", "overshoot_mean_pct", "settle_mean_s", "sse_mean_abs_pct"] if s.startswith("target")
                 else ["dose_error_pct", "cv_pct", "zone_error_min_pct", "zone_error_max_pct", "overshoot_mean_pct",
@@ -145,17 +146,18 @@ def main():
         return four(sim, seeds)
     if "--split" in args:
         return split(sim, args[args.index("--split") + 1], seeds)
-    jobs = [(sim, s, c, seed) for s in SCENARIOS for c in ("best", "bp_pid") for seed in seeds]
+    other = args[args.index("--against") + 1] if "--against" in args else "bp_pid"
+    jobs = [(sim, s, c, seed) for s in SCENARIOS for c in ("best", other) for seed in seeds]
     with ThreadPoolExecutor(2) as ex:
         res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
-    print("best against bp_pid: means over seeds %d-%d (same plant, same seed for both)" % (seeds[0], seeds[-1]))
+    print("best against %s: means over seeds %d-%d (same plant, same seed for both)" % (other, seeds[0], seeds[-1]))
     worse, total = [], 0
     for s in SCENARIOS:
         keys = STEP if s.startswith("target_step") else FIELD
         cells = []
         for k in keys:
             va = [figure(res[(s, "best", sd)], k) for sd in seeds]
-            vb = [figure(res[(s, "bp_pid", sd)], k) for sd in seeds]
+            vb = [figure(res[(s, other, sd)], k) for sd in seeds]
             if any(v is None for v in va + vb):
                 continue
             ma, mb = sum(va) / len(va), sum(vb) / len(vb)
@@ -168,25 +170,25 @@ def main():
     # the valve's wear (not counted above): motor reversals a minute of spraying (the sim JSON's
     # valve_reversals_per_min) and strokes travelled a minute of the run
     if all("valve_reversals_per_min" in r for r in res.values()):
-        print("valve wear, a minute (best/bp_pid; not counted below):")
+        print("valve wear, a minute (best/%s; not counted below):" % other)
         for s in SCENARIOS:
             w = {}
-            for c in ("best", "bp_pid"):
+            for c in ("best", other):
                 w[c] = (sum(res[(s, c, sd)]["valve_reversals_per_min"] or 0 for sd in seeds) / len(seeds),
                         sum(res[(s, c, sd)]["valve_travel_strokes"] * 60 / res[(s, c, sd)]["sim_s"] for sd in seeds)
                         / len(seeds))
             print("  %-28s reversals %.1f/%.1f; travel %.2f/%.2f strokes"
-                  % (s, w["best"][0], w["bp_pid"][0], w["best"][1], w["bp_pid"][1]))
-    print("best worse than bp_pid on %d of %d mean figures%s" % (len(worse), total, ":" if worse else ""))
+                  % (s, w["best"][0], w[other][0], w["best"][1], w[other][1]))
+    print("best worse than %s on %d of %d mean figures%s" % (other, len(worse), total, ":" if worse else ""))
     for s, k, ma, mb, va, vb in worse:
         print("  %s/%s: %.4g > %.4g (%+.2g %%)" % (s, k, ma, mb, 100 * (ma - mb) / mb if mb else float("inf")))
         if verbose:
             print("    best   " + " ".join("%.4g" % v for v in va))
-            print("    bp_pid " + " ".join("%.4g" % v for v in vb))
-        if k == "dose_error_pct" and all("dose_ctl_pct" in res[(s, c, sd)] for c in ("best", "bp_pid") for sd in seeds):
+            print("    %-6s " % other + " ".join("%.4g" % v for v in vb))
+        if k == "dose_error_pct" and all("dose_ctl_pct" in res[(s, c, sd)] for c in ("best", other) for sd in seeds):
             # the split of the signed dose error (sim JSON): the target's own share, the same for
             # both, and the controller's share, with the part while the valve sat at an end stop
-            for c in ("best", "bp_pid"):
+            for c in ("best", other):
                 m = {x: sum(res[(s, c, sd)][x] for sd in seeds) / len(seeds)
                      for x in ("dose_error_pct", "dose_target_pct", "dose_meter_pct", "dose_ctl_pct",
                                "dose_ctl_stop_pct")}

@@ -59,6 +59,9 @@ static struct {
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
     uint8_t p_watch;                /* APP_P_WAIT: the pressure was under P max once spraying or parked since power-up, or APP_P_WAIT passed */
     uint8_t save_wait;              /* periods until the totals are saved (0: none due) */
+    uint8_t save;                   /* the save is due: app_poll runs it in a pass of its own */
+    uint8_t prep;                   /* next module app_prepare derives for ... */
+    uint8_t prep_gen;               /* ... this param_generation (all done when it is current) */
     uint8_t periods;                /* periods this step covers (more than 1: it was late) */
 } ap;
 
@@ -86,6 +89,9 @@ void app_init(void)
     ap.internal = 0;
     ap.p_watch = 0;
     ap.save_wait = 0;
+    ap.save = 0;
+    ap.prep = 0;
+    ap.prep_gen = param_generation;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -248,9 +254,18 @@ static void app_save_when_due(void)
 {
     if (app_status.spraying) {
         ap.save_wait = 0;
+        ap.save = 0;
         return;
     }
-    if (ap.save_wait && --ap.save_wait == 0 && !store_save() && store_status() == STORE_LOW_SUPPLY)
+    if (ap.save_wait && --ap.save_wait == 0)
+        ap.save = 1;                /* in a pass of its own (app_poll: app_save) */
+}
+
+/* The save app_save_when_due asked for; a low supply refuses it: tried again a wait later. */
+static void app_save(void)
+{
+    ap.save = 0;
+    if (!store_save() && store_status() == STORE_LOW_SUPPLY)
         ap.save_wait = APP_SAVE_WAIT_PERIODS;
 }
 
@@ -288,12 +303,41 @@ static void app_account(void)
     app_status.job_volume_ml = t->job_ml;
     app_status.life_area_m2 = t->life_m2;
     app_status.life_volume_ml = t->life_ml;
-    if (++ap.log_div >= APP_LOG_PERIODS) {
-        ap.log_div = 0;
-        app_status.job_area_m2 = totals_job_m2();
-        app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
-        serial_log_request();
+    /* once a second the display values and the log line: in a pass of their own (app_poll) */
+    if (++ap.log_div >= APP_LOG_PERIODS)
+        ap.log_div = APP_LOG_PERIODS;
+}
+
+/* After a settings change every module derives its constants again (divides, some thousands
+ * of cycles each): one module a pass here, so that neither these passes nor the next control
+ * step carry them all (the rate target's stays with the step: it follows the sections too).
+ * Returns 1 while work was done. */
+static uint8_t app_prepare(void)
+{
+    if (ap.prep_gen == param_generation && ap.prep == 0)
+        return 0;
+    if (ap.prep_gen != param_generation) {
+        ap.prep_gen = param_generation;
+        ap.prep = 0;                /* a change during the round starts it again */
     }
+    switch (ap.prep++) {
+    case 0: speed_prepare(); break;
+    case 1: flow_prepare(); break;
+    case 2: analog_kpa_of_sum(0); break;            /* derives the scale when it is stale */
+    case 3: diag_set_nozzles(target_open_nozzles()); break;
+    case 4: valve_prepare(); break;
+    default: ctl_prepare(); ap.prep = 0; break;
+    }
+    return 1;
+}
+
+/* Once a second: the divisions of the display values, and the log line. */
+static void app_second(void)
+{
+    ap.log_div = 0;
+    app_status.job_area_m2 = totals_job_m2();
+    app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
+    serial_log_request();
 }
 
 static void app_step(void)
@@ -319,10 +363,26 @@ void app_poll(void)
     uint8_t late;
 
     valve_poll(now);
-    serial_poll();
-    console_poll();
-    if ((int32_t)(now - ap.next_ms) < 0)
+    /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
+     * modules' constants, one a pass (a due control step waits for them: a few ms); the
+     * control step alone when it is due; a save the step asked for, then the once-a-second
+     * work, alone in the passes after; else the serial link and the console (they wait a
+     * millisecond or two for those passes). */
+    if (app_prepare())
         return;
+    if ((int32_t)(now - ap.next_ms) < 0) {
+        if (ap.save) {
+            app_save();
+            return;
+        }
+        if (ap.log_div >= APP_LOG_PERIODS) {
+            app_second();
+            return;
+        }
+        serial_poll();
+        console_poll();
+        return;
+    }
     /* a step late by a period or more (a held CPU, a stall) skips the periods it missed, so
      * the schedule stays on its grid, and counts them into the totals */
     ap.periods = 0;

@@ -7,6 +7,7 @@
 #include "ops.h"
 #include "diag.h"
 #include "ctl.h"
+#include "target.h"
 #include "store.h"
 #include "screen.h"
 #include "fmt.h"
@@ -199,7 +200,7 @@ static void key_edit(void)
 
 static void key_choice(void)
 {
-    uint8_t n = con.item == P_MODE ? 2 : CTL_COUNT;
+    uint8_t n = con.item == P_MODE || con.item == P_REMOTE ? 2 : CTL_COUNT;
     if (con.k == 'A')
         con.step = con.step + 1 < n ? con.step + 1 : 0;
     else if (con.k == 'B')
@@ -325,6 +326,7 @@ void console_init(void)
     con.step = 0;
     con_entry_clear();
     con_say(diag_reset_text());     /* why the controller (re)started */
+    con.rc_seen = target_remote_refusals();
     con.next_draw_ms = (uint16_t)hal_ms();
 }
 
@@ -332,10 +334,15 @@ void console_poll(void)
 {
     uint16_t now = (uint16_t)hal_ms();
     con.k = keypad_poll();
+    if (con.rc_seen != target_remote_refusals()) {  /* a field computer's rate refused */
+        con.rc_seen = target_remote_refusals();
+        con_say("RC rate refused");
+        con.next_draw_ms = now;
+    }
     if (con.k != KEY_NONE) {
         key();
-        con_draw();
-        con.next_draw_ms = now + CONSOLE_REDRAW_MS;
+        con.next_draw_ms = now + 1u;    /* the new screen in the next pass: a key's work (a save,
+                                           perhaps) and a redraw are a pass each */
     } else if ((int16_t)(now - con.next_draw_ms) >= 0) {
         con_draw();
         con.next_draw_ms = now + CONSOLE_REDRAW_MS;

@@ -7,6 +7,7 @@
 #include "ops.h"
 #include "diag.h"
 #include "ctl.h"
+#include "target.h"
 #include "store.h"
 #include "screen.h"
 #include "fmt.h"
@@ -47,11 +48,20 @@ uint8_t con_cat(uint8_t at, const char *s)
     return at;
 }
 
-/* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it is */
-uint8_t con_cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t trim)
+/* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
+ * is; fmt: CON_TRIM or CON_DROP(k) (console_int.h) */
+uint8_t con_cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t fmt)
 {
+    static const __code uint16_t half[4] = {0, 5, 50, 500};
     char num[FMT_MAX];
-    uint8_t n = fmt_u32(num, v, decimals, trim);
+    uint8_t n, drop = (uint8_t)(fmt >> 1);
+    n = fmt_u32(num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)(fmt & CON_TRIM));
+    if (drop) {
+        n -= drop;
+        if (!decimals)
+            n--;                    /* and the point */
+        num[n] = 0;
+    }
     if (width && n > width) {
         while (width--)
             at = con_cat(at, "#");
@@ -82,13 +92,15 @@ void con_right_align(uint8_t from)
 
 uint8_t con_is_choice(uint8_t id)
 {
-    return id == P_CONTROLLER || id == P_MODE;
+    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
 }
 
 const char *con_choice_name(uint8_t id, uint16_t v)
 {
     if (id == P_MODE)
         return v ? "Manual" : "Auto";
+    if (id == P_REMOTE)
+        return v ? "Raven" : "off";
     return ctl_name((uint8_t)v);
 }
 
@@ -182,7 +194,7 @@ static void draw_run(void)
     int8_t a;
     int16_t q;
     /* " 7.2km/h    AUTO": ground speed, mode */
-    at = con_cat_num(0, 4, (st->speed_kmh_x100 + 5u) / 10u, 1, 0);
+    at = con_cat_num(0, 4, st->speed_kmh_x100, 1, CON_DROP(1));
     at = con_cat(at, "km/h ");
     con_cat(at, st->manual ? "MANUAL" : "AUTO");
     con_right_align(at);
@@ -190,14 +202,14 @@ static void draw_run(void)
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */
     at = con_cat(0, "Q");
     q = st->target_lpm_x100;
-    at = con_cat_num(at, 5, q > 0 ? ((uint16_t)q + 5u) / 10u : 0, 1, 0);
+    at = con_cat_num(at, 5, q > 0 ? (uint16_t)q : 0, 1, CON_DROP(1));
     at = con_cat(at, ">");
     q = st->flow_lpm_x100;
-    at = con_cat_num(at, 5, q > 0 ? ((uint16_t)q + 5u) / 10u : 0, 1, 0);
+    at = con_cat_num(at, 5, q > 0 ? (uint16_t)q : 0, 1, CON_DROP(1));
     con_cat(at, "L/mn");
     screen_line(1, con.line);
     /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
-    at = con_cat_num(0, 4, (st->applied_l_ha_x10 + 5u) / 10u, 0, 0);
+    at = con_cat_num(0, 4, st->applied_l_ha_x10, 0, CON_DROP(1));
     at = con_cat(at, "L/ha");
     at = con_cat_num(at, 5, st->pressure_kpa, 2, 0);
     con_cat(at, "bar");
@@ -218,7 +230,10 @@ static void draw_run(void)
         at = con_cat(0, "T");
         at = con_cat_num(at, 5, st->tank_l, 0, 0);
         at = con_cat(at, "L ");
-        con_cat(at, ctl_name(ctl_selected()));
+        if (target_rate_remote())           /* the rate comes from the field computer */
+            con_cat_num(con_cat(at, "RC"), 0, target_rate_x10(), 1, 0);
+        else
+            con_cat(at, ctl_name(ctl_selected()));
         con_right_align(at);
         screen_line(3, con.line);
     }
@@ -229,15 +244,15 @@ static void draw_totals(void)
     const app_status_t *st = &app_status;
     uint8_t at;
     at = con_cat(0, "Job ");
-    at = con_cat_num(at, 9, (st->job_area_m2 + 50u) / 100u, 2, 0);
+    at = con_cat_num(at, 9, st->job_area_m2, 2, CON_DROP(2));
     con_cat(at, " ha");
     screen_line(0, con.line);
     at = con_cat(0, "Job ");
-    at = con_cat_num(at, 10, (st->job_volume_ml + 50u) / 100u, 1, 0);
+    at = con_cat_num(at, 10, st->job_volume_ml, 1, CON_DROP(2));
     con_cat(at, " L");
     screen_line(1, con.line);
     at = con_cat(0, "Life");
-    at = con_cat_num(at, 9, (st->life_area_m2 + 50u) / 100u, 2, 0);
+    at = con_cat_num(at, 9, st->life_area_m2, 2, CON_DROP(2));
     con_cat(at, " ha");
     screen_line(2, con.line);
     if (con.step) {
@@ -246,7 +261,7 @@ static void draw_totals(void)
         con_draw_msg();
     } else {
         at = con_cat(0, "Life");
-        at = con_cat_num(at, 10, (st->life_volume_ml + 500u) / 1000u, 0, 0);
+        at = con_cat_num(at, 10, st->life_volume_ml, 0, CON_DROP(3));
         con_cat(at, " L");
         screen_line(3, con.line);
     }

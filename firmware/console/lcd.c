@@ -37,8 +37,12 @@ void lcd_poll(void)
         screen_touch_all();
         return;
     }
+    if (!screen_any_dirty())
+        return;                     /* the usual pass: nothing changed since the last one */
     for (row = 0; row < 4 && budget; row++) {
         d = screen_dirty(row);
+        if (!d)
+            continue;               /* an unchanged row costs one test */
         for (pair = 0; pair < 8 && budget; pair++) {
             if (!(d & (1u << pair)))
                 continue;

@@ -53,6 +53,11 @@ uint8_t screen_dirty(uint8_t row)
     return row < SCREEN_ROWS ? dirty[row] : 0;
 }
 
+uint8_t screen_any_dirty(void)
+{
+    return (uint8_t)(dirty[0] | dirty[1] | dirty[2] | dirty[3]);
+}
+
 void screen_take(uint8_t row, uint8_t pair)
 {
     if (row < SCREEN_ROWS)

@@ -20,6 +20,8 @@ char screen_char(uint8_t row, uint8_t col) __reentrant;
 
 /* For the LCD driver: the character pairs (ST7920 DDRAM words) changed since they were taken.
  * Bit p of screen_dirty(row) = columns 2p and 2p+1; screen_take(row, p) clears it. */
+/* Nonzero while any pair of any row is changed (one test for an unchanged screen). */
+uint8_t screen_any_dirty(void);
 uint8_t screen_dirty(uint8_t row);
 void screen_take(uint8_t row, uint8_t pair) __reentrant;
 /* Mark everything changed (after an LCD reset). */

@@ -1,4 +1,4 @@
-/* ctl.c: the one interface of the four flow controllers: select, reset, step, dispatched by a switch. */
+/* ctl.c: the one interface of the six flow controllers: select, reset, step, dispatched by a switch. */
 #if defined(__SDCC)
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
@@ -18,7 +18,8 @@
  * With the paper's kp 1.2, ki 0.2, kd 0.8 and the default 4 s valve: 1 L/min of error held for
  * one period asks for 0.2 * 0.01 * 40 = 0.08 duty (the integral time is 0.5 s).
  * Signs: e = target - measured; positive drive = more boom flow (bypass toward closed).
- * The controllers: pid.c (pid and fuzzy_pid, one law), bp.c (bp_pid), ffmap.c (best); their
+ * The controllers: pid.c (pid and fuzzy_pid, one law), bp.c (bp_pid), ffmap.c (best), and two
+ * peers to compare with: aog.c (AgOpenGPS Rate Control's valve loop), raven.c (Raven's valve cal); their
  * common output stage: ctl_out.c; their products: mul.h. docs/CONTROLLERS.md has the design.
  */
 
@@ -45,6 +46,8 @@ static const __code char nm_pid[] = "pid";
 static const __code char nm_fuzzy[] = "fuzzy_pid";
 static const __code char nm_bp[] = "bp_pid";
 static const __code char nm_best[] = "ffmap";
+static const __code char nm_aog[] = "aog";
+static const __code char nm_raven[] = "raven";
 
 const char *ctl_name(uint8_t id)
 {
@@ -53,6 +56,8 @@ const char *ctl_name(uint8_t id)
     case CTL_FUZZY_PID: return nm_fuzzy;
     case CTL_BP_PID: return nm_bp;
     case CTL_BEST: return nm_best;
+    case CTL_AOG: return nm_aog;
+    case CTL_RAVEN: return nm_raven;
     default: return "?";
     }
 }
@@ -89,10 +94,10 @@ static void ctl_derive(void)
     }
     ctl_stiction = s;
     ctl_backlash = b;
-    ctl_drun = (int16_t)(((int32_t)ctl_stiction * CTL_RUN_NUM + 8) >> 4);
-    if (ctl_drun > Q15(0.45))
-        ctl_drun = Q15(0.45);       /* 1 / (1 - d_run) within Q14 */
-    ctl_run_span = (int16_t)(32767 - ctl_drun);
+    if (ctl_id == CTL_AOG)
+        ag_derive();
+    else if (ctl_id == CTL_RAVEN)
+        rv_derive();
     ctl_gen = param_generation;
 }
 
@@ -129,6 +134,9 @@ uint8_t ctl_select(uint8_t id)
     case CTL_BP_PID:
         bp_init();
         break;
+    case CTL_AOG:
+    case CTL_RAVEN:
+        break;                      /* their first step starts them from rest (ctl_first) */
     default:
         fm_init();
         break;
@@ -147,6 +155,12 @@ int16_t ctl_gain(uint8_t i)
     return i < 3 ? ctl_k[i] : 0;
 }
 
+void ctl_prepare(void)
+{
+    if (ctl_gen != param_generation || ctl_kf == 0)
+        ctl_derive();
+}
+
 q15_t ctl_step(const __xdata ctl_in_t *step_in)
 {
     ctl_in = step_in;
@@ -159,6 +173,10 @@ q15_t ctl_step(const __xdata ctl_in_t *step_in)
         return fz_step();
     case CTL_BP_PID:
         return bp_step();
+    case CTL_AOG:
+        return ag_step();
+    case CTL_RAVEN:
+        return rv_step();
     default:
         return fm_step();
     }

@@ -5,7 +5,7 @@
 #include "fixed.h"
 
 /* The controllers, chosen by P_CONTROLLER (keypad), the serial link or a scenario's `controller =`. */
-enum { CTL_PID = 0, CTL_FUZZY_PID = 1, CTL_BP_PID = 2, CTL_BEST = 3, CTL_COUNT };
+enum { CTL_PID = 0, CTL_FUZZY_PID = 1, CTL_BP_PID = 2, CTL_BEST = 3, CTL_AOG = 4, CTL_RAVEN = 5, CTL_COUNT };
 
 /* What a controller sees each control period (APP_PERIOD_MS). Flows in L/min x100. */
 typedef struct {
@@ -44,9 +44,11 @@ void ctl_applied(q15_t drive, uint8_t limit) __reentrant;
 #define CTL_STEP_BUDGET_CYCLES 30000UL
 #endif
 q15_t ctl_step(const __xdata ctl_in_t *in);
+/* Derive the constants of changed parameters now, so that the next step need not. */
+void ctl_prepare(void);
 /* The gain (0 kp, 1 ki, 2 kd) the controller used in its last step, Q12, for logs and traces. */
 int16_t ctl_gain(uint8_t i);
-/* Name of a controller for the console and the logs ("pid", "fuzzy_pid", "bp_pid", ...). */
+/* Name of a controller for the console and the logs ("pid", "fuzzy_pid", "bp_pid", "ffmap", "aog", "raven"). */
 const char *ctl_name(uint8_t id);
 
 #endif

@@ -95,11 +95,38 @@ typedef struct {
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
 } fm_state_t;
 
+/* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */
+#define AG_DB_Q15 1311              /* dead band: |e| <= 4 % of the target (Q15 of the target) */
+#define AG_BRAKE_Q15 6554           /* brake point: 20 % of the target */
+typedef struct {
+    int32_t integ;                  /* Q23 (Q15 duty << 8): the integral, within +-max PWM */
+    int16_t y1;                     /* x100 L/min: the last measured flow (the derivative's) */
+    /* derived from the settings when a parameter changes (ctl.c ctl_derive): */
+    int16_t kp;                     /* Q7: Q15 duty per x100 L/min of error */
+    int16_t ki;                     /* the integral's Q23 per x100 L/min of error a 100 ms period */
+    int16_t kd;                     /* Q8: Q15 duty per x100 L/min of flow change a 100 ms period */
+    int16_t min;                    /* Q15 duty: min PWM */
+    int16_t max;                    /* Q15 duty: max PWM (at least min PWM) */
+} ag_state_t;
+
+/* ---- raven: the SCS consoles' four-digit valve calibration (raven.c), P_RAVEN_CAL ------------ */
+#define RV_PULSE_Q15 3277           /* a backlash digit: 10 ms of full drive in a 100 ms period */
+typedef struct {
+    int8_t dir;                     /* +1 / -1: the direction of the last correction, 0 none yet */
+    uint8_t fast;                   /* 1: a fast valve (a three-digit cal: backlash digit 0) */
+    int16_t speed;                  /* Q15 duty of a correction beyond the brake point */
+    int16_t brake;                  /* Q15 of the target: the brake point */
+    int16_t band;                   /* Q15 of the target: the dead band */
+    int16_t pulse;                  /* Q15 duty added to the first correction after a reversal */
+} rv_state_t;
+
 typedef union {
     pid_state_t pid;
     fz_state_t fz;
     bp_state_t bp;
     fm_state_t fm;
+    ag_state_t ag;
+    rv_state_t rv;
 } ctl_state_t;
 
 /* The live state (read by the tests; only the controllers' files write it). */
@@ -111,7 +138,7 @@ q15_t ctl_carry_now(void);
 /* The fuzzy rule tables (rows e NB..PB, columns ec NB..PB, values -3..3). */
 extern const __code int8_t fz_tab[3][7][7];
 
-/* ---- shared by the controllers' files (ctl.c, ctl_out.c, pid.c, bp.c, ffmap.c) ------------ */
+/* ---- shared by the controllers' files (ctl.c, ctl_out.c, pid.c, bp.c, ffmap.c, aog.c, raven.c) - */
 /* CTL_SHARED: locals and compiler temporaries of the non-network controllers go on the stack
  * (__reentrant), so the controllers share those bytes (only one runs) instead of each holding
  * its own in the scarce internal RAM and XRAM. */
@@ -141,6 +168,8 @@ extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
 /* The output stage (ctl_out.c). */
 int16_t ctl_clamp_e(int16_t e);
 int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi) CTL_SHARED;
+/* frac (Q15) of this step's target, x100 L/min, floored (the peers' dead bands and brake points) */
+int16_t ctl_of_target(int16_t frac) CTL_SHARED;
 /* du (Q12, x100 L/min of flow-equivalent) -> Q15 drive, 32 bit, not yet limited. */
 int32_t ctl_du_to_drive(int32_t du);
 /* pid, fuzzy_pid and bp_pid: pulse accumulation below stiction, drive limit and end stops. */
@@ -174,5 +203,9 @@ void bp_init(void);
 q15_t bp_step(void) CTL_SHARED;
 void fm_init(void);
 q15_t fm_step(void) CTL_SHARED;
+q15_t ag_step(void) CTL_SHARED;
+void ag_derive(void) CTL_SHARED;
+q15_t rv_step(void) CTL_SHARED;
+void rv_derive(void) CTL_SHARED;
 
 #endif

@@ -23,6 +23,11 @@ int16_t ctl_clamp_e(int16_t e)
     return e;
 }
 
+int16_t ctl_of_target(int16_t frac)
+{
+    return (int16_t)(MUL(ctl_in->target_lpm_x100, frac) >> 15);
+}
+
 int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi)
 {
     return x < lo ? lo : x > hi ? hi : x;

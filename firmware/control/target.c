@@ -4,7 +4,9 @@
 #include "target.h"
 
 static struct {
-    uint32_t k_q16;                 /* L/min x100 per km/h x100, Q16: C d m / 60000 */
+    uint32_t k_q16;                 /* L/min x100 per km/h x100, Q16: C d m / 600000 (C in L/ha x10) */
+    uint16_t remote_x10;            /* L/ha x10 from a field computer, 0: none (P_RATE) */
+    uint8_t refusals;               /* remote rates refused since start (wraps) */
     uint16_t width_cm;
     uint8_t open;
     uint8_t sections;
@@ -20,6 +22,42 @@ uint8_t target_section_nozzles(uint8_t s) __reentrant
     return (uint8_t)(n / ns + (s < n % ns ? 1 : 0));
 }
 
+/* 1 when rate_x10 (L/ha x10) is at least P_RATE's least (10 L/ha) and within the operator's
+ * window (P_REMOTE_WIN % of P_RATE) around the job's rate. */
+static uint8_t target_rate_window(uint16_t rate_x10) __reentrant
+{
+    uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;
+    if (rate_x10 < 100u)            /* P_RATE's least, 10 L/ha (the window's top is 2 x Dose) */
+        return 0;
+    return (uint32_t)d * 100u <= (uint32_t)job * param_v[P_REMOTE_WIN];
+}
+
+uint16_t target_rate_x10(void)
+{
+    return tg.remote_x10 ? tg.remote_x10 : param_v[P_RATE] * 10u;
+}
+
+uint8_t target_rate_remote(void)
+{
+    return tg.remote_x10 != 0;
+}
+
+uint8_t target_remote_rate(uint16_t rate_x10) __reentrant
+{
+    if (!param_v[P_REMOTE] || !target_rate_window(rate_x10)) {
+        tg.refusals++;
+        return 0;
+    }
+    tg.remote_x10 = rate_x10;
+    tg.valid = 0;                   /* derived again at the next update */
+    return 1;
+}
+
+uint8_t target_remote_refusals(void)
+{
+    return tg.refusals;
+}
+
 static void target_derive(void) __reentrant
 {
     uint8_t s;
@@ -29,8 +67,11 @@ static void target_derive(void) __reentrant
         if (tg.sections & (1u << s))
             tg.open += target_section_nozzles(s);
     tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
-    cdm = (uint32_t)param_v[P_RATE] * param_v[P_SPACING] * tg.open;     /* <= 1.92e7 */
-    tg.k_q16 = ((cdm / 60000u) << 16) + ((cdm % 60000u) * 65536UL + 30000u) / 60000u;
+    if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))
+        tg.remote_x10 = 0;          /* Remote off, or a new Dose or window leaves it outside */
+    cdm = (uint32_t)target_rate_x10() * param_v[P_SPACING] * tg.open;    /* <= 1.92e8 */
+    /* cdm * 65536 / 600000 = cdm * 4096 / 37500, rounded (the same bits as C in L/ha / 60000) */
+    tg.k_q16 = (cdm / 37500u) * 4096u + ((cdm % 37500u) * 4096u + 18750u) / 37500u;
     tg.gen = param_generation;
     tg.valid = 1;
 }
@@ -38,6 +79,8 @@ static void target_derive(void) __reentrant
 void target_init(void)
 {
     tg.valid = 0;
+    tg.remote_x10 = 0;
+    tg.refusals = 0;
     tg.sections = 0;
     target_derive();
 }

@@ -5,7 +5,8 @@
 #include "compiler.h"
 
 /*
- * q1 [L/min] = C * v * d * m / 60000 (eq. 1): C = P_RATE L/ha, v km/h, d = P_SPACING cm,
+ * q1 [L/min] = C * v * d * m / 60000 (eq. 1): C = P_RATE L/ha (or the rate a field computer
+ * set, target_remote_rate), v km/h, d = P_SPACING cm,
  * m = the nozzles of the switched-on sections. P_NOZZLES are split over P_SECTIONS as
  * evenly as they go (the first N % S sections carry one more); section switch bits at or
  * beyond P_SECTIONS are ignored.
@@ -27,5 +28,14 @@ uint8_t target_open_nozzles(void);
 uint8_t target_section_nozzles(uint8_t s) __reentrant;
 /* Working width of the open sections, cm. */
 uint16_t target_width_cm(void);
+/* A rate from a field computer (serial Remote), L/ha x10: taken (1) when P_REMOTE is on and it
+ * is within P_REMOTE_WIN % of P_RATE (and P_RATE's range); refused (0) otherwise, and counted.
+ * It holds until Remote is switched off or a new Dose or window leaves it outside. */
+uint8_t target_remote_rate(uint16_t rate_x10) __reentrant;
+/* The rate in use, L/ha x10, and 1 when it came from the field computer. */
+uint16_t target_rate_x10(void);
+uint8_t target_rate_remote(void);
+/* Remote rates refused since start (wraps at 256), for the LCD. */
+uint8_t target_remote_refusals(void);
 
 #endif

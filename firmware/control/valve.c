@@ -35,6 +35,12 @@ static void valve_derive(void) __reentrant
     va.gen = param_generation;
 }
 
+void valve_prepare(void)
+{
+    if (va.gen != param_generation)
+        valve_derive();
+}
+
 static void bridge(int8_t dir, uint8_t duty, uint16_t now) __reentrant
 {
     if (dir == HAL_VALVE_OFF || duty == 0) {

@@ -33,6 +33,8 @@
 void valve_init(void);
 /* Once a period: the drive for the next period (the previous one is integrated first). */
 void valve_set(q15_t drive) __reentrant;
+/* Derive the constants of changed parameters now, so that the next valve_set need not. */
+void valve_prepare(void);
 /* From the main loop as often as it turns: ends the dead time. */
 void valve_poll(uint32_t now_ms) __reentrant;
 /* CTL_AT_* bits. */

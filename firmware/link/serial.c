@@ -7,6 +7,8 @@
 #include "totals.h"
 #include "serial.h"
 #include "fmt.h"
+#include "remote.h"
+#include "linebuf.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -44,27 +46,37 @@ void serial_log_request(void)
 {
     if (se.log_due < 255)
         se.log_due++;
+    remote_tick();
 }
 
-/* ---- composing a line ------------------------------------------------------------------ */
-static void tx_c(char c) __reentrant
+/* ---- composing a line (linebuf.h: remote.c composes through it too) ---------------------- */
+#define tx_c serial_put_c
+#define tx_s serial_put_s
+void serial_put_c(char c) __reentrant
 {
     if (se.n < SERIAL_TX_MAX - 5)       /* room for "*HH\r\n" */
         se.buf[se.n++] = c;
 }
 
-static void tx_s(const char *s) __reentrant
+void serial_put_s(const char *s) __reentrant
 {
     while (*s)
         tx_c(*s++);
 }
 
-/* decimal (fmt.c, the formatter the LCD uses too) */
-static void tx_u32(uint32_t v) __reentrant
+/* decimal (fmt.c, the formatter the LCD uses too), the last `drop` digits left out: v / 10^drop */
+void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant
 {
     char num[FMT_MAX];
-    fmt_u32(num, v, 0, 0);
-    tx_s(num);
+    uint8_t i;
+    fmt_u32(num, v, drop, 0);
+    for (i = 0; num[i] && num[i] != '.'; i++)
+        tx_c(num[i]);
+}
+
+static void tx_u32(uint32_t v) __reentrant
+{
+    serial_put_u32_div(v, 0);
 }
 
 static void tx_i16(int16_t v) __reentrant
@@ -273,8 +285,9 @@ static uint8_t line_ok(uint8_t n) __reentrant
     return n;
 }
 
-/* The command in se.buf: look its word up, parse its arguments, run its handler. */
-static void answer(void) __reentrant
+/* The command in se.buf: look its word up, parse its arguments, run its handler; a line
+ * starting with '$' goes to Raven's strings (remote.c). 1 when a reply of ours is to be sent. */
+static uint8_t answer(void) __reentrant
 {
     const char *p = se.buf + 3;
     uint8_t n = se.n, c;
@@ -282,18 +295,25 @@ static void answer(void) __reentrant
 
     se.n = 0;                       /* the reply is written over the line once it is parsed */
     if (!line_ok(n))
-        return;
+        return 1;
+    if (se.buf[0] == '$') {         /* Raven's: their answers are queued, a refusal is ours */
+        p = remote_command(se.buf);
+        if (!p)
+            return 0;
+        reply_err(p);
+        return 1;
+    }
     for (c = 0; c < N_COMMANDS; c++)
         if (se.buf[0] == commands[c].word[0] && se.buf[1] == commands[c].word[1]
             && se.buf[2] == commands[c].word[2] && (se.buf[3] == ' ' || se.buf[3] == 0))
             break;
     if (c == N_COMMANDS) {
         reply_err("CMD");
-        return;
+        return 1;
     }
     if (!csum_seen && ((CHANGES >> commands[c].handler) & 1u)) {
         reply_err("NOCSUM");
-        return;
+        return 1;
     }
     switch (commands[c].args) {
     case ARG_NUM:
@@ -301,13 +321,13 @@ static void answer(void) __reentrant
         if (*p != ' ' || !(p = number(p + 1, &a))
             || (commands[c].args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, &b))))) {
             reply_err("NUM");
-            return;
+            return 1;
         }
         break;
     case ARG_SIGN:
         if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0)) {
             reply_err("ARG");
-            return;
+            return 1;
         }
         a = p[1] == '+' ? 1 : (uint16_t)-1;
         p += 2;
@@ -317,9 +337,10 @@ static void answer(void) __reentrant
     }
     if (*p) {
         reply_err("ARG");
-        return;
+        return 1;
     }
     run(commands[c].handler, a, b);
+    return 1;
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */
@@ -371,6 +392,14 @@ static void compose_next(void) __reentrant
         for (bit = 16; bit; bit -= 4)
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
         tx_end();
+        return;
+    }
+    se.n = 0;
+    if (remote_next()) {            /* Raven's lines carry no checksum */
+        se.buf[se.n++] = '\r';
+        se.buf[se.n++] = '\n';
+        se.tx_i = 0;
+        se.state = S_TX;
     }
 }
 
@@ -404,10 +433,12 @@ void serial_poll(void) __reentrant
                 return;
             }
             if (se.n) {
-                answer();
-                tx_end();
-                drain();
-                return;
+                if (answer()) {
+                    tx_end();
+                    drain();
+                    return;
+                }
+                se.n = 0;           /* taken, answers queued (Raven) */
             }
         } else if (se.state == S_RX) {
             if (b < 0x20 || b > 0x7E)

@@ -28,6 +28,7 @@
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
  *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / NOCSUM / LONG / CHAR.
+ * With Remote = Raven, lines starting with '$' are Raven's strings (remote.h).
  * A line during which received bytes were lost (the HAL's receive queue overflowed, or an IAP
  * erase held the CPU: hal_uart_get's HAL_UART_LOST) is discarded whole with ERR LOST, at its
  * end (or at the next line end when its own was lost).

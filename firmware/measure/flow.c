@@ -24,6 +24,12 @@ static void flow_derive(void) __reentrant
     fl.gen = param_generation;
 }
 
+void flow_prepare(void)
+{
+    if (fl.gen != param_generation)
+        flow_derive();
+}
+
 void flow_init(void)
 {
     fl.last_pca = 0;

@@ -21,6 +21,8 @@
 void flow_init(void);
 /* One control period: take the meter edges, return L/min x100. */
 int16_t flow_step(void) __reentrant;
+/* Derive the constants of changed parameters now, so that the next step need not. */
+void flow_prepare(void);
 int16_t flow_lpm_x100(void);
 uint32_t flow_pulses(void);
 uint16_t flow_glitches(void);

@@ -56,6 +56,12 @@ static void speed_derive(void) __reentrant
     sp.gen = param_generation;
 }
 
+void speed_prepare(void)
+{
+    if (sp.gen != param_generation)
+        speed_derive();
+}
+
 void speed_init(void)
 {
     sp.last_pca = 0;

@@ -39,6 +39,8 @@
 void speed_init(void);
 /* One control period: take the wheel edges, return the speed in km/h x100. */
 uint16_t speed_step(void) __reentrant;
+/* Derive the constants of changed parameters now, so that the next step need not. */
+void speed_prepare(void);
 uint16_t speed_kmh_x100(void);
 /* Wheel pulses since start (calibration), glitch windows since start. */
 uint32_t speed_pulses(void);

@@ -23,6 +23,8 @@ void params_defaults(void)
 
 uint8_t param_in_range(uint8_t id, uint16_t v)
 {
+    if (id == P_RAVEN_CAL && v % 10u == 0u)
+        return 0;                   /* the dead band digit is 1-9 */
     return id < P_COUNT && v >= table[id].min && v <= table[id].max;
 }
 

@@ -19,7 +19,7 @@
     X(P_METER_K,     "Meter K",    "p/L",   1,   100, 60000, 3800)  /* flow meter pulses a litre */ \
     X(P_MINF_SPEED,  "MinQ speed", "km/h",  1,     0,   100,   40)  /* Table 1 rule below this */ \
     X(P_GIVEN_SPEED, "Given spd",  "km/h",  1,     0,   300,    0)  /* 0: wheel sensor */ \
-    X(P_CONTROLLER,  "Control",    "",      0,     0,     3,    3)  /* ctl.h CTL_* */    \
+    X(P_CONTROLLER,  "Control",    "",      0,     0,     5,    3)  /* ctl.h CTL_* */    \
     X(P_MODE,        "Mode",       "",      0,     0,     1,    0)  /* 0 auto, 1 manual */ \
     X(P_TANK_L,      "Tank size",  "L",     0,    10, 10000, 1000)                      \
     X(P_TANK_MIN,    "Tank min",   "L",     0,     0,  2000,   30)  /* below: stop spraying */ \
@@ -34,17 +34,27 @@
     X(P_VALVE_TRAVEL,"Valve time", "s",     1,     5,   600,   40)  /* full stroke of the valve */ \
     X(P_VALVE_BRK,   "Min duty",   "%",     0,     5,    90,   20)  /* the valve's break-away duty, or a little above */ \
     X(P_VALVE_SLACK, "Backlash",   "%",     1,     0,   100,   20)  /* the valve's backlash, % of the stroke, or a little under */ \
-    X(P_WHEEL_PPR,   "Wheel p/rev","",      0,     1,    16,   12)  /* wheel pulses a turn: their spacing error is learnt */
+    X(P_WHEEL_PPR,   "Wheel p/rev","",      0,     1,    16,   12)  /* wheel pulses a turn: their spacing error is learnt */ \
+    X(P_AOG_KP,      "AOG Kp",     "",      1,     0,  1500,  100)  /* aog: PWM counts (of 255) a L/min of error */ \
+    X(P_AOG_KI,      "AOG Ki",     "",      2,     0,  2000,    0)  /* aog: PWM counts a L/min a 50 ms loop */ \
+    X(P_AOG_KD,      "AOG Kd",     "",      1,     0,   500,    0)  /* aog: PWM counts a L/min of flow change a 50 ms loop */ \
+    X(P_AOG_MIN,     "AOG minPWM", "",      0,     0,   255,   60)  /* aog: the smallest drive, PWM counts */ \
+    X(P_AOG_MAX,     "AOG maxPWM", "",      0,     1,   255,  255)  /* aog: the largest drive, PWM counts */ \
+    X(P_RAVEN_CAL,   "Valve cal",  "",      0,    11,  9999, 2123)  /* raven: backlash, speed, brake point, dead band digits */ \
+    X(P_REMOTE,      "Remote",     "",      0,     0,     1,    0)  /* 0 off, 1 Raven strings on the serial link */ \
+    X(P_REMOTE_WIN,  "Remote win", "%",     0,     1,   100,   50)  /* a remote rate within this of Dose */
 
 #define PARAM_ENUM(id, name, unit, dec, lo, hi, def) id,
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 4            /* bump when the table or the EEPROM record changes (2: lifetime totals,
-                                     * 3: Min duty and Backlash appended, 4: Wheel p/rev appended; a copy of
-                                     * version 2 or 3 still loads, the values appended since at their defaults) */
+#define PARAMS_VERSION 5            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+                                     * 3: Min duty and Backlash appended, 4: Wheel p/rev appended, 5: the peers'
+                                     * settings and Remote appended; a copy of version 2, 3 or 4 still loads,
+                                     * the values appended since at their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
 #define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
+#define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */
 
 typedef struct {
     const char *name;
@@ -83,7 +93,7 @@ uint8_t param_set(uint8_t id, uint16_t v) __reentrant;
 uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
 /* At most 16 characters on why a value was refused ("Tank min>=size"); "" for PARAM_OK. */
 const char *param_why_text(uint8_t why) __reentrant;
-/* 1 when v is within the range of parameter id. */
+/* 1 when v is within the range of parameter id (and, for Valve cal, its dead band digit is 1-9). */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */
 const param_info_t *param_info(uint8_t id);

@@ -32,13 +32,17 @@ static uint16_t slot_base(uint8_t slot)
                       + (slot % STORE_SLOTS_PER_SECTOR) * STORE_SLOT_BYTES);
 }
 
+/* CRC-16/CCITT (polynomial 0x1021, MSB first) a nibble at a time from a 16-entry table: the
+ * same CRC as bit by bit at a fraction of the cycles (a save computes it over 118 bytes) */
+static const __code uint16_t crc_nibble[16] = {
+    0x0000, 0x1021, 0x2042, 0x3063, 0x4084, 0x50A5, 0x60C6, 0x70E7,
+    0x8108, 0x9129, 0xA14A, 0xB16B, 0xC18C, 0xD1AD, 0xE1CE, 0xF1EF
+};
+
 static uint16_t crc_byte(uint16_t crc, uint8_t b)
 {
-    uint8_t i;
-    crc ^= (uint16_t)b << 8;
-    for (i = 0; i < 8; i++)
-        crc = (crc & 0x8000u) ? (uint16_t)((crc << 1) ^ 0x1021u) : (uint16_t)(crc << 1);
-    return crc;
+    crc = (uint16_t)(crc << 4) ^ crc_nibble[(uint8_t)(crc >> 12) ^ (b >> 4)];
+    return (uint16_t)(crc << 4) ^ crc_nibble[(uint8_t)(crc >> 12) ^ (b & 0x0F)];
 }
 
 static uint16_t read16(uint16_t a)
@@ -51,9 +55,9 @@ static uint32_t read32(uint16_t a)
     return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
 }
 
-/* The number of values the record at base holds when it has a known header, its CRC and every
- * value in range; 0 otherwise. Known: this version's table, or version 2's or 3's
- * (PARAMS_V2_COUNT, PARAMS_V3_COUNT values, the later ones appended since: they keep their
+/* The number of values the copy in sector s holds when it has a known header, its CRC and every
+ * value in range; 0 otherwise. Known: this version's table, or version 2's, 3's or 4's
+ * (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended since: they keep their
  * defaults). */
 static uint8_t record_valid(uint16_t base) __reentrant
 {
@@ -62,7 +66,7 @@ static uint8_t record_valid(uint16_t base) __reentrant
     uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
     if (hal_eeprom_read(base) != STORE_MAGIC
         || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
-             || (ver == 3u && n == PARAMS_V3_COUNT)))
+             || (ver == 3u && n == PARAMS_V3_COUNT) || (ver == 4u && n == PARAMS_V4_COUNT)))
         return 0;
     at = CRC_N(n);
     for (i = 0; i < at; i++)

@@ -28,9 +28,9 @@
  * No save starts while the supply is low (hal_supply_low): STORE_LOW_SUPPLY.
  */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + 2u)
-#define STORE_SLOT_BYTES 64u
-#define STORE_SLOTS_PER_SECTOR 8u
-#define STORE_SLOTS 16u
+#define STORE_SLOT_BYTES 128u         /* a record of 32 values is 79 bytes (64 held 24) */
+#define STORE_SLOTS_PER_SECTOR 4u
+#define STORE_SLOTS 8u
 
 /* What store_load() or the last store_save() found (store_status()). */
 #define STORE_OK 0          /* the newest record is good */

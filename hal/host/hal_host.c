@@ -29,6 +29,7 @@ static uint8_t eeprom[HAL_EEPROM_SIZE];
 static int32_t eeprom_ops_left = -1;
 static uint8_t eeprom_cut;
 static void (*lcd_sink)(uint8_t rs, uint8_t b);
+static uint16_t (*adc_source)(uint8_t ch);
 
 void hal_host_reset(void)
 {
@@ -43,6 +44,7 @@ void hal_host_reset(void)
     eeprom_ops_left = -1;
     eeprom_cut = 0;
     lcd_sink = 0;
+    adc_source = 0;
 }
 
 void hal_init(void)
@@ -125,8 +127,15 @@ void hal_wheel_capture_take(hal_capture_t *c)
     edge_take(&wheel_q, c);
 }
 
+void hal_host_adc_source(uint16_t (*source)(uint8_t ch))
+{
+    adc_source = source;
+}
+
 uint16_t hal_adc_read(uint8_t ch)
 {
+    if (adc_source && ch < 8)
+        hal_host_io.adc[ch] = adc_source(ch);
     return ch < 8 ? hal_host_io.adc[ch] & 0x3FF : 0;
 }
 
@@ -225,6 +234,12 @@ int hal_host_uart_tx_pop(void)
     b = uart_tx[tx_tail];
     tx_tail = (tx_tail + 1) % HAL_HOST_UART_Q;
     return b;
+}
+
+uint32_t hal_host_uart_rx_waiting(void)
+{
+    uart_deliver();                 /* what has arrived by now (time stands still in a pass) */
+    return (rx_head - rx_tail + HAL_HOST_UART_RXQ) % HAL_HOST_UART_RXQ + rx_lost;
 }
 
 void hal_host_uart_rx_push(uint8_t b)

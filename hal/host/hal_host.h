@@ -51,6 +51,7 @@ void hal_host_wheel_edge(uint64_t t_ns);
 #define HAL_HOST_IAP_ERASE_NS 21000000u
 int hal_host_uart_tx_pop(void);     /* -1 when empty */
 void hal_host_uart_rx_push(uint8_t b);
+uint32_t hal_host_uart_rx_waiting(void);    /* hal_uart_get calls that would not return -1 now */
 
 /* EEPROM: direct access for tests, and a power cut after n more programmed bytes or erases
  * (-1: never). A cut operation leaves the cell as it was; later ones are lost as well. */
@@ -59,6 +60,10 @@ void hal_host_eeprom_cut_after(int32_t n);
 uint8_t hal_host_eeprom_cut(void);   /* 1 once the cut has happened */
 
 /* LCD: the bytes written go to this function (the ST7920 emulator), when set. */
+/* Where a conversion comes from: with a source set, each hal_adc_read(ch) asks it (the plant
+ * draws the noise of that one conversion) and keeps the result in hal_host_io.adc[ch];
+ * without one (NULL, after hal_host_reset), hal_adc_read returns hal_host_io.adc[ch]. */
+void hal_host_adc_source(uint16_t (*source)(uint8_t ch));
 void hal_host_lcd_sink(void (*sink)(uint8_t rs, uint8_t b));
 
 #endif

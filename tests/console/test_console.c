@@ -206,7 +206,7 @@ static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of
     char s[24], want[48], lo[12], hi[12];
     (void)state;
     for (uint8_t id = 0; id < P_COUNT; id++) {
-        if (id == P_CONTROLLER || id == P_MODE)
+        if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE)
             continue;
         const param_info_t *pi = param_info(id);
         to_item(id);
@@ -443,6 +443,15 @@ static void test_console_controller_and_mode_are_chosen_by_name(void **state)
     run_ms(300);
     assert_int_equal(param_v[P_MODE], 1);
     assert_non_null(strstr(lcd(0), "MANUAL"));
+    /* Remote: off / Raven */
+    to_item(P_REMOTE);
+    assert_string_equal(lcd(2), "             off");
+    press('D');
+    press('A');
+    assert_string_equal(lcd(2), "new        Raven");
+    press('D');
+    assert_int_equal(param_v[P_REMOTE], 1);
+    assert_int_equal(stored(P_REMOTE), 1);
 }
 
 static void test_console_speed_calibration_over_100_m(void **state)

@@ -65,4 +65,22 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
 /* One step of ffmap (fm_step of ffmap.c) on the twin's state. */
 ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in);
 
+/* ---- the peers: aog (AgOpenGPS Rate Control, valve mode) and raven (Raven's valve cal) ----------
+ * Each returns the drive (fraction of full duty, + = more boom flow) its description asks for,
+ * before the output stage (ctl_out.c); 0 within the dead band. Flows in L/min. */
+typedef struct {
+    double kp, ki, kd;              /* the user's settings: PWM counts a L/min (ki, kd a 50 ms loop) */
+    double min_pwm, max_pwm;        /* PWM counts of 255 */
+    double integ;                   /* PWM counts */
+    double y1;                      /* L/min: the last actual flow */
+    int first;
+} ctltw_ag_t;
+double ctltw_ag_step(ctltw_ag_t *a, double target, double actual);
+typedef struct {
+    int cal;                        /* the four digits */
+    int dir;                        /* +1 / -1 last correction, 0 none */
+} ctltw_rv_t;
+/* reversed: set to 1 when this correction changed direction (the output stage drops its carry) */
+double ctltw_rv_step(ctltw_rv_t *r, double target, double actual, int *reversed);
+
 #endif

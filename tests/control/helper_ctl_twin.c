@@ -213,3 +213,58 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     o.rest = m->rest;
     return o;
 }
+
+/* ---- the peers ---------------------------------------------------------------------------------- */
+/* AgOpenGPS's loop as described (aog.c has the reading): two 50 ms loops a 100 ms period. */
+double ctltw_ag_step(ctltw_ag_t *a, double t, double y)
+{
+    double e, o, sf, lim;
+    int far;
+    if (t < 0)
+        t = 0;
+    e = ctltw_clamp(t - y, -t, t);
+    if (a->first) {
+        a->y1 = y;
+        a->first = 0;
+    }
+    if (fabs(e) <= 0.04 * t) {
+        a->y1 = y;
+        return 0;
+    }
+    far = fabs(e) > 0.2 * t;
+    sf = far ? 1.0 : 0.75;
+    a->integ = ctltw_clamp(a->integ + 2.0 * a->ki * e, -a->max_pwm, a->max_pwm);
+    o = (e > 0 ? a->min_pwm : -a->min_pwm) + a->kp * sf * e + a->integ + a->kd / 2.0 * (a->y1 - y);
+    a->y1 = y;
+    lim = a->max_pwm * sf;
+    if (o == 0)
+        o = e > 0 ? 1e-9 : -1e-9;
+    o = (o > 0 ? 1 : -1) * ctltw_clamp(fabs(o), a->min_pwm, lim > a->min_pwm ? lim : a->min_pwm);
+    if (fabs(o) > lim)
+        o = (o > 0 ? 1 : -1) * lim;
+    return o / 255.0;
+}
+
+/* Raven's valve cal as read in raven.c. */
+double ctltw_rv_step(ctltw_rv_t *r, double t, double y, int *reversed)
+{
+    int b = r->cal / 1000, s = r->cal / 100 % 10, p = r->cal / 10 % 10, d = r->cal % 10;
+    double v = b == 0 ? (10 - s) / 10.0 : (s + 1) / 10.0;
+    double brake = p ? p / 10.0 : 0.05;
+    double e = ctltw_clamp(t - y, -CTLTW_E_MAX, CTLTW_E_MAX), m;
+    int dir;
+    *reversed = 0;
+    if (v > 1)
+        v = 1;
+    if (t <= 0 || fabs(e) <= d / 100.0 * t)
+        return 0;
+    m = fabs(e) >= brake * t ? v : v * fabs(e) / (brake * t);
+    dir = e > 0 ? 1 : -1;
+    if (dir != r->dir) {
+        if (r->dir)
+            m += b * 0.1;
+        *reversed = 1;
+        r->dir = dir;
+    }
+    return dir * m;
+}

@@ -43,6 +43,8 @@ static void test_ctl_names_and_selection(void **state)
     assert_string_equal(ctl_name(CTL_FUZZY_PID), "fuzzy_pid");
     assert_string_equal(ctl_name(CTL_BP_PID), "bp_pid");
     assert_string_equal(ctl_name(CTL_BEST), "ffmap");
+    assert_string_equal(ctl_name(CTL_AOG), "aog");
+    assert_string_equal(ctl_name(CTL_RAVEN), "raven");
     assert_int_equal(ctl_select(CTL_COUNT), 0);
     assert_int_equal(ctl_select(CTL_FUZZY_PID), 1);
     assert_int_equal(ctl_selected(), CTL_FUZZY_PID);
@@ -549,6 +551,176 @@ static void test_ctl_ffmap_matches_twin(void **state)
     assert_true(pulses > 1000 && rests > 3000 && g_moved && brk_moved);
 }
 
+/* ---- the peers: aog and raven ------------------------------------------------------------- */
+#define Q15_OF(counts) ((counts) * 32767.0 / 255.0)
+
+/* aog against its description, worked by hand at the default settings (Kp 10, min PWM 60, max
+ * 255, Ki = Kd = 0) and a 30 L/min target: dead band 4 % (1.2 L/min), brake point 20 % (6 L/min);
+ * within 4 LSB of Q15 (the gains' rounding to Q7 / Q8 and the shifts' floors). */
+static void test_ctl_aog_hand_worked_dead_band_brake_point_and_limits(void **state)
+{
+    (void)state;
+    ctl_select(CTL_AOG);
+    ctl_in_t in = mk(3000, 2900, 0);        /* 1 L/min short: 3.3 %, inside the dead band */
+    assert_int_equal(ctl_step(&in), 0);
+    assert_int_equal(ctl_carry_now(), 0);
+    in = mk(3000, 2850, 0);                 /* 1.5 L/min: 60 + 0.75 x 10 x 1.5 = 71.25 counts */
+    assert_true(fabs(ctl_step(&in) - Q15_OF(71.25)) <= 4.0);
+    in = mk(3000, 2200, 0);                 /* 8 L/min, beyond the brake point: 60 + 80 = 140 */
+    assert_true(fabs(ctl_step(&in) - Q15_OF(140)) <= 4.0);
+    in = mk(3000, 3800, 0);                 /* 8 L/min over: -140, the sign kept */
+    assert_true(fabs(ctl_step(&in) + Q15_OF(140)) <= 4.0);
+    in = mk(1000, 3500, 0);                 /* 25 L/min over a 10 L/min target: limited to -10 */
+    assert_true(fabs(ctl_step(&in) + Q15_OF(160)) <= 4.0);
+    param_set(P_AOG_KP, 500);               /* Kp 50: 60 + 0.75 x 50 x 5 = 247.5, held at 0.75 x 255 */
+    in = mk(3000, 2500, 0);
+    assert_true(fabs(ctl_step(&in) - Q15_OF(191.25)) <= 4.0);
+    in = mk(3000, 1000, 0);                 /* 20 L/min: 60 + 1000, held at max PWM: full duty */
+    assert_int_equal(ctl_step(&in), 32767);
+    param_set(P_AOG_KP, 100);
+    param_set(P_AOG_MIN, 80);               /* min PWM above what Kp asks: 80 + 0.75 x 10 x 1.5 */
+    in = mk(3000, 2850, 0);
+    assert_true(fabs(ctl_step(&in) - Q15_OF(91.25)) <= 4.0);
+}
+
+/* aog's integral (2 ki e a 100 ms period: two 50 ms loops) and derivative (kd / 2 of the flow
+ * change over the period), by hand: Ki 0.5, Kd 1.0, 8 then 10 L/min short. */
+static void test_ctl_aog_hand_worked_integral_and_derivative(void **state)
+{
+    (void)state;
+    param_set(P_AOG_KI, 50);
+    param_set(P_AOG_KD, 10);
+    ctl_select(CTL_AOG);
+    ctl_in_t in = mk(3000, 2200, 0);
+    assert_true(fabs(ctl_step(&in) - Q15_OF(60 + 80 + 8)) <= 4.0);      /* integral 8, no kick */
+    assert_true(fabs(ctl_step(&in) - Q15_OF(60 + 80 + 16)) <= 4.0);     /* integral 16 */
+    in = mk(3000, 2000, 0);                 /* 10 L/min, integral 26, the flow fell 2: + 0.5 x 2 */
+    assert_true(fabs(ctl_step(&in) - Q15_OF(60 + 100 + 26 + 1)) <= 4.0);
+    in = mk(3000, 2980, 0);                 /* in the dead band: not driven, the integral kept */
+    assert_int_equal(ctl_step(&in), 0);
+    in = mk(3000, 2000, 0);                 /* integral 36, the flow fell 9.8: + 0.5 x 9.8 */
+    assert_true(fabs(ctl_step(&in) - Q15_OF(60 + 100 + 36 + 4.9)) <= 4.0);
+}
+
+/* raven against its description, by hand, with the recommended standard cal 2123 (backlash 2,
+ * speed 1: 0.2 duty, brake point 20 %, dead band 3 %) and a 30 L/min target, and a fast valve's 743. */
+static void test_ctl_raven_hand_worked_dead_band_brake_point_and_backlash_pulse(void **state)
+{
+    (void)state;
+    ctl_select(CTL_RAVEN);
+    ctl_in_t in = mk(3000, 2920, 0);        /* 0.8 L/min: 2.7 %, inside the dead band */
+    assert_int_equal(ctl_step(&in), 0);
+    in = mk(3000, 2000, 0);                 /* 10 L/min, beyond the brake point (6): the speed, 0.2 */
+    assert_true(abs(ctl_step(&in) - 6554) <= 2);
+    in = mk(3000, 2700, 0);                 /* 3 L/min: half the brake point, half the speed: 0.1 */
+    assert_int_equal(ctl_step(&in), 0);     /* ... under Min duty: kept back */
+    assert_true(abs(ctl_carry_now() - 3277) <= 2);
+    assert_true(abs(ctl_step(&in) - 6554) <= 3);    /* ... and sent as one pulse with the next */
+    in = mk(3000, 3300, 0);                 /* 3 L/min over: the other way, 0.1 + the backlash pulse 0.2 */
+    assert_true(abs(ctl_step(&in) + 9830) <= 3);
+    assert_int_equal(ctl_step(&in), 0);     /* the next: 0.1 again, no pulse: kept back */
+    assert_true(abs(ctl_carry_now() + 3277) <= 2);
+    param_set(P_RAVEN_CAL, 743);            /* fast valve: speed 7 = 0.3, brake 40 %, dead band 3 %, no pulse */
+    ctl_select(CTL_RAVEN);
+    in = mk(3000, 1000, 0);                 /* 20 L/min: 67 %, beyond the brake point */
+    assert_true(abs(ctl_step(&in) - 9830) <= 2);
+    in = mk(3000, 3600, 0);                 /* 6 L/min over: 20 %, half the brake point: -0.15, no pulse */
+    assert_int_equal(ctl_step(&in), 0);     /* ... under Min duty: kept back (the other way's carry dropped) */
+    assert_true(abs(ctl_carry_now() + 4915) <= 3);
+    assert_false(param_set(P_RAVEN_CAL, 2120));     /* a dead band digit 0 is refused */
+    assert_int_equal(param_v[P_RAVEN_CAL], 743);
+}
+
+/* aog and raven against their double twins on random inputs with every setting in use: what
+ * the output stage sends plus what it keeps back equals the twin's drive plus the carry it
+ * started with (less on a reversal, where raven drops it), wherever the drive is not cut. */
+static void test_ctl_peers_match_their_twins(void **state)
+{
+    (void)state;
+    static const uint16_t aog_set[][5] = {{100, 0, 0, 60, 255}, {250, 50, 20, 40, 200}, {1500, 2000, 500, 0, 255}};
+    static const uint16_t cals[] = {2123, 743, 9991, 1015, 5555};
+    double worst = 0;
+    int checked = 0;
+    for (unsigned c = 0; c < 3; c++) {
+        param_set(P_AOG_KP, aog_set[c][0]);
+        param_set(P_AOG_KI, aog_set[c][1]);
+        param_set(P_AOG_KD, aog_set[c][2]);
+        param_set(P_AOG_MIN, aog_set[c][3]);
+        param_set(P_AOG_MAX, aog_set[c][4]);
+        ctl_select(CTL_AOG);
+        ctltw_ag_t tw = {aog_set[c][0] / 10.0, aog_set[c][1] / 100.0, aog_set[c][2] / 10.0,
+                         aog_set[c][3], aog_set[c][4], 0, 0, 1};
+        for (int k = 0; k < 3000; k++) {
+            int t = rnd(500, 5000), f = t + rnd(-t / 2, t / 2);
+            ctl_in_t in = mk(t, f, 0);
+            q15_t carry0 = ctl_carry_now();
+            double i0 = tw.integ;
+            q15_t d = ctl_step(&in);
+            double tw_d = ctltw_ag_step(&tw, t / 100.0, f / 100.0);
+            double ae = abs(t - f) / 100.0, tl = t / 100.0;
+            /* the thresholds as the firmware holds them (x100 L/min, floor) may differ from the
+             * twin's by 0.01 L/min: such a step is not compared, and the integrals re-synchronised */
+            if (fabs(ae - 0.04 * tl) <= 0.02 || fabs(ae - 0.2 * tl) <= 0.02) {
+                tw.integ = ctl_st.ag.integ / 256.0 / 32767.0 * 255.0;
+                continue;
+            }
+            if (tw_d == 0) {
+                assert_int_equal(d, 0);
+                assert_int_equal(ctl_carry_now(), 0);
+                assert_true(tw.integ == i0);
+                continue;
+            }
+            if (ctl_saturated())
+                continue;
+            double err = fabs(d + ctl_carry_now() - (tw_d * 32767.0 + carry0));
+            if (err > worst)
+                worst = err;
+            assert_true(err <= 6.0 + 0.002 * fabs(tw_d * 32767.0));
+            checked++;
+        }
+    }
+    print_message("aog: worst %.2f LSB of Q15 against the twin\n", worst);
+    worst = 0;
+    for (unsigned c = 0; c < sizeof cals / sizeof cals[0]; c++) {
+        assert_true(param_set(P_RAVEN_CAL, cals[c]));
+        ctl_select(CTL_RAVEN);
+        ctltw_rv_t tw = {cals[c], 0};
+        for (int k = 0; k < 3000; k++) {
+            int t = rnd(500, 5000), f = t + rnd(-t / 2, t / 2);
+            ctl_in_t in = mk(t, f, 0);
+            q15_t carry0 = ctl_carry_now();
+            int rev;
+            q15_t d = ctl_step(&in);
+            double tw_d = ctltw_rv_step(&tw, t / 100.0, f / 100.0, &rev);
+            double ae = abs(t - f) / 100.0, tl = t / 100.0;
+            int p = cals[c] / 10 % 10;
+            if (fabs(ae - (cals[c] % 10) / 100.0 * tl) <= 0.02 || fabs(ae - (p ? p / 10.0 : 0.05) * tl) <= 0.02) {
+                tw.dir = ctl_st.rv.dir;
+                continue;
+            }
+            if (tw_d == 0) {
+                assert_int_equal(d, 0);
+                assert_int_equal(ctl_carry_now(), 0);
+                continue;
+            }
+            assert_int_equal(ctl_st.rv.dir, tw.dir);
+            if (ctl_saturated())
+                continue;
+            double err = fabs(d + ctl_carry_now() - (tw_d * 32768.0 + (rev ? 0 : carry0)));
+            if (err > worst)
+                worst = err;
+            /* the brake point as the firmware holds it, x100 L/min floored: 1 / bk relative */
+            double tol = 3.0 + (0.0005 + 1.0 / (t * (p ? p / 10.0 : 0.05))) * fabs(tw_d * 32768.0);
+            if (!(err <= tol))
+                print_message("raven cal %u step %d: t %d f %d d %d carry %d carry0 %d twin %f rev %d\n", cals[c], k, t, f, d, ctl_carry_now(), carry0, tw_d * 32768.0, rev);
+            assert_true(err <= tol);
+            checked++;
+        }
+    }
+    print_message("raven: worst %.2f LSB of Q15 against the twin; %d steps compared\n", worst, checked);
+    assert_true(checked > 20000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -567,6 +739,10 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_learns_the_loop_gain, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_matches_twin, setup),
+        cmocka_unit_test_setup(test_ctl_aog_hand_worked_dead_band_brake_point_and_limits, setup),
+        cmocka_unit_test_setup(test_ctl_aog_hand_worked_integral_and_derivative, setup),
+        cmocka_unit_test_setup(test_ctl_raven_hand_worked_dead_band_brake_point_and_backlash_pulse, setup),
+        cmocka_unit_test_setup(test_ctl_peers_match_their_twins, setup),
     };
     return cmocka_run_group_tests_name("ctl", tests, NULL, NULL);
 }

@@ -35,3 +35,13 @@ then ok "summary.json has the median and 95th percentile of every figure"; else 
 grep -q "plant family: 6 plants" "$tmp/a.out" && ok "the table is printed" || nok "the table is printed" "$(cat "$tmp/a.out")"
 $PY tools/family.py /nonexistent --n 1 > /dev/null 2> "$tmp/err" && nok "a missing simulator is refused" \
     || { grep -q "not an executable" "$tmp/err" && ok "a missing simulator is refused in one line" || nok "a missing simulator is refused in one line" "$(cat "$tmp/err")"; }
+# the peers tuned for each plant's valve: a second scenario per plant with their settings, scored apart
+if $PY tools/family.py "$SIM" --n 2 --controllers raven,raven_tuned,aog_tuned --out "$tmp/t" > "$tmp/t.out" 2>&1 \
+   && grep -q "^raven_valve_cal = [1-9][0-9][0-9][1-9]$" "$tmp/t/scn/plant_000_tuned.scn" \
+   && grep -q "^aog_min_pwm = " "$tmp/t/scn/plant_000_tuned.scn" \
+   && ! grep -q "raven_valve_cal" "$tmp/t/scn/plant_000.scn" \
+   && [ "$(grep -c ',raven_tuned,' "$tmp/t/runs.csv")" -eq 2 ] && grep -q "| raven_tuned |" "$tmp/t/table.md"; then
+    ok "raven_tuned and aog_tuned run each plant with settings for its valve"
+else
+    nok "raven_tuned and aog_tuned run each plant with settings for its valve" "$(tail -3 "$tmp/t.out")"
+fi

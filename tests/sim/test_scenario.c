@@ -172,6 +172,25 @@ static void test_scenario_values_out_of_range(void **state)
     bad("[plant]\nvalve_stiction_duty = 0.1\n", "bad.scn:2: key 'valve_stiction_duty': running duty 0.12 is above the break-away duty 0.1");
     bad("[plant]\nvalve_running_duty = 0.25\n", "bad.scn:2: key 'valve_running_duty': running duty 0.25 is above");
     bad("[plant]\nmeter_blades = 0\n", "key 'meter_blades': 0 out of range");
+    bad("[config]\nraven_valve_cal = 2120\n", "bad.scn:2: key 'raven_valve_cal': 2120 refused by the firmware");
+    bad("[config]\naog_kp = 10.05\n", "key 'aog_kp': 10.05 has more decimals than the firmware keeps");
+    bad("[config]\naog_min_pwm = 256\n", "key 'aog_min_pwm': 256 out of the firmware's range 0..255");
+}
+
+/* The peers' settings in their users' units: PWM counts, gains a 50 ms loop, the four digits. */
+static void test_scenario_peer_settings(void **state)
+{
+    (void)state;
+    assert_int_equal(scenario_parse(&s, "[config]\ncontroller = aog\naog_kp = 12.5\naog_ki = 0.25\naog_kd = 1.5\n"
+                                    "aog_min_pwm = 70\naog_max_pwm = 200\nraven_valve_cal = 743\n",
+                                    "p.scn", err, sizeof err), 0);
+    assert_int_equal(s.param[P_CONTROLLER], CTL_AOG);
+    assert_int_equal(s.param[P_AOG_KP], 125);
+    assert_int_equal(s.param[P_AOG_KI], 25);
+    assert_int_equal(s.param[P_AOG_KD], 15);
+    assert_int_equal(s.param[P_AOG_MIN], 70);
+    assert_int_equal(s.param[P_AOG_MAX], 200);
+    assert_int_equal(s.param[P_RAVEN_CAL], 743);
 }
 
 /* A first-edition file (no motor, spacing or running-duty keys) still loads, the new keys at
@@ -326,6 +345,7 @@ int main(void)
         cmocka_unit_test(test_scenario_drive_rows),
         cmocka_unit_test(test_scenario_event_rows),
         cmocka_unit_test(test_scenario_controller_names),
+        cmocka_unit_test(test_scenario_peer_settings),
         cmocka_unit_test(test_scenario_files),
         cmocka_unit_test(test_scenario_every_key_and_event_of_plant_md),
         cmocka_unit_test(test_scenario_project_files_load),

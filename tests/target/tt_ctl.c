@@ -1,4 +1,4 @@
-/* tt_ctl.c: every controller on recorded input sequences and a long closed-loop learning run with an integer toy plant; s51 and host must print the same bits; cycles per control step, within the budget. */
+/* tt_ctl.c: every controller (the peers aog and raven with non-default settings too) on recorded input sequences and a long closed-loop learning run with an integer toy plant; s51 and host must print the same bits; cycles per control step, within the budget. */
 #include "ctl_int.h"
 #include "params.h"
 #include "tt.h"
@@ -63,6 +63,8 @@ static uint16_t state_sum(uint8_t id)
     case CTL_PID: w = &ctl_st.pid.e1; n = 2; break;
     case CTL_FUZZY_PID: w = &ctl_st.fz.e1; n = 2; break;
     case CTL_BP_PID: w = &ctl_st.bp.w[0][0]; n = BP_IN * BP_HID; break;
+    case CTL_AOG: w = &ctl_st.ag.y1; n = 6; break;                 /* y1 and the derived settings */
+    case CTL_RAVEN: w = &ctl_st.rv.speed; n = 4; break;
     default: w = &ctl_st.fm.e1; n = 4; break;
     }
     for (i = 0; i < n; i++)
@@ -75,6 +77,10 @@ static uint16_t state_sum(uint8_t id)
         for (i = 0; i < BP_IN * BP_HID; i++)
             s = (uint16_t)((s << 1) | (s >> 15)) ^ (uint8_t)(&ctl_st.bp.dw[0][0])[i];
     }
+    if (id == CTL_AOG)
+        s ^= (uint16_t)ctl_st.ag.integ ^ (uint16_t)(ctl_st.ag.integ >> 16);
+    if (id == CTL_RAVEN)
+        s ^= (uint16_t)(uint8_t)ctl_st.rv.dir;
     if (id == CTL_BEST)
         s ^= (uint16_t)ctl_st.fm.brk ^ (uint16_t)ctl_st.fm.g ^ (uint16_t)ctl_st.fm.stall_e ^ (uint16_t)ctl_carry_now()
              ^ ((uint16_t)ctl_st.fm.rest << 8) ^ (uint16_t)(uint8_t)ctl_st.fm.dir;
@@ -82,74 +88,97 @@ static uint16_t state_sum(uint8_t id)
 }
 
 static const __code char *const bench_names[CTL_COUNT] = {
-    "ctl_step_pid_max", "ctl_step_fuzzy_pid_max", "ctl_step_bp_pid_max", "ctl_step_ffmap_max"};
+    "ctl_step_pid_max", "ctl_step_fuzzy_pid_max", "ctl_step_bp_pid_max", "ctl_step_ffmap_max",
+    "ctl_step_aog_max", "ctl_step_raven_max"};
 
-int main(void)
+/* One controller: a recorded open-loop input sequence, then a long closed loop on the toy plant. */
+static void run_ctl(uint8_t id, const char *bench)
 {
-    uint8_t id;
     uint16_t k, n_long;
     ctl_in_t in;
     q15_t d;
     uint16_t r;
 
+    tt_puts(ctl_name(id));
+    tt_putc('\n');
+    /* recorded input sequence: random targets, flows, limits (open loop) */
+    ctl_select(id);
+    for (k = 0; k < 120; k++) {
+        r = tt_rand16();
+        in.target_lpm_x100 = (int16_t)(1500 + (r & 4095u));
+        r = tt_rand16();
+        in.flow_lpm_x100 = (int16_t)(in.target_lpm_x100 + (int16_t)(r & 1023u) - 512);
+        in.speed_kmh_x100 = 700;
+        in.pressure_kpa = 300;
+        r = tt_rand16();
+        in.valve_limit = (r & 0x700u) == 0 ? (uint8_t)((r & 1u) + 1u) : 0;
+        d = ctl_step(&in);
+        out_line(d);
+    }
+    /* long closed-loop run on the toy plant: target steps every 5 s, learning on */
+    ctl_select(id);
+    pl_p = 0;                   /* from the open stop (as after parking) */
+    pl_q = 0;
+    pl_pump = 6000;
+    in.flow_lpm_x100 = 0;
+    in.valve_limit = CTL_AT_OPEN;
+    in.target_lpm_x100 = 3000;
+    in.speed_kmh_x100 = 700;
+    in.pressure_kpa = 300;
+    cyc_max = 0;
+    cyc_sum = 0;
+    n_long = id == CTL_BP_PID ? 3000 : 1000;
+    for (k = 0; k < n_long; k++) {
+        if (k % 50 == 0) {
+            r = tt_rand16();
+            in.target_lpm_x100 = (int16_t)(1800 + (r & 2047u));
+        }
+        if (k == n_long / 2)
+            pl_pump = 5000;     /* the plant changes under the controller */
+        d = timed_step(&in);
+        plant(d, &in);
+        if (k % 100 == 99) {
+            tt_hex16((uint16_t)k);
+            tt_putc(' ');
+            tt_hex16((uint16_t)pl_p);
+            tt_putc(' ');
+            tt_hex16((uint16_t)in.flow_lpm_x100);
+            tt_putc(' ');
+            tt_hex16(state_sum(id));
+            tt_putc(' ');
+            out_line(d);
+        }
+    }
+    if (bench)
+        tt_bench(bench, cyc_max);
+}
+
+int main(void)
+{
+    uint8_t id;
+
     tt_begin();
     params_defaults();
     for (id = 0; id < CTL_COUNT; id++) {
-        tt_puts(ctl_name(id));
-        tt_putc('\n');
-        /* recorded input sequence: random targets, flows, limits (open loop) */
-        ctl_select(id);
-        for (k = 0; k < 120; k++) {
-            r = tt_rand16();
-            in.target_lpm_x100 = (int16_t)(1500 + (r & 4095u));
-            r = tt_rand16();
-            in.flow_lpm_x100 = (int16_t)(in.target_lpm_x100 + (int16_t)(r & 1023u) - 512);
-            in.speed_kmh_x100 = 700;
-            in.pressure_kpa = 300;
-            r = tt_rand16();
-            in.valve_limit = (r & 0x700u) == 0 ? (uint8_t)((r & 1u) + 1u) : 0;
-            d = ctl_step(&in);
-            out_line(d);
-        }
-        /* long closed-loop run on the toy plant: target steps every 5 s, learning on */
-        ctl_select(id);
-        pl_p = 0;                   /* from the open stop (as after parking) */
-        pl_q = 0;
-        pl_pump = 6000;
-        in.flow_lpm_x100 = 0;
-        in.valve_limit = CTL_AT_OPEN;
-        in.target_lpm_x100 = 3000;
-        cyc_max = 0;
-        cyc_sum = 0;
-        n_long = id == CTL_BP_PID ? 3000 : 1000;
-        for (k = 0; k < n_long; k++) {
-            if (k % 50 == 0) {
-                r = tt_rand16();
-                in.target_lpm_x100 = (int16_t)(1800 + (r & 2047u));
-            }
-            if (k == n_long / 2)
-                pl_pump = 5000;     /* the plant changes under the controller */
-            d = timed_step(&in);
-            plant(d, &in);
-            if (k % 100 == 99) {
-                tt_hex16((uint16_t)k);
-                tt_putc(' ');
-                tt_hex16((uint16_t)pl_p);
-                tt_putc(' ');
-                tt_hex16((uint16_t)in.flow_lpm_x100);
-                tt_putc(' ');
-                tt_hex16(state_sum(id));
-                tt_putc(' ');
-                out_line(d);
-            }
-        }
-        tt_bench(bench_names[id], cyc_max);
+        run_ctl(id, bench_names[id]);
         if (cyc_max > CTL_STEP_BUDGET_CYCLES) {     /* s51 only: the host's stopwatch reads 0 */
             tt_puts("over the step budget: ");
             tt_puts(ctl_name(id));
             tt_putc('\n');
         }
     }
+    /* the peers with the rest of their settings in use: aog's integral, derivative and a min PWM
+     * under Min duty (the output stage's pulses); raven's fast valve (743) and a standard one's
+     * widest brake point and backlash (9999 ... 9991) */
+    param_set(P_AOG_KI, 50);
+    param_set(P_AOG_KD, 20);
+    param_set(P_AOG_MIN, 40);
+    param_set(P_AOG_MAX, 200);
+    run_ctl(CTL_AOG, 0);
+    param_set(P_RAVEN_CAL, 743);
+    run_ctl(CTL_RAVEN, 0);
+    param_set(P_RAVEN_CAL, 9991);
+    run_ctl(CTL_RAVEN, 0);
     tt_end();
     return 0;
 }

@@ -1,0 +1,13 @@
+/* linebuf.h: the serial link's one line buffer, for the modules that compose lines into it (serial.c owns it). */
+#ifndef LINEBUF_H
+#define LINEBUF_H
+
+#include "compiler.h"
+
+/* Append to the line being composed: a character, a string, v / 10^drop in decimal (truncated).
+ * What does not fit (SERIAL_TX_MAX, less the line's end) is dropped. */
+void serial_put_c(char c) __reentrant;
+void serial_put_s(const char *s) __reentrant;
+void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant;
+
+#endif
