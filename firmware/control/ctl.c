@@ -94,6 +94,10 @@ static void ctl_derive(void)
     }
     ctl_stiction = s;
     ctl_backlash = b;
+    ctl_drun = (int16_t)(((int32_t)ctl_stiction * CTL_RUN_NUM + 8) >> 4);
+    if (ctl_drun > Q15(0.45))
+        ctl_drun = Q15(0.45);       /* 1 / (1 - d_run) within Q14 */
+    ctl_run_span = (int16_t)(32767 - ctl_drun);
     if (ctl_id == CTL_AOG)
         ag_derive();
     else if (ctl_id == CTL_RAVEN)
