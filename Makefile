@@ -56,7 +56,7 @@ TEST_LDFLAGS := -fsanitize=address,undefined
 OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O2 -fno-math-errno -flto=auto -g
 
 # ==== build folders and products =====================================================================
-STC_DIR := $(BUILD)/stc12
+STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)
 # the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
 # firmware's archive only the modules something calls
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
@@ -129,7 +129,7 @@ memory: $(FW_HEX)
 $(STC_DIR)/%.rel: %.c
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$<)
-	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -MMD -c $< -o $@
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1) -MMD -c $< -o $@
 
 $(STC_LIB): $(STC_LIB_REL)
 	$(call msg,AR,$@)
@@ -225,7 +225,7 @@ ISR_IHX := $(UC_DIR)/isr_cycles.ihx
 $(UC_DIR)/tests/bench/isr_cycles.rel: tests/bench/isr_cycles.c
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$< [s51])
-	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -Ihal/stc12 -MMD -c $< -o $@
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1) -Ihal/stc12 -MMD -c $< -o $@
 
 $(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(STC_DIR)/hal/stc12/hal_stc12.rel
 	$(call msg,LINK,$@ [s51 program])

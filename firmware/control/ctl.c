@@ -98,10 +98,12 @@ static void ctl_derive(void)
     if (ctl_drun > Q15(0.45))
         ctl_drun = Q15(0.45);       /* 1 / (1 - d_run) within Q14 */
     ctl_run_span = (int16_t)(32767 - ctl_drun);
+#if FW_PEERS
     if (ctl_id == CTL_AOG)
         ag_derive();
     else if (ctl_id == CTL_RAVEN)
         rv_derive();
+#endif
     ctl_gen = param_generation;
 }
 
@@ -124,8 +126,13 @@ void ctl_reset(q15_t drive_now)
 
 uint8_t ctl_select(uint8_t id)
 {
+#if FW_PEERS
     if (id >= CTL_COUNT)
         return 0;
+#else
+    if (id >= CTL_AOG)
+        return 0;                   /* the field image has no peers (FW_PEERS) */
+#endif
     ctl_id = id;
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {
@@ -177,10 +184,12 @@ q15_t ctl_step(const __xdata ctl_in_t *step_in)
         return fz_step();
     case CTL_BP_PID:
         return bp_step();
+#if FW_PEERS
     case CTL_AOG:
         return ag_step();
     case CTL_RAVEN:
         return rv_step();
+#endif
     default:
         return fm_step();
     }

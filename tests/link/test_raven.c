@@ -86,12 +86,13 @@ static int setup(void **state)
     return 0;
 }
 
-/* send a string, let the loop answer (well inside a second: no log line), return the first reply */
+/* send a string, let the loop answer (after a settings change the loop first spends a pass a module on
+ * their constants; well inside a second: no log line), return the first reply */
 static const char *req(const char *c)
 {
     drain_lines();
     send(c);
-    run_ms(5);
+    run_ms(20);
     return next_line();
 }
 
