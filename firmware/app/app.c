@@ -41,6 +41,9 @@
 #define APP_JOG_DRIVE Q15(0.6)      /* a jog (OPS_JOG_PERIODS) at 60 % duty */
 #define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
 #define APP_LOG_PERIODS (1000u / APP_PERIOD_MS)
+/* periods after power-up before over-pressure is an alarm even if the pressure never fell under
+ * P max (the pump may push against a bypass left closed while the slowest valve opens) */
+#define APP_P_WAIT 150u
 /* The totals are saved this long after the boom shuts: not in the step that switches the
  * relay off, when its coil's energy and the supply's dip meet the IAP erase's current. */
 #define APP_SAVE_WAIT_PERIODS (1000u / APP_PERIOD_MS)
@@ -55,6 +58,7 @@ static struct {
     uint8_t log_div;
     uint8_t internal;
     uint8_t parked;                 /* boom shut and the bypass found at its open stop */
+    uint8_t p_watch;                /* APP_P_WAIT: the pressure was under P max once spraying or parked since power-up, or APP_P_WAIT passed */
     uint8_t save_wait;              /* periods until the totals are saved (0: none due) */
     uint8_t save;                   /* the save is due: app_poll runs it in a pass of its own */
     uint8_t prep;                   /* next module app_prepare derives for ... */
@@ -82,6 +86,7 @@ static void app_start(void)
     ap.was_manual = 0;
     ap.log_div = 0;
     ap.internal = 0;
+    ap.p_watch = 0;
     ap.save_wait = 0;
     ap.save = 0;
     ap.prep = 0;
@@ -163,13 +168,14 @@ static void app_measure(void)
     app_status.speed_kmh_x100 = target_speed_x100(v_meas);
     app_status.target_lpm_x100 = open ? target_flow_x100(app_status.speed_kmh_x100) : 0;
     app_status.manual = param_v[P_MODE] != 0;
+    /* the flow the loop follows: the meter while it pulses; the nozzle model (from the pressure)
+     * once its pulses have stopped while the pressure says liquid flows (the alarm waits to be
+     * sure; a dead meter read as no flow would close the bypass and take the line to the relief
+     * valve). A live meter that reads low is a clog (diag.c), and the loop stays on the meter. */
     meter_lost = (diag_alarms() >> AL_METER_LOST) & 1u;
     q_used = q_meter;
-    if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok()) {
-        int16_t qp = diag_nozzle_flow_x100(p, open);
-        if (meter_lost || (int32_t)q_meter * 4 < qp)
-            q_used = qp;
-    }
+    if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok())
+        q_used = diag_nozzle_flow_x100(p, open);
     app_status.flow_lpm_x100 = q_used;
     app_status.pressure_kpa = p;
     app_status.open_nozzles = open;
@@ -205,6 +211,12 @@ static void app_spray(void)
     }
 }
 
+/* The pressure above P max (the sensor working). */
+static uint8_t app_overp(void)
+{
+    return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
+}
+
 /* The drive of a spraying boom in auto: the start-up closing at full duty until the line
  * reaches P_P_MIN (the paper's start), then the controller. */
 static q15_t app_auto_drive(uint8_t overp)
@@ -238,7 +250,7 @@ static q15_t app_auto_drive(uint8_t overp)
 static void app_drive(void)
 {
     uint8_t manual = app_status.manual;
-    uint8_t overp = analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
+    uint8_t overp = app_overp();
     q15_t drive = 0;
     if (manual || IO_ON) {
         if (ops_jog_req.periods) {
@@ -303,7 +315,12 @@ static void app_account(void)
     app_status.gain[1] = ctl_gain(1);
     app_status.gain[2] = ctl_gain(2);
 
-    g = diag_step(&app_status, on && !ap.prime);
+    /* over-pressure is an alarm while spraying or parked open, once the pressure was under P max
+     * there after power-up (or after APP_P_WAIT) */
+    if (ap.p_watch < APP_P_WAIT
+        && (++ap.p_watch >= APP_P_WAIT || (!app_overp() && (on || ap.parked))))
+        ap.p_watch = APP_P_WAIT;
+    g = diag_step(&app_status, on && !ap.prime, (on || ap.parked) && ap.p_watch >= APP_P_WAIT);
     app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
     app_status.alarms = g;
     hal_buzzer(IO_ON ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);

@@ -29,11 +29,10 @@ static uint8_t ctl_gen;             /* param_generation the derived constants be
 uint8_t ctl_first;
 int16_t ctl_kf;
 int16_t ctl_travel;
-int16_t ctl_inv_travel;
 int16_t ctl_stiction = CTL_STICTION_DEF;    /* P_VALVE_BRK in Q15 */
-int16_t ctl_stiction_half = CTL_STICTION_DEF / 2;
-int8_t ctl_hunt_gap = FM_HUNT_GAP(40);
-int16_t ctl_backlash = FM_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
+int16_t ctl_drun;
+int16_t ctl_run_span = 32767;
+int16_t ctl_backlash = CTL_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 q15_t ctl_carry;
 q15_t ctl_last;
 uint8_t ctl_sat;
@@ -77,25 +76,28 @@ q15_t ctl_carry_now(void)
  * here, not in the control law). */
 static void ctl_derive(void)
 {
-    int16_t s, b;
+    int16_t s, b, t = ctl_travel;
     ctl_travel = (int16_t)param_v[P_VALVE_TRAVEL];
     if (ctl_travel < 1)
         ctl_travel = 40;
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
     ctl_kf = (int16_t)(((uint32_t)ctl_travel * 839u + 8u) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
-    ctl_inv_travel = (int16_t)((32768UL + (uint16_t)ctl_travel / 2u) / (uint16_t)ctl_travel);
-    /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded); told new values, ffmap
-     * drops what its stall and hunting checks had learned against the old ones */
+    /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded); told new values of
+     * these or of Valve time, ffmap drops the break-away and the loop gain it had learnt against
+     * the old ones (the operator knows the valve now) */
     s = (int16_t)(((uint32_t)param_v[P_VALVE_BRK] * 32768u + 50u) / 100u);
     b = (int16_t)(((uint32_t)param_v[P_VALVE_SLACK] * 32768u + 500u) / 1000u);
-    if ((s != ctl_stiction || b != ctl_backlash) && ctl_id == CTL_BEST) {
+    if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && ctl_id == CTL_BEST) {
         ctl_st.fm.brk = 0;
-        ctl_st.fm.tk_cut = 0;
+        ctl_st.fm.brk_age = 0;
+        ctl_st.fm.g = 256;
     }
     ctl_stiction = s;
     ctl_backlash = b;
-    ctl_stiction_half = ctl_stiction / 2;
-    ctl_hunt_gap = (int8_t)FM_HUNT_GAP(ctl_travel);   /* Valve time is at most 600: 32 */
+    ctl_drun = (int16_t)(((int32_t)ctl_stiction * CTL_RUN_NUM + 8) >> 4);
+    if (ctl_drun > Q15(0.45))
+        ctl_drun = Q15(0.45);       /* 1 / (1 - d_run) within Q14 */
+    ctl_run_span = (int16_t)(32767 - ctl_drun);
 #if FW_PEERS
     if (ctl_id == CTL_AOG)
         ag_derive();
@@ -108,11 +110,9 @@ static void ctl_derive(void)
 /* ---- the interface ------------------------------------------------------------------------ */
 void ctl_applied(q15_t drive, uint8_t limit)
 {
-    if (ctl_id != CTL_BEST)
-        return;
-    ctl_st.fm.pend = 0;
-    fm_stops(limit);
-    fm_account(drive);
+    (void)limit;
+    if (ctl_id == CTL_BEST && drive != ctl_last)
+        ctl_carry = 0;              /* overridden (relief, jog, priming): nothing owed any more */
 }
 
 void ctl_reset(q15_t drive_now)

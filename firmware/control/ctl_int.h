@@ -8,11 +8,12 @@
 /* ---- common ---------------------------------------------------------------------------- */
 #define CTL_FLOW_SCALE_LPM 100      /* L/min of boom flow per full valve stroke (normalisation) */
 /* The valve's break-away duty (the smallest drive that moves it) and backlash (stroke lost on a
- * reversal, which ffmap takes up before counting): the parameters Min duty and Backlash, in Q15,
- * derived when a parameter changes. CTL_STICTION_DEF / FM_BACKLASH_DEF: their defaults. */
+ * reversal): the parameters Min duty and Backlash, in Q15, derived when a parameter changes.
+ * CTL_STICTION_DEF / CTL_BACKLASH_DEF: their defaults. */
 extern int16_t ctl_stiction, ctl_backlash;
 #define CTL_STICTION ctl_stiction
 #define CTL_STICTION_DEF Q15(0.2)
+#define CTL_BACKLASH_DEF Q15(0.02)
 #define CTL_E_MAX 16000             /* errors clamped to +-160 L/min (x100) */
 
 /* ---- pid: eq. (7), the paper's gains ----------------------------------------------------- */
@@ -58,98 +59,41 @@ typedef struct {
     int16_t n1, n2;                 /* Q12 normalised error e(k-1), e(k-2) */
 } bp_state_t;
 
-/* ---- ffmap (the project's own, `best`): position servo + learned flow->position map ------ */
-#define FM_NODES 17                 /* map nodes every FM_BIN of target flow: 0 .. 81.9 L/min */
-#define FM_BIN_SHIFT 9              /* node spacing 512 x100 = 5.12 L/min */
-#define FM_BACKLASH ctl_backlash     /* stroke lost on a reversal (taken up before counting) */
-#define FM_BACKLASH_DEF Q15(0.02)
-/* Where the end stops put the estimate (Q15 of the stroke, 1 = closed): the closed stop below
- * the int16 top, so an early "closed" report leaves room to go on closing when the valve's
- * stop logic lets it retry (at 32767 the reference could not pass the estimate and the loop
- * stopped short of its target for good) */
-#define FM_AT_CLOSED 28672
-#define FM_AT_OPEN (FM_AT_CLOSED - 32768)
-/* Gain schedule (tools/gen_fmgain.py writes the tables): g = FM_GS_K (1/Q_v + (1 - Pc/P)/Q_b),
- * 80 L/min a stroke over the stroke's effect on the boom flow, clamped */
-extern const FX_CODE int16_t fm_inv_cv[17];     /* 4096 / Cv(o), o = k/16 */
-extern const FX_CODE int16_t fm_inv_sqp[26];    /* 4096 / sqrt(P), P = 64 k kPa */
-extern const FX_CODE int16_t fm_pc_p[26];       /* 32767 (1 - Pc/P) */
-extern const FX_CODE int16_t fm_inv_q[33];      /* 65536 / Q, Q = 2.56 k L/min */
-#define FM_GS_K 94                  /* Q10: 80 / ln(30) * 256 / 65536 = 0.0919 */
-#define FM_GS_MIN 179               /* Q8: 0.7 */
-#define FM_GS_MAX 410               /* Q8: 1.6 */
-#define FM_DEF_SLOPE 1678           /* Q15 stroke per node spacing: 5.12 / 100 L/min */
-/* x100 L/min a Q15 stroke moves at the default slope (Q15): 512 * 32768 / FM_DEF_SLOPE */
-#define FM_COVER 9998
-#define FM_WARM 200                 /* periods (20 s) after a (re)start before the map learns: the
-                                     * pump may still spin up (coupled PTO) and the line prime */
-#define FM_KP Q12(0.6)              /* feedback gains on the pid normalisation */
-#define FM_KI Q12(0.5)
-#define FM_LEAD Q15(0.5)            /* p_ref stays within this of p_hat (anti-windup) */
-#define FM_REV_MIN Q15(0.004)       /* smallest move worth a reversal */
-#define FM_REV_MIN_REST Q15(0.001)  /* ... inside the band (the slow integral alone moves p_ref) */
-#define FM_CALM 5                   /* periods of calm before the map learns */
-#define FM_IGATE Q15(0.02)          /* integral only while |p_ref - p_hat| is under this */
-#define FM_DB_IN 8                  /* deadband: the feedback rests once |e| <= target >> FM_DB_IN (0.4 %) */
-#define FM_DB_OUT 7                 /* ... and re-engages beyond target >> FM_DB_OUT (0.8 %) */
-#define FM_REST_KI Q12(0.25)        /* integral only, at half the gain, inside the band */
-#define FM_REST_E0 10               /* ... and none while |e| <= target >> FM_REST_E0 (0.1 %) */
-#define FM_FF_UNLEARNED 208         /* Q8: the share of the feed-forward where the map is not learned (13/16) */
-#define FM_HOLD 3                   /* periods the integral waits after a feed-forward move */
-#define FM_LR_SHIFT 2               /* map learning rate 1/4 a calm period */
-#define FM_DU_F 13422L              /* du_q4 to Q15 stroke: 0.2048 * 65536, times the gain (Q8) */
+/* ---- ffmap (the project's own, `best`): a damped incremental PID with a deadband, an output
+ * stage that knows the motor's running friction, a break-away and a loop gain learnt from the
+ * flow (docs/CONTROLLERS.md) ------------------------------------------------------------------ */
+#define FM_KP Q12(1.0)              /* gains on the pid normalisation (ctl.c) */
+#define FM_KI Q12(1.2)
+#define FM_KD Q12(0.8)
+#define FM_DB_IN 8                  /* deadband: the valve rests once the filtered error <= target >> 8 */
+#define FM_DB_OUT 7                 /* ... and wakes beyond target >> 7, or when the target moves */
+#define FM_MOVE_SHIFT 6             /* the target moves: |dq| > target >> 6 in one period */
+#define FM_REST_KI Q12(0.15)        /* resting, a slow integral only, on the filtered error */
+#define FM_STALL_N 3                /* smallest pulses one way without the error shrinking: a stall */
+#define FM_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
+#define FM_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
+#define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
+#define FM_G_MIN 64                 /* the learnt loop gain, Q8: 1/4 .. 2 of what Valve time gives */
+#define FM_G_MAX 512
+#define FM_OSC_GAP 8                /* a reversal this soon after the last, |e| <= target/4: -1/8 */
+#define FM_SLOW_N 20                /* this long awake with the error one way: +1/16 */
+#define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
+                                     * up, the line primes, the flow overshoots from the parked valve */
 typedef struct {
-    int16_t node[FM_NODES];         /* Q15 stroke: closure (1 = bypass closed) for each flow, less off */
-    int16_t off;                    /* Q15: the frame of the nodes (an end stop's calibration moves it) */
-    uint8_t seen[3];                /* bit n: node n learned from the loop */
-    int16_t p_hat;                  /* Q15 closure: the drive the valve got (ctl_applied), integrated */
-    int16_t p_ref;                  /* Q15 closure the servo drives to */
-    int16_t takeup;                 /* Q15 backlash still to take up (sign = direction) */
-    int16_t y1;                     /* x100 last measured flow */
+    int16_t e1, e2;                 /* x100 L/min: e(k-1), e(k-2) */
+    int16_t ef;                     /* x100 the error filtered over 4 periods (the deadband's) */
     int16_t t1;                     /* x100 last target */
-    int8_t dir;                     /* +1 / -1 direction of the last motion */
-    uint8_t calm;                   /* periods the target has been steady and the error small */
-    uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM (no learning before) */
-    uint8_t rest;                   /* 1: the flow is within the deadband, feedback off (hysteresis) */
-    uint8_t pend;                   /* 1: the last drive is not yet accounted in p_hat (see ctl_applied) */
-    uint8_t hold;                   /* periods the integral still waits after a big feed-forward move */
-    uint8_t cal;                    /* 1: an end stop has set the estimate's frame */
-    int8_t stopd;                   /* +1 / -1: at the closed / open stop a report set (until a move away) */
-    int16_t gain;                   /* Q8: the gain schedule's factor of the last step (256 = 1) */
-    /* a valve stiffer than Min duty: the smallest pulses are counted but do not move it */
-    uint8_t stall_n;                /* smallest pulses one way since the target last moved */
-    int16_t stall_y;                /* x100 flow when the first of them was decided */
-    uint16_t stall_v;               /* x100 km/h: the speed then (a coupled PTO's pump follows it) */
-    int16_t stall_mv;               /* Q15 stroke they were counted as */
-    int16_t brk;                    /* Q15 duty added to Min duty after a stall was found */
-    uint16_t brk_age;               /* periods since the last stall or hunt (brk and tk_cut step back after FM_BRK_AGE) */
-    /* a valve with less backlash than Backlash: each reversal overshoots by the difference */
-    int8_t rev;                     /* periods since the last reversal, signed as the error was then (0: none near) */
-    uint8_t hunt;                   /* reversals in a row, each within FM_HUNT_GAP of the last and against its error */
-    int16_t tk_cut;                 /* Q15 taken off Backlash after FM_HUNT_N of them */
-    /* the step in progress (its named steps share these instead of passing them on the stack;
-     * here they cost no XRAM: bp_pid's state, which shares the union, is larger) */
-    struct {
-        int16_t e;                  /* x100 L/min: target - flow, clamped */
-        int16_t y;                  /* x100 L/min: the measured flow */
-        int16_t q;                  /* x100 L/min: the target */
-        int16_t dq;                 /* x100 L/min: the target's change since the last step */
-        int16_t aq;                 /* |dq| */
-        int32_t ff;                 /* Q15 stroke: the feed-forward of this step */
-        int32_t du;                 /* Q12 x100 L/min: the feedback's increment */
-    } w;
+    uint8_t rest;                   /* 1: inside the deadband, the valve rests */
+    int8_t dir;                     /* +1 / -1: the direction of the last pulse */
+    uint8_t stall_n;                /* smallest pulses one way in a row */
+    int16_t stall_e;                /* x100 the error when the first of them was sent */
+    int16_t brk;                    /* Q15 added to Min duty after stalls */
+    uint16_t brk_age;               /* periods since the last stall */
+    int16_t g;                      /* Q8: the loop gain learnt for this valve (256 = as told) */
+    uint8_t rev_age;                /* periods since the last reversal (saturates) */
+    uint8_t slow_n;                 /* periods awake with the error one way and no reversal */
+    uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
 } fm_state_t;
-#define FM_STALL_N 5                /* smallest pulses without a flow change that mean a stall */
-#define FM_BRK_STEP Q15(0.1)        /* the smallest pulse grows by this at each stall found ... */
-#define FM_BRK_MAX Q15(0.4)         /* ... up to Min duty + this */
-#define FM_BRK_AGE 6000u            /* ... and steps back after 10 min without one (a stall read where
-                                     * the valve did move must not coarsen the pulses for good) */
-/* periods: reversals this close, each against the last one's error ... (2 + T_travel / 20: 4 for
- * the default 4 s valve; a slow valve's limit cycle is slower: at 8 s a reversal every 5 periods) */
-#define FM_HUNT_GAP(travel) (2 + (travel) / 20)
-#define FM_HUNT_N 4                 /* ... FM_HUNT_N in a row: the take-up is too large */
-#define FM_TK_STEP Q15(0.0025)      /* it shrinks by this each time, ... */
-#define FM_TK_MIN Q15(0.005)        /* ... down to this, and grows back after FM_BRK_AGE quiet periods */
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */
 #define AG_DB_Q15 1311              /* dead band: |e| <= 4 % of the target (Q15 of the target) */
@@ -211,9 +155,11 @@ extern const __xdata ctl_in_t *ctl_in;  /* the inputs of the step in progress */
 extern uint8_t ctl_first;           /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
-extern int16_t ctl_inv_travel;      /* Q15: 1 / ctl_travel */
-extern int16_t ctl_stiction_half;   /* Q15: half of Min duty (no divide in a step: SDCC calls one) */
-extern int8_t ctl_hunt_gap;         /* FM_HUNT_GAP for P_VALVE_TRAVEL */
+/* The motor's running friction: moving, it runs at (duty - d_run) / (1 - d_run) of full speed.
+ * d_run is taken as CTL_RUN_NUM/16 of Min duty (the break-away duty). */
+#define CTL_RUN_NUM 10
+extern int16_t ctl_drun;            /* Q15: d_run (at most 0.45) */
+extern int16_t ctl_run_span;        /* Q15: 1 - d_run */
 extern q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
 extern q15_t ctl_last;              /* Q15: last drive sent */
 extern uint8_t ctl_sat;             /* 1: the last drive was cut (limit or end stop) */
@@ -261,8 +207,5 @@ q15_t ag_step(void) CTL_SHARED;
 void ag_derive(void) CTL_SHARED;
 q15_t rv_step(void) CTL_SHARED;
 void rv_derive(void) CTL_SHARED;
-/* ffmap: the stops the valve reports, the drive it got (ctl_applied). */
-void fm_stops(uint8_t limit) CTL_SHARED;
-void fm_account(q15_t d) CTL_SHARED;
 
 #endif

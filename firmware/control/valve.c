@@ -9,7 +9,9 @@ static struct {
     int32_t over;                   /* Q15 strokes driven past the estimated end */
     uint16_t pos;                   /* Q15, 0 closed; VALVE_POS_UNKNOWN */
     q15_t applied;                  /* drive of the current period */
-    q15_t rate;                     /* Q15 stroke per period at full duty: 0.1 s / travel */
+    q15_t rate;                     /* Q15 stroke per period and unit of duty above drun: full speed
+                                     * (0.1 s / travel) over (1 - drun) */
+    q15_t drun;                     /* Q15 the motor's running duty (as ctl.c: 10/16 of Min duty) */
     uint16_t off_ms;                /* low 16 bits of hal_ms() when the bridge went off */
     int8_t out_dir;                 /* what the bridge does now */
     int8_t last_dir;                /* the last direction it drove */
@@ -25,7 +27,11 @@ static struct {
 static void valve_derive(void) __reentrant
 {
     /* one period at full duty moves APP_PERIOD (100 ms) / (P_VALVE_TRAVEL x 100 ms) strokes */
-    va.rate = (q15_t)(32768UL / param_v[P_VALVE_TRAVEL]);
+    /* a turning motor runs at (duty - d_run) / (1 - d_run) of full speed (ctl_int.h) */
+    va.drun = (q15_t)(((uint32_t)param_v[P_VALVE_BRK] * 20480UL + 50UL) / 100UL);   /* 10/16 of Min duty, Q15 */
+    if (va.drun > Q15(0.45))
+        va.drun = Q15(0.45);
+    va.rate = (q15_t)((((uint32_t)1 << 30) / param_v[P_VALVE_TRAVEL]) / (uint16_t)(32768 - va.drun));
     va.gen = param_generation;
 }
 
@@ -97,7 +103,7 @@ static void integrate(void) __reentrant
         d = (q15_t)(d == Q15_MIN ? Q15_MAX : -d);
     if (d < VALVE_MOVE_Q15)
         return;                             /* stiction: it does not move */
-    step = ((int32_t)d * va.rate + 16384) >> 15;
+    step = d > va.drun ? (((int32_t)(d - va.drun) * va.rate + 16384) >> 15) : 0;
     if (dir != va.mv_dir) {                 /* moving the other way: off the other stop */
         va.mv_dir = dir;
         va.oneway = 0;

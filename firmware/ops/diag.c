@@ -37,12 +37,21 @@ static struct {
     uint32_t nq;                    /* n * Q3 (L/min x100 at 3 bar) */
     uint16_t offrate_cnt;
     uint16_t meter_glitches, wheel_glitches;    /* counts seen last period */
+    uint16_t wheel_pulses;                      /* low bits of speed_pulses() last period */
     uint16_t alarms;
     uint8_t cnt[AL_COUNT];
     uint8_t meter_noise, wheel_noise;
     uint8_t meter_suspect;                      /* this period: the meter under a quarter of the nozzle model */
     uint8_t nozzles;
     uint8_t gen;
+    /* the nozzle model learnt from the sprayer: P = pc + kp (q / n Q3)^2 (diag_learn) */
+    uint16_t sx, sy;                            /* sums of x = (q / n Q3)^2 (Q8, < 512), y = P (kPa, < 512) */
+    uint32_t sxx, sxy;                          /* ... of x^2 and x y */
+    uint8_t ln;                                 /* samples summed */
+    uint8_t learnt;                             /* 0 no model, 1 near xm only, 2 the whole range */
+    uint16_t xm;                                /* Q8: the mean x of a model learnt near one flow */
+    uint8_t ldiv;                               /* clean periods since the last sample */
+    uint16_t pc_kpa, kp_kpa;                    /* the model: check valves, kPa at the rated flow */
 } dg;
 
 void diag_init(void)
@@ -56,9 +65,90 @@ void diag_init(void)
     dg.meter_suspect = 0;
     dg.meter_glitches = flow_glitches();
     dg.wheel_glitches = speed_glitches();
+    dg.wheel_pulses = (uint16_t)speed_pulses();
     dg.nozzles = 0;
     dg.gen = (uint8_t)(param_generation - 1u);
-    diag_set_nozzles(0);
+    diag_nozzle_relearn();
+}
+
+void diag_nozzle_relearn(void)
+{
+    dg.sx = dg.sy = dg.sxx = dg.sxy = 0;
+    dg.ln = 0;
+    dg.ldiv = 0;
+    dg.learnt = 0;
+    dg.xm = 0;
+    dg.pc_kpa = DIAG_P_CHECK_KPA;
+    dg.kp_kpa = 300u;
+    dg.gen = (uint8_t)(param_generation - 1u);
+    diag_set_nozzles(dg.nozzles);
+}
+
+uint8_t diag_nozzle_learnt(void)
+{
+    return dg.learnt;
+}
+
+/* x = (q / n Q3)^2, Q8; 0xFFFF beyond twice the rated pressure */
+static uint16_t x_of(int16_t meter) __reentrant
+{
+    uint32_t r = um_muldiv((uint32_t)meter, 4096u, dg.nq);    /* Q12: q / (n Q3) */
+    if (r > 5792u)
+        return 0xFFFFu;
+    return (uint16_t)((r * r) >> 16);
+}
+
+/* The fit of the summed samples: a least-squares line when their flows spread enough (the whole
+ * range: learnt 2), else the rated curve scaled through their mean (check valves as the default),
+ * trusted near that flow only (learnt 1: the sums are halved and learning goes on); clamped to
+ * sane nozzles. */
+static void learn_fit(void) __reentrant
+{
+    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx - (uint32_t)dg.sx * dg.sx;   /* N^2 var(x) */
+    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = (uint32_t)dg.sx * dg.sy;
+    if ((uint32_t)DIAG_LEARN_N * dg.sxx > (uint32_t)dg.sx * dg.sx && a >= DIAG_LEARN_SPREAD && k > c) {
+        k = um_muldiv(k - c, 256u, a);                                  /* kPa at the rated flow */
+        c = um_muldiv(dg.sx, (uint16_t)(k > 2000u ? 2000u : k), 256u);
+        c = dg.sy > c ? (dg.sy - c) / DIAG_LEARN_N : 0;                 /* the check valves */
+        if (k >= 100u && k <= 1000u && c <= 150u) {
+            dg.kp_kpa = (uint16_t)k;
+            dg.pc_kpa = (uint16_t)c;
+            dg.learnt = 2;
+            dg.ln = 0;
+            return;
+        }
+    }
+    c = (uint32_t)DIAG_P_CHECK_KPA * DIAG_LEARN_N;
+    if (dg.sy > c && dg.sx > 0) {
+        k = um_muldiv(dg.sy - c, 256u, dg.sx);
+        dg.kp_kpa = (uint16_t)(k < 100u ? 100u : k > 1000u ? 1000u : k);
+        dg.pc_kpa = DIAG_P_CHECK_KPA;
+        dg.xm = (uint16_t)(dg.sx / DIAG_LEARN_N);
+        dg.learnt = 1;
+    }
+    dg.sx >>= 1;
+    dg.sy >>= 1;
+    dg.sxx >>= 1;
+    dg.sxy >>= 1;
+    dg.ln = DIAG_LEARN_N / 2;
+}
+
+/* One clean period (steady flow on target, no flow alarm): every DIAG_LEARN_EVERY a sample;
+ * 1 when DIAG_LEARN_N are summed (the caller fits them). */
+static uint8_t learn(uint16_t r, uint16_t p) __reentrant
+{
+    if (dg.learnt == 2 || ++dg.ldiv < DIAG_LEARN_EVERY)
+        return 0;
+    dg.ldiv = 0;
+    if (r == 0xFFFFu)
+        return 0;
+    if (p > 511u)
+        p = 511u;
+    dg.sx += r;
+    dg.sy += p;
+    dg.sxx += (uint32_t)r * r;
+    dg.sxy += (uint32_t)r * p;
+    return ++dg.ln >= DIAG_LEARN_N;
 }
 
 void diag_set_nozzles(uint8_t open_nozzles) __reentrant
@@ -68,17 +158,18 @@ void diag_set_nozzles(uint8_t open_nozzles) __reentrant
     dg.nozzles = open_nozzles;
     dg.gen = param_generation;
     dg.nq = (uint32_t)open_nozzles * param_v[P_NOZZLE_Q3];
-    /* 65536 / (256 sqrt(300)) = 14.7802 = 60539 / 4096 */
-    dg.knoz = um_mul32x16_shr16(dg.nq << 4, 60539u);
+    /* q = n Q3 sqrt(dp / kp): knoz = 256 n Q3 / sqrt(kp), 65536 / (256 sqrt(kp)) from the root
+     * of kp << 16 (a divide, only when the nozzles or the model change) */
+    dg.knoz = um_muldiv(dg.nq, 65535u, um_sqrt32((uint32_t)dg.kp_kpa << 16));
 }
 
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant
 {
     uint32_t dp, q;
     diag_set_nozzles(open_nozzles);
-    if (pressure_kpa <= DIAG_P_CHECK_KPA)
+    if (pressure_kpa <= dg.pc_kpa)
         return 0;
-    dp = pressure_kpa - DIAG_P_CHECK_KPA;
+    dp = pressure_kpa - dg.pc_kpa;
     if (dp > 65535u)
         dp = 65535u;
     q = um_mul32x16_shr16(dg.knoz, um_sqrt32(dp << 16));    /* sqrt(dp << 16) = 256 sqrt(dp) */
@@ -95,7 +186,7 @@ uint16_t diag_nozzle_pressure_kpa(int16_t flow_x100, uint8_t open_nozzles) __ree
     if (r > 65535u)
         return 0xFFFFu;
     r = (r * r) >> 12;                                      /* Q12 */
-    p = DIAG_P_CHECK_KPA + ((r * 300u + 2048u) >> 12);
+    p = dg.pc_kpa + ((r * dg.kp_kpa + 2048u) >> 12);
     return p > 65535u ? 0xFFFFu : (uint16_t)p;
 }
 
@@ -132,8 +223,10 @@ static uint8_t noise(uint8_t *score, uint8_t glitch) __reentrant
     return *score;
 }
 
-/* Tank and pump, the sensors (debounced by analog.c), over-pressure with 5 % hysteresis. */
-static void diag_supply(const __xdata app_status_t *in) __reentrant
+/* Tank and pump, the sensors (debounced by analog.c), over-pressure with 5 % hysteresis: while
+ * `p_watch` (spraying or the bypass parked open; at power-up the pump may push against a bypass
+ * left closed until the parking opens it: the relief valve's job, not a fault). */
+static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
     uint16_t tank = in->tank_l;
@@ -146,38 +239,67 @@ static void diag_supply(const __xdata app_status_t *in) __reentrant
          DIAG_TANK_PERIODS);
     rule(AL_PSENS, !psens, psens, 1);
     rule(AL_LSENS, !lsens, lsens, 1);
-    rule(AL_OVERPRESSURE, psens && p > param_v[P_P_MAX],
+    rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX],
          !psens || (uint32_t)p * 20u < (uint32_t)param_v[P_P_MAX] * 19u, DIAG_OVERP_PERIODS);
 }
 
-/* The nozzle model against the meter: the meter lost (the nozzles pass qp at this pressure,
- * the meter sees under a quarter), a leak or a clog (the pressure against the model's pressure
- * for the metered flow). */
+/* The nozzle model against the meter. Flow meter lost: its pulses stopped while the model says
+ * liquid flows, at working speed (at a headland stop the meter falls silent below its range
+ * while the line still holds the check valves' pressure); a live meter that reads low against
+ * the pressure is a clog (or a wrong nozzle setting), never this. Leak and clog: the pressure
+ * against what the model learnt from this sprayer needs for the metered flow, at working speed
+ * (a headland's low pressures are where a model is least sure); clean spraying teaches it. */
 static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
     uint16_t p = in->pressure_kpa;
     int16_t meter = flow_lpm_x100();
     int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
-    uint8_t judge = settled && analog_pressure_ok();
+    int16_t target = in->target_lpm_x100;
+    uint8_t working = in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
+    uint8_t judge = settled && analog_pressure_ok(), g;
     uint16_t pexp;
     uint32_t p100, x;
-    dg.meter_suspect = judge && qp >= DIAG_MODEL_MIN_X100 && (int32_t)meter * 4 < qp;
-    rule(AL_METER_LOST, dg.meter_suspect,
-         meter >= DIAG_MODEL_MIN_X100 / 2 && (int32_t)meter * 2 >= qp, DIAG_METER_PERIODS);
-    judge = judge && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
+    dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && flow_quiet_periods() >= DIAG_METER_QUIET;
+    rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
+    judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
-    p100 = (uint32_t)p * 100u;
-    x = (uint32_t)pexp * (100u - param_v[P_PDEV]);
-    rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
-    x = (uint32_t)pexp * (100u + param_v[P_PDEV]);
-    rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
+    g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
+        && target > 0 && (uint32_t)(meter > target ? meter - target : target - meter) * 20u <= (uint16_t)target;
+    x = judge ? x_of(meter) : 0xFFFFu;
+    if (g)
+        learn((uint16_t)x, p);      /* (the fit is diag_step's: a shorter call chain) */
+    judge = judge && pexp != 0xFFFFu;
+    /* near the learnt model (learnt over the range, or near the flow it was learnt at) the
+     * pressure above the check valves must be within P_PDEV / 2; elsewhere (not learnt yet, far
+     * from a model learnt at one flow) only a gross deviation counts: P_PDEV of it and
+     * DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can make */
+    g = dg.learnt == 2;
+    if (dg.learnt == 1)
+        g = x * 4u >= (uint32_t)dg.xm * 3u && x * 3u <= (uint32_t)dg.xm * 4u;
+    if (g) {
+        judge = judge && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA;
+        p100 = (uint32_t)(p > dg.pc_kpa ? p - dg.pc_kpa : 0) * 100u;
+        x = (uint32_t)(pexp - dg.pc_kpa) * (100u - (param_v[P_PDEV] >> 1));
+        rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
+        x = (uint32_t)(pexp - dg.pc_kpa) * (100u + (param_v[P_PDEV] >> 1));
+        rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
+    } else {
+        x = ((uint32_t)pexp * param_v[P_PDEV] + 50u) / 100u;
+        if (x < DIAG_PDEV_FAR_KPA)
+            x = DIAG_PDEV_FAR_KPA;
+        rule(AL_LEAK, judge && (uint32_t)p + x < pexp, judge && (uint32_t)p + x >= pexp, DIAG_PDEV_PERIODS);
+        rule(AL_CLOG, judge && p > pexp + x, judge && p <= pexp + x, DIAG_PDEV_PERIODS);
+    }
 }
 
-/* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, in auto with the boom settled. */
+/* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, in auto with the boom settled, at
+ * working speed (below it the minimum-flow rule sets the target, and a coupled pump slowing to
+ * a headland stop cannot give it). */
 static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
     int16_t target = in->target_lpm_x100;
-    uint8_t judge = !in->manual && settled && target > 0;
+    uint8_t judge = !in->manual && settled && target > 0
+                    && in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
     int16_t qp = in->flow_lpm_x100 - target;
     uint32_t p100 = (uint32_t)(qp < 0 ? -(int32_t)qp : qp) * 100u;
     uint32_t x = (uint32_t)param_v[P_OFFRATE] * (uint16_t)target;
@@ -195,11 +317,17 @@ static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reen
     }
 }
 
-uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled) __reentrant
+uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_watch) __reentrant
 {
     uint8_t g;
-    diag_supply(in);
+    uint16_t n, x;
+    diag_supply(in, p_watch);
     diag_model(in, settled);
+    if (dg.ln >= DIAG_LEARN_N) {    /* the samples are in: the nozzle model */
+        learn_fit();
+        dg.gen = (uint8_t)(param_generation - 1u);
+        diag_set_nozzles(dg.nozzles);
+    }
     /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
      * down keeps making pulses; one that stops dead from working speed inside one pulse
      * distance is the false alarm this rule accepts) */
@@ -215,9 +343,17 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled) __reentrant
     g = flow_glitches() != dg.meter_glitches;
     dg.meter_glitches = flow_glitches();
     rule(AL_METER_NOISE, noise(&dg.meter_noise, g) > 60, dg.meter_noise == 0, 1);
-    g = speed_glitches() != dg.wheel_glitches;
+    /* the wheel's: +DIAG_WHEEL_GLITCH a rejected pulse, -1 a good one, so the score climbs only
+     * while more than 1 pulse in DIAG_WHEEL_GLITCH + 1 is rejected (a bounce now and then is
+     * rejected and forgotten) */
+    x = (uint16_t)(speed_glitches() - dg.wheel_glitches);
+    x = (x > 21u ? 255u : x * DIAG_WHEEL_GLITCH) + dg.wheel_noise;
     dg.wheel_glitches = speed_glitches();
-    rule(AL_WHEEL_NOISE, noise(&dg.wheel_noise, g) > 60, dg.wheel_noise == 0, 1);
+    n = (uint16_t)((uint16_t)speed_pulses() - dg.wheel_pulses);
+    dg.wheel_pulses = (uint16_t)speed_pulses();
+    x = x > n ? x - n : 0;
+    dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
+    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60, dg.wheel_noise == 0, 1);
     return dg.alarms;
 }
 

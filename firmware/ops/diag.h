@@ -34,14 +34,28 @@ enum {
 #define DIAG_CLEAR_PERIODS 10u      /* 1 s without the cause clears an alarm */
 #define DIAG_P_CHECK_KPA 30u        /* anti-drip check valves open at 0.3 bar (nozzle model) */
 #define DIAG_MODEL_MIN_X100 500     /* leak/clog/meter rules need 5 L/min or more */
+#define DIAG_WHEEL_GLITCH 12u       /* wheel noise score of a rejected pulse (a good one: -1) */
+#define DIAG_METER_QUIET 3u         /* periods without a meter pulse that make the meter suspect */
+#define DIAG_PDEV_FAR_KPA 120u      /* ... elsewhere a deviation of P_PDEV % and at least this */
+#define DIAG_PDEV_MIN_KPA 20u       /* leak/clog judged where the nozzles need this above their check valves */
+/* The nozzle model learnt from the sprayer: DIAG_LEARN_N samples, one every DIAG_LEARN_EVERY
+ * clean periods (steady flow within 5 % of its target, no flow alarm): the first half minute
+ * of clean spraying. A fit needs the flows' squares to spread (N^2 var(x), x in Q8). */
+#define DIAG_LEARN_N 64u
+#define DIAG_LEARN_EVERY 4u
+#define DIAG_LEARN_SPREAD 2700000UL
 
 void diag_init(void);
 /* One period: evaluate every rule. The inputs: this period's figures `st` (tank, pressure,
- * target, flow, manual), `settled` (the boom sprays and start-up is over), the sensors' ok
- * flags, the pulse modules' quiet counters and glitch counts, the valve's refusals. Returns
+ * target, flow, speed, manual), `settled` (the boom sprays and start-up is over), `p_watch`
+ * (the pressure must stay under P max now: spraying, or the bypass parked open), the sensors'
+ * ok flags, the pulse modules' quiet counters and glitch counts, the valve's refusals. Returns
  * the active alarm bits. */
-uint16_t diag_step(const __xdata app_status_t *st, uint8_t settled) __reentrant;
+uint16_t diag_step(const __xdata app_status_t *st, uint8_t settled, uint8_t p_watch) __reentrant;
 uint16_t diag_alarms(void);
+/* Forget the learnt nozzle model (new nozzles, a meter calibration, the menu): learn it again. */
+void diag_nozzle_relearn(void);
+uint8_t diag_nozzle_learnt(void);
 /* The flow the nozzles pass at this pressure, q = n Q3 / sqrt(3 bar) * sqrt(P - P_check), L/min x100. */
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant;
 /* The pressure the nozzle model needs for this flow, kPa (0 with no nozzles). */

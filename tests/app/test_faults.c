@@ -13,6 +13,7 @@
 #include "hal_host.h"
 #include "app.h"
 #include "diag.h"
+#include "flow.h"
 #include "params.h"
 
 static scenario_t scn;
@@ -257,6 +258,68 @@ static void test_faults_clogged_nozzles_raise_the_pressure_alarm(void **state)
     assert_false(active(AL_CLOG));
 }
 
+/* 30 of 36 nozzles clogged: the meter still pulses (at what the 6 open nozzles pass), it reads
+ * far under the nozzle model at that pressure. That is a CLOG (within 4 s), never a lost meter:
+ * the loop, the LCD and the log go on with the meter's flow. */
+static void test_faults_most_nozzles_clogged_is_a_clog_not_a_lost_meter(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 clog_nozzles 30", "", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    run_init(&r, 40);
+    run_to(&r, 60);
+    printf("# 30 nozzles clogged: CLOG after %.2f s, meter %.2f L/min, shown %.2f L/min\n", detect_s(&r, AL_CLOG),
+           flow_lpm_x100() / 100.0, app_status.flow_lpm_x100 / 100.0);
+    assert_true(detect_s(&r, AL_CLOG) <= 4.0);
+    assert_true(detect_s(&r, AL_METER_LOST) > 100);
+    assert_int_equal(app_status.flow_lpm_x100, flow_lpm_x100());
+}
+
+/* A leak of a tenth of the flow, and 3 of 36 nozzles clogged, on the nozzle model learnt from
+ * the sprayer: each seen within 10 s. (7 km/h, 150 L/ha: 31.5 L/min at about 1.95 bar, where a
+ * leak of 3.9 L/min at 3 bar passes 3.1 L/min.) */
+static void test_faults_small_leak_and_few_clogs_are_seen(void **state)
+{
+    run_t r;
+    (void)state;
+    start("40 leak_lpm 3.9\n80 leak_lpm 0", "", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    assert_false(active(AL_LEAK));
+    run_init(&r, 40);
+    run_to(&r, 80);
+    printf("# leak 10 %% of the flow: LEAK after %.2f s\n", detect_s(&r, AL_LEAK));
+    assert_true(detect_s(&r, AL_LEAK) <= 10.0);
+    assert_true(detect_s(&r, AL_CLOG) > 100);
+    start("40 clog_nozzles 3\n80 clog_nozzles 0", "", "pto_coupled = 0", 7);
+    run_init(&r, 0);
+    run_to(&r, 40);
+    assert_false(active(AL_CLOG));
+    run_init(&r, 40);
+    run_to(&r, 80);
+    printf("# 3 of 36 nozzles clogged: CLOG after %.2f s\n", detect_s(&r, AL_CLOG));
+    assert_true(detect_s(&r, AL_CLOG) <= 10.0);
+    assert_true(detect_s(&r, AL_LEAK) > 100);
+}
+
+/* Nozzles worn 15 % and check valves opening at 1.0 bar: learnt, not alarmed, over a drive
+ * through the working speeds. */
+static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void **state)
+{
+    run_t r;
+    (void)state;
+    start_drive("", "", "pto_coupled = 0\nnozzle_wear_pct = 15\ncheck_valve_bar = 1.0",
+                "0 0\n5 6\n60 6\n62 9\n120 9\n122 4.5\n180 4.5\n182 8\n240 8");
+    run_init(&r, 0);
+    run_to(&r, 240);
+    printf("# worn nozzles, stiff check valves: model learnt %d\n", diag_nozzle_learnt());
+    assert_true(diag_nozzle_learnt() > 0);
+    for (int b = 0; b < AL_COUNT; b++)
+        assert_true(detect_s(&r, b) > 1000);
+}
+
 /* tank below its minimum (a sudden drop from 980 L to 25 L: the level filter's 0.4 s time
  * constant takes 2.1 s to come down, then 1 s of persistence) stops spraying within 3.5 s;
  * an empty tank sprays nothing and the dry pump has its alarm within 2.5 s; a refill
@@ -442,6 +505,9 @@ int main(void)
         cmocka_unit_test(test_faults_pressure_sensor_open_is_a_fault_and_control_goes_on),
         cmocka_unit_test(test_faults_leak_after_the_meter_is_seen_in_the_pressure),
         cmocka_unit_test(test_faults_clogged_nozzles_raise_the_pressure_alarm),
+        cmocka_unit_test(test_faults_most_nozzles_clogged_is_a_clog_not_a_lost_meter),
+        cmocka_unit_test(test_faults_small_leak_and_few_clogs_are_seen),
+        cmocka_unit_test(test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing),
         cmocka_unit_test(test_faults_empty_tank_sprays_nothing_and_the_dry_pump_alarms),
         cmocka_unit_test(test_faults_over_pressure_with_a_stuck_valve),
         cmocka_unit_test(test_faults_off_rate_when_the_flow_cannot_follow),

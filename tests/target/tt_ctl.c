@@ -65,7 +65,7 @@ static uint16_t state_sum(uint8_t id)
     case CTL_BP_PID: w = &ctl_st.bp.w[0][0]; n = BP_IN * BP_HID; break;
     case CTL_AOG: w = &ctl_st.ag.y1; n = 6; break;                 /* y1 and the derived settings */
     case CTL_RAVEN: w = &ctl_st.rv.speed; n = 4; break;
-    default: w = &ctl_st.fm.node[0]; n = FM_NODES; break;
+    default: w = &ctl_st.fm.e1; n = 4; break;
     }
     for (i = 0; i < n; i++)
         s = (uint16_t)((s << 1) | (s >> 15)) ^ (uint16_t)w[i];
@@ -82,7 +82,8 @@ static uint16_t state_sum(uint8_t id)
     if (id == CTL_RAVEN)
         s ^= (uint16_t)(uint8_t)ctl_st.rv.dir;
     if (id == CTL_BEST)
-        s ^= (uint16_t)ctl_st.fm.p_hat ^ (uint16_t)ctl_st.fm.p_ref ^ (uint16_t)ctl_st.fm.takeup;
+        s ^= (uint16_t)ctl_st.fm.brk ^ (uint16_t)ctl_st.fm.g ^ (uint16_t)ctl_st.fm.stall_e ^ (uint16_t)ctl_carry_now()
+             ^ ((uint16_t)ctl_st.fm.rest << 8) ^ (uint16_t)(uint8_t)ctl_st.fm.dir;
     return s;
 }
 
@@ -116,8 +117,8 @@ static void run_ctl(uint8_t id, const char *bench)
     }
     /* long closed-loop run on the toy plant: target steps every 5 s, learning on */
     ctl_select(id);
-    pl_p = 0;                   /* from the open stop (as after parking): ffmap's frame is */
-    pl_q = 0;                   /* set, and its gain schedule runs in the timed steps */
+    pl_p = 0;                   /* from the open stop (as after parking) */
+    pl_q = 0;
     pl_pump = 6000;
     in.flow_lpm_x100 = 0;
     in.valve_limit = CTL_AT_OPEN;
