@@ -227,9 +227,12 @@ $(PIL_DIR)/%.rel: %.c
 	$(call msg,SDCC,$< [pil])
 	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_PIL -Ihal/pil -MMD -c $< -o $@
 
+# the PIL image carries hal/pil's frames and pass stopwatch, larger than the chip's HAL: s51 gives
+# it the 8051's whole 64 KB code space (the chip's image is checked by make firmware)
+PIL_CODE_SIZE ?= 65536
 $(PIL_IHX): $(PIL_REL)
 	$(call msg,LINK,$@ [pil])
-	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) --xram-size $(PIL_XRAM_SIZE) $(PIL_REL) -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) --code-size $(PIL_CODE_SIZE) --xram-size $(PIL_XRAM_SIZE) $(PIL_REL) -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
 	$(Q)if grep -qi "error\|insufficient\|overlap\|exceed" $(PIL_DIR)/link.log; then cat $(PIL_DIR)/link.log; rm -f $@; exit 1; fi
 
 pil-image: $(PIL_IHX)

@@ -30,10 +30,10 @@
 #include <stdint.h>
 
 /* FW_PEERS: the peers' controllers (aog, raven), baselines to compare with, are in every build
- * but the chip's field image, which keeps its flash for the sprayer's own work; `make firmware
- * FW_PEERS=1` builds the chip's comparison image with them. */
+ * but the chip's field image (and PIL, which runs that image in s51), which keeps its flash for
+ * the sprayer's own work; `make firmware FW_PEERS=1` builds the chip's comparison image. */
 #ifndef FW_PEERS
-#if defined(HAL_STC12)
+#if defined(HAL_STC12) || defined(HAL_PIL)
 #define FW_PEERS 0
 #else
 #define FW_PEERS 1
