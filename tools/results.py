@@ -361,7 +361,7 @@ def section_iso(R, ctls):
     R.many(jobs)
     text = ("## 5. Response to changes, after ISO 5682-3\n\n"
             "Each level is held 30 s (changes at 70, 100, 130 and 160 s, after a first hold from 40 s), 150 L/ha, "
-            "seed 1. Response time: from the change until the true flow stays within 5 %% of the firmware's target "
+            "seed 1. Response time: from the change until the true flow stays within 5 % of the firmware's target "
             "to the next change; deviation: abs(flow - target) / target, mean over the second half of each hold; "
             "largest: the largest deviation in the hold. Means over the four changes (the worst response in "
             "brackets).\n\n")
@@ -532,7 +532,7 @@ def main():
     intro = ("# Results: the paper's experiments reproduced, and beyond\n\n"
              "Written by `make report` (`tools/results.py`) from the runs it makes on the simulated sprayer of "
              "docs/SCENARIOS.md; nothing below is typed in except the paper's own numbers, which are marked as "
-             "the paper's. Seeds are fixed, so a second run gives the same figures. Controllers: %s (`best` is the "
+             "the paper's. Seeds are fixed, so a second run gives the same figures (but the timings of the cost section, which measure the machine the report runs on). Controllers: %s (`best` is the "
              "project's own, the firmware's default). The paper's figures come from its own field tests and "
              "simulation, not from this plant: they are a yardstick, not a like-for-like comparison.\n\n"
              "## Headline\n\n%s\n\n" % (", ".join(ctls), head))
