@@ -81,6 +81,8 @@ double scenario_drive_kmh(const scenario_t *s, double t_s);
 int scenario_event_check(const scenario_t *s, int kind, double value, char *msg, size_t n);
 /* The name of an event kind. */
 const char *scenario_event_name(int kind);
+/* 1 when the event takes a value (`rate_l_ha 125`), 0 when it stands alone (`meter_fail`). */
+int scenario_event_takes_value(int kind);
 /* Nozzles a section holds (param NOZZLES / SECTIONS; the reader checks it divides). */
 int scenario_nozzles_per_section(const scenario_t *s);
 

@@ -1,0 +1,160 @@
+/* scenario_rows.c: what a scenario holds besides its file's syntax: the defaults, the events (names, values, checks), the controllers by name, the driver's speed at a time. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "scenario.h"
+#include "ctl.h"
+
+static int is_whole(double v)
+{
+    return fabs(v - floor(v + 0.5)) < 1e-9 * (fabs(v) > 1 ? fabs(v) : 1);
+}
+
+/* ---- defaults --------------------------------------------------------------------------------- */
+void scenario_default(scenario_t *s, const char *name)
+{
+    uint8_t i;
+    memset(s, 0, sizeof *s);
+    snprintf(s->name, sizeof s->name, "%s", name ? name : "scenario");
+    s->duration_s = 300;
+    s->seed = 7;
+    for (i = 0; i < P_COUNT; i++)
+        s->param[i] = param_info(i)->def;
+    plant_params_default(&s->plant);
+}
+
+int scenario_nozzles_per_section(const scenario_t *s)
+{
+    return s->param[P_NOZZLES] / s->param[P_SECTIONS];
+}
+
+/* ---- events ----------------------------------------------------------------------------------- */
+typedef struct {
+    const char *name;
+    int arg;
+} ev_info_t;
+#define SCN_EV_ROW(id, name, arg) {name, arg},
+static const ev_info_t ev_info[EV_COUNT] = { SCN_EVENTS(SCN_EV_ROW) };
+#undef SCN_EV_ROW
+
+const char *scenario_event_name(int kind)
+{
+    return kind >= 0 && kind < EV_COUNT ? ev_info[kind].name : "?";
+}
+
+int scenario_event_takes_value(int kind)
+{
+    return kind >= 0 && kind < EV_COUNT && ev_info[kind].arg;
+}
+
+int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, size_t n)
+{
+    int noz = s->param[P_NOZZLES], sec = s->param[P_SECTIONS];
+#define BAD(...) do { if (msg && n) snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
+    if (kind < 0 || kind >= EV_COUNT)
+        BAD("unknown event");
+    switch (kind) {
+    case EV_SECTIONS_OPEN:
+        if (!is_whole(v) || v < 0 || v > noz)
+            BAD("%g is not a number of nozzles 0..%d", v, noz);
+        if ((int)floor(v + 0.5) % (noz / sec) != 0)
+            BAD("%g nozzles is not a whole number of sections (%d nozzles each)", v, noz / sec);
+        break;
+    case EV_RATE:
+        if (!is_whole(v) || v < 0 || v > 65535 || !param_in_range(P_RATE, (uint16_t)floor(v + 0.5)))
+            BAD("%g out of the firmware's range %u..%u L/ha (whole numbers)", v,
+                param_info(P_RATE)->min, param_info(P_RATE)->max);
+        break;
+    case EV_GIVEN_SPEED:
+        if (v < 0 || v > 6553 || !is_whole(v * 10) || !param_in_range(P_GIVEN_SPEED, (uint16_t)floor(v * 10 + 0.5)))
+            BAD("%g out of the firmware's range 0..%g km/h in steps of 0.1", v, param_info(P_GIVEN_SPEED)->max / 10.0);
+        break;
+    case EV_PTO_RPM:
+        if (v < 0 || v > 1500)
+            BAD("%g out of range 0..1500 rpm", v);
+        break;
+    case EV_BOUNCE:
+        if (v < 0 || v > 100)
+            BAD("%g out of range 0..100 %%", v);
+        break;
+    case EV_LEAK:
+        if (v < 0 || v > 200)
+            BAD("%g out of range 0..200 L/min", v);
+        break;
+    case EV_CLOG:
+        if (!is_whole(v) || v < 0 || v > noz)
+            BAD("%g is not a number of nozzles 0..%d", v, noz);
+        break;
+    case EV_TANK:
+        if (v < 0 || v > s->plant.tank_l)
+            BAD("%g out of range 0..%g L (tank_l)", v, s->plant.tank_l);
+        break;
+    default:
+        if (v != 0)
+            BAD("takes no value");
+        break;
+    }
+#undef BAD
+    return 0;
+}
+
+/* ---- controllers ------------------------------------------------------------------------------ */
+int scenario_controller_id(const char *name)
+{
+    int id;
+    if (strcmp(name, "best") == 0)
+        return CTL_BEST;
+    for (id = 0; id < CTL_COUNT; id++)
+        if (strcmp(name, ctl_name((uint8_t)id)) == 0)
+            return id;
+    return -1;
+}
+
+static void controller_names(char *buf, size_t n)
+{
+    int id;
+    size_t k = 0;
+    buf[0] = 0;
+    for (id = 0; id < CTL_COUNT && k < n; id++)
+        k += (size_t)snprintf(buf + k, n - k, "%s, ", ctl_name((uint8_t)id));
+    if (k < n)
+        snprintf(buf + k, n - k, "best");
+}
+
+int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t errlen)
+{
+    int id = scenario_controller_id(name);
+    char names[128];
+    if (id < 0) {
+        controller_names(names, sizeof names);
+        if (err && errlen)
+            snprintf(err, errlen, "unknown controller '%s' (one of: %s)", name, names);
+        return -1;
+    }
+    s->param[P_CONTROLLER] = (uint16_t)id;
+    return 0;
+}
+
+/* ---- the drive -------------------------------------------------------------------------------- */
+double scenario_drive_kmh(const scenario_t *s, double t)
+{
+    int lo = 0, hi = s->n_drive - 1;
+    const scn_drive_t *d = s->drive;
+    if (s->n_drive == 0)
+        return 0.0;
+    if (t < d[0].t_s)
+        return d[0].kmh;
+    if (t >= d[hi].t_s)
+        return d[hi].kmh;
+    /* the last row with t_s <= t (so a step's second row wins at its own time) */
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (d[mid].t_s <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    if (d[hi].t_s == d[lo].t_s)
+        return d[hi].kmh;
+    return d[lo].kmh + (d[hi].kmh - d[lo].kmh) * (t - d[lo].t_s) / (d[hi].t_s - d[lo].t_s);
+}
