@@ -170,7 +170,7 @@ static uint8_t typing(uint8_t decimals)
 
 static void key_edit(void)
 {
-    const param_info_t *pi = param_info(con.item);
+    const __code param_info_t *pi = param_info(con.item);
     uint16_t v;
     if (typing(pi->decimals))
         return;

@@ -43,12 +43,12 @@ extern con_io_t con_io;
 void con_say(const char *s) __reentrant;
 void con_say_none(void) __reentrant;
 uint8_t con_msg_on(void) __reentrant;
-uint8_t con_cat(uint8_t at, const char *s) __reentrant;
+uint8_t con_cat(const char *s, uint8_t at) __reentrant;
 /* fmt: CON_TRIM (no trailing zeros after the point) or CON_DROP(k): v / 10^k rounded, without a
  * divide (v + 10^k / 2 formatted with k more decimals, those digits cut off again) */
 #define CON_TRIM 1
 #define CON_DROP(k) ((k) << 1)
-uint8_t con_cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t fmt) __reentrant;
+uint8_t con_cat_num(uint32_t v, uint8_t at, uint8_t width, uint8_t decimals, uint8_t fmt) __reentrant;
 void con_right_align(uint8_t from) __reentrant;
 uint8_t con_is_choice(uint8_t id) __reentrant;
 const char *con_choice_name(uint8_t id, uint16_t v) __reentrant;

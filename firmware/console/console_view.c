@@ -40,7 +40,7 @@ uint8_t con_msg_on(void)
 
 /* The bottom-line screens put a whole line together in `line`, then screen_line() it: each
  * column is written once, so only real changes reach the LCD. */
-uint8_t con_cat(uint8_t at, const char *s)
+uint8_t con_cat(const char *s, uint8_t at)
 {
     while (*s && at < SCREEN_COLS)
         con.line[at++] = *s++;
@@ -48,9 +48,15 @@ uint8_t con_cat(uint8_t at, const char *s)
     return at;
 }
 
+/* the line put together, on the screen's row */
+static void con_show(uint8_t row)
+{
+    screen_line(row, con.line);
+}
+
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
  * is; fmt: CON_TRIM or CON_DROP(k) (console_int.h) */
-uint8_t con_cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uint8_t fmt)
+uint8_t con_cat_num(uint32_t v, uint8_t at, uint8_t width, uint8_t decimals, uint8_t fmt)
 {
     static const __code uint16_t half[4] = {0, 5, 50, 500};
     char num[FMT_MAX];
@@ -64,12 +70,12 @@ uint8_t con_cat_num(uint8_t at, uint8_t width, uint32_t v, uint8_t decimals, uin
     }
     if (width && n > width) {
         while (width--)
-            at = con_cat(at, "#");
+            at = con_cat("#", at);
         return at;
     }
     while (width-- > n)
-        at = con_cat(at, " ");
-    return con_cat(at, num);
+        at = con_cat(" ", at);
+    return con_cat(num, at);
 }
 
 /* move line[from..] to the right end of the row, spaces in between */
@@ -107,13 +113,13 @@ const char *con_choice_name(uint8_t id, uint16_t v)
 /* append a parameter's value and unit, "150 L/ha" */
 uint8_t con_cat_value(uint8_t at, uint8_t id, uint16_t v)
 {
-    const param_info_t *pi = param_info(id);
+    const __code param_info_t *pi = param_info(id);
     if (con_is_choice(id))
-        return con_cat(at, con_choice_name(id, v));
-    at = con_cat_num(at, 0, v, pi->decimals, 0);
+        return con_cat(con_choice_name(id, v), at);
+    at = con_cat_num(v, at, 0, pi->decimals, 0);
     if (pi->unit[0]) {
-        at = con_cat(at, " ");
-        at = con_cat(at, pi->unit);
+        at = con_cat(" ", at);
+        at = con_cat(pi->unit, at);
     }
     return at;
 }
@@ -128,18 +134,18 @@ void con_say_range(uint8_t id)
 /* The message on the bottom line. */
 void con_draw_msg(void)
 {
-    const param_info_t *pi;
+    const __code param_info_t *pi;
     uint8_t at;
     if (con.msg_range == NO_RANGE) {
         screen_line(3, con.msg);
         return;
     }
     pi = param_info(con.msg_range);
-    at = con_cat(0, "Range ");
-    at = con_cat_num(at, 0, pi->min, pi->decimals, 1);
-    at = con_cat(at, "..");
-    con_cat_num(at, 0, pi->max, pi->decimals, 1);
-    screen_line(3, con.line);
+    at = con_cat("Range ", 0);
+    at = con_cat_num(pi->min, at, 0, pi->decimals, 1);
+    at = con_cat("..", at);
+    con_cat_num(pi->max, at, 0, pi->decimals, 1);
+    con_show(3);
 }
 
 /* Set and store a value; the message says what happened. 0 when refused. */
@@ -159,6 +165,7 @@ uint8_t con_apply(uint8_t id, uint16_t v)
 }
 
 /* ---- screens ------------------------------------------------------------------------------- */
+
 static void draw_bottom(const char *otherwise)
 {
     if (con_msg_on())
@@ -189,81 +196,81 @@ static int8_t alarm_shown(void)
 
 static void draw_run(void)
 {
-    const app_status_t *st = &app_status;
+    const __xdata app_status_t *st = &app_status;
     uint8_t at;
     int8_t a;
     int16_t q;
     /* " 7.2km/h    AUTO": ground speed, mode (HIL: the inputs come from the PC's plant) */
-    at = con_cat_num(0, 4, st->speed_kmh_x100, 1, CON_DROP(1));
-    at = con_cat(at, "km/h ");
-    con_cat(at, hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO");
+    at = con_cat_num(st->speed_kmh_x100, 0, 4, 1, CON_DROP(1));
+    at = con_cat("km/h ", at);
+    con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO", at);
     con_right_align(at);
-    screen_line(0, con.line);
+    con_show(0);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */
-    at = con_cat(0, "Q");
+    at = con_cat("Q", 0);
     q = st->target_lpm_x100;
-    at = con_cat_num(at, 5, q > 0 ? (uint16_t)q : 0, 1, CON_DROP(1));
-    at = con_cat(at, ">");
+    at = con_cat_num(q > 0 ? (uint16_t)q : 0, at, 5, 1, CON_DROP(1));
+    at = con_cat(">", at);
     q = st->flow_lpm_x100;
-    at = con_cat_num(at, 5, q > 0 ? (uint16_t)q : 0, 1, CON_DROP(1));
-    con_cat(at, "L/mn");
-    screen_line(1, con.line);
+    at = con_cat_num(q > 0 ? (uint16_t)q : 0, at, 5, 1, CON_DROP(1));
+    con_cat("L/mn", at);
+    con_show(1);
     /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
-    at = con_cat_num(0, 4, st->applied_l_ha_x10, 0, CON_DROP(1));
-    at = con_cat(at, "L/ha");
-    at = con_cat_num(at, 5, st->pressure_kpa, 2, 0);
-    con_cat(at, "bar");
-    screen_line(2, con.line);
+    at = con_cat_num(st->applied_l_ha_x10, 0, 4, 0, CON_DROP(1));
+    at = con_cat("L/ha", at);
+    at = con_cat_num(st->pressure_kpa, at, 5, 2, 0);
+    con_cat("bar", at);
+    con_show(2);
     /* bottom: a message, EEPROM trouble, an alarm ("!" not yet acknowledged), or tank and controller */
     a = alarm_shown();
     if (con_msg_on()) {
         con_draw_msg();
     } else if (store_status() != STORE_OK) {
-        at = con_cat(0, "!");
-        con_cat(at, store_status_text(store_status()));
-        screen_line(3, con.line);
+        at = con_cat("!", 0);
+        con_cat(store_status_text(store_status()), at);
+        con_show(3);
     } else if (a >= 0) {
-        at = con_cat(0, (st->alarms_unacked & (1u << a)) ? "!" : " ");
-        con_cat(at, diag_text((uint8_t)a));
-        screen_line(3, con.line);
+        at = con_cat((st->alarms_unacked & (1u << a)) ? "!" : " ", 0);
+        con_cat(diag_text((uint8_t)a), at);
+        con_show(3);
     } else {
-        at = con_cat(0, "T");
-        at = con_cat_num(at, 5, st->tank_l, 0, 0);
-        at = con_cat(at, "L ");
+        at = con_cat("T", 0);
+        at = con_cat_num(st->tank_l, at, 5, 0, 0);
+        at = con_cat("L ", at);
         if (target_rate_remote())           /* the rate comes from the field computer */
-            con_cat_num(con_cat(at, "RC"), 0, target_rate_x10(), 1, 0);
+            con_cat_num(target_rate_x10(), con_cat("RC", at), 0, 1, 0);
         else
-            con_cat(at, ctl_name(ctl_selected()));
+            con_cat(ctl_name(ctl_selected()), at);
         con_right_align(at);
-        screen_line(3, con.line);
+        con_show(3);
     }
 }
 
 static void draw_totals(void)
 {
-    const app_status_t *st = &app_status;
+    const __xdata app_status_t *st = &app_status;
     uint8_t at;
-    at = con_cat(0, "Job ");
-    at = con_cat_num(at, 9, st->job_area_m2, 2, CON_DROP(2));
-    con_cat(at, " ha");
-    screen_line(0, con.line);
-    at = con_cat(0, "Job ");
-    at = con_cat_num(at, 10, st->job_volume_ml, 1, CON_DROP(2));
-    con_cat(at, " L");
-    screen_line(1, con.line);
-    at = con_cat(0, "Life");
-    at = con_cat_num(at, 9, st->life_area_m2, 2, CON_DROP(2));
-    con_cat(at, " ha");
-    screen_line(2, con.line);
+    at = con_cat("Job ", 0);
+    at = con_cat_num(st->job_area_m2, at, 9, 2, CON_DROP(2));
+    con_cat(" ha", at);
+    con_show(0);
+    at = con_cat("Job ", 0);
+    at = con_cat_num(st->job_volume_ml, at, 10, 1, CON_DROP(2));
+    con_cat(" L", at);
+    con_show(1);
+    at = con_cat("Life", 0);
+    at = con_cat_num(st->life_area_m2, at, 9, 2, CON_DROP(2));
+    con_cat(" ha", at);
+    con_show(2);
     if (con.step) {
         draw_bottom("Reset job? D=yes");
     } else if (con_msg_on()) {
         con_draw_msg();
     } else {
-        at = con_cat(0, "Life");
-        at = con_cat_num(at, 10, st->life_volume_ml, 0, CON_DROP(3));
-        con_cat(at, " L");
-        screen_line(3, con.line);
+        at = con_cat("Life", 0);
+        at = con_cat_num(st->life_volume_ml, at, 10, 0, CON_DROP(3));
+        con_cat(" L", at);
+        con_show(3);
     }
 }
 
@@ -282,17 +289,17 @@ static const char *menu_name(uint8_t i)
 
 static void draw_menu(void)
 {
-    uint8_t at = con_cat(0, "Menu ");
-    at = con_cat_num(at, 2, con.item + 1u, 0, 0);
-    at = con_cat(at, "/");
-    con_cat_num(at, 0, MENU_COUNT, 0, 0);
+    uint8_t at = con_cat("Menu ", 0);
+    at = con_cat_num(con.item + 1u, at, 2, 0, 0);
+    at = con_cat("/", at);
+    con_cat_num(MENU_COUNT, at, 0, 0, 0);
     con_right_align(5);
-    screen_line(0, con.line);
+    con_show(0);
     screen_line(1, menu_name(con.item));
     if (con.item < P_COUNT) {
         con_cat_value(0, con.item, param_v[con.item]);
         con_right_align(0);
-        screen_line(2, con.line);
+        con_show(2);
     } else {
         screen_line(2, con.item == MENU_TOTALS ? "D: show, reset" : "D: start");
     }
@@ -301,21 +308,21 @@ static void draw_menu(void)
 
 static void draw_edit(void)
 {
-    const param_info_t *pi = param_info(con.item);
+    const __code param_info_t *pi = param_info(con.item);
     uint8_t at;
     screen_line(0, pi->name);
-    at = con_cat(0, "now ");
+    at = con_cat("now ", 0);
     con_cat_value(at, con.item, param_v[con.item]);
     con_right_align(at);
-    screen_line(1, con.line);
-    at = con_cat(0, "new ");
-    at = con_cat(at, con.entry);
-    at = con_cat(at, "_");
+    con_show(1);
+    at = con_cat("new ", 0);
+    at = con_cat(con.entry, at);
+    at = con_cat("_", at);
     if (pi->unit[0]) {
-        at = con_cat(at, " ");
-        con_cat(at, pi->unit);
+        at = con_cat(" ", at);
+        con_cat(pi->unit, at);
     }
-    screen_line(2, con.line);
+    con_show(2);
     draw_bottom("D:ok C:clear");
 }
 
@@ -323,14 +330,14 @@ static void draw_choice(void)
 {
     uint8_t at;
     screen_line(0, param_info(con.item)->name);
-    at = con_cat(0, "now ");
-    con_cat(at, con_choice_name(con.item, param_v[con.item]));
+    at = con_cat("now ", 0);
+    con_cat(con_choice_name(con.item, param_v[con.item]), at);
     con_right_align(at);
-    screen_line(1, con.line);
-    at = con_cat(0, "new ");
-    con_cat(at, con_choice_name(con.item, con.step));
+    con_show(1);
+    at = con_cat("new ", 0);
+    con_cat(con_choice_name(con.item, con.step), at);
     con_right_align(at);
-    screen_line(2, con.line);
+    con_show(2);
     draw_bottom("A/B:choose D:ok");
 }
 
@@ -346,23 +353,23 @@ static void draw_cal(void)
         draw_bottom("C:back");
         return;
     }
-    at = con_cat(0, "Pulses");
-    con_cat_num(at, 10, con.step == 1 ? now - con.cal_pulses : con.cal_pulses, 0, 0);
-    screen_line(1, con.line);
+    at = con_cat("Pulses", 0);
+    con_cat_num(con.step == 1 ? now - con.cal_pulses : con.cal_pulses, at, 10, 0, 0);
+    con_show(1);
     if (con.step == 1) {
         screen_line(2, tank ? "Spray; D: stop" : "At 100 m: D");
         draw_bottom("C:cancel");
     } else if (con.step == 2) {             /* tank: litres sprayed */
-        at = con_cat(0, "Litres ");
-        at = con_cat(at, con.entry);
-        con_cat(at, "_");
-        screen_line(2, con.line);
+        at = con_cat("Litres ", 0);
+        at = con_cat(con.entry, at);
+        con_cat("_", at);
+        con_show(2);
         draw_bottom("D:ok C:clear");
     } else {                            /* the new value, to save */
-        at = con_cat(0, "New ");
+        at = con_cat("New ", 0);
         con_cat_value(at, tank ? P_METER_K : P_WHEEL, con.cal_value);
         con_right_align(at);
-        screen_line(2, con.line);
+        con_show(2);
         draw_bottom("D:save C:cancel");
     }
 }
@@ -379,10 +386,10 @@ static void draw_cal(void)
 static uint8_t cat_ma(uint8_t at, uint8_t ch)
 {
     uint16_t counts = hal_adc_read(ch);
-    at = con_cat_num(at, 4, counts, 0, 0);
+    at = con_cat_num(counts, at, 4, 0, 0);
     /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA: counts * 2000 / 1023 */
-    at = con_cat_num(at, 6, ((uint32_t)counts * 32032u + 8192u) >> 14, 2, 0);
-    return con_cat(at, "mA ");
+    at = con_cat_num(((uint32_t)counts * 32032u + 8192u) >> 14, at, 6, 2, 0);
+    return con_cat("mA ", at);
 }
 
 /* "W 1234   12Hz ": a pulse input's count (5 digits) and rate */
@@ -390,9 +397,9 @@ static uint8_t cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
     uint8_t at;
     con.line[0] = name;
-    at = con_cat_num(1, 5, pulses % 100000u, 0, 0);
-    at = con_cat_num(at, 5, hz, 0, 0);
-    return con_cat(at, "Hz ");
+    at = con_cat_num(pulses % 100000u, 1, 5, 0, 0);
+    at = con_cat_num(hz, at, 5, 0, 0);
+    return con_cat("Hz ", at);
 }
 
 void con_iotest_start(void)
@@ -416,21 +423,21 @@ static void draw_iotest(void)
         con_io.meter0 = (uint16_t)ops_flow_pulses();
         con.cal_value = now;
     }
-    at = cat_ma(con_cat(0, "P"), HAL_ADC_PRESSURE);
-    con_cat(at, (ops_io & OPS_IO_RELAY) ? "R1" : "R0");
-    screen_line(0, con.line);
-    at = cat_ma(con_cat(0, "L"), HAL_ADC_LEVEL);
-    con_cat(at, (ops_io & OPS_IO_BUZZER) ? "B1" : "B0");
-    screen_line(1, con.line);
+    at = cat_ma(con_cat("P", 0), HAL_ADC_PRESSURE);
+    con_cat((ops_io & OPS_IO_RELAY) ? "R1" : "R0", at);
+    con_show(0);
+    at = cat_ma(con_cat("L", 0), HAL_ADC_LEVEL);
+    con_cat((ops_io & OPS_IO_BUZZER) ? "B1" : "B0", at);
+    con_show(1);
     at = cat_pulses('W', ops_wheel_pulses(), con_io.wheel_hz);
-    con_cat(at, app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
-    screen_line(2, con.line);
+    con_cat(app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0", at);
+    con_show(2);
     if (con_msg_on()) {
         con_draw_msg();
         return;
     }
     cat_pulses('M', ops_flow_pulses(), con_io.meter_hz);
-    screen_line(3, con.line);
+    con_show(3);
 }
 
 void con_draw(void)

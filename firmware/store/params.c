@@ -87,7 +87,7 @@ const char *param_why_text(uint8_t why)
     return why <= PARAM_X_METER ? why_texts[why] : "";
 }
 
-const param_info_t *param_info(uint8_t id)
+const __code param_info_t *param_info(uint8_t id)
 {
     return id < P_COUNT ? &table[id] : NULL;
 }

@@ -58,8 +58,8 @@ enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */
 
 typedef struct {
-    const char *name;
-    const char *unit;
+    const __code char *name;
+    const __code char *unit;
     uint8_t decimals;
     uint16_t min, max, def;
 } param_info_t;
@@ -97,7 +97,7 @@ const char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id (and, for Valve cal, its dead band digit is 1-9). */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */
-const param_info_t *param_info(uint8_t id);
+const __code param_info_t *param_info(uint8_t id);
 /* Bumped by every change, so readers (controller, target) can tell when to pick values up. */
 extern uint8_t param_generation;
 
