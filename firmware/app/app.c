@@ -299,7 +299,7 @@ static void app_save(void)
  * while alarms are unacked; once a second the display's divisions and a log line. */
 static void app_account(void)
 {
-    const totals_t *t;
+    const __xdata totals_t *t;
     uint16_t g;
     uint8_t on = app_status.spraying;
 

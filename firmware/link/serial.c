@@ -193,7 +193,7 @@ static void ok_2(uint32_t a, uint32_t b) __reentrant
 /* The handlers, after the arguments were parsed as the table says. */
 static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
 {
-    const totals_t *t;
+    const __xdata totals_t *t;
     switch (handler) {
     case C_GET:
     case C_SET:

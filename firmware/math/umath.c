@@ -22,8 +22,9 @@ static const __code uint16_t recip_tab[129] = {
     16384,
 };
 
-/* Shift x (not 0) left until its bit 31 is set; returns the shift. */
-static uint8_t norm32(uint32_t *x) __reentrant
+/* Shift x (not 0) left until its bit 31 is set; returns the shift. x is on the stack of the
+ * reentrant caller: an __idata pointer, no generic pointer calls. */
+static uint8_t norm32(__idata uint32_t *x) __reentrant
 {
     uint32_t v = *x;
     uint8_t s = 0;
@@ -59,11 +60,11 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant
     if (d == 0)
         return 0xFFFFFFFFUL;
     p = a;
-    e = -(int8_t)norm32(&p);                    /* a = (p >> 16) * 2^(16 + e) */
+    e = -(int8_t)norm32((__idata uint32_t *)&p);    /* a = (p >> 16) * 2^(16 + e) */
     p = (p >> 16) * (uint32_t)n;                /* < 2^32, not 0 */
-    e -= (int8_t)norm32(&p);                    /* a * n = (p >> 16) * 2^(32 + e) */
+    e -= (int8_t)norm32((__idata uint32_t *)&p);    /* a * n = (p >> 16) * 2^(32 + e) */
     q = d;
-    e += (int8_t)norm32(&q);                    /* d = (q >> 16) * 2^(16 - sd) */
+    e += (int8_t)norm32((__idata uint32_t *)&q);    /* d = (q >> 16) * 2^(16 - sd) */
     m = (uint16_t)(q >> 16);                    /* 32768 .. 65535 */
     i = (uint8_t)((m >> 8) - 128u);
     f = (uint8_t)m;

@@ -78,7 +78,7 @@ uint16_t analog_kpa_of_sum(uint16_t sum4) __reentrant
 }
 
 /* debounce a channel's fault state; returns 1 when this reading is usable */
-static uint8_t judge(chan_t *c, uint8_t fault) __reentrant
+static uint8_t judge(chan_t __xdata *c, uint8_t fault) __reentrant
 {
     c->raw_fault = fault;
     if (fault) {

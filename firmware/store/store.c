@@ -162,7 +162,7 @@ uint8_t store_save(void) __reentrant
     uint16_t crc = 0xFFFFu;
     uint16_t next = (uint16_t)(seq + 1u);
     uint8_t i, b, s, ok = 1;
-    const totals_t *t = totals_get();
+    const __xdata totals_t *t = totals_get();
     if (hal_supply_low()) {
         status = STORE_LOW_SUPPLY;  /* a write that the supply may cut: not started */
         return 0;

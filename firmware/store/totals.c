@@ -58,7 +58,7 @@ void totals_set_life(uint32_t m2, uint32_t ml)
     to.t.life_ml = ml;
 }
 
-const totals_t *totals_get(void)
+const __xdata totals_t *totals_get(void)
 {
     return &to.t;
 }
