@@ -51,7 +51,7 @@ uint8_t con_cat(const char *s, uint8_t at)
 /* the line put together, on the screen's row */
 static void con_show(uint8_t row)
 {
-    screen_line(row, con.line);
+    screen_line(con.line, row);
 }
 
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
@@ -137,7 +137,7 @@ void con_draw_msg(void)
     const __code param_info_t *pi;
     uint8_t at;
     if (con.msg_range == NO_RANGE) {
-        screen_line(3, con.msg);
+        screen_line(con.msg, 3);
         return;
     }
     pi = param_info(con.msg_range);
@@ -171,7 +171,7 @@ static void draw_bottom(const char *otherwise)
     if (con_msg_on())
         con_draw_msg();
     else
-        screen_line(3, otherwise);
+        screen_line(otherwise, 3);
 }
 
 /* The alarm to show: unacknowledged ones first, several take turns every 2 s; -1 for none. */
@@ -295,13 +295,13 @@ static void draw_menu(void)
     con_cat_num(MENU_COUNT, at, 0, 0, 0);
     con_right_align(5);
     con_show(0);
-    screen_line(1, menu_name(con.item));
+    screen_line(menu_name(con.item), 1);
     if (con.item < P_COUNT) {
         con_cat_value(0, con.item, param_v[con.item]);
         con_right_align(0);
         con_show(2);
     } else {
-        screen_line(2, con.item == MENU_TOTALS ? "D: show, reset" : "D: start");
+        screen_line(con.item == MENU_TOTALS ? "D: show, reset" : "D: start", 2);
     }
     draw_bottom("A^ Bv D:ok C:run");
 }
@@ -310,7 +310,7 @@ static void draw_edit(void)
 {
     const __code param_info_t *pi = param_info(con.item);
     uint8_t at;
-    screen_line(0, pi->name);
+    screen_line(pi->name, 0);
     at = con_cat("now ", 0);
     con_cat_value(at, con.item, param_v[con.item]);
     con_right_align(at);
@@ -329,7 +329,7 @@ static void draw_edit(void)
 static void draw_choice(void)
 {
     uint8_t at;
-    screen_line(0, param_info(con.item)->name);
+    screen_line(param_info(con.item)->name, 0);
     at = con_cat("now ", 0);
     con_cat(con_choice_name(con.item, param_v[con.item]), at);
     con_right_align(at);
@@ -346,10 +346,10 @@ static void draw_cal(void)
     uint8_t tank = con.state == S_CAL_TANK;
     uint32_t now = con_cal_now();
     uint8_t at;
-    screen_line(0, tank ? "Meter cal tank" : "Speed cal 100 m");
+    screen_line(tank ? "Meter cal tank" : "Speed cal 100 m", 0);
     if (con.step == 0) {
-        screen_line(1, tank ? "Tank at a mark" : "At the start");
-        screen_line(2, "D: start count");
+        screen_line(tank ? "Tank at a mark" : "At the start", 1);
+        screen_line("D: start count", 2);
         draw_bottom("C:back");
         return;
     }
@@ -357,7 +357,7 @@ static void draw_cal(void)
     con_cat_num(con.step == 1 ? now - con.cal_pulses : con.cal_pulses, at, 10, 0, 0);
     con_show(1);
     if (con.step == 1) {
-        screen_line(2, tank ? "Spray; D: stop" : "At 100 m: D");
+        screen_line(tank ? "Spray; D: stop" : "At 100 m: D", 2);
         draw_bottom("C:cancel");
     } else if (con.step == 2) {             /* tank: litres sprayed */
         at = con_cat("Litres ", 0);

@@ -38,7 +38,7 @@ void screen_pad(uint8_t row, uint8_t col)
         screen_putc(row, col++, ' ');
 }
 
-void screen_line(uint8_t row, const char *s)
+void screen_line(const char *s, uint8_t row)
 {
     screen_pad(row, screen_puts(row, 0, s));
 }

@@ -13,7 +13,7 @@ void screen_putc(uint8_t row, uint8_t col, char c) __reentrant;
 /* A string from col on, cut at the end of the line; returns the column after it. */
 uint8_t screen_puts(uint8_t row, uint8_t col, const char *s) __reentrant;
 /* A whole line: the string, then spaces to the end. */
-void screen_line(uint8_t row, const char *s) __reentrant;
+void screen_line(const char *s, uint8_t row) __reentrant;
 /* Spaces from col to the end of the line. */
 void screen_pad(uint8_t row, uint8_t col) __reentrant;
 char screen_char(uint8_t row, uint8_t col) __reentrant;

@@ -116,8 +116,9 @@ static int8_t hexval(char c) __reentrant
     return -1;
 }
 
-/* A plain decimal 0..65535 from p up to a space or the end; returns the next position or 0. */
-static const char *number(const char *p, uint16_t *v) __reentrant
+/* A plain decimal 0..65535 from p up to a space or the end; returns the next position or 0.
+ * p points into the line buffer, v to answer()'s locals (on the stack). */
+static const __xdata char *number(const __xdata char *p, __idata uint16_t *v) __reentrant
 {
     uint32_t x = 0;
     uint8_t n = 0;
@@ -300,7 +301,8 @@ static uint8_t line_ok(uint8_t n) __reentrant
  * starting with '$' goes to Raven's strings (remote.c). 1 when a reply of ours is to be sent. */
 static uint8_t answer(void) __reentrant
 {
-    const char *p = se.buf + 3;
+    const __xdata char *p = se.buf + 3;
+    const char *why;
     uint8_t n = se.n, c;
     uint16_t a = 0, b = 0;
 
@@ -308,10 +310,10 @@ static uint8_t answer(void) __reentrant
     if (!line_ok(n))
         return 1;
     if (se.buf[0] == '$') {         /* Raven's: their answers are queued, a refusal is ours */
-        p = remote_command(se.buf);
-        if (!p)
+        why = remote_command(se.buf);
+        if (!why)
             return 0;
-        reply_err(p);
+        reply_err(why);
         return 1;
     }
     for (c = 0; c < N_COMMANDS; c++)
@@ -329,8 +331,8 @@ static uint8_t answer(void) __reentrant
     switch (commands[c].args) {
     case ARG_NUM:
     case ARG_NUM2:
-        if (*p != ' ' || !(p = number(p + 1, &a))
-            || (commands[c].args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, &b))))) {
+        if (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&a))
+            || (commands[c].args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&b))))) {
             reply_err("NUM");
             return 1;
         }
@@ -343,8 +345,12 @@ static uint8_t answer(void) __reentrant
         a = p[1] == '+' ? 1 : (uint16_t)-1;
         p += 2;
         break;
-    case ARG_ON:                    /* the word ON; anything else fails the ARG check below */
-        p = (p[0] == ' ' && p[1] == 'O' && p[2] == 'N') ? p + 3 : "?";
+    case ARG_ON:                    /* the word ON */
+        if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N')) {
+            reply_err("ARG");
+            return 1;
+        }
+        p += 3;
         break;
     default:
         break;

@@ -51,9 +51,9 @@ static void test_lcd_text_appears_on_the_right_line_and_column(void **state)
     char line[17];
     (void)state;
     at_ms(100);
-    screen_line(0, "Line one");
-    screen_line(1, "  second line");
-    screen_line(2, "third");
+    screen_line("Line one", 0);
+    screen_line("  second line", 1);
+    screen_line("third", 2);
     screen_puts(3, 10, "fourth");
     flush();
     st7920_emu_line(0, line);
@@ -76,10 +76,10 @@ static void test_lcd_sends_only_the_changed_pairs(void **state)
 {
     (void)state;
     at_ms(100);
-    screen_line(1, "steady text here");
+    screen_line("steady text here", 1);
     flush();
     uint32_t before = st7920_emu_stats()->data + st7920_emu_stats()->instructions;
-    screen_line(1, "steady text here");             /* unchanged: nothing sent */
+    screen_line("steady text here", 1);             /* unchanged: nothing sent */
     flush();
     assert_int_equal(st7920_emu_stats()->data + st7920_emu_stats()->instructions, before);
     screen_putc(1, 5, 'Y');                         /* one pair: address + 2 bytes */
@@ -96,7 +96,7 @@ static void test_lcd_a_poll_sends_a_bounded_amount(void **state)
     at_ms(100);
     lcd_poll();                                     /* init */
     for (int r = 0; r < 4; r++)
-        screen_line((uint8_t)r, "0123456789abcdef");
+        screen_line("0123456789abcdef", (uint8_t)r);
     uint32_t d0 = st7920_emu_stats()->data;
     lcd_poll();
     assert_int_equal(st7920_emu_stats()->data - d0, 2 * LCD_WORDS_PER_POLL);
@@ -148,7 +148,7 @@ static void test_lcd_png_has_the_signature_and_size(void **state)
     unsigned char hdr[24];
     (void)state;
     at_ms(100);
-    screen_line(0, "PNG");
+    screen_line("PNG", 0);
     flush();
     const char *path = "lcd_test.png";
     assert_int_equal(st7920_emu_png(path, 2), 0);
