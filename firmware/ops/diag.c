@@ -214,7 +214,7 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr, uint8_t need) __reentran
 }
 
 /* leaky score of pulse glitches: +20 a glitch, -1 a period; above 60 the alarm is raised */
-static uint8_t noise(uint8_t *score, uint8_t glitch) __reentrant
+static uint8_t noise(__xdata uint8_t *score, uint8_t glitch) __reentrant
 {
     if (glitch)
         *score = (uint8_t)(*score > 235 ? 255 : *score + 20);
