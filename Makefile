@@ -24,9 +24,10 @@ IRAM_SIZE ?= 256
 XRAM_SIZE ?= 1024
 # headroom floors: `make firmware` fails below them (room for the next feature, fix or figure;
 # docs/MEMORY.md). Issue 13 asks 15 % of the code free and 205 B of XRAM: not reached, the
-# floors hold what the image has so that nothing grows unseen; raise them as code comes out.
-CODE_FREE_PCT ?= 2
-XRAM_FREE_MIN ?= 96
+# floors hold what the image has, less about 600 B of code kept for the work in progress, so
+# that nothing grows unseen; raise them as code comes out.
+CODE_FREE_PCT ?= 5.7
+XRAM_FREE_MIN ?= 100
 STACK_MARGIN_MIN ?= 40
 
 # ==== sources: firmware/ in layers, bottom to top ====================================================

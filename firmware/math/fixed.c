@@ -2,10 +2,10 @@
 #include "fixed.h"
 
 #if defined(__SDCC)
-/* The saturating basics in assembly: each touches only A, B, DPTR and PSW (fx_add_sat and
- * fx_sub_sat borrow two bytes of stack), and fixed.h declares them __naked, so a caller keeps
- * its registers across the call. The C versions below are the reference (the host build, and
- * the target tests compare the two bit for bit). */
+/* The saturating basic in assembly: it touches only A, B, DPTR and PSW, and fixed.h declares
+ * it __naked, so a caller keeps its registers across the call. The C version below is the
+ * reference (the host build, and the target tests compare the two bit for bit). fx_add_sat
+ * and fx_sub_sat, in the same style, are in fxops.c (linked only where called). */
 int16_t fx_sat16(int32_t x) __naked
 {
     (void)x;
@@ -32,64 +32,6 @@ int16_t fx_sat16(int32_t x) __naked
     __endasm;
 }
 
-int16_t fx_add_sat(int16_t a, int16_t b) __naked
-{
-    (void)a;
-    (void)b;
-    __asm
-        mov b,dpl               ; a in dpl, dph; b in its xdata parameter
-        push dph
-        mov dptr,#_fx_add_sat_PARM_2
-        movx a,@dptr
-        add a,b
-        mov b,a
-        inc dptr
-        movx a,@dptr
-        mov dpl,b
-        pop b
-        addc a,b
-        mov dph,a
-        jnb ov,00020$
-        jb acc.7,00021$         ; overflow: the sign flipped; negative means above the top
-        mov dptr,#0x8000
-        ret
-00021$:
-        mov dptr,#0x7fff
-00020$:
-        ret
-    __endasm;
-}
-
-int16_t fx_sub_sat(int16_t a, int16_t b) __naked
-{
-    (void)a;
-    (void)b;
-    __asm
-        mov b,dpl               ; a in dpl, dph; b in its xdata parameter
-        push dph
-        mov dptr,#_fx_sub_sat_PARM_2
-        movx a,@dptr
-        xch a,b
-        clr c
-        subb a,b
-        mov b,a
-        inc dptr
-        movx a,@dptr
-        mov dpl,b
-        mov b,a
-        pop acc
-        subb a,b
-        mov dph,a
-        jnb ov,00030$
-        jb acc.7,00031$
-        mov dptr,#0x8000
-        ret
-00031$:
-        mov dptr,#0x7fff
-00030$:
-        ret
-    __endasm;
-}
 #else
 int16_t fx_sat16(int32_t x)
 {
@@ -100,15 +42,6 @@ int16_t fx_sat16(int32_t x)
     return (int16_t)x;
 }
 
-int16_t fx_add_sat(int16_t a, int16_t b)
-{
-    return fx_sat16((int32_t)a + b);
-}
-
-int16_t fx_sub_sat(int16_t a, int16_t b)
-{
-    return fx_sat16((int32_t)a - b);
-}
 #endif
 
 q15_t fx_tanh(q12_t x) __reentrant
