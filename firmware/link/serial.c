@@ -80,8 +80,16 @@ static void tx_u32(uint32_t v) __reentrant
     serial_put_u32_div(v, 0);
 }
 
-static void tx_i16(int16_t v) __reentrant
+/* a space, then v */
+static void tx_sp_u32(uint32_t v) __reentrant
 {
+    tx_c(' ');
+    tx_u32(v);
+}
+
+static void tx_sp_i16(int16_t v) __reentrant
+{
+    tx_c(' ');
     if (v < 0) {
         tx_c('-');
         tx_u32((uint32_t)(-(int32_t)v));
@@ -185,10 +193,8 @@ static void ok(const char *word) __reentrant
 
 static void ok_2(uint32_t a, uint32_t b) __reentrant
 {
-    tx_c(' ');
-    tx_u32(a);
-    tx_c(' ');
-    tx_u32(b);
+    tx_sp_u32(a);
+    tx_sp_u32(b);
 }
 
 /* The handlers, after the arguments were parsed as the table says. */
@@ -205,8 +211,7 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         } else {
             tx_s("OK ");
             tx_u32(a);
-            tx_c(' ');
-            tx_u32(param_v[a]);
+            tx_sp_u32(param_v[a]);
         }
         break;
     case C_CTL:
@@ -237,8 +242,7 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         t = totals_get();
         ok("TOT");
         ok_2(t->job_dm2, t->job_ml);
-        tx_c(' ');
-        tx_u32(totals_applied_l_ha_x10());
+        tx_sp_u32(totals_applied_l_ha_x10());
         break;
     case C_LIF:
         t = totals_get();
@@ -370,57 +374,43 @@ static void compose_next(void) __reentrant
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
+    se.n = 0;
     if (boot_due) {                 /* first of all: why the controller started */
         boot_due = 0;
-        se.n = 0;
         tx_s("BOOT ");
         tx_s(diag_reset_code());
-        tx_end();
-        return;
-    }
-    if (diff) {
+    } else if (diff) {
         for (bit = 0; !(diff & (1u << bit)); bit++)
             ;
         se.reported ^= 1u << bit;
-        se.n = 0;
-        if (se.reported & (1u << bit)) {
-            tx_s("ALM ");
-            tx_s(diag_code(bit));
+        diff = se.reported & (1u << bit);
+        tx_s(diff ? "ALM " : "CLR ");
+        tx_s(diag_code(bit));
+        if (diff) {
             tx_c(' ');
             tx_s(diag_text(bit));
-        } else {
-            tx_s("CLR ");
-            tx_s(diag_code(bit));
         }
-        tx_end();
-        return;
-    }
-    if (se.log_due) {
+    } else if (se.log_due) {
         se.log_due = 0;
-        se.n = 0;
         tx_s("LOG ");
         tx_u32(hal_ms());
-        tx_c(' ');
-        tx_u32(app_status.speed_kmh_x100);
-        tx_c(' ');
-        tx_u32(app_status.pressure_kpa);
-        tx_c(' ');
-        tx_i16(app_status.target_lpm_x100);
-        tx_c(' ');
-        tx_i16(app_status.flow_lpm_x100);
+        tx_sp_u32(app_status.speed_kmh_x100);
+        tx_sp_u32(app_status.pressure_kpa);
+        tx_sp_i16(app_status.target_lpm_x100);
+        tx_sp_i16(app_status.flow_lpm_x100);
         tx_c(' ');
         for (bit = 16; bit; bit -= 4)
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
-        tx_end();
+    } else {
+        if (remote_next()) {        /* Raven's lines carry no checksum */
+            se.buf[se.n++] = '\r';
+            se.buf[se.n++] = '\n';
+            se.tx_i = 0;
+            se.state = S_TX;
+        }
         return;
     }
-    se.n = 0;
-    if (remote_next()) {            /* Raven's lines carry no checksum */
-        se.buf[se.n++] = '\r';
-        se.buf[se.n++] = '\n';
-        se.tx_i = 0;
-        se.state = S_TX;
-    }
+    tx_end();
 }
 
 /* Hand the line being sent to the UART as far as it takes it; 1 when all of it went. */
@@ -434,6 +424,13 @@ static uint8_t drain(void) __reentrant
     se.n = 0;
     se.state = S_RX;
     return 1;
+}
+
+/* the line composed, finished and handed to the UART as far as it takes it */
+static void send(void) __reentrant
+{
+    tx_end();
+    drain();
 }
 
 #if FW_HIL
@@ -464,14 +461,12 @@ void serial_poll(void) __reentrant
         } else if (b == '\r' || b == '\n') {
             if (se.state != S_RX) {
                 reply_err(se.state == S_RX_LONG ? "LONG" : se.state == S_RX_LOST ? "LOST" : "CHAR");
-                tx_end();
-                drain();
+                send();
                 return;
             }
             if (se.n) {
                 if (answer()) {
-                    tx_end();
-                    drain();
+                    send();
                     return;
                 }
                 se.n = 0;           /* taken, answers queued (Raven) */
@@ -492,8 +487,7 @@ void serial_poll(void) __reentrant
             return;
         if (se.state == S_RX_LOST) {
             reply_err("LOST");
-            tx_end();
-            drain();
+            send();
             return;
         }
         se.n = 0;
