@@ -26,7 +26,7 @@
 /* ---- state shared by all controllers -------------------------------------------------- */
 static uint8_t ctl_id = CTL_BEST;
 static uint8_t ctl_gen;             /* param_generation the derived constants belong to */
-uint8_t ctl_first;
+__data uint8_t ctl_first;
 int16_t ctl_kf;
 int16_t ctl_travel;
 int16_t ctl_stiction = CTL_STICTION_DEF;    /* P_VALVE_BRK in Q15 */
@@ -35,8 +35,8 @@ int16_t ctl_run_span = 32767;
 int16_t ctl_backlash = CTL_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 q15_t ctl_carry;
 q15_t ctl_last;
-uint8_t ctl_sat;
-const __xdata ctl_in_t *ctl_in;
+__data uint8_t ctl_sat;
+const __xdata ctl_in_t *__data ctl_in;
 int16_t ctl_k[3];
 
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */

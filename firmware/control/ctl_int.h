@@ -151,8 +151,8 @@ extern const __code int8_t fz_tab[3][7][7];
 #define CTL_STEP static inline
 #endif
 
-extern const __xdata ctl_in_t *ctl_in;  /* the inputs of the step in progress */
-extern uint8_t ctl_first;           /* 1: the next step starts from rest (no P/D kick) */
+extern const __xdata ctl_in_t *__data ctl_in;  /* the inputs of the step in progress */
+extern __data uint8_t ctl_first;    /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
 /* The motor's running friction: moving, it runs at (duty - d_run) / (1 - d_run) of full speed.
@@ -162,7 +162,7 @@ extern int16_t ctl_drun;            /* Q15: d_run (at most 0.45) */
 extern int16_t ctl_run_span;        /* Q15: 1 - d_run */
 extern q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
 extern q15_t ctl_last;              /* Q15: last drive sent */
-extern uint8_t ctl_sat;             /* 1: the last drive was cut (limit or end stop) */
+extern __data uint8_t ctl_sat;      /* 1: the last drive was cut (limit or end stop) */
 extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
 
 /* The output stage (ctl_out.c). */

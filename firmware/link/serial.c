@@ -17,11 +17,11 @@
 static struct {
     char buf[SERIAL_TX_MAX];
     uint16_t reported;              /* alarm bits the PC has been told about */
-    uint8_t n;                      /* bytes in buf */
     uint8_t tx_i;                   /* next byte to send */
     uint8_t state;                  /* S_* */
     uint8_t log_due;                /* log lines asked for and not yet sent */
 } se;
+static __data uint8_t se_n;         /* bytes in se.buf (direct RAM: the most used byte here) */
 
 #define S_RX 0                      /* collecting a line */
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
@@ -35,7 +35,7 @@ static const __code char hexd[] = "0123456789ABCDEF";
 
 void serial_init(void)
 {
-    se.n = 0;
+    se_n = 0;
     se.tx_i = 0;
     se.state = S_RX;
     se.reported = 0;
@@ -55,8 +55,8 @@ void serial_log_request(void)
 #define tx_s serial_put_s
 void serial_put_c(char c) __reentrant
 {
-    if (se.n < SERIAL_TX_MAX - 5)       /* room for "*HH\r\n" */
-        se.buf[se.n++] = c;
+    if (se_n < SERIAL_TX_MAX - 5)       /* room for "*HH\r\n" */
+        se.buf[se_n++] = c;
 }
 
 void serial_put_s(const char *s) __reentrant
@@ -101,13 +101,13 @@ static void tx_sp_i16(int16_t v) __reentrant
 static void tx_end(void) __reentrant
 {
     uint8_t i, x = 0;
-    for (i = 0; i < se.n; i++)
+    for (i = 0; i < se_n; i++)
         x ^= (uint8_t)se.buf[i];
-    se.buf[se.n++] = '*';
-    se.buf[se.n++] = hexd[x >> 4];
-    se.buf[se.n++] = hexd[x & 15];
-    se.buf[se.n++] = '\r';
-    se.buf[se.n++] = '\n';
+    se.buf[se_n++] = '*';
+    se.buf[se_n++] = hexd[x >> 4];
+    se.buf[se_n++] = hexd[x & 15];
+    se.buf[se_n++] = '\r';
+    se.buf[se_n++] = '\n';
     se.tx_i = 0;
     se.state = S_TX;
 }
@@ -144,7 +144,7 @@ static const __xdata char *number(const __xdata char *p, __idata uint16_t *v) __
 
 static void reply_err(const char *why) __reentrant
 {
-    se.n = 0;
+    se_n = 0;
     tx_s("ERR ");
     tx_s(why);
 }
@@ -307,10 +307,10 @@ static uint8_t answer(void) __reentrant
 {
     const __xdata char *p = se.buf + 3;
     const char *why;
-    uint8_t n = se.n, c;
+    uint8_t n = se_n, c;
     uint16_t a = 0, b = 0;
 
-    se.n = 0;                       /* the reply is written over the line once it is parsed */
+    se_n = 0;                       /* the reply is written over the line once it is parsed */
     if (!line_ok(n))
         return 1;
     if (se.buf[0] == '$') {         /* Raven's: their answers are queued, a refusal is ours */
@@ -374,7 +374,7 @@ static void compose_next(void) __reentrant
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
-    se.n = 0;
+    se_n = 0;
     if (boot_due) {                 /* first of all: why the controller started */
         boot_due = 0;
         tx_s("BOOT ");
@@ -403,8 +403,8 @@ static void compose_next(void) __reentrant
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
     } else {
         if (remote_next()) {        /* Raven's lines carry no checksum */
-            se.buf[se.n++] = '\r';
-            se.buf[se.n++] = '\n';
+            se.buf[se_n++] = '\r';
+            se.buf[se_n++] = '\n';
             se.tx_i = 0;
             se.state = S_TX;
         }
@@ -416,12 +416,12 @@ static void compose_next(void) __reentrant
 /* Hand the line being sent to the UART as far as it takes it; 1 when all of it went. */
 static uint8_t drain(void) __reentrant
 {
-    while (se.tx_i < se.n) {
+    while (se.tx_i < se_n) {
         if (!hal_uart_put((uint8_t)se.buf[se.tx_i]))
             return 0;
         se.tx_i++;
     }
-    se.n = 0;
+    se_n = 0;
     se.state = S_RX;
     return 1;
 }
@@ -437,7 +437,7 @@ static void send(void) __reentrant
 void serial_hil_send(hil_out_t *o) __reentrant
 {
     hil_answer(o, (uint8_t *)se.buf);
-    se.n = HIL_OUT_BYTES;
+    se_n = HIL_OUT_BYTES;
     se.tx_i = 0;
     se.state = S_TX;
     drain();
@@ -464,23 +464,23 @@ void serial_poll(void) __reentrant
                 send();
                 return;
             }
-            if (se.n) {
+            if (se_n) {
                 if (answer()) {
                     send();
                     return;
                 }
-                se.n = 0;           /* taken, answers queued (Raven) */
+                se_n = 0;           /* taken, answers queued (Raven) */
             }
         } else if (se.state == S_RX) {
             if (b < 0x20 || b > 0x7E)
                 se.state = S_RX_CHAR;
-            else if (se.n >= SERIAL_LINE_MAX)
+            else if (se_n >= SERIAL_LINE_MAX)
                 se.state = S_RX_LONG;
             else
-                se.buf[se.n++] = (char)b;
+                se.buf[se_n++] = (char)b;
         }
     }
-    if (se.n || se.state != S_RX) {
+    if (se_n || se.state != S_RX) {
         /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
          * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.log_due < 3)
@@ -490,7 +490,7 @@ void serial_poll(void) __reentrant
             send();
             return;
         }
-        se.n = 0;
+        se_n = 0;
         se.state = S_RX;
     }
     compose_next();

@@ -7,7 +7,7 @@
 
 app_status_t app_status;
 ops_jog_t ops_jog_req;
-uint8_t ops_io;
+__data uint8_t ops_io;
 
 void ops_init(void)
 {

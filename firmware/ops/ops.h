@@ -45,7 +45,7 @@ extern ops_jog_t ops_jog_req;
 #define OPS_IO_ON 1
 #define OPS_IO_RELAY 2
 #define OPS_IO_BUZZER 4
-extern uint8_t ops_io;              /* OPS_IO_*, app.c follows it */
+extern __data uint8_t ops_io;       /* OPS_IO_*, app.c follows it */
 void ops_io_test(uint8_t flags);
 
 void ops_init(void);

@@ -11,7 +11,7 @@ static const __code param_info_t table[P_COUNT] = { PARAM_TABLE(PARAM_ROW) };
 #undef PARAM_ROW
 
 uint16_t param_v[P_COUNT];
-uint8_t param_generation;
+__data uint8_t param_generation;
 
 void params_defaults(void)
 {

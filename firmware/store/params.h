@@ -99,6 +99,6 @@ uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */
 const __code param_info_t *param_info(uint8_t id);
 /* Bumped by every change, so readers (controller, target) can tell when to pick values up. */
-extern uint8_t param_generation;
+extern __data uint8_t param_generation;    /* direct RAM: read by every module */
 
 #endif
