@@ -113,15 +113,15 @@ static void tx_end(void) __reentrant
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
+/* a hex digit's value (either case), -1 for anything else */
 static int8_t hexval(char c) __reentrant
 {
-    if (c >= '0' && c <= '9')
-        return (int8_t)(c - '0');
-    if (c >= 'A' && c <= 'F')
-        return (int8_t)(c - 'A' + 10);
+    int8_t i;
     if (c >= 'a' && c <= 'f')
-        return (int8_t)(c - 'a' + 10);
-    return -1;
+        c -= 'a' - 'A';
+    for (i = 15; i >= 0 && hexd[i] != c; i--)
+        ;
+    return i;
 }
 
 /* A plain decimal 0..65535 from p up to a space or the end; returns the next position or 0.
@@ -307,6 +307,7 @@ static uint8_t answer(void) __reentrant
 {
     const __xdata char *p = se.buf + 3;
     const char *why;
+    const __code command_t *cmd = commands;
     uint8_t n = se_n, c;
     uint16_t a = 0, b = 0;
 
@@ -320,23 +321,23 @@ static uint8_t answer(void) __reentrant
         reply_err(why);
         return 1;
     }
-    for (c = 0; c < N_COMMANDS; c++)
-        if (se.buf[0] == commands[c].word[0] && se.buf[1] == commands[c].word[1]
-            && se.buf[2] == commands[c].word[2] && (se.buf[3] == ' ' || se.buf[3] == 0))
+    for (c = 0; c < N_COMMANDS; c++, cmd++)
+        if (se.buf[0] == cmd->word[0] && se.buf[1] == cmd->word[1]
+            && se.buf[2] == cmd->word[2] && (se.buf[3] == ' ' || se.buf[3] == 0))
             break;
     if (c == N_COMMANDS) {
         reply_err("CMD");
         return 1;
     }
-    if (!csum_seen && ((CHANGES >> commands[c].handler) & 1u)) {
+    if (!csum_seen && ((CHANGES >> cmd->handler) & 1u)) {
         reply_err("NOCSUM");
         return 1;
     }
-    switch (commands[c].args) {
+    switch (cmd->args) {
     case ARG_NUM:
     case ARG_NUM2:
         if (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&a))
-            || (commands[c].args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&b))))) {
+            || (cmd->args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&b))))) {
             reply_err("NUM");
             return 1;
         }
@@ -363,7 +364,7 @@ static uint8_t answer(void) __reentrant
         reply_err("ARG");
         return 1;
     }
-    run(commands[c].handler, a, b);
+    run(cmd->handler, a, b);
     return 1;
 }
 
