@@ -84,6 +84,18 @@ floor_fails() {  # floor_fails VAR=VALUE: the same image under a floor it does n
 check firmware-below-the-code-floor-fails floor_fails CODE_FREE_PCT=50
 check firmware-below-the-xdata-floor-fails floor_fails XRAM_FREE_MIN=900
 check firmware-below-the-stack-margin-floor-fails floor_fails STACK_MARGIN_MIN=200
+calls_match() {  # every call passes its arguments the way the callee takes them (s51 builds too)
+    python3 tools/callcheck.py $B/ucsim
+}
+check calls-pass-arguments-as-the-callee-takes-them calls_match
+callcheck_catches() {  # a caller pushing the second argument of a callee that reads it from XRAM
+    local d=$B/callcheck-check
+    rm -rf "$d" && mkdir -p "$d"
+    printf '_f:\n\tmov dptr,#_f_PARM_2\n\tret\n_f_PARM_2:\n\t.ds 1\n' > "$d/callee.asm"
+    printf '_g:\n\tpush acc\n\tlcall _f\n\tdec sp\n\tret\n' > "$d/caller.asm"
+    ! python3 tools/callcheck.py "$d"
+}
+check callcheck-catches-a-pushed-argument-read-from-xram callcheck_catches
 sabotage_is_caught() {  # the controllers' multiply (mul_ab) wrong on the target only must break the comparison
     make $B/ucsim-variant/tt_fixed.ihx SDCC_EXTRA=-DFX_SABOTAGE || return 1
     ! tools/run_target.sh $B/ucsim-variant/tt_fixed.ihx $B/host-test/target/tt_fixed $B/ucsim-variant

@@ -1,4 +1,5 @@
 /* hal_serial.c: the STC12C5A60S2's UART 1 and its IAP EEPROM (one file: an IAP operation holds the CPU and the UART loses bytes meanwhile). */
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #include <stc12.h>
 #include "hal.h"
 #include "isr.h"
@@ -132,7 +133,7 @@ void hal_eeprom_erase(uint16_t addr)
     iap_cmd(IAP_ERASE, addr & (uint16_t)~(HAL_EEPROM_SECTOR - 1));
 }
 
-uint8_t hal_eeprom_write(uint16_t addr, uint8_t b)
+uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant
 {
     if (addr >= HAL_EEPROM_SIZE)
         return 0;

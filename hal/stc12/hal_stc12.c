@@ -229,7 +229,7 @@ uint8_t hal_keypad_row(uint8_t row)
     return cols;
 }
 
-void hal_valve_out(int8_t dir, uint8_t duty)
+void hal_valve_out(int8_t dir, uint8_t duty) __reentrant
 {
 #if FW_HIL
     if (hil)
