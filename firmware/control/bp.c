@@ -51,15 +51,15 @@ CTL_STEP void bp_forward(int16_t n) CTL_SHARED
     int16_t t;
     uint8_t i;
     x[0] = 4096;
-    x[1] = (int16_t)((MUL(ctl_clamp16(ctl_in->target_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
-    x[2] = (int16_t)((MUL(ctl_clamp16(ctl_in->flow_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM) + 16384) >> 15);
+    x[1] = (int16_t)MUL_R15(ctl_clamp16(ctl_in->target_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM);
+    x[2] = (int16_t)MUL_R15(ctl_clamp16(ctl_in->flow_lpm_x100, 0, CTL_E_MAX), BP_Q_NORM);
     x[3] = n;
     wp = &b->w[0][0];
     for (i = 0; i < BP_HID; i++) {
         mul_acc = 2048;             /* rounding of the >> 12 */
         DOT(wp, x, BP_IN);
         wp += BP_IN;
-        b->o[i] = fx_tanh(fx_sat16(mul_acc >> 12));
+        b->o[i] = fx_tanh(fx_sat16(ACC_SHR12()));
     }
     wp = &b->v[0][0];
     for (i = 0; i < BP_OUT; i++) {
@@ -67,7 +67,7 @@ CTL_STEP void bp_forward(int16_t n) CTL_SHARED
         DOT(wp, b->o, BP_HID);
         wp += BP_HID;
         /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined): (32769 + t) >> 1 in 16 bits */
-        t = fx_tanh(fx_sat16(mul_acc >> 15));
+        t = fx_tanh(fx_sat16(ACC_SHR15()));
         b->k[i] = t == 32767 ? 32767 : (int16_t)((uint16_t)((uint16_t)t + 32769u) >> 1);
         ctl_k[i] = (b->k[i] + 4) >> 3;
     }
@@ -105,18 +105,18 @@ CTL_STEP void bp_learn(int16_t n) CTL_SHARED
     dn[2] = fx_sat16((int32_t)n - 2 * (int32_t)b->n1 + b->n2);
     for (l = 0; l < BP_OUT; l++) {
         int16_t gp = (int16_t)((MUL(b->k[l], (int16_t)(32767 - b->k[l])) + 8192) >> 14);   /* Q15 */
-        eg = fx_sat16((MUL(n, dn[l]) + 2048) >> 12);                                        /* Q12 */
-        b->dl[l] = fx_sat16((MUL(eg, gp) + 16384) >> 15);                                  /* Q12 */
-        eg = (int16_t)((MUL(b->dl[l], BP_ETA) + 2048) >> 12);
+        eg = fx_sat16(MUL_R12(n, dn[l]));                                                   /* Q12 */
+        b->dl[l] = fx_sat16(MUL_R15(eg, gp));                                               /* Q12 */
+        eg = (int16_t)MUL_R12(b->dl[l], BP_ETA);
         UPD(&b->v[l][0], &b->dv[l][0], b->o, eg, BP_WMAX, BP_HID, 1);
     }
     for (i = 0; i < BP_HID; i++) {
-        one_m = (int16_t)(32767 - ((MUL(b->o[i], b->o[i]) + 16384) >> 15));
+        one_m = (int16_t)(32767 - MUL_R15(b->o[i], b->o[i]));
         mul_acc = 2048;
         for (l = 0; l < BP_OUT; l++)
             MAC(b->dl[l], b->v[l][i]);
-        eg = fx_sat16((MUL(fx_sat16(mul_acc >> 12), one_m) + 16384) >> 15);
-        eg = (int16_t)((MUL(eg, BP_ETA) + 2048) >> 12);
+        eg = fx_sat16(MUL_R15(fx_sat16(ACC_SHR12()), one_m));
+        eg = (int16_t)MUL_R12(eg, BP_ETA);
         UPD(&b->w[i][0], &b->dw[i][0], b->x, eg, BP_WMAX, BP_IN, 4);
     }
 }

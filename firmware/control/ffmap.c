@@ -112,7 +112,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         return 0;
     }
     d = m > 0 ? m : -m;
-    d = ctl_drun + ((MUL((int16_t)d, ctl_run_span) + 16384) >> 15);
+    d = ctl_drun + MUL_R15((int16_t)d, ctl_run_span);
     k = (int32_t)CTL_STICTION + M->brk;
     if (d < k) {
         ctl_carry = (q15_t)m;       /* owed until it is worth a pulse */

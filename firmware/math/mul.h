@@ -15,6 +15,8 @@
  *   MUL(a, b)     a * b, int16 operands, int32 product
  *   MAC(a, b)     mul_acc += a * b
  *   DOT(w, x, n)  mul_acc += w[0] * x[0] + ... + w[n-1] * x[n-1], w and x int16 arrays in xdata
+ *   MUL_R15(a, b), MUL_R12(a, b)   (a * b + 2^14) >> 15, (a * b + 2^11) >> 12: rounded, int32
+ *   ACC_SHR15(), ACC_SHR12()       mul_acc >> 15, >> 12 (arithmetic), int32
  *   UPD(w, dw, x, eg, lim, n, s)   one row of a network's learning step (below)
  *
  * UPD, for j = 0 .. n-1 (w int16, dw int8 and x int16 arrays in xdata; s = 1 or 4):
@@ -36,6 +38,14 @@ extern __data int16_t upd_eg, upd_lim;
 extern __data uint16_t upd_dw;
 void upd_ab(uint16_t n_s) __naked;
 #define MUL(a, b) (mul_a = (a), mul_b = (b), mul_ab())
+int32_t mul_r15(void) __naked;
+int32_t mul_r12(void) __naked;
+int32_t acc_shr15(void) __naked;
+int32_t acc_shr12(void) __naked;
+#define MUL_R15(a, b) (mul_a = (a), mul_b = (b), mul_r15())
+#define MUL_R12(a, b) (mul_a = (a), mul_b = (b), mul_r12())
+#define ACC_SHR15() acc_shr15()
+#define ACC_SHR12() acc_shr12()
 #define MAC(a, b) do { mul_a = (a); mul_b = (b); mac_ab(); } while (0)
 #define DOT(w, x, n) do { mul_a = (int16_t)(uint16_t)(w); mul_b = (int16_t)(uint16_t)(x); dot_ab(n); } while (0)
 #define UPD(w, dw, x, eg, lim, n, s)                                                          \
@@ -54,6 +64,10 @@ void dot_c(const int16_t *w, const int16_t *x, uint8_t n);
 void upd_c(int16_t *w, int8_t *dw, const int16_t *x, int16_t eg, int16_t lim, uint8_t n, uint8_t s);
 #define UPD(w, dw, x, eg, lim, n, s) upd_c(w, dw, x, eg, lim, n, s)
 #define MUL(a, b) ((int32_t)(int16_t)(a) * (int16_t)(b))
+#define MUL_R15(a, b) ((MUL(a, b) + 16384) >> 15)
+#define MUL_R12(a, b) ((MUL(a, b) + 2048) >> 12)
+#define ACC_SHR15() (mul_acc >> 15)
+#define ACC_SHR12() (mul_acc >> 12)
 #define MAC(a, b) (mul_acc += (int32_t)(int16_t)(a) * (int16_t)(b))
 #endif
 

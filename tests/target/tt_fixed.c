@@ -28,6 +28,11 @@ static void all_ops(int16_t a, int16_t b)
     line('a', a, b, (uint16_t)fx_add_sat(a, b));
     line('s', a, b, (uint16_t)fx_sub_sat(a, b));
     line('m', a, b, (uint32_t)fx_mul32(a, b));
+    line('r', a, b, (uint32_t)MUL_R15(a, b));
+    line('R', a, b, (uint32_t)MUL_R12(a, b));
+    mul_acc = (int32_t)((uint32_t)(uint16_t)a << 16 | (uint16_t)b);    /* every 32-bit pattern */
+    line('h', a, b, (uint32_t)ACC_SHR15());
+    line('H', a, b, (uint32_t)ACC_SHR12());
     line('q', a, b, (uint16_t)q15_mul(a, b));
     line('w', a, b, (uint16_t)q12_mul(a, b));
     line('x', a, b, (uint16_t)fx_mul_shift(a, b, (uint8_t)(b & 15)));

@@ -1,0 +1,126 @@
+/* mul_round.c: the controllers' rounded products and shifts, MUL_R15 / MUL_R12 / ACC_SHR15 / ACC_SHR12 (mul.h), in assembly on the 8051 (the host's are C macros). */
+#include "mul.h"
+
+#if defined(__SDCC)
+/* Like mul_ab these touch only A, B, DPTR and PSW (and mul_r), so a caller keeps R0-R7; each
+ * replaces the rounding add and long shift SDCC writes out at every use. */
+/* (mul_a * mul_b + 2^14) >> 15, returned (dpl, dph, b, a): the rounded Q15 product without the
+ * long shift SDCC writes out at each use */
+int32_t mul_r15(void) __naked
+{
+    __asm
+        lcall _mul_ab
+        mov a,(_mul_r + 1)
+        add a,#0x40
+        mov (_mul_r + 1),a
+        clr a
+        addc a,(_mul_r + 2)
+        mov (_mul_r + 2),a
+        clr a
+        addc a,(_mul_r + 3)
+        mov (_mul_r + 3),a
+        mov a,(_mul_r + 1)
+        rlc a                   ; C = bit 15
+        mov a,(_mul_r + 2)
+        rlc a
+        mov dpl,a               ; bits 15..22
+        mov a,(_mul_r + 3)
+        rlc a
+        mov dph,a               ; bits 23..30, C = the sign
+        subb a,acc              ; 0x00 or 0xff
+        mov b,a
+        ret
+    __endasm;
+}
+/* mul_acc >> 15 (its rounding added beforehand) */
+int32_t acc_shr15(void) __naked
+{
+    __asm
+        mov a,(_mul_acc + 1)
+        rlc a                   ; C = bit 15
+        mov a,(_mul_acc + 2)
+        rlc a
+        mov dpl,a
+        mov a,(_mul_acc + 3)
+        rlc a
+        mov dph,a
+        subb a,acc
+        mov b,a
+        ret
+    __endasm;
+}
+/* (mul_a * mul_b + 2^11) >> 12 */
+int32_t mul_r12(void) __naked
+{
+    __asm
+        lcall _mul_ab
+        mov a,(_mul_r + 1)
+        add a,#0x08
+        mov (_mul_r + 1),a
+        clr a
+        addc a,(_mul_r + 2)
+        mov (_mul_r + 2),a
+        clr a
+        addc a,(_mul_r + 3)
+        mov (_mul_r + 3),a
+        mov a,(_mul_r + 1)
+        swap a
+        anl a,#0x0f
+        mov dpl,a
+        mov a,(_mul_r + 2)
+        swap a
+        mov b,a
+        anl a,#0xf0
+        orl dpl,a               ; bits 12..19
+        mov a,b
+        anl a,#0x0f
+        mov dph,a
+        mov a,(_mul_r + 3)
+        swap a
+        mov b,a
+        anl a,#0xf0
+        orl dph,a               ; bits 20..27
+        mov a,b
+        anl a,#0x0f
+        jnb acc.3,00040$
+        orl a,#0xf0             ; bits 28..35, the sign extended
+00040$:
+        mov b,a
+        rlc a
+        subb a,acc
+        ret
+    __endasm;
+}
+/* mul_acc >> 12 (its rounding added beforehand) */
+int32_t acc_shr12(void) __naked
+{
+    __asm
+        mov a,(_mul_acc + 1)
+        swap a
+        anl a,#0x0f
+        mov dpl,a
+        mov a,(_mul_acc + 2)
+        swap a
+        mov b,a
+        anl a,#0xf0
+        orl dpl,a
+        mov a,b
+        anl a,#0x0f
+        mov dph,a
+        mov a,(_mul_acc + 3)
+        swap a
+        mov b,a
+        anl a,#0xf0
+        orl dph,a
+        mov a,b
+        anl a,#0x0f
+        jnb acc.3,00041$
+        orl a,#0xf0
+00041$:
+        mov b,a
+        rlc a
+        subb a,acc
+        ret
+    __endasm;
+}
+#endif
