@@ -18,7 +18,8 @@ typedef struct {
     uint8_t entry_n;
     char k;                         /* the key being handled */
     char entry[ENTRY_MAX + 1];      /* the number being typed */
-    char line[SCREEN_COLS + 1];     /* one line being put together */
+    char line[SCREEN_COLS + 1];     /* one line being put together ... */
+    uint8_t at;                     /* ... and where its next text goes */
     const char *msg;                /* the message on the bottom line, 0 for none ... */
     uint8_t msg_range;              /* ... or the parameter whose range it shows, NO_RANGE */
     uint16_t msg_until_ms;          /* hal_ms() low 16 bits: messages and redraws are short */
@@ -43,16 +44,17 @@ extern con_io_t con_io;
 void con_say(const char *s) __reentrant;
 void con_say_none(void) __reentrant;
 uint8_t con_msg_on(void) __reentrant;
-uint8_t con_cat(const char *s, uint8_t at) __reentrant;
+void con_cat(const char *s) __reentrant;
+void con_start(const char *s) __reentrant;
 /* fmt: CON_TRIM (no trailing zeros after the point) or CON_DROP(k): v / 10^k rounded, without a
  * divide (v + 10^k / 2 formatted with k more decimals, those digits cut off again) */
 #define CON_TRIM 1
 #define CON_DROP(k) ((k) << 1)
-uint8_t con_cat_num(uint32_t v, uint8_t at, uint8_t width, uint8_t decimals, uint8_t fmt) __reentrant;
+void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt) __reentrant;
 void con_right_align(uint8_t from) __reentrant;
 uint8_t con_is_choice(uint8_t id) __reentrant;
 const char *con_choice_name(uint8_t id, uint16_t v) __reentrant;
-uint8_t con_cat_value(uint8_t at, uint8_t id, uint16_t v) __reentrant;
+void con_cat_value(uint8_t id, uint16_t v) __reentrant;
 void con_say_range(uint8_t id) __reentrant;
 void con_draw_msg(void) __reentrant;
 uint8_t con_apply(uint8_t id, uint16_t v) __reentrant;

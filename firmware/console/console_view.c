@@ -38,14 +38,22 @@ uint8_t con_msg_on(void)
     return con.msg || con.msg_range != NO_RANGE;
 }
 
-/* The bottom-line screens put a whole line together in `line`, then screen_line() it: each
- * column is written once, so only real changes reach the LCD. */
-uint8_t con_cat(const char *s, uint8_t at)
+/* The bottom-line screens put a whole line together in `line` (con.at: where the next text
+ * goes), then screen_line() it: each column is written once, so only real changes reach the LCD. */
+void con_cat(const char *s)
 {
+    uint8_t at = con.at;
     while (*s && at < SCREEN_COLS)
         con.line[at++] = *s++;
     con.line[at] = 0;
-    return at;
+    con.at = at;
+}
+
+/* a new line, starting with s */
+void con_start(const char *s)
+{
+    con.at = 0;
+    con_cat(s);
 }
 
 /* the line put together, on the screen's row */
@@ -56,7 +64,7 @@ static void con_show(uint8_t row)
 
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
  * is; fmt: CON_TRIM or CON_DROP(k) (console_int.h) */
-uint8_t con_cat_num(uint32_t v, uint8_t at, uint8_t width, uint8_t decimals, uint8_t fmt)
+void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt)
 {
     static const __code uint16_t half[4] = {0, 5, 50, 500};
     char num[FMT_MAX];
@@ -70,12 +78,12 @@ uint8_t con_cat_num(uint32_t v, uint8_t at, uint8_t width, uint8_t decimals, uin
     }
     if (width && n > width) {
         while (width--)
-            at = con_cat("#", at);
-        return at;
+            con_cat("#");
+        return;
     }
     while (width-- > n)
-        at = con_cat(" ", at);
-    return con_cat(num, at);
+        con_cat(" ");
+    con_cat(num);
 }
 
 /* move line[from..] to the right end of the row, spaces in between */
@@ -111,17 +119,18 @@ const char *con_choice_name(uint8_t id, uint16_t v)
 }
 
 /* append a parameter's value and unit, "150 L/ha" */
-uint8_t con_cat_value(uint8_t at, uint8_t id, uint16_t v)
+void con_cat_value(uint8_t id, uint16_t v)
 {
     const __code param_info_t *pi = param_info(id);
-    if (con_is_choice(id))
-        return con_cat(con_choice_name(id, v), at);
-    at = con_cat_num(v, at, 0, pi->decimals, 0);
-    if (pi->unit[0]) {
-        at = con_cat(" ", at);
-        at = con_cat(pi->unit, at);
+    if (con_is_choice(id)) {
+        con_cat(con_choice_name(id, v));
+        return;
     }
-    return at;
+    con_cat_num(v, 0, pi->decimals, 0);
+    if (pi->unit[0]) {
+        con_cat(" ");
+        con_cat(pi->unit);
+    }
 }
 
 /* "Range 10..1000", the limits with their decimals, trailing zeros dropped */
@@ -135,16 +144,15 @@ void con_say_range(uint8_t id)
 void con_draw_msg(void)
 {
     const __code param_info_t *pi;
-    uint8_t at;
     if (con.msg_range == NO_RANGE) {
         screen_line(con.msg, 3);
         return;
     }
     pi = param_info(con.msg_range);
-    at = con_cat("Range ", 0);
-    at = con_cat_num(pi->min, at, 0, pi->decimals, 1);
-    at = con_cat("..", at);
-    con_cat_num(pi->max, at, 0, pi->decimals, 1);
+    con_start("Range ");
+    con_cat_num(pi->min, 0, pi->decimals, 1);
+    con_cat("..");
+    con_cat_num(pi->max, 0, pi->decimals, 1);
     con_show(3);
 }
 
@@ -201,46 +209,51 @@ static void draw_run(void)
     int8_t a;
     int16_t q;
     /* " 7.2km/h    AUTO": ground speed, mode (HIL: the inputs come from the PC's plant) */
-    at = con_cat_num(st->speed_kmh_x100, 0, 4, 1, CON_DROP(1));
-    at = con_cat("km/h ", at);
-    con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO", at);
+    con.at = 0;
+    con_cat_num(st->speed_kmh_x100, 4, 1, CON_DROP(1));
+    con_cat("km/h ");
+    at = con.at;
+    con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO");
     con_right_align(at);
     con_show(0);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */
-    at = con_cat("Q", 0);
+    con_start("Q");
     q = st->target_lpm_x100;
-    at = con_cat_num(q > 0 ? (uint16_t)q : 0, at, 5, 1, CON_DROP(1));
-    at = con_cat(">", at);
+    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1, CON_DROP(1));
+    con_cat(">");
     q = st->flow_lpm_x100;
-    at = con_cat_num(q > 0 ? (uint16_t)q : 0, at, 5, 1, CON_DROP(1));
-    con_cat("L/mn", at);
+    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1, CON_DROP(1));
+    con_cat("L/mn");
     con_show(1);
     /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
-    at = con_cat_num(st->applied_l_ha_x10, 0, 4, 0, CON_DROP(1));
-    at = con_cat("L/ha", at);
-    at = con_cat_num(st->pressure_kpa, at, 5, 2, 0);
-    con_cat("bar", at);
+    con.at = 0;
+    con_cat_num(st->applied_l_ha_x10, 4, 0, CON_DROP(1));
+    con_cat("L/ha");
+    con_cat_num(st->pressure_kpa, 5, 2, 0);
+    con_cat("bar");
     con_show(2);
     /* bottom: a message, EEPROM trouble, an alarm ("!" not yet acknowledged), or tank and controller */
     a = alarm_shown();
     if (con_msg_on()) {
         con_draw_msg();
     } else if (store_status() != STORE_OK) {
-        at = con_cat("!", 0);
-        con_cat(store_status_text(store_status()), at);
+        con_start("!");
+        con_cat(store_status_text(store_status()));
         con_show(3);
     } else if (a >= 0) {
-        at = con_cat((st->alarms_unacked & (1u << a)) ? "!" : " ", 0);
-        con_cat(diag_text((uint8_t)a), at);
+        con_start((st->alarms_unacked & (1u << a)) ? "!" : " ");
+        con_cat(diag_text((uint8_t)a));
         con_show(3);
     } else {
-        at = con_cat("T", 0);
-        at = con_cat_num(st->tank_l, at, 5, 0, 0);
-        at = con_cat("L ", at);
-        if (target_rate_remote())           /* the rate comes from the field computer */
-            con_cat_num(target_rate_x10(), con_cat("RC", at), 0, 1, 0);
-        else
-            con_cat(ctl_name(ctl_selected()), at);
+        con_start("T");
+        con_cat_num(st->tank_l, 5, 0, 0);
+        con_cat("L ");
+        at = con.at;
+        if (target_rate_remote()) {         /* the rate comes from the field computer */
+            con_cat("RC");
+            con_cat_num(target_rate_x10(), 0, 1, 0);
+        } else
+            con_cat(ctl_name(ctl_selected()));
         con_right_align(at);
         con_show(3);
     }
@@ -249,27 +262,26 @@ static void draw_run(void)
 static void draw_totals(void)
 {
     const __xdata app_status_t *st = &app_status;
-    uint8_t at;
-    at = con_cat("Job ", 0);
-    at = con_cat_num(st->job_area_m2, at, 9, 2, CON_DROP(2));
-    con_cat(" ha", at);
+    con_start("Job ");
+    con_cat_num(st->job_area_m2, 9, 2, CON_DROP(2));
+    con_cat(" ha");
     con_show(0);
-    at = con_cat("Job ", 0);
-    at = con_cat_num(st->job_volume_ml, at, 10, 1, CON_DROP(2));
-    con_cat(" L", at);
+    con_start("Job ");
+    con_cat_num(st->job_volume_ml, 10, 1, CON_DROP(2));
+    con_cat(" L");
     con_show(1);
-    at = con_cat("Life", 0);
-    at = con_cat_num(st->life_area_m2, at, 9, 2, CON_DROP(2));
-    con_cat(" ha", at);
+    con_start("Life");
+    con_cat_num(st->life_area_m2, 9, 2, CON_DROP(2));
+    con_cat(" ha");
     con_show(2);
     if (con.step) {
         draw_bottom("Reset job? D=yes");
     } else if (con_msg_on()) {
         con_draw_msg();
     } else {
-        at = con_cat("Life", 0);
-        at = con_cat_num(st->life_volume_ml, at, 10, 0, CON_DROP(3));
-        con_cat(" L", at);
+        con_start("Life");
+        con_cat_num(st->life_volume_ml, 10, 0, CON_DROP(3));
+        con_cat(" L");
         con_show(3);
     }
 }
@@ -289,15 +301,16 @@ static const char *menu_name(uint8_t i)
 
 static void draw_menu(void)
 {
-    uint8_t at = con_cat("Menu ", 0);
-    at = con_cat_num(con.item + 1u, at, 2, 0, 0);
-    at = con_cat("/", at);
-    con_cat_num(MENU_COUNT, at, 0, 0, 0);
+    con_start("Menu ");
+    con_cat_num(con.item + 1u, 2, 0, 0);
+    con_cat("/");
+    con_cat_num(MENU_COUNT, 0, 0, 0);
     con_right_align(5);
     con_show(0);
     screen_line(menu_name(con.item), 1);
     if (con.item < P_COUNT) {
-        con_cat_value(0, con.item, param_v[con.item]);
+        con.at = 0;
+        con_cat_value(con.item, param_v[con.item]);
         con_right_align(0);
         con_show(2);
     } else {
@@ -309,18 +322,17 @@ static void draw_menu(void)
 static void draw_edit(void)
 {
     const __code param_info_t *pi = param_info(con.item);
-    uint8_t at;
     screen_line(pi->name, 0);
-    at = con_cat("now ", 0);
-    con_cat_value(at, con.item, param_v[con.item]);
-    con_right_align(at);
+    con_start("now ");
+    con_cat_value(con.item, param_v[con.item]);
+    con_right_align(4);             /* the value after "now " */
     con_show(1);
-    at = con_cat("new ", 0);
-    at = con_cat(con.entry, at);
-    at = con_cat("_", at);
+    con_start("new ");
+    con_cat(con.entry);
+    con_cat("_");
     if (pi->unit[0]) {
-        at = con_cat(" ", at);
-        con_cat(pi->unit, at);
+        con_cat(" ");
+        con_cat(pi->unit);
     }
     con_show(2);
     draw_bottom("D:ok C:clear");
@@ -328,15 +340,14 @@ static void draw_edit(void)
 
 static void draw_choice(void)
 {
-    uint8_t at;
     screen_line(param_info(con.item)->name, 0);
-    at = con_cat("now ", 0);
-    con_cat(con_choice_name(con.item, param_v[con.item]), at);
-    con_right_align(at);
+    con_start("now ");
+    con_cat(con_choice_name(con.item, param_v[con.item]));
+    con_right_align(4);
     con_show(1);
-    at = con_cat("new ", 0);
-    con_cat(con_choice_name(con.item, con.step), at);
-    con_right_align(at);
+    con_start("new ");
+    con_cat(con_choice_name(con.item, con.step));
+    con_right_align(4);
     con_show(2);
     draw_bottom("A/B:choose D:ok");
 }
@@ -345,7 +356,6 @@ static void draw_cal(void)
 {
     uint8_t tank = con.state == S_CAL_TANK;
     uint32_t now = con_cal_now();
-    uint8_t at;
     screen_line(tank ? "Meter cal tank" : "Speed cal 100 m", 0);
     if (con.step == 0) {
         screen_line(tank ? "Tank at a mark" : "At the start", 1);
@@ -353,22 +363,22 @@ static void draw_cal(void)
         draw_bottom("C:back");
         return;
     }
-    at = con_cat("Pulses", 0);
-    con_cat_num(con.step == 1 ? now - con.cal_pulses : con.cal_pulses, at, 10, 0, 0);
+    con_start("Pulses");
+    con_cat_num(con.step == 1 ? now - con.cal_pulses : con.cal_pulses, 10, 0, 0);
     con_show(1);
     if (con.step == 1) {
         screen_line(tank ? "Spray; D: stop" : "At 100 m: D", 2);
         draw_bottom("C:cancel");
     } else if (con.step == 2) {             /* tank: litres sprayed */
-        at = con_cat("Litres ", 0);
-        at = con_cat(con.entry, at);
-        con_cat("_", at);
+        con_start("Litres ");
+        con_cat(con.entry);
+        con_cat("_");
         con_show(2);
         draw_bottom("D:ok C:clear");
     } else {                            /* the new value, to save */
-        at = con_cat("New ", 0);
-        con_cat_value(at, tank ? P_METER_K : P_WHEEL, con.cal_value);
-        con_right_align(at);
+        con_start("New ");
+        con_cat_value(tank ? P_METER_K : P_WHEEL, con.cal_value);
+        con_right_align(4);         /* the value after "New " */
         con_show(2);
         draw_bottom("D:save C:cancel");
     }
@@ -383,23 +393,23 @@ static void draw_cal(void)
  * The rates are counted over windows of a second or more. C leaves (outputs back to the
  * application); no parameter is touched.
  */
-static uint8_t cat_ma(uint8_t at, uint8_t ch)
+static void cat_ma(uint8_t ch)
 {
     uint16_t counts = hal_adc_read(ch);
-    at = con_cat_num(counts, at, 4, 0, 0);
+    con_cat_num(counts, 4, 0, 0);
     /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA: counts * 2000 / 1023 */
-    at = con_cat_num(((uint32_t)counts * 32032u + 8192u) >> 14, at, 6, 2, 0);
-    return con_cat("mA ", at);
+    con_cat_num(((uint32_t)counts * 32032u + 8192u) >> 14, 6, 2, 0);
+    con_cat("mA ");
 }
 
 /* "W 1234   12Hz ": a pulse input's count (5 digits) and rate */
-static uint8_t cat_pulses(char name, uint32_t pulses, uint16_t hz)
+static void cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
-    uint8_t at;
     con.line[0] = name;
-    at = con_cat_num(pulses % 100000u, 1, 5, 0, 0);
-    at = con_cat_num(hz, at, 5, 0, 0);
-    return con_cat("Hz ", at);
+    con.at = 1;
+    con_cat_num(pulses % 100000u, 5, 0, 0);
+    con_cat_num(hz, 5, 0, 0);
+    con_cat("Hz ");
 }
 
 void con_iotest_start(void)
@@ -415,7 +425,6 @@ void con_iotest_start(void)
 static void draw_iotest(void)
 {
     uint16_t now = (uint16_t)hal_ms(), dt = (uint16_t)(now - con.cal_value);
-    uint8_t at;
     if (dt >= 1000u) {
         con_io.wheel_hz = (uint16_t)um_muldiv(ops_wheel_pulses() - con.cal_pulses, 1000u, dt);
         con_io.meter_hz = (uint16_t)um_muldiv((uint16_t)((uint16_t)ops_flow_pulses() - con_io.meter0), 1000u, dt);
@@ -423,14 +432,16 @@ static void draw_iotest(void)
         con_io.meter0 = (uint16_t)ops_flow_pulses();
         con.cal_value = now;
     }
-    at = cat_ma(con_cat("P", 0), HAL_ADC_PRESSURE);
-    con_cat((ops_io & OPS_IO_RELAY) ? "R1" : "R0", at);
+    con_start("P");
+    cat_ma(HAL_ADC_PRESSURE);
+    con_cat((ops_io & OPS_IO_RELAY) ? "R1" : "R0");
     con_show(0);
-    at = cat_ma(con_cat("L", 0), HAL_ADC_LEVEL);
-    con_cat((ops_io & OPS_IO_BUZZER) ? "B1" : "B0", at);
+    con_start("L");
+    cat_ma(HAL_ADC_LEVEL);
+    con_cat((ops_io & OPS_IO_BUZZER) ? "B1" : "B0");
     con_show(1);
-    at = cat_pulses('W', ops_wheel_pulses(), con_io.wheel_hz);
-    con_cat(app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0", at);
+    cat_pulses('W', ops_wheel_pulses(), con_io.wheel_hz);
+    con_cat(app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
     con_show(2);
     if (con_msg_on()) {
         con_draw_msg();
