@@ -113,7 +113,6 @@ static void tx_end(void) __reentrant
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
-/* a hex digit's value (either case), -1 for anything else */
 static int8_t hexval(char c) __reentrant
 {
     int8_t i;
@@ -128,17 +127,18 @@ static int8_t hexval(char c) __reentrant
  * p points into the line buffer, v to answer()'s locals (on the stack). */
 static const __xdata char *number(const __xdata char *p, __idata uint16_t *v) __reentrant
 {
-    uint32_t x = 0;
-    uint8_t n = 0;
+    uint16_t x = 0;
+    uint8_t n = 0, d;
     while (*p >= '0' && *p <= '9') {
-        x = x * 10u + (uint8_t)(*p - '0');
-        if (++n > 5 || x > 65535UL)
-            return 0;
+        d = (uint8_t)(*p - '0');
+        if (++n > 5 || x > 6553u || (x == 6553u && d > 5))
+            return 0;               /* above 65535 */
+        x = (uint16_t)(x * 10u + d);
         p++;
     }
     if (n == 0 || (*p != ' ' && *p != 0))
         return 0;
-    *v = (uint16_t)x;
+    *v = x;
     return p;
 }
 
