@@ -11,12 +11,14 @@ static const __code uint32_t pow10[10] = {
 uint8_t fmt_u32(char *out, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant
 {
     uint8_t i, d, n = 0, started = 0;
+    uint32_t p;
     /* digit i is the one of 10^(9 - i); the point goes before digit 10 - decimals, and the
      * digits start at 9 - decimals at the latest ("0.05") */
     for (i = 0; i < 10; i++) {
         d = 0;
-        while (v >= pow10[i]) {
-            v -= pow10[i];
+        p = pow10[i];
+        while (v >= p) {
+            v -= p;
             d++;
         }
         if (decimals && i == 10 - decimals)
