@@ -3,6 +3,7 @@
 #include "params.h"
 #include "ctl.h"
 #include "valve.h"
+#include "mul.h"
 
 static struct {
     int32_t oneway;                 /* Q15 strokes driven one way since the last reversal */
@@ -93,7 +94,7 @@ void valve_init(void)
 static void integrate(void) __reentrant
 {
     q15_t d = va.applied;
-    int32_t step;
+    int32_t step, t;
     int8_t dir;
 
     if (d == 0)
@@ -103,7 +104,7 @@ static void integrate(void) __reentrant
         d = (q15_t)(d == Q15_MIN ? Q15_MAX : -d);
     if (d < VALVE_MOVE_Q15)
         return;                             /* stiction: it does not move */
-    step = d > va.drun ? (((int32_t)(d - va.drun) * va.rate + 16384) >> 15) : 0;
+    step = d > va.drun ? MUL_R15(d - va.drun, va.rate) : 0;     /* (.. * rate + 2^14) >> 15 */
     if (dir != va.mv_dir) {                 /* moving the other way: off the other stop */
         va.mv_dir = dir;
         va.oneway = 0;
@@ -112,18 +113,17 @@ static void integrate(void) __reentrant
     }
     va.oneway += step;
     if (va.pos != VALVE_POS_UNKNOWN) {
-        if (dir > 0) {
-            if ((int32_t)va.pos <= step) {
-                va.over += step - va.pos;
-                va.pos = 0;
-            } else {
-                va.pos -= (uint16_t)step;
-            }
-        } else if ((int32_t)va.pos + step >= 32767) {
-            va.over += (int32_t)va.pos + step - 32767;
+        /* the new position (step >= 0: rate > 0 for every Valve time); past an end, the rest
+         * counts as driven over it */
+        t = dir > 0 ? (int32_t)va.pos - step : (int32_t)va.pos + step;
+        if (t <= 0) {
+            va.over -= t;
+            va.pos = 0;
+        } else if (t >= 32767) {
+            va.over += t - 32767;
             va.pos = 32767;
         } else {
-            va.pos += (uint16_t)step;
+            va.pos = (uint16_t)t;
         }
     }
     if (va.oneway >= VALVE_ONEWAY_Q15 || va.over >= VALVE_OVER_Q15) {
