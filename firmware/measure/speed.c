@@ -131,6 +131,12 @@ static void speed_learn(uint8_t count, uint8_t old)
 static __data hal_capture_t c;
 static __data uint32_t v;
 
+/* x / 4096, rounded */
+static uint32_t r12(uint32_t x) __reentrant
+{
+    return (x + 2048u) >> 12;
+}
+
 uint16_t speed_step(void) __reentrant
 {
 
@@ -156,13 +162,14 @@ uint16_t speed_step(void) __reentrant
             w = c.count < 15u ? (uint16_t)(((uint16_t)c.count << 12) + sp.off[nw] - sp.off[old]) : c.count;
             v = um_muldiv(sp.k, w, dt);
             if (c.count < 15u)
-                v = (v + 2048u) >> 12;
+                v = r12(v);
             if (c.last == sp.last_pca || v > SPEED_MAX_X100) {
                 sp.glitches++;
             } else {
                 /* the rise allowed since the last measurement, period by period */
-                if (v > (uint32_t)sp.v_x100 + (uint32_t)SPEED_SLEW_X100 * sp.since)
-                    v = (uint32_t)sp.v_x100 + (uint32_t)SPEED_SLEW_X100 * sp.since;
+                uint32_t lim = (uint32_t)sp.v_x100 + (uint32_t)SPEED_SLEW_X100 * sp.since;
+                if (v > lim)
+                    v = lim;
                 sp.v_x100 = (uint16_t)v;
                 sp.since = 0;
             }
@@ -180,8 +187,7 @@ uint16_t speed_step(void) __reentrant
         if (sp.have_edge) {
             /* the next element is (1 + its offset - this one's) spacings away */
             uint8_t nx = sp.idx + 1u == sp.n ? 0 : sp.idx + 1u;
-            v = (um_muldiv(sp.k, (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]), hal_pca_now() - sp.last_pca)
-                 + 2048u) >> 12;
+            v = r12(um_muldiv(sp.k, (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]), hal_pca_now() - sp.last_pca));
             if (v < sp.v_x100)
                 sp.v_x100 = (uint16_t)v;
             if (sp.quiet >= SPEED_STALE_PERIODS) {
