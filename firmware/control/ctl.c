@@ -81,12 +81,12 @@ static void ctl_derive(void)
     if (ctl_travel < 1)
         ctl_travel = 40;
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
-    ctl_kf = (int16_t)(((uint32_t)ctl_travel * 839u + 8u) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
+    ctl_kf = (int16_t)((MUL(ctl_travel, 839) + 8) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
     /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded); told new values of
      * these or of Valve time, ffmap drops the break-away and the loop gain it had learnt against
      * the old ones (the operator knows the valve now) */
-    s = (int16_t)(((uint32_t)param_v[P_VALVE_BRK] * 32768u + 50u) / 100u);
-    b = (int16_t)(((uint32_t)param_v[P_VALVE_SLACK] * 32768u + 500u) / 1000u);
+    s = (int16_t)((((uint32_t)param_v[P_VALVE_BRK] << 15) + 50u) / 100u);
+    b = (int16_t)((((uint32_t)param_v[P_VALVE_SLACK] << 15) + 500u) / 1000u);
     if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && ctl_id == CTL_BEST) {
         ctl_st.fm.brk = 0;
         ctl_st.fm.brk_age = 0;
@@ -94,7 +94,7 @@ static void ctl_derive(void)
     }
     ctl_stiction = s;
     ctl_backlash = b;
-    ctl_drun = (int16_t)(((int32_t)ctl_stiction * CTL_RUN_NUM + 8) >> 4);
+    ctl_drun = (int16_t)((MUL(ctl_stiction, CTL_RUN_NUM) + 8) >> 4);
     if (ctl_drun > Q15(0.45))
         ctl_drun = Q15(0.45);       /* 1 / (1 - d_run) within Q14 */
     ctl_run_span = (int16_t)(32767 - ctl_drun);

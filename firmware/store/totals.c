@@ -4,6 +4,7 @@
 #endif
 #include "umath.h"
 #include "totals.h"
+#include "mul.h"
 
 static struct {
     totals_t t;
@@ -44,7 +45,7 @@ void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __re
     }
     if (flow_x100 > 0) {
         /* ml in 0.1 s = q[L/min x100] / 60; Q20: 2^20 / 60 = 17476.27 */
-        to.ml_frac += (uint32_t)flow_x100 * 17476u;
+        to.ml_frac += MUL(flow_x100, 17476);   /* both positive, below 2^15 */
         a = to.ml_frac >> 20;
         to.ml_frac &= 0xFFFFFUL;
         to.t.job_ml += a;
