@@ -53,6 +53,17 @@ SDCC_MODEL := --model-large
 HIL ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
+# Shared moves (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
+# replaces its long moves by calls of firmware/math/moves.c, sdas assembles it. Not in the
+# controllers (their step's cycles count) nor in the modules written in assembly.
+SDAS ?= sdas8051
+SHARE_SKIP := $(addprefix firmware/control/,pid.c bp.c ffmap.c ctl.c ctl_out.c aog.c raven.c) \
+              $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c)
+# $(call sdcc_rel,FLAGS): $< compiled to $@ (and its .d), through share_moves.py where it applies
+sdcc_rel = $(if $(filter firmware/%,$(filter-out $(SHARE_SKIP),$<)),\
+    $(SDCC) $(1) -MMD -S $< -o $(@:.rel=.asm) && sed -i '1s|\.asm:|.rel:|' $(@:.rel=.d) \
+    && $(PYTHON) tools/share_moves.py $(@:.rel=.asm) && $(SDAS) -plosgffw $@ $(@:.rel=.asm),\
+    $(SDCC) $(1) -MMD -c $< -o $@)
 HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
 HOST_INC := -Ihal -Ihal/host -Ihal/pil $(FW_INC) -Isim -Itests/target
 TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
@@ -145,10 +156,10 @@ memory: $(FW_HEX)
 	$(Q)$(PYTHON) tools/memmap.py $(STC_DIR) 20
 	$(Q)$(PYTHON) tools/stackdepth.py $(STC_DIR) --path
 
-$(STC_DIR)/%.rel: %.c
+$(STC_DIR)/%.rel: %.c tools/share_moves.py
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$<)
-	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1) -MMD -c $< -o $@
+	$(Q)$(call sdcc_rel,$(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1))
 
 $(STC_LIB): $(STC_LIB_REL)
 	$(call msg,AR,$@)
@@ -204,10 +215,10 @@ $(TEST_DIR)/fuzz/replay_%: $(TEST_DIR)/tests/fuzz/fuzz_%.o $(TEST_DIR)/tests/fuz
 	$(Q)$(CC) $(TEST_LDFLAGS) $^ -lm -o $@
 
 # ==== target tests: the SDCC build run in s51 against the same program built for the host ================
-$(UC_DIR)/%.rel: %.c
+$(UC_DIR)/%.rel: %.c tools/share_moves.py
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$< [s51])
-	$(Q)$(SDCC) $(UC_CFLAGS) -MMD -c $< -o $@
+	$(Q)$(call sdcc_rel,$(UC_CFLAGS))
 
 $(UC_DIR)/fw.lib: $(UC_LIB_REL)
 	$(Q)rm -f $@ && $(SDAR) -rcs $@ $^
@@ -224,10 +235,10 @@ $(TEST_DIR)/target/tt_%: $(TEST_DIR)/tests/target/tt_%.o $(TEST_DIR)/tests/targe
 target-tests: $(TT_IHX) $(TT_HOST)
 
 # ==== processor in the loop: the whole firmware in s51, the plant on the host (hal/pil, sim/pil_host.c) ====
-$(PIL_DIR)/%.rel: %.c
+$(PIL_DIR)/%.rel: %.c tools/share_moves.py
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$< [pil])
-	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_PIL -Ihal/pil -MMD -c $< -o $@
+	$(Q)$(call sdcc_rel,$(SDCC_CFLAGS) -DHAL_PIL -Ihal/pil)
 
 # the PIL image carries hal/pil's frames and pass stopwatch, larger than the chip's HAL: s51 gives
 # it the 8051's whole 64 KB code space (the chip's image is checked by make firmware)

@@ -1,0 +1,208 @@
+/* moves.c: the shared copies of SDCC's long moves (tools/share_moves.py calls them in place of the sequences). */
+#include "compiler.h"
+
+/*
+ * Each routine is exactly the instructions share_moves.py replaces, then RET: the registers,
+ * DPTR, A and the flags end as the sequence left them. No C calls them; the assembly of the
+ * firmware's modules does (the library archive links this module where one is used). The
+ * host build has no such code.
+ */
+#if defined(__SDCC)
+void mv_ld_i4(void) __naked
+{
+    __asm
+        movx a,@dptr
+        mov @r0,a
+        inc dptr
+        movx a,@dptr
+        inc r0
+        mov @r0,a
+        inc dptr
+        movx a,@dptr
+        inc r0
+        mov @r0,a
+        inc dptr
+        movx a,@dptr
+        inc r0
+        mov @r0,a
+        ret
+    __endasm;
+}
+
+void mv_st_i4(void) __naked
+{
+    __asm
+        mov a,@r0
+        movx @dptr,a
+        inc r0
+        mov a,@r0
+        inc dptr
+        movx @dptr,a
+        inc r0
+        mov a,@r0
+        inc dptr
+        movx @dptr,a
+        inc r0
+        mov a,@r0
+        inc dptr
+        movx @dptr,a
+        ret
+    __endasm;
+}
+
+void mv_ld_r4567(void) __naked
+{
+    __asm
+        movx a,@dptr
+        mov r4,a
+        inc dptr
+        movx a,@dptr
+        mov r5,a
+        inc dptr
+        movx a,@dptr
+        mov r6,a
+        inc dptr
+        movx a,@dptr
+        mov r7,a
+        ret
+    __endasm;
+}
+
+void mv_ld_r2367(void) __naked
+{
+    __asm
+        movx a,@dptr
+        mov r2,a
+        inc dptr
+        movx a,@dptr
+        mov r3,a
+        inc dptr
+        movx a,@dptr
+        mov r6,a
+        inc dptr
+        movx a,@dptr
+        mov r7,a
+        ret
+    __endasm;
+}
+
+void mv_ld_r2345(void) __naked
+{
+    __asm
+        movx a,@dptr
+        mov r2,a
+        inc dptr
+        movx a,@dptr
+        mov r3,a
+        inc dptr
+        movx a,@dptr
+        mov r4,a
+        inc dptr
+        movx a,@dptr
+        mov r5,a
+        ret
+    __endasm;
+}
+
+void mv_st_r4567(void) __naked
+{
+    __asm
+        mov a,r4
+        movx @dptr,a
+        mov a,r5
+        inc dptr
+        movx @dptr,a
+        mov a,r6
+        inc dptr
+        movx @dptr,a
+        mov a,r7
+        inc dptr
+        movx @dptr,a
+        ret
+    __endasm;
+}
+
+void mv_st_r2367(void) __naked
+{
+    __asm
+        mov a,r2
+        movx @dptr,a
+        mov a,r3
+        inc dptr
+        movx @dptr,a
+        mov a,r6
+        inc dptr
+        movx @dptr,a
+        mov a,r7
+        inc dptr
+        movx @dptr,a
+        ret
+    __endasm;
+}
+
+void mv_st_r2345(void) __naked
+{
+    __asm
+        mov a,r2
+        movx @dptr,a
+        mov a,r3
+        inc dptr
+        movx @dptr,a
+        mov a,r4
+        inc dptr
+        movx @dptr,a
+        mov a,r5
+        inc dptr
+        movx @dptr,a
+        ret
+    __endasm;
+}
+
+void mv_rv_i4(void) __naked
+{
+    __asm
+        mov @r0,dpl
+        inc r0
+        mov @r0,dph
+        inc r0
+        mov @r0,b
+        inc r0
+        mov @r0,a
+        ret
+    __endasm;
+}
+
+void mv_ld_r67(void) __naked
+{
+    __asm
+        movx a,@dptr
+        mov r6,a
+        inc dptr
+        movx a,@dptr
+        mov r7,a
+        ret
+    __endasm;
+}
+
+void mv_rv_r4567(void) __naked
+{
+    __asm
+        mov r4,dpl
+        mov r5,dph
+        mov r6,b
+        mov r7,a
+        ret
+    __endasm;
+}
+
+void mv_ar_r4567(void) __naked
+{
+    __asm
+        mov dpl,r4
+        mov dph,r5
+        mov b,r6
+        mov a,r7
+        ret
+    __endasm;
+}
+#endif

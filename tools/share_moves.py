@@ -1,0 +1,119 @@
+#!/usr/bin/env python3
+"""share_moves.py FILE.asm...: replace the long register and memory moves SDCC writes out again
+and again by calls of one shared copy each (firmware/math/moves.c), in place.
+
+SDCC's large model moves every 32-bit value byte by byte: XRAM to R4-R7 is 11 bytes of code,
+and the same 11 bytes appear wherever such a value is read. Each sequence in MOVES below is
+replaced, where it stands whole (no label inside it, so nothing jumps into its middle), by an
+LCALL of the routine that holds exactly those instructions and a RET: the registers, DPTR, A,
+the flags and the memory end as they did; only the stack holds two bytes more for the moment,
+and the sequence takes 4 machine cycles longer. This runs on the assembly SDCC wrote, after its
+own optimiser (whose register analysis takes a call to leave R0-R7 unread and would drop the
+moves that set them up), and before the assembler. The Makefile runs it on every firmware
+module but the controllers' (their step's cycles count against a budget).
+
+--stats: print what would be replaced, change nothing."""
+import re
+import sys
+
+# name -> instructions (normalised: mnemonic, one space, operands without spaces)
+MOVES = {
+    "ld_r4567": ["movx a,@dptr", "mov r4,a", "inc dptr", "movx a,@dptr", "mov r5,a",
+                 "inc dptr", "movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
+    "ld_r2367": ["movx a,@dptr", "mov r2,a", "inc dptr", "movx a,@dptr", "mov r3,a",
+                 "inc dptr", "movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
+    "ld_r2345": ["movx a,@dptr", "mov r2,a", "inc dptr", "movx a,@dptr", "mov r3,a",
+                 "inc dptr", "movx a,@dptr", "mov r4,a", "inc dptr", "movx a,@dptr", "mov r5,a"],
+    "st_r4567": ["mov a,r4", "movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a",
+                 "mov a,r6", "inc dptr", "movx @dptr,a", "mov a,r7", "inc dptr", "movx @dptr,a"],
+    "st_r2367": ["mov a,r2", "movx @dptr,a", "mov a,r3", "inc dptr", "movx @dptr,a",
+                 "mov a,r6", "inc dptr", "movx @dptr,a", "mov a,r7", "inc dptr", "movx @dptr,a"],
+    "st_r2345": ["mov a,r2", "movx @dptr,a", "mov a,r3", "inc dptr", "movx @dptr,a",
+                 "mov a,r4", "inc dptr", "movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a"],
+    "ld_i4": ["movx a,@dptr", "mov @r0,a", "inc dptr", "movx a,@dptr", "inc r0", "mov @r0,a",
+              "inc dptr", "movx a,@dptr", "inc r0", "mov @r0,a", "inc dptr", "movx a,@dptr",
+              "inc r0", "mov @r0,a"],
+    "st_i4": ["mov a,@r0", "movx @dptr,a", "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a",
+              "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a", "inc r0", "mov a,@r0",
+              "inc dptr", "movx @dptr,a"],
+    "rv_i4": ["mov @r0,dpl", "inc r0", "mov @r0,dph", "inc r0", "mov @r0,b", "inc r0",
+              "mov @r0,a"],
+    "rv_r4567": ["mov r4,dpl", "mov r5,dph", "mov r6,b", "mov r7,a"],
+    "ar_r4567": ["mov dpl,r4", "mov dph,r5", "mov b,r6", "mov a,r7"],
+    "ld_r67": ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
+}
+ORDER = sorted(MOVES, key=lambda n: -len(MOVES[n]))
+
+
+def norm(line):
+    """an instruction line normalised, or None for anything else (label, directive, comment)"""
+    s = line.split(";", 1)[0].strip()
+    if not s or s.endswith(":") or s.startswith(".") or "=" in s or ":" in s:
+        return None
+    parts = s.split(None, 1)
+    return parts[0] + (" " + re.sub(r"\s+", "", parts[1]) if len(parts) > 1 else "")
+
+
+def share(lines):
+    out, used, i = [], {}, 0
+    while i < len(lines):
+        hit = None
+        if norm(lines[i]) is not None:
+            for name in ORDER:
+                seq, j, k, kept = MOVES[name], i, 0, []
+                while k < len(seq) and j < len(lines):
+                    n = norm(lines[j])
+                    if n is None:
+                        if lines[j].strip().startswith(";"):
+                            kept.append(lines[j])      # a comment: kept, after the call
+                            j += 1
+                            continue
+                        break                          # a label or directive: not whole
+                    if n != seq[k]:
+                        break
+                    k += 1
+                    j += 1
+                if k == len(seq):
+                    hit = (name, j, kept)
+                    break
+        if hit:
+            name, j, kept = hit
+            out.append("\tlcall\t_mv_%s\n" % name)
+            out.extend(kept)
+            used[name] = used.get(name, 0) + 1
+            i = j
+        else:
+            out.append(lines[i])
+            i += 1
+    return out, used
+
+
+def main():
+    args = sys.argv[1:]
+    stats = "--stats" in args
+    files = [a for a in args if a != "--stats"]
+    if not files:
+        sys.exit("usage: share_moves.py [--stats] FILE.asm...")
+    total = {}
+    for path in files:
+        with open(path, encoding="latin-1") as f:
+            lines = f.readlines()
+        out, used = share(lines)
+        for k, v in used.items():
+            total[k] = total.get(k, 0) + v
+        if not stats and used:
+            with open(path, "w", encoding="latin-1") as f:
+                f.writelines(out)
+    if stats:
+        saved = 0
+        for k in ORDER:
+            if k in total:
+                b = sum(1 if s.split()[0] in ("movx", "inc") or re.match(r"mov (a,r\d|r\d,a|a,@r0|@r0,a)$", s)
+                        else 2 for s in MOVES[k])
+                saved += total[k] * (b - 3)
+                print("%-10s %4d uses, %2d bytes each" % (k, total[k], b))
+        print("share_moves: about %d bytes saved before the routines" % saved)
+
+
+if __name__ == "__main__":
+    main()
