@@ -41,6 +41,18 @@ MOVES = {
     "rv_r4567": ["mov r4,dpl", "mov r5,dph", "mov r6,b", "mov r7,a"],
     "ar_r4567": ["mov dpl,r4", "mov dph,r5", "mov b,r6", "mov a,r7"],
     "ld_r67": ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
+    "ar_i4a": ["mov r0,a", "mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0",
+               "inc r0", "mov a,@r0"],
+    "ar_i4": ["mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0", "inc r0",
+              "mov a,@r0"],
+    "st_ir4567": ["mov @r0,ar4", "inc r0", "mov @r0,ar5", "inc r0", "mov @r0,ar6", "inc r0",
+                  "mov @r0,ar7"],
+    "st_a000": ["movx @dptr,a", "clr a", "inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a",
+                "inc dptr", "movx @dptr,a"],
+    "st_1a00": ["inc dptr", "movx @dptr,a", "clr a", "inc dptr", "movx @dptr,a", "inc dptr",
+                "movx @dptr,a"],
+    "st_aaaa": ["movx @dptr,a", "inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a",
+                "inc dptr", "movx @dptr,a"],
 }
 ORDER = sorted(MOVES, key=lambda n: -len(MOVES[n]))
 

@@ -158,6 +158,36 @@ void mv_st_r2345(void) __naked
     __endasm;
 }
 
+void mv_ar_i4a(void) __naked
+{
+    __asm
+        mov r0,a
+        mov dpl,@r0
+        inc r0
+        mov dph,@r0
+        inc r0
+        mov b,@r0
+        inc r0
+        mov a,@r0
+        ret
+    __endasm;
+}
+
+void mv_st_a000(void) __naked
+{
+    __asm
+        movx @dptr,a
+        clr a
+        inc dptr
+        movx @dptr,a
+        inc dptr
+        movx @dptr,a
+        inc dptr
+        movx @dptr,a
+        ret
+    __endasm;
+}
+
 void mv_rv_i4(void) __naked
 {
     __asm
@@ -168,6 +198,66 @@ void mv_rv_i4(void) __naked
         mov @r0,b
         inc r0
         mov @r0,a
+        ret
+    __endasm;
+}
+
+void mv_ar_i4(void) __naked
+{
+    __asm
+        mov dpl,@r0
+        inc r0
+        mov dph,@r0
+        inc r0
+        mov b,@r0
+        inc r0
+        mov a,@r0
+        ret
+    __endasm;
+}
+
+void mv_st_ir4567(void) __naked
+{
+    __asm
+        ar4 = 0x04              ; bank 0 register addresses, as the modules calling it use them
+        ar5 = 0x05
+        ar6 = 0x06
+        ar7 = 0x07
+        mov @r0,ar4
+        inc r0
+        mov @r0,ar5
+        inc r0
+        mov @r0,ar6
+        inc r0
+        mov @r0,ar7
+        ret
+    __endasm;
+}
+
+void mv_st_1a00(void) __naked
+{
+    __asm
+        inc dptr
+        movx @dptr,a
+        clr a
+        inc dptr
+        movx @dptr,a
+        inc dptr
+        movx @dptr,a
+        ret
+    __endasm;
+}
+
+void mv_st_aaaa(void) __naked
+{
+    __asm
+        movx @dptr,a
+        inc dptr
+        movx @dptr,a
+        inc dptr
+        movx @dptr,a
+        inc dptr
+        movx @dptr,a
         ret
     __endasm;
 }

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# share_moves.sh: tools/share_moves.py replaces exactly its sequences by calls of routines that
+# hold exactly those instructions (firmware/math/moves.c), and leaves alone a sequence with a
+# label inside (a jump into its middle) or one cut short.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# every MOVES entry has a routine in moves.c with the same instructions, then RET, and no other
+if out=$(python3 - <<'EOF' 2>&1
+import re, sys
+sys.path.insert(0, "tools")
+from share_moves import MOVES, norm
+src = open("firmware/math/moves.c").read()
+found = {}
+for m in re.finditer(r"void mv_(\w+)\(void\) __naked\s*\{\s*__asm(.*?)__endasm;", src, re.S):
+    body = [norm(l) for l in m.group(2).splitlines()]
+    found[m.group(1)] = [b for b in body if b is not None]
+bad = [n for n in MOVES if found.get(n) != MOVES[n] + ["ret"]]
+bad += [n for n in found if n not in MOVES]
+if bad:
+    sys.exit("routines that differ from MOVES: " + ", ".join(sorted(bad)))
+print("%d routines" % len(found))
+EOF
+); then
+    echo "ok - share_moves: moves.c holds each sequence exactly, then RET ($out)"
+else
+    echo "not ok - share_moves: moves.c holds each sequence exactly"; echo "$out" | sed 's/^/#   /'
+fi
+
+# a whole sequence (a C line comment inside it kept) is replaced; one with a label inside, or
+# cut short, is not
+cat > "$tmp/a.asm" <<'EOF'
+_f:
+	mov	dptr,#_x
+	movx	a,@dptr
+	mov	r4,a
+	inc	dptr
+;	a.c:3: the comment stays
+	movx	a,@dptr
+	mov	r5,a
+	inc	dptr
+	movx	a,@dptr
+	mov	r6,a
+	inc	dptr
+	movx	a,@dptr
+	mov	r7,a
+	mov	dptr,#_y
+	movx	a,@dptr
+	mov	r4,a
+	inc	dptr
+00101$:
+	movx	a,@dptr
+	mov	r5,a
+	inc	dptr
+	movx	a,@dptr
+	mov	r6,a
+	inc	dptr
+	movx	a,@dptr
+	mov	r3,a
+	mov	dpl,r4
+	mov	dph,r5
+	mov	b,r6
+	ret
+EOF
+python3 tools/share_moves.py "$tmp/a.asm"
+calls=$(grep -c 'lcall' "$tmp/a.asm")
+if [ "$calls" -eq 1 ] && grep -q 'lcall	_mv_ld_r4567' "$tmp/a.asm" && grep -q 'the comment stays' "$tmp/a.asm" \
+    && grep -q '^00101\$:' "$tmp/a.asm" && [ "$(grep -c 'movx	a,@dptr' "$tmp/a.asm")" -eq 4 ]; then
+    echo "ok - share_moves: a whole sequence becomes one call; one a label cuts, or one cut short, stays"
+else
+    echo "not ok - share_moves: replacement"; sed 's/^/#   /' "$tmp/a.asm"
+fi
