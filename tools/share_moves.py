@@ -54,6 +54,12 @@ MOVES = {
     "st_aaaa": ["movx @dptr,a", "inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a",
                 "inc dptr", "movx @dptr,a"],
 }
+# R0 (or R1) = the address of a reentrant function's local: the frame base _bp plus its offset
+# (the offsets the firmware uses most)
+for _reg, _offs in (("r0", (0x03, 0x04, 0x05, 0x07, 0x09, 0x0b, 0x0d, 0x0f, 0x11, 0xfc, 0xfd)),
+                    ("r1", (0x05,))):
+    for _off in _offs:
+        MOVES["fp_%s_%02x" % (_reg, _off)] = ["mov a,_bp", "add a,#0x%02x" % _off, "mov %s,a" % _reg]
 ORDER = sorted(MOVES, key=lambda n: -len(MOVES[n]))
 
 

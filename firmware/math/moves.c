@@ -295,4 +295,124 @@ void mv_ar_r4567(void) __naked
         ret
     __endasm;
 }
+
+void mv_fp_r0_03(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x03
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_04(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x04
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_05(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x05
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_07(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x07
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_09(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x09
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_0b(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x0b
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_0d(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x0d
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_0f(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x0f
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_11(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x11
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_fc(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0xfc
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r0_fd(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0xfd
+        mov r0,a
+        ret
+    __endasm;
+}
+
+void mv_fp_r1_05(void) __naked
+{
+    __asm
+        mov a,_bp
+        add a,#0x05
+        mov r1,a
+        ret
+    __endasm;
+}
 #endif
