@@ -202,6 +202,20 @@ void mv_rv_i4(void) __naked
     __endasm;
 }
 
+void mv_cld_r67(void) __naked
+{
+    __asm
+        clr a
+        movc a,@a+dptr
+        mov r6,a
+        inc dptr
+        clr a
+        movc a,@a+dptr
+        mov r7,a
+        ret
+    __endasm;
+}
+
 void mv_ar_i4(void) __naked
 {
     __asm
@@ -270,6 +284,54 @@ void mv_ld_r67(void) __naked
         inc dptr
         movx a,@dptr
         mov r7,a
+        ret
+    __endasm;
+}
+
+void mv_ld_r45(void) __naked
+{
+    __asm
+        movx a,@dptr
+        mov r4,a
+        inc dptr
+        movx a,@dptr
+        mov r5,a
+        ret
+    __endasm;
+}
+
+void mv_ld_r23(void) __naked
+{
+    __asm
+        movx a,@dptr
+        mov r2,a
+        inc dptr
+        movx a,@dptr
+        mov r3,a
+        ret
+    __endasm;
+}
+
+void mv_st_r67(void) __naked
+{
+    __asm
+        mov a,r6
+        movx @dptr,a
+        mov a,r7
+        inc dptr
+        movx @dptr,a
+        ret
+    __endasm;
+}
+
+void mv_st_r45(void) __naked
+{
+    __asm
+        mov a,r4
+        movx @dptr,a
+        mov a,r5
+        inc dptr
+        movx @dptr,a
         ret
     __endasm;
 }
