@@ -13,10 +13,14 @@ import re, sys
 sys.path.insert(0, "tools")
 from share_moves import MOVES, norm
 src = open("firmware/math/moves.c").read()
-found = {}
-for m in re.finditer(r"void mv_(\w+)\(void\) __naked\s*\{\s*__asm(.*?)__endasm;", src, re.S):
-    body = [norm(l) for l in m.group(2).splitlines()]
-    found[m.group(1)] = [b for b in body if b is not None]
+asm = re.search(r"__asm(.*?)__endasm;", src, re.S).group(1)
+found, cur = {}, None
+for line in asm.splitlines():
+    m = re.match(r"\s*_mv_(\w+)::\s*$", line)
+    if m:
+        cur = found.setdefault(m.group(1), [])
+    elif cur is not None and norm(line) is not None:
+        cur.append(norm(line))
 bad = [n for n in MOVES if found.get(n) != MOVES[n] + ["ret"]]
 bad += [n for n in found if n not in MOVES]
 if bad:
