@@ -16,6 +16,7 @@
 #include "console.h"
 #include "console_int.h"
 #include "umath.h"
+#include "mul.h"
 
 con_io_t con_io;
 
@@ -398,7 +399,7 @@ static void cat_ma(uint8_t ch)
     uint16_t counts = hal_adc_read(ch);
     con_cat_num(counts, 4, 0, 0);
     /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA: counts * 2000 / 1023 */
-    con_cat_num(((uint32_t)counts * 32032u + 8192u) >> 14, 6, 2, 0);
+    con_cat_num((UMUL(counts, 32032u) + 8192u) >> 14, 6, 2, 0);
     con_cat("mA ");
 }
 

@@ -2,6 +2,7 @@
 #include "params.h"
 #include "umath.h"
 #include "target.h"
+#include "mul.h"
 
 static struct {
     uint32_t k_q16;                 /* L/min x100 per km/h x100, Q16: C d m / 600000 (C in L/ha x10) */
@@ -27,9 +28,11 @@ uint8_t target_section_nozzles(uint8_t s) __reentrant
 static uint8_t target_rate_window(uint16_t rate_x10) __reentrant
 {
     uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;
+    uint32_t lim;
     if (rate_x10 < 100u)            /* P_RATE's least, 10 L/ha (the window's top is 2 x Dose) */
         return 0;
-    return (uint32_t)d * 100u <= (uint32_t)job * param_v[P_REMOTE_WIN];
+    lim = UMUL(job, param_v[P_REMOTE_WIN]);
+    return UMUL(d, 100u) <= lim;
 }
 
 uint16_t target_rate_x10(void)

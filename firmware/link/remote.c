@@ -7,6 +7,7 @@
 #include "umath.h"
 #include "linebuf.h"
 #include "remote.h"
+#include "mul.h"
 
 /* the lines queued, sent lowest bit first */
 #define RV_AR 0x01
@@ -76,10 +77,11 @@ static const __code uint8_t rv_lines[7][11] = {
 /* the actual rate, L/ha x10: flow x 6000 / (speed x width / 100), 0 when not spraying */
 static uint32_t actual_x10(void) __reentrant
 {
-    uint32_t d = (uint32_t)app_status.speed_kmh_x100 * target_width_cm() / 100u;
+    uint16_t w = target_width_cm();
+    uint32_t d = UMUL(app_status.speed_kmh_x100, w) / 100u;
     if (!app_status.spraying || app_status.flow_lpm_x100 <= 0 || d == 0)
         return 0;
-    return (uint32_t)app_status.flow_lpm_x100 * 6000u / d;
+    return UMUL(app_status.flow_lpm_x100, 6000u) / d;     /* flow > 0 */
 }
 
 static uint32_t value(uint8_t k) __reentrant

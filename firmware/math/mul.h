@@ -15,6 +15,7 @@
  *   MUL(a, b)     a * b, int16 operands, int32 product
  *   MAC(a, b)     mul_acc += a * b
  *   DOT(w, x, n)  mul_acc += w[0] * x[0] + ... + w[n-1] * x[n-1], w and x int16 arrays in xdata
+ *   UMUL(a, b)    a * b, uint16 operands, uint32 product (one expression holds at most one)
  *   MUL_R15(a, b), MUL_R12(a, b)   (a * b + 2^14) >> 15, (a * b + 2^11) >> 12: rounded, int32
  *   ACC_SHR15(), ACC_SHR12()       mul_acc >> 15, >> 12 (arithmetic), int32
  *   UPD(w, dw, x, eg, lim, n, s)   one row of a network's learning step (below)
@@ -42,6 +43,8 @@ int32_t mul_r15(void) __naked;
 int32_t mul_r12(void) __naked;
 int32_t acc_shr15(void) __naked;
 int32_t acc_shr12(void) __naked;
+uint32_t umul_ab(void) __naked;
+#define UMUL(a, b) (mul_a = (int16_t)(uint16_t)(a), mul_b = (int16_t)(uint16_t)(b), umul_ab())
 #define MUL_R15(a, b) (mul_a = (a), mul_b = (b), mul_r15())
 #define MUL_R12(a, b) (mul_a = (a), mul_b = (b), mul_r12())
 #define ACC_SHR15() acc_shr15()
@@ -64,6 +67,7 @@ void dot_c(const int16_t *w, const int16_t *x, uint8_t n);
 void upd_c(int16_t *w, int8_t *dw, const int16_t *x, int16_t eg, int16_t lim, uint8_t n, uint8_t s);
 #define UPD(w, dw, x, eg, lim, n, s) upd_c(w, dw, x, eg, lim, n, s)
 #define MUL(a, b) ((int32_t)(int16_t)(a) * (int16_t)(b))
+#define UMUL(a, b) ((uint32_t)(uint16_t)(a) * (uint16_t)(b))
 #define MUL_R15(a, b) ((MUL(a, b) + 16384) >> 15)
 #define MUL_R12(a, b) ((MUL(a, b) + 2048) >> 12)
 #define ACC_SHR15() (mul_acc >> 15)

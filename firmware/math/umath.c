@@ -1,5 +1,6 @@
 /* umath.c: unsigned arithmetic for the per-period work without a divide: a*n/d by a table reciprocal, 32x16 products, square root. */
 #include "umath.h"
+#include "mul.h"
 
 /* recip_tab[i] = 2^22 / (128 + i), rounded: 2^30 / m for the mantissa m = (128 + i) * 256. */
 static const __code uint16_t recip_tab[129] = {
@@ -42,8 +43,8 @@ static uint8_t norm32(__idata uint32_t *x) __reentrant
 
 uint32_t um_mul32x16_shr16(uint32_t a, uint16_t b) __reentrant
 {
-    uint32_t hi = (a >> 16) * (uint32_t)b;      /* both factors fit 16 bits: < 2^32 */
-    uint32_t lo = (a & 0xFFFFu) * (uint32_t)b;
+    uint32_t hi = UMUL(a >> 16, b);             /* both factors fit 16 bits: < 2^32 */
+    uint32_t lo = UMUL(a, b);                   /* (the low 16 bits of a) */
     uint32_t r = hi + ((lo + 0x8000u) >> 16);
     return r < hi ? 0xFFFFFFFFUL : r;
 }
@@ -61,7 +62,7 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant
         return 0xFFFFFFFFUL;
     p = a;
     e = -(int8_t)norm32((__idata uint32_t *)&p);    /* a = (p >> 16) * 2^(16 + e) */
-    p = (p >> 16) * (uint32_t)n;                /* < 2^32, not 0 */
+    p = UMUL(p >> 16, n);                       /* < 2^32, not 0 */
     e -= (int8_t)norm32((__idata uint32_t *)&p);    /* a * n = (p >> 16) * 2^(32 + e) */
     q = d;
     e += (int8_t)norm32((__idata uint32_t *)&q);    /* d = (q >> 16) * 2^(16 - sd) */
@@ -69,7 +70,7 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant
     i = (uint8_t)((m >> 8) - 128u);
     f = (uint8_t)m;
     r16 = recip_tab[i] - (uint16_t)(((uint16_t)(recip_tab[i] - recip_tab[i + 1]) * f + 128u) >> 8);
-    p = (p >> 16) * (uint32_t)r16;              /* (a n / d) * 2^(14 - e) */
+    p = UMUL(p >> 16, r16);                     /* (a n / d) * 2^(14 - e) */
     e -= 14;
     if (e >= 0) {
         while (e > 0) {

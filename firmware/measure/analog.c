@@ -3,6 +3,7 @@
 #include "params.h"
 #include "umath.h"
 #include "analog.h"
+#include "mul.h"
 
 #define C40_4MA 8184u               /* 4 mA in sums of four conversions x10: 204.6 * 40 */
 #define C40_SPAN 32736u             /* 16 mA: (1023 - 204.6) * 40 */
@@ -62,7 +63,7 @@ static uint16_t read4(uint8_t ch, uint8_t *sat) __reentrant
 /* (sum * 10 - 4 mA) * k >> 16, 0 below 4 mA */
 static uint16_t scale(uint16_t sum4, uint32_t k) __reentrant
 {
-    uint32_t c40 = (uint32_t)sum4 * 10u;
+    uint32_t c40 = UMUL(sum4, 10u);
     uint32_t v;
     if (c40 <= C40_4MA)
         return 0;

@@ -3,6 +3,7 @@
 #include "params.h"
 #include "umath.h"
 #include "speed.h"
+#include "mul.h"
 
 static struct {
     uint32_t k;             /* km/h x100 * PCA ticks a pulse: P_WHEEL * 33177.6 */
@@ -47,7 +48,8 @@ static void speed_derive(void) __reentrant
 {
     uint32_t w = param_v[P_WHEEL];
     /* v[km/h x100] = w[0.1 mm] * 1e-4 m * 3.6 * 100 * 921600 / dt[ticks] = w * 33177.6 / dt */
-    sp.k = w * 33177u + (w * 3u + 2u) / 5u;
+    sp.k = (UMUL(w, 3u) + 2u) / 5u;                     /* w < 65536 */
+    sp.k += UMUL(w, 33177u);
     if (sp.n != (uint8_t)param_v[P_WHEEL_PPR]) {
         sp.n = (uint8_t)param_v[P_WHEEL_PPR];
         sp.idx = 0;
@@ -167,7 +169,7 @@ uint16_t speed_step(void) __reentrant
                 sp.glitches++;
             } else {
                 /* the rise allowed since the last measurement, period by period */
-                uint32_t lim = (uint32_t)sp.v_x100 + (uint32_t)SPEED_SLEW_X100 * sp.since;
+                uint32_t lim = (uint32_t)sp.v_x100 + UMUL(SPEED_SLEW_X100, sp.since);
                 if (v > lim)
                     v = lim;
                 sp.v_x100 = (uint16_t)v;
@@ -202,7 +204,7 @@ uint16_t speed_step(void) __reentrant
     if (sp.v_x100 < SPEED_ZERO_X100)
         sp.v_x100 = 0;
     /* a pulse sooner than a quarter of the period at 1.5 times this speed is not a pulse */
-    hal_wheel_min_interval(um_muldiv(sp.k, 1, sp.v_x100 ? (uint32_t)sp.v_x100 * 6u : SPEED_MAX_X100 * 4ul));
+    hal_wheel_min_interval(um_muldiv(sp.k, 1, sp.v_x100 ? UMUL(sp.v_x100, 6u) : SPEED_MAX_X100 * 4ul));
     return sp.v_x100;
 }
 

@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include "umath.h"
 #include "params.h"
+#include "mul.h"
 
 #define PARAM_ROW(id, name, unit, dec, lo, hi, def) {name, unit, dec, lo, hi, def},
 static const __code param_info_t table[P_COUNT] = { PARAM_TABLE(PARAM_ROW) };
@@ -49,7 +50,7 @@ uint8_t params_cross(void)
         return PARAM_X_TANK;
     if (param_v[P_P_MIN] >= param_v[P_P_MAX])
         return PARAM_X_PRESSURE;
-    f3 = um_muldiv((uint32_t)param_v[P_METER_K] * param_v[P_NOZZLES], param_v[P_NOZZLE_Q3], 60000UL);
+    f3 = um_muldiv(UMUL(param_v[P_METER_K], param_v[P_NOZZLES]), param_v[P_NOZZLE_Q3], 60000UL);
     if (f3 > PARAM_METER_HZ_MAX
         || um_mul32x16_shr16(f3 * f3, (uint16_t)(param_v[P_P_MAX] << 5))
            > PARAM_METER_HZ_MAX * PARAM_METER_HZ_MAX * 300u / 2048u)

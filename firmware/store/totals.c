@@ -33,7 +33,7 @@ void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __re
     if (speed_x100 && width_cm) {
         /* 0.1 s at v[km/h x100] covers v * 0.0277778 cm; times the width in cm is cm^2, and
          * / 100 dm^2: a * 2.777778e-4 dm^2 = a * 0.568889 in Q11 (37282 / 65536) */
-        a = um_mul32x16_shr16((uint32_t)speed_x100 * width_cm, 37282u) + to.dm2_frac;
+        a = um_mul32x16_shr16(UMUL(speed_x100, width_cm), 37282u) + to.dm2_frac;
         to.dm2_frac = (uint16_t)(a & 0x7FFu);
         a >>= 11;
         to.t.job_dm2 += a;

@@ -28,6 +28,7 @@ static void all_ops(int16_t a, int16_t b)
     line('a', a, b, (uint16_t)fx_add_sat(a, b));
     line('s', a, b, (uint16_t)fx_sub_sat(a, b));
     line('m', a, b, (uint32_t)fx_mul32(a, b));
+    line('u', a, b, UMUL(a, b));
     line('r', a, b, (uint32_t)MUL_R15(a, b));
     line('R', a, b, (uint32_t)MUL_R12(a, b));
     mul_acc = (int32_t)((uint32_t)(uint16_t)a << 16 | (uint16_t)b);    /* every 32-bit pattern */
