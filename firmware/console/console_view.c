@@ -186,16 +186,15 @@ static void draw_bottom(const char *otherwise)
 /* The alarm to show: unacknowledged ones first, several take turns every 2 s; -1 for none. */
 static int8_t alarm_shown(void)
 {
-    uint16_t set = app_status.alarms_unacked ? app_status.alarms_unacked : app_status.alarms;
+    uint16_t set = app_status.alarms_unacked ? app_status.alarms_unacked : app_status.alarms, m;
     uint8_t n = 0, b, turn;
-    for (b = 0; b < OPS_ALARM_BITS; b++)
-        if (set & (1u << b))
-            n++;
+    for (m = set; m; m >>= 1)       /* the bits set (OPS_ALARM_BITS: all 16) */
+        n += (uint8_t)(m & 1u);
     if (!n)
         return -1;
     turn = (uint8_t)((hal_ms() / 2000u) % n);
-    for (b = 0; b < OPS_ALARM_BITS; b++)
-        if (set & (1u << b)) {
+    for (b = 0, m = set; b < OPS_ALARM_BITS; b++, m >>= 1)
+        if (m & 1u) {
             if (!turn)
                 return (int8_t)b;
             turn--;

@@ -38,8 +38,8 @@ static uint8_t scan(void)
     uint8_t row, cols, col, k = NO_KEY;
     for (row = 0; row < 4; row++) {
         cols = hal_keypad_row(row) & 0x0F;
-        for (col = 0; col < 4; col++) {
-            if (!(cols & (1u << col)))
+        for (col = 0; col < 4; col++, cols >>= 1) {
+            if (!(cols & 1u))
                 continue;
             if (k != NO_KEY)
                 return NO_KEY;

@@ -63,11 +63,11 @@ uint8_t target_remote_refusals(void)
 
 static void target_derive(void) __reentrant
 {
-    uint8_t s;
+    uint8_t s, m;
     uint32_t cdm;
     tg.open = 0;
-    for (s = 0; s < 8u; s++)
-        if (tg.sections & (1u << s))
+    for (s = 0, m = tg.sections; s < 8u; s++, m >>= 1)
+        if (m & 1u)
             tg.open += target_section_nozzles(s);
     tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
     if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))

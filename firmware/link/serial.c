@@ -381,10 +381,11 @@ static void compose_next(void) __reentrant
         tx_s("BOOT ");
         tx_s(diag_reset_code());
     } else if (diff) {
-        for (bit = 0; !(diff & (1u << bit)); bit++)
-            ;
-        se.reported ^= 1u << bit;
-        diff = se.reported & (1u << bit);
+        for (bit = 0; !(diff & 1u); bit++)
+            diff >>= 1;
+        diff = 1u << bit;
+        se.reported ^= diff;
+        diff &= se.reported;
         tx_s(diff ? "ALM " : "CLR ");
         tx_s(diag_code(bit));
         if (diff) {
