@@ -118,9 +118,9 @@ uint8_t remote_next(void) __reentrant
 
     if (!rv_due)
         return 0;
-    for (line = 0; !(rv_due & (1u << line)); line++)
-        ;
-    rv_due &= (uint8_t)~(1u << line);
+    for (line = 0, k = 1; !(rv_due & k); line++)
+        k <<= 1;
+    rv_due &= (uint8_t)~k;
     serial_put_s(RAVEN_ID);
     serial_put_c(rv_lines[line][0]);
     serial_put_c(rv_lines[line][1]);
