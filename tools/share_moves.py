@@ -48,6 +48,8 @@ MOVES = {
     "cld_r67": ["clr a", "movc a,@a+dptr", "mov r6,a", "inc dptr", "clr a", "movc a,@a+dptr",
                 "mov r7,a"],
     "gp_r67": ["mov r5,#0x80", "mov dpl,r6", "mov dph,r7", "mov b,r5"],
+    "rrc_i3": ["rrc a", "mov @r0,a", "dec r0", "mov a,@r0", "rrc a", "mov @r0,a", "dec r0",
+               "mov a,@r0", "rrc a", "mov @r0,a"],
     "ld_fp1": ["mov r0,_bp", "inc r0", "mov dpl,@r0", "inc r0", "mov dph,@r0"],
     "ld_dptr": ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov dpl,r6", "mov dph,a"],
     "addc_i67": ["mov a,r6", "inc r0", "addc a,@r0", "mov r6,a", "mov a,r7", "inc r0",

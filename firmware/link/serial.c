@@ -35,11 +35,9 @@ static const __code char hexd[] = "0123456789ABCDEF";
 
 void serial_init(void)
 {
-    se_n = 0;
-    se.tx_i = 0;
+    se_n = se.tx_i = se.log_due = 0;
     se.state = S_RX;
     se.reported = 0;
-    se.log_due = 0;
     boot_due = 1;
 }
 
@@ -98,6 +96,15 @@ static void tx_sp_i16(int16_t v) __reentrant
     }
 }
 
+/* the line's end, and the line to be sent */
+static void tx_crlf(void) __reentrant
+{
+    se.buf[se_n++] = '\r';
+    se.buf[se_n++] = '\n';
+    se.tx_i = 0;
+    se.state = S_TX;
+}
+
 static void tx_end(void) __reentrant
 {
     uint8_t i, x = 0;
@@ -106,10 +113,7 @@ static void tx_end(void) __reentrant
     se.buf[se_n++] = '*';
     se.buf[se_n++] = hexd[x >> 4];
     se.buf[se_n++] = hexd[x & 15];
-    se.buf[se_n++] = '\r';
-    se.buf[se_n++] = '\n';
-    se.tx_i = 0;
-    se.state = S_TX;
+    tx_crlf();
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
@@ -184,17 +188,11 @@ static const __code command_t commands[] = {
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
-/* "OK <word> " then up to two numbers */
+/* "OK <word>", the numbers (tx_sp_u32) to follow */
 static void ok(const char *word) __reentrant
 {
     tx_s("OK ");
     tx_s(word);
-}
-
-static void ok_2(uint32_t a, uint32_t b) __reentrant
-{
-    tx_sp_u32(a);
-    tx_sp_u32(b);
 }
 
 /* The handlers, after the arguments were parsed as the table says. */
@@ -241,17 +239,20 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     case C_TOT:
         t = totals_get();
         ok("TOT");
-        ok_2(t->job_dm2, t->job_ml);
+        tx_sp_u32(t->job_dm2);
+        tx_sp_u32(t->job_ml);
         tx_sp_u32(totals_applied_l_ha_x10());
         break;
     case C_LIF:
         t = totals_get();
         ok("LIF");
-        ok_2(t->life_m2, t->life_ml);
+        tx_sp_u32(t->life_m2);
+        tx_sp_u32(t->life_ml);
         break;
     case C_PUL:
         ok("PUL");
-        ok_2(ops_wheel_pulses(), ops_flow_pulses());
+        tx_sp_u32(ops_wheel_pulses());
+        tx_sp_u32(ops_flow_pulses());
         break;
 #if FW_HIL
     case C_HIL:                     /* never by accident: the exact line with its checksum (CHANGES) */
@@ -404,12 +405,8 @@ static void compose_next(void) __reentrant
         for (bit = 16; bit; bit -= 4)
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
     } else {
-        if (remote_next()) {        /* Raven's lines carry no checksum */
-            se.buf[se_n++] = '\r';
-            se.buf[se_n++] = '\n';
-            se.tx_i = 0;
-            se.state = S_TX;
-        }
+        if (remote_next())          /* Raven's lines carry no checksum */
+            tx_crlf();
         return;
     }
     tx_end();

@@ -125,6 +125,18 @@ _mv_st_r2345::
         inc dptr
         movx @dptr,a
         ret
+_mv_rrc_i3::
+        rrc a
+        mov @r0,a
+        dec r0
+        mov a,@r0
+        rrc a
+        mov @r0,a
+        dec r0
+        mov a,@r0
+        rrc a
+        mov @r0,a
+        ret
 _mv_addc_i67::
         mov a,r6
         inc r0
