@@ -50,6 +50,7 @@ q15_t fx_tanh(q12_t x) __reentrant
     uint16_t i;             /* table interval, 1/64 wide */
     int16_t y;              /* Q15 */
     int16_t d;              /* Q15 rise over the interval: 0 .. 512 since tanh' <= 1 */
+    uint8_t f;              /* the fraction of the interval, 1/64 */
 
     ax = x < 0 ? (uint16_t)(-(int32_t)x) : (uint16_t)x;   /* -(-32768) = 32768 fits uint16 */
     if (ax >= (uint16_t)((FX_TANH_N - 1) * 64)) {
@@ -58,8 +59,9 @@ q15_t fx_tanh(q12_t x) __reentrant
         i = ax >> 6;
         y = fx_tanh_tab[i];
         d = fx_tanh_tab[i + 1] - y;
-        /* d * frac <= 512 * 63 = 32256: a 16-bit multiply is enough */
-        y += (int16_t)((d * (int16_t)(ax & 63u) + 32) >> 6);
+        /* d * frac <= 512 * 63 = 32256, d >= 0 (tanh rises): two 8 x 8 products (MUL AB) */
+        f = (uint8_t)(ax & 63u);
+        y += (int16_t)(((uint16_t)((uint8_t)d * f) + ((uint16_t)((uint8_t)((uint16_t)d >> 8) * f) << 8) + 32u) >> 6);
     }
     return x < 0 ? (q15_t)-y : (q15_t)y;
 }
