@@ -55,14 +55,16 @@ SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTR
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 # Shared moves (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
 # replaces its long moves by calls of firmware/math/moves.c, sdas assembles it. Not in the
-# controllers (their step's cycles count) nor in the modules written in assembly.
+# controllers (their step's cycles count; bp_pid in part) nor in the modules written in assembly.
 SDAS ?= sdas8051
-SHARE_SKIP := $(addprefix firmware/control/,pid.c bp.c ffmap.c ctl.c ctl_out.c aog.c raven.c) \
+SHARE_SKIP := $(addprefix firmware/control/,pid.c ffmap.c ctl.c ctl_out.c aog.c raven.c) \
               $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c)
+# bp_pid: its step has some cycles to spare (make bench), not for calls at its inner loops' locals
+SHARE_OPTS_firmware/control/bp.c := --skip=fp_r0_0f
 # $(call sdcc_rel,FLAGS): $< compiled to $@ (and its .d), through share_moves.py where it applies
 sdcc_rel = $(if $(filter firmware/%,$(filter-out $(SHARE_SKIP),$<)),\
     $(SDCC) $(1) -MMD -S $< -o $(@:.rel=.asm) && sed -i '1s|\.asm:|.rel:|' $(@:.rel=.d) \
-    && $(PYTHON) tools/share_moves.py $(@:.rel=.asm) && $(SDAS) -plosgffw $@ $(@:.rel=.asm),\
+    && $(PYTHON) tools/share_moves.py $(SHARE_OPTS_$<) $(@:.rel=.asm) && $(SDAS) -plosgffw $@ $(@:.rel=.asm),\
     $(SDCC) $(1) -MMD -c $< -o $@)
 HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
 HOST_INC := -Ihal -Ihal/host -Ihal/pil $(FW_INC) -Isim -Itests/target

@@ -10,9 +10,10 @@ the flags and the memory end as they did; only the stack holds two bytes more fo
 and the sequence takes 4 machine cycles longer. This runs on the assembly SDCC wrote, after its
 own optimiser (whose register analysis takes a call to leave R0-R7 unread and would drop the
 moves that set them up), and before the assembler. The Makefile runs it on every firmware
-module but the controllers' (their step's cycles count against a budget).
+module but most of the controllers' (their step's cycles count: make bench).
 
---stats: print what would be replaced, change nothing."""
+--stats: print what would be replaced, change nothing. --skip=PREFIX: not the sequences whose
+name starts with PREFIX (fp_: a controller's locals, reached many times a step)."""
 import re
 import sys
 
@@ -120,9 +121,12 @@ def share(lines):
 
 
 def main():
+    global ORDER
     args = sys.argv[1:]
     stats = "--stats" in args
-    files = [a for a in args if a != "--stats"]
+    skip = [a.split("=", 1)[1] for a in args if a.startswith("--skip=")]
+    ORDER = [n for n in ORDER if not any(n.startswith(p) for p in skip)]
+    files = [a for a in args if a != "--stats" and not a.startswith("--skip=")]
     if not files:
         sys.exit("usage: share_moves.py [--stats] FILE.asm...")
     total = {}
