@@ -35,11 +35,10 @@ static void analog_derive(void) __reentrant
 
 void analog_init(void)
 {
-    an.p.value = 0;
-    an.p.bad = an.p.good = 0;
-    an.p.ok = 1;
-    an.p.raw_fault = 0;
-    an.l = an.p;
+    an.p.value = an.l.value = 0;
+    an.p.bad = an.p.good = an.l.bad = an.l.good = 0;
+    an.p.ok = an.l.ok = 1;
+    an.p.raw_fault = an.l.raw_fault = 0;
     an.level_f = 0;
     an.level_init = 0;
     analog_derive();

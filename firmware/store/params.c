@@ -24,9 +24,20 @@ void params_defaults(void)
 
 uint8_t param_in_range(uint8_t id, uint16_t v)
 {
-    if (id == P_RAVEN_CAL && v % 10u == 0u)
-        return 0;                   /* the dead band digit is 1-9 */
-    return id < P_COUNT && v >= table[id].min && v <= table[id].max;
+    if (id >= P_COUNT || v < table[id].min || v > table[id].max)
+        return 0;
+    if (id == P_RAVEN_CAL) {
+        /* the dead band digit is 1-9: v % 10 (v <= 9999 here) by subtraction, no remainder
+         * routine in the image for this one use */
+        while (v >= 1000u)
+            v -= 1000u;
+        while (v >= 100u)
+            v -= 100u;
+        while (v >= 10u)
+            v -= 10u;
+        return v != 0;
+    }
+    return 1;
 }
 
 uint8_t param_put(uint8_t id, uint16_t v)
