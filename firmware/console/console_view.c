@@ -188,11 +188,13 @@ static int8_t alarm_shown(void)
 {
     uint16_t set = app_status.alarms_unacked ? app_status.alarms_unacked : app_status.alarms, m;
     uint8_t n = 0, b, turn;
+    uint32_t t;
     for (m = set; m; m >>= 1)       /* the bits set (OPS_ALARM_BITS: all 16) */
         n += (uint8_t)(m & 1u);
     if (!n)
         return -1;
-    turn = (uint8_t)((hal_ms() / 2000u) % n);
+    t = hal_ms() / 2000u;
+    turn = (uint8_t)(t - t / n * n);    /* t % n (no remainder routine in the image) */
     for (b = 0, m = set; b < OPS_ALARM_BITS; b++, m >>= 1)
         if (m & 1u) {
             if (!turn)
@@ -407,7 +409,7 @@ static void cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
     con.line[0] = name;
     con.at = 1;
-    con_cat_num(pulses % 100000u, 5, 0, 0);
+    con_cat_num(pulses - pulses / 100000u * 100000u, 5, 0, 0);     /* pulses % 100000 */
     con_cat_num(hz, 5, 0, 0);
     con_cat("Hz ");
 }

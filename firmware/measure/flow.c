@@ -20,7 +20,8 @@ static void flow_derive(void) __reentrant
     uint32_t kk = param_v[P_METER_K];
     /* q[L/min x100] = 100 * 60 * 921600 * 10 / (kk[0.1 p/L] * dt) = 5.5296e10 / (kk dt);
      * 5.5296e10 = 1382400000 * 40, split so nothing overflows 32 bits */
-    fl.k = (1382400000UL / kk) * 40u + ((1382400000UL % kk) * 40u + kk / 2u) / kk;
+    uint32_t q = 1382400000UL / kk;         /* (the remainder without a remainder routine) */
+    fl.k = q * 40u + ((1382400000UL - q * kk) * 40u + kk / 2u) / kk;
     fl.gen = param_generation;
 }
 
