@@ -70,7 +70,7 @@ void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt)
     static const __code uint16_t half[4] = {0, 5, 50, 500};
     char num[FMT_MAX];
     uint8_t n, drop = (uint8_t)(fmt >> 1);
-    n = fmt_u32(num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)(fmt & CON_TRIM));
+    n = fmt_u32((__idata char *)num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)(fmt & CON_TRIM));
     if (drop) {
         n -= drop;
         if (!decimals)

@@ -68,7 +68,7 @@ void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant
 {
     char num[FMT_MAX];
     uint8_t i;
-    fmt_u32(num, v, drop, 0);
+    fmt_u32((__idata char *)num, v, drop, 0);
     for (i = 0; num[i] && num[i] != '.'; i++)
         tx_c(num[i]);
 }

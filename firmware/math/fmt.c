@@ -8,7 +8,7 @@ static const __code uint32_t pow10[10] = {
     1000000000UL, 100000000UL, 10000000UL, 1000000UL, 100000UL, 10000UL, 1000UL, 100UL, 10UL, 1UL
 };
 
-uint8_t fmt_u32(char *out, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant
+uint8_t fmt_u32(__idata char *out, uint32_t v, uint8_t decimals, uint8_t trim) __reentrant
 {
     uint8_t i, d, n = 0, started = 0;
     uint32_t p;

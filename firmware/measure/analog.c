@@ -45,7 +45,7 @@ void analog_init(void)
 }
 
 /* sum of four conversions of ch; *sat set when one of them is at full scale */
-static uint16_t read4(uint8_t ch, uint8_t *sat) __reentrant
+static uint16_t read4(uint8_t ch, __idata uint8_t *sat) __reentrant
 {
     uint16_t s = 0, x;
     uint8_t i;
@@ -106,11 +106,11 @@ void analog_step(void) __reentrant
     if (an.gen != param_generation)
         analog_derive();
 
-    s = read4(HAL_ADC_PRESSURE, &sat);
+    s = read4(HAL_ADC_PRESSURE, (__idata uint8_t *)&sat);   /* sat: on this function's stack */
     if (judge(&an.p, s < ANALOG_OPEN_SUM ? ANALOG_FAULT_OPEN : sat ? ANALOG_FAULT_SHORT : 0))
         an.p.value = scale(s, an.kp);
 
-    s = read4(HAL_ADC_LEVEL, &sat);
+    s = read4(HAL_ADC_LEVEL, (__idata uint8_t *)&sat);
     if (judge(&an.l, s < ANALOG_OPEN_SUM ? ANALOG_FAULT_OPEN : 0)) {
         l = scale(s, an.kl);
         /* the tank's surface moves with the machine: first order, 0.4 s */

@@ -83,7 +83,7 @@ static void upd_rows(uint16_t rows)
 
 static void fmt_line(uint32_t v, uint8_t decimals, uint8_t trim)
 {
-    char s[FMT_MAX];
+    __idata char s[FMT_MAX];        /* fmt_u32 writes to the internal RAM (fmt.h) */
     uint8_t i, n = fmt_u32(s, v, decimals, trim);
     tt_putc('f');
     tt_putc(' ');
