@@ -17,6 +17,7 @@
 #include "console_int.h"
 
 console_t con;
+__data uint8_t con_state, con_item, con_step, con_at;
 
 /* ---- number entry -------------------------------------------------------------------------- */
 void con_entry_clear(void)
@@ -81,7 +82,7 @@ uint16_t con_entry_value(uint8_t decimals)
 /* The running pulse total the calibration in progress counts. */
 uint32_t con_cal_now(void)
 {
-    if (con.state == S_CAL_TANK)
+    if (con_state == S_CAL_TANK)
         return ops_flow_pulses();
     return ops_wheel_pulses();
 }
@@ -89,8 +90,8 @@ uint32_t con_cal_now(void)
 /* ---- keys ---------------------------------------------------------------------------------- */
 static void go(uint8_t s)
 {
-    con.state = s;
-    con.step = 0;
+    con_state = s;
+    con_step = 0;
     con_entry_clear();
     con_say_none();
 }
@@ -99,7 +100,7 @@ static void key_run(void)
 {
     if (con.k == 'A') {
         go(S_MENU);
-        con.item = 0;
+        con_item = 0;
     } else if (con.k == 'B') {
         go(S_TOTALS);
     } else if (con.k == '#') {
@@ -116,16 +117,16 @@ static void key_run(void)
 static void key_totals(void)
 {
     if (con.k == 'D') {
-        if (con.step) {
+        if (con_step) {
             ops_totals_reset();
-            con.step = 0;
+            con_step = 0;
             con_say("Job reset");
         } else {
-            con.step = 1;
+            con_step = 1;
         }
     } else if (con.k == 'C' || con.k == 'B') {
-        if (con.step)
-            con.step = 0;
+        if (con_step)
+            con_step = 0;
         else
             go(S_RUN);
     }
@@ -134,25 +135,25 @@ static void key_totals(void)
 static void key_menu(void)
 {
     if (con.k == 'A') {
-        con.item = con.item ? con.item - 1 : MENU_COUNT - 1;
+        con_item = con_item ? con_item - 1 : MENU_COUNT - 1;
     } else if (con.k == 'B') {
-        con.item = con.item + 1 < MENU_COUNT ? con.item + 1 : 0;
+        con_item = con_item + 1 < MENU_COUNT ? con_item + 1 : 0;
     } else if (con.k == 'C') {
         go(S_RUN);
     } else if (con.k == 'D') {
-        if (con.item == MENU_CAL_SPEED)
+        if (con_item == MENU_CAL_SPEED)
             go(S_CAL_SPEED);
-        else if (con.item == MENU_CAL_TANK)
+        else if (con_item == MENU_CAL_TANK)
             go(S_CAL_TANK);
-        else if (con.item == MENU_TOTALS)
+        else if (con_item == MENU_TOTALS)
             go(S_TOTALS);
-        else if (con.item == MENU_IOTEST) {
+        else if (con_item == MENU_IOTEST) {
             go(S_IOTEST);
             con_iotest_start();
         }
-        else if (con_is_choice(con.item)) {
+        else if (con_is_choice(con_item)) {
             go(S_CHOICE);
-            con.step = (uint8_t)param_v[con.item];
+            con_step = (uint8_t)param_v[con_item];
         } else
             go(S_EDIT);
     }
@@ -170,7 +171,7 @@ static uint8_t typing(uint8_t decimals)
 
 static void key_edit(void)
 {
-    const __code param_info_t *pi = param_info(con.item);
+    const __code param_info_t *pi = param_info(con_item);
     uint16_t v;
     if (typing(pi->decimals))
         return;
@@ -188,9 +189,9 @@ static void key_edit(void)
         if (!pi->decimals && entry_point() != 0xFF) {
             con_say("Whole numbers");
         } else if (v == ENTRY_TOO_BIG) {
-            con_say_range(con.item);
-        } else if (con_apply(con.item, v)) {
-            con.state = S_MENU;
+            con_say_range(con_item);
+        } else if (con_apply(con_item, v)) {
+            con_state = S_MENU;
             con_entry_clear();
             return;
         }
@@ -200,28 +201,28 @@ static void key_edit(void)
 
 static void key_choice(void)
 {
-    uint8_t n = con.item == P_MODE || con.item == P_REMOTE ? 2 : CTL_COUNT;
+    uint8_t n = con_item == P_MODE || con_item == P_REMOTE ? 2 : CTL_COUNT;
     if (con.k == 'A')
-        con.step = con.step + 1 < n ? con.step + 1 : 0;
+        con_step = con_step + 1 < n ? con_step + 1 : 0;
     else if (con.k == 'B')
-        con.step = con.step ? con.step - 1 : n - 1;
+        con_step = con_step ? con_step - 1 : n - 1;
     else if (con.k == 'C')
         go(S_MENU);
     else if (con.k == 'D') {
-        if (con_apply(con.item, con.step))
-            con.state = S_MENU;
+        if (con_apply(con_item, con_step))
+            con_state = S_MENU;
     }
 }
 
 static void key_cal(void)
 {
-    uint8_t tank = con.state == S_CAL_TANK;
+    uint8_t tank = con_state == S_CAL_TANK;
     uint8_t id = tank ? P_METER_K : P_WHEEL;
     uint32_t v;
-    if (con.step == 2 && typing(1))
+    if (con_step == 2 && typing(1))
         return;
     if (con.k == 'C') {
-        if (con.step == 2 && con.entry_n)
+        if (con_step == 2 && con.entry_n)
             con_entry_clear();
         else {
             go(S_MENU);
@@ -231,29 +232,29 @@ static void key_cal(void)
     }
     if (con.k != 'D')
         return;
-    if (con.step == 0) {
+    if (con_step == 0) {
         con.cal_pulses = con_cal_now();
-        con.step = 1;
-    } else if (con.step == 1) {
+        con_step = 1;
+    } else if (con_step == 1) {
         con.cal_pulses = con_cal_now() - con.cal_pulses;
         if (con.cal_pulses < 10u) {
             con_say("Too few pulses");
-            con.step = 0;
+            con_step = 0;
         } else if (tank) {
             con_entry_clear();
-            con.step = 2;
+            con_step = 2;
         } else {
             /* P_WHEEL in 0.1 mm a pulse: 100 m = 1 000 000 tenths of a millimetre */
             v = 1000000uL / con.cal_pulses;
             if (v > 0xFFFFu || !param_in_range(id, (uint16_t)v)) {
                 con_say_range(id);
-                con.step = 0;
+                con_step = 0;
             } else {
                 con.cal_value = (uint16_t)v;
-                con.step = 3;
+                con_step = 3;
             }
         }
-    } else if (con.step == 2) {
+    } else if (con_step == 2) {
         v = con_entry_value(1);             /* litres x10 */
         con_entry_clear();
         if (!v || v == ENTRY_TOO_BIG) {
@@ -271,10 +272,10 @@ static void key_cal(void)
             return;
         }
         con.cal_value = (uint16_t)v;
-        con.step = 3;
+        con_step = 3;
     } else {
         if (con_apply(id, con.cal_value))
-            con.state = S_MENU;
+            con_state = S_MENU;
     }
 }
 
@@ -305,7 +306,7 @@ static void key(void)
         ops_alarm_ack();
         return;
     }
-    switch (con.state) {
+    switch (con_state) {
     case S_RUN: key_run(); break;
     case S_TOTALS: key_totals(); break;
     case S_MENU: key_menu(); break;
@@ -321,9 +322,9 @@ void console_init(void)
     keypad_init();
     lcd_init();
     screen_clear();
-    con.state = S_RUN;
-    con.item = 0;
-    con.step = 0;
+    con_state = S_RUN;
+    con_item = 0;
+    con_step = 0;
     con_entry_clear();
     con_say(diag_reset_text());     /* why the controller (re)started */
     con.rc_seen = target_remote_refusals();

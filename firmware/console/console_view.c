@@ -39,21 +39,21 @@ uint8_t con_msg_on(void)
     return con.msg || con.msg_range != NO_RANGE;
 }
 
-/* The bottom-line screens put a whole line together in `line` (con.at: where the next text
+/* The bottom-line screens put a whole line together in `line` (con_at: where the next text
  * goes), then screen_line() it: each column is written once, so only real changes reach the LCD. */
 void con_cat(const char *s)
 {
-    uint8_t at = con.at;
+    uint8_t at = con_at;
     while (*s && at < SCREEN_COLS)
         con.line[at++] = *s++;
     con.line[at] = 0;
-    con.at = at;
+    con_at = at;
 }
 
 /* a new line, starting with s */
 void con_start(const char *s)
 {
-    con.at = 0;
+    con_at = 0;
     con_cat(s);
 }
 
@@ -211,10 +211,10 @@ static void draw_run(void)
     int8_t a;
     int16_t q;
     /* " 7.2km/h    AUTO": ground speed, mode (HIL: the inputs come from the PC's plant) */
-    con.at = 0;
+    con_at = 0;
     con_cat_num(st->speed_kmh_x100, 4, 1, CON_DROP(1));
     con_cat("km/h ");
-    at = con.at;
+    at = con_at;
     con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO");
     con_right_align(at);
     con_show(0);
@@ -228,7 +228,7 @@ static void draw_run(void)
     con_cat("L/mn");
     con_show(1);
     /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
-    con.at = 0;
+    con_at = 0;
     con_cat_num(st->applied_l_ha_x10, 4, 0, CON_DROP(1));
     con_cat("L/ha");
     con_cat_num(st->pressure_kpa, 5, 2, 0);
@@ -250,7 +250,7 @@ static void draw_run(void)
         con_start("T");
         con_cat_num(st->tank_l, 5, 0, 0);
         con_cat("L ");
-        at = con.at;
+        at = con_at;
         if (target_rate_remote()) {         /* the rate comes from the field computer */
             con_cat("RC");
             con_cat_num(target_rate_x10(), 0, 1, 0);
@@ -276,7 +276,7 @@ static void draw_totals(void)
     con_cat_num(st->life_area_m2, 9, 2, CON_DROP(2));
     con_cat(" ha");
     con_show(2);
-    if (con.step) {
+    if (con_step) {
         draw_bottom("Reset job? D=yes");
     } else if (con_msg_on()) {
         con_draw_msg();
@@ -304,29 +304,29 @@ static const char *menu_name(uint8_t i)
 static void draw_menu(void)
 {
     con_start("Menu ");
-    con_cat_num(con.item + 1u, 2, 0, 0);
+    con_cat_num(con_item + 1u, 2, 0, 0);
     con_cat("/");
     con_cat_num(MENU_COUNT, 0, 0, 0);
     con_right_align(5);
     con_show(0);
-    screen_line(menu_name(con.item), 1);
-    if (con.item < P_COUNT) {
-        con.at = 0;
-        con_cat_value(con.item, param_v[con.item]);
+    screen_line(menu_name(con_item), 1);
+    if (con_item < P_COUNT) {
+        con_at = 0;
+        con_cat_value(con_item, param_v[con_item]);
         con_right_align(0);
         con_show(2);
     } else {
-        screen_line(con.item == MENU_TOTALS ? "D: show, reset" : "D: start", 2);
+        screen_line(con_item == MENU_TOTALS ? "D: show, reset" : "D: start", 2);
     }
     draw_bottom("A^ Bv D:ok C:run");
 }
 
 static void draw_edit(void)
 {
-    const __code param_info_t *pi = param_info(con.item);
+    const __code param_info_t *pi = param_info(con_item);
     screen_line(pi->name, 0);
     con_start("now ");
-    con_cat_value(con.item, param_v[con.item]);
+    con_cat_value(con_item, param_v[con_item]);
     con_right_align(4);             /* the value after "now " */
     con_show(1);
     con_start("new ");
@@ -342,13 +342,13 @@ static void draw_edit(void)
 
 static void draw_choice(void)
 {
-    screen_line(param_info(con.item)->name, 0);
+    screen_line(param_info(con_item)->name, 0);
     con_start("now ");
-    con_cat(con_choice_name(con.item, param_v[con.item]));
+    con_cat(con_choice_name(con_item, param_v[con_item]));
     con_right_align(4);
     con_show(1);
     con_start("new ");
-    con_cat(con_choice_name(con.item, con.step));
+    con_cat(con_choice_name(con_item, con_step));
     con_right_align(4);
     con_show(2);
     draw_bottom("A/B:choose D:ok");
@@ -356,22 +356,22 @@ static void draw_choice(void)
 
 static void draw_cal(void)
 {
-    uint8_t tank = con.state == S_CAL_TANK;
+    uint8_t tank = con_state == S_CAL_TANK;
     uint32_t now = con_cal_now();
     screen_line(tank ? "Meter cal tank" : "Speed cal 100 m", 0);
-    if (con.step == 0) {
+    if (con_step == 0) {
         screen_line(tank ? "Tank at a mark" : "At the start", 1);
         screen_line("D: start count", 2);
         draw_bottom("C:back");
         return;
     }
     con_start("Pulses");
-    con_cat_num(con.step == 1 ? now - con.cal_pulses : con.cal_pulses, 10, 0, 0);
+    con_cat_num(con_step == 1 ? now - con.cal_pulses : con.cal_pulses, 10, 0, 0);
     con_show(1);
-    if (con.step == 1) {
+    if (con_step == 1) {
         screen_line(tank ? "Spray; D: stop" : "At 100 m: D", 2);
         draw_bottom("C:cancel");
-    } else if (con.step == 2) {             /* tank: litres sprayed */
+    } else if (con_step == 2) {             /* tank: litres sprayed */
         con_start("Litres ");
         con_cat(con.entry);
         con_cat("_");
@@ -408,7 +408,7 @@ static void cat_ma(uint8_t ch)
 static void cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
     con.line[0] = name;
-    con.at = 1;
+    con_at = 1;
     con_cat_num(pulses - pulses / 100000u * 100000u, 5, 0, 0);     /* pulses % 100000 */
     con_cat_num(hz, 5, 0, 0);
     con_cat("Hz ");
@@ -457,7 +457,7 @@ void con_draw(void)
 {
     if (con_msg_on() && (int16_t)((uint16_t)hal_ms() - con.msg_until_ms) >= 0)
         con_say_none();
-    switch (con.state) {
+    switch (con_state) {
     case S_RUN: draw_run(); break;
     case S_TOTALS: draw_totals(); break;
     case S_MENU: draw_menu(); break;

@@ -29,7 +29,7 @@ static struct {
     int16_t off[SPEED_TEETH_MAX];   /* each element's position against element 0's, 1/4096 of a spacing */
 } sp;
 
-/* scratch of speed_learn (not on the stack: the speed step runs deep in the main loop) */
+/* the span speed_learn checks, measured by speed_step */
 static uint32_t sl_dt;
 
 static void speed_forget_offsets(void) __reentrant
@@ -83,7 +83,7 @@ void speed_init(void)
  * and within a turn of that measurement, the span of `count` pulses just measured (sl_dt) should
  * be (count + off[new] - off[old]) t_rev / n: what it differs by moves the new element's offset
  * (element 0 is the zero; when it is the new one, the old one's moves instead). */
-static void speed_learn(uint8_t count, uint8_t old)
+static void speed_learn(uint8_t count, uint8_t old) __reentrant
 {
     uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg;
     int32_t err;
