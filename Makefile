@@ -23,11 +23,11 @@ CODE_SIZE ?= 61440
 IRAM_SIZE ?= 256
 XRAM_SIZE ?= 1024
 # headroom floors: `make firmware` fails below them (room for the next feature, fix or figure;
-# docs/MEMORY.md). Issue 13 asks 15 % of the code free and 205 B of XRAM: not reached, the
-# floors hold what the image has, less about 600 B of code kept for the work in progress, so
-# that nothing grows unseen; raise them as code comes out.
-CODE_FREE_PCT ?= 5.7
-XRAM_FREE_MIN ?= 100
+# docs/MEMORY.md). Issue 13 asks 15 % of the code free, 205 B of XRAM and a 40 B stack margin:
+# code and stack are held there; XRAM is not reached, its floor holds what the image has less a
+# little room for the work in progress, so that nothing grows unseen (raise it as XRAM comes free).
+CODE_FREE_PCT ?= 15
+XRAM_FREE_MIN ?= 140
 STACK_MARGIN_MIN ?= 40
 
 # ==== sources: firmware/ in layers, bottom to top ====================================================
