@@ -91,6 +91,23 @@ typedef struct {
     double dt, tau, k;
 } plant_decay_t;
 
+/* The constants of a tick that plant_step would otherwise divide out each time: computed again
+ * when the tick's length or one of the parameters they come from changes (tests set parameters
+ * after plant_init). */
+typedef struct {
+    uint32_t dt_ns;                 /* the key: the tick and the parameters below */
+    double slip_pct, v_rated_kmh, pump_lpm, compliance, tank_l, lag_s, m_per_pulse;
+    double dt;                      /* s */
+    double g, inv_g;                /* the line's compliance over the tick, L/min/bar, and 1/g */
+    double pto_per_mps;             /* PTO rpm per m/s of ground speed per rated rpm (coupled) */
+    double turn_per_rpm;            /* the pulsation's turn a tick per PTO rpm, rad */
+    double pump_per_rpm;            /* pump flow per PTO rpm, L/min */
+    double dt_min;                  /* the tick in minutes */
+    double level_ma_per_l;          /* the level loop's mA per litre in the tank */
+    double inv_lag;                 /* 1 / tractor_lag_s */
+    double wheel_per_mps;           /* wheel pulses a tick per m/s of ground speed */
+} plant_tick_t;
+
 typedef struct {
     plant_params_t p;
     /* derived constants (plant_init) */
@@ -123,6 +140,9 @@ typedef struct {
     /* line */
     double p_bar;                   /* line pressure at the boom */
     double p_last;                  /* the one before (Newton's first guess follows the trend) */
+    double root_p, root_s, root_sc, root_d;  /* p_bar, sqrt(p_bar), sqrt(p_bar - check) and the
+                                            slope of the line's equation there, kept from the last
+                                            tick for the next one's first Newton step */
     double q_pump, q_relief, q_bypass, q_boom, q_leak;   /* L/min over the last tick */
     double q_meter;                 /* through the flow meter: boom + leak */
     int spray_on;
@@ -136,6 +156,7 @@ typedef struct {
     /* sensors */
     double q_rotor;                 /* turbine rotor's flow (lagged), L/min */
     plant_decay_t motor_decay, rotor_decay;   /* the valve motor's and the rotor's lag a tick */
+    plant_tick_t tick;              /* constants of the tick (plant.c) */
     plant_teeth_t meter_teeth, wheel_teeth;   /* blade and element spacing, pulse positions */
     uint64_t flow_pulses, wheel_pulses;  /* pulses sent so far */
     double ma_pressure, ma_level;        /* the 4-20 mA loops this tick */
