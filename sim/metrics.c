@@ -323,7 +323,8 @@ void metrics_samples_csv(FILE *f, const metrics_t *m)
                 m->work[k], m->spray[k]);
 }
 
-void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s)
+void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s,
+                  double cpu_s)
 {
     int i;
     fputc('{', f);
@@ -365,6 +366,7 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     fputs("],", f);
     num(f, "sim_s", r->sim_s, 1);
     num(f, "wall_s", wall_s, 1);
+    num(f, "cpu_s", cpu_s, 1);
     num(f, "speed_x_realtime", wall_s > 0 ? r->sim_s / wall_s : NAN, 0);
     fputs("}\n", f);
 }

@@ -270,13 +270,19 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
     return count;
 }
 
+/* counts rounded half up and clipped to 0..1023 (floor by truncation above 1) */
+static uint16_t adc_round(double c)
+{
+    c += 0.5;
+    return c < 1.0 ? 0 : c >= 1023.0 ? 1023 : (uint16_t)c;
+}
+
 static uint16_t adc_of_ma(plant_t *pl, double ma, double noise_lsb)
 {
     double c = ma * PLANT_ADC_PER_MA;
     if (noise_lsb > 0.0)
         c += noise_lsb * rng_normal(&pl->rng);
-    c += 0.5;                       /* round half up, clipped to 0..1023: floor by truncation above 1 */
-    return c < 1.0 ? 0 : c >= 1023.0 ? 1023 : (uint16_t)c;
+    return adc_round(c);
 }
 
 /* The pulsation's phase as a unit vector turned by angle a each tick (a recurrence instead of a
@@ -285,17 +291,19 @@ static uint16_t adc_of_ma(plant_t *pl, double ma, double noise_lsb)
  * rounding cannot make it drift. */
 static void pulse_turn(plant_t *pl, double a)
 {
-    double c, s, k;
+    double c, s, k, ca = pl->pulse_ca, sa = pl->pulse_sa;
     if (a != pl->pulse_a) {
-        double a2 = a * a;
+        double a2 = a * a;          /* Horner in a^2, the coefficients 1/n! with their signs */
+        ca = 1.0 + a2 * (-1.0 / 2 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 +
+             a2 * (-1.0 / 3628800)))));
+        sa = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 +
+             a2 * (-1.0 / 39916800))))));
         pl->pulse_a = a;
-        pl->pulse_ca = 1.0 - a2 * (1.0 / 2) * (1.0 - a2 * (1.0 / 12) * (1.0 - a2 * (1.0 / 30) *
-                       (1.0 - a2 * (1.0 / 56) * (1.0 - a2 * (1.0 / 90)))));
-        pl->pulse_sa = a * (1.0 - a2 * (1.0 / 6) * (1.0 - a2 * (1.0 / 20) * (1.0 - a2 * (1.0 / 42) *
-                       (1.0 - a2 * (1.0 / 72) * (1.0 - a2 * (1.0 / 110))))));
+        pl->pulse_ca = ca;
+        pl->pulse_sa = sa;
     }
-    c = pl->pulse_c * pl->pulse_ca - pl->pulse_s * pl->pulse_sa;
-    s = pl->pulse_s * pl->pulse_ca + pl->pulse_c * pl->pulse_sa;
+    c = pl->pulse_c * ca - pl->pulse_s * sa;
+    s = pl->pulse_s * ca + pl->pulse_c * sa;
     k = 1.5 - 0.5 * (c * c + s * s);
     pl->pulse_c = c * k;
     pl->pulse_s = s * k;
@@ -548,9 +556,12 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
             ma = 0.0;
         pl->ma_pressure = ma;
         pl->ma_level = 4.0 + pl->tank_v * k->level_ma_per_l;
-        pl->adc_pressure = adc_of_ma(pl, ma, 0.0);
-        pl->adc_level = adc_of_ma(pl, pl->ma_level, 0.0);
     }
+}
+
+uint16_t plant_adc_ideal(const plant_t *pl, int ch)
+{
+    return adc_round((ch == 0 ? pl->ma_pressure : pl->ma_level) * PLANT_ADC_PER_MA);
 }
 
 uint16_t plant_adc_sample(plant_t *pl, int ch)

@@ -160,8 +160,7 @@ typedef struct {
     plant_teeth_t meter_teeth, wheel_teeth;   /* blade and element spacing, pulse positions */
     uint64_t flow_pulses, wheel_pulses;  /* pulses sent so far */
     double ma_pressure, ma_level;        /* the 4-20 mA loops this tick */
-    uint16_t adc_pressure, adc_level;    /* 10-bit counts: noise-free after plant_step, the last
-                                            conversion's after plant_adc_sample */
+    uint16_t adc_pressure, adc_level;    /* 10-bit counts of the last conversion (plant_adc_sample) */
     double bounce_pct;
     /* faults */
     int meter_fail, speed_fail, psens_open, valve_stuck;
@@ -182,6 +181,8 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns);
 /* One ADC conversion of channel ch (0 pressure, 1 level) now, with its own noise draw: the
  * noise is drawn when the firmware converts, not every tick. Also stores it in adc_*. */
 uint16_t plant_adc_sample(plant_t *pl, int ch);
+/* The counts a conversion without noise would give now (no draw, nothing stored). */
+uint16_t plant_adc_ideal(const plant_t *pl, int ch);
 
 /* The sensors' pulse trains alone (plant_step calls them with the line flow and the ground
  * speed of the tick): the turbine rotor follows q with its lag and pulses at K(q) q; the

@@ -11,14 +11,17 @@
 #include "keypad.h"
 #include <stdlib.h>
 
-static double now_s(void)
+static double now_s(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static void sample(sim_t *sim, double flow_lpm);
+
+/* valve_duty / 255.0 for each duty (no division a tick) */
+static double duty_frac[256];
 
 /* The ADC's conversions come from the plant of the running simulation (one a process). */
 static plant_t *adc_plant;
@@ -44,6 +47,9 @@ static void set_sections(sim_t *sim, int open_nozzles)
 
 void sim_init(sim_t *sim, const scenario_t *s)
 {
+    int i;
+    for (i = 0; i < 256; i++)
+        duty_frac[i] = i / 255.0;
     memset(sim, 0, sizeof *sim);
     sim->scn = s;
     sim->end_ns = (uint64_t)(s->duration_s * 1e9 + 0.5);
@@ -125,11 +131,14 @@ static double reference_lpm(const sim_t *sim)
 }
 
 /* What a meter true to the firmware's calibration reads of the flow through it, L/min. */
-static double meter_reads_lpm(const sim_t *sim)
+static double meter_reads_lpm(sim_t *sim)
 {
     const plant_t *pl = &sim->plant;
-    double cal = param_v[P_METER_K] / 10.0;
-    return cal > 0 ? pl->q_meter * plant_meter_k(pl, pl->q_meter) / cal : 0.0;
+    if (param_v[P_METER_K] != sim->cal_param) {
+        sim->cal_param = param_v[P_METER_K];
+        sim->cal_ppl = sim->cal_param / 10.0;
+    }
+    return sim->cal_ppl > 0 ? pl->q_meter * plant_meter_k(pl, pl->q_meter) / sim->cal_ppl : 0.0;
 }
 
 static void sample(sim_t *sim, double flow_lpm)
@@ -241,17 +250,18 @@ void sim_step(sim_t *sim)
     const scenario_t *s = sim->scn;
     plant_t *pl = &sim->plant;
     uint64_t t1 = sim->t_ns + SIM_TICK_NS;
+    double t1_ns = (double)(int64_t)t1;     /* t1 < 2^63: the signed conversion is exact and cheaper */
     plant_in_t in;
     double dt = SIM_TICK_NS * 1e-9;
 
-    while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= (double)t1) {
+    while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= t1_ns) {
         const scn_event_t *e = &s->events[sim->next_event++];
         sim_event(sim, e->kind, e->value);          /* checked when the file was read */
     }
     if (sim->n_input)
         input_step(sim, t1);
-    pl->v_cmd_kmh = drive_kmh(sim, t1 * 1e-9);
-    in.drive = hal_host_io.valve_dir * (hal_host_io.valve_duty / 255.0);
+    pl->v_cmd_kmh = drive_kmh(sim, t1_ns * 1e-9);
+    in.drive = hal_host_io.valve_dir * duty_frac[hal_host_io.valve_duty];
     in.spray_on = hal_host_io.spray_on;
 
     hal_host_set_time_ns(t1);
@@ -310,12 +320,13 @@ void sim_step(sim_t *sim)
 void sim_run(sim_t *sim, double until_s)
 {
     uint64_t until = until_s <= 0 ? 0 : (uint64_t)(until_s * 1e9 + 0.5);
-    double w0 = now_s();
+    double w0 = now_s(CLOCK_MONOTONIC), c0 = now_s(CLOCK_PROCESS_CPUTIME_ID);
     if (until > sim->end_ns)
         until = sim->end_ns;
     while (sim->t_ns + SIM_TICK_NS <= until)
         sim_step(sim);
-    sim->wall_s += now_s() - w0;
+    sim->wall_s += now_s(CLOCK_MONOTONIC) - w0;
+    sim->cpu_s += now_s(CLOCK_PROCESS_CPUTIME_ID) - c0;
 }
 
 int sim_done(const sim_t *sim)
@@ -413,7 +424,7 @@ void sim_json(const sim_t *sim, const metrics_result_t *r, FILE *f)
     clean[k] = 0;
     snprintf(extra, sizeof extra, "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,",
              clean, ctl_name((uint8_t)param_v[P_CONTROLLER]), (unsigned long long)sim->scn->seed);
-    metrics_json(f, &sim->metrics, r, extra, sim->wall_s);
+    metrics_json(f, &sim->metrics, r, extra, sim->wall_s, sim->cpu_s);
 }
 
 void sim_free(sim_t *sim)

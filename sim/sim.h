@@ -86,11 +86,14 @@ typedef struct sim {
     double acc_meter, acc_boom;
     uint32_t acc_n;
     double flow_true_lpm, boom_lpm; /* the last period's means */
+    uint16_t cal_param;             /* the meter's calibration parameter cal_ppl was computed for */
+    double cal_ppl;                 /* the firmware's pulses a litre (0 until computed) */
     uint64_t next_sample_ns;
     /* trace */
     FILE *csv;
     uint64_t csv_period_ns, next_csv_ns;
     double wall_s;                  /* wall time spent in sim_step so far */
+    double cpu_s;                   /* the process's CPU time over the same (no other load in it) */
     /* the firmware's pass of a tick: app_poll() here, or (pass set) the same firmware elsewhere
      * (hal/pil: inside s51), which leaves its outputs in hal_host_io and app_status */
     void (*pass)(void *ctx);

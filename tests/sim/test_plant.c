@@ -464,13 +464,13 @@ static void test_plant_sensors_4_20_ma_into_the_adc(void **state)
     pl.p.check_valve_bar = 5.0;                 /* nothing drains: the line keeps its 4 bar */
     plant_step(&pl, &in, TICK);
     assert_within(pl.p_bar, 4.0, 1e-9);
-    assert_int_equal(pl.adc_pressure, 409);
-    assert_int_equal(pl.adc_level, 1023);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 409);
+    assert_int_equal(plant_adc_ideal(&pl, 1), 1023);
     pl.tank_v = 500;
     pl.psens_open = 1;
     plant_step(&pl, &in, TICK);
-    assert_int_equal(pl.adc_pressure, 0);
-    assert_int_equal(pl.adc_level, 614);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 0);
+    assert_int_equal(plant_adc_ideal(&pl, 1), 614);
 }
 
 /* Noise: 1 LSB Gaussian: over 20000 reads at 8 mA the mean is 409.2 (+-0.05) and the sd about
