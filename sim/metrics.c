@@ -81,6 +81,13 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
             m->p_seen = 1;
         }
     }
+    if (!(dist > 0.0 && m->zone_dist_m + dist >= METRICS_ZONE_M)) {
+        m->cur.vol_l += vol;        /* the whole slice in the zone (most ticks) */
+        m->cur.expect_l += expect;
+        m->cur.time_s += dt_s;
+        m->zone_dist_m += dist;
+        return;
+    }
     /* zones end exactly at every 5 m of travel: split the slice there */
     while (dist > 0.0 && m->zone_dist_m + dist * (1.0 - done) >= METRICS_ZONE_M) {
         double f = (METRICS_ZONE_M - m->zone_dist_m) / dist;

@@ -40,6 +40,7 @@ static void teeth_init(plant_teeth_t *t, int n, double jitter_pct, uint64_t seed
     }
     t->idx = 0;
     t->next = 1 % n;
+    t->thr = 1.0 + t->e[t->next];
     t->pos = first;
 }
 
@@ -240,7 +241,7 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
     double start = t->pos, end = t->pos + n;
     uint64_t count = 0;
     for (;;) {
-        double thr = 1.0 + t->e[t->next];
+        double thr = t->thr;
         uint64_t te;
         if (end < thr)
             break;
@@ -263,6 +264,7 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
         t->idx++;
         if (++t->next == t->n)
             t->next = 0;
+        t->thr = 1.0 + t->e[t->next];
         start -= 1.0;
         end -= 1.0;
     }
@@ -394,7 +396,7 @@ void plant_valve_step(plant_t *pl, double drive, double dt)
 static inline uint64_t advance(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint32_t dt_ns,
                                plant_edge_fn fn, double bounce_pct)
 {
-    if (t->pos + n < 1.0 + t->e[t->next]) {
+    if (t->pos + n < t->thr) {
         t->pos += n;
         return 0;
     }

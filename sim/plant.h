@@ -75,6 +75,7 @@ typedef struct {
     uint64_t idx;                   /* pulses emitted so far (the tooth of pulse j is j % n) */
     int n;                          /* teeth a revolution */
     int next;                       /* the tooth of the next pulse: (idx + 1) % n */
+    double thr;                     /* where the next pulse comes: 1 + e[next] */
     double e[PLANT_MAX_TEETH];      /* each tooth's offset, in pulse spacings */
 } plant_teeth_t;
 
