@@ -170,11 +170,18 @@ typedef struct {
     double guess;                   /* where Newton starts (inside the bracket or not) */
 } line_eq_t;
 
-static double line_f(const line_eq_t *e, double p, double *df)
+/* Where f was last evaluated: p, f'(p), the square roots sqrt(p), sqrt(p - Pc) (0 where their
+ * term is off) and their slopes 0.5 / root. */
+typedef struct {
+    double p, d, s, sc, hs, hc;
+} line_pt_t;
+
+static double line_f(const line_eq_t *e, double p, line_pt_t *at)
 {
     double f = e->g * (p - e->p0), d = e->g;
-    double slip = 1.0 - e->ks * p, cbk = e->cb + e->kl;
-    int boom = p > e->pc && e->a > 0.0;
+    double slip = 1.0 - e->ks * p;
+    at->p = p;
+    at->s = at->sc = at->hs = at->hc = 0.0;
     if (slip > 0.0) {
         f -= e->qp0 * slip;
         d += e->qp0 * e->ks;
@@ -184,51 +191,46 @@ static double line_f(const line_eq_t *e, double p, double *df)
         d += e->kr;
     }
     if (p > 0.0) {
-        double s = sqrt(p);
-        f += cbk * s;
-        if (boom) {                 /* both square roots: their slopes over one division */
-            double sc = sqrt(p - e->pc);
-            f += e->a * sc;
-            d += 0.5 * (cbk * sc + e->a * s) / (s * sc);
-        } else
-            d += cbk * 0.5 / s;
-    } else if (boom) {
-        double sc = sqrt(p - e->pc);
-        f += e->a * sc;
-        d += e->a * 0.5 / sc;
+        at->s = sqrt(p);
+        at->hs = 0.5 / at->s;
+        f += (e->cb + e->kl) * at->s;
+        d += (e->cb + e->kl) * at->hs;
     }
-    *df = d;
+    if (p > e->pc && e->a > 0.0) {
+        at->sc = sqrt(p - e->pc);
+        at->hc = 0.5 / at->sc;
+        f += e->a * at->sc;
+        d += e->a * at->hc;
+    }
+    at->d = d;
     return f;
 }
 
-/* The root; *slope gets f' where the last step was taken (the next tick's first step uses it). */
-static double line_solve(const line_eq_t *e, double *slope)
+/* The root; *at gets the point of the last evaluation (the next tick's first step starts from it). */
+static double line_solve(const line_eq_t *e, line_pt_t *at)
 {
     double lo = 0.0, hi = e->hi;
-    double x = e->guess, d = 0.0, f;
+    double x = e->guess, f;
     int i;
     if (x < lo || x > hi)
         x = 0.5 * (lo + hi);
     for (i = 0; i < 60; i++) {
         double xn;
-        f = line_f(e, x, &d);
+        f = line_f(e, x, at);
         if (f > 0.0)
             hi = x;
         else
             lo = x;
-        xn = x - f / d;
+        xn = x - f / at->d;
         /* converged (tested before the bracket: xn may sit on lo): the compliance term makes
          * f' at least g = 60 C / dt, so f''/2f' is small and a step this short leaves xn far
          * closer to the root than the pressure's own 1e-9 bar */
-        if (fabs(xn - x) < 1e-6) {
-            *slope = d;
+        if (fabs(xn - x) < 1e-6)
             return xn < lo ? lo : xn > hi ? hi : xn;
-        }
         if (!(xn > lo && xn < hi))
             xn = 0.5 * (lo + hi);
         x = xn;
     }
-    *slope = d;
     return x < 0.0 ? 0.0 : x;
 }
 
@@ -291,15 +293,16 @@ static uint16_t adc_of_ma(plant_t *pl, double ma, double noise_lsb)
  * sin a tick): cos a and sin a from their series (a is at most 0.5 rad: the terms left out are
  * below 1e-12), again only when a changes; the length is pulled back to 1 each turn so that
  * rounding cannot make it drift. */
-static void pulse_turn(plant_t *pl, double a)
+static double pulse_turn(plant_t *pl, double a)
 {
     double c, s, k, ca = pl->pulse_ca, sa = pl->pulse_sa;
     if (a != pl->pulse_a) {
-        double a2 = a * a;          /* Horner in a^2, the coefficients 1/n! with their signs */
-        ca = 1.0 + a2 * (-1.0 / 2 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 +
-             a2 * (-1.0 / 3628800)))));
-        sa = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 +
-             a2 * (-1.0 / 39916800))))));
+        /* the coefficients 1/n! with their signs, grouped in powers of a^2 (Estrin) so that
+         * the terms are formed side by side rather than one after the other */
+        double a2 = a * a, a4 = a2 * a2;
+        ca = (1.0 - 0.5 * a2) + a4 * ((1.0 / 24 - a2 * (1.0 / 720)) + a4 * (1.0 / 40320 - a2 * (1.0 / 3628800)));
+        sa = a * ((1.0 - a2 * (1.0 / 6)) + a4 * ((1.0 / 120 - a2 * (1.0 / 5040)) +
+             a4 * (1.0 / 362880 - a2 * (1.0 / 39916800))));
         pl->pulse_a = a;
         pl->pulse_ca = ca;
         pl->pulse_sa = sa;
@@ -309,6 +312,8 @@ static void pulse_turn(plant_t *pl, double a)
     k = 1.5 - 0.5 * (c * c + s * s);
     pl->pulse_c = c * k;
     pl->pulse_s = s * k;
+    return s;                       /* the tick's pulsation (before the length's correction, which
+                                       is for the turns to come) */
 }
 
 static void step_tractor(plant_t *pl, double dt, double inv_lag)
@@ -473,7 +478,8 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
     uint64_t t0 = pl->t_ns;
     double drive = in->drive > 1.0 ? 1.0 : in->drive < -1.0 ? -1.0 : in->drive;
     line_eq_t e;
-    double dry, puls, slope;
+    line_pt_t at;
+    double dry, puls;
     int m;
 
     pl->spray_on = in->spray_on ? 1 : 0;
@@ -488,8 +494,7 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
      * through fixed gears: n follows the wheel's speed, slip included) or fixed */
     pl->pto_now_rpm = p->pto_coupled >= 0.5 ? pl->pto_rpm * (pl->v_mps * k->pto_per_mps) : pl->pto_rpm;
     /* 3 diaphragms: pulsation at 3 n / 60 Hz, after the air chamber */
-    pulse_turn(pl, pl->pto_now_rpm * k->turn_per_rpm);
-    puls = 1.0 + p->pump_pulsation_pct * 0.01 * pl->pulse_s;
+    puls = 1.0 + p->pump_pulsation_pct * 0.01 * pulse_turn(pl, pl->pto_now_rpm * k->turn_per_rpm);
     dry = pl->tank_v / PLANT_DRY_L;
     dry = dry > 1.0 ? 1.0 : dry < 0.0 ? 0.0 : dry;
 
@@ -512,8 +517,8 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
     e.pc = p->check_valve_bar;
     e.kl = pl->spray_on ? pl->leak_lpm * (1.0 / sqrt(PLANT_LEAK_REF_BAR)) : 0.0;
     /* Newton's first guess: one step from the last tick's pressure with this tick's flows there
-     * (its square roots are kept from the last tick) along the last tick's slope; without them
-     * the pressure's own trend */
+     * (from the square roots the last tick left, no new ones) along the last tick's slope;
+     * without them the pressure's own trend. A guess only decides how soon Newton converges. */
     if (pl->root_d > 0.0 && pl->root_p == e.p0) {
         double P = e.p0, slip = 1.0 - e.ks * P, f = 0.0;
         if (slip > 0.0)
@@ -521,25 +526,29 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
         if (P > e.ps)
             f += e.kr * (P - e.ps);
         f += (e.cb + e.kl) * pl->root_s + e.a * pl->root_sc;
-        e.guess = P - f / pl->root_d;
+        e.guess = P - f * pl->root_d;
     } else
         e.guess = 2.0 * e.p0 - pl->p_last;
     pl->p_last = e.p0;
-    pl->p_bar = line_solve(&e, &slope);
+    pl->p_bar = line_solve(&e, &at);
+    {
+        /* for the next tick's guess: the roots at the new pressure to first order from the last
+         * evaluation (its step was below 1e-6 bar), and 1 / f' there */
+        double dp = pl->p_bar - at.p;
+        pl->root_p = pl->p_bar;
+        pl->root_s = at.s + dp * at.hs;
+        pl->root_sc = at.sc + dp * at.hc;
+        pl->root_d = 1.0 / at.d;
+    }
 
     {
         double P = pl->p_bar, s = sqrt(P), slip = 1.0 - e.ks * P;
-        double sc = P > e.pc ? sqrt(P - e.pc) : 0.0;
         pl->q_pump = e.qp0 * (slip > 0.0 ? slip : 0.0);
         pl->q_relief = P > e.ps ? e.kr * (P - e.ps) : 0.0;
         pl->q_bypass = e.cb * s;
         pl->q_leak = e.kl * s;
-        pl->q_boom = P > e.pc ? e.a * sc : 0.0;
+        pl->q_boom = P > e.pc ? e.a * sqrt(P - e.pc) : 0.0;
         pl->q_meter = pl->q_boom + pl->q_leak;
-        pl->root_p = P;
-        pl->root_s = s;
-        pl->root_sc = sc;
-        pl->root_d = slope;
     }
     pl->tank_v -= pl->q_meter * k->dt_min;
     if (pl->tank_v < 0.0)

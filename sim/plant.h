@@ -141,9 +141,9 @@ typedef struct {
     /* line */
     double p_bar;                   /* line pressure at the boom */
     double p_last;                  /* the one before (Newton's first guess follows the trend) */
-    double root_p, root_s, root_sc, root_d;  /* p_bar, sqrt(p_bar), sqrt(p_bar - check) and the
-                                            slope of the line's equation there, kept from the last
-                                            tick for the next one's first Newton step */
+    double root_p, root_s, root_sc, root_d;  /* p_bar, about sqrt(p_bar) and sqrt(p_bar - check),
+                                            and 1 / the slope of the line's equation there: kept
+                                            from the last tick for the next one's first Newton step */
     double q_pump, q_relief, q_bypass, q_boom, q_leak;   /* L/min over the last tick */
     double q_meter;                 /* through the flow meter: boom + leak */
     int spray_on;
