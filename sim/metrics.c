@@ -53,9 +53,9 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
                  double rate_l_ha, double p_bar, int spraying)
 {
     double dist = v_mps * dt_s;
-    double vol = nozzle_lpm * dt_s / 60.0;
+    double vol = nozzle_lpm * dt_s * (1.0 / 60);        /* reciprocals: no division a tick */
     double area = dist * width_m;
-    double expect = rate_l_ha * area / 10000.0;
+    double expect = rate_l_ha * area * (1.0 / 10000);
     double done = 0.0;              /* fraction of this slice already put into zones */
 
     m->sim_s += dt_s;
@@ -106,11 +106,12 @@ void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, d
 {
     if (v_mps * 3.6 < METRICS_MIN_KMH)
         return;
-    m->target4_l += target_lpm * dt_s / 60.0;
-    m->meter4_l += meter_lpm * dt_s / 60.0;
+    double dt_min = dt_s * (1.0 / 60);
+    m->target4_l += target_lpm * dt_min;
+    m->meter4_l += meter_lpm * dt_min;
     if (at_stop) {
-        m->stop_meter4_l += meter_lpm * dt_s / 60.0;
-        m->stop_target4_l += target_lpm * dt_s / 60.0;
+        m->stop_meter4_l += meter_lpm * dt_min;
+        m->stop_target4_l += target_lpm * dt_min;
     }
 }
 

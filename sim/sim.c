@@ -51,6 +51,7 @@ void sim_init(sim_t *sim, const scenario_t *s)
     for (i = 0; i < 256; i++)
         duty_frac[i] = i / 255.0;
     memset(sim, 0, sizeof *sim);
+    sim->slope_row = -1;
     sim->scn = s;
     sim->end_ns = (uint64_t)(s->duration_s * 1e9 + 0.5);
     hal_host_reset();
@@ -136,9 +137,9 @@ static double meter_reads_lpm(sim_t *sim)
     const plant_t *pl = &sim->plant;
     if (param_v[P_METER_K] != sim->cal_param) {
         sim->cal_param = param_v[P_METER_K];
-        sim->cal_ppl = sim->cal_param / 10.0;
+        sim->cal_inv = sim->cal_param > 0 ? 10.0 / sim->cal_param : 0.0;
     }
-    return sim->cal_ppl > 0 ? pl->q_meter * plant_meter_k(pl, pl->q_meter) / sim->cal_ppl : 0.0;
+    return pl->q_meter * plant_meter_k(pl, pl->q_meter) * sim->cal_inv;
 }
 
 static void sample(sim_t *sim, double flow_lpm)
@@ -160,7 +161,11 @@ static double drive_kmh(sim_t *sim, double t)
     i = sim->drive_row;
     if (t < d[0].t_s || i + 1 >= s->n_drive)
         return d[i].kmh;
-    return d[i].kmh + (d[i + 1].kmh - d[i].kmh) * (t - d[i].t_s) / (d[i + 1].t_s - d[i].t_s);
+    if (i != sim->slope_row) {
+        sim->slope_row = i;
+        sim->drive_slope = (d[i + 1].kmh - d[i].kmh) / (d[i + 1].t_s - d[i].t_s);
+    }
+    return d[i].kmh + sim->drive_slope * (t - d[i].t_s);
 }
 
 int sim_input_load(sim_t *sim, const char *path, char *err, size_t n)
@@ -295,7 +300,7 @@ void sim_step(sim_t *sim)
 
     metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
                 param_v[P_RATE], pl->p_bar, pl->spray_on);
-    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 / 100.0,
+    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 * 0.01,
                    pl->theta <= 0.0 || pl->theta >= 1.0);
     metrics_valve(&sim->metrics, dt, (double)pl->valve_reversals, pl->valve_travel, pl->spray_on);
     sim->acc_meter += pl->q_meter;

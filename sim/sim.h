@@ -86,8 +86,10 @@ typedef struct sim {
     double acc_meter, acc_boom;
     uint32_t acc_n;
     double flow_true_lpm, boom_lpm; /* the last period's means */
-    uint16_t cal_param;             /* the meter's calibration parameter cal_ppl was computed for */
-    double cal_ppl;                 /* the firmware's pulses a litre (0 until computed) */
+    uint16_t cal_param;             /* the meter's calibration parameter cal_inv was computed for */
+    double cal_inv;                 /* litres a pulse by the firmware's calibration (0: none) */
+    int slope_row;                  /* the [drive] row drive_slope is for (-1: none) */
+    double drive_slope;             /* km/h per s from that row to the next */
     uint64_t next_sample_ns;
     /* trace */
     FILE *csv;
