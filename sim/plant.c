@@ -532,22 +532,22 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
     pl->p_last = e.p0;
     pl->p_bar = line_solve(&e, &at);
     {
-        /* for the next tick's guess: the roots at the new pressure to first order from the last
-         * evaluation (its step was below 1e-6 bar), and 1 / f' there */
-        double dp = pl->p_bar - at.p;
-        pl->root_p = pl->p_bar;
-        pl->root_s = at.s + dp * at.hs;
-        pl->root_sc = at.sc + dp * at.hc;
+        /* the square roots at the new pressure: to first order from the last evaluation when
+         * Newton's last step there was short against the pressure (the second-order term is
+         * then below (dp/p)^2/8 of the root: rounding), else anew; they also start the next
+         * tick's guess, with 1 / f' */
+        double P = pl->p_bar, dp = P - at.p, slip = 1.0 - e.ks * P, s, sc;
+        s = at.s > 0.0 && fabs(dp) < 1e-7 * at.p ? at.s + dp * at.hs : sqrt(P);
+        sc = P > e.pc ? (at.sc > 0.0 && fabs(dp) < 1e-7 * (at.p - e.pc) ? at.sc + dp * at.hc : sqrt(P - e.pc)) : 0.0;
+        pl->root_p = P;
+        pl->root_s = s;
+        pl->root_sc = sc;
         pl->root_d = 1.0 / at.d;
-    }
-
-    {
-        double P = pl->p_bar, s = sqrt(P), slip = 1.0 - e.ks * P;
         pl->q_pump = e.qp0 * (slip > 0.0 ? slip : 0.0);
         pl->q_relief = P > e.ps ? e.kr * (P - e.ps) : 0.0;
         pl->q_bypass = e.cb * s;
         pl->q_leak = e.kl * s;
-        pl->q_boom = P > e.pc ? e.a * sqrt(P - e.pc) : 0.0;
+        pl->q_boom = e.a * sc;
         pl->q_meter = pl->q_boom + pl->q_leak;
     }
     pl->tank_v -= pl->q_meter * k->dt_min;
