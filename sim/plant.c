@@ -290,12 +290,37 @@ static uint16_t adc_of_ma(plant_t *pl, double ma, double noise_lsb)
 }
 
 /* The pulsation's phase as a unit vector turned by angle a each tick (a recurrence instead of a
- * sin a tick): cos a and sin a from their series (a is at most 0.5 rad: the terms left out are
- * below 1e-12), again only when a changes; the length is pulled back to 1 each turn so that
- * rounding cannot make it drift. */
+ * sin a tick): cos a and sin a from their series (for a up to PLANT_SERIES_RAD: the terms left
+ * out are below 1e-12), again only when a changes; the length is pulled back to 1 each turn so
+ * that rounding cannot make it drift. Returns the pulsation the tick's pump flow takes: its value
+ * at the tick's end, or over a longer turn (a fast mode's long tick) its mean over the tick. */
 static double pulse_turn(plant_t *pl, double a)
 {
     double c, s, k, ca = pl->pulse_ca, sa = pl->pulse_sa;
+    if (a > PLANT_SERIES_RAD) {
+        double c0 = pl->pulse_c, da = a - pl->pulse_a;
+        if (da != 0.0) {
+            if (fabs(da) < 1e-3) {
+                /* a long turn that changed a little (the speed moved): turn cos a, sin a by the
+                 * change, from its series (the terms left out are below 1e-13 of it) */
+                double cd = 1.0 - 0.5 * da * da, sd = da * (1.0 - da * da * (1.0 / 6));
+                ca = pl->pulse_ca * cd - pl->pulse_sa * sd;
+                sa = pl->pulse_sa * cd + pl->pulse_ca * sd;
+            } else {
+                ca = cos(a);
+                sa = sin(a);
+            }
+            pl->pulse_a = a;
+            pl->pulse_ca = ca;
+            pl->pulse_sa = sa;
+        }
+        c = c0 * ca - pl->pulse_s * sa;
+        s = pl->pulse_s * ca + c0 * sa;
+        k = 1.5 - 0.5 * (c * c + s * s);
+        pl->pulse_c = c * k;
+        pl->pulse_s = s * k;
+        return (c0 - c) / a;        /* the mean of sin over the turn */
+    }
     if (a != pl->pulse_a) {
         /* the coefficients 1/n! with their signs, grouped in powers of a^2 (Estrin) so that
          * the terms are formed side by side rather than one after the other */

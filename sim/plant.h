@@ -66,6 +66,7 @@ typedef struct {
 #define PLANT_MAX_TEETH 1024        /* largest wheel_elements (meter_blades is at most 64) */
 #define PLANT_JITTER_MAX 0.4        /* spacing offsets are clipped to +-0.4 of a spacing, so pulses keep their order */
 #define PLANT_REST_FRAC 0.01        /* the valve motor is at rest below 1 % of its full speed */
+#define PLANT_SERIES_RAD 0.5        /* the pulsation's turn a tick up to which its series holds */
 
 /* A pulse train from a toothed rotor (meter blades, wheel elements): tooth i's pulse comes at
  * position k + e[i] (in pulses), e drawn once per run, mean removed, so the pattern repeats every

@@ -20,6 +20,16 @@ static double now_s(clockid_t clock)
 
 static void sample(sim_t *sim, double flow_lpm);
 
+/* A fast mode's long tick may start now: the valve's bridge off and its motor at rest, the
+ * tractor at the driver's speed, no operator input in the run, on the long tick's grid (so that
+ * it ends on the 100 ms grid of the control steps and samples) and not past the scenario's end. */
+static int sim_idle(const sim_t *sim)
+{
+    return hal_host_io.valve_dir == HAL_VALVE_OFF && !sim->plant.moving && !sim->n_input &&
+           fabs(sim->plant.v_cmd_kmh - plant_speed_kmh(&sim->plant)) < SIM_IDLE_KMH &&
+           sim->t_ns % sim->idle_tick_ns == 0 && sim->t_ns + sim->idle_tick_ns <= sim->end_ns;
+}
+
 /* valve_duty / 255.0 for each duty (no division a tick) */
 static double duty_frac[256];
 
@@ -51,6 +61,7 @@ void sim_init(sim_t *sim, const scenario_t *s)
     for (i = 0; i < 256; i++)
         duty_frac[i] = i / 255.0;
     memset(sim, 0, sizeof *sim);
+    sim->tick_ns = SIM_TICK_NS;
     sim->slope_row = -1;
     sim->scn = s;
     sim->end_ns = (uint64_t)(s->duration_s * 1e9 + 0.5);
@@ -254,10 +265,11 @@ void sim_step(sim_t *sim)
 {
     const scenario_t *s = sim->scn;
     plant_t *pl = &sim->plant;
-    uint64_t t1 = sim->t_ns + SIM_TICK_NS;
+    uint32_t tick = sim->idle_tick_ns && sim_idle(sim) ? sim->idle_tick_ns : sim->tick_ns;
+    uint64_t t1 = sim->t_ns + tick;
     double t1_ns = (double)(int64_t)t1;     /* t1 < 2^63: the signed conversion is exact and cheaper */
     plant_in_t in;
-    double dt = SIM_TICK_NS * 1e-9;
+    double dt = tick * 1e-9;
 
     while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= t1_ns) {
         const scn_event_t *e = &s->events[sim->next_event++];
@@ -270,7 +282,7 @@ void sim_step(sim_t *sim)
     in.spray_on = hal_host_io.spray_on;
 
     hal_host_set_time_ns(t1);
-    plant_step(pl, &in, SIM_TICK_NS);
+    plant_step(pl, &in, tick);
     sim->t_ns = t1;
 
     if (sim->pass)
@@ -328,15 +340,27 @@ void sim_run(sim_t *sim, double until_s)
     double w0 = now_s(CLOCK_MONOTONIC), c0 = now_s(CLOCK_PROCESS_CPUTIME_ID);
     if (until > sim->end_ns)
         until = sim->end_ns;
-    while (sim->t_ns + SIM_TICK_NS <= until)
+    while (sim->t_ns + sim->tick_ns <= until)
         sim_step(sim);
     sim->wall_s += now_s(CLOCK_MONOTONIC) - w0;
     sim->cpu_s += now_s(CLOCK_PROCESS_CPUTIME_ID) - c0;
 }
 
+int sim_set_tick_ms(sim_t *sim, int ms, int idle_ms)
+{
+    int period = (int)(SIM_SAMPLE_S * 1000 + 0.5);
+    if (ms < 1 || ms > SIM_TICK_MAX_MS || period % ms != 0 || sim->t_ns != 0)
+        return -1;
+    if (idle_ms && (idle_ms <= ms || idle_ms > SIM_TICK_MAX_MS || period % idle_ms != 0 || idle_ms % ms != 0))
+        return -1;
+    sim->tick_ns = (uint32_t)ms * 1000000u;
+    sim->idle_tick_ns = (uint32_t)idle_ms * 1000000u;
+    return 0;
+}
+
 int sim_done(const sim_t *sim)
 {
-    return sim->t_ns + SIM_TICK_NS > sim->end_ns;
+    return sim->t_ns + sim->tick_ns > sim->end_ns;
 }
 
 double sim_time_s(const sim_t *sim)
