@@ -190,15 +190,17 @@ static double line_f(const line_eq_t *e, double p, line_pt_t *at)
         f += e->kr * (p - e->ps);
         d += e->kr;
     }
+    /* a root's slope 0.5 / sqrt(x) as sqrt(x) * (0.5 / x): the division runs beside the root,
+     * not after it */
     if (p > 0.0) {
         at->s = sqrt(p);
-        at->hs = 0.5 / at->s;
+        at->hs = at->s * (0.5 / p);
         f += (e->cb + e->kl) * at->s;
         d += (e->cb + e->kl) * at->hs;
     }
     if (p > e->pc && e->a > 0.0) {
         at->sc = sqrt(p - e->pc);
-        at->hc = 0.5 / at->sc;
+        at->hc = at->sc * (0.5 / (p - e->pc));
         f += e->a * at->sc;
         d += e->a * at->hc;
     }
@@ -545,12 +547,13 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
      * (from the square roots the last tick left, no new ones) along the last tick's slope;
      * without them the pressure's own trend. A guess only decides how soon Newton converges. */
     if (pl->root_d > 0.0 && pl->root_p == e.p0) {
-        double P = e.p0, slip = 1.0 - e.ks * P, f = 0.0;
-        if (slip > 0.0)
-            f -= e.qp0 * slip;
+        /* the flows out first (they are known early), the pump's last: it waits on the pulsation */
+        double P = e.p0, slip = 1.0 - e.ks * P, f;
+        f = (e.cb + e.kl) * pl->root_s + e.a * pl->root_sc;
         if (P > e.ps)
             f += e.kr * (P - e.ps);
-        f += (e.cb + e.kl) * pl->root_s + e.a * pl->root_sc;
+        if (slip > 0.0)
+            f -= e.qp0 * slip;
         e.guess = P - f * pl->root_d;
     } else
         e.guess = 2.0 * e.p0 - pl->p_last;
