@@ -129,7 +129,7 @@ help:
 	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1]   the controllers over N sprayers of the plant family"
 	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
-	@echo "make bench-sim simulated seconds per wall second of the paper's run"
+	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen, a menu, a refused entry and the I/O test as PNG in docs/"
 	@echo "make hil PORT=/dev/ttyUSB0 SCENARIO=f   the scenario's plant against a flashed board over RS232 (metrics JSON)"
