@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # bench_sim.sh: simulated seconds per second of the simulator on one scenario (one thread, so one
-# core): the best of RUNS runs (5) by wall time, and by the process's CPU time (the same unless
+# core): the best of RUNS runs (9) by wall time, and by the process's CPU time (the same unless
 # other load on the machine takes the core away; a shared machine's wall figure is the lower).
 # PIN=N pins the runs to core N (unpinned, the scheduler may move a run off a busy core).
 #   usage: tools/bench_sim.sh SIM_BINARY SCENARIO [SIM_OPTION...]
 set -euo pipefail
 bin=$1 scn=$2
 shift 2
-runs=${RUNS:-5}
+runs=${RUNS:-9}
 [ -x "$bin" ] || { echo "bench-sim: $bin is not built" >&2; exit 1; }
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "bench-sim: RUNS must be a positive count, not '$runs'" >&2; exit 1; }
 pin=""
