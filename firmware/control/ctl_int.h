@@ -90,12 +90,13 @@ typedef struct {
     int8_t dir;                     /* +1 / -1: the direction of the last pulse */
     uint8_t stall_n;                /* smallest pulses one way in a row */
     int16_t stall_e;                /* x100 the error when the first of them was sent */
-    int16_t brk;                    /* Q15 added to Min duty after stalls */
-    uint16_t brk_age;               /* periods since the last stall */
+    /* what is learnt of the valve, together (the EEPROM keeps these STORE_LEARN_CTL bytes): */
     int16_t g;                      /* Q8: the loop gain learnt for this valve (256 = as told) */
+    int16_t brk;                    /* Q15 added to Min duty after stalls */
+    int16_t rmin;                   /* Q15: the motion owed the other way that makes a reversal */
+    uint16_t brk_age;               /* periods since the last stall */
     uint8_t rev_age;                /* periods since the last reversal (saturates) */
     uint8_t moved;                  /* 1: the target moved since the last reversal */
-    int16_t rmin;                   /* Q15: the motion owed the other way that makes a reversal */
     uint8_t slow_n;                 /* periods awake with the error one way and no reversal */
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
 } fm_state_t;

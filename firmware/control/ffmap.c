@@ -1,5 +1,6 @@
 /* ffmap.c: best, the project's own controller: a damped PID with a deadband, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
+#include "store.h"
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
@@ -32,18 +33,25 @@
  */
 void fm_init(void)
 {
+    uint8_t i;
     M->e1 = M->e2 = M->ef = 0;
     M->t1 = 0;
     M->rest = 0;
     M->dir = 0;
     M->stall_n = 0;
     M->stall_e = 0;
-    M->brk = 0;
     M->brk_age = 0;
-    M->g = 256;
     M->rev_age = 255;
     M->moved = 0;
-    M->rmin = FM_REV_MIN;
+    /* what was learnt of this valve before: the EEPROM's record (CRC-checked, written by this
+     * firmware) or, without one, 0xFF bytes */
+    for (i = 0; i < STORE_LEARN_CTL; i++)
+        ((uint8_t *)&M->g)[i] = store_learnt(i);
+    if (M->g <= 0) {
+        M->g = 256;
+        M->brk = 0;
+        M->rmin = FM_REV_MIN;
+    }
     M->slow_n = 0;
     M->warm = 0;
 }

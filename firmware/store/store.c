@@ -6,12 +6,14 @@
 #include "params.h"
 #include "store.h"
 #include "totals.h"
+#include "ctl.h"
 
 #define STORE_MAGIC 0x5A
 #define HDR_SEQ 3u
 #define HDR_VALUES 5u
 #define HDR_LIFE (HDR_VALUES + 2u * P_COUNT)
-#define CRC_AT (HDR_LIFE + 8u)
+#define HDR_LEARN (HDR_LIFE + 8u)
+#define CRC_AT (HDR_LEARN + STORE_LEARN_BYTES)
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
@@ -65,10 +67,12 @@ static uint8_t record_valid(uint16_t base) __reentrant
     uint16_t i, at;
     uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
     if (hal_eeprom_read(base) != STORE_MAGIC
-        || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
+        || !((ver >= 5u && ver <= PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
              || (ver == 3u && n == PARAMS_V3_COUNT) || (ver == 4u && n == PARAMS_V4_COUNT)))
         return 0;
     at = CRC_N(n);
+    if (ver == PARAMS_VERSION)
+        at += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
     for (i = 0; i < at; i++)
         crc = crc_byte(crc, hal_eeprom_read(base + i));
     if (hal_eeprom_read(base + at) != (uint8_t)(crc >> 8) || hal_eeprom_read(base + at + 1u) != (uint8_t)crc)
@@ -184,6 +188,8 @@ uint8_t store_save(void) __reentrant
             b = (uint8_t)next;
         else if (i == HDR_SEQ + 1u)
             b = (uint8_t)(next >> 8);
+        else if (i >= HDR_LEARN)
+            b = ctl_learnt_byte((uint8_t)(i - HDR_LEARN));
         else if (i >= HDR_LIFE + 4u)
             b = (uint8_t)(t->life_ml >> (8u * (i - HDR_LIFE - 4u)));
         else if (i >= HDR_LIFE)
@@ -205,6 +211,14 @@ uint8_t store_save(void) __reentrant
     }
     status = STORE_WRITE_ERR;
     return 0;
+}
+
+uint8_t store_learnt(uint8_t i)
+{
+    uint16_t base = slot_base(newest);
+    if (newest == NO_SLOT || hal_eeprom_read(base + 1u) != PARAMS_VERSION)
+        return 0xFFu;
+    return hal_eeprom_read(base + HDR_LEARN + i);
 }
 
 uint8_t store_status(void)
