@@ -5,7 +5,6 @@
 #include "ctl_int.h"
 #include "params.h"
 #include "store.h"
-#include "diag.h"
 
 /*
  * Units and the mapping of the paper's incremental PID, eq. (7), onto this valve
@@ -166,8 +165,6 @@ uint8_t ctl_selected(void)
 
 uint8_t ctl_learnt_byte(uint8_t i)
 {
-    if (i >= STORE_LEARN_CTL)
-        return diag_learnt_byte((uint8_t)(i - STORE_LEARN_CTL));   /* the nozzle model's */
     if (ctl_id != CTL_BEST)
         return store_learnt(i);
     if (ctl_gen != param_generation)

@@ -27,8 +27,8 @@ typedef struct {
 /* Select a controller (0 when id is unknown and nothing changes) and start it from rest. */
 uint8_t ctl_select(uint8_t id);
 uint8_t ctl_selected(void);
-/* Byte i of the learnt figures the EEPROM keeps (store.h): best's valve (with another controller
- * selected, the record's as it was), then from STORE_LEARN_CTL the nozzle model's (diag.h). */
+/* Byte i of what best learnt of the valve, for the EEPROM (store.h STORE_LEARN_CTL); with another
+ * controller selected, the record's as it was. */
 uint8_t ctl_learnt_byte(uint8_t i);
 /* Bumpless transfer: the loop (re)starts from the drive the valve has now (manual -> auto). */
 void ctl_reset(q15_t drive_now);

@@ -9,6 +9,7 @@
 #include "valve.h"
 #include "diag.h"
 #include "store.h"
+#include "ctl.h"
 
 static const char * const __code codes[AL_COUNT] = {
     "TANK_LOW", "PUMP_DRY", "LEAK", "CLOG", "METER_LOST", "SPEED_LOST", "PSENS_FAULT",
@@ -82,9 +83,11 @@ void diag_init(void)
     dg.gen = (uint8_t)(param_generation - 1u);
 }
 
-uint8_t diag_learnt_byte(uint8_t i)
+uint8_t store_learnt_byte(uint8_t i)
 {
-    return dg.learnt == 2 ? ((const uint8_t *)&dg.pc_kpa)[i] : 0xFFu;
+    if (i < STORE_LEARN_CTL)
+        return ctl_learnt_byte(i);
+    return dg.learnt == 2 ? ((const uint8_t *)&dg.pc_kpa)[i - STORE_LEARN_CTL] : 0xFFu;
 }
 
 void diag_nozzle_relearn(void)

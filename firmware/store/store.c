@@ -6,7 +6,6 @@
 #include "params.h"
 #include "store.h"
 #include "totals.h"
-#include "ctl.h"
 
 #define STORE_MAGIC 0x5A
 #define HDR_SEQ 3u
@@ -20,19 +19,15 @@
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_* */
-static uint8_t newest;              /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT */
+#define newest store_newest         /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT (learnt.c) */
 static uint16_t seq;                /* its sequence number */
-#define NO_SLOT 0xFFu
+#define NO_SLOT STORE_NO_SLOT
+#define slot_base store_slot_base
+typedef char store_learnt_at[(STORE_AT_LEARNT == HDR_LEARN) ? 1 : -1];
 
 static const char __code *const __code status_texts[] = {
     "", "EE: older copy", "EE: defaults", "EE: write error", "EE: low supply"
 };
-
-static uint16_t slot_base(uint8_t slot)
-{
-    return (uint16_t)((slot / STORE_SLOTS_PER_SECTOR) * HAL_EEPROM_SECTOR
-                      + (slot % STORE_SLOTS_PER_SECTOR) * STORE_SLOT_BYTES);
-}
 
 /* CRC-16/CCITT (polynomial 0x1021, MSB first) a nibble at a time from a 16-entry table: the
  * same CRC as bit by bit at a fraction of the cycles (a save computes it over 118 bytes) */
@@ -189,7 +184,7 @@ uint8_t store_save(void) __reentrant
         else if (i == HDR_SEQ + 1u)
             b = (uint8_t)(next >> 8);
         else if (i >= HDR_LEARN)
-            b = ctl_learnt_byte((uint8_t)(i - HDR_LEARN));
+            b = store_learnt_byte((uint8_t)(i - HDR_LEARN));
         else if (i >= HDR_LIFE + 4u)
             b = (uint8_t)(t->life_ml >> (8u * (i - HDR_LIFE - 4u)));
         else if (i >= HDR_LIFE)
@@ -211,14 +206,6 @@ uint8_t store_save(void) __reentrant
     }
     status = STORE_WRITE_ERR;
     return 0;
-}
-
-uint8_t store_learnt(uint8_t i)
-{
-    uint16_t base = slot_base(newest);
-    if (newest == NO_SLOT || hal_eeprom_read(base + 1u) != PARAMS_VERSION)
-        return 0xFFu;
-    return hal_eeprom_read(base + HDR_LEARN + i);
 }
 
 uint8_t store_status(void)

@@ -37,6 +37,8 @@
 #define STORE_SLOT_BYTES 128u         /* a record of 32 values is 79 bytes (64 held 24) */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
+#define STORE_NO_SLOT 0xFFu
+#define STORE_AT_LEARNT (5u + 2u * P_COUNT + 8u)  /* where the learnt bytes start in a record */
 
 /* What store_load() or the last store_save() found (store_status()). */
 #define STORE_OK 0          /* the newest record is good */
@@ -52,8 +54,14 @@
 uint8_t store_load(void) __reentrant;
 /* Append param_v and the lifetime totals as a new record; 1 when it reads back. */
 uint8_t store_save(void) __reentrant;
-/* Byte i of the learnt figures in the record loaded or saved last; 0xFF when it has none. */
+/* Byte i of the learnt figures in the record loaded or saved last; 0xFF when it has none
+ * (learnt.c: the slot of that record and the address of a slot). */
 uint8_t store_learnt(uint8_t i);
+extern uint8_t store_newest;
+uint16_t store_slot_base(uint8_t slot);
+/* Byte i of the learnt figures a save writes: provided by the layer that owns them (ops/diag.c:
+ * best's valve through ctl.h, then the nozzle model), as the HAL's functions are by the HAL. */
+uint8_t store_learnt_byte(uint8_t i);
 /* Status of the last load or save; store_status_clear() once the operator has seen it. */
 uint8_t store_status(void);
 void store_status_clear(void);
