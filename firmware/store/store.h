@@ -34,7 +34,7 @@
 #define STORE_LEARN_CTL 6u          /* learnt bytes: best's valve ... */
 #define STORE_LEARN_BYTES (STORE_LEARN_CTL + 4u)   /* ... and the nozzle model */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + 2u)
-#define STORE_SLOT_BYTES 128u         /* a record of 32 values is 79 bytes (64 held 24) */
+#define STORE_SLOT_BYTES 128u         /* a record of 32 values and the learnt figures is 89 bytes (64 held 24) */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
 #define STORE_NO_SLOT 0xFFu
