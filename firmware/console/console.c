@@ -150,6 +150,10 @@ static void key_menu(void)
             go(S_IOTEST);
             con_iotest_start();
         }
+        else if (con.item == MENU_NOZZLES) {
+            diag_nozzle_relearn();
+            con_say("Learning nozzles");
+        }
         else if (con_is_choice(con.item)) {
             go(S_CHOICE);
             con.step = (uint8_t)param_v[con.item];
@@ -273,6 +277,8 @@ static void key_cal(void)
         con.cal_value = (uint16_t)v;
         con.step = 3;
     } else {
+        if (tank)
+            diag_nozzle_relearn();          /* the meter reads anew: the nozzles are learnt anew */
         if (con_apply(id, con.cal_value))
             con.state = S_MENU;
     }

@@ -8,6 +8,8 @@
 #include "target.h"
 #include "valve.h"
 #include "diag.h"
+#include "store.h"
+#include "ctl.h"
 
 static const char * const __code codes[AL_COUNT] = {
     "TANK_LOW", "PUMP_DRY", "LEAK", "CLOG", "METER_LOST", "SPEED_LOST", "PSENS_FAULT",
@@ -67,8 +69,25 @@ void diag_init(void)
     dg.wheel_glitches = speed_glitches();
     dg.wheel_pulses = (uint16_t)speed_pulses();
     dg.nozzles = 0;
-    dg.gen = (uint8_t)(param_generation - 1u);
     diag_nozzle_relearn();
+    /* the model learnt before: the EEPROM's record (CRC-checked, written by this firmware) or,
+     * without one, 0xFF bytes */
+    for (i = 0; i < 4u; i++)
+        ((uint8_t *)&dg.pc_kpa)[i] = store_learnt(STORE_LEARN_CTL + i);
+    if (dg.kp_kpa != 0xFFFFu) {
+        dg.learnt = 2;
+    } else {
+        dg.pc_kpa = DIAG_P_CHECK_KPA;
+        dg.kp_kpa = 300u;
+    }
+    dg.gen = (uint8_t)(param_generation - 1u);
+}
+
+uint8_t store_learnt_byte(uint8_t i)
+{
+    if (i < STORE_LEARN_CTL)
+        return ctl_learnt_byte(i);
+    return dg.learnt == 2 ? ((const uint8_t *)&dg.pc_kpa)[i - STORE_LEARN_CTL] : 0xFFu;
 }
 
 void diag_nozzle_relearn(void)
