@@ -43,8 +43,8 @@
 
 #define SIM_TICK_NS 1000000u        /* plant step: 1 ms */
 #define SIM_TICK_MAX_MS 50          /* the longest tick sim_set_tick_ms allows (fast modes) */
-#define SIM_FAST_TICK_MS 10         /* sim --fast: the tick */
-#define SIM_FAST_IDLE_MS 50         /* ... and the tick while the valve is idle */
+#define SIM_FAST_TICK_MS 5          /* sim --fast: the tick */
+#define SIM_FAST_IDLE_MS 10         /* ... and the tick while the valve is idle */
 #define SIM_IDLE_KMH 0.05           /* idle also means the tractor within this of the driver's speed */
 #define SIM_SAMPLE_S 0.1            /* target/flow samples for the step metrics (= APP_PERIOD_MS) */
 

@@ -33,7 +33,7 @@ static void usage(FILE *f)
           "  --tick-ms N: the plant steps and the firmware's passes every N ms (1..50, a divisor of 100;\n"
           "    1 is the model), every M ms while the valve is idle and the speed steady (--idle-tick-ms, a\n"
           "    longer multiple of N);\n"
-          "    --fast is --tick-ms 10 --idle-tick-ms 50: an approximation whose metrics stay near the\n"
+          "    --fast is --tick-ms 5 --idle-tick-ms 10: an approximation whose metrics stay near the\n"
           "    1 ms run's (docs/PIL.md, the simulator's speed; tests/scripts/seed_spread.sh). Not with --pil.\n", f);
 }
 

@@ -235,7 +235,7 @@ static void test_sim_paper_run_needs_the_bypass_within_055_070(void **state)
 }
 
 /* The fast mode's ticks: divisors of the 100 ms sample period up to SIM_TICK_MAX_MS, an idle tick
- * a longer multiple of the tick, set before the first step. A run at 10 ms (50 ms while idle)
+ * a longer multiple of the tick, set before the first step. A fast run (sim --fast's ticks)
  * keeps the control steps and samples on their grid: the bench scenario's four target steps at
  * the same times, and its volume within 1 % of the 1 ms run's. */
 static void test_sim_fast_mode_keeps_the_grid(void **state)
@@ -276,7 +276,7 @@ static void test_sim_fast_mode_keeps_the_grid(void **state)
     for (i = 0; i < n_steps; i++)
         assert_true(fabs(fast.steps[i].t_s - t_steps[i]) < 1e-9);
     if (!(fabs(fast.volume_l / volume - 1.0) < 0.01))
-        fail_msg("volume %.3f L at 10/50 ms ticks, %.3f L at 1 ms", fast.volume_l, volume);
+        fail_msg("volume %.3f L at %d/%d ms ticks, %.3f L at 1 ms", fast.volume_l, SIM_FAST_TICK_MS, SIM_FAST_IDLE_MS, volume);
     sim_free(&sim);
 }
 
