@@ -362,7 +362,7 @@ int main(int argc, char **argv)
                  "\"hil_lost\":%u,\"hil_lost_controller\":%u,",
                  name, ctl_name((uint8_t)s->param[P_CONTROLLER]), (unsigned long long)s->seed, h.frames,
                  h.answered, lost, h.board_lost);
-        metrics_json(stdout, &sim->metrics, &r, extra, sim->wall_s);
+        metrics_json(stdout, &sim->metrics, &r, extra, sim->wall_s, sim->cpu_s);
     }
     sim_free(sim);
     close(h.fd);

@@ -53,9 +53,9 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
                  double rate_l_ha, double p_bar, int spraying)
 {
     double dist = v_mps * dt_s;
-    double vol = nozzle_lpm * dt_s / 60.0;
+    double vol = nozzle_lpm * dt_s * (1.0 / 60);        /* reciprocals: no division a tick */
     double area = dist * width_m;
-    double expect = rate_l_ha * area / 10000.0;
+    double expect = rate_l_ha * area * (1.0 / 10000);
     double done = 0.0;              /* fraction of this slice already put into zones */
 
     m->sim_s += dt_s;
@@ -81,6 +81,13 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
             m->p_seen = 1;
         }
     }
+    if (!(dist > 0.0 && m->zone_dist_m + dist >= METRICS_ZONE_M)) {
+        m->cur.vol_l += vol;        /* the whole slice in the zone (most ticks) */
+        m->cur.expect_l += expect;
+        m->cur.time_s += dt_s;
+        m->zone_dist_m += dist;
+        return;
+    }
     /* zones end exactly at every 5 m of travel: split the slice there */
     while (dist > 0.0 && m->zone_dist_m + dist * (1.0 - done) >= METRICS_ZONE_M) {
         double f = (METRICS_ZONE_M - m->zone_dist_m) / dist;
@@ -99,11 +106,12 @@ void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, d
 {
     if (v_mps * 3.6 < METRICS_MIN_KMH)
         return;
-    m->target4_l += target_lpm * dt_s / 60.0;
-    m->meter4_l += meter_lpm * dt_s / 60.0;
+    double dt_min = dt_s * (1.0 / 60);
+    m->target4_l += target_lpm * dt_min;
+    m->meter4_l += meter_lpm * dt_min;
     if (at_stop) {
-        m->stop_meter4_l += meter_lpm * dt_s / 60.0;
-        m->stop_target4_l += target_lpm * dt_s / 60.0;
+        m->stop_meter4_l += meter_lpm * dt_min;
+        m->stop_target4_l += target_lpm * dt_min;
     }
 }
 
@@ -323,7 +331,8 @@ void metrics_samples_csv(FILE *f, const metrics_t *m)
                 m->work[k], m->spray[k]);
 }
 
-void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s)
+void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s,
+                  double cpu_s)
 {
     int i;
     fputc('{', f);
@@ -365,6 +374,7 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     fputs("],", f);
     num(f, "sim_s", r->sim_s, 1);
     num(f, "wall_s", wall_s, 1);
+    num(f, "cpu_s", cpu_s, 1);
     num(f, "speed_x_realtime", wall_s > 0 ? r->sim_s / wall_s : NAN, 0);
     fputs("}\n", f);
 }

@@ -144,6 +144,7 @@ void metrics_steps_json(FILE *f, const metrics_series_t *s);
 void metrics_zones_csv(FILE *f, const metrics_t *m);
 /* The result as one JSON object on one line (keys as in docs/SCENARIOS.md; NaN prints as null).
  * extra (may be NULL) is inserted verbatim after the opening brace, e.g. "\"scenario\":\"x\",". */
-void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s);
+void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s,
+                  double cpu_s);
 
 #endif

@@ -40,6 +40,7 @@ static void teeth_init(plant_teeth_t *t, int n, double jitter_pct, uint64_t seed
     }
     t->idx = 0;
     t->next = 1 % n;
+    t->thr = 1.0 + t->e[t->next];
     t->pos = first;
 }
 
@@ -136,6 +137,8 @@ double plant_meter_k(const plant_t *pl, double q)
     static const double fs[] = {0.60, 0.85, 0.97, 1.0};
     double f = 1.0;
     int i;
+    if (q >= qs[3])
+        return pl->p.meter_k_ppl;
     if (q < qs[0])
         return 0.0;
     for (i = 0; i < 3; i++)
@@ -163,13 +166,22 @@ double plant_speed_kmh(const plant_t *pl)
  * Newton (bisection whenever a step leaves the bracket). */
 typedef struct {
     double g, p0, qp0, ks, kr, ps, cb, a, pc, kl;
+    double hi;                      /* the bracket's top, P0 + Qp0 / G */
     double guess;                   /* where Newton starts (inside the bracket or not) */
 } line_eq_t;
 
-static double line_f(const line_eq_t *e, double p, double *df)
+/* Where f was last evaluated: p, f'(p), the square roots sqrt(p), sqrt(p - Pc) (0 where their
+ * term is off) and their slopes 0.5 / root. */
+typedef struct {
+    double p, d, s, sc, hs, hc;
+} line_pt_t;
+
+static double line_f(const line_eq_t *e, double p, line_pt_t *at)
 {
     double f = e->g * (p - e->p0), d = e->g;
     double slip = 1.0 - e->ks * p;
+    at->p = p;
+    at->s = at->sc = at->hs = at->hc = 0.0;
     if (slip > 0.0) {
         f -= e->qp0 * slip;
         d += e->qp0 * e->ks;
@@ -178,35 +190,40 @@ static double line_f(const line_eq_t *e, double p, double *df)
         f += e->kr * (p - e->ps);
         d += e->kr;
     }
+    /* a root's slope 0.5 / sqrt(x) as sqrt(x) * (0.5 / x): the division runs beside the root,
+     * not after it */
     if (p > 0.0) {
-        double s = sqrt(p);
-        f += (e->cb + e->kl) * s;
-        d += (e->cb + e->kl) * 0.5 / s;
+        at->s = sqrt(p);
+        at->hs = at->s * (0.5 / p);
+        f += (e->cb + e->kl) * at->s;
+        d += (e->cb + e->kl) * at->hs;
     }
     if (p > e->pc && e->a > 0.0) {
-        double s = sqrt(p - e->pc);
-        f += e->a * s;
-        d += e->a * 0.5 / s;
+        at->sc = sqrt(p - e->pc);
+        at->hc = at->sc * (0.5 / (p - e->pc));
+        f += e->a * at->sc;
+        d += e->a * at->hc;
     }
-    *df = d;
+    at->d = d;
     return f;
 }
 
-static double line_solve(const line_eq_t *e)
+/* The root; *at gets the point of the last evaluation (the next tick's first step starts from it). */
+static double line_solve(const line_eq_t *e, line_pt_t *at)
 {
-    double lo = 0.0, hi = e->p0 + e->qp0 / e->g + 1e-12;
-    double x = e->guess, d, f;
+    double lo = 0.0, hi = e->hi;
+    double x = e->guess, f;
     int i;
     if (x < lo || x > hi)
         x = 0.5 * (lo + hi);
     for (i = 0; i < 60; i++) {
         double xn;
-        f = line_f(e, x, &d);
+        f = line_f(e, x, at);
         if (f > 0.0)
             hi = x;
         else
             lo = x;
-        xn = x - f / d;
+        xn = x - f / at->d;
         /* converged (tested before the bracket: xn may sit on lo): the compliance term makes
          * f' at least g = 60 C / dt, so f''/2f' is small and a step this short leaves xn far
          * closer to the root than the pressure's own 1e-9 bar */
@@ -228,7 +245,7 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
     double start = t->pos, end = t->pos + n;
     uint64_t count = 0;
     for (;;) {
-        double thr = 1.0 + t->e[t->next];
+        double thr = t->thr;
         uint64_t te;
         if (end < thr)
             break;
@@ -251,6 +268,7 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
         t->idx++;
         if (++t->next == t->n)
             t->next = 0;
+        t->thr = 1.0 + t->e[t->next];
         start -= 1.0;
         end -= 1.0;
     }
@@ -258,41 +276,77 @@ static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint3
     return count;
 }
 
+/* counts rounded half up and clipped to 0..1023 (floor by truncation above 1) */
+static uint16_t adc_round(double c)
+{
+    c += 0.5;
+    return c < 1.0 ? 0 : c >= 1023.0 ? 1023 : (uint16_t)c;
+}
+
 static uint16_t adc_of_ma(plant_t *pl, double ma, double noise_lsb)
 {
     double c = ma * PLANT_ADC_PER_MA;
     if (noise_lsb > 0.0)
         c += noise_lsb * rng_normal(&pl->rng);
-    c = floor(c + 0.5);
-    return (uint16_t)(c < 0.0 ? 0.0 : c > 1023.0 ? 1023.0 : c);
+    return adc_round(c);
 }
 
 /* The pulsation's phase as a unit vector turned by angle a each tick (a recurrence instead of a
- * sin a tick): cos a and sin a from their series (a is at most 0.5 rad: the terms left out are
- * below 1e-12), again only when a changes; the length is pulled back to 1 each turn so that
- * rounding cannot make it drift. */
-static void pulse_turn(plant_t *pl, double a)
+ * sin a tick): cos a and sin a from their series (for a up to PLANT_SERIES_RAD: the terms left
+ * out are below 1e-12), again only when a changes; the length is pulled back to 1 each turn so
+ * that rounding cannot make it drift. Returns the pulsation the tick's pump flow takes: its value
+ * at the tick's end, or over a longer turn (a fast mode's long tick) its mean over the tick. */
+static double pulse_turn(plant_t *pl, double a)
 {
-    double c, s, k;
-    if (a != pl->pulse_a) {
-        double a2 = a * a;
-        pl->pulse_a = a;
-        pl->pulse_ca = 1.0 - a2 * (1.0 / 2) * (1.0 - a2 * (1.0 / 12) * (1.0 - a2 * (1.0 / 30) *
-                       (1.0 - a2 * (1.0 / 56) * (1.0 - a2 * (1.0 / 90)))));
-        pl->pulse_sa = a * (1.0 - a2 * (1.0 / 6) * (1.0 - a2 * (1.0 / 20) * (1.0 - a2 * (1.0 / 42) *
-                       (1.0 - a2 * (1.0 / 72) * (1.0 - a2 * (1.0 / 110))))));
+    double c, s, k, ca = pl->pulse_ca, sa = pl->pulse_sa;
+    if (a > PLANT_SERIES_RAD) {
+        double c0 = pl->pulse_c, da = a - pl->pulse_a;
+        if (da != 0.0) {
+            if (fabs(da) < 1e-3) {
+                /* a long turn that changed a little (the speed moved): turn cos a, sin a by the
+                 * change, from its series (the terms left out are below 1e-13 of it) */
+                double cd = 1.0 - 0.5 * da * da, sd = da * (1.0 - da * da * (1.0 / 6));
+                ca = pl->pulse_ca * cd - pl->pulse_sa * sd;
+                sa = pl->pulse_sa * cd + pl->pulse_ca * sd;
+            } else {
+                ca = cos(a);
+                sa = sin(a);
+            }
+            pl->pulse_a = a;
+            pl->pulse_ca = ca;
+            pl->pulse_sa = sa;
+        }
+        c = c0 * ca - pl->pulse_s * sa;
+        s = pl->pulse_s * ca + c0 * sa;
+        k = 1.5 - 0.5 * (c * c + s * s);
+        pl->pulse_c = c * k;
+        pl->pulse_s = s * k;
+        return (c0 - c) / a;        /* the mean of sin over the turn */
     }
-    c = pl->pulse_c * pl->pulse_ca - pl->pulse_s * pl->pulse_sa;
-    s = pl->pulse_s * pl->pulse_ca + pl->pulse_c * pl->pulse_sa;
+    if (a != pl->pulse_a) {
+        /* the coefficients 1/n! with their signs, grouped in powers of a^2 (Estrin) so that
+         * the terms are formed side by side rather than one after the other */
+        double a2 = a * a, a4 = a2 * a2;
+        ca = (1.0 - 0.5 * a2) + a4 * ((1.0 / 24 - a2 * (1.0 / 720)) + a4 * (1.0 / 40320 - a2 * (1.0 / 3628800)));
+        sa = a * ((1.0 - a2 * (1.0 / 6)) + a4 * ((1.0 / 120 - a2 * (1.0 / 5040)) +
+             a4 * (1.0 / 362880 - a2 * (1.0 / 39916800))));
+        pl->pulse_a = a;
+        pl->pulse_ca = ca;
+        pl->pulse_sa = sa;
+    }
+    c = pl->pulse_c * ca - pl->pulse_s * sa;
+    s = pl->pulse_s * ca + pl->pulse_c * sa;
     k = 1.5 - 0.5 * (c * c + s * s);
     pl->pulse_c = c * k;
     pl->pulse_s = s * k;
+    return s;                       /* the tick's pulsation (before the length's correction, which
+                                       is for the turns to come) */
 }
 
-static void step_tractor(plant_t *pl, double dt)
+static void step_tractor(plant_t *pl, double dt, double inv_lag)
 {
     const plant_params_t *p = &pl->p;
-    double acc = (pl->v_cmd_kmh / 3.6 - pl->v_mps) / p->tractor_lag_s;
+    double acc = (pl->v_cmd_kmh * (1.0 / 3.6) - pl->v_mps) * inv_lag;
     if (acc > p->tractor_accel_max)
         acc = p->tractor_accel_max;
     if (acc < -p->tractor_accel_max)
@@ -370,38 +424,93 @@ void plant_valve_step(plant_t *pl, double drive, double dt)
     pl->valve_travel += fabs(pl->theta - th0);
 }
 
-void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns)
+/* The train advances n pulses: most ticks no pulse is due and only the position moves. */
+static inline uint64_t advance(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint32_t dt_ns,
+                               plant_edge_fn fn, double bounce_pct)
 {
-    double dt = dt_ns * 1e-9, lag = pl->p.meter_lag_s;
+    if (t->pos + n < t->thr) {
+        t->pos += n;
+        return 0;
+    }
+    return emit(pl, t, n, t0, dt_ns, fn, bounce_pct);
+}
+
+static void meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns, double dt, double dt_min)
+{
+    double lag = pl->p.meter_lag_s;
     pl->q_rotor = lag > 0.0 ? pl->q_rotor + (q_lpm - pl->q_rotor) * (1.0 - decay_of(&pl->rotor_decay, dt, lag)) : q_lpm;
     if (!pl->meter_fail) {
-        double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor / 60.0 * dt;
+        double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor * dt_min;
         if (n > 0.0)
-            pl->flow_pulses += emit(pl, &pl->meter_teeth, n, t0, dt_ns, pl->flow_edge, 0.0);
+            pl->flow_pulses += advance(pl, &pl->meter_teeth, n, t0, dt_ns, pl->flow_edge, 0.0);
     }
+}
+
+static void wheel_step(plant_t *pl, double v_mps, uint64_t t0, uint32_t dt_ns, double pulses_per_mps)
+{
+    if (!pl->speed_fail && v_mps > 0.0) {
+        double n = v_mps * pulses_per_mps;
+        if (n > 0.0)
+            pl->wheel_pulses += advance(pl, &pl->wheel_teeth, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
+    }
+}
+
+void plant_meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns)
+{
+    double dt = dt_ns * 1e-9;
+    meter_step(pl, q_lpm, t0, dt_ns, dt, dt / 60.0);
 }
 
 void plant_wheel_step(plant_t *pl, double v_mps, uint64_t t0, uint32_t dt_ns)
 {
-    if (!pl->speed_fail && v_mps > 0.0) {
-        double n = v_mps * (1.0 + pl->p.wheel_slip_pct / 100.0) * (dt_ns * 1e-9) / pl->m_per_pulse;
-        if (n > 0.0)
-            pl->wheel_pulses += emit(pl, &pl->wheel_teeth, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
+    wheel_step(pl, v_mps, t0, dt_ns, (1.0 + pl->p.wheel_slip_pct / 100.0) * (dt_ns * 1e-9) / pl->m_per_pulse);
+}
+
+/* The tick's constants, computed again when the tick or a parameter they come from changes. */
+static const plant_tick_t *tick_of(plant_t *pl, uint32_t dt_ns)
+{
+    const plant_params_t *p = &pl->p;
+    plant_tick_t *k = &pl->tick;
+    if (dt_ns != k->dt_ns || p->wheel_slip_pct != k->slip_pct || p->v_rated_kmh != k->v_rated_kmh ||
+        p->pump_lpm_at_540 != k->pump_lpm || p->line_compliance_l_per_bar != k->compliance ||
+        p->tank_l != k->tank_l || p->tractor_lag_s != k->lag_s || pl->m_per_pulse != k->m_per_pulse) {
+        double slip = 1.0 + p->wheel_slip_pct / 100.0;
+        k->dt_ns = dt_ns;
+        k->slip_pct = p->wheel_slip_pct;
+        k->v_rated_kmh = p->v_rated_kmh;
+        k->pump_lpm = p->pump_lpm_at_540;
+        k->compliance = p->line_compliance_l_per_bar;
+        k->tank_l = p->tank_l;
+        k->lag_s = p->tractor_lag_s;
+        k->m_per_pulse = pl->m_per_pulse;
+        k->dt = dt_ns * 1e-9;
+        k->g = p->line_compliance_l_per_bar * 60.0 / k->dt;
+        k->inv_g = 1.0 / k->g;
+        k->pto_per_mps = 3.6 * slip / p->v_rated_kmh;
+        k->turn_per_rpm = TWO_PI * 3.0 / 60.0 * k->dt;
+        k->pump_per_rpm = p->pump_lpm_at_540 / 540.0;
+        k->dt_min = k->dt / 60.0;
+        k->level_ma_per_l = 16.0 / p->tank_l;
+        k->inv_lag = 1.0 / p->tractor_lag_s;
+        k->wheel_per_mps = slip * k->dt / pl->m_per_pulse;
     }
+    return k;
 }
 
 void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
 {
     const plant_params_t *p = &pl->p;
-    double dt = dt_ns * 1e-9;
+    const plant_tick_t *k = tick_of(pl, dt_ns);
+    double dt = k->dt;
     uint64_t t0 = pl->t_ns;
     double drive = in->drive > 1.0 ? 1.0 : in->drive < -1.0 ? -1.0 : in->drive;
     line_eq_t e;
+    line_pt_t at;
     double dry, puls;
     int m;
 
     pl->spray_on = in->spray_on ? 1 : 0;
-    step_tractor(pl, dt);
+    step_tractor(pl, dt, k->inv_lag);
     plant_valve_step(pl, drive, dt);
     if (pl->theta != pl->cv_theta) {
         pl->cv = plant_cv(pl, pl->theta);
@@ -410,21 +519,17 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
 
     /* PTO: coupled (the engine turns the driven wheel, whose speed the sensor reads, and the PTO
      * through fixed gears: n follows the wheel's speed, slip included) or fixed */
-    pl->pto_now_rpm = p->pto_coupled >= 0.5
-        ? pl->pto_rpm * plant_speed_kmh(pl) * (1.0 + p->wheel_slip_pct / 100.0) / p->v_rated_kmh
-        : pl->pto_rpm;
+    pl->pto_now_rpm = p->pto_coupled >= 0.5 ? pl->pto_rpm * (pl->v_mps * k->pto_per_mps) : pl->pto_rpm;
     /* 3 diaphragms: pulsation at 3 n / 60 Hz, after the air chamber */
-    pulse_turn(pl, TWO_PI * 3.0 * pl->pto_now_rpm / 60.0 * dt);
-    puls = 1.0 + p->pump_pulsation_pct / 100.0 * pl->pulse_s;
+    puls = 1.0 + p->pump_pulsation_pct * 0.01 * pulse_turn(pl, pl->pto_now_rpm * k->turn_per_rpm);
     dry = pl->tank_v / PLANT_DRY_L;
     dry = dry > 1.0 ? 1.0 : dry < 0.0 ? 0.0 : dry;
 
     m = flowing_nozzles(pl);
-    e.g = p->line_compliance_l_per_bar * 60.0 / dt;
+    e.g = k->g;
     e.p0 = pl->p_bar;
-    e.guess = 2.0 * pl->p_bar - pl->p_last;     /* the pressure's own trend over the last tick */
-    pl->p_last = pl->p_bar;
-    e.qp0 = p->pump_lpm_at_540 * pl->pto_now_rpm / 540.0 * puls * dry;
+    e.qp0 = k->pump_per_rpm * pl->pto_now_rpm * puls * dry;
+    e.hi = e.p0 + e.qp0 * k->inv_g + 1e-12;
     e.ks = p->pump_slip_per_bar;
     e.kr = p->relief_lpm_per_bar;
     e.ps = p->relief_bar;
@@ -437,26 +542,50 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
     }
     e.a = pl->boom_a;
     e.pc = p->check_valve_bar;
-    e.kl = pl->spray_on ? pl->leak_lpm / sqrt(PLANT_LEAK_REF_BAR) : 0.0;
-    pl->p_bar = line_solve(&e);
-
+    e.kl = pl->spray_on ? pl->leak_lpm * (1.0 / sqrt(PLANT_LEAK_REF_BAR)) : 0.0;
+    /* Newton's first guess: one step from the last tick's pressure with this tick's flows there
+     * (from the square roots the last tick left, no new ones) along the last tick's slope;
+     * without them the pressure's own trend. A guess only decides how soon Newton converges. */
+    if (pl->root_d > 0.0 && pl->root_p == e.p0) {
+        /* the flows out first (they are known early), the pump's last: it waits on the pulsation */
+        double P = e.p0, slip = 1.0 - e.ks * P, f;
+        f = (e.cb + e.kl) * pl->root_s + e.a * pl->root_sc;
+        if (P > e.ps)
+            f += e.kr * (P - e.ps);
+        if (slip > 0.0)
+            f -= e.qp0 * slip;
+        e.guess = P - f * pl->root_d;
+    } else
+        e.guess = 2.0 * e.p0 - pl->p_last;
+    pl->p_last = e.p0;
+    pl->p_bar = line_solve(&e, &at);
     {
-        double P = pl->p_bar, s = sqrt(P), slip = 1.0 - e.ks * P;
+        /* the square roots at the new pressure: to first order from the last evaluation when
+         * Newton's last step there was short against the pressure (the second-order term is
+         * then below (dp/p)^2/8 of the root: rounding), else anew; they also start the next
+         * tick's guess, with 1 / f' */
+        double P = pl->p_bar, dp = P - at.p, slip = 1.0 - e.ks * P, s, sc;
+        s = at.s > 0.0 && fabs(dp) < 1e-7 * at.p ? at.s + dp * at.hs : sqrt(P);
+        sc = P > e.pc ? (at.sc > 0.0 && fabs(dp) < 1e-7 * (at.p - e.pc) ? at.sc + dp * at.hc : sqrt(P - e.pc)) : 0.0;
+        pl->root_p = P;
+        pl->root_s = s;
+        pl->root_sc = sc;
+        pl->root_d = 1.0 / at.d;
         pl->q_pump = e.qp0 * (slip > 0.0 ? slip : 0.0);
         pl->q_relief = P > e.ps ? e.kr * (P - e.ps) : 0.0;
         pl->q_bypass = e.cb * s;
         pl->q_leak = e.kl * s;
-        pl->q_boom = P > e.pc ? e.a * sqrt(P - e.pc) : 0.0;
+        pl->q_boom = e.a * sc;
         pl->q_meter = pl->q_boom + pl->q_leak;
     }
-    pl->tank_v -= pl->q_meter * dt / 60.0;
+    pl->tank_v -= pl->q_meter * k->dt_min;
     if (pl->tank_v < 0.0)
         pl->tank_v = 0.0;
 
     pl->t_ns = t0 + dt_ns;
 
-    plant_meter_step(pl, pl->q_meter, t0, dt_ns);
-    plant_wheel_step(pl, pl->v_mps, t0, dt_ns);
+    meter_step(pl, pl->q_meter, t0, dt_ns, dt, k->dt_min);
+    wheel_step(pl, pl->v_mps, t0, dt_ns, k->wheel_per_mps);
     /* 4-20 mA loops into the 10-bit ADC */
     {
         double ma = 4.0 + 16.0 * pl->p_bar / PLANT_PSENS_BAR;
@@ -465,10 +594,13 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
         if (pl->psens_open)
             ma = 0.0;
         pl->ma_pressure = ma;
-        pl->ma_level = 4.0 + 16.0 * pl->tank_v / p->tank_l;
-        pl->adc_pressure = adc_of_ma(pl, ma, 0.0);
-        pl->adc_level = adc_of_ma(pl, pl->ma_level, 0.0);
+        pl->ma_level = 4.0 + pl->tank_v * k->level_ma_per_l;
     }
+}
+
+uint16_t plant_adc_ideal(const plant_t *pl, int ch)
+{
+    return adc_round((ch == 0 ? pl->ma_pressure : pl->ma_level) * PLANT_ADC_PER_MA);
 }
 
 uint16_t plant_adc_sample(plant_t *pl, int ch)

@@ -66,6 +66,7 @@ typedef struct {
 #define PLANT_MAX_TEETH 1024        /* largest wheel_elements (meter_blades is at most 64) */
 #define PLANT_JITTER_MAX 0.4        /* spacing offsets are clipped to +-0.4 of a spacing, so pulses keep their order */
 #define PLANT_REST_FRAC 0.01        /* the valve motor is at rest below 1 % of its full speed */
+#define PLANT_SERIES_RAD 0.5        /* the pulsation's turn a tick up to which its series holds */
 
 /* A pulse train from a toothed rotor (meter blades, wheel elements): tooth i's pulse comes at
  * position k + e[i] (in pulses), e drawn once per run, mean removed, so the pattern repeats every
@@ -75,6 +76,7 @@ typedef struct {
     uint64_t idx;                   /* pulses emitted so far (the tooth of pulse j is j % n) */
     int n;                          /* teeth a revolution */
     int next;                       /* the tooth of the next pulse: (idx + 1) % n */
+    double thr;                     /* where the next pulse comes: 1 + e[next] */
     double e[PLANT_MAX_TEETH];      /* each tooth's offset, in pulse spacings */
 } plant_teeth_t;
 
@@ -90,6 +92,23 @@ typedef void (*plant_edge_fn)(uint64_t t_ns);
 typedef struct {
     double dt, tau, k;
 } plant_decay_t;
+
+/* The constants of a tick that plant_step would otherwise divide out each time: computed again
+ * when the tick's length or one of the parameters they come from changes (tests set parameters
+ * after plant_init). */
+typedef struct {
+    uint32_t dt_ns;                 /* the key: the tick and the parameters below */
+    double slip_pct, v_rated_kmh, pump_lpm, compliance, tank_l, lag_s, m_per_pulse;
+    double dt;                      /* s */
+    double g, inv_g;                /* the line's compliance over the tick, L/min/bar, and 1/g */
+    double pto_per_mps;             /* PTO rpm per m/s of ground speed per rated rpm (coupled) */
+    double turn_per_rpm;            /* the pulsation's turn a tick per PTO rpm, rad */
+    double pump_per_rpm;            /* pump flow per PTO rpm, L/min */
+    double dt_min;                  /* the tick in minutes */
+    double level_ma_per_l;          /* the level loop's mA per litre in the tank */
+    double inv_lag;                 /* 1 / tractor_lag_s */
+    double wheel_per_mps;           /* wheel pulses a tick per m/s of ground speed */
+} plant_tick_t;
 
 typedef struct {
     plant_params_t p;
@@ -123,6 +142,9 @@ typedef struct {
     /* line */
     double p_bar;                   /* line pressure at the boom */
     double p_last;                  /* the one before (Newton's first guess follows the trend) */
+    double root_p, root_s, root_sc, root_d;  /* p_bar, about sqrt(p_bar) and sqrt(p_bar - check),
+                                            and 1 / the slope of the line's equation there: kept
+                                            from the last tick for the next one's first Newton step */
     double q_pump, q_relief, q_bypass, q_boom, q_leak;   /* L/min over the last tick */
     double q_meter;                 /* through the flow meter: boom + leak */
     int spray_on;
@@ -136,11 +158,11 @@ typedef struct {
     /* sensors */
     double q_rotor;                 /* turbine rotor's flow (lagged), L/min */
     plant_decay_t motor_decay, rotor_decay;   /* the valve motor's and the rotor's lag a tick */
+    plant_tick_t tick;              /* constants of the tick (plant.c) */
     plant_teeth_t meter_teeth, wheel_teeth;   /* blade and element spacing, pulse positions */
     uint64_t flow_pulses, wheel_pulses;  /* pulses sent so far */
     double ma_pressure, ma_level;        /* the 4-20 mA loops this tick */
-    uint16_t adc_pressure, adc_level;    /* 10-bit counts: noise-free after plant_step, the last
-                                            conversion's after plant_adc_sample */
+    uint16_t adc_pressure, adc_level;    /* 10-bit counts of the last conversion (plant_adc_sample) */
     double bounce_pct;
     /* faults */
     int meter_fail, speed_fail, psens_open, valve_stuck;
@@ -161,6 +183,8 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns);
 /* One ADC conversion of channel ch (0 pressure, 1 level) now, with its own noise draw: the
  * noise is drawn when the firmware converts, not every tick. Also stores it in adc_*. */
 uint16_t plant_adc_sample(plant_t *pl, int ch);
+/* The counts a conversion without noise would give now (no draw, nothing stored). */
+uint16_t plant_adc_ideal(const plant_t *pl, int ch);
 
 /* The sensors' pulse trains alone (plant_step calls them with the line flow and the ground
  * speed of the tick): the turbine rotor follows q with its lag and pulses at K(q) q; the

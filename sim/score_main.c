@@ -331,7 +331,7 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    metrics_json(stdout, &m, &r, extra, 0.0);
+    metrics_json(stdout, &m, &r, extra, 0.0, 0.0);
     metrics_free(&m);
     free(rows);
     free(s);

@@ -11,14 +11,27 @@
 #include "keypad.h"
 #include <stdlib.h>
 
-static double now_s(void)
+static double now_s(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static void sample(sim_t *sim, double flow_lpm);
+
+/* A fast mode's long tick may start now: the valve's bridge off and its motor at rest, the
+ * tractor at the driver's speed, no operator input in the run, on the long tick's grid (so that
+ * it ends on the 100 ms grid of the control steps and samples) and not past the scenario's end. */
+static int sim_idle(const sim_t *sim)
+{
+    return hal_host_io.valve_dir == HAL_VALVE_OFF && !sim->plant.moving && !sim->n_input &&
+           fabs(sim->plant.v_cmd_kmh - plant_speed_kmh(&sim->plant)) < SIM_IDLE_KMH &&
+           sim->t_ns % sim->idle_tick_ns == 0 && sim->t_ns + sim->idle_tick_ns <= sim->end_ns;
+}
+
+/* valve_duty / 255.0 for each duty (no division a tick) */
+static double duty_frac[256];
 
 /* The ADC's conversions come from the plant of the running simulation (one a process). */
 static plant_t *adc_plant;
@@ -44,7 +57,12 @@ static void set_sections(sim_t *sim, int open_nozzles)
 
 void sim_init(sim_t *sim, const scenario_t *s)
 {
+    int i;
+    for (i = 0; i < 256; i++)
+        duty_frac[i] = i / 255.0;
     memset(sim, 0, sizeof *sim);
+    sim->tick_ns = SIM_TICK_NS;
+    sim->slope_row = -1;
     sim->scn = s;
     sim->end_ns = (uint64_t)(s->duration_s * 1e9 + 0.5);
     hal_host_reset();
@@ -125,11 +143,14 @@ static double reference_lpm(const sim_t *sim)
 }
 
 /* What a meter true to the firmware's calibration reads of the flow through it, L/min. */
-static double meter_reads_lpm(const sim_t *sim)
+static double meter_reads_lpm(sim_t *sim)
 {
     const plant_t *pl = &sim->plant;
-    double cal = param_v[P_METER_K] / 10.0;
-    return cal > 0 ? pl->q_meter * plant_meter_k(pl, pl->q_meter) / cal : 0.0;
+    if (param_v[P_METER_K] != sim->cal_param) {
+        sim->cal_param = param_v[P_METER_K];
+        sim->cal_inv = sim->cal_param > 0 ? 10.0 / sim->cal_param : 0.0;
+    }
+    return pl->q_meter * plant_meter_k(pl, pl->q_meter) * sim->cal_inv;
 }
 
 static void sample(sim_t *sim, double flow_lpm)
@@ -151,7 +172,11 @@ static double drive_kmh(sim_t *sim, double t)
     i = sim->drive_row;
     if (t < d[0].t_s || i + 1 >= s->n_drive)
         return d[i].kmh;
-    return d[i].kmh + (d[i + 1].kmh - d[i].kmh) * (t - d[i].t_s) / (d[i + 1].t_s - d[i].t_s);
+    if (i != sim->slope_row) {
+        sim->slope_row = i;
+        sim->drive_slope = (d[i + 1].kmh - d[i].kmh) / (d[i + 1].t_s - d[i].t_s);
+    }
+    return d[i].kmh + sim->drive_slope * (t - d[i].t_s);
 }
 
 int sim_input_load(sim_t *sim, const char *path, char *err, size_t n)
@@ -240,22 +265,24 @@ void sim_step(sim_t *sim)
 {
     const scenario_t *s = sim->scn;
     plant_t *pl = &sim->plant;
-    uint64_t t1 = sim->t_ns + SIM_TICK_NS;
+    uint32_t tick = sim->idle_tick_ns && sim_idle(sim) ? sim->idle_tick_ns : sim->tick_ns;
+    uint64_t t1 = sim->t_ns + tick;
+    double t1_ns = (double)(int64_t)t1;     /* t1 < 2^63: the signed conversion is exact and cheaper */
     plant_in_t in;
-    double dt = SIM_TICK_NS * 1e-9;
+    double dt = tick * 1e-9;
 
-    while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= (double)t1) {
+    while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= t1_ns) {
         const scn_event_t *e = &s->events[sim->next_event++];
         sim_event(sim, e->kind, e->value);          /* checked when the file was read */
     }
     if (sim->n_input)
         input_step(sim, t1);
-    pl->v_cmd_kmh = drive_kmh(sim, t1 * 1e-9);
-    in.drive = hal_host_io.valve_dir * (hal_host_io.valve_duty / 255.0);
+    pl->v_cmd_kmh = drive_kmh(sim, t1_ns * 1e-9);
+    in.drive = hal_host_io.valve_dir * duty_frac[hal_host_io.valve_duty];
     in.spray_on = hal_host_io.spray_on;
 
     hal_host_set_time_ns(t1);
-    plant_step(pl, &in, SIM_TICK_NS);
+    plant_step(pl, &in, tick);
     sim->t_ns = t1;
 
     if (sim->pass)
@@ -285,7 +312,7 @@ void sim_step(sim_t *sim)
 
     metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
                 param_v[P_RATE], pl->p_bar, pl->spray_on);
-    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 / 100.0,
+    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 * 0.01,
                    pl->theta <= 0.0 || pl->theta >= 1.0);
     metrics_valve(&sim->metrics, dt, (double)pl->valve_reversals, pl->valve_travel, pl->spray_on);
     sim->acc_meter += pl->q_meter;
@@ -310,17 +337,30 @@ void sim_step(sim_t *sim)
 void sim_run(sim_t *sim, double until_s)
 {
     uint64_t until = until_s <= 0 ? 0 : (uint64_t)(until_s * 1e9 + 0.5);
-    double w0 = now_s();
+    double w0 = now_s(CLOCK_MONOTONIC), c0 = now_s(CLOCK_PROCESS_CPUTIME_ID);
     if (until > sim->end_ns)
         until = sim->end_ns;
-    while (sim->t_ns + SIM_TICK_NS <= until)
+    while (sim->t_ns + sim->tick_ns <= until)
         sim_step(sim);
-    sim->wall_s += now_s() - w0;
+    sim->wall_s += now_s(CLOCK_MONOTONIC) - w0;
+    sim->cpu_s += now_s(CLOCK_PROCESS_CPUTIME_ID) - c0;
+}
+
+int sim_set_tick_ms(sim_t *sim, int ms, int idle_ms)
+{
+    int period = (int)(SIM_SAMPLE_S * 1000 + 0.5);
+    if (ms < 1 || ms > SIM_TICK_MAX_MS || period % ms != 0 || sim->t_ns != 0)
+        return -1;
+    if (idle_ms && (idle_ms <= ms || idle_ms > SIM_TICK_MAX_MS || period % idle_ms != 0 || idle_ms % ms != 0))
+        return -1;
+    sim->tick_ns = (uint32_t)ms * 1000000u;
+    sim->idle_tick_ns = (uint32_t)idle_ms * 1000000u;
+    return 0;
 }
 
 int sim_done(const sim_t *sim)
 {
-    return sim->t_ns + SIM_TICK_NS > sim->end_ns;
+    return sim->t_ns + sim->tick_ns > sim->end_ns;
 }
 
 double sim_time_s(const sim_t *sim)
@@ -413,7 +453,7 @@ void sim_json(const sim_t *sim, const metrics_result_t *r, FILE *f)
     clean[k] = 0;
     snprintf(extra, sizeof extra, "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,",
              clean, ctl_name((uint8_t)param_v[P_CONTROLLER]), (unsigned long long)sim->scn->seed);
-    metrics_json(f, &sim->metrics, r, extra, sim->wall_s);
+    metrics_json(f, &sim->metrics, r, extra, sim->wall_s, sim->cpu_s);
 }
 
 void sim_free(sim_t *sim)

@@ -42,6 +42,10 @@
 #include "metrics.h"
 
 #define SIM_TICK_NS 1000000u        /* plant step: 1 ms */
+#define SIM_TICK_MAX_MS 50          /* the longest tick sim_set_tick_ms allows (fast modes) */
+#define SIM_FAST_TICK_MS 5          /* sim --fast: the tick */
+#define SIM_FAST_IDLE_MS 10         /* ... and the tick while the valve is idle */
+#define SIM_IDLE_KMH 0.05           /* idle also means the tractor within this of the driver's speed */
 #define SIM_SAMPLE_S 0.1            /* target/flow samples for the step metrics (= APP_PERIOD_MS) */
 
 /* Everything the trace holds at one instant: the truth, the firmware's view, the controller. */
@@ -79,6 +83,8 @@ typedef struct sim {
     metrics_t metrics;
     uint64_t t_ns;                  /* simulated time (= hal_host_io.time_ns) */
     uint64_t end_ns;                /* duration_s of the scenario */
+    uint32_t tick_ns;               /* SIM_TICK_NS, or a fast mode's longer tick (sim_set_tick_ms) */
+    uint32_t idle_tick_ns;          /* a fast mode's tick while the valve is idle (0: tick_ns) */
     int next_event;                 /* index into scn->events */
     int drive_row;                  /* the last [drive] row at or before now (a cursor) */
     unsigned prev_alarms;
@@ -86,11 +92,16 @@ typedef struct sim {
     double acc_meter, acc_boom;
     uint32_t acc_n;
     double flow_true_lpm, boom_lpm; /* the last period's means */
+    uint16_t cal_param;             /* the meter's calibration parameter cal_inv was computed for */
+    double cal_inv;                 /* litres a pulse by the firmware's calibration (0: none) */
+    int slope_row;                  /* the [drive] row drive_slope is for (-1: none) */
+    double drive_slope;             /* km/h per s from that row to the next */
     uint64_t next_sample_ns;
     /* trace */
     FILE *csv;
     uint64_t csv_period_ns, next_csv_ns;
     double wall_s;                  /* wall time spent in sim_step so far */
+    double cpu_s;                   /* the process's CPU time over the same (no other load in it) */
     /* the firmware's pass of a tick: app_poll() here, or (pass set) the same firmware elsewhere
      * (hal/pil: inside s51), which leaves its outputs in hal_host_io and app_status */
     void (*pass)(void *ctx);
@@ -127,6 +138,14 @@ int sim_input_load(sim_t *sim, const char *path, char *err, size_t n);
 void sim_init(sim_t *sim, const scenario_t *s);
 /* One plant tick of SIM_TICK_NS and one app_poll(). */
 void sim_step(sim_t *sim);
+/* A fast mode: the plant steps and the firmware's passes every ms milliseconds instead of every
+ * one (1..SIM_TICK_MAX_MS, a divisor of the 100 ms sample period, so that the control steps and
+ * the samples stay on their grid), and every idle_ms (0: ms; a multiple of ms, a divisor of 100)
+ * while the plant is idle (the valve's bridge off and motor at rest, the tractor at the driver's
+ * speed; no operator input in the run); before the first step only. An approximation, not the model (docs/PIL.md, the simulator's speed): the
+ * pressure's implicit step over a longer tick takes the pump's pulsation averaged over it, the
+ * firmware sees its inputs in tick-long slices. 0, or -1 for ticks it does not allow. */
+int sim_set_tick_ms(sim_t *sim, int ms, int idle_ms);
 /* Step until the simulated time reaches until_s (never past the scenario's end). */
 void sim_run(sim_t *sim, double until_s);
 /* 1 once the scenario's duration is over. */

@@ -15,6 +15,7 @@ static void usage(FILE *f)
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
           "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt]\n"
           "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt] [--pty [--pace X] [--wait S]]\n"
+          "           [--fast | --tick-ms N [--idle-tick-ms M]]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
           "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, ffmap or 'best' (the project's own), aog, raven. --seed replaces [run] seed.\n"
@@ -28,7 +29,12 @@ static void usage(FILE *f)
           "  --pty: the link on a new pseudo-terminal (its name on stderr) that tools/monitor.py opens like a\n"
           "    port; the run starts when it is opened (--wait S, default 60), at X times real time (--pace,\n"
           "    default 1; 0 as fast as the reader takes it); commands sent to it reach the firmware, and\n"
-          "    every 0.1 s a truth line 'SIM ...*HH' follows the firmware's (docs/MONITOR.md).\n", f);
+          "    every 0.1 s a truth line 'SIM ...*HH' follows the firmware's (docs/MONITOR.md).\n"
+          "  --tick-ms N: the plant steps and the firmware's passes every N ms (1..50, a divisor of 100;\n"
+          "    1 is the model), every M ms while the valve is idle and the speed steady (--idle-tick-ms, a\n"
+          "    longer multiple of N);\n"
+          "    --fast is --tick-ms 5 --idle-tick-ms 10: an approximation whose metrics stay near the\n"
+          "    1 ms run's (docs/PIL.md, the simulator's speed; tests/scripts/seed_spread.sh). Not with --pil.\n", f);
 }
 
 /* "SIM t_s v_true_kmh v_meas_kmh target_lpm ref_lpm flow_meas_lpm flow_true_lpm boom_lpm p_bar
@@ -137,7 +143,7 @@ int main(int argc, char **argv)
     FILE *serial = NULL, *drive_log = NULL;
     pil_t *pil = NULL;
     unsigned long long seed = 0;
-    int have_seed = 0, i;
+    int have_seed = 0, i, tick_ms = 1, idle_ms = 0;
     double period = 0.1, pace = 1.0, wait_s = 60.0;
     int use_pty = 0;
     char err[512];
@@ -155,6 +161,11 @@ int main(int argc, char **argv)
         }
         if (!strcmp(a, "--pty")) {
             use_pty = 1;
+            continue;
+        }
+        if (!strcmp(a, "--fast")) {
+            tick_ms = SIM_FAST_TICK_MS;
+            idle_ms = SIM_FAST_IDLE_MS;
             continue;
         }
         if (!v) {
@@ -194,6 +205,14 @@ int main(int argc, char **argv)
                 return 2;
             }
             *(a[2] == 'p' ? &pace : &wait_s) = x;
+        } else if (!strcmp(a, "--tick-ms") || !strcmp(a, "--idle-tick-ms")) {
+            char *end;
+            long ms = strtol(v, &end, 10);
+            if (*end || !*v || ms < 1 || ms > SIM_TICK_MAX_MS || 100 % ms != 0) {
+                fprintf(stderr, "sim: %s '%s' is not a divisor of 100 from 1 to %d\n", a, v, SIM_TICK_MAX_MS);
+                return 2;
+            }
+            *(a[2] == 't' ? &tick_ms : &idle_ms) = (int)ms;
         } else if (!strcmp(a, "--trace-period")) {
             char *end;
             period = strtod(v, &end);
@@ -250,7 +269,16 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    if ((tick_ms != 1 || idle_ms) && pil_path) {
+        fprintf(stderr, "sim: --fast/--tick-ms and --pil do not go together (s51 runs a pass a millisecond)\n");
+        return 2;
+    }
     sim_init(sim, s);
+    if (sim_set_tick_ms(sim, tick_ms, idle_ms) < 0) {
+        fprintf(stderr, "sim: ticks of %d ms, %d ms while idle: the idle tick must be a longer multiple of the tick\n",
+                tick_ms, idle_ms);
+        return 2;
+    }
     sim->drive_log = drive_log;
     if (input_path && sim_input_load(sim, input_path, err, sizeof err) < 0) {
         fprintf(stderr, "sim: --input: %s\n", err);

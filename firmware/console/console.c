@@ -151,6 +151,10 @@ static void key_menu(void)
             go(S_IOTEST);
             con_iotest_start();
         }
+        else if (con_item == MENU_NOZZLES) {
+            diag_nozzle_relearn();
+            con_say("Learning nozzles");
+        }
         else if (con_is_choice(con_item)) {
             go(S_CHOICE);
             con_step = (uint8_t)param_v[con_item];
@@ -274,6 +278,8 @@ static void key_cal(void)
         con.cal_value = (uint16_t)v;
         con_step = 3;
     } else {
+        if (tank)
+            diag_nozzle_relearn();          /* the meter reads anew: the nozzles are learnt anew */
         if (con_apply(id, con.cal_value))
             con_state = S_MENU;
     }

@@ -298,6 +298,8 @@ static const char *menu_name(uint8_t i)
         return "I/O test";
     if (i == MENU_TOTALS)
         return "Totals";
+    if (i == MENU_NOZZLES)
+        return "Nozzles relearn";
     return param_info(i)->name;
 }
 

@@ -4,6 +4,7 @@
 #endif
 #include "ctl_int.h"
 #include "params.h"
+#include "store.h"
 
 /*
  * Units and the mapping of the paper's incremental PID, eq. (7), onto this valve
@@ -87,10 +88,11 @@ static void ctl_derive(void)
      * the old ones (the operator knows the valve now) */
     s = (int16_t)((((uint32_t)param_v[P_VALVE_BRK] << 15) + 50u) / 100u);
     b = (int16_t)((((uint32_t)param_v[P_VALVE_SLACK] << 15) + 500u) / 1000u);
-    if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && ctl_id == CTL_BEST) {
+    if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && t && ctl_id == CTL_BEST) {
         ctl_st.fm.brk = 0;
         ctl_st.fm.brk_age = 0;
         ctl_st.fm.g = 256;
+        ctl_st.fm.rmin = FM_REV_MIN;
     }
     ctl_stiction = s;
     ctl_backlash = b;
@@ -159,6 +161,15 @@ uint8_t ctl_select(uint8_t id)
 uint8_t ctl_selected(void)
 {
     return ctl_id;
+}
+
+uint8_t ctl_learnt_byte(uint8_t i)
+{
+    if (ctl_id != CTL_BEST)
+        return store_learnt(i);
+    if (ctl_gen != param_generation)
+        ctl_derive();               /* valve parameters told anew: what was learnt goes first */
+    return ((const uint8_t *)&ctl_st.fm.g)[i];
 }
 
 int16_t ctl_gain(uint8_t i)

@@ -27,6 +27,9 @@ typedef struct {
 /* Select a controller (0 when id is unknown and nothing changes) and start it from rest. */
 uint8_t ctl_select(uint8_t id);
 uint8_t ctl_selected(void);
+/* Byte i of what best learnt of the valve, for the EEPROM (store.h STORE_LEARN_CTL); with another
+ * controller selected, the record's as it was. */
+uint8_t ctl_learnt_byte(uint8_t i);
 /* Bumpless transfer: the loop (re)starts from the drive the valve has now (manual -> auto). */
 void ctl_reset(q15_t drive_now);
 /* What the valve really got this period, after the application's overrides (over-pressure

@@ -60,22 +60,25 @@ typedef struct {
 } bp_state_t;
 
 /* ---- ffmap (the project's own, `best`): a damped incremental PID with a deadband, an output
- * stage that knows the motor's running friction, a break-away and a loop gain learnt from the
- * flow (docs/CONTROLLERS.md) ------------------------------------------------------------------ */
+ * stage that knows the motor's running friction, a break-away, the motion a reversal is worth
+ * and a loop gain learnt from the flow (docs/CONTROLLERS.md) ------------------------------------------------------------------ */
 #define FM_KP Q12(1.0)              /* gains on the pid normalisation (ctl.c) */
 #define FM_KI Q12(1.2)
 #define FM_KD Q12(0.8)
 #define FM_DB_IN 8                  /* deadband: the valve rests once the filtered error <= target >> 8 */
-#define FM_DB_OUT 7                 /* ... and wakes beyond target >> 7, or when the target moves */
+#define FM_DB_OUT 6                 /* ... and wakes beyond target >> 6, or when the target moves */
 #define FM_MOVE_SHIFT 6             /* the target moves: |dq| > target >> 6 in one period */
 #define FM_REST_KI Q12(0.15)        /* resting, a slow integral only, on the filtered error */
-#define FM_STALL_N 3                /* smallest pulses one way without the error shrinking: a stall */
+#define FM_STALL_N 6                /* smallest pulses one way without the error shrinking: a stall
+                                     * (fewer counted the backlash's take-up as one) */
 #define FM_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
 #define FM_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
 #define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
-#define FM_G_MIN 64                 /* the learnt loop gain, Q8: 1/4 .. 2 of what Valve time gives */
+#define FM_G_MIN 32                 /* the learnt loop gain, Q8: 1/8 .. 2 of what Valve time gives */
 #define FM_G_MAX 512
-#define FM_OSC_GAP 8                /* a reversal this soon after the last, |e| <= target/4: -1/8 */
+#define FM_REV_MIN Q15(0.6)         /* a reversal is sent once the motion owed the other way is this */
+#define FM_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
+#define FM_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */
 #define FM_SLOW_N 20                /* this long awake with the error one way: +1/16 */
 #define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
                                      * up, the line primes, the flow overshoots from the parked valve */
@@ -87,10 +90,13 @@ typedef struct {
     int8_t dir;                     /* +1 / -1: the direction of the last pulse */
     uint8_t stall_n;                /* smallest pulses one way in a row */
     int16_t stall_e;                /* x100 the error when the first of them was sent */
-    int16_t brk;                    /* Q15 added to Min duty after stalls */
-    uint16_t brk_age;               /* periods since the last stall */
+    /* what is learnt of the valve, together (the EEPROM keeps these STORE_LEARN_CTL bytes): */
     int16_t g;                      /* Q8: the loop gain learnt for this valve (256 = as told) */
+    int16_t brk;                    /* Q15 added to Min duty after stalls */
+    int16_t rmin;                   /* Q15: the motion owed the other way that makes a reversal */
+    uint16_t brk_age;               /* periods since the last stall */
     uint8_t rev_age;                /* periods since the last reversal (saturates) */
+    uint8_t moved;                  /* 1: the target moved since the last reversal */
     uint8_t slow_n;                 /* periods awake with the error one way and no reversal */
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
 } fm_state_t;

@@ -1,5 +1,6 @@
 /* ffmap.c: best, the project's own controller: a damped PID with a deadband, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
+#include "store.h"
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
@@ -18,24 +19,39 @@
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
  *     answers (reversals in quick succession near the target lower it, a long run of error one
  *     way raises it);
- *   - backlash is not taken up: on a valve with less slack than it was told that overshoots,
- *     and with the deadband reversals are rare.
+ *   - backlash is not taken up: on a valve with less slack than it was told that overshoots;
+ *   - a reversal is owed until the motion asked the other way is worth FM_REV_MIN of a period
+ *     at full speed (a small one is mostly lost in the backlash, and the next periods often ask
+ *     the first way again); reversals that cycle at a steady target (within FM_OSC_GAP, the
+ *     target still) lower that threshold by 1/8 down to FM_REV_LOW: a fast valve's cycle is
+ *     its smallest reversal, not its noise.
+ * The proportional term acts on the measured flow, not on the error: the target, stepped by the
+ * wheel's pulses, kicks nothing through it (it moves the valve through the integral).
  * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
  * the valve near the target (the noise of the meter, the pump's pulsation and the target's own
  * jitter move nothing); resting, a slow integral removes a steady bias.
  */
 void fm_init(void)
 {
+    uint8_t i;
     M->e1 = M->e2 = M->ef = 0;
     M->t1 = 0;
     M->rest = 0;
     M->dir = 0;
     M->stall_n = 0;
     M->stall_e = 0;
-    M->brk = 0;
     M->brk_age = 0;
-    M->g = 256;
     M->rev_age = 255;
+    M->moved = 0;
+    /* what was learnt of this valve before: the EEPROM's record (CRC-checked, written by this
+     * firmware) or, without one, 0xFF bytes */
+    for (i = 0; i < STORE_LEARN_CTL; i++)
+        ((uint8_t *)&M->g)[i] = store_learnt(i);
+    if (M->g <= 0) {
+        M->g = 256;
+        M->brk = 0;
+        M->rmin = FM_REV_MIN;
+    }
     M->slow_n = 0;
     M->warm = 0;
 }
@@ -63,9 +79,12 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
 {
     int16_t c, dq = (int16_t)(q - M->t1);
+    uint8_t c2;
     M->ef = (int16_t)(M->ef + ((e - M->ef + 2) >> 2));
     c = M->ef < 0 ? (int16_t)-M->ef : M->ef;
-    if (((int32_t)(dq < 0 ? -dq : dq) << FM_MOVE_SHIFT) > q || (M->rest && c > (q >> FM_DB_OUT))) {
+    c2 = ((int32_t)(dq < 0 ? -dq : dq) << FM_MOVE_SHIFT) > q;
+    M->moved |= c2;
+    if (c2 || (M->rest && c > (q >> FM_DB_OUT))) {
         if (M->rest && (ctl_carry > 0) != (e > 0))
             ctl_carry = 0;          /* waking: what the slow integral owed the other way is stale */
         M->rest = 0;
@@ -112,6 +131,10 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         return 0;
     }
     d = m > 0 ? m : -m;
+    if (s != M->dir && M->dir != 0 && d < M->rmin) {
+        ctl_carry = (q15_t)m;       /* a reversal waits until it is worth more than the slack */
+        return 0;
+    }
     d = ctl_drun + MUL_R15((int16_t)d, ctl_run_span);
     k = (int32_t)CTL_STICTION + M->brk;
     if (d < k) {
@@ -123,10 +146,15 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         d = 32767;
     if (s != M->dir && M->dir != 0) {
         /* (a pulse near the smallest: the valve's resolution, not the gain) */
-        if (M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN && M->warm >= FM_WARM && d > 2 * k
-            && ((int32_t)(e < 0 ? -e : e) << 2) <= ctl_in->target_lpm_x100)
-            M->g -= M->g >> 3;
+        if (M->rev_age <= FM_OSC_GAP && M->warm >= FM_WARM && d > 2 * k
+            && (int32_t)(e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
+            if (M->g > FM_G_MIN)
+                M->g -= M->g >> 3;
+            if (!M->moved && M->rmin > FM_REV_LOW)
+                M->rmin -= M->rmin >> 3;    /* a cycle at a steady target: smaller reversals */
+        }
         M->rev_age = 0;
+        M->moved = 0;
         M->slow_n = 0;
     }
     if (d <= k + (k >> 3) && s == M->dir) {   /* one of the smallest pulses */
@@ -163,7 +191,7 @@ q15_t fm_step(void) CTL_SHARED
         du = MUL(FM_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
     } else {
         d2e = fx_sat16((int32_t)e - 2 * (int32_t)M->e1 + M->e2);
-        du = MUL(FM_KP, (int16_t)(e - M->e1));
+        du = MUL(FM_KP, fx_sat16((int32_t)e - M->e1 - (q - M->t1)));
         du += MUL(FM_KI, e);
         du += MUL(FM_KD, d2e);
     }

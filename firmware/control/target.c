@@ -72,7 +72,7 @@ static void target_derive(void) __reentrant
     tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
     if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))
         tg.remote_x10 = 0;          /* Remote off, or a new Dose or window leaves it outside */
-    cdm = (uint32_t)target_rate_x10() * param_v[P_SPACING] * tg.open;    /* <= 1.92e8 */
+    cdm = UMUL(target_rate_x10(), param_v[P_SPACING]) * tg.open;       /* <= 1.92e8 */
     /* cdm * 65536 / 600000 = cdm * 4096 / 37500, rounded (the same bits as C in L/ha / 60000) */
     q = cdm / 37500u;               /* (the remainder without a remainder routine) */
     tg.k_q16 = q * 4096u + ((cdm - q * 37500u) * 4096u + 18750u) / 37500u;

@@ -11,8 +11,9 @@
  * End stops (the valve has no limit switches): the position is estimated by integrating
  * the drive that moves the motor (|duty| >= VALVE_MOVE_Q15, below it stiction holds it) over
  * each period divided by the full-stroke time P_VALVE_TRAVEL. The valve is at a stop when
- *  - it has been driven one way by more than VALVE_ONEWAY_Q15 (1.2 strokes) since it last
- *    moved the other way, or
+ *  - it has been driven one way by more than VALVE_ONEWAY_Q15 (3.6 strokes) since it last
+ *    moved the other way (a valve up to 3 times slower than Valve time says gets to its stop
+ *    first: believed too soon, a stop parks the bypass part open and holds the loop back), or
  *  - its estimated position is known (after a stop was found once) and it has been driven
  *    VALVE_OVER_Q15 (0.15 stroke) past the estimated end.
  * It is then not driven that way any more (valve_limit() reports CTL_AT_CLOSED/CTL_AT_OPEN
@@ -24,7 +25,7 @@
  */
 #define VALVE_DEAD_MS 20u
 #define VALVE_MOVE_Q15 Q15(0.15)
-#define VALVE_ONEWAY_Q15 39322L     /* 1.2 strokes */
+#define VALVE_ONEWAY_Q15 117965L    /* 3.6 strokes */
 #define VALVE_OVER_Q15 4915L        /* 0.15 stroke */
 #define VALVE_RETRY_Q15 3277L       /* 0.1 stroke */
 #define VALVE_RETRY_PERIODS 20u     /* 2 s */

@@ -32,16 +32,22 @@ static struct {
 /* the span speed_learn checks, measured by speed_step */
 static uint32_t sl_dt;
 
-static void speed_forget_offsets(void) __reentrant
+/* the learnt offsets back to nothing (the turn's timing is kept) */
+static void speed_restart_offsets(void) __reentrant
 {
     uint8_t i;
     for (i = 0; i < SPEED_TEETH_MAX; i++)
         sp.off[i] = 0;
-    sp.t0_ok = 0;
-    sp.t_rev = 0;
     sp.learnt = 0;
     sp.turns = 0;
     sp.shift = 0;
+}
+
+static void speed_forget_offsets(void) __reentrant
+{
+    speed_restart_offsets();
+    sp.t0_ok = 0;
+    sp.t_rev = 0;
 }
 
 static void speed_derive(void) __reentrant
@@ -83,9 +89,16 @@ void speed_init(void)
  * and within a turn of that measurement, the span of `count` pulses just measured (sl_dt) should
  * be (count + off[new] - off[old]) t_rev / n: what it differs by moves the new element's offset
  * (element 0 is the zero; when it is the new one, the old one's moves instead). */
+/* where an edge `count` pulses after another one sits against it, from the span dt between
+ * them, in 1/4096 of a spacing past the even place: dt n 4096 / T - count 4096 */
+static int32_t spans(uint32_t dt, uint8_t count) __reentrant
+{
+    return (int32_t)(um_muldiv(dt, (uint16_t)sp.n * 2048u, sp.t_rev) << 1) - ((int32_t)count << 12);
+}
+
 static void speed_learn(uint8_t count, uint8_t old) __reentrant
 {
-    uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg;
+    uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg, steady;
     int32_t err;
     int16_t e;
     if (sp.idx == 0) {
@@ -101,11 +114,22 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         sp.t0_ok = 1;
         m = 0;
     }
-    if (!sp.t_rev || m > sp.n || sp.d_rev > (int32_t)(sp.t_rev >> 9) || -sp.d_rev > (int32_t)(sp.t_rev >> 9))
+    err = sp.d_rev < 0 ? -sp.d_rev : sp.d_rev;
+    steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> 9);
+    /* the first turn's offsets are taken whole: if the speed changed in the turn they were
+     * learnt in (or the turn could not be timed), they hold the change, not the wheel, and
+     * learning starts again */
+    if (sp.idx == 0 && sp.shift == 0 && !steady)
+        speed_restart_offsets();
+    if (!steady || m > sp.n)
         return;
-    /* where the new edge sits against the old one, in 1/4096 of a spacing: dt n 4096 / T */
-    err = (int32_t)(um_muldiv(sl_dt, (uint16_t)sp.n * 2048u, sp.t_rev) << 1) - ((int32_t)count << 12)
-          - ((int32_t)sp.off[sp.idx] - sp.off[old]);
+    /* later turns: an edge away from where its learnt offset puts it against element 0's (which
+     * opened this turn) says the speed changed since the turn was timed: nothing is learnt */
+    err = spans(sp.last_pca - sp.t0, m) - sp.off[sp.idx];
+    if (sp.shift && (err > SPEED_LEARN_DRIFT || err < -SPEED_LEARN_DRIFT))
+        return;
+    /* where the new edge sits against the old one */
+    err = spans(sl_dt, count) - ((int32_t)sp.off[sp.idx] - sp.off[old]);
     if (err > 1024 || err < -1024)
         return;                 /* a quarter of a spacing: a missed or extra pulse, not an offset */
     /* the first turn takes what it sees, then a mean growing to about 16 turns: halved for

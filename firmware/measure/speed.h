@@ -35,6 +35,8 @@
 #define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
 #define SPEED_LOST_X100 200u        /* pulses that stop above 2 km/h: a lost sensor, not a stop */
 #define SPEED_TEETH_MAX 16u         /* most wheel pulses a turn (P_WHEEL_PPR) */
+#define SPEED_LEARN_DRIFT 128       /* an edge this far (1/4096 of a spacing) from its learnt place:
+                                     * the speed changed, no offset is learnt from it */
 
 void speed_init(void);
 /* One control period: take the wheel edges, return the speed in km/h x100. */

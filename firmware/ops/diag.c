@@ -8,6 +8,9 @@
 #include "target.h"
 #include "valve.h"
 #include "diag.h"
+#include "mul.h"
+#include "store.h"
+#include "ctl.h"
 
 static const char * const __code codes[AL_COUNT] = {
     "TANK_LOW", "PUMP_DRY", "LEAK", "CLOG", "METER_LOST", "SPEED_LOST", "PSENS_FAULT",
@@ -67,8 +70,25 @@ void diag_init(void)
     dg.wheel_glitches = speed_glitches();
     dg.wheel_pulses = (uint16_t)speed_pulses();
     dg.nozzles = 0;
-    dg.gen = (uint8_t)(param_generation - 1u);
     diag_nozzle_relearn();
+    /* the model learnt before: the EEPROM's record (CRC-checked, written by this firmware) or,
+     * without one, 0xFF bytes */
+    for (i = 0; i < 4u; i++)
+        ((uint8_t *)&dg.pc_kpa)[i] = store_learnt(STORE_LEARN_CTL + i);
+    if (dg.kp_kpa != 0xFFFFu) {
+        dg.learnt = 2;
+    } else {
+        dg.pc_kpa = DIAG_P_CHECK_KPA;
+        dg.kp_kpa = 300u;
+    }
+    dg.gen = (uint8_t)(param_generation - 1u);
+}
+
+uint8_t store_learnt_byte(uint8_t i)
+{
+    if (i < STORE_LEARN_CTL)
+        return ctl_learnt_byte(i);
+    return dg.learnt == 2 ? ((const uint8_t *)&dg.pc_kpa)[i - STORE_LEARN_CTL] : 0xFFu;
 }
 
 void diag_nozzle_relearn(void)
@@ -146,8 +166,8 @@ static uint8_t learn(uint16_t r, uint16_t p) __reentrant
         p = 511u;
     dg.sx += r;
     dg.sy += p;
-    dg.sxx += (uint32_t)r * r;
-    dg.sxy += (uint32_t)r * p;
+    dg.sxx += UMUL(r, r);
+    dg.sxy += UMUL(r, p);
     return ++dg.ln >= DIAG_LEARN_N;
 }
 
@@ -157,7 +177,7 @@ void diag_set_nozzles(uint8_t open_nozzles) __reentrant
         return;
     dg.nozzles = open_nozzles;
     dg.gen = param_generation;
-    dg.nq = (uint32_t)open_nozzles * param_v[P_NOZZLE_Q3];
+    dg.nq = UMUL(open_nozzles, param_v[P_NOZZLE_Q3]);
     /* q = n Q3 sqrt(dp / kp): knoz = 256 n Q3 / sqrt(kp), 65536 / (256 sqrt(kp)) from the root
      * of kp << 16 (a divide, only when the nozzles or the model change) */
     dg.knoz = um_muldiv(dg.nq, 65535u, um_sqrt32((uint32_t)dg.kp_kpa << 16));
@@ -233,7 +253,7 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
     uint16_t p = in->pressure_kpa;
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
-    uint32_t x = (uint32_t)tank * 100u;
+    uint32_t x = UMUL(tank, 100u);
     rule(AL_TANK_LOW, lsens && tank < tmin, refill, DIAG_TANK_PERIODS);
     rule(AL_PUMP_DRY, lsens && x <= param_v[P_TANK_L], refill && x > param_v[P_TANK_L],
          DIAG_TANK_PERIODS);
@@ -264,7 +284,7 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
-        && target > 0 && (uint32_t)(meter > target ? meter - target : target - meter) * 20u <= (uint16_t)target;
+        && target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;
     x = judge ? x_of(meter) : 0xFFFFu;
     if (g)
         learn((uint16_t)x, p);      /* (the fit is diag_step's: a shorter call chain) */
@@ -278,13 +298,13 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
         g = x * 4u >= (uint32_t)dg.xm * 3u && x * 3u <= (uint32_t)dg.xm * 4u;
     if (g) {
         judge = judge && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA;
-        p100 = (uint32_t)(p > dg.pc_kpa ? p - dg.pc_kpa : 0) * 100u;
+        p100 = UMUL(p > dg.pc_kpa ? p - dg.pc_kpa : 0, 100u);
         x = (uint32_t)(pexp - dg.pc_kpa) * (100u - (param_v[P_PDEV] >> 1));
         rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
         x = (uint32_t)(pexp - dg.pc_kpa) * (100u + (param_v[P_PDEV] >> 1));
         rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
     } else {
-        x = ((uint32_t)pexp * param_v[P_PDEV] + 50u) / 100u;
+        x = (UMUL(pexp, param_v[P_PDEV]) + 50u) / 100u;
         if (x < DIAG_PDEV_FAR_KPA)
             x = DIAG_PDEV_FAR_KPA;
         rule(AL_LEAK, judge && (uint32_t)p + x < pexp, judge && (uint32_t)p + x >= pexp, DIAG_PDEV_PERIODS);
@@ -301,8 +321,8 @@ static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reen
     uint8_t judge = !in->manual && settled && target > 0
                     && in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
     int16_t qp = in->flow_lpm_x100 - target;
-    uint32_t p100 = (uint32_t)(qp < 0 ? -(int32_t)qp : qp) * 100u;
-    uint32_t x = (uint32_t)param_v[P_OFFRATE] * (uint16_t)target;
+    uint32_t p100 = UMUL(qp < 0 ? -(int32_t)qp : qp, 100u);     /* |qp| <= 32768 */
+    uint32_t x = UMUL(param_v[P_OFFRATE], target);
     if (!(dg.alarms & (1u << AL_OFFRATE))) {
         if (judge && p100 > x) {
             if (++dg.offrate_cnt >= param_v[P_OFFRATE_S] * 10u) {

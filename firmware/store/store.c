@@ -11,26 +11,23 @@
 #define HDR_SEQ 3u
 #define HDR_VALUES 5u
 #define HDR_LIFE (HDR_VALUES + 2u * P_COUNT)
-#define CRC_AT (HDR_LIFE + 8u)
+#define HDR_LEARN (HDR_LIFE + 8u)
+#define CRC_AT (HDR_LEARN + STORE_LEARN_BYTES)
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_* */
-static uint8_t newest;              /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT */
+#define newest store_newest         /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT (learnt.c) */
 static uint16_t seq;                /* its sequence number */
-#define NO_SLOT 0xFFu
+#define NO_SLOT STORE_NO_SLOT
+#define slot_base store_slot_base
+typedef char store_learnt_at[(STORE_AT_LEARNT == HDR_LEARN) ? 1 : -1];
 
 static const char __code *const __code status_texts[] = {
     "", "EE: older copy", "EE: defaults", "EE: write error", "EE: low supply"
 };
-
-static uint16_t slot_base(uint8_t slot)
-{
-    return (uint16_t)((slot / STORE_SLOTS_PER_SECTOR) * HAL_EEPROM_SECTOR
-                      + (slot % STORE_SLOTS_PER_SECTOR) * STORE_SLOT_BYTES);
-}
 
 /* CRC-16/CCITT (polynomial 0x1021, MSB first) a nibble at a time from a 16-entry table: the
  * same CRC as bit by bit at a fraction of the cycles (a save computes it over 118 bytes) */
@@ -65,10 +62,12 @@ static uint8_t record_valid(uint16_t base) __reentrant
     uint16_t i, at;
     uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
     if (hal_eeprom_read(base) != STORE_MAGIC
-        || !((ver == PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
+        || !((ver >= 5u && ver <= PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
              || (ver == 3u && n == PARAMS_V3_COUNT) || (ver == 4u && n == PARAMS_V4_COUNT)))
         return 0;
     at = CRC_N(n);
+    if (ver == PARAMS_VERSION)
+        at += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
     for (i = 0; i < at; i++)
         crc = crc_byte(crc, hal_eeprom_read(base + i));
     if (hal_eeprom_read(base + at) != (uint8_t)(crc >> 8) || hal_eeprom_read(base + at + 1u) != (uint8_t)crc)
@@ -184,6 +183,8 @@ uint8_t store_save(void) __reentrant
             b = (uint8_t)next;
         else if (i == HDR_SEQ + 1u)
             b = (uint8_t)(next >> 8);
+        else if (i >= HDR_LEARN)
+            b = store_learnt_byte((uint8_t)(i - HDR_LEARN));
         else if (i >= HDR_LIFE + 4u)
             b = (uint8_t)(t->life_ml >> (8u * (i - HDR_LIFE - 4u)));
         else if (i >= HDR_LIFE)

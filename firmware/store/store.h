@@ -15,6 +15,10 @@
  *          ahead of the others by 1..32767, so it may wrap)
  *   5..    P_COUNT values, uint16 little endian, in the order of params.h
  *   then   the lifetime totals: area m^2 and volume ml, uint32 little endian each
+ *   then   (version 6) the figures learnt from the sprayer, STORE_LEARN_BYTES: best's valve
+ *          (ctl_learnt_byte: loop gain, break-away, reversal threshold) and the nozzle model
+ *          (diag_learnt_byte), 0xFF where none is learnt; a version 5 copy (no such bytes)
+ *          still loads, and nothing learnt is restored from it
  *   then   CRC-16/CCITT (poly 0x1021, init 0xFFFF) of all the bytes before it, high byte first
  * A save appends a record to the first erased slot after the newest one, CRC last; only when
  * a sector is full does the next save erase the other sector (which holds only older
@@ -27,10 +31,14 @@
  * reason (STORE_CROSS).
  * No save starts while the supply is low (hal_supply_low): STORE_LOW_SUPPLY.
  */
-#define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + 2u)
-#define STORE_SLOT_BYTES 128u         /* a record of 32 values is 79 bytes (64 held 24) */
+#define STORE_LEARN_CTL 6u          /* learnt bytes: best's valve ... */
+#define STORE_LEARN_BYTES (STORE_LEARN_CTL + 4u)   /* ... and the nozzle model */
+#define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + 2u)
+#define STORE_SLOT_BYTES 128u         /* a record of 32 values and the learnt figures is 89 bytes (64 held 24) */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
+#define STORE_NO_SLOT 0xFFu
+#define STORE_AT_LEARNT (5u + 2u * P_COUNT + 8u)  /* where the learnt bytes start in a record */
 
 /* What store_load() or the last store_save() found (store_status()). */
 #define STORE_OK 0          /* the newest record is good */
@@ -46,6 +54,14 @@
 uint8_t store_load(void) __reentrant;
 /* Append param_v and the lifetime totals as a new record; 1 when it reads back. */
 uint8_t store_save(void) __reentrant;
+/* Byte i of the learnt figures in the record loaded or saved last; 0xFF when it has none
+ * (learnt.c: the slot of that record and the address of a slot). */
+uint8_t store_learnt(uint8_t i);
+extern uint8_t store_newest;
+uint16_t store_slot_base(uint8_t slot);
+/* Byte i of the learnt figures a save writes: provided by the layer that owns them (ops/diag.c:
+ * best's valve through ctl.h, then the nozzle model), as the HAL's functions are by the HAL. */
+uint8_t store_learnt_byte(uint8_t i);
 /* Status of the last load or save; store_status_clear() once the operator has seen it. */
 uint8_t store_status(void);
 void store_status_clear(void);

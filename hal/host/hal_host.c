@@ -31,6 +31,7 @@ static uint8_t eeprom_cut;
 static void (*lcd_sink)(uint8_t rs, uint8_t b);
 static uint16_t (*adc_source)(uint8_t ch);
 static hal_hil_t *hil;              /* hal_hil: the inputs from the PC's frames */
+static uint32_t now_ms;             /* hal_host_io.time_ns in ms, kept by hal_host_set_time_ns */
 
 void hal_host_reset(void)
 {
@@ -47,6 +48,7 @@ void hal_host_reset(void)
     lcd_sink = 0;
     adc_source = 0;
     hil = 0;
+    now_ms = 0;
 }
 
 void hal_init(void)
@@ -59,13 +61,15 @@ void hal_init(void)
 
 void hal_host_set_time_ns(uint64_t t_ns)
 {
-    if (t_ns > hal_host_io.time_ns)
+    if (t_ns > hal_host_io.time_ns) {
         hal_host_io.time_ns = t_ns;
+        now_ms = (uint32_t)(t_ns / 1000000u);
+    }
 }
 
 uint32_t hal_ms(void)
 {
-    return (uint32_t)(hal_host_io.time_ns / 1000000u);
+    return now_ms;
 }
 
 uint32_t hal_host_pca_of_ns(uint64_t t_ns)

@@ -11,7 +11,7 @@
  * the actuator side; the firmware sees it only through hal.h. Simulated time is the only clock. */
 typedef struct {
     /* simulated time */
-    uint64_t time_ns;
+    uint64_t time_ns;               /* set by hal_host_set_time_ns only (it keeps hal_ms's copy) */
     /* actuators, written by the firmware */
     int8_t valve_dir;               /* HAL_VALVE_OPEN / _CLOSE / _OFF */
     uint8_t valve_duty;             /* 0..255 */

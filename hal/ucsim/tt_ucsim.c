@@ -53,6 +53,13 @@ uint32_t tt_cycles_stop(void)
     return ((uint32_t)t0_overflows << 16 | lo);
 }
 
+/* The target tests' chip has a blank EEPROM (the controllers read their learnt figures back). */
+uint8_t hal_eeprom_read(uint16_t addr)
+{
+    (void)addr;
+    return 0xFFu;
+}
+
 uint8_t tt_on_target(void)
 {
     return 1;

@@ -185,8 +185,9 @@ static void test_faults_speed_sensor_lost_alarms_and_spraying_resumes(void **sta
     assert_false(app_status.spraying);
     assert_true(r.p_max_bar < RELIEF_BAR);
     /* the shut boom parks the bypass open; its position not yet known, the valve is driven until
-     * the end-stop rule of valve.h (1.2 strokes one way = 4.8 s at full duty) says it is there */
-    assert_true(r.stop_drive_s <= 1.2 * 4.0 + 0.2);
+     * the end-stop rule of valve.h (3.6 strokes one way = 14.4 s at full duty: a valve up to 3
+     * times slower than told must get there too) says it is there */
+    assert_true(r.stop_drive_s <= 3.6 * 4.0 + 0.2);
     run_init(&r, 70);
     run_to(&r, 75);
     assert_true(app_status.spraying);

@@ -14,6 +14,7 @@
 #include "app.h"
 #include "ctl.h"
 #include "store.h"
+#include "diag.h"
 #include "screen.h"
 #include "keypad.h"
 #include "console.h"
@@ -539,6 +540,17 @@ static double number_after(const char *line, const char *label)
     return atof(p + strlen(label));
 }
 
+/* The last menu entry learns the nozzle model again (after new nozzles): D starts it. */
+static void test_console_nozzles_relearn_from_the_menu(void **state)
+{
+    (void)state;
+    to_item(MENU_NOZZLES);
+    assert_string_equal(lcd(1), "Nozzles relearn ");
+    press('D');
+    assert_true(strstr(lcd(3), "Learning nozzles") != NULL);
+    assert_int_equal(diag_nozzle_learnt(), 0);
+}
+
 static void test_console_totals_show_and_reset_the_job(void **state)
 {
     char err[256];
@@ -647,6 +659,7 @@ int main(void)
         cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),
         cmocka_unit_test_setup(test_console_totals_show_and_reset_the_job, setup),
+        cmocka_unit_test_setup(test_console_nozzles_relearn_from_the_menu, setup),
         cmocka_unit_test_setup(test_console_star_acknowledges_alarms, setup),
         cmocka_unit_test_setup(test_console_jog_only_in_manual_mode, setup),
         cmocka_unit_test_setup(test_console_a_reboot_keeps_every_setting, setup),

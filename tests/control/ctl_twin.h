@@ -43,7 +43,8 @@ void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], cons
  * compared one step at a time). */
 typedef struct {
     double e1, e2, ef, t1;          /* L/min */
-    int rest, dir, stall_n, warm, rev_age, slow_n, brk_age;
+    int rest, dir, stall_n, warm, rev_age, slow_n, brk_age, moved;
+    double rmin;                    /* motion owed the other way that makes a reversal */
     double stall_e;                 /* L/min */
     double brk;                     /* duty added to Min duty */
     double g;                       /* loop gain (1 = as told) */

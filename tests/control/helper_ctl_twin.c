@@ -94,6 +94,8 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->e2 = fm->e2 / 100.0;
     tw->ef = fm->ef / 100.0;
     tw->t1 = fm->t1 / 100.0;
+    tw->moved = fm->moved;
+    tw->rmin = fm->rmin / 32768.0;
     tw->rest = fm->rest;
     tw->dir = fm->dir;
     tw->stall_n = fm->stall_n;
@@ -133,6 +135,8 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     c = fabs(m->ef);
     o.near |= ctltw_near(fabs(dq) * CTLTW_FM_MOVE, q, 0.02 * CTLTW_FM_MOVE);
     o.near |= ctltw_near(c, q / (m->rest ? CTLTW_FM_DB_OUT : CTLTW_FM_DB_IN), 0.03);
+    if (fabs(dq) * CTLTW_FM_MOVE > q)
+        m->moved = 1;
     if (fabs(dq) * CTLTW_FM_MOVE > q || (m->rest && c > q / CTLTW_FM_DB_OUT)) {
         if (m->rest && (m->carry > 0) != (e > 0))
             m->carry = 0;
@@ -158,7 +162,10 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     if (m->rest)
         du = CTLTW_FM_REST_KI * m->ef;
     else
-        du = CTLTW_FM_KP * (e - m->e1) + CTLTW_FM_KI * e + CTLTW_FM_KD * (e - 2 * m->e1 + m->e2);
+        du = CTLTW_FM_KP * (e - m->e1 - dq) + CTLTW_FM_KI * e
+             + CTLTW_FM_KD * (e - 2 * m->e1 + m->e2);
+    /* the firmware carries du to the drive in Q4 x100 L/min, 16 bits: +-32767 / 16 / 100 */
+    du = ctltw_clamp(du, -32767 / 1600.0, 32767 / 1600.0);
     /* the gain's learning: a long run of error one way */
     if (m->warm < FM_WARM)
         m->warm++;
@@ -179,7 +186,11 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     s = mv > 0 ? 1 : mv < 0 ? -1 : 0;
     if (s == 0) {
         m->carry = 0;
+    } else if (s != m->dir && m->dir != 0 && fabs(mv) < m->rmin) {
+        o.near |= ctltw_near(fabs(mv), m->rmin, 0.002);
+        m->carry = mv;              /* a reversal waits until it is worth more than the slack */
     } else {
+        o.near |= ctltw_near(fabs(mv), m->rmin, 0.002);
         d = run + fabs(mv) * (1 - run);
         k = CTLTW_STICTION + m->brk;
         o.near |= ctltw_near(d, k, 0.002);
@@ -189,10 +200,14 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
             m->carry = 0;
             if (s != m->dir && m->dir != 0) {
                 o.near |= ctltw_near(d, 2 * k, 0.002);
-                if (m->rev_age <= FM_OSC_GAP && m->g > FM_G_MIN / 256.0 && m->warm >= FM_WARM && d > 2 * k
-                    && fabs(e) * 4 <= q)
-                    m->g -= floor(m->g * 256 / 8) / 256;
+                if (m->rev_age <= FM_OSC_GAP && m->warm >= FM_WARM && d > 2 * k && fabs(e) <= q) {
+                    if (m->g > FM_G_MIN / 256.0)
+                        m->g -= floor(m->g * 256 / 8) / 256;
+                    if (!m->moved && m->rmin > FM_REV_LOW / 32768.0)
+                        m->rmin -= floor(m->rmin * 32768 / 8) / 32768;
+                }
                 m->rev_age = 0;
+                m->moved = 0;
                 m->slow_n = 0;
             }
             if (d <= k * 9 / 8 && s == m->dir) {

@@ -385,7 +385,7 @@ static void test_ctl_ffmap_output_knows_the_running_friction(void **state)
 
 /* ffmap: a deadband with hysteresis on the error filtered over 4 periods. Within target/256 the
  * valve rests (only a slow integral: a pulse now and then, the same way); it wakes beyond
- * target/128, or at once when the target moves. */
+ * target/64, or at once when the target moves. */
 static void test_ctl_ffmap_deadband_hysteresis(void **state)
 {
     (void)state;
@@ -402,7 +402,11 @@ static void test_ctl_ffmap_deadband_hysteresis(void **state)
         pulses += d != 0;
     }
     assert_true(pulses >= 1);
-    in.flow_lpm_x100 = 4040;                /* 1 % too much: wakes */
+    in.flow_lpm_x100 = 4050;                /* 1.25 % too much: still resting */
+    for (int k = 0; k < 20; k++)
+        ctl_step(&in);
+    assert_int_equal(ctl_st.fm.rest, 1);
+    in.flow_lpm_x100 = 4080;                /* 2 % too much: wakes */
     for (int k = 0; k < 10 && ctl_st.fm.rest; k++)
         ctl_step(&in);
     assert_int_equal(ctl_st.fm.rest, 0);

@@ -7,43 +7,22 @@
 #include <string.h>
 #include <cmocka.h>
 #include "hal_host.h"
+#include "helper_link.h"
 #include "params.h"
 #include "app.h"
 #include "hil.h"
 #include "screen.h"
 
-static uint64_t t_ms;
 static hil_rx_t out_rx;
 
-#define MA(x) ((uint16_t)((x) * 51.15 + 0.5))
+#define MA(x) LINK_MA(x)
 
 static int setup(void **state)
 {
     (void)state;
-    hal_host_reset();
-    hal_init();
-    t_ms = 0;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(4.0);
-    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
-    hal_host_io.sections = 0x3F;
-    app_init();
+    link_start();
     hil_rx_init(&out_rx, HIL_OUT_START);
     return 0;
-}
-
-static void run_ms(uint32_t ms)
-{
-    for (uint32_t i = 0; i < ms; i++) {
-        t_ms++;
-        hal_host_set_time_ns(t_ms * 1000000ull);
-        app_poll();
-    }
-}
-
-static void send(const char *s)
-{
-    while (*s)
-        hal_host_uart_rx_push((uint8_t)*s++);
 }
 
 /* everything the controller sent as text ('\0' for a binary byte) */
@@ -79,8 +58,8 @@ static void hil_on(void)
         x ^= (uint8_t)*p;
     snprintf(buf, sizeof buf, "%s*%02X\r\n", c, x);
     take_text(buf + 64, sizeof buf - 64);
-    send(buf);
-    run_ms(20);                     /* the loop serves the link in its idle passes */
+    link_send(buf);
+    link_run_ms(20);                     /* the loop serves the link in its idle passes */
     take_text(buf, sizeof buf);
     assert_non_null(strstr(buf, "OK HIL*"));
 }
@@ -108,20 +87,20 @@ static void test_hil_is_entered_only_by_the_checksummed_command(void **state)
 {
     char buf[256];
     (void)state;
-    send("HIL ON\r\n");
-    run_ms(5);
+    link_send("HIL ON\r\n");
+    link_run_ms(5);
     take_text(buf, sizeof buf);
     assert_non_null(strstr(buf, "ERR NOCSUM"));
     assert_false(hal_hil_active());
-    send("HIL ONX*00\r\n");
-    run_ms(5);
+    link_send("HIL ONX*00\r\n");
+    link_run_ms(5);
     take_text(buf, sizeof buf);
     assert_non_null(strstr(buf, "ERR"));
     assert_false(hal_hil_active());
     hil_on();
     assert_true(hal_hil_active());
     /* the run screen says so */
-    run_ms(300);
+    link_run_ms(300);
     char row0[17];
     for (int c = 0; c < 16; c++)
         row0[c] = screen_char(0, (uint8_t)c);
@@ -136,21 +115,21 @@ static void test_hil_steps_once_per_frame_on_its_inputs_and_never_without_one(vo
     (void)state;
     hil_on();
     uint8_t kicks = hal_host_io.wdt_kicks;
-    run_ms(2000);                       /* no frame: no step, no log line, no watchdog kick */
+    link_run_ms(2000);                       /* no frame: no step, no log line, no watchdog kick */
     assert_int_equal(take_text(buf, sizeof buf), 0);
     assert_int_equal(hal_host_io.wdt_kicks, kicks);
     /* 3 bar on the frame's pressure ADC (16 bar sensor: 4 mA + 3/16 of 16 mA) */
-    frame(1, t_ms + 8, 0, 0, MA(4.0 + 16.0 * 3.0 / 16.0));
-    run_ms(8);                          /* 26 bytes at 38400 baud: 6.8 ms on the wire */
+    frame(1, link_t_ms + 8, 0, 0, MA(4.0 + 16.0 * 3.0 / 16.0));
+    link_run_ms(8);                          /* 26 bytes at 38400 baud: 6.8 ms on the wire */
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.seq, 1);
     assert_int_equal(o.lost, 0);
     assert_in_range(o.pressure_kpa, 290, 310);
     assert_int_equal((uint8_t)(hal_host_io.wdt_kicks - kicks), 1);
-    run_ms(92);
+    link_run_ms(92);
     assert_int_equal(take_frames(&o), 0);   /* one answer a frame, nothing in between */
-    frame(2, t_ms + 8, 0, 0, MA(4.0));
-    run_ms(8);
+    frame(2, link_t_ms + 8, 0, 0, MA(4.0));
+    link_run_ms(8);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.seq, 2);
     assert_in_range(o.pressure_kpa, 0, 10);
@@ -162,11 +141,11 @@ static void test_hil_counts_lost_frames_and_loses_no_edge_with_them(void **state
     (void)state;
     hil_on();
     frame(1, 100, 0, 0, MA(4.0));
-    run_ms(100);
+    link_run_ms(100);
     assert_int_equal(take_frames(&o), 1);
     /* frames 2 and 3 never come; 4 carries the running totals */
     frame(4, 400, 0, 0, MA(4.0));
-    run_ms(300);
+    link_run_ms(300);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.seq, 4);
     assert_int_equal(o.lost, 2);
@@ -179,10 +158,10 @@ static void test_hil_counts_lost_frames_and_loses_no_edge_with_them(void **state
     f[10] ^= 1;
     for (size_t i = 0; i < sizeof f; i++)
         hal_host_uart_rx_push(f[i]);
-    run_ms(100);
+    link_run_ms(100);
     assert_int_equal(take_frames(&o), 0);
     frame(6, 600, 0, 0, MA(4.0));
-    run_ms(100);
+    link_run_ms(100);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.lost, 3);
 }
@@ -198,7 +177,7 @@ static void test_hil_holds_the_pins_off_and_reports_the_outputs(void **state)
     for (uint8_t seq = 1; seq <= 30; seq++) {
         meter = (uint16_t)(meter + 20);             /* 20 edges a period: 31.6 L/min at 380 /L */
         frame(seq, (uint32_t)seq * 100u, 0, meter, MA(4.0 + 16.0 * 1.0 / 16.0));
-        run_ms(100);
+        link_run_ms(100);
         assert_int_equal(take_frames(&o), 1);
         sprayed |= o.relays & 1;
         drove |= o.valve_dir != 0;

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "hal_host.h"
+#include "helper_link.h"
 #include "params.h"
 #include "app.h"
 #include "target.h"
@@ -16,36 +17,15 @@
 #include "store.h"
 #include "console.h"
 
-static uint64_t t_ms;
 static char line[128];
 
-#define MA(x) ((uint16_t)((x) * 51.15 + 0.5))
-
-static void run_ms(uint32_t ms)
-{
-    for (uint32_t i = 0; i < ms; i++) {
-        t_ms++;
-        hal_host_set_time_ns(t_ms * 1000000ull);
-        app_poll();
-    }
-}
-
-static void send(const char *s)
-{
-    while (*s)
-        hal_host_uart_rx_push((uint8_t)*s++);
-}
+#define MA(x) LINK_MA(x)
 
 /* the next line sent, CR LF removed ("" when none); ours end in "*HH" (checked and cut), Raven's
  * have none */
 static const char *next_line(void)
 {
-    size_t n = 0;
-    int b;
-    while ((b = hal_host_uart_tx_pop()) >= 0 && b != '\n')
-        if (n < sizeof line - 1)
-            line[n++] = (char)b;
-    line[n] = 0;
+    size_t n = link_read_line(line, sizeof line);
     if (n == 0)
         return line;
     assert_true(n >= 2 && line[n - 1] == '\r');
@@ -73,15 +53,9 @@ static void drain_lines(void)
 static int setup(void **state)
 {
     (void)state;
-    hal_host_reset();
-    hal_init();
-    t_ms = 0;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(4.0);
-    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
-    hal_host_io.sections = 0x3F;
-    app_init();
+    link_start();
     store_status_clear();                   /* a first boot's "EE: defaults" seen */
-    run_ms(CONSOLE_MSG_MS + 100);           /* the reset cause's message gone */
+    link_run_ms(CONSOLE_MSG_MS + 100);           /* the reset cause's message gone */
     drain_lines();                          /* the BOOT line */
     return 0;
 }
@@ -91,8 +65,8 @@ static int setup(void **state)
 static const char *req(const char *c)
 {
     drain_lines();
-    send(c);
-    run_ms(20);
+    link_send(c);
+    link_run_ms(20);
     return next_line();
 }
 
@@ -100,7 +74,7 @@ static const char *req(const char *c)
 static const char *bottom(void)
 {
     static char out[17];
-    run_ms(600);
+    link_run_ms(600);
     for (int c = 0; c < 16; c++)
         out[c] = screen_char(3, (uint8_t)c);
     out[16] = 0;
@@ -115,7 +89,7 @@ static void test_raven_strings_are_refused_while_remote_is_off(void **state)
     assert_string_equal(req("$R,DR\r\n"), "ERR REMOTE");
     assert_int_equal(target_rate_x10(), 1500);
     assert_false(target_rate_remote());
-    run_ms(1000);                           /* no AR line with Remote off, the LOG line as ever */
+    link_run_ms(1000);                           /* no AR line with Remote off, the LOG line as ever */
     assert_memory_equal(next_line(), "LOG ", 4);
     assert_string_equal(next_line(), "");
 }
@@ -124,7 +98,7 @@ static void test_raven_rate_change_within_the_window_sets_the_rate(void **state)
 {
     (void)state;
     assert_true(param_set(P_REMOTE, 1));
-    run_ms(200);
+    link_run_ms(200);
     /* 130.0 L/ha (the decimal point not sent): taken, the actual rate answers */
     assert_string_equal(req("$R,RC,1300\r\n"), "$R100A,AR,0");
     assert_int_equal(target_rate_x10(), 1300);
@@ -132,7 +106,7 @@ static void test_raven_rate_change_within_the_window_sets_the_rate(void **state)
     assert_string_equal(bottom(), "T 1000L  RC130.0");
     /* the target flow follows the rate: 130 L/ha x 8 km/h (given) x 18 m / 600 = 31.2 L/min */
     assert_true(param_set(P_GIVEN_SPEED, 80));
-    run_ms(200);
+    link_run_ms(200);
     assert_int_equal(app_status.target_lpm_x100, 3120);
     /* 130.5 is kept to the tenth */
     assert_string_equal(req("$R,RC,1305\r\n"), "$R100A,AR,0");
@@ -145,7 +119,7 @@ static void test_raven_rate_change_within_the_window_sets_the_rate(void **state)
     assert_int_equal(target_rate_x10(), 2250);
     /* Remote switched off: back to Dose */
     assert_true(param_set(P_REMOTE, 0));
-    run_ms(200);
+    link_run_ms(200);
     assert_int_equal(target_rate_x10(), 1500);
     assert_false(target_rate_remote());
     assert_int_equal(app_status.target_lpm_x100, 3600);     /* 150 L/ha: 36.0 L/min */
@@ -166,7 +140,7 @@ static void test_raven_rate_outside_the_window_is_refused_and_shown(void **state
     assert_int_equal(target_rate_x10(), 1300);
     /* a new Dose whose window leaves the remote rate outside drops it */
     assert_true(param_set(P_RATE, 200));                /* 160 .. 240 */
-    run_ms(200);
+    link_run_ms(200);
     assert_false(target_rate_remote());
     assert_int_equal(target_rate_x10(), 2000);
 }
@@ -205,23 +179,23 @@ static void test_raven_calibration_and_data_requests_answer_in_raven_strings(voi
     /* six sections of 6 nozzles at 50 cm: booms 300 cm; sections 1-6 on; auto: rate 1 */
     assert_string_equal(req("$R,CR\r\n"), "$R100A,C1,191,136,300,300,300,300,300,300,3927");
     assert_string_equal(next_line(), "$R100A,C2,3800,0");
-    run_ms(5);
+    link_run_ms(5);
     assert_string_equal(next_line(), "$R100A,C3,2123,1300,0");
-    run_ms(5);
+    link_run_ms(5);
     assert_string_equal(next_line(), "");
     /* manual mode: both rate bits 0; section 2 off */
     assert_true(param_set(P_MODE, 1));
     hal_host_io.sections = 0x3D;
-    run_ms(200);
+    link_run_ms(200);
     assert_string_equal(req("$R,CR\r\n"), "$R100A,C1,189,128,300,300,300,300,300,300,3927");
     drain_lines();
-    run_ms(20);
+    link_run_ms(20);
     drain_lines();
     char want[64];
     assert_string_equal(req("$R,DR\r\n"), "$R100A,D1,0,0");
-    run_ms(5);
+    link_run_ms(5);
     assert_string_equal(next_line(), "$R100A,D2,0,0");
-    run_ms(5);
+    link_run_ms(5);
     snprintf(want, sizeof want, "$R100A,D3,%u,0", app_status.tank_l);
     assert_string_equal(next_line(), want);
     assert_true(app_status.tank_l > 900);
@@ -232,9 +206,9 @@ static void test_raven_actual_rate_once_a_second_after_the_log_line(void **state
     (void)state;
     assert_true(param_set(P_REMOTE, 1));
     drain_lines();
-    run_ms(1100);
+    link_run_ms(1100);
     assert_memory_equal(next_line(), "LOG ", 4);
-    run_ms(5);
+    link_run_ms(5);
     assert_string_equal(next_line(), "$R100A,AR,0");
     /* spraying 36 L/min at 8 km/h over 18 m: 150.0 L/ha */
     drain_lines();

@@ -7,55 +7,28 @@
 #include <string.h>
 #include <cmocka.h>
 #include "hal_host.h"
+#include "helper_link.h"
 #include "params.h"
 #include "store.h"
 #include "app.h"
 #include "diag.h"
 #include "totals.h"
 
-static uint64_t t_ms;
 static char line[128];
 
-/* 4-20 mA counts */
-#define MA(x) ((uint16_t)((x) * 51.15 + 0.5))
+#define MA(x) LINK_MA(x)
 
 static int setup(void **state)
 {
     (void)state;
-    hal_host_reset();
-    hal_init();
-    t_ms = 0;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(4.0);
-    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
-    hal_host_io.sections = 0x3F;
-    app_init();
+    link_start();
     return 0;
-}
-
-static void run_ms(uint32_t ms)
-{
-    for (uint32_t i = 0; i < ms; i++) {
-        t_ms++;
-        hal_host_set_time_ns(t_ms * 1000000ull);
-        app_poll();
-    }
-}
-
-static void send(const char *s)
-{
-    while (*s)
-        hal_host_uart_rx_push((uint8_t)*s++);
 }
 
 /* the next line the firmware sent ("" when none), its checksum verified */
 static const char *next_line(void)
 {
-    size_t n = 0;
-    int b;
-    while ((b = hal_host_uart_tx_pop()) >= 0 && b != '\n')
-        if (n < sizeof line - 1)
-            line[n++] = (char)b;
-    line[n] = 0;
+    size_t n = link_read_line(line, sizeof line);
     if (n == 0)
         return line;
     assert_true(n >= 5 && line[n - 1] == '\r' && line[n - 4] == '*');
@@ -73,8 +46,8 @@ static const char *cmd(const char *c)
 {
     while (next_line()[0])
         ;
-    send(c);
-    run_ms((uint32_t)strlen(c) / 3 + 5);
+    link_send(c);
+    link_run_ms((uint32_t)strlen(c) / 3 + 5);
     return next_line();
 }
 
@@ -98,20 +71,20 @@ static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **sta
 {
     (void)state;
     uint8_t k0 = hal_host_io.wdt_kicks;
-    run_ms(1000);
+    link_run_ms(1000);
     assert_int_equal((uint8_t)(hal_host_io.wdt_kicks - k0), 10);
     /* a stall of the loop (time jumps 500 ms): that step is late and does not feed */
     k0 = hal_host_io.wdt_kicks;
-    t_ms += 500;
-    run_ms(1);
+    link_t_ms += 500;
+    link_run_ms(1);
     assert_int_equal(hal_host_io.wdt_kicks, k0);
     assert_int_equal(app_overruns(), 1);
-    run_ms(300);
+    link_run_ms(300);
     assert_true((uint8_t)(hal_host_io.wdt_kicks - k0) >= 2);
     /* a parameter corrupted in RAM latches the internal fault: no more feeding */
     param_v[P_NOZZLES] = 0;
     k0 = hal_host_io.wdt_kicks;
-    run_ms(1000);
+    link_run_ms(1000);
     assert_int_equal(hal_host_io.wdt_kicks, k0);
     assert_true(app_status.alarms & (1u << AL_INTERNAL));
     assert_false(hal_host_io.spray_on);
@@ -120,7 +93,7 @@ static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **sta
 static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **state)
 {
     (void)state;
-    run_ms(1002);                               /* the 10th step at 1000 ms, the once-a-second work in
+    link_run_ms(1002);                               /* the 10th step at 1000 ms, the once-a-second work in
                                                    the next pass, the line in the one after (app_poll
                                                    does one heavy job a pass) */
     unsigned long t;
@@ -132,7 +105,7 @@ static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **sta
     assert_int_equal(t, 1002);
     assert_int_equal(v, 0);
     assert_true(p <= 1);                        /* 4 mA = 204.6 counts; 205 reads 0.8 kPa */
-    run_ms(1000);
+    link_run_ms(1000);
     l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu", &t), 1);
     assert_int_equal(t, 2002);
@@ -142,7 +115,7 @@ static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **sta
 static void test_serial_commands_read_and_set_parameters_strictly(void **state)
 {
     (void)state;
-    run_ms(200);
+    link_run_ms(200);
     assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
     assert_string_equal(scmd("SET 0 120"), "OK 0 120");
     assert_int_equal(param_v[P_RATE], 120);
@@ -173,7 +146,7 @@ static void test_serial_commands_read_and_set_parameters_strictly(void **state)
     assert_int_equal(param_v[P_RATE], 130);
     /* controller, pulse totals, totals, ack, jog outside manual */
     assert_string_equal(scmd("CTL 0"), "OK CTL 0");
-    run_ms(200);
+    link_run_ms(200);
     assert_int_equal(param_v[P_CONTROLLER], 0);
     assert_string_equal(scmd("CTL 9"), "ERR RANGE");
     assert_string_equal(cmd("PUL\n"), "OK PUL 0 0");
@@ -189,7 +162,7 @@ static void test_serial_commands_read_and_set_parameters_strictly(void **state)
 static void test_serial_changing_commands_require_their_checksum(void **state)
 {
     (void)state;
-    run_ms(200);
+    link_run_ms(200);
     static const char *const changing[] = {"SET 0 120", "CTL 0", "SAV", "JOG +", "RST"};
     uint8_t before[HAL_EEPROM_SIZE];
     memcpy(before, hal_host_eeprom(), sizeof before);
@@ -226,15 +199,15 @@ static void test_serial_changing_commands_require_their_checksum(void **state)
 static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void **state)
 {
     (void)state;
-    run_ms(200);
+    link_run_ms(200);
     while (next_line()[0])
         ;
     /* a stall: 21 bytes arrive in 6 ms while the loop is not polled */
-    send("GET 0\r\n");
-    send(signed_line("SET 0 130"));
-    t_ms += 10;
-    hal_host_set_time_ns(t_ms * 1000000ull);
-    run_ms(10);
+    link_send("GET 0\r\n");
+    link_send(signed_line("SET 0 130"));
+    link_t_ms += 10;
+    hal_host_set_time_ns(link_t_ms * 1000000ull);
+    link_run_ms(10);
     assert_string_equal(next_line(), "OK 0 150");
     assert_int_equal(param_v[P_RATE], 150);
     /* the damaged line's end was lost too: the PC's next line end closes it */
@@ -245,9 +218,9 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
     for (int i = 0; i < (int)STORE_SLOTS; i++)
         assert_string_equal(scmd("SAV"), "OK SAV");
     uint32_t erases = hal_host_io.eeprom_erases;
-    send(signed_line("SAV"));
-    send(signed_line("SET 0 140"));             /* arrives during the erase */
-    run_ms(30);
+    link_send(signed_line("SAV"));
+    link_send(signed_line("SET 0 140"));             /* arrives during the erase */
+    link_run_ms(30);
     assert_int_equal(hal_host_io.eeprom_erases, erases + 1);
     assert_string_equal(next_line(), "OK SAV");
     const char *l = next_line();
@@ -264,16 +237,16 @@ static double area_after(uint32_t stall_ms)
 {
     hal_host_reset();
     hal_init();
-    t_ms = 0;
+    link_t_ms = 0;
     hal_host_io.adc[HAL_ADC_PRESSURE] = MA(8.0);
     hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
     hal_host_io.sections = 0x3F;
     app_init();
     assert_true(param_set(P_GIVEN_SPEED, 72));  /* 7.2 km/h = 2 m/s over 18 m */
-    run_ms(3000);
+    link_run_ms(3000);
     assert_true(app_status.spraying);
-    t_ms += stall_ms;
-    run_ms(6000 - stall_ms);
+    link_t_ms += stall_ms;
+    link_run_ms(6000 - stall_ms);
     return totals_get()->job_dm2;
 }
 
@@ -296,29 +269,29 @@ static void test_serial_the_totals_are_saved_a_second_after_the_boom_shuts(void 
 {
     (void)state;
     assert_true(param_set(P_GIVEN_SPEED, 70));
-    run_ms(2000);
+    link_run_ms(2000);
     assert_true(app_status.spraying);
     uint8_t before[HAL_EEPROM_SIZE];
     memcpy(before, hal_host_eeprom(), sizeof before);
     hal_host_io.sections = 0;                   /* the operator shuts the boom */
-    run_ms(200);
+    link_run_ms(200);
     assert_false(app_status.spraying);
     assert_false(hal_host_io.spray_on);
-    run_ms(700);
+    link_run_ms(700);
     assert_memory_equal(before, hal_host_eeprom(), sizeof before);
-    run_ms(300);
+    link_run_ms(300);
     assert_memory_not_equal(before, hal_host_eeprom(), sizeof before);
     /* again, with the supply low: no save until it recovers */
     hal_host_io.sections = 0x3F;
-    run_ms(1000);
+    link_run_ms(1000);
     assert_true(app_status.spraying);
     memcpy(before, hal_host_eeprom(), sizeof before);
     hal_host_io.supply_low = 1;
     hal_host_io.sections = 0;
-    run_ms(5000);
+    link_run_ms(5000);
     assert_memory_equal(before, hal_host_eeprom(), sizeof before);
     hal_host_io.supply_low = 0;
-    run_ms(1100);
+    link_run_ms(1100);
     assert_memory_not_equal(before, hal_host_eeprom(), sizeof before);
 }
 
@@ -327,20 +300,20 @@ static void test_serial_the_totals_are_saved_a_second_after_the_boom_shuts(void 
 static void test_serial_alarm_messages_and_the_buzzer(void **state)
 {
     (void)state;
-    run_ms(500);
+    link_run_ms(500);
     while (next_line()[0])
         ;
     hal_host_io.adc[HAL_ADC_PRESSURE] = MA(3.5);                 /* open pressure sensor */
-    run_ms(500);
+    link_run_ms(500);
     assert_string_equal(next_line(), "ALM PSENS_FAULT P sensor fault");
     assert_true(hal_host_io.buzzer);
     assert_true(app_status.alarms_unacked & (1u << AL_PSENS));
     ops_alarm_ack();
-    run_ms(100);
+    link_run_ms(100);
     assert_false(hal_host_io.buzzer);
     assert_true(app_status.alarms & (1u << AL_PSENS));           /* still active */
     hal_host_io.adc[HAL_ADC_PRESSURE] = MA(4.0);
-    run_ms(2500);                               /* 1 s of good readings, 1 s to clear */
+    link_run_ms(2500);                               /* 1 s of good readings, 1 s to clear */
     const char *l;
     int seen = 0;
     while ((l = next_line())[0])
@@ -358,22 +331,22 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
 {
     (void)state;
     assert_true(param_set(P_MODE, 1));
-    run_ms(200);
+    link_run_ms(200);
     assert_true(app_status.manual);
     assert_true(app_status.spraying);                            /* sections on, tank full */
     assert_string_equal(scmd("JOG +"), "OK JOG");
-    run_ms(100);
+    link_run_ms(100);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
-    run_ms(400);
+    link_run_ms(400);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
     /* a jog the other way while one runs: the bridge is off for the dead time first */
     assert_string_equal(scmd("JOG +"), "OK JOG");
-    run_ms(100);
+    link_run_ms(100);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
     ops_jog(-1);
     int off_ms = 0;
     while (hal_host_io.valve_dir != HAL_VALVE_OPEN && off_ms < 300) {
-        run_ms(1);
+        link_run_ms(1);
         if (hal_host_io.valve_dir == HAL_VALVE_OFF)
             off_ms++;
     }
@@ -381,7 +354,7 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
     assert_true(off_ms >= 20);
     /* back to auto: the controller takes over from rest */
     assert_true(param_set(P_MODE, 0));
-    run_ms(500);
+    link_run_ms(500);
     assert_false(app_status.manual);
 }
 

@@ -22,7 +22,7 @@ tail -1 "$out/hil.out" > "$out/hil.json"
 .venv/bin/python - "$out/sim.json" "$out/hil.json" > "$out/compare.out" <<'PYEOF'
 import json, sys
 sim, hil = (json.load(open(p)) for p in sys.argv[1:3])
-skip = {"wall_s", "speed_x_realtime", "hil_frames", "hil_answered", "hil_lost", "hil_lost_controller"}
+skip = {"wall_s", "cpu_s", "speed_x_realtime", "hil_frames", "hil_answered", "hil_lost", "hil_lost_controller"}
 bad = [k for k in sim if k not in skip and sim[k] != hil.get(k)]
 n = sum(1 for k in sim if k not in skip)
 print("%d figures, %d differ: %s" % (n, len(bad), ", ".join("%s %s vs %s" % (k, sim[k], hil.get(k)) for k in bad[:4])))

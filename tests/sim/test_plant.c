@@ -162,6 +162,33 @@ static void test_plant_pump_pulsation_27hz_4pct(void **state)
     assert_within(lo, -4.8, 0.05);
 }
 
+/* A fast mode's 10 ms tick turns the pulsation by a = 2 pi 27 Hz 0.01 s = 1.696 rad, past the
+ * series: the tick's pump flow takes the pulsation's mean over the turn, whose swing is the 1 ms
+ * one's times sin(a/2)/(a/2) = 0.8774: +-4.8 L/min -> +-4.212; its mean over 1 s (27 periods)
+ * stays at 120 L/min (within the part of a period left over). */
+static void test_plant_pulsation_over_a_long_tick_is_its_mean(void **state)
+{
+    double lo = 1e9, hi = -1e9, sum = 0;
+    int i;
+    plant_in_t in = {0, 1};
+    (void)state;
+    setup(0.62978, 0, 540);
+    pl.p.pump_pulsation_pct = 4;
+    for (i = 0; i < 100; i++)
+        plant_step(&pl, &in, 10 * TICK);
+    for (i = 0; i < 100; i++) {
+        double q;
+        plant_step(&pl, &in, 10 * TICK);
+        q = pl.q_pump / (1.0 - 0.01 * pl.p_bar) - 120.0;
+        lo = fmin(lo, q);
+        hi = fmax(hi, q);
+        sum += q;
+    }
+    assert_within(hi, 4.212, 0.05);
+    assert_within(lo, -4.212, 0.05);
+    assert_within(sum / 100, 0.0, 0.05);
+}
+
 /* Relief valve: bypass shut (th 0), boom shut, 540 rpm: 120*(1 - 0.01 P) = 200*(P - 5)
  * -> 1120 = 201.2 P -> P = 5.5666 bar, relief flow 200*0.5666 = 113.3 L/min. */
 static void test_plant_relief_valve_caps_pressure(void **state)
@@ -464,13 +491,13 @@ static void test_plant_sensors_4_20_ma_into_the_adc(void **state)
     pl.p.check_valve_bar = 5.0;                 /* nothing drains: the line keeps its 4 bar */
     plant_step(&pl, &in, TICK);
     assert_within(pl.p_bar, 4.0, 1e-9);
-    assert_int_equal(pl.adc_pressure, 409);
-    assert_int_equal(pl.adc_level, 1023);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 409);
+    assert_int_equal(plant_adc_ideal(&pl, 1), 1023);
     pl.tank_v = 500;
     pl.psens_open = 1;
     plant_step(&pl, &in, TICK);
-    assert_int_equal(pl.adc_pressure, 0);
-    assert_int_equal(pl.adc_level, 614);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 0);
+    assert_int_equal(plant_adc_ideal(&pl, 1), 614);
 }
 
 /* Noise: 1 LSB Gaussian: over 20000 reads at 8 mA the mean is 409.2 (+-0.05) and the sd about
@@ -547,6 +574,7 @@ int main(void)
         cmocka_unit_test(test_plant_pto_coupling_scales_the_pump),
         cmocka_unit_test(test_plant_coupled_pto_follows_the_true_speed),
         cmocka_unit_test(test_plant_pump_pulsation_27hz_4pct),
+        cmocka_unit_test(test_plant_pulsation_over_a_long_tick_is_its_mean),
         cmocka_unit_test(test_plant_relief_valve_caps_pressure),
         cmocka_unit_test(test_plant_check_valves_hold_0_3_bar),
         cmocka_unit_test(test_plant_line_drains_to_zero_through_the_open_bypass),

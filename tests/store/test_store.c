@@ -9,6 +9,8 @@
 #include "params.h"
 #include "store.h"
 #include "totals.h"
+#include "ctl_int.h"
+#include "diag.h"
 
 /* An independent twin of the documented layout (store.h), to build images by hand. */
 #define SLOT_BYTES 128
@@ -33,11 +35,15 @@ static uint16_t twin_crc(const uint8_t *p, size_t n)
 /* lifetime totals the twin writes after the values (area m^2, volume ml, little endian) */
 static uint32_t twin_life_m2 = 0, twin_life_ml = 0;
 
+/* the learnt figures the twin writes after the totals in this version's layout (10 bytes: best's
+ * loop gain, break-away and reversal threshold, the nozzle model's check valves and rated kPa) */
+static uint8_t twin_learnt[10] = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
+
 /* a copy of the first `count` values (an older version's shorter table) */
 static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t version, int count)
 {
     uint8_t *e = hal_host_eeprom() + sector * HAL_EEPROM_SECTOR;
-    size_t n = 5 + 2 * (size_t)count + 8;
+    size_t n = 5 + 2 * (size_t)count + 8 + (version == PARAMS_VERSION ? sizeof twin_learnt : 0);
     memset(e, 0xFF, HAL_EEPROM_SECTOR);
     e[0] = 0x5A;
     e[1] = version;
@@ -52,6 +58,8 @@ static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t ve
         e[5 + 2 * count + k] = (uint8_t)(twin_life_m2 >> (8 * k));
         e[9 + 2 * count + k] = (uint8_t)(twin_life_ml >> (8 * k));
     }
+    if (version == PARAMS_VERSION)
+        memcpy(e + 13 + 2 * count, twin_learnt, sizeof twin_learnt);
     uint16_t crc = twin_crc(e, n);
     e[n] = (uint8_t)(crc >> 8);
     e[n + 1] = (uint8_t)crc;
@@ -551,6 +559,73 @@ static void test_store_keeps_the_lifetime_totals(void **state)
     assert_int_equal(totals_get()->life_m2, 123456789UL);
 }
 
+/* The figures learnt from the sprayer ride in the record: best's valve (loop gain, break-away,
+ * reversal threshold) and the nozzle model come back after a power cycle; told a new Valve
+ * time, best drops what it learnt before it is kept; a version 5 copy (no learnt bytes) loads
+ * with nothing learnt. */
+static void test_store_keeps_the_learnt_figures(void **state)
+{
+    uint16_t a[P_COUNT];
+    (void)state;
+    assert_int_equal(store_load(), STORE_DEFAULTS);
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.g, 256);                 /* nothing in the EEPROM: as told */
+    ctl_st.fm.g = 150;
+    ctl_st.fm.brk = FM_BRK_STEP;
+    ctl_st.fm.rmin = FM_REV_MIN - 1000;
+    assert_true(store_save());
+    ctl_st.fm.g = ctl_st.fm.brk = ctl_st.fm.rmin = 0;   /* power cycle */
+    assert_int_equal(store_load(), STORE_OK);
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.g, 150);
+    assert_int_equal(ctl_st.fm.brk, FM_BRK_STEP);
+    assert_int_equal(ctl_st.fm.rmin, FM_REV_MIN - 1000);
+    /* another controller runs a while: the record keeps best's figures */
+    ctl_select(CTL_BP_PID);
+    assert_true(store_save());
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.g, 150);
+    /* the nozzle model, written by hand as diag keeps it: 45 kPa check valves, 320 kPa rated */
+    values_k(a, 4);
+    twin_learnt[0] = 150; twin_learnt[1] = 0;           /* g 150 */
+    twin_learnt[2] = 0; twin_learnt[3] = 0;             /* brk 0 */
+    twin_learnt[4] = 0x00; twin_learnt[5] = 0x40;       /* rmin 0x4000 */
+    twin_learnt[6] = 45; twin_learnt[7] = 0;
+    twin_learnt[8] = 0x40; twin_learnt[9] = 0x01;       /* 320 */
+    hal_host_reset();
+    twin_write(0, 3, a, PARAMS_VERSION);
+    memset(twin_learnt, 0xFF, sizeof twin_learnt);
+    assert_int_equal(store_load(), STORE_OK);
+    diag_init();
+    assert_int_equal(diag_nozzle_learnt(), 2);
+    assert_int_equal(diag_nozzle_pressure_kpa((int16_t)(10 * param_v[P_NOZZLE_Q3]), 10), 45 + 320);  /* rated flow: pc + kp */
+    ctl_travel = 0;                                     /* as at power-up: nothing derived yet */
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.rmin, 0x4000);
+    /* relearnt from the menu: nothing kept at the next save */
+    diag_nozzle_relearn();
+    assert_true(store_save());
+    assert_int_equal(store_learnt(6), 0xFF);
+    diag_init();
+    assert_int_equal(diag_nozzle_learnt(), 0);
+    /* the operator tells a new Valve time: the next record holds best as told */
+    assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)(param_v[P_VALVE_TRAVEL] + 10u)), 1);
+    assert_true(store_save());
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.g, 256);
+    assert_int_equal(ctl_st.fm.rmin, FM_REV_MIN);
+    /* a version 5 copy: its values, nothing learnt */
+    hal_host_reset();
+    twin_write_n(0, 9, a, 5, P_COUNT);
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(a));
+    assert_int_equal(store_learnt(0), 0xFF);
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.g, 256);
+    params_defaults();
+    ctl_select(CTL_BEST);
+}
+
 static void test_store_a_failed_write_is_reported(void **state)
 {
     (void)state;
@@ -584,6 +659,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_a_record_breaking_a_cross_check_is_not_loaded, setup),
         cmocka_unit_test_setup(test_store_no_save_while_the_supply_is_low, setup),
         cmocka_unit_test_setup(test_store_loads_a_version_4_copy, setup),
+        cmocka_unit_test_setup(test_store_keeps_the_learnt_figures, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

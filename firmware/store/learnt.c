@@ -1,0 +1,25 @@
+/* learnt.c: the figures learnt from the sprayer as the newest EEPROM record holds them (store.h), read where they lie. */
+#include "hal.h"
+#include "params.h"
+#include "store.h"
+
+/*
+ * A module of its own, apart from store.c: the controllers and the alarms read their learnt
+ * figures back when they start, and need neither the writing of the log nor what it writes.
+ */
+
+uint8_t store_newest;               /* slot of the record loaded or saved last, STORE_NO_SLOT */
+
+uint16_t store_slot_base(uint8_t slot)
+{
+    return (uint16_t)((slot / STORE_SLOTS_PER_SECTOR) * HAL_EEPROM_SECTOR
+                      + (slot % STORE_SLOTS_PER_SECTOR) * STORE_SLOT_BYTES);
+}
+
+uint8_t store_learnt(uint8_t i)
+{
+    uint16_t base = store_slot_base(store_newest);
+    if (store_newest == STORE_NO_SLOT || hal_eeprom_read(base + 1u) != PARAMS_VERSION)
+        return 0xFFu;
+    return hal_eeprom_read(base + STORE_AT_LEARNT + i);
+}

@@ -1,0 +1,43 @@
+/* helper_link.c: see helper_link.h. */
+#include "helper_link.h"
+#include "hal_host.h"
+#include "app.h"
+
+uint64_t link_t_ms;
+
+void link_start(void)
+{
+    hal_host_reset();
+    hal_init();
+    link_t_ms = 0;
+    hal_host_io.adc[HAL_ADC_PRESSURE] = LINK_MA(4.0);
+    hal_host_io.adc[HAL_ADC_LEVEL] = LINK_MA(20.0);
+    hal_host_io.sections = 0x3F;
+    app_init();
+}
+
+void link_run_ms(uint32_t ms)
+{
+    for (uint32_t i = 0; i < ms; i++) {
+        link_t_ms++;
+        hal_host_set_time_ns(link_t_ms * 1000000ull);
+        app_poll();
+    }
+}
+
+void link_send(const char *s)
+{
+    while (*s)
+        hal_host_uart_rx_push((uint8_t)*s++);
+}
+
+size_t link_read_line(char *buf, size_t n)
+{
+    size_t len = 0;
+    int b;
+    while ((b = hal_host_uart_tx_pop()) >= 0 && b != '\n')
+        if (len < n - 1)
+            buf[len++] = (char)b;
+    buf[len] = 0;
+    return len;
+}
