@@ -287,11 +287,12 @@ static void app_save_when_due(void)
         ap.save = 1;                /* in a pass of its own (app_poll: app_save) */
 }
 
-/* The save app_save_when_due asked for; a low supply refuses it: tried again a wait later. */
+/* The save app_save_when_due asked for (store_poll carries it out over the next passes); a
+ * low supply refuses it: tried again a wait later. */
 static void app_save(void)
 {
     ap.save = 0;
-    if (!store_save() && store_status() == STORE_LOW_SUPPLY)
+    if (!store_save_start(0))
         ap.save_wait = APP_SAVE_WAIT_PERIODS;
 }
 
@@ -336,8 +337,8 @@ static void app_account(void)
 
 /* After a settings change every module derives its constants again (divides, some thousands
  * of cycles each): one module a pass here, so that neither these passes nor the next control
- * step carry them all (the rate target's stays with the step: it follows the sections too).
- * Returns 1 while work was done. */
+ * step carry them all (the rate target's for the sections now: the step derives it again only
+ * when they change). Returns 1 while work was done. */
 static uint8_t app_prepare(void)
 {
     if (ap.prep_gen == param_generation && ap.prep == 0)
@@ -352,6 +353,7 @@ static uint8_t app_prepare(void)
     case 2: analog_kpa_of_sum(0); break;            /* derives the scale when it is stale */
     case 3: diag_set_nozzles(target_open_nozzles()); break;
     case 4: valve_prepare(); break;
+    case 5: target_update(hal_sections()); break;
     default: ctl_prepare(); ap.prep = 0; break;
     }
     return 1;
@@ -396,6 +398,8 @@ void app_poll(void)
          * waits for the answer, so the step takes its constants, save and log with it */
         serial_poll();
         console_poll();
+        while (store_poll())
+            ;                       /* a save they asked for, whole */
         if (!hil_due())
             return;
         if (hil_first())
@@ -405,6 +409,8 @@ void app_poll(void)
         app_step();
         if (ap.save)
             app_save();
+        while (store_poll())
+            ;
         if (ap.log_div >= APP_LOG_PERIODS)
             app_second();
         app_hil_answer();
@@ -416,8 +422,10 @@ void app_poll(void)
     /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
      * modules' constants, one a pass (a due control step waits for them: a few ms); the
      * control step alone when it is due; a save the step asked for, then the once-a-second
-     * work, alone in the passes after; else the serial link and the console (they wait a
-     * millisecond or two for those passes). */
+     * work, alone in the passes after; else the serial link in even milliseconds, the console
+     * in odd ones (a log line and a screen's bytes are a pass each), where a save runs a part
+     * a pass (store_poll) instead while it lasts (they wait a millisecond or two for those
+     * passes). */
     if (app_prepare())
         return;
     if ((int32_t)(now - ap.next_ms) < 0) {
@@ -429,8 +437,10 @@ void app_poll(void)
             app_second();
             return;
         }
-        serial_poll();
-        console_poll();
+        if (!(now & 1u))
+            serial_poll();
+        else if (!store_poll())
+            console_poll();
         return;
     }
     /* a step late by a period or more (a held CPU, a stall) skips the periods it missed, so

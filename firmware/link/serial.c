@@ -255,10 +255,7 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         break;
 #endif
     default:
-        if (store_save())
-            ok("SAV");
-        else
-            reply_err("SAVE");
+        store_save_start(STORE_BY_SERIAL);  /* its reply once it has ended (serial_poll) */
         break;
     }
 }
@@ -354,7 +351,7 @@ static uint8_t answer(void) __reentrant
         return 1;
     }
     run(commands[c].handler, a, b);
-    return 1;
+    return se.n != 0;               /* SAV answers later */
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */
@@ -493,7 +490,15 @@ void serial_poll(void) __reentrant
         se.n = 0;
         se.state = S_RX;
     }
-    compose_next();
+    if (store_done(STORE_BY_SERIAL)) {      /* a SAV's save has ended: its reply */
+        if (store_status() == STORE_OK)
+            ok("SAV");
+        else
+            reply_err("SAVE");
+        tx_end();
+    } else {
+        compose_next();
+    }
     if (se.state == S_TX)
         drain();
 }

@@ -22,7 +22,7 @@ static void delay_us(uint16_t us)   /* at least us microseconds at 11.0592 MHz i
     }
 }
 
-void hal_lcd_write(uint8_t rs, uint8_t b)
+void hal_lcd_write(uint8_t rs, uint8_t b) __reentrant
 {
     PIN_LCD_CS = 1;
     lcd_shift(rs ? 0xFA : 0xF8);

@@ -229,7 +229,7 @@ uint8_t hal_keypad_row(uint8_t row)
     return cols;
 }
 
-void hal_valve_out(int8_t dir, uint8_t duty)
+void hal_valve_out(int8_t dir, uint8_t duty) __reentrant
 {
 #if FW_HIL
     if (hil)
@@ -409,7 +409,7 @@ void hal_eeprom_erase(uint16_t addr)
     iap_cmd(IAP_ERASE, addr & (uint16_t)~(HAL_EEPROM_SECTOR - 1));
 }
 
-uint8_t hal_eeprom_write(uint16_t addr, uint8_t b)
+uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant
 {
     if (addr >= HAL_EEPROM_SIZE)
         return 0;
