@@ -255,7 +255,10 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         break;
 #endif
     default:
-        store_save_start(STORE_BY_SERIAL);  /* its reply once it has ended (serial_poll) */
+        if (store_save_start(0))    /* started: store_poll writes it over the next passes */
+            ok("SAV");
+        else
+            reply_err("SAVE");
         break;
     }
 }
@@ -351,7 +354,7 @@ static uint8_t answer(void) __reentrant
         return 1;
     }
     run(commands[c].handler, a, b);
-    return se.n != 0;               /* SAV answers later */
+    return 1;
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */
@@ -490,15 +493,7 @@ void serial_poll(void) __reentrant
         se.n = 0;
         se.state = S_RX;
     }
-    if (store_done(STORE_BY_SERIAL)) {      /* a SAV's save has ended: its reply */
-        if (store_status() == STORE_OK)
-            ok("SAV");
-        else
-            reply_err("SAVE");
-        tx_end();
-    } else {
-        compose_next();
-    }
+    compose_next();
     if (se.state == S_TX)
         drain();
 }

@@ -149,6 +149,8 @@ uint8_t store_load(void) __reentrant
 {
     uint8_t s, best = NO_SLOT, n;
     uint16_t q, best_q = 0, base;
+    sv.state = SV_IDLE;             /* no save runs from before */
+    sv.flags = 0;
     for (s = 0; s < STORE_SLOTS; s++) {
         if (!record_valid(s))
             continue;
@@ -366,6 +368,11 @@ uint8_t store_poll(void) __reentrant
 uint8_t store_busy(void)
 {
     return sv.state != SV_IDLE;
+}
+
+uint8_t store_asked(uint8_t who)
+{
+    return (sv.flags & (who | SV_NEXT(who) | SV_DONE(who))) != 0;
 }
 
 uint8_t store_done(uint8_t who)
