@@ -422,10 +422,10 @@ void app_poll(void)
     /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
      * modules' constants, one a pass (a due control step waits for them: a few ms); the
      * control step alone when it is due; a save the step asked for, then the once-a-second
-     * work, alone in the passes after; else the serial link in even milliseconds, the console
-     * in odd ones (a log line and a screen's bytes are a pass each), where a save runs a part
-     * a pass (store_poll) instead while it lasts (they wait a millisecond or two for those
-     * passes). */
+     * work, alone in the passes after; else the serial link, then the console unless the
+     * link composed a line (a log line and a screen's bytes are a pass each) or, in odd
+     * milliseconds, a save runs a part (store_poll) instead while it lasts (they wait a
+     * millisecond or two for those passes). */
     if (app_prepare())
         return;
     if ((int32_t)(now - ap.next_ms) < 0) {
@@ -437,9 +437,7 @@ void app_poll(void)
             app_second();
             return;
         }
-        if (!(now & 1u))
-            serial_poll();
-        else if (!store_poll())
+        if (!serial_poll() && !((now & 1u) && store_poll()))
             console_poll();
         return;
     }

@@ -440,16 +440,16 @@ void serial_hil_send(hil_out_t *o) __reentrant
     drain();
 }
 #endif
-void serial_poll(void) __reentrant
+uint8_t serial_poll(void) __reentrant
 {
     int16_t b;
 
     if (se.state == S_TX && !drain())
-        return;
+        return 0;
 #if FW_HIL
     if (hil_active()) {             /* frames only (hil.c) */
         hil_poll();
-        return;
+        return 0;
     }
 #endif
     while ((b = hal_uart_get()) != -1) {
@@ -460,13 +460,13 @@ void serial_poll(void) __reentrant
                 reply_err(se.state == S_RX_LONG ? "LONG" : se.state == S_RX_LOST ? "LOST" : "CHAR");
                 tx_end();
                 drain();
-                return;
+                return 1;
             }
             if (se.n) {
                 if (answer()) {
                     tx_end();
                     drain();
-                    return;
+                    return 1;
                 }
                 se.n = 0;           /* taken, answers queued (Raven) */
             }
@@ -483,17 +483,16 @@ void serial_poll(void) __reentrant
         /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
          * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.log_due < 3)
-            return;
+            return 0;
         if (se.state == S_RX_LOST) {
             reply_err("LOST");
             tx_end();
             drain();
-            return;
+            return 1;
         }
         se.n = 0;
         se.state = S_RX;
     }
-    compose_next();
-    if (se.state == S_TX)
-        drain();
+    compose_next();                 /* S_TX: a line composed (it was not at the drain above) */
+    return se.state == S_TX ? (drain(), 1) : 0;
 }

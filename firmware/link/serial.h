@@ -41,8 +41,9 @@
 #define SERIAL_TX_MAX 56           /* one buffer for the line in and the line out */
 
 void serial_init(void);
-/* From the main loop: receive, answer, send what is pending (never waits for the UART). */
-void serial_poll(void) __reentrant;
+/* From the main loop: receive, answer, send what is pending (never waits for the UART);
+ * 1 when it composed a line (a reply, a log line: the pass's work, app_poll). */
+uint8_t serial_poll(void) __reentrant;
 /* Ask for a log line (the application does it every 1000 ms). */
 void serial_log_request(void);
 /* HIL mode (hil.h): after the step on a frame the application sends its outputs (the frame's
