@@ -226,7 +226,8 @@ static void sv_end(uint8_t st)
     }
 }
 
-/* Byte i of the record of the values and totals now, sequence next */
+/* Byte i of the record of the values and totals now, sequence next (the values and totals
+ * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
 static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
 {
     const totals_t *t = totals_get();
@@ -241,12 +242,10 @@ static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
     if (i == HDR_SEQ + 1u)
         return (uint8_t)(next >> 8);
     if (i >= HDR_LIFE + 4u)
-        return (uint8_t)(t->life_ml >> (8u * (i - HDR_LIFE - 4u)));
+        return ((const uint8_t *)&t->life_ml)[i - HDR_LIFE - 4u];
     if (i >= HDR_LIFE)
-        return (uint8_t)(t->life_m2 >> (8u * (i - HDR_LIFE)));
-    if ((i - HDR_VALUES) & 1u)
-        return (uint8_t)(param_v[(i - HDR_VALUES) >> 1] >> 8);
-    return (uint8_t)param_v[(i - HDR_VALUES) >> 1];
+        return ((const uint8_t *)&t->life_m2)[i - HDR_LIFE];
+    return ((const uint8_t *)param_v)[i - HDR_VALUES];
 }
 
 /* The free slot: STORE_BYTES_PER_POLL bytes of the one looked at. A written byte passes
@@ -363,16 +362,6 @@ uint8_t store_poll(void) __reentrant
         break;
     }
     return 1;
-}
-
-uint8_t store_busy(void)
-{
-    return sv.state != SV_IDLE;
-}
-
-uint8_t store_asked(uint8_t who)
-{
-    return (sv.flags & (who | SV_NEXT(who) | SV_DONE(who))) != 0;
 }
 
 uint8_t store_done(uint8_t who)

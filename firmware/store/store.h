@@ -56,9 +56,7 @@ uint8_t store_load(void) __reentrant;
 #define STORE_BY_ALL (STORE_BY_CONSOLE | STORE_BY_SERIAL)
 uint8_t store_save_start(uint8_t who);
 uint8_t store_poll(void) __reentrant;
-uint8_t store_busy(void);
 uint8_t store_done(uint8_t who);
-uint8_t store_asked(uint8_t who);  /* 1 while a save asked for by who runs, waits or has news */
 /* A whole save at once (its passes in one call); 1 when it reads back. */
 uint8_t store_save(void) __reentrant;
 /* Status of the last load or save; store_status_clear() once the operator has seen it. */
