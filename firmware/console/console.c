@@ -350,6 +350,7 @@ void console_poll(void)
     } else if ((int16_t)(now - con.next_draw_ms) >= 0) {
         con_draw();
         con.next_draw_ms = now + CONSOLE_REDRAW_MS;
+        return;                     /* its LCD bytes in the next pass: a pass each */
     }
     lcd_poll();
 }
