@@ -109,6 +109,9 @@ uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant;
 
 /* ---- LCD12864 (ST7920, serial mode): one instruction (rs = 0) or data (rs = 1) byte -------- */
 void hal_lcd_write(uint8_t rs, uint8_t b) __reentrant;
+/* 1 while the ST7920 still executes the last byte (a write now would wait for it): the driver
+ * leaves the rest of a screen to the next pass instead. */
+uint8_t hal_lcd_busy(void);
 
 /* ---- watchdog (about 1.1 s) ---------------------------------------------------------------- */
 void hal_wdt_kick(void);

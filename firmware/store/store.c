@@ -104,16 +104,15 @@ static void ck_begin(uint8_t slot)
 static uint8_t ck_more(uint8_t budget) __reentrant
 {
     uint16_t base = slot_base(sv.slot);
-    uint8_t b, ver;
+    uint8_t b;
     while (budget--) {
         b = hal_eeprom_read(base + sv.at);
         if (sv.at == 0) {
             if (b != STORE_MAGIC)
                 return 0;
-        } else if (sv.at == 2) {
-            ver = hal_eeprom_read(base + 1u);
-            if (!((ver == PARAMS_VERSION && b == P_COUNT) || (ver == 2u && b == PARAMS_V2_COUNT)
-                  || (ver == 3u && b == PARAMS_V3_COUNT) || (ver == 4u && b == PARAMS_V4_COUNT)))
+        } else if (sv.at == 2) {       /* the count; sv.lo: the version before it */
+            if (!((sv.lo == PARAMS_VERSION && b == P_COUNT) || (sv.lo == 2u && b == PARAMS_V2_COUNT)
+                  || (sv.lo == 3u && b == PARAMS_V3_COUNT) || (sv.lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
             sv.n = b;
         } else if (sv.at > HDR_VALUES && sv.at < LIFE_N(sv.n) && ((sv.at - HDR_VALUES) & 1u)) {
