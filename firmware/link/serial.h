@@ -27,7 +27,8 @@
  *   RST               OK RST                   zero the job totals
  *   PUL               OK PUL <wheel pulses> <meter pulses>   (calibration)
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
- *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
+ *   SAV               OK SAV                   parameters to the EEPROM: the save has started and
+ *                                              runs over the next passes (ERR SAVE: low supply)
  *   HIL ON*HH         OK HIL                   hardware in the loop (hil.h; the checksum is required)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / NOCSUM / LONG / CHAR.
  * With Remote = Raven, lines starting with '$' are Raven's strings (remote.h).
