@@ -155,7 +155,7 @@ uint8_t con_apply(uint8_t id, uint16_t v)
         return 0;
     }
     store_save_start(STORE_BY_CONSOLE);
-    con_say("Saving");              /* console_poll says how it ended */
+    con_say(0);                     /* console_poll says how it ended, a few passes later */
     return 1;
 }
 

@@ -254,11 +254,11 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         hil_begin();                /* its reply goes out first (serial_poll drains before frames) */
         break;
 #endif
-    default:
-        if (store_save_start(0))    /* started: store_poll writes it over the next passes */
-            ok("SAV");
+    default:                        /* SAV: its reply once its save has ended (compose_next) */
+        if (store_asked(STORE_BY_SERIAL))
+            reply_err("BUSY");      /* the last SAV's save has not ended */
         else
-            reply_err("SAVE");
+            store_save_start(STORE_BY_SERIAL);
         break;
     }
 }
@@ -354,19 +354,24 @@ static uint8_t answer(void) __reentrant
         return 1;
     }
     run(commands[c].handler, a, b);
-    return 1;
+    return se.n != 0;               /* (SAV answers later) */
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */
-/* An alarm message or a log line, when one is due and the buffer is free. */
+/* A SAV's reply, an alarm message or a log line, when one is due and the buffer is free (se.n
+ * is 0: serial_poll calls it with no line coming in). */
 static void compose_next(void) __reentrant
 {
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
+    if (store_done(STORE_BY_SERIAL)) {  /* a SAV's save has ended */
+        store_status() == STORE_OK ? ok("SAV") : reply_err("SAVE");
+        tx_end();
+        return;
+    }
     if (boot_due) {                 /* first of all: why the controller started */
         boot_due = 0;
-        se.n = 0;
         tx_s("BOOT ");
         tx_s(diag_reset_code());
         tx_end();
@@ -376,7 +381,6 @@ static void compose_next(void) __reentrant
         for (bit = 0; !(diff & (1u << bit)); bit++)
             ;
         se.reported ^= 1u << bit;
-        se.n = 0;
         if (se.reported & (1u << bit)) {
             tx_s("ALM ");
             tx_s(diag_code(bit));
@@ -391,7 +395,6 @@ static void compose_next(void) __reentrant
     }
     if (se.log_due) {
         se.log_due = 0;
-        se.n = 0;
         tx_s("LOG ");
         tx_u32(hal_ms());
         tx_c(' ');
@@ -408,7 +411,6 @@ static void compose_next(void) __reentrant
         tx_end();
         return;
     }
-    se.n = 0;
     if (remote_next()) {            /* Raven's lines carry no checksum */
         se.buf[se.n++] = '\r';
         se.buf[se.n++] = '\n';

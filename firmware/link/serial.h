@@ -27,8 +27,9 @@
  *   RST               OK RST                   zero the job totals
  *   PUL               OK PUL <wheel pulses> <meter pulses>   (calibration)
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
- *   SAV               OK SAV                   parameters to the EEPROM: the save has started and
- *                                              runs over the next passes (ERR SAVE: low supply)
+ *   SAV               OK SAV                   parameters to the EEPROM, read back (ERR SAVE); the
+ *                                              reply comes when the save, some passes long, has
+ *                                              ended; ERR BUSY while the last SAV's has not
  *   HIL ON*HH         OK HIL                   hardware in the loop (hil.h; the checksum is required)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / NOCSUM / LONG / CHAR.
  * With Remote = Raven, lines starting with '$' are Raven's strings (remote.h).

@@ -363,6 +363,11 @@ uint8_t store_poll(void) __reentrant
     return 1;
 }
 
+uint8_t store_asked(uint8_t who)
+{
+    return (sv.flags & (who | SV_NEXT(who) | SV_DONE(who))) != 0;
+}
+
 uint8_t store_done(uint8_t who)
 {
     if (!(sv.flags & SV_DONE(who)))

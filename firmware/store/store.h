@@ -57,6 +57,7 @@ uint8_t store_load(void) __reentrant;
 uint8_t store_save_start(uint8_t who);
 uint8_t store_poll(void) __reentrant;
 uint8_t store_done(uint8_t who);
+uint8_t store_asked(uint8_t who);  /* 1 from store_save_start(who) until store_done(who) */
 /* A whole save at once (its passes in one call); 1 when it reads back. */
 uint8_t store_save(void) __reentrant;
 /* Status of the last load or save; store_status_clear() once the operator has seen it. */

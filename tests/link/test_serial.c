@@ -288,6 +288,28 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
     assert_string_equal(scmd("SET 0 140"), "OK 0 140");
 }
 
+/* SAV answers when its save has ended, the record read back; a SAV while the last one's save
+ * runs gets ERR BUSY (one reply a line), and the next SAV after the reply saves again. */
+static void test_serial_sav_answers_when_its_save_has_ended(void **state)
+{
+    (void)state;
+    run_ms(200);
+    while (next_line()[0])
+        ;
+    send(signed_line("SAV"));
+    run_ms(5);                                  /* the line is in; its save has only begun */
+    assert_string_equal(next_line(), "");
+    send(signed_line("SAV"));
+    run_ms(5);
+    assert_string_equal(next_line(), "ERR BUSY");
+    run_ms(150);
+    const char *l = next_line();
+    while (!strncmp(l, "LOG ", 4))
+        l = next_line();
+    assert_string_equal(l, "OK SAV");
+    assert_string_equal(sav(), "OK SAV");
+}
+
 /* A loop that stalls (time jumps as when an IAP erase holds the CPU, or longer) counts the
  * periods it missed into the area and volume: the same totals as a run without the stall. */
 static double area_after(uint32_t stall_ms)
@@ -425,6 +447,7 @@ int main(void)
         cmocka_unit_test_setup(test_serial_manual_jog_drives_the_valve_for_a_jog, setup),
         cmocka_unit_test_setup(test_serial_changing_commands_require_their_checksum, setup),
         cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
+        cmocka_unit_test_setup(test_serial_sav_answers_when_its_save_has_ended, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
         cmocka_unit_test_setup(test_serial_a_stalled_loop_loses_no_area, setup),
     };
