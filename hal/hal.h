@@ -4,6 +4,10 @@
 
 #include "compiler.h"
 
+/* The functions here with more than one parameter are __reentrant: modules compiled with
+ * #pragma stackauto (docs/MEMORY.md) see every prototype as reentrant and pass the second
+ * parameter on the stack, so the HAL's definitions must take it from there too. */
+
 #if !defined(HAL_STC12) && !defined(HAL_HOST) && !defined(HAL_UCSIM) && !defined(HAL_PIL)
 #error "unknown HAL backend: build with -DHAL_STC12, -DHAL_HOST, -DHAL_UCSIM or -DHAL_PIL (the Makefile passes the one each build needs)"
 #endif
@@ -53,7 +57,7 @@ uint8_t hal_keypad_row(uint8_t row);
 #define HAL_VALVE_OPEN 1
 #define HAL_VALVE_CLOSE -1
 #define HAL_VALVE_OFF 0
-void hal_valve_out(int8_t dir, uint8_t duty);
+void hal_valve_out(int8_t dir, uint8_t duty) __reentrant;
 /* Master boom valve: 1 sprays, 0 shuts the boom. */
 void hal_spray_enable(uint8_t on);
 void hal_buzzer(uint8_t on);
@@ -101,10 +105,13 @@ uint8_t hal_eeprom_read(uint16_t addr);
 /* Erase the sector that holds addr. */
 void hal_eeprom_erase(uint16_t addr);
 /* Program one byte (can only clear bits); returns 1 when the byte reads back as written. */
-uint8_t hal_eeprom_write(uint16_t addr, uint8_t b);
+uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant;
 
 /* ---- LCD12864 (ST7920, serial mode): one instruction (rs = 0) or data (rs = 1) byte -------- */
-void hal_lcd_write(uint8_t rs, uint8_t b);
+void hal_lcd_write(uint8_t rs, uint8_t b) __reentrant;
+/* 1 while the ST7920 still executes the last byte (a write now would wait for it): the driver
+ * leaves the rest of a screen to the next pass instead. */
+uint8_t hal_lcd_busy(void);
 
 /* ---- watchdog (about 1.1 s) ---------------------------------------------------------------- */
 void hal_wdt_kick(void);

@@ -179,7 +179,7 @@ uint8_t hal_keypad_row(uint8_t row)
     return (uint8_t)(keys >> (4 * (row & 3))) & 0x0F;
 }
 
-void hal_valve_out(int8_t dir, uint8_t duty)
+void hal_valve_out(int8_t dir, uint8_t duty) __reentrant
 {
     pil_put(PIL_VALVE);
     pil_put((uint8_t)dir);
@@ -227,7 +227,7 @@ void hal_eeprom_erase(uint16_t addr)
     pil_put16(addr);
 }
 
-uint8_t hal_eeprom_write(uint16_t addr, uint8_t b)
+uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant
 {
     pil_put(PIL_EE_WRITE);
     pil_put16(addr);
@@ -235,11 +235,16 @@ uint8_t hal_eeprom_write(uint16_t addr, uint8_t b)
     return pil_get();
 }
 
-void hal_lcd_write(uint8_t rs, uint8_t b)
+void hal_lcd_write(uint8_t rs, uint8_t b) __reentrant
 {
     pil_put(PIL_LCD);
     pil_put(rs);
     pil_put(b);
+}
+
+uint8_t hal_lcd_busy(void)
+{
+    return 0;                       /* the host's LCD takes each byte at once */
 }
 
 void hal_wdt_kick(void)

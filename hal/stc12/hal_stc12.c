@@ -229,7 +229,7 @@ uint8_t hal_keypad_row(uint8_t row)
     return cols;
 }
 
-void hal_valve_out(int8_t dir, uint8_t duty)
+void hal_valve_out(int8_t dir, uint8_t duty) __reentrant
 {
 #if FW_HIL
     if (hil)
@@ -286,6 +286,14 @@ void hal_hil(hal_hil_t *s)
 
 /* ---- UART 1 from the BRT generator in 1T mode: 11059200 / 32 / 9 = 38400 baud ------------- */
 #define UART_TXQ 16     /* powers of two: the index wraps with a mask, not a divide */
+/* The receive queue holds what arrives while the main loop does not read it: at 38400 baud a
+ * byte every 0.26 ms (3840 a second), so it needs the longest stretch of passes between two
+ * serial_poll calls (a control step, its alarms' pass and the once-a-second pass run without
+ * it; after a settings change the constants' passes too), in 1T time (classic machine cycles
+ * x 12 / 11.0592 MHz / PIL_1T_FACTOR), times 3840/s, plus the slot the ring keeps free, to a
+ * power of two. docs/PIL.md gives that stretch from the pil_bench run and the size it asks
+ * for; 16 is what the XRAM floor leaves now: a longer burst is a gap the reader is told of
+ * (HAL_UART_LOST, ERR LOST to the PC). */
 #define UART_RXQ 16
 static volatile uint8_t txq[UART_TXQ];   /* short queues: serial.c refills as they drain */
 static volatile uint8_t tx_head, tx_tail, tx_busy;
@@ -409,7 +417,7 @@ void hal_eeprom_erase(uint16_t addr)
     iap_cmd(IAP_ERASE, addr & (uint16_t)~(HAL_EEPROM_SECTOR - 1));
 }
 
-uint8_t hal_eeprom_write(uint16_t addr, uint8_t b)
+uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant
 {
     if (addr >= HAL_EEPROM_SIZE)
         return 0;
