@@ -4,10 +4,10 @@
 
 #include "compiler.h"
 
-/* Every function here with more than one parameter is __reentrant (its arguments on the stack):
- * SDCC makes every prototype a module compiled `#pragma stackauto` sees reentrant, so a
- * non-reentrant one would be passed its second argument on the stack by those callers and read
- * it from its own XRAM (docs/MEMORY.md). */
+/* The functions here with more than one parameter are __reentrant: modules compiled with
+ * #pragma stackauto (docs/MEMORY.md) see every prototype as reentrant and pass the second
+ * parameter on the stack, so the HAL's definitions must take it from there too. */
+
 #if !defined(HAL_STC12) && !defined(HAL_HOST) && !defined(HAL_UCSIM) && !defined(HAL_PIL)
 #error "unknown HAL backend: build with -DHAL_STC12, -DHAL_HOST, -DHAL_UCSIM or -DHAL_PIL (the Makefile passes the one each build needs)"
 #endif
@@ -109,6 +109,9 @@ uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant;
 
 /* ---- LCD12864 (ST7920, serial mode): one instruction (rs = 0) or data (rs = 1) byte -------- */
 void hal_lcd_write(uint8_t rs, uint8_t b) __reentrant;
+/* 1 while the ST7920 still executes the last byte (a write now would wait for it): the driver
+ * leaves the rest of a screen to the next pass instead. */
+uint8_t hal_lcd_busy(void);
 
 /* ---- watchdog (about 1.1 s) ---------------------------------------------------------------- */
 void hal_wdt_kick(void);

@@ -64,7 +64,11 @@ static struct {
     uint8_t prep;                   /* next module app_prepare derives for ... */
     uint8_t prep_gen;               /* ... this param_generation (all done when it is current) */
     uint8_t periods;                /* periods this step covers (more than 1: it was late) */
+    uint8_t diag;                   /* APP_DIAG_*: the step's alarms are due (app_diag) */
 } ap;
+#define APP_DIAG_DUE 1u
+#define APP_DIAG_SETTLED 2u         /* diag_step's settled */
+#define APP_DIAG_P_WATCH 4u         /* and p_watch */
 
 /* The control chain from rest, as at power-on (app_init, and the first frame of HIL mode). */
 static void app_start(void)
@@ -91,6 +95,7 @@ static void app_start(void)
     ap.save = 0;
     ap.prep = 0;
     ap.prep_gen = param_generation;
+    ap.diag = 0;
     app_status.speed_kmh_x100 = 0;
     app_status.target_lpm_x100 = 0;
     app_status.flow_lpm_x100 = 0;
@@ -287,20 +292,20 @@ static void app_save_when_due(void)
         ap.save = 1;                /* in a pass of its own (app_poll: app_save) */
 }
 
-/* The save app_save_when_due asked for; a low supply refuses it: tried again a wait later. */
+/* The save app_save_when_due asked for (store_poll carries it out over the next passes); a
+ * low supply refuses it: tried again a wait later. */
 static void app_save(void)
 {
     ap.save = 0;
-    if (!store_save() && store_status() == STORE_LOW_SUPPLY)
+    if (!store_save_start(0))
         ap.save_wait = APP_SAVE_WAIT_PERIODS;
 }
 
-/* Totals, the rest of the status, the alarms (diag.c, with this period's figures), the buzzer
- * while alarms are unacked; once a second the display's divisions and a log line. */
+/* Totals, the rest of the status; the alarms (app_diag) asked for the pass after; once a
+ * second the display's divisions and a log line. */
 static void app_account(void)
 {
     const __xdata totals_t *t;
-    uint16_t g;
     uint8_t on = app_status.spraying;
 
     /* every period since the last step, a late step's missed ones too */
@@ -320,11 +325,8 @@ static void app_account(void)
     if (ap.p_watch < APP_P_WAIT
         && (++ap.p_watch >= APP_P_WAIT || (!app_overp() && (on || ap.parked))))
         ap.p_watch = APP_P_WAIT;
-    g = diag_step(&app_status, on && !ap.prime, (on || ap.parked) && ap.p_watch >= APP_P_WAIT);
-    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
-    app_status.alarms = g;
-    hal_buzzer(IO_ON ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
-
+    ap.diag = (uint8_t)(APP_DIAG_DUE | (on && !ap.prime ? APP_DIAG_SETTLED : 0)
+                        | ((on || ap.parked) && ap.p_watch >= APP_P_WAIT ? APP_DIAG_P_WATCH : 0));
     t = totals_get();
     app_status.job_volume_ml = t->job_ml;
     app_status.life_area_m2 = t->life_m2;
@@ -334,10 +336,22 @@ static void app_account(void)
         ap.log_div = APP_LOG_PERIODS;
 }
 
+/* The alarms of the step just run (diag.c, with its figures): the step's longest part, in the
+ * pass after it, before anything else of that pass (the valve's poll included), so that they
+ * read what the step left. Then the buzzer while alarms are unacked. */
+static void app_diag(void)
+{
+    uint16_t g = diag_step(&app_status, (ap.diag & APP_DIAG_SETTLED) != 0, (ap.diag & APP_DIAG_P_WATCH) != 0);
+    ap.diag = 0;
+    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
+    app_status.alarms = g;
+    hal_buzzer(IO_ON ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
+}
+
 /* After a settings change every module derives its constants again (divides, some thousands
  * of cycles each): one module a pass here, so that neither these passes nor the next control
- * step carry them all (the rate target's stays with the step: it follows the sections too).
- * Returns 1 while work was done. */
+ * step carry them all (the rate target's for the sections now: the step derives it again only
+ * when they change). Returns 1 while work was done. */
 static uint8_t app_prepare(void)
 {
     if (ap.prep_gen == param_generation && ap.prep == 0)
@@ -352,7 +366,11 @@ static uint8_t app_prepare(void)
     case 2: analog_kpa_of_sum(0); break;            /* derives the scale when it is stale */
     case 3: diag_set_nozzles(target_open_nozzles()); break;
     case 4: valve_prepare(); break;
-    default: ctl_prepare(); ap.prep = 0; break;
+    default:                        /* (both here: as many passes as before the target's came) */
+        target_update(hal_sections());
+        ctl_prepare();
+        ap.prep = 0;
+        break;
     }
     return 1;
 }
@@ -386,8 +404,10 @@ static void app_step(void)
 void app_poll(void)
 {
     uint32_t now = hal_ms();
-    uint8_t late;
+    uint8_t late, diag = ap.diag;
 
+    if (diag)
+        app_diag();
     valve_poll(now);
 #if FW_HIL
     if (hil_active()) {
@@ -396,6 +416,8 @@ void app_poll(void)
          * waits for the answer, so the step takes its constants, save and log with it */
         serial_poll();
         console_poll();
+        while (store_poll())
+            ;                       /* a save they asked for, whole */
         if (!hil_due())
             return;
         if (hil_first())
@@ -403,8 +425,11 @@ void app_poll(void)
         while (app_prepare())
             ;
         app_step();
+        app_diag();
         if (ap.save)
             app_save();
+        while (store_poll())
+            ;
         if (ap.log_div >= APP_LOG_PERIODS)
             app_second();
         app_hil_answer();
@@ -416,8 +441,12 @@ void app_poll(void)
     /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
      * modules' constants, one a pass (a due control step waits for them: a few ms); the
      * control step alone when it is due; a save the step asked for, then the once-a-second
-     * work, alone in the passes after; else the serial link and the console (they wait a
+     * work, alone in the passes after; else the serial link, then the console unless the
+     * link composed a line (a log line and a screen's bytes are a pass each) or, in odd
+     * milliseconds, a save runs a part (store_poll) instead while it lasts (they wait a
      * millisecond or two for those passes). */
+    if (diag && (int32_t)(now - ap.next_ms) < 0)
+        return;                     /* (a late step, due at once, goes on in this pass) */
     if (app_prepare())
         return;
     if ((int32_t)(now - ap.next_ms) < 0) {
@@ -429,8 +458,8 @@ void app_poll(void)
             app_second();
             return;
         }
-        serial_poll();
-        console_poll();
+        if (!serial_poll() && !((now & 1u) && store_poll()))
+            console_poll();
         return;
     }
     /* a step late by a period or more (a held CPU, a stall) skips the periods it missed, so

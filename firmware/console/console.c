@@ -341,6 +341,10 @@ void console_poll(void)
 {
     uint16_t now = (uint16_t)hal_ms();
     con.k = keypad_poll();
+    if (store_done(STORE_BY_CONSOLE)) {     /* the save of a value set here has ended */
+        con_say(store_status() == STORE_OK ? "Saved" : store_status_text(store_status()));
+        con.next_draw_ms = now;
+    }
     if (con.rc_seen != target_remote_refusals()) {  /* a field computer's rate refused */
         con.rc_seen = target_remote_refusals();
         con_say("RC rate refused");
@@ -353,6 +357,7 @@ void console_poll(void)
     } else if ((int16_t)(now - con.next_draw_ms) >= 0) {
         con_draw();
         con.next_draw_ms = now + CONSOLE_REDRAW_MS;
+        return;                     /* its LCD bytes in the next pass: a pass each */
     }
     lcd_poll();
 }

@@ -169,7 +169,8 @@ uint8_t con_apply(uint8_t id, uint16_t v)
         con_say(param_why_text(why));   /* in range, but not with the other settings */
         return 0;
     }
-    con_say(store_save() ? "Saved" : store_status_text(store_status()));   /* write error, low supply */
+    store_save_start(STORE_BY_CONSOLE);
+    con_say(0);                     /* console_poll says how it ended, a few passes later */
     return 1;
 }
 

@@ -39,11 +39,13 @@ void lcd_poll(void)
     }
     if (!screen_any_dirty())
         return;                     /* the usual pass: nothing changed since the last one */
-    for (row = 0; row < 4 && budget; row++) {
+    /* a word (3 bytes) while the LCD is ready: the rest of the screen in the next passes, so
+     * that a pass waits at most for the bytes within a word (hal_lcd_busy, time-paced) */
+    for (row = 0; row < 4 && budget && !hal_lcd_busy(); row++) {
         d = screen_dirty(row);
         if (!d)
             continue;               /* an unchanged row costs one test */
-        for (pair = 0; pair < 8 && budget; pair++) {
+        for (pair = 0; pair < 8 && budget && !hal_lcd_busy(); pair++) {
             if (!(d & (1u << pair)))
                 continue;
             /* consecutive pairs need no new address: the counter steps after each word */

@@ -123,7 +123,8 @@ void ctl_reset(q15_t drive_now)
     ctl_carry = 0;
     ctl_last = drive_now;
     ctl_sat = 0;
-    ctl_derive();
+    ctl_prepare();                  /* the constants only when stale: a reset (leaving manual
+                                       mode, starting to spray) shares the pass with a step */
 }
 
 uint8_t ctl_select(uint8_t id)
@@ -136,6 +137,7 @@ uint8_t ctl_select(uint8_t id)
         return 0;                   /* the field image has no peers (FW_PEERS) */
 #endif
     ctl_id = id;
+    ctl_kf = 0;                     /* the reset below derives this controller's constants */
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {
     case CTL_PID:

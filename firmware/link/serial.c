@@ -260,11 +260,11 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         hil_begin();                /* its reply goes out first (serial_poll drains before frames) */
         break;
 #endif
-    default:
-        if (store_save())
-            ok("SAV");
+    default:                        /* SAV: its reply once its save has ended (compose_next) */
+        if (store_asked(STORE_BY_SERIAL))
+            reply_err("BUSY");      /* the last SAV's save has not ended */
         else
-            reply_err("SAVE");
+            store_save_start(STORE_BY_SERIAL);
         break;
     }
 }
@@ -366,18 +366,20 @@ static uint8_t answer(void) __reentrant
         return 1;
     }
     run(cmd->handler, a, b);
-    return 1;
+    return se_n != 0;               /* (SAV answers later) */
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */
-/* An alarm message or a log line, when one is due and the buffer is free. */
+/* A SAV's reply, an alarm message or a log line, when one is due and the buffer is free (se_n
+ * is 0: serial_poll calls it with no line coming in). */
 static void compose_next(void) __reentrant
 {
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
-    se_n = 0;
-    if (boot_due) {                 /* first of all: why the controller started */
+    if (store_done(STORE_BY_SERIAL)) {  /* a SAV's save has ended */
+        store_status() == STORE_OK ? ok("SAV") : reply_err("SAVE");
+    } else if (boot_due) {                 /* first of all: why the controller started */
         boot_due = 0;
         tx_s("BOOT ");
         tx_s(diag_reset_code());
@@ -442,16 +444,16 @@ void serial_hil_send(hil_out_t *o) __reentrant
     drain();
 }
 #endif
-void serial_poll(void) __reentrant
+uint8_t serial_poll(void) __reentrant
 {
     int16_t b;
 
     if (se.state == S_TX && !drain())
-        return;
+        return 0;
 #if FW_HIL
     if (hil_active()) {             /* frames only (hil.c) */
         hil_poll();
-        return;
+        return 0;
     }
 #endif
     while ((b = hal_uart_get()) != -1) {
@@ -461,12 +463,12 @@ void serial_poll(void) __reentrant
             if (se.state != S_RX) {
                 reply_err(se.state == S_RX_LONG ? "LONG" : se.state == S_RX_LOST ? "LOST" : "CHAR");
                 send();
-                return;
+                return 1;
             }
             if (se_n) {
                 if (answer()) {
                     send();
-                    return;
+                    return 1;
                 }
                 se_n = 0;           /* taken, answers queued (Raven) */
             }
@@ -483,16 +485,15 @@ void serial_poll(void) __reentrant
         /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
          * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.log_due < 3)
-            return;
+            return 0;
         if (se.state == S_RX_LOST) {
             reply_err("LOST");
             send();
-            return;
+            return 1;
         }
         se_n = 0;
         se.state = S_RX;
     }
-    compose_next();
-    if (se.state == S_TX)
-        drain();
+    compose_next();                 /* S_TX: a line composed (it was not at the drain above) */
+    return se.state == S_TX ? (drain(), 1) : 0;
 }

@@ -27,7 +27,9 @@
  *   RST               OK RST                   zero the job totals
  *   PUL               OK PUL <wheel pulses> <meter pulses>   (calibration)
  *   JOG +|-           OK JOG                   manual mode only (ERR MODE otherwise)
- *   SAV               OK SAV                   parameters to the EEPROM (ERR SAVE)
+ *   SAV               OK SAV                   parameters to the EEPROM, read back (ERR SAVE); the
+ *                                              reply comes when the save, some passes long, has
+ *                                              ended; ERR BUSY while the last SAV's has not
  *   HIL ON*HH         OK HIL                   hardware in the loop (hil.h; the checksum is required)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / NOCSUM / LONG / CHAR.
  * With Remote = Raven, lines starting with '$' are Raven's strings (remote.h).
@@ -41,8 +43,9 @@
 #define SERIAL_TX_MAX 56           /* one buffer for the line in and the line out */
 
 void serial_init(void);
-/* From the main loop: receive, answer, send what is pending (never waits for the UART). */
-void serial_poll(void) __reentrant;
+/* From the main loop: receive, answer, send what is pending (never waits for the UART);
+ * 1 when it composed a line (a reply, a log line: the pass's work, app_poll). */
+uint8_t serial_poll(void) __reentrant;
 /* Ask for a log line (the application does it every 1000 ms). */
 void serial_log_request(void);
 /* HIL mode (hil.h): after the step on a frame the application sends its outputs (the frame's

@@ -52,48 +52,111 @@ static uint32_t read32(uint16_t a)
     return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
 }
 
-/* The number of values the copy in sector s holds when it has a known header, its CRC and every
- * value in range; 0 otherwise. Known: this version's table, or version 2's, 3's or 4's
- * (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended since: they keep their
- * defaults). */
-static uint8_t record_valid(uint16_t base) __reentrant
+/*
+ * A save runs a few bytes a pass (store_poll: STORE_BYTES_PER_POLL bytes read or written, or
+ * one erase), so that no pass of the main loop holds it whole: find the first erased slot
+ * after the newest (erasing the other sector when the current one is full), write the record,
+ * its CRC last, and read it back with the same check a load makes. The bytes go out in the
+ * order they did in one pass, so a power cut anywhere still leaves the newest record or the
+ * previous one. The values are written over several passes: a settings change before the
+ * CRC abandons the half-written slot (it reads as a cut write) and starts again in the next
+ * one, so that a record never mixes two sets. The lifetime totals are written within one pass
+ * (the chunk check below), so both are from the same step.
+ */
+#define STORE_BYTES_PER_POLL 16u
+/* the learnt figures start a pass's bytes of their own: read from their owners at one time */
+typedef char store_learnt_in_one_pass[(STORE_LEARN_BYTES <= STORE_BYTES_PER_POLL) ? 1 : -1];
+typedef char store_totals_in_one_chunk[(HDR_LIFE / STORE_BYTES_PER_POLL == (HDR_LIFE + 7u) / STORE_BYTES_PER_POLL) ? 1 : -1];
+enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
+/* sv.flags: who asked for the save running (STORE_BY_*), who asked for the next one (SV_NEXT),
+ * whose save has ended (SV_DONE, store_done), SV_AGAIN: a save was asked for while this one's
+ * CRC was out; SV_ERASED: the slot being found was just erased */
+#define SV_ERASED 0x01u
+#define SV_AGAIN 0x02u
+#define SV_DONE(who) ((uint8_t)((who) >> 2))
+#define SV_NEXT(who) ((uint8_t)((who) << 2))
+#define SV_ENDED (SV_DONE(STORE_BY_ALL))
+#define CK_MORE 0xFFu               /* ck_more: not done yet */
+static struct {
+    uint8_t flags;                  /* below */
+    uint8_t n;                      /* the values of the record being checked; while one is
+                                     * written, the param_generation its values come from */
+    uint8_t end;                    /* where the CRC of the record being checked is */
+    uint16_t crc;                   /* of the bytes written or checked so far */
+} sv;
+/* the most used bytes of the save and the check, in the direct RAM */
+static __data uint8_t sv_state;     /* SV_* */
+static __data uint8_t sv_slot;      /* the slot being found, written or checked */
+static __data uint8_t sv_at;        /* its next byte */
+static __data uint8_t sv_lo;        /* the low byte of the value being checked */
+
+/* Check the record in a slot a few bytes at a time: ck_begin, then ck_more until it returns
+ * other than CK_MORE: the number of values the record holds when it has a known header, its
+ * CRC and every value in range; 0 otherwise. Known: this version's table, or version 2's, 3's
+ * or 4's (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended
+ * since: they keep their defaults). */
+static void ck_begin(uint8_t slot)
 {
-    uint16_t crc = 0xFFFFu;
-    uint16_t i, at;
-    uint8_t n = hal_eeprom_read(base + 2u), ver = hal_eeprom_read(base + 1u);
-    if (hal_eeprom_read(base) != STORE_MAGIC
-        || !((ver >= 5u && ver <= PARAMS_VERSION && n == P_COUNT) || (ver == 2u && n == PARAMS_V2_COUNT)
-             || (ver == 3u && n == PARAMS_V3_COUNT) || (ver == 4u && n == PARAMS_V4_COUNT)))
-        return 0;
-    at = CRC_N(n);
-    if (ver == PARAMS_VERSION)
-        at += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
-    for (i = 0; i < at; i++)
-        crc = crc_byte(crc, hal_eeprom_read(base + i));
-    if (hal_eeprom_read(base + at) != (uint8_t)(crc >> 8) || hal_eeprom_read(base + at + 1u) != (uint8_t)crc)
-        return 0;
-    for (i = 0; i < n; i++)
-        if (!param_in_range((uint8_t)i, read16(base + HDR_VALUES + 2u * i)))
-            return 0;
-    return n;
+    sv_slot = slot;
+    sv_at = 0;
+    sv.end = 0xFFu;                 /* until the count is read */
+    sv.crc = 0xFFFFu;
 }
 
-/* 1 when every byte of a slot reads erased */
-static uint8_t slot_blank(uint8_t slot) __reentrant
+static uint8_t ck_more(uint8_t budget) __reentrant
 {
-    uint16_t base = slot_base(slot), i;
-    for (i = 0; i < STORE_SLOT_BYTES; i++)
-        if (hal_eeprom_read(base + i) != 0xFFu)
-            return 0;
-    return 1;
+    uint16_t base = slot_base(sv_slot);
+    uint8_t b;
+    while (budget--) {
+        b = hal_eeprom_read(base + sv_at);
+        if (sv_at == 0) {
+            if (b != STORE_MAGIC)
+                return 0;
+        } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
+            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == P_COUNT) || (sv_lo == 2u && b == PARAMS_V2_COUNT)
+                  || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
+                return 0;
+            sv.n = b;
+            sv.end = (uint8_t)CRC_N(b);
+            if (sv_lo == PARAMS_VERSION)
+                sv.end += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
+        } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
+            if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
+                return 0;
+        } else if (sv_at == sv.end) {
+            if (b != (uint8_t)(sv.crc >> 8))
+                return 0;
+            sv_lo = (uint8_t)sv.crc;    /* the CRC's low byte next */
+            sv_at++;
+            continue;
+        } else if (sv_at > sv.end) {
+            return b == sv_lo ? sv.n : 0;
+        }
+        sv_lo = b;
+        sv.crc = crc_byte(sv.crc, b);
+        sv_at++;
+    }
+    return CK_MORE;
+}
+
+/* The check at once (store_load). */
+static uint8_t record_valid(uint8_t slot) __reentrant
+{
+    uint8_t r;
+    ck_begin(slot);
+    while ((r = ck_more(255)) == CK_MORE)
+        ;
+    return r;
 }
 
 uint8_t store_load(void) __reentrant
 {
     uint8_t s, best = NO_SLOT, n;
     uint16_t q, best_q = 0, base;
+    sv_state = SV_IDLE;             /* no save runs from before */
+    sv.flags = 0;
     for (s = 0; s < STORE_SLOTS; s++) {
-        if (!record_valid(slot_base(s)))
+        if (!record_valid(s))
             continue;
         q = read16(slot_base(s) + HDR_SEQ);
         if (best == NO_SLOT || (int16_t)(q - best_q) > 0) {
@@ -110,7 +173,7 @@ uint8_t store_load(void) __reentrant
     }
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
     base = slot_base(best);
-    n = record_valid(base);
+    n = record_valid(best);
     params_defaults();
     for (s = 0; s < n; s++)
         param_put(s, read16(base + HDR_VALUES + 2u * s));
@@ -129,83 +192,204 @@ uint8_t store_load(void) __reentrant
      * a cut save, the previous values are loaded and the operator is told */
     s = (uint8_t)((best + 1u) % STORE_SLOTS);
     q = read16(slot_base(s) + HDR_SEQ);
-    if (hal_eeprom_read(slot_base(s)) == STORE_MAGIC && !record_valid(slot_base(s))
+    if (hal_eeprom_read(slot_base(s)) == STORE_MAGIC && !record_valid(s)
         && (q == (uint16_t)(seq + 1u) || q == 0xFFFFu))
         status = STORE_OLDER;
     return status;
 }
 
-/* The slot the next record goes to: the first erased one after the newest, erasing the next
- * sector when the current one is full; NO_SLOT when the erase did not take. */
-static uint8_t next_slot(void) __reentrant
+/* Look for the slot the next record goes to from slot on, the first erased one (sv_find_more);
+ * 0 when slot starts the newest's sector: nothing to erase safely. */
+static uint8_t sv_find(uint8_t slot)
 {
-    uint8_t s = newest == NO_SLOT ? 0 : (uint8_t)((newest + 1u) % STORE_SLOTS);
-    while (!slot_blank(s)) {
-        if (s % STORE_SLOTS_PER_SECTOR == 0) {
-            /* the start of the other sector, which holds only records older than the
-             * current sector's: erased as a whole */
-            hal_eeprom_erase(slot_base(s));
-            return slot_blank(s) ? s : NO_SLOT;
-        }
-        s = (uint8_t)((s + 1u) % STORE_SLOTS);
-        if (s % STORE_SLOTS_PER_SECTOR == 0 && newest != NO_SLOT
-            && s / STORE_SLOTS_PER_SECTOR == newest / STORE_SLOTS_PER_SECTOR)
-            return NO_SLOT;         /* back at the newest's sector: nothing to erase safely */
+    sv_state = SV_FIND;
+    sv.flags &= (uint8_t)~SV_ERASED;
+    sv_slot = slot;
+    sv_at = 0;
+    return !(slot % STORE_SLOTS_PER_SECTOR == 0 && newest != NO_SLOT
+             && slot / STORE_SLOTS_PER_SECTOR == newest / STORE_SLOTS_PER_SECTOR);
+}
+
+/* The next slot after the newest: never the start of the newest's sector */
+static void sv_start(void)
+{
+    sv_find(newest == NO_SLOT ? 0 : (uint8_t)((newest + 1u) % STORE_SLOTS));
+}
+
+/* The save has ended (st: STORE_OK or STORE_WRITE_ERR): those who asked are told
+ * (store_done); the one asked for while its CRC was out starts. */
+static void sv_end(uint8_t st)
+{
+    uint8_t f = sv.flags;
+    status = st;
+    sv_state = SV_IDLE;
+    sv.flags = (uint8_t)((f & SV_ENDED) | SV_DONE(f & STORE_BY_ALL));
+    if (f & SV_AGAIN) {
+        sv.flags |= (uint8_t)((f >> 2) & STORE_BY_ALL);
+        sv_start();
     }
-    return s;
+}
+
+/* Byte i of the record of the values and totals now, sequence next (the values and totals
+ * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
+static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
+{
+    const __xdata totals_t *t = totals_get();
+    if (i == 0)
+        return STORE_MAGIC;
+    if (i == 1)
+        return PARAMS_VERSION;
+    if (i == 2)
+        return P_COUNT;
+    if (i == HDR_SEQ)
+        return (uint8_t)next;
+    if (i == HDR_SEQ + 1u)
+        return (uint8_t)(next >> 8);
+    if (i >= HDR_LEARN)
+        return store_learnt_byte((uint8_t)(i - HDR_LEARN));
+    if (i >= HDR_LIFE + 4u)
+        return ((const __xdata uint8_t *)&t->life_ml)[i - HDR_LIFE - 4u];
+    if (i >= HDR_LIFE)
+        return ((const __xdata uint8_t *)&t->life_m2)[i - HDR_LIFE];
+    return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];
+}
+
+/* The free slot: STORE_BYTES_PER_POLL bytes of the one looked at. A written byte passes
+ * over the slot, or erases the other sector when the slot starts it (it holds only records
+ * older than the current sector's); back at the newest's sector, or a slot written after its
+ * erase: a write error. */
+static void sv_find_more(void) __reentrant
+{
+    uint16_t base = slot_base(sv_slot);
+    uint8_t k;
+    for (k = 0; k < STORE_BYTES_PER_POLL; k++, sv_at++) {
+        if (sv_at == STORE_SLOT_BYTES) {
+            sv_state = SV_WRITE;    /* erased: the record goes here */
+            sv_at = 0;
+            sv.crc = 0xFFFFu;
+            sv.n = param_generation;
+            return;
+        }
+        if (hal_eeprom_read(base + sv_at) == 0xFFu)
+            continue;
+        if (sv.flags & SV_ERASED) {
+            sv_end(STORE_WRITE_ERR);    /* the erase did not take */
+        } else if (sv_slot % STORE_SLOTS_PER_SECTOR == 0) {
+            sv_state = SV_ERASE;
+        } else if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS))) {
+            sv_end(STORE_WRITE_ERR);    /* back at the newest's sector */
+        }
+        return;
+    }
+}
+
+/* The record: STORE_BYTES_PER_POLL bytes, then the CRC when the values are still the ones
+ * the record started with. */
+static void sv_write_more(void) __reentrant
+{
+    uint16_t base = slot_base(sv_slot);
+    uint16_t next = (uint16_t)(seq + 1u);
+    uint8_t k, b;
+    if (sv_at == CRC_AT) {
+        if (sv.n != param_generation) {
+            /* a mixed set: left without its CRC, the values again in the next slot */
+            if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
+                sv_end(STORE_WRITE_ERR);
+            return;
+        }
+        if (!hal_eeprom_write(base + CRC_AT, (uint8_t)(sv.crc >> 8))
+            || !hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)sv.crc)) {
+            sv_end(STORE_WRITE_ERR);
+            return;
+        }
+        sv_state = SV_CHECK;
+        ck_begin(sv_slot);
+        return;
+    }
+    for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && sv_at == HDR_LEARN); k++, sv_at++) {
+        b = record_byte(sv_at, next);
+        sv.crc = crc_byte(sv.crc, b);
+        if (!hal_eeprom_write(base + sv_at, b)) {
+            sv_end(STORE_WRITE_ERR);
+            return;
+        }
+    }
+}
+
+uint8_t store_save_start(uint8_t who)
+{
+    if (hal_supply_low()) {
+        status = STORE_LOW_SUPPLY;  /* a write that the supply may cut: not started */
+        sv.flags |= SV_DONE(who);
+        return 0;
+    }
+    if (sv_state == SV_CHECK) {
+        sv.flags |= SV_AGAIN | SV_NEXT(who);    /* its CRC is out: finish it, then save again */
+        return 1;
+    }
+    sv.flags |= who;
+    if (sv_state == SV_IDLE) {
+        sv_start();
+    } else if (sv_state == SV_WRITE) {
+        /* the half-written slot is left (it reads as a cut write), the values again after it */
+        if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
+            sv_end(STORE_WRITE_ERR);
+    }                               /* (a slot being found: it goes on from there) */
+    return 1;
+}
+
+uint8_t store_poll(void) __reentrant
+{
+    uint8_t r;
+    switch (sv_state) {
+    case SV_IDLE:
+        return 0;
+    case SV_FIND:
+        sv_find_more();
+        break;
+    case SV_ERASE:
+        hal_eeprom_erase(slot_base(sv_slot));
+        sv_state = SV_FIND;
+        sv_at = 0;
+        sv.flags |= SV_ERASED;
+        break;
+    case SV_WRITE:
+        sv_write_more();
+        break;
+    default:
+        r = ck_more(STORE_BYTES_PER_POLL);
+        if (r == P_COUNT) {
+            newest = sv_slot;
+            seq = (uint16_t)(seq + 1u);
+            sv_end(STORE_OK);
+        } else if (r != CK_MORE) {
+            sv_end(STORE_WRITE_ERR);
+        }
+        break;
+    }
+    return 1;
+}
+
+uint8_t store_asked(uint8_t who)
+{
+    return (sv.flags & (who | SV_NEXT(who) | SV_DONE(who))) != 0;
+}
+
+uint8_t store_done(uint8_t who)
+{
+    if (!(sv.flags & SV_DONE(who)))
+        return 0;
+    sv.flags &= (uint8_t)~SV_DONE(who);
+    return 1;
 }
 
 uint8_t store_save(void) __reentrant
 {
-    uint16_t base;
-    uint16_t crc = 0xFFFFu;
-    uint16_t next = (uint16_t)(seq + 1u);
-    uint8_t i, b, s, ok = 1;
-    const __xdata totals_t *t = totals_get();
-    if (hal_supply_low()) {
-        status = STORE_LOW_SUPPLY;  /* a write that the supply may cut: not started */
+    if (!store_save_start(0))
         return 0;
-    }
-    s = next_slot();
-    if (s == NO_SLOT) {
-        status = STORE_WRITE_ERR;
-        return 0;
-    }
-    base = slot_base(s);
-    for (i = 0; i < CRC_AT; i++) {
-        if (i == 0)
-            b = STORE_MAGIC;
-        else if (i == 1)
-            b = PARAMS_VERSION;
-        else if (i == 2)
-            b = P_COUNT;
-        else if (i == HDR_SEQ)
-            b = (uint8_t)next;
-        else if (i == HDR_SEQ + 1u)
-            b = (uint8_t)(next >> 8);
-        else if (i >= HDR_LEARN)
-            b = store_learnt_byte((uint8_t)(i - HDR_LEARN));
-        else if (i >= HDR_LIFE + 4u)
-            b = (uint8_t)(t->life_ml >> (8u * (i - HDR_LIFE - 4u)));
-        else if (i >= HDR_LIFE)
-            b = (uint8_t)(t->life_m2 >> (8u * (i - HDR_LIFE)));
-        else if ((i - HDR_VALUES) & 1u)
-            b = (uint8_t)(param_v[(i - HDR_VALUES) >> 1] >> 8);
-        else
-            b = (uint8_t)param_v[(i - HDR_VALUES) >> 1];
-        crc = crc_byte(crc, b);
-        ok &= hal_eeprom_write(base + i, b);
-    }
-    ok &= hal_eeprom_write(base + CRC_AT, (uint8_t)(crc >> 8));
-    ok &= hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)crc);
-    if (ok && record_valid(base)) {
-        newest = s;
-        seq = next;
-        status = STORE_OK;
-        return 1;
-    }
-    status = STORE_WRITE_ERR;
-    return 0;
+    while (store_poll())
+        ;
+    return status == STORE_OK;
 }
 
 uint8_t store_status(void)

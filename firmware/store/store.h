@@ -52,7 +52,21 @@
 /* Load the newest valid record into param_v and the lifetime totals (totals.c; call after
  * totals_init) -- defaults and zero totals when none is valid; returns the status. */
 uint8_t store_load(void) __reentrant;
-/* Append param_v and the lifetime totals as a new record; 1 when it reads back. */
+/* A save appends param_v and the lifetime totals as a new record, a few bytes a pass (an
+ * erase in a pass of its own): store_save_start asks for one (0, and STORE_LOW_SUPPLY, when
+ * the supply is low); the main loop calls store_poll, which returns 1 while it had work;
+ * store_done(who) is 1 once after the save asked for by who has ended, store_status() then
+ * says how. A save asked for while one runs: the values written so far are left (a half-
+ * written slot, a cut write to the load) and the newest ones go to the next slot; asked for
+ * while the record's CRC is out: that one is read back, then another one runs. */
+#define STORE_BY_CONSOLE 0x10u
+#define STORE_BY_SERIAL 0x20u
+#define STORE_BY_ALL (STORE_BY_CONSOLE | STORE_BY_SERIAL)
+uint8_t store_save_start(uint8_t who);
+uint8_t store_poll(void) __reentrant;
+uint8_t store_done(uint8_t who);
+uint8_t store_asked(uint8_t who);  /* 1 from store_save_start(who) until store_done(who) */
+/* A whole save at once (its passes in one call); 1 when it reads back. */
 uint8_t store_save(void) __reentrant;
 /* Byte i of the learnt figures in the record loaded or saved last; 0xFF when it has none
  * (learnt.c: the slot of that record and the address of a slot). */

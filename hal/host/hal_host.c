@@ -369,6 +369,11 @@ void hal_lcd_write(uint8_t rs, uint8_t b)
         lcd_sink(rs, b);
 }
 
+uint8_t hal_lcd_busy(void)
+{
+    return 0;                       /* the emulated ST7920 takes each byte at once */
+}
+
 void hal_wdt_kick(void)
 {
     hal_host_io.wdt_kicks++;

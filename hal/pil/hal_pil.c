@@ -242,6 +242,11 @@ void hal_lcd_write(uint8_t rs, uint8_t b) __reentrant
     pil_put(b);
 }
 
+uint8_t hal_lcd_busy(void)
+{
+    return 0;                       /* the host's LCD takes each byte at once */
+}
+
 void hal_wdt_kick(void)
 {
     pil_put(PIL_WDT);

@@ -9,7 +9,8 @@
 #define STACK_MARK 0x5A
 
 static __data uint8_t stack_start, a;
-static uint8_t generation;          /* param_generation the host last saw */   /* __data: the scans must not touch the stack they scan */
+static uint8_t generation;          /* param_generation the host last saw */
+static uint16_t alarms;             /* the alarms the host last saw */   /* __data: the scans must not touch the stack they scan */
 
 /* the settings of a PIL_CONFIG or PIL_TICK frame: a count, then (id, value) pairs */
 static void settings(void)
@@ -71,12 +72,13 @@ int main(void)
         pil_put(PIL_DONE);
         pil_put16((uint16_t)c);
         pil_put16((uint16_t)(c >> 16));
-        if (!pil_measured && generation == param_generation) {
+        if (!pil_measured && generation == param_generation && alarms == app_status.alarms) {
             pil_put(0);             /* nothing the status shows can have changed */
             continue;
         }
+        pil_put(pil_measured ? 3 : generation != param_generation ? 1 : 4);
         generation = param_generation;
-        pil_put(pil_measured ? 3 : 1);
+        alarms = app_status.alarms; /* (the pass after a step finds them: app_diag) */
         status(app_status.speed_kmh_x100);
         status((uint16_t)app_status.target_lpm_x100);
         status((uint16_t)app_status.flow_lpm_x100);

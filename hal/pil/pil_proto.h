@@ -16,7 +16,8 @@
  *         host changed (scenario events); fw: one app_poll(), its HAL calls as below, then
  *         PIL_DONE cycles(4) fresh(1) and, when fresh is not 0, the status the metrics read. The
  *         status is fresh after a pass that measured (a control step: ADC or pulse capture,
- *         fresh 3) or that changed a setting (fresh 1); otherwise it is what the host last got.
+ *         fresh 3), that changed a setting (fresh 1) or the alarms (fresh 4: the pass after a
+ *         step, app_diag); otherwise it is what the host last got.
  * End:    host PIL_QUIT; fw PIL_REPORT stack_hwm(1) stack_start(1), then stops s51.
  * HAL calls during a pass, fw -> host (host answers only where a reply is listed):
  */

@@ -67,6 +67,20 @@ static const char *scmd(const char *c)
     return cmd(signed_line(c));
 }
 
+/* SAV: its reply comes once the save has ended (a part of it every other millisecond, an
+ * erase holding the CPU): let the loop run that long */
+static const char *sav(void)
+{
+    while (next_line()[0])
+        ;
+    link_send(signed_line("SAV"));
+    link_run_ms(150);
+    const char *l = next_line();
+    while (!strncmp(l, "LOG ", 4))
+        l = next_line();            /* the log line of a second that passed meanwhile */
+    return l;
+}
+
 static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **state)
 {
     (void)state;
@@ -93,22 +107,22 @@ static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **sta
 static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **state)
 {
     (void)state;
-    link_run_ms(1002);                               /* the 10th step at 1000 ms, the once-a-second work in
-                                                   the next pass, the line in the one after (app_poll
-                                                   does one heavy job a pass) */
+    link_run_ms(1003);                               /* the 10th step at 1000 ms, its alarms in the next
+                                                   pass, the once-a-second work in the one after, then
+                                                   the line (app_poll does one heavy job a pass) */
     unsigned long t;
     unsigned v, p, al;
     int q1, q3;
     assert_string_equal(next_line(), "BOOT POWER");    /* the reset cause, first */
     const char *l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu %u %u %d %d %4X", &t, &v, &p, &q1, &q3, &al), 6);
-    assert_int_equal(t, 1002);
+    assert_int_equal(t, 1003);
     assert_int_equal(v, 0);
     assert_true(p <= 1);                        /* 4 mA = 204.6 counts; 205 reads 0.8 kPa */
     link_run_ms(1000);
     l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu", &t), 1);
-    assert_int_equal(t, 2002);
+    assert_int_equal(t, 2003);
     assert_string_equal(next_line(), "");
 }
 
@@ -216,19 +230,57 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
     assert_string_equal(scmd("SET 0 130"), "OK 0 130");
     /* an erase: fill the log's slots, so the next save erases a sector */
     for (int i = 0; i < (int)STORE_SLOTS; i++)
-        assert_string_equal(scmd("SAV"), "OK SAV");
+        assert_string_equal(sav(), "OK SAV");
     uint32_t erases = hal_host_io.eeprom_erases;
     link_send(signed_line("SAV"));
-    link_send(signed_line("SET 0 140"));             /* arrives during the erase */
-    link_run_ms(30);
+    for (int i = 0; i < 50 && hal_host_io.eeprom_erases == erases; i++)
+        link_run_ms(1);                              /* the save's first parts: the erase */
     assert_int_equal(hal_host_io.eeprom_erases, erases + 1);
-    assert_string_equal(next_line(), "OK SAV");
-    const char *l = next_line();
-    if (!l[0])
-        l = cmd("\r\n");                     /* its end lost as well */
-    assert_string_equal(l, "ERR LOST");
+    link_send(signed_line("SET 0 140"));             /* arrives during the erase */
+    link_run_ms(150);
+    assert_int_equal(hal_host_io.eeprom_erases, erases + 1);
+    /* the SAV's reply comes when its save has ended: before or after the damaged line's */
+    int saved = 0, lost = 0;
+    for (const char *l = next_line(); l[0]; l = next_line()) {
+        assert_true(!strncmp(l, "LOG ", 4) || !strcmp(l, "OK SAV") || !strcmp(l, "ERR LOST"));
+        saved += !strcmp(l, "OK SAV");
+        lost += !strcmp(l, "ERR LOST");
+    }
+    if (!lost)
+        lost = !strcmp(cmd("\r\n"), "ERR LOST");  /* its end lost as well */
+    if (!saved) {                   /* (replies wait while a line comes in) */
+        link_run_ms(5);
+        const char *l = next_line();
+        while (!strncmp(l, "LOG ", 4))
+            l = next_line();
+        saved = !strcmp(l, "OK SAV");
+    }
+    assert_int_equal(saved, 1);
+    assert_int_equal(lost, 1);
     assert_int_equal(param_v[P_RATE], 130);
     assert_string_equal(scmd("SET 0 140"), "OK 0 140");
+}
+
+/* SAV answers when its save has ended, the record read back; a SAV while the last one's save
+ * runs gets ERR BUSY (one reply a line), and the next SAV after the reply saves again. */
+static void test_serial_sav_answers_when_its_save_has_ended(void **state)
+{
+    (void)state;
+    link_run_ms(200);
+    while (next_line()[0])
+        ;
+    link_send(signed_line("SAV"));
+    link_run_ms(5);                                  /* the line is in; its save has only begun */
+    assert_string_equal(next_line(), "");
+    link_send(signed_line("SAV"));
+    link_run_ms(5);
+    assert_string_equal(next_line(), "ERR BUSY");
+    link_run_ms(150);
+    const char *l = next_line();
+    while (!strncmp(l, "LOG ", 4))
+        l = next_line();
+    assert_string_equal(l, "OK SAV");
+    assert_string_equal(sav(), "OK SAV");
 }
 
 /* A loop that stalls (time jumps as when an IAP erase holds the CPU, or longer) counts the
@@ -368,6 +420,7 @@ int main(void)
         cmocka_unit_test_setup(test_serial_manual_jog_drives_the_valve_for_a_jog, setup),
         cmocka_unit_test_setup(test_serial_changing_commands_require_their_checksum, setup),
         cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
+        cmocka_unit_test_setup(test_serial_sav_answers_when_its_save_has_ended, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
         cmocka_unit_test_setup(test_serial_a_stalled_loop_loses_no_area, setup),
     };

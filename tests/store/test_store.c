@@ -639,6 +639,74 @@ static void test_store_a_failed_write_is_reported(void **state)
     assert_int_equal(store_status(), STORE_OK);
 }
 
+/* A save runs a part a pass (store_poll); a new set asked to be saved at any point of the one
+ * running (a settings change while its bytes go out) ends with the new set stored whole, never
+ * a mix, and the one who asked is told once. */
+static void test_store_a_save_asked_for_during_one_stores_the_newest_set(void **state)
+{
+    uint16_t a[P_COUNT], b[P_COUNT], c[P_COUNT];
+    (void)state;
+    values_k(a, 11);
+    values_k(b, 12);
+    values_k(c, 13);
+    for (int k = 0; k < 40; k++) {
+        hal_host_reset();
+        params_defaults();
+        store_load();
+        set_all(a);
+        assert_true(store_save());
+        set_all(b);
+        assert_true(store_save_start(STORE_BY_CONSOLE));
+        for (int i = 0; i < k; i++)
+            store_poll();
+        set_all(c);                 /* a new value set and saved while b's save runs */
+        assert_true(store_save_start(STORE_BY_CONSOLE));
+        int polls = 0;
+        while (store_poll())
+            assert_true(++polls < 200);
+        assert_true(store_done(STORE_BY_CONSOLE));
+        assert_false(store_done(STORE_BY_CONSOLE));
+        assert_int_equal(store_status(), STORE_OK);
+        scramble();
+        assert_int_equal(store_load(), STORE_OK);
+        assert_true(equals(c));
+    }
+}
+
+/* A setting changed while a save's bytes go out, with no save asked for (a serial SET): a
+ * record that would mix the two sets is left without its CRC and the save goes on with the
+ * values now; once its CRC is out the record keeps the set it started with. */
+static void test_store_a_change_during_a_save_never_gives_a_mixed_record(void **state)
+{
+    uint16_t a[P_COUNT], b[P_COUNT], c[P_COUNT];
+    int crc_out = -1;
+    (void)state;
+    values_k(a, 21);
+    values_k(b, 22);
+    values_k(c, 23);
+    for (int k = 0; k < 30; k++) {
+        hal_host_reset();
+        params_defaults();
+        store_load();
+        set_all(a);
+        assert_true(store_save());
+        set_all(b);
+        assert_true(store_save_start(0));
+        for (int i = 0; i < k; i++)
+            store_poll();
+        set_all(c);
+        while (store_poll())
+            ;
+        assert_int_equal(store_status(), STORE_OK);
+        scramble();
+        assert_int_equal(store_load(), STORE_OK);
+        if (equals(b) && crc_out < 0)
+            crc_out = k;            /* the first k at which b's CRC was out before the change */
+        assert_true(crc_out < 0 ? equals(c) : equals(b));
+    }
+    assert_true(crc_out > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -660,6 +728,8 @@ int main(void)
         cmocka_unit_test_setup(test_store_no_save_while_the_supply_is_low, setup),
         cmocka_unit_test_setup(test_store_loads_a_version_4_copy, setup),
         cmocka_unit_test_setup(test_store_keeps_the_learnt_figures, setup),
+        cmocka_unit_test_setup(test_store_a_save_asked_for_during_one_stores_the_newest_set, setup),
+        cmocka_unit_test_setup(test_store_a_change_during_a_save_never_gives_a_mixed_record, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
