@@ -115,7 +115,7 @@ static uint16_t x_of(int16_t meter) __reentrant
     uint32_t r = um_muldiv((uint32_t)meter, 4096u, dg.nq);    /* Q12: q / (n Q3) */
     if (r > 5792u)
         return 0xFFFFu;
-    return (uint16_t)((r * r) >> 16);
+    return (uint16_t)(UMUL(r, r) >> 16);                       /* r <= 5792 */
 }
 
 /* The fit of the summed samples: a least-squares line when their flows spread enough (the whole
@@ -205,7 +205,7 @@ uint16_t diag_nozzle_pressure_kpa(int16_t flow_x100, uint8_t open_nozzles) __ree
     r = um_muldiv((uint32_t)flow_x100, 4096u, dg.nq);      /* Q12: q / (n Q3) */
     if (r > 65535u)
         return 0xFFFFu;
-    r = (r * r) >> 12;                                      /* Q12 */
+    r = UMUL(r, r) >> 12;                                   /* Q12 (r <= 65535) */
     p = dg.pc_kpa + ((r * dg.kp_kpa + 2048u) >> 12);
     return p > 65535u ? 0xFFFFu : (uint16_t)p;
 }
@@ -259,8 +259,9 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
          DIAG_TANK_PERIODS);
     rule(AL_PSENS, !psens, psens, 1);
     rule(AL_LSENS, !lsens, lsens, 1);
-    rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX],
-         !psens || (uint32_t)p * 20u < (uint32_t)param_v[P_P_MAX] * 19u, DIAG_OVERP_PERIODS);
+    x = UMUL(param_v[P_P_MAX], 19u);
+    rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX], !psens || UMUL(p, 20u) < x,
+         DIAG_OVERP_PERIODS);
 }
 
 /* The nozzle model against the meter. Flow meter lost: its pulses stopped while the model says
