@@ -25,16 +25,15 @@
  *   target:  eq. (1) with Table 1's minimum flow, the given speed when set (target.c)
  *   spray:   the master valve is open when sections are on, the tank is above its minimum,
  *            and (auto) the machine moves; it shuts at standstill, on an empty tank
- *   drive:   with the boom shut the bypass valve is parked open (no pressure build-up through
- *            the relief valve); start-up closes the bypass at full duty until the line reaches P_P_MIN (the
- *            paper's start), then the controller (bumpless, ctl_reset); over-pressure forces
+ *   drive:   with the boom shut the bypass is parked open (no build-up through the relief valve);
+ *            start-up closes it at full duty until the line reaches P_P_MIN (the paper's
+ *            start), then the controller (bumpless, ctl_reset); over-pressure forces
  *            the valve open; manual mode only jogs; with the flow meter lost the controller
  *            gets the nozzle model's flow from the pressure (diag.c)
  *   diagnose, totals, a log line every 1000 ms (serial.c), the buzzer while alarms are unacked.
- * The watchdog is kicked after a step that ran on time (less than one period late) while no
- * internal fault is latched; a step late by a whole period or more is not rescheduled back to
- * back (the schedule skips the periods it missed, staying on its grid: the totals count them)
- * and that step does not kick. The I/O test (ops_io) hands the relay, the buzzer and the jog
+ * The watchdog is kicked after a step that ran on time while no internal fault is latched; a
+ * step late by a period or more does not kick, and the schedule skips the periods it missed
+ * (staying on its grid: the totals count them). The I/O test (ops_io) hands the relay, the buzzer and the jog
  * to the technician: the boom's own control is off meanwhile.
  */
 #define APP_PRIME_MAX_PERIODS 100u  /* start-up closing gives up after 10 s */
@@ -384,6 +383,18 @@ static void app_second(void)
     serial_log_request();
 }
 
+/* The save the step asked for, then the once-a-second work, each a pass; 1 when one ran. */
+static uint8_t app_after_step(void)
+{
+    if (ap.save)
+        app_save();
+    else if (ap.log_div >= APP_LOG_PERIODS)
+        app_second();
+    else
+        return 0;
+    return 1;
+}
+
 static void app_step(void)
 {
     if (!params_sane()) {
@@ -406,8 +417,10 @@ void app_poll(void)
     uint32_t now = hal_ms();
     uint8_t late, diag = ap.diag;
 
-    if (diag)
+    if (diag) {
+        serial_poll();              /* before the alarms: only the step's pass goes without it */
         app_diag();
+    }
     valve_poll(now);
 #if FW_HIL
     if (hil_active()) {
@@ -438,27 +451,20 @@ void app_poll(void)
         return;
     }
 #endif
-    /* One heavy job a pass, so that no pass holds the loop long: after a settings change the
-     * modules' constants, one a pass (a due control step waits for them: a few ms); the
-     * control step alone when it is due; a save the step asked for, then the once-a-second
-     * work, alone in the passes after; else the serial link, then the console unless the
-     * link composed a line (a log line and a screen's bytes are a pass each) or, in odd
-     * milliseconds, a save runs a part (store_poll) instead while it lasts (they wait a
-     * millisecond or two for those passes). */
+    /* One heavy job a pass: after a settings change the modules' constants, one a pass (a due
+     * step waits for them); the control step alone; a save it asked for, then the once-a-second
+     * work; else the console unless the serial link composed a line, or in odd ms a save's part
+     * while one runs. The serial link runs in every pass but the step's (the UART's queue). */
     if (diag && (int32_t)(now - ap.next_ms) < 0)
         return;                     /* (a late step, due at once, goes on in this pass) */
-    if (app_prepare())
+    if (app_prepare()) {
+        serial_poll();
         return;
+    }
     if ((int32_t)(now - ap.next_ms) < 0) {
-        if (ap.save) {
-            app_save();
-            return;
-        }
-        if (ap.log_div >= APP_LOG_PERIODS) {
-            app_second();
-            return;
-        }
-        if (!serial_poll() && !((now & 1u) && store_poll()))
+        if (app_after_step())
+            serial_poll();
+        else if (!serial_poll() && !((now & 1u) && store_poll()))
             console_poll();
         return;
     }

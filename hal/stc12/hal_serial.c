@@ -11,14 +11,13 @@
 /* ---- UART 1 from the BRT generator in 1T mode: 11059200 / 32 / 9 = 38400 baud ------------- */
 #define UART_TXQ 16     /* powers of two: the index wraps with a mask, not a divide */
 /* The receive queue holds what arrives while the main loop does not read it: at 38400 baud a
- * byte every 0.26 ms (3840 a second), so it needs the longest stretch of passes between two
- * serial_poll calls (a control step, its alarms' pass and the once-a-second pass run without
- * it; after a settings change the constants' passes too), in 1T time (classic machine cycles
- * x 12 / 11.0592 MHz / PIL_1T_FACTOR), times 3840/s, plus the slot the ring keeps free, to a
- * power of two. docs/PIL.md gives that stretch from the pil_bench run and the size it asks
- * for; 16 is what the XRAM floor leaves now: a longer burst is a gap the reader is told of
- * (HAL_UART_LOST, ERR LOST to the PC). */
-#define UART_RXQ 16
+ * byte every 0.26 ms (3840 a second). app_poll runs serial_poll in every pass but the control
+ * step's, so the longest wait is about two passes (a redraw's, whose serial_poll ran before the
+ * console, then a step's): in 1T time (classic machine cycles x 12 / 11.0592 MHz /
+ * PIL_1T_FACTOR), times 3840/s, plus the slot the ring keeps free, to a power of two.
+ * docs/PIL.md gives the passes from the pil_bench run and the size they ask for; a longer burst
+ * is a gap the reader is told of (HAL_UART_LOST, ERR LOST to the PC). */
+#define UART_RXQ 64
 static volatile uint8_t txq[UART_TXQ];   /* short queues: serial.c refills as they drain */
 static volatile uint8_t tx_head, tx_tail, tx_busy;
 static volatile uint8_t rxq[UART_RXQ];

@@ -107,22 +107,22 @@ static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **sta
 static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **state)
 {
     (void)state;
-    link_run_ms(1003);                               /* the 10th step at 1000 ms, its alarms in the next
-                                                   pass, the once-a-second work in the one after, then
-                                                   the line (app_poll does one heavy job a pass) */
+    link_run_ms(1002);                               /* the 10th step at 1000 ms, its alarms in the next
+                                                   pass, the once-a-second work and the line in the
+                                                   one after (app_poll does one heavy job a pass) */
     unsigned long t;
     unsigned v, p, al;
     int q1, q3;
     assert_string_equal(next_line(), "BOOT POWER");    /* the reset cause, first */
     const char *l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu %u %u %d %d %4X", &t, &v, &p, &q1, &q3, &al), 6);
-    assert_int_equal(t, 1003);
+    assert_int_equal(t, 1002);
     assert_int_equal(v, 0);
     assert_true(p <= 1);                        /* 4 mA = 204.6 counts; 205 reads 0.8 kPa */
     link_run_ms(1000);
     l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu", &t), 1);
-    assert_int_equal(t, 2003);
+    assert_int_equal(t, 2002);
     assert_string_equal(next_line(), "");
 }
 
