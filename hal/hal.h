@@ -90,9 +90,12 @@ uint8_t hal_hil_active(void);
 
 /* ---- serial link (RS232 to the PC) -------------------------------------------------------- */
 #define HAL_UART_BAUD 38400UL
+/* The receive queue's size (a power of two; the ring holds one byte less): hal_stc12's
+ * hal_serial.c sizes it for the main loop's passes, the host backend models the same. */
+#define HAL_UART_RXQ 64
 /* Queue one byte; returns 0 when the transmit buffer is full (the byte is not taken). */
 uint8_t hal_uart_put(uint8_t b);
-/* Next received byte, -1 when none, or HAL_UART_LOST where bytes were lost (the 16-byte
+/* Next received byte, -1 when none, or HAL_UART_LOST where bytes were lost (the
  * receive queue full, or bytes arriving while an IAP operation held the CPU); the bytes
  * before the gap come first, the ones after it next. */
 #define HAL_UART_LOST (-2)

@@ -21,7 +21,7 @@ static struct {
     uint32_t head, tail;
     uint64_t last_ns;               /* arrival of the newest byte on the wire */
 } wire;
-static uint8_t rxq[HAL_HOST_UART_RXQ];  /* the chip's receive queue, as hal_stc12.c's */
+static uint8_t rxq[HAL_HOST_UART_RXQ];  /* the receive queue (hal_host.h: smaller than the chip's) */
 static uint32_t rx_head, rx_tail;
 static uint8_t rx_lost;
 static uint64_t hold_from_ns, hold_until_ns;    /* the last IAP erase held the CPU */

@@ -42,8 +42,9 @@ void hal_host_wheel_edge(uint64_t t_ns);
 
 /* Serial link: bytes the firmware sent, and bytes for it to receive. A pushed byte travels
  * the wire at 38400 baud (one byte every 260.4 us after the one before, from the time it is
- * pushed) into the chip's 16-byte receive queue (15 bytes waiting at most, as the chip's
- * ring): a firmware that does not read for 4 ms loses bytes, and the bytes arriving while an
+ * pushed) into a 16-byte receive queue (15 bytes waiting at most), a quarter of the chip's
+ * HAL_UART_RXQ: the host's tests and fuzzing see losses a firmware that does not read for
+ * 4 ms makes (the chip's queue holds 16 ms), and the bytes arriving while an
  * IAP erase holds the CPU (HAL_HOST_IAP_ERASE_NS) are lost; the firmware reads HAL_UART_LOST
  * where the gap is. */
 #define HAL_HOST_UART_RXQ 16

@@ -17,7 +17,7 @@
  * PIL_1T_FACTOR), times 3840/s, plus the slot the ring keeps free, to a power of two.
  * docs/PIL.md gives the passes from the pil_bench run and the size they ask for; a longer burst
  * is a gap the reader is told of (HAL_UART_LOST, ERR LOST to the PC). */
-#define UART_RXQ 64
+#define UART_RXQ HAL_UART_RXQ
 static volatile uint8_t txq[UART_TXQ];   /* short queues: serial.c refills as they drain */
 static volatile uint8_t tx_head, tx_tail, tx_busy;
 static volatile uint8_t rxq[UART_RXQ];
