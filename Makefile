@@ -157,7 +157,7 @@ help:
 firmware: $(FW_HEX)
 	$(Q)$(PYTHON) tools/memuse.py $(STC_DIR)/sprayer --code $(CODE_SIZE) --iram $(IRAM_SIZE) --xram $(XRAM_SIZE) \
 	    --code-free $(CODE_FREE_PCT) --xram-free $(XRAM_FREE_MIN) --stack-margin $(STACK_MARGIN_MIN)
-	$(Q)$(PYTHON) tools/callcheck.py $(STC_DIR)
+	$(Q)$(PYTHON) tools/callcheck.py --tree $(STC_DIR)
 
 memory: $(FW_HEX)
 	$(Q)$(PYTHON) tools/memmap.py $(STC_DIR) 20

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""callcheck.py DIR: every call in the SDCC assembly under DIR passes its arguments the way the
+"""callcheck.py [--tree] DIR: every call in the SDCC assembly under DIR passes its arguments the way the
 callee takes them.
 
 A non-reentrant function of the large model takes its second and later parameters in XRAM
@@ -16,9 +16,16 @@ import sys
 
 
 def main():
+    tree = len(sys.argv) == 3 and sys.argv[1] == "--tree"
+    if tree:
+        del sys.argv[1]
     if len(sys.argv) != 2 or not os.path.isdir(sys.argv[1]):
-        sys.exit("usage: callcheck.py DIR (a build folder with SDCC .asm files)")
+        sys.exit("usage: callcheck.py [--tree] DIR (a build folder with SDCC .asm files)")
     files = sorted(glob.glob(os.path.join(sys.argv[1], "**", "*.asm"), recursive=True))
+    if tree:
+        # only those whose source is still in the tree (DIR/a/b.asm from a/b.c, run from the
+        # repository's top): a build folder keeps the objects of files moved or removed since
+        files = [f for f in files if os.path.exists(os.path.splitext(os.path.relpath(f, sys.argv[1]))[0] + ".c")]
     if not files:
         sys.exit("callcheck: no .asm files under %s" % sys.argv[1])
     text = {f: open(f, encoding="latin-1").read() for f in files}

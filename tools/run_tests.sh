@@ -85,7 +85,7 @@ check firmware-below-the-code-floor-fails floor_fails CODE_FREE_PCT=50
 check firmware-below-the-xdata-floor-fails floor_fails XRAM_FREE_MIN=900
 check firmware-below-the-stack-margin-floor-fails floor_fails STACK_MARGIN_MIN=200
 calls_match() {  # every call passes its arguments the way the callee takes them (s51 builds too)
-    python3 tools/callcheck.py $B/ucsim
+    python3 tools/callcheck.py --tree $B/ucsim
 }
 check calls-pass-arguments-as-the-callee-takes-them calls_match
 callcheck_catches() {  # a caller pushing the second argument of a callee that reads it from XRAM
