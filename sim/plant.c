@@ -1,7 +1,8 @@
-/* plant.c: the sprayer model of docs/SCENARIOS.md: one implicit step of the line pressure a tick, sensors with exact edge times. */
+/* plant.c: the sprayer model of docs/SCENARIOS.md: one implicit step of the line pressure a tick, sensors with exact edge times (the pulse trains in plant_pulses.c, the valve's motor in plant_valve.c). */
 #include <math.h>
 #include <string.h>
 #include "plant.h"
+#include "plant_int.h"
 
 #define TWO_PI 6.283185307179586
 
@@ -13,35 +14,6 @@ void plant_params_default(plant_params_t *p)
 #undef PLANT_KEY_DEF
     p->nozzles = 36;
     p->spacing_m = 0.5;
-}
-
-/* The teeth's offsets from a random stream of their own (seed and a tag), so that changing the
- * jitter changes no other draw; the mean is removed (not rescaled) and each offset clipped so
- * the pulses keep their order. The first pulse comes after a random part of a spacing. */
-static void teeth_init(plant_teeth_t *t, int n, double jitter_pct, uint64_t seed, uint64_t tag, double first)
-{
-    rng_t r;
-    double mean = 0.0;
-    int i;
-    if (n < 1)
-        n = 1;
-    if (n > PLANT_MAX_TEETH)
-        n = PLANT_MAX_TEETH;
-    t->n = n;
-    rng_seed(&r, seed ^ (tag * 0x9e3779b97f4a7c15ull));
-    for (i = 0; i < n; i++) {
-        t->e[i] = jitter_pct / 100.0 * rng_normal(&r);
-        mean += t->e[i];
-    }
-    mean /= n;
-    for (i = 0; i < n; i++) {
-        double e = t->e[i] - mean;
-        t->e[i] = e > PLANT_JITTER_MAX ? PLANT_JITTER_MAX : e < -PLANT_JITTER_MAX ? -PLANT_JITTER_MAX : e;
-    }
-    t->idx = 0;
-    t->next = 1 % n;
-    t->thr = 1.0 + t->e[t->next];
-    t->pos = first;
 }
 
 void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed)
@@ -69,14 +41,14 @@ void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed)
     pl->pulse_a = 0.0;                      /* no turn yet: cos 0, sin 0 */
     pl->pulse_ca = 1.0;
     pl->pulse_sa = 0.0;
-    teeth_init(&pl->meter_teeth, (int)p->meter_blades, p->meter_blade_jitter_pct, seed, 0x6d65746572ull,
+    plant_teeth_init(&pl->meter_teeth, (int)p->meter_blades, p->meter_blade_jitter_pct, seed, 0x6d65746572ull,
                rng_uniform(&pl->rng));
-    teeth_init(&pl->wheel_teeth, (int)p->wheel_elements, p->wheel_spacing_jitter_pct, seed, 0x776865656cull,
+    plant_teeth_init(&pl->wheel_teeth, (int)p->wheel_elements, p->wheel_spacing_jitter_pct, seed, 0x776865656cull,
                rng_uniform(&pl->rng));
 }
 
 /* exp(-dt / tau) and log(r) of the last arguments: the tick and the constants rarely change. */
-static double decay_of(plant_decay_t *c, double dt, double tau)
+double plant_decay_of(plant_decay_t *c, double dt, double tau)
 {
     if (dt != c->dt || tau != c->tau) {
         c->dt = dt;
@@ -236,46 +208,6 @@ static double line_solve(const line_eq_t *e, line_pt_t *at)
     return x < 0.0 ? 0.0 : x;
 }
 
-/* Emit the edges of a toothed pulse train that advances n pulses over the tick: pulse j + 1
- * comes when the position since pulse j reaches 1 + e[(j + 1) % teeth]; a bounce adds an extra
- * edge PLANT_BOUNCE_NS after a real one with probability bounce_pct. */
-static uint64_t emit(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint32_t dt_ns,
-                     plant_edge_fn fn, double bounce_pct)
-{
-    double start = t->pos, end = t->pos + n;
-    uint64_t count = 0;
-    for (;;) {
-        double thr = t->thr;
-        uint64_t te;
-        if (end < thr)
-            break;
-        te = t0 + (uint64_t)((thr - start) / n * dt_ns + 0.5);
-        if (te > t0 + dt_ns)
-            te = t0 + dt_ns;
-        if (te <= t0)
-            te = t0 + 1;
-        count++;
-        if (fn)
-            fn(te);
-        if (bounce_pct > 0.0 && rng_uniform(&pl->rng) * 100.0 < bounce_pct) {
-            uint64_t tb = te + PLANT_BOUNCE_NS;
-            if (tb > t0 + dt_ns)
-                tb = t0 + dt_ns;
-            count++;
-            if (fn)
-                fn(tb);
-        }
-        t->idx++;
-        if (++t->next == t->n)
-            t->next = 0;
-        t->thr = 1.0 + t->e[t->next];
-        start -= 1.0;
-        end -= 1.0;
-    }
-    t->pos = end;
-    return count;
-}
-
 /* counts rounded half up and clipped to 0..1023 (floor by truncation above 1) */
 static uint16_t adc_round(double c)
 {
@@ -357,92 +289,14 @@ static void step_tractor(plant_t *pl, double dt, double inv_lag)
     pl->dist_m += pl->v_mps * dt;
 }
 
-double plant_valve_speed(const plant_t *pl, double drive)
-{
-    double run = pl->p.valve_running_duty, a = fabs(drive);
-    double w = a > run ? (a - run) / (1.0 - run) / pl->p.valve_travel_s : 0.0;
-    return drive < 0.0 ? -w : w;
-}
-
-/* The DC gear motor (docs/SCENARIOS.md): from rest it starts only at abs(d) >= d_break; moving, a drive
- * that pushes its way with abs(d) >= d_run pulls its speed towards (abs(d) - d_run)/(1 - d_run)/T
- * with the time constant tau_m, anything else brakes it towards 0 with tau_m; below 1 % of full
- * speed, or at an end stop, it is at rest. Speed and position are integrated exactly over the
- * tick (first order, constant drive). The valve follows the motor across the backlash gap and
- * stops hard at both ends; a reversal is a motion that starts the other way than the last one. */
-void plant_valve_step(plant_t *pl, double drive, double dt)
-{
-    const plant_params_t *p = &pl->p;
-    double half = 0.5 * p->valve_backlash, w_aim, decay, dx, th0 = pl->theta, w0;
-    int dir = drive > 0.0 ? 1 : drive < 0.0 ? -1 : 0;
-    pl->drive = drive;
-    if (pl->valve_stuck) {
-        pl->omega = 0.0;
-        pl->moving = 0;
-        return;
-    }
-    if (!pl->moving) {
-        if (dir == 0 || fabs(drive) < p->valve_stiction_duty)
-            return;
-        pl->moving = 1;
-        pl->omega = 0.0;
-        if (pl->motion_dir != 0 && dir != pl->motion_dir)
-            pl->valve_reversals++;
-        pl->motion_dir = dir;
-    }
-    /* moving: pushed its own way hard enough, or braked */
-    if (dir == pl->motion_dir && fabs(drive) >= p->valve_running_duty)
-        w_aim = plant_valve_speed(pl, drive);
-    else
-        w_aim = 0.0;
-    decay = decay_of(&pl->motor_decay, dt, p->valve_motor_tau_s);
-    w0 = pl->omega;
-    dx = w_aim * dt + (pl->omega - w_aim) * p->valve_motor_tau_s * (1.0 - decay);
-    pl->omega = w_aim + (pl->omega - w_aim) * decay;
-    if (pl->motion_dir > 0 ? dx < 0.0 : dx > 0.0)
-        dx = 0.0;                   /* braking never turns it round */
-    pl->motor += dx;
-    if (pl->motor > pl->theta + half)
-        pl->theta = pl->motor - half;
-    else if (pl->motor < pl->theta - half)
-        pl->theta = pl->motor + half;
-    if (pl->motor >= 1.0 + half) {
-        pl->theta = 1.0;
-        pl->motor = 1.0 + half;     /* the motor stalls against the stop */
-        if (pl->motion_dir > 0)
-            pl->moving = 0;
-    } else if (pl->motor <= -half) {
-        pl->theta = 0.0;
-        pl->motor = -half;
-        if (pl->motion_dir < 0)
-            pl->moving = 0;
-    }
-    if (fabs(pl->omega) < fabs(w0) && fabs(pl->omega) < PLANT_REST_FRAC / p->valve_travel_s)
-        pl->moving = 0;             /* slowing down, and below 1 % of full speed */
-    if (!pl->moving)
-        pl->omega = 0.0;
-    pl->valve_travel += fabs(pl->theta - th0);
-}
-
-/* The train advances n pulses: most ticks no pulse is due and only the position moves. */
-static inline uint64_t advance(plant_t *pl, plant_teeth_t *t, double n, uint64_t t0, uint32_t dt_ns,
-                               plant_edge_fn fn, double bounce_pct)
-{
-    if (t->pos + n < t->thr) {
-        t->pos += n;
-        return 0;
-    }
-    return emit(pl, t, n, t0, dt_ns, fn, bounce_pct);
-}
-
 static void meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns, double dt, double dt_min)
 {
     double lag = pl->p.meter_lag_s;
-    pl->q_rotor = lag > 0.0 ? pl->q_rotor + (q_lpm - pl->q_rotor) * (1.0 - decay_of(&pl->rotor_decay, dt, lag)) : q_lpm;
+    pl->q_rotor = lag > 0.0 ? pl->q_rotor + (q_lpm - pl->q_rotor) * (1.0 - plant_decay_of(&pl->rotor_decay, dt, lag)) : q_lpm;
     if (!pl->meter_fail) {
         double n = plant_meter_k(pl, pl->q_rotor) * pl->q_rotor * dt_min;
         if (n > 0.0)
-            pl->flow_pulses += advance(pl, &pl->meter_teeth, n, t0, dt_ns, pl->flow_edge, 0.0);
+            pl->flow_pulses += plant_train_advance(pl, &pl->meter_teeth, n, t0, dt_ns, pl->flow_edge, 0.0);
     }
 }
 
@@ -451,7 +305,7 @@ static void wheel_step(plant_t *pl, double v_mps, uint64_t t0, uint32_t dt_ns, d
     if (!pl->speed_fail && v_mps > 0.0) {
         double n = v_mps * pulses_per_mps;
         if (n > 0.0)
-            pl->wheel_pulses += advance(pl, &pl->wheel_teeth, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
+            pl->wheel_pulses += plant_train_advance(pl, &pl->wheel_teeth, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
     }
 }
 
