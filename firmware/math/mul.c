@@ -13,38 +13,7 @@ __data uint16_t upd_dw;
 int32_t mul_ab(void) __naked
 {
     __asm
-        mov a,_mul_a
-        mov b,_mul_b
-        mul ab
-        mov _mul_r,a
-        mov (_mul_r + 1),b
-        mov a,(_mul_a + 1)
-        mov b,_mul_b
-        mul ab
-        add a,(_mul_r + 1)
-        mov (_mul_r + 1),a
-        mov a,b
-        addc a,#0
-        mov (_mul_r + 2),a
-        mov a,_mul_a
-        mov b,(_mul_b + 1)
-        mul ab
-        add a,(_mul_r + 1)
-        mov (_mul_r + 1),a
-        mov a,b
-        addc a,(_mul_r + 2)
-        mov (_mul_r + 2),a
-        clr a
-        rlc a
-        mov (_mul_r + 3),a
-        mov a,(_mul_a + 1)
-        mov b,(_mul_b + 1)
-        mul ab
-        add a,(_mul_r + 2)
-        mov (_mul_r + 2),a
-        mov a,b
-        addc a,(_mul_r + 3)
-        mov (_mul_r + 3),a
+        lcall _mul_u            ; the unsigned product (mul_round.c), then the signs
         mov a,(_mul_a + 1)
         jnb acc.7,00001$
         clr c

@@ -1,13 +1,20 @@
-/* mul_round.c: the unsigned product UMUL and the controllers' rounded products and shifts MUL_R15 / MUL_R12 / ACC_SHR15 / ACC_SHR12 (mul.h), in assembly on the 8051 (the host's are C macros). */
+/* mul_round.c: the unsigned product UMUL (whose first part mul_ab shares) and the controllers' rounded products and shifts MUL_R15 / MUL_R12 / ACC_SHR15 / ACC_SHR12 (mul.h), in assembly on the 8051 (the host's are C macros). */
 #include "mul.h"
 
 #if defined(__SDCC)
 /* Like mul_ab these touch only A, B, DPTR and PSW (and mul_r), so a caller keeps R0-R7; each
  * replaces the rounding add and long shift SDCC writes out at every use. */
-/* mul_r = mul_a * mul_b unsigned, also returned: mul_ab without its sign corrections */
+/* mul_r = mul_a * mul_b unsigned, also returned (dpl, dph, b, a): UMUL. Its first part,
+ * _mul_u (the unsigned product into mul_r, its top byte in A), is mul_ab's too. */
 uint32_t umul_ab(void) __naked
 {
     __asm
+        lcall _mul_u
+        mov dpl,_mul_r
+        mov dph,(_mul_r + 1)
+        mov b,(_mul_r + 2)
+        ret
+_mul_u::
         mov a,_mul_a
         mov b,_mul_b
         mul ab
@@ -40,12 +47,10 @@ uint32_t umul_ab(void) __naked
         mov a,b
         addc a,(_mul_r + 3)
         mov (_mul_r + 3),a
-        mov dpl,_mul_r
-        mov dph,(_mul_r + 1)
-        mov b,(_mul_r + 2)
         ret
     __endasm;
 }
+
 /* (mul_a * mul_b + 2^14) >> 15, returned (dpl, dph, b, a): the rounded Q15 product without the
  * long shift SDCC writes out at each use */
 int32_t mul_r15(void) __naked
