@@ -5,15 +5,20 @@
 
 uint64_t link_t_ms;
 
-void link_start(void)
+void link_start_at(double pressure_ma)
 {
     hal_host_reset();
     hal_init();
     link_t_ms = 0;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = LINK_MA(4.0);
+    hal_host_io.adc[HAL_ADC_PRESSURE] = LINK_MA(pressure_ma);
     hal_host_io.adc[HAL_ADC_LEVEL] = LINK_MA(20.0);
     hal_host_io.sections = 0x3F;
     app_init();
+}
+
+void link_start(void)
+{
+    link_start_at(4.0);
 }
 
 void link_run_ms(uint32_t ms)

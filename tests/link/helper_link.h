@@ -11,7 +11,10 @@
 
 extern uint64_t link_t_ms;     /* the host HAL's clock, in ms */
 
-/* reset the host HAL, set the bench inputs, app_init(); the clock at 0 */
+/* reset the host HAL, set the bench inputs (the pressure at pressure_ma), app_init(); the
+ * clock at 0 */
+void link_start_at(double pressure_ma);
+/* the same with no pressure (4 mA) */
 void link_start(void);
 /* ms passes of the main loop, one a millisecond */
 void link_run_ms(uint32_t ms);

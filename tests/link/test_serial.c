@@ -287,13 +287,7 @@ static void test_serial_sav_answers_when_its_save_has_ended(void **state)
  * periods it missed into the area and volume: the same totals as a run without the stall. */
 static double area_after(uint32_t stall_ms)
 {
-    hal_host_reset();
-    hal_init();
-    link_t_ms = 0;
-    hal_host_io.adc[HAL_ADC_PRESSURE] = MA(8.0);
-    hal_host_io.adc[HAL_ADC_LEVEL] = MA(20.0);
-    hal_host_io.sections = 0x3F;
-    app_init();
+    link_start_at(8.0);
     assert_true(param_set(P_GIVEN_SPEED, 72));  /* 7.2 km/h = 2 m/s over 18 m */
     link_run_ms(3000);
     assert_true(app_status.spraying);
