@@ -18,6 +18,7 @@
 #include "hil.h"
 #include "store.h"
 #include "console.h"
+#include "drive.h"
 
 /*
  * One control step (app_step) every APP_PERIOD_MS from hal_ms():
@@ -25,10 +26,8 @@
  *   target:  eq. (1) with Table 1's minimum flow, the given speed when set (target.c)
  *   spray:   the master valve is open when sections are on, the tank is above its minimum,
  *            and (auto) the machine moves; it shuts at standstill, on an empty tank
- *   drive:   with the boom shut the bypass is parked open (no build-up through the relief valve);
- *            start-up closes it at full duty until the line reaches P_P_MIN (the paper's
- *            start), then the controller (bumpless, ctl_reset); over-pressure forces
- *            the valve open; manual mode only jogs; with the flow meter lost the controller
+ *   drive:   drive.c: the start-up closing, the controller, the shut boom's bypass held or
+ *            parked, over-pressure, manual jogs; with the flow meter lost the controller
  *            gets the nozzle model's flow from the pressure (diag.c)
  *   diagnose, totals, a log line every 1000 ms (serial.c), the buzzer while alarms are unacked.
  * The watchdog is kicked after a step that ran on time while no internal fault is latched; a
@@ -36,9 +35,6 @@
  * (staying on its grid: the totals count them). The I/O test (ops_io) hands the relay, the buzzer and the jog
  * to the technician: the boom's own control is off meanwhile.
  */
-#define APP_PRIME_MAX_PERIODS 100u  /* start-up closing gives up after 10 s */
-#define APP_JOG_DRIVE Q15(0.6)      /* a jog (OPS_JOG_PERIODS) at 60 % duty */
-#define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
 #define APP_LOG_PERIODS (1000u / APP_PERIOD_MS)
 /* periods after power-up before over-pressure is an alarm even if the pressure never fell under
  * P max (the pump may push against a bypass left closed while the slowest valve opens) */
@@ -51,12 +47,10 @@
 static struct {
     uint32_t next_ms;
     uint16_t overruns;              /* steps late by a period or more */
-    uint8_t prime;                  /* periods of start-up closing left (0: done) */
     uint8_t ctl_id;                 /* P_CONTROLLER the controller was selected for */
     uint8_t was_manual;
     uint8_t log_div;
     uint8_t internal;
-    uint8_t parked;                 /* boom shut and the bypass found at its open stop */
     uint8_t p_watch;                /* APP_P_WAIT: the pressure was under P max once spraying or parked since power-up, or APP_P_WAIT passed */
     uint8_t save_wait;              /* periods until the totals are saved (0: none due) */
     uint8_t save;                   /* the save is due: app_poll runs it in a pass of its own */
@@ -84,7 +78,7 @@ static void app_start(void)
     ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
     ctl_select(ap.ctl_id);
     ap.overruns = 0;
-    ap.prime = 0;
+    drive_init();
     ops_init();
     ap.was_manual = 0;
     ap.log_div = 0;
@@ -199,11 +193,8 @@ static void app_spray(void)
         hal_spray_enable(want);
         if (!want)
             ap.save_wait = APP_SAVE_WAIT_PERIODS;   /* keep the lifetime totals, a while later */
-        if (want) {
-            ap.prime = (!manual && analog_pressure_ok() && app_status.pressure_kpa < param_v[P_P_MIN])
-                       ? APP_PRIME_MAX_PERIODS : 0;
-            ctl_reset(0);
-        }
+        if (want)
+            drive_spray_on(manual);
     }
     if (IO_ON)
         hal_spray_enable((ops_io & OPS_IO_RELAY) && !ap.internal);   /* never against an internal fault */
@@ -213,68 +204,6 @@ static void app_spray(void)
             ctl_reset(app_status.drive);    /* bumpless: the loop starts from the drive now */
         ops_jog_req.periods = 0;
     }
-}
-
-/* The pressure above P max (the sensor working). */
-static uint8_t app_overp(void)
-{
-    return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
-}
-
-/* The drive of a spraying boom in auto: the start-up closing at full duty until the line
- * reaches P_P_MIN (the paper's start), then the controller. */
-static q15_t app_auto_drive(uint8_t overp)
-{
-    static __xdata ctl_in_t in;     /* the controller reads it through an XRAM pointer */
-    q15_t drive = 0;
-    if (ap.prime) {
-        ap.prime--;
-        if (app_status.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok())
-            ap.prime = 0;
-        else
-            drive = Q15_MAX;
-        if (!ap.prime)
-            ctl_reset(drive);
-    }
-    if (!ap.prime) {
-        in.target_lpm_x100 = app_status.target_lpm_x100;
-        in.flow_lpm_x100 = app_status.flow_lpm_x100;
-        in.speed_kmh_x100 = app_status.speed_kmh_x100;
-        in.pressure_kpa = app_status.pressure_kpa;
-        in.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
-        drive = ctl_step(&in);
-    }
-    return drive;
-}
-
-/* Drive the valve: manual mode only jogs; a spraying boom in auto as app_auto_drive; a shut
- * boom parks the bypass open (the pump circulates to the tank at low pressure instead of
- * through the relief valve, and the next start rises to its target from below); over-pressure
- * never closes further and opens the bypass. The controller hears what the valve got. */
-static void app_drive(void)
-{
-    uint8_t manual = app_status.manual;
-    uint8_t overp = app_overp();
-    q15_t drive = 0;
-    if (manual || IO_ON) {
-        if (ops_jog_req.periods) {
-            ops_jog_req.periods--;
-            drive = ops_jog_req.dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
-        }
-    } else if (app_status.spraying) {
-        drive = app_auto_drive(overp);
-    } else {
-        if ((valve_limit() & CTL_AT_OPEN)
-            || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9)))
-            ap.parked = 1;                  /* open enough (or at the stop): stay, no retries */
-        drive = ap.parked ? 0 : -Q15_MAX;
-    }
-    if (app_status.spraying || manual || IO_ON)
-        ap.parked = 0;
-    if (overp && drive > -APP_RELIEVE_DRIVE)
-        drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
-    valve_set(drive);
-    ctl_applied(valve_applied(), valve_limit());   /* what the valve got, overrides included */
 }
 
 /* The totals after the boom shut: APP_SAVE_WAIT_PERIODS later, and not while the supply is
@@ -322,10 +251,10 @@ static void app_account(void)
     /* over-pressure is an alarm while spraying or parked open, once the pressure was under P max
      * there after power-up (or after APP_P_WAIT) */
     if (ap.p_watch < APP_P_WAIT
-        && (++ap.p_watch >= APP_P_WAIT || (!app_overp() && (on || ap.parked))))
+        && (++ap.p_watch >= APP_P_WAIT || (!drive_overp() && (on || drive_parked()))))
         ap.p_watch = APP_P_WAIT;
-    ap.diag = (uint8_t)(APP_DIAG_DUE | (on && !ap.prime ? APP_DIAG_SETTLED : 0)
-                        | ((on || ap.parked) && ap.p_watch >= APP_P_WAIT ? APP_DIAG_P_WATCH : 0));
+    ap.diag = (uint8_t)(APP_DIAG_DUE | (on && !drive_priming() ? APP_DIAG_SETTLED : 0)
+                        | ((on || drive_parked()) && ap.p_watch >= APP_P_WAIT ? APP_DIAG_P_WATCH : 0));
     t = totals_get();
     app_status.job_volume_ml = t->job_ml;
     app_status.life_area_m2 = t->life_m2;
@@ -408,7 +337,7 @@ static void app_step(void)
     }
     app_measure();
     app_spray();
-    app_drive();
+    drive_step();
     app_account();
 }
 

@@ -66,11 +66,12 @@ typedef struct {
 #define FM_KI Q12(1.2)
 #define FM_KD Q12(0.8)
 #define FM_DB_IN 8                  /* deadband: the valve rests once the filtered error <= target >> 8 */
-#define FM_DB_OUT 6                 /* ... and wakes beyond target >> 6, or when the target moves */
+#define FM_DB_OUT 7                 /* ... and wakes beyond target >> 7, or when the target moves */
 #define FM_MOVE_SHIFT 6             /* the target moves: |dq| > target >> 6 in one period */
 #define FM_REST_KI Q12(0.15)        /* resting, a slow integral only, on the filtered error */
-#define FM_STALL_N 6                /* smallest pulses one way without the error shrinking: a stall
+#define FM_STALL_N 6                /* smallest pulses one way without the flow moving: a stall
                                      * (fewer counted the backlash's take-up as one) */
+#define FM_STALL_MOVE 6             /* ... the flow not moved that way by target >> this */
 #define FM_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
 #define FM_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
 #define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
@@ -80,6 +81,8 @@ typedef struct {
 #define FM_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
 #define FM_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */
 #define FM_SLOW_N 20                /* this long awake with the error one way: +1/16 */
+#define FM_BIG_SHIFT 4              /* a half cycle whose error reached target >> this swung big */
+#define FM_P_WAIT 5                 /* periods after a (re)start without the proportional term */
 #define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
                                      * up, the line primes, the flow overshoots from the parked valve */
 typedef struct {
@@ -89,7 +92,7 @@ typedef struct {
     uint8_t rest;                   /* 1: inside the deadband, the valve rests */
     int8_t dir;                     /* +1 / -1: the direction of the last pulse */
     uint8_t stall_n;                /* smallest pulses one way in a row */
-    int16_t stall_e;                /* x100 the error when the first of them was sent */
+    int16_t stall_y;                /* x100 the flow when the first of them was sent */
     /* what is learnt of the valve, together (the EEPROM keeps these STORE_LEARN_CTL bytes): */
     int16_t g;                      /* Q8: the loop gain learnt for this valve (256 = as told) */
     int16_t brk;                    /* Q15 added to Min duty after stalls */
@@ -99,6 +102,8 @@ typedef struct {
     uint8_t moved;                  /* 1: the target moved since the last reversal */
     uint8_t slow_n;                 /* periods awake with the error one way and no reversal */
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
+    int16_t epk;                    /* x100 the largest abs error since the last reversal */
+    uint8_t big;                    /* 1: the half cycle before the last reversal swung big */
 } fm_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */

@@ -14,8 +14,8 @@
  *     so a motion m needs the duty d_run + m (1 - d_run) (d_run from Min duty, ctl_int.h);
  *   - break-away: from rest nothing moves below Min duty, so motions too small for one pulse are
  *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
- *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way without the error
- *     coming toward zero are a stall, and the smallest pulse grows (brk, forgotten slowly);
+ *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way (twice as many up
+ *     to twice the smallest) without the flow moving that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
  *     answers (reversals in quick succession near the target lower it, a long run of error one
  *     way raises it);
@@ -25,8 +25,12 @@
  *     the first way again); reversals that cycle at a steady target (within FM_OSC_GAP, the
  *     target still) lower that threshold by 1/8 down to FM_REV_LOW: a fast valve's cycle is
  *     its smallest reversal, not its noise.
- * The proportional term acts on the measured flow, not on the error: the target, stepped by the
- * wheel's pulses, kicks nothing through it (it moves the valve through the integral).
+ * The proportional term acts on the error, so a change of the target (the speed) moves the valve
+ * at once; the speed it comes from is smoothed over several pulses until the wheel's spacing is
+ * learnt (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT periods after a
+ * (re)start: the flow rising as the line fills is not the valve's doing.
+ * A loop far too fast for the valve shows as half cycles that swing the flow by more than
+ * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period.
  * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
  * the valve near the target (the noise of the meter, the pump's pulsation and the target's own
  * jitter move nothing); resting, a slow integral removes a steady bias.
@@ -39,7 +43,7 @@ void fm_init(void)
     M->rest = 0;
     M->dir = 0;
     M->stall_n = 0;
-    M->stall_e = 0;
+    M->stall_y = 0;
     M->brk_age = 0;
     M->rev_age = 255;
     M->moved = 0;
@@ -66,7 +70,8 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
         M->warm++;
     if (M->rest || (e > 0) != (M->e1 > 0) || M->warm < FM_WARM || ctl_in->valve_limit) {
         M->slow_n = 0;
-    } else if (++M->slow_n >= FM_SLOW_N) {
+    } else if ((M->slow_n += (e < 0 ? -e : e) > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT) ? 4 : 1)
+               >= FM_SLOW_N) {
         M->slow_n = 0;
         if (M->g < FM_G_MAX)
             M->g += M->g >> 4;
@@ -95,14 +100,16 @@ CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
     }
 }
 
-/* A stall: FM_STALL_N smallest pulses one way and the error has not come toward zero by the
- * deadband: the smallest pulse grows. brk steps back after FM_BRK_AGE periods without one. */
+/* A stall: FM_STALL_N smallest pulses one way (or twice as many up to twice the smallest) and
+ * the flow has not moved that way by target >> FM_STALL_MOVE (whatever the target did
+ * meanwhile; the meter's lag after a motion is less), the error still asking for that way: the
+ * smallest pulse grows. brk steps back after FM_BRK_AGE periods without one. */
 CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
 {
     int32_t k;
-    if (M->stall_n >= FM_STALL_N) {
-        k = M->dir > 0 ? (int32_t)M->stall_e - e : (int32_t)e - M->stall_e;
-        if (k <= (q >> FM_DB_IN) && (M->dir > 0 ? e > 0 : e < 0)) {
+    if (M->stall_n >= 2 * FM_STALL_N) {
+        k = M->dir > 0 ? (int32_t)ctl_in->flow_lpm_x100 - M->stall_y : (int32_t)M->stall_y - ctl_in->flow_lpm_x100;
+        if (k <= (q >> FM_STALL_MOVE) && (M->dir > 0 ? e > 0 : e < 0)) {
             if (M->brk <= FM_BRK_MAX - FM_BRK_STEP)
                 M->brk += FM_BRK_STEP;
             M->brk_age = 0;
@@ -122,6 +129,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
 {
     int32_t d, k;
     int8_t s;
+    uint8_t c;
     m += ctl_carry;
     CTL_CLIP(m);
     CTL_STOP(m, ctl_in->valve_limit, CTL_CLOSE_BLOCKED);
@@ -145,23 +153,32 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     if (d > 32767)
         d = 32767;
     if (s != M->dir && M->dir != 0) {
-        /* (a pulse near the smallest: the valve's resolution, not the gain) */
-        if (M->rev_age <= FM_OSC_GAP && M->warm >= FM_WARM && d > 2 * k
+        /* two half cycles in a row that swung the flow big, soon after each other: the loop is
+         * unstable, whatever the start-up is doing; a quarter off at once */
+        c = M->epk > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT);
+        if (c && M->big && M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN) {
+            M->g -= M->g >> 2;
+        } else if (M->rev_age <= FM_OSC_GAP && M->warm >= FM_WARM && d > 2 * k
             && (int32_t)(e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
+            /* (a pulse near the smallest: the valve's resolution, not the gain) */
             if (M->g > FM_G_MIN)
                 M->g -= M->g >> 3;
             if (!M->moved && M->rmin > FM_REV_LOW)
                 M->rmin -= M->rmin >> 3;    /* a cycle at a steady target: smaller reversals */
         }
+        M->big = c;
+        M->epk = 0;
         M->rev_age = 0;
         M->moved = 0;
         M->slow_n = 0;
     }
-    if (d <= k + (k >> 3) && s == M->dir) {   /* one of the smallest pulses */
+    /* the smallest pulses count two toward a stall, those up to twice the smallest one (a
+     * valve stiffer than that, or a gain learnt that low, would never see the smallest) */
+    if (d <= 2 * k && s == M->dir) {
         if (M->stall_n == 0)
-            M->stall_e = e;
-        if (M->stall_n < 255)
-            M->stall_n++;
+            M->stall_y = ctl_in->flow_lpm_x100;
+        if (M->stall_n < 250)
+            M->stall_n += d <= k + (k >> 3) ? 2 : 1;
     } else {
         M->stall_n = 0;
     }
@@ -183,15 +200,20 @@ q15_t fm_step(void) CTL_SHARED
         M->rest = 0;
         M->stall_n = 0;
         M->warm = 0;
+        M->epk = 0;
+        M->big = 0;
         ctl_first = 0;
     }
     fm_deadband(e, q);
     fm_stall(e, q);
+    if ((e < 0 ? -e : e) > M->epk)
+        M->epk = e < 0 ? -e : e;
     if (M->rest) {
         du = MUL(FM_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
     } else {
         d2e = fx_sat16((int32_t)e - 2 * (int32_t)M->e1 + M->e2);
-        du = MUL(FM_KP, fx_sat16((int32_t)e - M->e1 - (q - M->t1)));
+        /* (not while the line fills after the boom opens: the flow's rise is not the valve's) */
+        du = M->warm < FM_P_WAIT ? 0 : MUL(FM_KP, fx_sat16((int32_t)e - M->e1));
         du += MUL(FM_KI, e);
         du += MUL(FM_KD, d2e);
     }

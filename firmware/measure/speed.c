@@ -32,6 +32,16 @@ static struct {
 /* the span speed_learn checks, measured by speed_step */
 static uint32_t sl_dt;
 
+/* The last SPEED_WIN periods that brought pulses: the newest edge's PCA time / 256, and where
+ * it is, in 1/4096 of a spacing: pulses * 4096 + the element's learnt offset (16 bits: a window
+ * of up to 15 pulses). Until the wheel's offsets are learnt one period's speed carries two
+ * elements' spacing errors whole; over w pulses they weigh 1/w (and cancel over a turn). */
+static struct {
+    uint16_t t[SPEED_WIN];
+    uint16_t d[SPEED_WIN];
+    uint8_t at, fill;
+} sw;
+
 /* the learnt offsets back to nothing (the turn's timing is kept) */
 static void speed_restart_offsets(void) __reentrant
 {
@@ -46,6 +56,7 @@ static void speed_restart_offsets(void) __reentrant
 static void speed_forget_offsets(void) __reentrant
 {
     speed_restart_offsets();
+    sw.fill = 0;
     sp.t0_ok = 0;
     sp.t_rev = 0;
 }
@@ -163,6 +174,29 @@ static uint32_t r12(uint32_t x) __reentrant
     return (x + 2048u) >> 12;
 }
 
+/* Until a turn of offsets is learnt: the speed over the last SPEED_WIN_BACK periods that brought
+ * pulses, in place of the newest period's `v`. A period longer than 2^22 ticks (4.5 s) starts
+ * the window anew, so a span fits 16 bits of PCA/256. */
+static void speed_window(void) __reentrant
+{
+    static __data uint8_t a, j;
+    uint16_t w;
+    if (c.last - sp.last_pca >= 0x400000ul)
+        sw.fill = 0;
+    a = (sw.at + 1u) & (SPEED_WIN - 1u);
+    sw.at = a;
+    sw.t[a] = (uint16_t)(c.last >> 8);
+    sw.d[a] = ((uint16_t)sp.pulses << 12) + sp.off[sp.idx];
+    if (sw.fill < SPEED_WIN)
+        sw.fill++;
+    if (sp.shift || sw.fill <= SPEED_WIN_BACK)
+        return;
+    j = (a - SPEED_WIN_BACK) & (SPEED_WIN - 1u);
+    w = sw.d[a] - sw.d[j];
+    if (w < (15u << 12))
+        v = r12(um_muldiv(sp.k, w, (uint32_t)(uint16_t)(sw.t[a] - sw.t[j]) << 8));
+}
+
 uint16_t speed_step(void) __reentrant
 {
 
@@ -192,6 +226,9 @@ uint16_t speed_step(void) __reentrant
             if (c.last == sp.last_pca || v > SPEED_MAX_X100) {
                 sp.glitches++;
             } else {
+                sp.idx = nw;
+                if (sp.n > 1)
+                    speed_window();
                 /* the rise allowed since the last measurement, period by period */
                 uint32_t lim = (uint32_t)sp.v_x100 + UMUL(SPEED_SLEW_X100, sp.since);
                 if (v > lim)

@@ -34,6 +34,8 @@
 #define SPEED_SLEW_X100 108u        /* 3 m/s^2 over 100 ms = 1.08 km/h */
 #define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
 #define SPEED_LOST_X100 200u        /* pulses that stop above 2 km/h: a lost sensor, not a stop */
+#define SPEED_WIN 4u                /* periods with pulses the speed window keeps (a power of 2) */
+#define SPEED_WIN_BACK 3u           /* periods back the speed is taken over, offsets unlearnt */
 #define SPEED_TEETH_MAX 16u         /* most wheel pulses a turn (P_WHEEL_PPR) */
 #define SPEED_LEARN_DRIFT 128       /* an edge this far (1/4096 of a spacing) from its learnt place:
                                      * the speed changed, no offset is learnt from it */

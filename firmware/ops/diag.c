@@ -265,8 +265,10 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
 }
 
 /* The nozzle model against the meter. Flow meter lost: its pulses stopped while the model says
- * liquid flows, at working speed (at a headland stop the meter falls silent below its range
- * while the line still holds the check valves' pressure); a live meter that reads low against
+ * liquid flows, at working speed and at least P start (the pressure the operator says opens the
+ * check valves: below it a silent meter may be a boom whose check valves shut, before the model
+ * has learnt where they open; at a headland stop the meter falls silent below its range while
+ * the line still holds the check valves' pressure); a live meter that reads low against
  * the pressure is a clog (or a wrong nozzle setting), never this. Leak and clog: the pressure
  * against what the model learnt from this sprayer needs for the metered flow, at working speed
  * (a headland's low pressures are where a model is least sure); clean spraying teaches it. */
@@ -280,7 +282,8 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     uint8_t judge = settled && analog_pressure_ok(), g;
     uint16_t pexp;
     uint32_t p100, x;
-    dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && flow_quiet_periods() >= DIAG_METER_QUIET;
+    dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
+                       && flow_quiet_periods() >= DIAG_METER_QUIET;
     rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
     judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);

@@ -45,7 +45,9 @@ typedef struct {
     double e1, e2, ef, t1;          /* L/min */
     int rest, dir, stall_n, warm, rev_age, slow_n, brk_age, moved;
     double rmin;                    /* motion owed the other way that makes a reversal */
-    double stall_e;                 /* L/min */
+    double stall_y;                 /* L/min: the flow when the stall count started */
+    double epk;                     /* L/min: the largest abs error since the last reversal */
+    int big;                        /* the half cycle before the last reversal swung big */
     double brk;                     /* duty added to Min duty */
     double g;                       /* loop gain (1 = as told) */
     double carry;                   /* motion owed, share of full speed for a period */

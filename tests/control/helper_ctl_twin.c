@@ -103,7 +103,9 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->rev_age = fm->rev_age;
     tw->slow_n = fm->slow_n;
     tw->brk_age = fm->brk_age;
-    tw->stall_e = fm->stall_e / 100.0;
+    tw->stall_y = fm->stall_y / 100.0;
+    tw->epk = fm->epk / 100.0;
+    tw->big = fm->big;
     tw->brk = fm->brk / 32768.0;
     tw->g = fm->g / 256.0;
     tw->carry = carry / 32768.0;
@@ -128,10 +130,14 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->rest = 0;
         m->stall_n = 0;
         m->warm = 0;
+        m->epk = 0;
+        m->big = 0;
     }
     /* deadband on the error filtered over 4 periods */
     dq = q - m->t1;
-    m->ef += (e - m->ef) / 4;
+    /* the filtered error in the firmware's own integer steps (x100 L/min, the rest integral's
+     * input: at a long Valve time its rounding alone is worth more than the tolerance) */
+    m->ef = (round(m->ef * 100) + floor((round(e * 100) - round(m->ef * 100) + 2) / 4)) / 100;
     c = fabs(m->ef);
     o.near |= ctltw_near(fabs(dq) * CTLTW_FM_MOVE, q, 0.02 * CTLTW_FM_MOVE);
     o.near |= ctltw_near(c, q / (m->rest ? CTLTW_FM_DB_OUT : CTLTW_FM_DB_IN), 0.03);
@@ -147,10 +153,10 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->stall_n = 0;
     }
     /* stall */
-    if (m->stall_n >= FM_STALL_N) {
-        k = m->dir > 0 ? m->stall_e - e : e - m->stall_e;
-        o.near |= ctltw_near(k, q / CTLTW_FM_DB_IN, 0.02);
-        if (k <= q / CTLTW_FM_DB_IN && (m->dir > 0 ? e > 0 : e < 0) && m->brk <= (FM_BRK_MAX - FM_BRK_STEP) / 32768.0)
+    if (m->stall_n >= 2 * FM_STALL_N) {
+        k = m->dir > 0 ? in->flow - m->stall_y : m->stall_y - in->flow;
+        o.near |= ctltw_near(k, q / (1 << FM_STALL_MOVE), 0.02);
+        if (k <= q / (1 << FM_STALL_MOVE) && (m->dir > 0 ? e > 0 : e < 0) && m->brk <= (FM_BRK_MAX - FM_BRK_STEP) / 32768.0)
             m->brk += FM_BRK_STEP / 32768.0;
         m->stall_n = 0;
     }
@@ -158,20 +164,25 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->brk -= FM_BRK_STEP / 32768.0;
         m->brk_age = 0;
     }
-    /* the law (the firmware's rest integral works on its own filtered error) */
+    if (fabs(e) > m->epk)
+        m->epk = fabs(e);
+    /* the law (the firmware's rest integral works on its own filtered error); no proportional
+     * term in the first FM_P_WAIT periods */
     if (m->rest)
         du = CTLTW_FM_REST_KI * m->ef;
     else
-        du = CTLTW_FM_KP * (e - m->e1 - dq) + CTLTW_FM_KI * e
+        du = (m->warm < FM_P_WAIT ? 0 : CTLTW_FM_KP * (e - m->e1)) + CTLTW_FM_KI * e
              + CTLTW_FM_KD * (e - 2 * m->e1 + m->e2);
     /* the firmware carries du to the drive in Q4 x100 L/min, 16 bits: +-32767 / 16 / 100 */
     du = ctltw_clamp(du, -32767 / 1600.0, 32767 / 1600.0);
-    /* the gain's learning: a long run of error one way */
+    /* the gain's learning: a long run of error one way (four times as fast beyond target >>
+     * FM_BIG_SHIFT) */
+    o.near |= ctltw_near(fabs(e), q / (1 << FM_BIG_SHIFT), 0.02);
     if (m->warm < FM_WARM)
         m->warm++;
     if (m->rest || (e > 0) != (m->e1 > 0) || m->warm < FM_WARM || in->limit)
         m->slow_n = 0;
-    else if (++m->slow_n >= FM_SLOW_N) {
+    else if ((m->slow_n += fabs(e) > q / (1 << FM_BIG_SHIFT) ? 4 : 1) >= FM_SLOW_N) {
         m->slow_n = 0;
         if (m->g < FM_G_MAX / 256.0)
             m->g += floor(m->g * 256 / 16) / 256;
@@ -199,21 +210,29 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         } else {
             m->carry = 0;
             if (s != m->dir && m->dir != 0) {
+                int big = m->epk > q / (1 << FM_BIG_SHIFT);
                 o.near |= ctltw_near(d, 2 * k, 0.002);
-                if (m->rev_age <= FM_OSC_GAP && m->warm >= FM_WARM && d > 2 * k && fabs(e) <= q) {
+                o.near |= ctltw_near(m->epk, q / (1 << FM_BIG_SHIFT), 0.02);
+                if (big && m->big && m->rev_age <= FM_OSC_GAP && m->g > FM_G_MIN / 256.0) {
+                    m->g -= floor(m->g * 256 / 4) / 256;
+                } else if (m->rev_age <= FM_OSC_GAP && m->warm >= FM_WARM && d > 2 * k && fabs(e) <= q) {
                     if (m->g > FM_G_MIN / 256.0)
                         m->g -= floor(m->g * 256 / 8) / 256;
                     if (!m->moved && m->rmin > FM_REV_LOW / 32768.0)
                         m->rmin -= floor(m->rmin * 32768 / 8) / 32768;
                 }
+                m->big = big;
+                m->epk = 0;
                 m->rev_age = 0;
                 m->moved = 0;
                 m->slow_n = 0;
             }
-            if (d <= k * 9 / 8 && s == m->dir) {
+            o.near |= ctltw_near(d, 2 * k, 0.002) || ctltw_near(d, k * 9 / 8, 0.002);
+            if (d <= 2 * k && s == m->dir) {
                 if (m->stall_n == 0)
-                    m->stall_e = e;
-                m->stall_n++;
+                    m->stall_y = in->flow;
+                if (m->stall_n < 250)
+                    m->stall_n += d <= k * 9 / 8 ? 2 : 1;
             } else {
                 m->stall_n = 0;
             }

@@ -385,7 +385,7 @@ static void test_ctl_ffmap_output_knows_the_running_friction(void **state)
 
 /* ffmap: a deadband with hysteresis on the error filtered over 4 periods. Within target/256 the
  * valve rests (only a slow integral: a pulse now and then, the same way); it wakes beyond
- * target/64, or at once when the target moves. */
+ * target/128, or at once when the target moves. */
 static void test_ctl_ffmap_deadband_hysteresis(void **state)
 {
     (void)state;
@@ -402,11 +402,11 @@ static void test_ctl_ffmap_deadband_hysteresis(void **state)
         pulses += d != 0;
     }
     assert_true(pulses >= 1);
-    in.flow_lpm_x100 = 4050;                /* 1.25 % too much: still resting */
+    in.flow_lpm_x100 = 4026;                /* 0.65 % too much: still resting */
     for (int k = 0; k < 20; k++)
         ctl_step(&in);
     assert_int_equal(ctl_st.fm.rest, 1);
-    in.flow_lpm_x100 = 4080;                /* 2 % too much: wakes */
+    in.flow_lpm_x100 = 4040;                /* 1 % too much: wakes */
     for (int k = 0; k < 10 && ctl_st.fm.rest; k++)
         ctl_step(&in);
     assert_int_equal(ctl_st.fm.rest, 0);
@@ -420,8 +420,8 @@ static void test_ctl_ffmap_deadband_hysteresis(void **state)
     print_message("ffmap: %d pulses in 60 s inside the band\n", pulses);
 }
 
-/* ffmap: a valve stiffer than Min duty. Smallest pulses one way that leave the error where it
- * was are a stall: the smallest pulse grows, step by step, up to its bound. */
+/* ffmap: a valve stiffer than Min duty. Small pulses one way that leave the flow where it was
+ * are a stall: the smallest pulse grows, step by step, up to its bound. */
 static void test_ctl_ffmap_learns_a_stiffer_break_away(void **state)
 {
     (void)state;
@@ -430,14 +430,15 @@ static void test_ctl_ffmap_learns_a_stiffer_break_away(void **state)
     for (int k = 0; k < 1000; k++)
         ctl_step(&in);
     assert_true(ctl_st.fm.brk >= 3 * FM_BRK_STEP && ctl_st.fm.brk <= FM_BRK_MAX);
-    /* a valve that answers: the error comes toward zero after each pulse, nothing is learnt */
+    /* a valve that answers: the flow moves after each pulse (by less than the deadband, while
+     * the target keeps running away from it), nothing is learnt */
     ctl_select(CTL_BEST);
     in = mk(2000, 1970, 0);
     for (int k = 0; k < 400; k++) {
-        if (ctl_step(&in) > 0 && in.flow_lpm_x100 < 2000)
+        if (ctl_step(&in) > 0)
             in.flow_lpm_x100 += 5;
-        if (in.flow_lpm_x100 >= 1995)
-            in.flow_lpm_x100 = 1970;        /* the target ran away again */
+        if (in.flow_lpm_x100 >= in.target_lpm_x100 - 5)
+            in.target_lpm_x100 += 25;       /* the target ran away again */
     }
     assert_int_equal(ctl_st.fm.brk, 0);
 }

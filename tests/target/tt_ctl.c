@@ -82,7 +82,7 @@ static uint16_t state_sum(uint8_t id)
     if (id == CTL_RAVEN)
         s ^= (uint16_t)(uint8_t)ctl_st.rv.dir;
     if (id == CTL_BEST)
-        s ^= (uint16_t)ctl_st.fm.brk ^ (uint16_t)ctl_st.fm.g ^ (uint16_t)ctl_st.fm.stall_e ^ (uint16_t)ctl_carry_now()
+        s ^= (uint16_t)ctl_st.fm.brk ^ (uint16_t)ctl_st.fm.g ^ (uint16_t)ctl_st.fm.stall_y ^ (uint16_t)ctl_carry_now()
              ^ ((uint16_t)ctl_st.fm.rest << 8) ^ (uint16_t)(uint8_t)ctl_st.fm.dir;
     return s;
 }

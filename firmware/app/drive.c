@@ -1,0 +1,141 @@
+/* drive.c: what the valve is driven with each period: the start-up closing, the controller, a shut boom's bypass held or parked, over-pressure, manual jogs. */
+#if defined(__SDCC)
+#pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
+#endif
+#include "hal.h"
+#include "params.h"
+#include "ctl.h"
+#include "analog.h"
+#include "valve.h"
+#include "ops.h"
+#include "drive.h"
+
+#define APP_PRIME_MAX_PERIODS 100u  /* start-up closing gives up after 10 s */
+#define APP_PRIME_SHIFT 3           /* ... and stops once the meter reads the target less this share */
+#define APP_JOG_DRIVE Q15(0.6)      /* a jog (OPS_JOG_PERIODS) at 60 % duty */
+#define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
+#define APP_HOLD_KPA 5u             /* a shut boom holds the spraying pressure within this (+1/16) */
+#define IO_ON (ops_io & OPS_IO_ON)
+
+static struct {
+    uint8_t prime;                  /* periods of start-up closing left (0: done) */
+    uint8_t parked;                 /* boom shut and the bypass found at its open stop, or held */
+    uint16_t p_hold;                /* kPa the boom sprayed at (filtered), 0: park open */
+} dv;
+
+void drive_init(void)
+{
+    dv.prime = 0;
+    dv.parked = 0;
+    dv.p_hold = 0;
+}
+
+/* The boom opens: the start-up closing at full duty while the line is under P start (the
+ * paper's start) unless a shut boom held the bypass at the spraying pressure; the controller
+ * from rest. */
+void drive_spray_on(uint8_t manual)
+{
+    dv.prime = (!manual && !dv.p_hold && analog_pressure_ok()
+                && app_status.pressure_kpa < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
+    ctl_reset(0);
+}
+
+uint8_t drive_priming(void)
+{
+    return dv.prime;
+}
+
+uint8_t drive_parked(void)
+{
+    return dv.parked;
+}
+
+/* The pressure above P max (the sensor working). */
+uint8_t drive_overp(void)
+{
+    return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
+}
+
+/* The drive of a spraying boom in auto: the start-up closing at full duty until the line
+ * reaches P_P_MIN (the paper's start), then the controller. */
+static q15_t drive_auto(uint8_t overp)
+{
+    static __xdata ctl_in_t in;     /* the controller reads it through an XRAM pointer */
+    q15_t drive = 0;
+    if (dv.prime) {
+        dv.prime--;
+        if (app_status.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok()
+            || app_status.flow_lpm_x100 >= app_status.target_lpm_x100 - (app_status.target_lpm_x100 >> APP_PRIME_SHIFT))
+            dv.prime = 0;
+        else
+            drive = Q15_MAX;
+        if (!dv.prime)
+            ctl_reset(drive);
+    }
+    if (!dv.prime) {
+        in.target_lpm_x100 = app_status.target_lpm_x100;
+        in.flow_lpm_x100 = app_status.flow_lpm_x100;
+        in.speed_kmh_x100 = app_status.speed_kmh_x100;
+        in.pressure_kpa = app_status.pressure_kpa;
+        in.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
+        drive = ctl_step(&in);
+    }
+    return drive;
+}
+
+/* The pressure the boom sprays at, filtered over about 8 periods, once the start-up closing is
+ * done: what a shut boom holds the bypass to. */
+static void drive_hold_learn(void)
+{
+    int16_t d = (int16_t)(app_status.pressure_kpa - dv.p_hold);
+    if (!dv.prime)
+        dv.p_hold = dv.p_hold ? (uint16_t)(dv.p_hold + ((d + 4) >> 3)) : app_status.pressure_kpa;
+}
+
+/* A shut boom: the bypass opens until the pressure is no higher than the boom sprayed at (the
+ * pump circulates at a pressure the operator chose, not through the relief valve), and the
+ * valve stays there, so that spraying again starts near where it left off, from below (the
+ * boom's opening lowers the pressure). Without a spraying pressure to hold (power-up, the valve
+ * moved by hand, the pressure sensor failed) the bypass is parked at its open stop. */
+static q15_t drive_park(void)
+{
+    uint16_t p = app_status.pressure_kpa, h = dv.p_hold;
+    if ((valve_limit() & CTL_AT_OPEN)
+        || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9)))
+        dv.parked = 1;                      /* open enough (or at the stop): stay, no retries */
+    else if (h && p <= h + (h >> 4) + APP_HOLD_KPA)
+        dv.parked = 1;                      /* held: back to the spraying pressure */
+    else if (h && p > h + (h >> 3) + 2 * APP_HOLD_KPA)
+        dv.parked = 0;                      /* risen again (the pump sped up): open more */
+    return dv.parked ? 0 : -Q15_MAX;
+}
+
+/* Drive the valve: manual mode only jogs; a spraying boom in auto as drive_auto; a shut boom
+ * as drive_park; over-pressure never closes further and opens the bypass. The controller hears
+ * what the valve got. */
+void drive_step(void)
+{
+    uint8_t manual = app_status.manual;
+    uint8_t overp = drive_overp();
+    q15_t drive = 0;
+    if (manual || IO_ON) {
+        if (ops_jog_req.periods) {
+            ops_jog_req.periods--;
+            drive = ops_jog_req.dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
+        }
+    } else if (app_status.spraying) {
+        drive = drive_auto(overp);
+        drive_hold_learn();
+    } else {
+        drive = drive_park();
+    }
+    if (manual || IO_ON || !analog_pressure_ok())
+        dv.p_hold = 0;                      /* the valve moved by hand, or no pressure to hold on */
+    if (app_status.spraying || manual || IO_ON)
+        dv.parked = 0;
+    if (overp && drive > -APP_RELIEVE_DRIVE)
+        drive = -APP_RELIEVE_DRIVE;         /* never close further; open the bypass */
+    valve_set(drive);
+    ctl_applied(valve_applied(), valve_limit());   /* what the valve got, overrides included */
+}
+
