@@ -2,6 +2,7 @@
 #if defined(__SDCC)
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
+#include <stddef.h>
 #include "hal.h"
 #include "params.h"
 #include "ctl.h"
@@ -102,14 +103,12 @@ static void app_start(void)
     app_status.tank_l = 0;
     app_status.applied_l_ha_x10 = 0;
     app_status.drive = 0;
-    app_status.gain[0] = app_status.gain[1] = app_status.gain[2] = 0;
     app_status.alarms = 0;
     app_status.alarms_unacked = 0;
     app_status.spraying = 0;
     app_status.manual = 0;
     app_status.open_nozzles = 0;
-    app_status.job_area_m2 = app_status.job_volume_ml = 0;
-    app_status.life_area_m2 = app_status.life_volume_ml = 0;
+    app_status.job_area_m2 = 0;
     ap.next_ms = hal_ms() + APP_PERIOD_MS;
 }
 
@@ -221,11 +220,15 @@ static uint8_t app_overp(void)
     return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
 }
 
+/* The control step's inputs are app_status's first fields (ops.h): their layout checked here */
+#define APP_IN_AT(f) (offsetof(app_status_t, f) == offsetof(ctl_in_t, f))
+typedef char app_in_layout[(APP_IN_AT(target_lpm_x100) && APP_IN_AT(flow_lpm_x100) && APP_IN_AT(speed_kmh_x100)
+                            && APP_IN_AT(pressure_kpa) && APP_IN_AT(valve_limit)) ? 1 : -1];
+
 /* The drive of a spraying boom in auto: the start-up closing at full duty until the line
  * reaches P_P_MIN (the paper's start), then the controller. */
 static q15_t app_auto_drive(uint8_t overp)
 {
-    static __xdata ctl_in_t in;     /* the controller reads it through an XRAM pointer */
     q15_t drive = 0;
     if (ap.prime) {
         ap.prime--;
@@ -237,12 +240,8 @@ static q15_t app_auto_drive(uint8_t overp)
             ctl_reset(drive);
     }
     if (!ap.prime) {
-        in.target_lpm_x100 = app_status.target_lpm_x100;
-        in.flow_lpm_x100 = app_status.flow_lpm_x100;
-        in.speed_kmh_x100 = app_status.speed_kmh_x100;
-        in.pressure_kpa = app_status.pressure_kpa;
-        in.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
-        drive = ctl_step(&in);
+        app_status.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
+        drive = ctl_step((const __xdata ctl_in_t *)&app_status);   /* its first fields (ops.h) */
     }
     return drive;
 }
@@ -304,7 +303,6 @@ static void app_save(void)
  * second the display's divisions and a log line. */
 static void app_account(void)
 {
-    const __xdata totals_t *t;
     uint8_t on = app_status.spraying;
 
     /* every period since the last step, a late step's missed ones too */
@@ -315,9 +313,6 @@ static void app_account(void)
     app_save_when_due();
     app_status.tank_l = analog_tank_l();
     app_status.drive = valve_applied();
-    app_status.gain[0] = ctl_gain(0);
-    app_status.gain[1] = ctl_gain(1);
-    app_status.gain[2] = ctl_gain(2);
 
     /* over-pressure is an alarm while spraying or parked open, once the pressure was under P max
      * there after power-up (or after APP_P_WAIT) */
@@ -326,10 +321,6 @@ static void app_account(void)
         ap.p_watch = APP_P_WAIT;
     ap.diag = (uint8_t)(APP_DIAG_DUE | (on && !ap.prime ? APP_DIAG_SETTLED : 0)
                         | ((on || ap.parked) && ap.p_watch >= APP_P_WAIT ? APP_DIAG_P_WATCH : 0));
-    t = totals_get();
-    app_status.job_volume_ml = t->job_ml;
-    app_status.life_area_m2 = t->life_m2;
-    app_status.life_volume_ml = t->life_ml;
     /* once a second the display values and the log line: in a pass of their own (app_poll) */
     if (++ap.log_div >= APP_LOG_PERIODS)
         ap.log_div = APP_LOG_PERIODS;

@@ -43,7 +43,6 @@ void ops_totals_reset(void)
 {
     totals_job_reset();
     app_status.job_area_m2 = 0;
-    app_status.job_volume_ml = 0;
     app_status.applied_l_ha_x10 = 0;
 }
 
