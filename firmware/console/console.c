@@ -18,6 +18,7 @@
 
 console_t con;
 __data uint8_t con_state, con_item, con_step, con_at;
+__idata char *__data con_line;
 
 /* ---- number entry -------------------------------------------------------------------------- */
 void con_entry_clear(void)

@@ -15,13 +15,15 @@ enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK, S_IOT
 extern __data uint8_t con_state;    /* S_* */
 extern __data uint8_t con_item;     /* menu entry: a parameter id or MENU_* */
 extern __data uint8_t con_step;     /* step of a procedure; choice shown; totals: reset asked */
-extern __data uint8_t con_at;       /* where con.line's next text goes */
+extern __data uint8_t con_at;       /* where con_line's next text goes */
+/* One line being put together while con_draw runs: on its stack (not a byte of XRAM between
+ * the redraws), SCREEN_COLS + 1 characters. */
+extern __idata char *__data con_line;
 
 typedef struct {
     uint8_t entry_n;
     char k;                         /* the key being handled */
     char entry[ENTRY_MAX + 1];      /* the number being typed */
-    char line[SCREEN_COLS + 1];     /* one line being put together (con_at) */
     const char *msg;                /* the message on the bottom line, 0 for none ... */
     uint8_t msg_range;              /* ... or the parameter whose range it shows, NO_RANGE */
     uint16_t msg_until_ms;          /* hal_ms() low 16 bits: messages and redraws are short */

@@ -46,8 +46,8 @@ void con_cat(const char *s)
 {
     uint8_t at = con_at;
     while (*s && at < SCREEN_COLS)
-        con.line[at++] = *s++;
-    con.line[at] = 0;
+        con_line[at++] = *s++;
+    con_line[at] = 0;
     con_at = at;
 }
 
@@ -61,7 +61,7 @@ void con_start(const char *s)
 /* the line put together, on the screen's row */
 static void con_show(uint8_t row)
 {
-    screen_line(con.line, row);
+    screen_line((char *)con_line, row);
 }
 
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
@@ -92,18 +92,18 @@ void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt)
 void con_right_align(uint8_t from)
 {
     uint8_t n = 0, shift;
-    while (con.line[n])
+    while (con_line[n])
         n++;
     shift = (uint8_t)(SCREEN_COLS - n);
     if (!shift || from > n)
         return;
-    con.line[SCREEN_COLS] = 0;
+    con_line[SCREEN_COLS] = 0;
     while (n > from) {
         n--;
-        con.line[n + shift] = con.line[n];
+        con_line[n + shift] = con_line[n];
     }
     while (shift--)
-        con.line[from + shift] = ' ';
+        con_line[from + shift] = ' ';
 }
 
 uint8_t con_is_choice(uint8_t id)
@@ -411,7 +411,7 @@ static void cat_ma(uint8_t ch)
 /* "W 1234   12Hz ": a pulse input's count (5 digits) and rate */
 static void cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
-    con.line[0] = name;
+    con_line[0] = name;
     con_at = 1;
     con_cat_num(pulses - pulses / 100000u * 100000u, 5, 0, 0);     /* pulses % 100000 */
     con_cat_num(hz, 5, 0, 0);
@@ -459,6 +459,8 @@ static void draw_iotest(void)
 
 void con_draw(void)
 {
+    char line[SCREEN_COLS + 1];
+    con_line = (__idata char *)line;
     if (con_msg_on() && (int16_t)((uint16_t)hal_ms() - con.msg_until_ms) >= 0)
         con_say_none();
     switch (con_state) {
