@@ -84,7 +84,7 @@ void diag_init(void)
     dg.gen = (uint8_t)(param_generation - 1u);
 }
 
-uint8_t store_learnt_byte(uint8_t i)
+uint8_t store_learnt_byte(uint8_t i) __reentrant
 {
     if (i < STORE_LEARN_CTL)
         return ctl_learnt_byte(i);
@@ -383,12 +383,12 @@ uint16_t diag_alarms(void)
     return dg.alarms;
 }
 
-const char *diag_code(uint8_t bit)
+const char *diag_code(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? codes[bit] : "";
 }
 
-const char *diag_text(uint8_t bit)
+const char *diag_text(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? texts[bit] : "";
 }
