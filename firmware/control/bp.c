@@ -77,7 +77,7 @@ CTL_STEP void bp_forward(int16_t n) CTL_SHARED
 CTL_STEP q15_t bp_law(int16_t e) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
-    __xdata int16_t *de = b->de;
+    int16_t de[BP_OUT];             /* e - e1, e, e - 2e1 + e2 (x100): on bp_step's stack */
     int32_t du;
     uint8_t i;
     de[0] = (int16_t)(e - b->e1);
@@ -97,7 +97,8 @@ CTL_STEP q15_t bp_law(int16_t e) CTL_SHARED
 CTL_STEP void bp_learn(int16_t n) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
-    __xdata int16_t *dn = b->dn;
+    int16_t dn[BP_OUT];             /* the same of the normalised error (Q12) */
+    int16_t dl[BP_OUT];             /* Q12 output deltas of this period */
     int16_t eg, one_m;              /* Q12: n * dn, then eta * delta; Q15: 1 - O^2 */
     uint8_t i, l;
     dn[0] = n - b->n1;
@@ -106,15 +107,15 @@ CTL_STEP void bp_learn(int16_t n) CTL_SHARED
     for (l = 0; l < BP_OUT; l++) {
         int16_t gp = (int16_t)((MUL(b->k[l], (int16_t)(32767 - b->k[l])) + 8192) >> 14);   /* Q15 */
         eg = fx_sat16(MUL_R12(n, dn[l]));                                                   /* Q12 */
-        b->dl[l] = fx_sat16(MUL_R15(eg, gp));                                               /* Q12 */
-        eg = (int16_t)MUL_R12(b->dl[l], BP_ETA);
+        dl[l] = fx_sat16(MUL_R15(eg, gp));                                                  /* Q12 */
+        eg = (int16_t)MUL_R12(dl[l], BP_ETA);
         UPD(&b->v[l][0], &b->dv[l][0], b->o, eg, BP_WMAX, BP_HID, 1);
     }
     for (i = 0; i < BP_HID; i++) {
         one_m = (int16_t)(32767 - MUL_R15(b->o[i], b->o[i]));
         mul_acc = 2048;
         for (l = 0; l < BP_OUT; l++)
-            MAC(b->dl[l], b->v[l][i]);
+            MAC(dl[l], b->v[l][i]);
         eg = fx_sat16(MUL_R15(fx_sat16(ACC_SHR12()), one_m));
         eg = (int16_t)MUL_R12(eg, BP_ETA);
         UPD(&b->w[i][0], &b->dw[i][0], b->x, eg, BP_WMAX, BP_IN, 4);

@@ -52,9 +52,6 @@ typedef struct {
     int16_t x[BP_IN];               /* Q12 this period's inputs */
     int16_t o[BP_HID];              /* Q15 this period's hidden outputs */
     int16_t k[BP_OUT];              /* Q15 kp, ki, kd */
-    int16_t de[BP_OUT];             /* scratch: the law's e - e1, e, e - 2e1 + e2 (x100) */
-    int16_t dn[BP_OUT];             /* scratch: the same of the normalised error (Q12) */
-    int16_t dl[BP_OUT];             /* Q12 output deltas of this period */
     int16_t e1, e2;                 /* x100 L/min */
     int16_t n1, n2;                 /* Q12 normalised error e(k-1), e(k-2) */
 } bp_state_t;
