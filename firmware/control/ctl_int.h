@@ -49,8 +49,6 @@ typedef struct {
     int16_t v[BP_OUT][BP_HID];      /* Q12 hidden -> output */
     int8_t dw[BP_HID][BP_IN];       /* Q12 last change of w (momentum), saturated to +-127 */
     int8_t dv[BP_OUT][BP_HID];      /* Q12 last change of v */
-    int16_t x[BP_IN];               /* Q12 this period's inputs */
-    int16_t o[BP_HID];              /* Q15 this period's hidden outputs */
     int16_t k[BP_OUT];              /* Q15 kp, ki, kd */
     int16_t e1, e2;                 /* x100 L/min */
     int16_t n1, n2;                 /* Q12 normalised error e(k-1), e(k-2) */
@@ -134,6 +132,11 @@ typedef union {
 
 /* The live state (read by the tests; only the controllers' files write it). */
 extern ctl_state_t ctl_st;
+#if !defined(__SDCC)
+/* bp_pid's inputs and hidden outputs live on bp_step's stack; the host build keeps the last
+ * step's hidden outputs here for the tests (Q15) */
+extern int16_t bp_o_seen[BP_HID];
+#endif
 /* 1 when the last drive was cut: drive limit or end stop (learning is frozen then). */
 uint8_t ctl_saturated(void);
 /* Q15 sub-stiction drive accumulated by the output stage of pid / fuzzy_pid / bp_pid. */

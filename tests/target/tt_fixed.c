@@ -46,7 +46,8 @@ static void all_ops(int16_t a, int16_t b)
 /* UPD (mul.h), one learning row, on random rows within its contract: bounds, momentum and the
  * change's clamp all reached; the row's weights and changes printed */
 #define UPD_N 8
-static __xdata int16_t uw[UPD_N], ux[UPD_N];
+static __xdata int16_t uw[UPD_N];
+static __idata int16_t ux[UPD_N];   /* x in the internal RAM, as bp_step's locals */
 static __xdata int8_t udw[UPD_N];
 
 static void upd_rows(uint16_t rows)
