@@ -91,7 +91,7 @@ void hal_wheel_min_interval(uint32_t min_ticks) __reentrant
 
 #if FW_HIL
 /* a frame's capture, taken: the next take sees only the next frame's */
-static void hil_take(hal_capture_t __xdata *f, hal_capture_t *c)
+static void hil_take(hal_capture_t __xdata *f, __idata hal_capture_t *c)
 {
     c->count = f->count;
     c->last = f->last;
@@ -101,7 +101,7 @@ static void hil_take(hal_capture_t __xdata *f, hal_capture_t *c)
 }
 #endif
 
-void hal_flow_capture_take(hal_capture_t *c) __reentrant
+void hal_flow_capture_take(__idata hal_capture_t *c) __reentrant
 {
     uint8_t ea;
 #if FW_HIL
@@ -118,7 +118,7 @@ void hal_flow_capture_take(hal_capture_t *c) __reentrant
     IRQ_RESTORE(ea);
 }
 
-void hal_wheel_capture_take(hal_capture_t *c) __reentrant
+void hal_wheel_capture_take(__idata hal_capture_t *c) __reentrant
 {
     uint8_t ea;
 #if FW_HIL
