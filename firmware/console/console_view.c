@@ -19,8 +19,6 @@
 #include "mul.h"
 #include "totals.h"
 
-con_io_t con_io;
-
 /* ---- small text helpers ---------------------------------------------------------------- */
 void con_say(const char *s)
 {
@@ -334,7 +332,7 @@ static void draw_edit(void)
     con_right_align(4);             /* the value after "now " */
     con_show(1);
     con_start("new ");
-    con_cat(con.entry);
+    con_cat(con.u.entry);
     con_cat("_");
     if (pi->unit[0]) {
         con_cat(" ");
@@ -377,7 +375,7 @@ static void draw_cal(void)
         draw_bottom("C:cancel");
     } else if (con_step == 2) {             /* tank: litres sprayed */
         con_start("Litres ");
-        con_cat(con.entry);
+        con_cat(con.u.entry);
         con_cat("_");
         con_show(2);
         draw_bottom("D:ok C:clear");
