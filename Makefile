@@ -59,10 +59,12 @@ SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(
 # replaces its long moves by calls of firmware/math/moves.c, sdas assembles it. Not in the
 # controllers (their step's cycles count; bp_pid in part) nor in the modules written in assembly.
 SDAS ?= sdas8051
-SHARE_SKIP := $(addprefix firmware/control/,pid.c ffmap.c ctl.c ctl_out.c aog.c raven.c) \
+SHARE_SKIP := $(addprefix firmware/control/,pid.c ffmap.c ctl_out.c aog.c raven.c) \
               $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c)
 # bp_pid: its step has some cycles to spare (make bench), not for calls at its inner loops' locals
 SHARE_OPTS_firmware/control/bp.c := --skip=fp_r0_0f
+# ctl.c: its derivations and selection share, not the step's dispatch nor ctl_applied (timed with it)
+SHARE_OPTS_firmware/control/ctl.c := --skip-func=ctl_step --skip-func=ctl_applied
 # $(call sdcc_rel,FLAGS): $< compiled to $@ (and its .d), through share_moves.py where it applies
 sdcc_rel = $(if $(filter firmware/%,$(filter-out $(SHARE_SKIP),$<)),\
     $(SDCC) $(1) -MMD -S $< -o $(@:.rel=.asm) && sed -i '1s|\.asm:|.rel:|' $(@:.rel=.d) \
