@@ -166,7 +166,7 @@ extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke
 #define CTL_RUN_NUM 10
 extern int16_t ctl_drun;            /* Q15: d_run (at most 0.45) */
 extern int16_t ctl_run_span;        /* Q15: 1 - d_run */
-extern q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
+extern __data q15_t ctl_carry;      /* Q15: accumulated sub-stiction drive (direct RAM: every step) */
 extern q15_t ctl_last;              /* Q15: last drive sent */
 extern __data uint8_t ctl_sat;      /* 1: the last drive was cut (limit or end stop) */
 extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
