@@ -263,17 +263,16 @@ static void draw_run(void)
 
 static void draw_totals(void)
 {
-    const __xdata totals_t *t = totals_get();
     con_start("Job ");
     con_cat_num(app_status.job_area_m2, 9, 2, CON_DROP(2));
     con_cat(" ha");
     con_show(0);
     con_start("Job ");
-    con_cat_num(t->job_ml, 10, 1, CON_DROP(2));
+    con_cat_num(totals.job_ml, 10, 1, CON_DROP(2));
     con_cat(" L");
     con_show(1);
     con_start("Life");
-    con_cat_num(t->life_m2, 9, 2, CON_DROP(2));
+    con_cat_num(totals.life_m2, 9, 2, CON_DROP(2));
     con_cat(" ha");
     con_show(2);
     if (con_step) {
@@ -282,7 +281,7 @@ static void draw_totals(void)
         con_draw_msg();
     } else {
         con_start("Life");
-        con_cat_num(t->life_ml, 10, 0, CON_DROP(3));
+        con_cat_num(totals.life_ml, 10, 0, CON_DROP(3));
         con_cat(" L");
         con_show(3);
     }

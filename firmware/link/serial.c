@@ -199,7 +199,6 @@ static void ok(const char *word) __reentrant
 /* The handlers, after the arguments were parsed as the table says. */
 static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
 {
-    const __xdata totals_t *t;
     switch (handler) {
     case C_GET:
     case C_SET:
@@ -238,17 +237,15 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         ok("RST");
         break;
     case C_TOT:
-        t = totals_get();
         ok("TOT");
-        tx_sp_u32(t->job_dm2);
-        tx_sp_u32(t->job_ml);
+        tx_sp_u32(totals.job_dm2);
+        tx_sp_u32(totals.job_ml);
         tx_sp_u32(totals_applied_l_ha_x10());
         break;
     case C_LIF:
-        t = totals_get();
         ok("LIF");
-        tx_sp_u32(t->life_m2);
-        tx_sp_u32(t->life_ml);
+        tx_sp_u32(totals.life_m2);
+        tx_sp_u32(totals.life_ml);
         break;
     case C_PUL:
         ok("PUL");
