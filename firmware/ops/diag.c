@@ -124,9 +124,9 @@ static uint16_t x_of(int16_t meter) __reentrant
  * sane nozzles. */
 static void learn_fit(void) __reentrant
 {
-    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx - (uint32_t)dg.sx * dg.sx;   /* N^2 var(x) */
-    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = (uint32_t)dg.sx * dg.sy;
-    if ((uint32_t)DIAG_LEARN_N * dg.sxx > (uint32_t)dg.sx * dg.sx && a >= DIAG_LEARN_SPREAD && k > c) {
+    uint32_t n = (uint32_t)DIAG_LEARN_N * dg.sxx, a = UMUL(dg.sx, dg.sx);    /* sx, sy < 2^15 */
+    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = UMUL(dg.sx, dg.sy);
+    if (n > a && (a = n - a) >= DIAG_LEARN_SPREAD && k > c) {           /* a: N^2 var(x) */
         k = um_muldiv(k - c, 256u, a);                                  /* kPa at the rated flow */
         c = um_muldiv(dg.sx, (uint16_t)(k > 2000u ? 2000u : k), 256u);
         c = dg.sy > c ? (dg.sy - c) / DIAG_LEARN_N : 0;                 /* the check valves */
