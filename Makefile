@@ -60,7 +60,7 @@ SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(
 # controllers (their step's cycles count; bp_pid in part) nor in the modules written in assembly.
 SDAS ?= sdas8051
 SHARE_SKIP := $(addprefix firmware/control/,pid.c ffmap.c ctl_out.c aog.c raven.c) \
-              $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c)
+              $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c divulong.c)
 # bp_pid: its step has some cycles to spare (make bench), not for calls at its inner loops' locals
 SHARE_OPTS_firmware/control/bp.c := --skip=fp_r0_0f
 # ctl.c: its derivations and selection share, not the step's dispatch nor ctl_applied (timed with it)
