@@ -31,8 +31,9 @@ typedef struct {
     uint32_t last;      /* PCA time of the newest edge */
     uint8_t rejected;   /* edges dropped as too early since the previous take (saturates) */
 } hal_capture_t;
-void hal_flow_capture_take(hal_capture_t *c);
-void hal_wheel_capture_take(hal_capture_t *c);
+/* c in the internal RAM (the caller's stack or __data): an 8-bit pointer, no generic stores */
+void hal_flow_capture_take(__idata hal_capture_t *c);
+void hal_wheel_capture_take(__idata hal_capture_t *c);
 /* The wheel input drops an edge that comes sooner than min_ticks after the last one it kept
  * (bounce, interference: a real pulse cannot come that early) and counts it in `rejected`;
  * 0 keeps every edge. The speed module sets it each period from the speed it measures. */

@@ -14,6 +14,7 @@
 #include "params.h"
 #include "app.h"
 #include "target.h"
+#include "ctl_int.h"
 
 /* What a pass did, from the HAL calls it made (the names of pil_report's worst pass). */
 enum { K_ADC, K_LCD, K_TX, K_RX, K_EE_READ, K_EE_WRITE, K_EE_ERASE, K_VALVE, K_COUNT };
@@ -243,9 +244,9 @@ static void pass(void *ctx)
     app_status.pressure_kpa = (uint16_t)rd16(p);
     app_status.tank_l = (uint16_t)rd16(p);
     app_status.drive = (int16_t)rd16(p);
-    app_status.gain[0] = (int16_t)rd16(p);
-    app_status.gain[1] = (int16_t)rd16(p);
-    app_status.gain[2] = (int16_t)rd16(p);
+    ctl_k[0] = (int16_t)rd16(p);    /* the host's copy of the gains (ctl_gain), idle in PIL */
+    ctl_k[1] = (int16_t)rd16(p);
+    ctl_k[2] = (int16_t)rd16(p);
     app_status.alarms = (uint16_t)rd16(p);
     mirror(p, P_RATE, rd16(p));
     mirror(p, P_METER_K, rd16(p));

@@ -390,9 +390,9 @@ void sim_row(const sim_t *sim, sim_row_t *r)
     r->valve_pos = pl->theta;
     r->valve_drive = pl->drive;
     r->ctl_drive = app_status.drive / 32768.0;
-    r->kp = app_status.gain[0] / 4096.0;
-    r->ki = app_status.gain[1] / 4096.0;
-    r->kd = app_status.gain[2] / 4096.0;
+    r->kp = ctl_gain(0) / 4096.0;
+    r->ki = ctl_gain(1) / 4096.0;
+    r->kd = ctl_gain(2) / 4096.0;
     r->tank_l = pl->tank_v;
     r->tank_meas_l = app_status.tank_l;
     r->pto_rpm = pl->pto_now_rpm;

@@ -13,7 +13,10 @@ moves that set them up), and before the assembler. The Makefile runs it on every
 module but most of the controllers' (their step's cycles count: make bench).
 
 --stats: print what would be replaced, change nothing. --skip=PREFIX: not the sequences whose
-name starts with PREFIX (fp_: a controller's locals, reached many times a step)."""
+name starts with PREFIX (fp_: a controller's locals, reached many times a step).
+--skip-func=NAME: nothing in the function NAME (its C name; from its label to the next
+function's): a controller's step, whose cycles count, in a module whose other functions
+(derivations, initialisation) may share."""
 import re
 import sys
 
@@ -86,11 +89,17 @@ def norm(line):
     return parts[0] + (" " + re.sub(r"\s+", "", parts[1]) if len(parts) > 1 else "")
 
 
-def share(lines):
-    out, used, i = [], {}, 0
+FUNC = re.compile(r"^_(\w+):\s*$")
+
+
+def share(lines, skip_funcs=()):
+    out, used, i, func = [], {}, 0, None
     while i < len(lines):
         hit = None
-        if norm(lines[i]) is not None:
+        m = FUNC.match(lines[i])
+        if m:
+            func = m.group(1)
+        if norm(lines[i]) is not None and func not in skip_funcs:
             for name in ORDER:
                 seq, j, k, kept = MOVES[name], i, 0, []
                 while k < len(seq) and j < len(lines):
@@ -125,15 +134,16 @@ def main():
     args = sys.argv[1:]
     stats = "--stats" in args
     skip = [a.split("=", 1)[1] for a in args if a.startswith("--skip=")]
+    skip_funcs = [a.split("=", 1)[1] for a in args if a.startswith("--skip-func=")]
     ORDER = [n for n in ORDER if not any(n.startswith(p) for p in skip)]
-    files = [a for a in args if a != "--stats" and not a.startswith("--skip=")]
+    files = [a for a in args if a != "--stats" and not a.startswith("--skip")]
     if not files:
-        sys.exit("usage: share_moves.py [--stats] FILE.asm...")
+        sys.exit("usage: share_moves.py [--stats] [--skip=PREFIX] [--skip-func=NAME] FILE.asm...")
     total = {}
     for path in files:
         with open(path, encoding="latin-1") as f:
             lines = f.readlines()
-        out, used = share(lines)
+        out, used = share(lines, skip_funcs)
         for k, v in used.items():
             total[k] = total.get(k, 0) + v
         if not stats and used:

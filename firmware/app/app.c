@@ -96,14 +96,12 @@ static void app_start(void)
     app_status.tank_l = 0;
     app_status.applied_l_ha_x10 = 0;
     app_status.drive = 0;
-    app_status.gain[0] = app_status.gain[1] = app_status.gain[2] = 0;
     app_status.alarms = 0;
     app_status.alarms_unacked = 0;
     app_status.spraying = 0;
     app_status.manual = 0;
     app_status.open_nozzles = 0;
-    app_status.job_area_m2 = app_status.job_volume_ml = 0;
-    app_status.life_area_m2 = app_status.life_volume_ml = 0;
+    app_status.job_area_m2 = 0;
     ap.next_ms = hal_ms() + APP_PERIOD_MS;
 }
 
@@ -233,7 +231,6 @@ static void app_save(void)
  * second the display's divisions and a log line. */
 static void app_account(void)
 {
-    const __xdata totals_t *t;
     uint8_t on = app_status.spraying;
 
     /* every period since the last step, a late step's missed ones too */
@@ -244,9 +241,6 @@ static void app_account(void)
     app_save_when_due();
     app_status.tank_l = analog_tank_l();
     app_status.drive = valve_applied();
-    app_status.gain[0] = ctl_gain(0);
-    app_status.gain[1] = ctl_gain(1);
-    app_status.gain[2] = ctl_gain(2);
 
     /* over-pressure is an alarm while spraying or parked open, once the pressure was under P max
      * there after power-up (or after APP_P_WAIT) */
@@ -255,10 +249,6 @@ static void app_account(void)
         ap.p_watch = APP_P_WAIT;
     ap.diag = (uint8_t)(APP_DIAG_DUE | (on && !drive_priming() ? APP_DIAG_SETTLED : 0)
                         | ((on || drive_parked()) && ap.p_watch >= APP_P_WAIT ? APP_DIAG_P_WATCH : 0));
-    t = totals_get();
-    app_status.job_volume_ml = t->job_ml;
-    app_status.life_area_m2 = t->life_m2;
-    app_status.life_volume_ml = t->life_ml;
     /* once a second the display values and the log line: in a pass of their own (app_poll) */
     if (++ap.log_div >= APP_LOG_PERIODS)
         ap.log_div = APP_LOG_PERIODS;

@@ -2,6 +2,7 @@
 #if defined(__SDCC)
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
+#include <stddef.h>
 #include "hal.h"
 #include "params.h"
 #include "ctl.h"
@@ -56,11 +57,16 @@ uint8_t drive_overp(void)
     return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
 }
 
+/* The control step's inputs are app_status's first fields (ops.h): their layout checked here */
+#define APP_IN_AT(f) (offsetof(app_status_t, f) == offsetof(ctl_in_t, f))
+typedef char app_in_layout[(APP_IN_AT(target_lpm_x100) && APP_IN_AT(flow_lpm_x100) && APP_IN_AT(speed_kmh_x100)
+                            && APP_IN_AT(pressure_kpa) && APP_IN_AT(valve_limit)) ? 1 : -1];
+
 /* The drive of a spraying boom in auto: the start-up closing at full duty until the line
- * reaches P_P_MIN (the paper's start), then the controller. */
+ * reaches P_P_MIN (the paper's start) or the meter reads 7/8 of the target, then the
+ * controller. */
 static q15_t drive_auto(uint8_t overp)
 {
-    static __xdata ctl_in_t in;     /* the controller reads it through an XRAM pointer */
     q15_t drive = 0;
     if (dv.prime) {
         dv.prime--;
@@ -73,12 +79,8 @@ static q15_t drive_auto(uint8_t overp)
             ctl_reset(drive);
     }
     if (!dv.prime) {
-        in.target_lpm_x100 = app_status.target_lpm_x100;
-        in.flow_lpm_x100 = app_status.flow_lpm_x100;
-        in.speed_kmh_x100 = app_status.speed_kmh_x100;
-        in.pressure_kpa = app_status.pressure_kpa;
-        in.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
-        drive = ctl_step(&in);
+        app_status.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
+        drive = ctl_step((const __xdata ctl_in_t *)&app_status);   /* its first fields (ops.h) */
     }
     return drive;
 }
@@ -99,14 +101,16 @@ static void drive_hold_learn(void)
  * moved by hand, the pressure sensor failed) the bypass is parked at its open stop. */
 static q15_t drive_park(void)
 {
-    uint16_t p = app_status.pressure_kpa, h = dv.p_hold;
+    uint16_t h = dv.p_hold;
     if ((valve_limit() & CTL_AT_OPEN)
-        || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9)))
+        || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9))) {
         dv.parked = 1;                      /* open enough (or at the stop): stay, no retries */
-    else if (h && p <= h + (h >> 4) + APP_HOLD_KPA)
-        dv.parked = 1;                      /* held: back to the spraying pressure */
-    else if (h && p > h + (h >> 3) + 2 * APP_HOLD_KPA)
-        dv.parked = 0;                      /* risen again (the pump sped up): open more */
+    } else if (h) {
+        /* held within h/16 + APP_HOLD_KPA of the spraying pressure; once held, opened again
+         * beyond twice that (the pump sped up) */
+        h = (h >> 4) + APP_HOLD_KPA;
+        dv.parked = app_status.pressure_kpa <= dv.p_hold + (dv.parked ? 2 * h : h);
+    }
     return dv.parked ? 0 : -Q15_MAX;
 }
 

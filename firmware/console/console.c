@@ -18,12 +18,13 @@
 
 console_t con;
 __data uint8_t con_state, con_item, con_step, con_at;
+__idata char *__data con_line;
 
 /* ---- number entry -------------------------------------------------------------------------- */
 void con_entry_clear(void)
 {
     con.entry_n = 0;
-    con.entry[0] = 0;
+    con.u.entry[0] = 0;
 }
 
 /* where the decimal point is in the entry, 0xFF for none */
@@ -31,7 +32,7 @@ static uint8_t entry_point(void)
 {
     uint8_t i;
     for (i = 0; i < con.entry_n; i++)
-        if (con.entry[i] == '.')
+        if (con.u.entry[i] == '.')
             return i;
     return 0xFF;
 }
@@ -50,8 +51,8 @@ void con_entry_key(uint8_t decimals)
     }
     if (con.entry_n >= ENTRY_MAX)
         return;
-    con.entry[con.entry_n++] = con.k == '#' ? '.' : con.k;
-    con.entry[con.entry_n] = 0;
+    con.u.entry[con.entry_n++] = con.k == '#' ? '.' : con.k;
+    con.u.entry[con.entry_n] = 0;
 }
 
 /* The typed number in units of 10^-decimals; ENTRY_TOO_BIG when it is larger than 65534. */
@@ -60,13 +61,13 @@ uint16_t con_entry_value(uint8_t decimals)
     uint16_t v = 0;
     uint8_t i, d, frac = 0, point = 0;
     for (i = 0; i < con.entry_n; i++) {
-        if (con.entry[i] == '.') {
+        if (con.u.entry[i] == '.') {
             point = 1;
             continue;
         }
         if (point)
             frac++;
-        d = (uint8_t)(con.entry[i] - '0');
+        d = (uint8_t)(con.u.entry[i] - '0');
         if (v > 6553u || (v == 6553u && d > 4))
             return ENTRY_TOO_BIG;
         v = (uint16_t)(v * 10u + d);

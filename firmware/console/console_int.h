@@ -15,13 +15,24 @@ enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK, S_IOT
 extern __data uint8_t con_state;    /* S_* */
 extern __data uint8_t con_item;     /* menu entry: a parameter id or MENU_* */
 extern __data uint8_t con_step;     /* step of a procedure; choice shown; totals: reset asked */
-extern __data uint8_t con_at;       /* where con.line's next text goes */
+extern __data uint8_t con_at;       /* where con_line's next text goes */
+/* One line being put together while con_draw runs: on its stack (not a byte of XRAM between
+ * the redraws), SCREEN_COLS + 1 characters. */
+extern __idata char *__data con_line;
+
+/* The I/O test's rate window (console_view.c). */
+typedef struct {
+    uint16_t meter0;                /* meter pulses at the window's start (low 16 bits) */
+    uint16_t wheel_hz, meter_hz;    /* the last window's rates */
+} con_io_t;
 
 typedef struct {
     uint8_t entry_n;
     char k;                         /* the key being handled */
-    char entry[ENTRY_MAX + 1];      /* the number being typed */
-    char line[SCREEN_COLS + 1];     /* one line being put together (con_at) */
+    union {                         /* one screen's or the other's: */
+        char entry[ENTRY_MAX + 1];  /* the number being typed (edit, tank calibration) */
+        con_io_t io;                /* the I/O test's window (go() clears the entry first) */
+    } u;
     const char *msg;                /* the message on the bottom line, 0 for none ... */
     uint8_t msg_range;              /* ... or the parameter whose range it shows, NO_RANGE */
     uint16_t msg_until_ms;          /* hal_ms() low 16 bits: messages and redraws are short */
@@ -33,13 +44,7 @@ typedef struct {
     uint8_t rc_seen;                /* target_remote_refusals() last shown */
 } console_t;
 extern console_t con;
-
-/* The I/O test's rate window (console_view.c). */
-typedef struct {
-    uint16_t meter0;                /* meter pulses at the window's start (low 16 bits) */
-    uint16_t wheel_hz, meter_hz;    /* the last window's rates */
-} con_io_t;
-extern con_io_t con_io;
+#define con_io (con.u.io)
 
 /* text helpers and number entry (console_view.c, console.c); all __reentrant: both files keep
  * their locals on the stack */

@@ -17,8 +17,7 @@
 #include "console_int.h"
 #include "umath.h"
 #include "mul.h"
-
-con_io_t con_io;
+#include "totals.h"
 
 /* ---- small text helpers ---------------------------------------------------------------- */
 void con_say(const char *s)
@@ -45,8 +44,8 @@ void con_cat(const char *s)
 {
     uint8_t at = con_at;
     while (*s && at < SCREEN_COLS)
-        con.line[at++] = *s++;
-    con.line[at] = 0;
+        con_line[at++] = *s++;
+    con_line[at] = 0;
     con_at = at;
 }
 
@@ -60,7 +59,7 @@ void con_start(const char *s)
 /* the line put together, on the screen's row */
 static void con_show(uint8_t row)
 {
-    screen_line(con.line, row);
+    screen_line((char *)con_line, row);
 }
 
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
@@ -91,18 +90,18 @@ void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt)
 void con_right_align(uint8_t from)
 {
     uint8_t n = 0, shift;
-    while (con.line[n])
+    while (con_line[n])
         n++;
     shift = (uint8_t)(SCREEN_COLS - n);
     if (!shift || from > n)
         return;
-    con.line[SCREEN_COLS] = 0;
+    con_line[SCREEN_COLS] = 0;
     while (n > from) {
         n--;
-        con.line[n + shift] = con.line[n];
+        con_line[n + shift] = con_line[n];
     }
     while (shift--)
-        con.line[from + shift] = ' ';
+        con_line[from + shift] = ' ';
 }
 
 uint8_t con_is_choice(uint8_t id)
@@ -264,17 +263,16 @@ static void draw_run(void)
 
 static void draw_totals(void)
 {
-    const __xdata app_status_t *st = &app_status;
     con_start("Job ");
-    con_cat_num(st->job_area_m2, 9, 2, CON_DROP(2));
+    con_cat_num(app_status.job_area_m2, 9, 2, CON_DROP(2));
     con_cat(" ha");
     con_show(0);
     con_start("Job ");
-    con_cat_num(st->job_volume_ml, 10, 1, CON_DROP(2));
+    con_cat_num(totals.job_ml, 10, 1, CON_DROP(2));
     con_cat(" L");
     con_show(1);
     con_start("Life");
-    con_cat_num(st->life_area_m2, 9, 2, CON_DROP(2));
+    con_cat_num(totals.life_m2, 9, 2, CON_DROP(2));
     con_cat(" ha");
     con_show(2);
     if (con_step) {
@@ -283,7 +281,7 @@ static void draw_totals(void)
         con_draw_msg();
     } else {
         con_start("Life");
-        con_cat_num(st->life_volume_ml, 10, 0, CON_DROP(3));
+        con_cat_num(totals.life_ml, 10, 0, CON_DROP(3));
         con_cat(" L");
         con_show(3);
     }
@@ -333,7 +331,7 @@ static void draw_edit(void)
     con_right_align(4);             /* the value after "now " */
     con_show(1);
     con_start("new ");
-    con_cat(con.entry);
+    con_cat(con.u.entry);
     con_cat("_");
     if (pi->unit[0]) {
         con_cat(" ");
@@ -376,7 +374,7 @@ static void draw_cal(void)
         draw_bottom("C:cancel");
     } else if (con_step == 2) {             /* tank: litres sprayed */
         con_start("Litres ");
-        con_cat(con.entry);
+        con_cat(con.u.entry);
         con_cat("_");
         con_show(2);
         draw_bottom("D:ok C:clear");
@@ -410,7 +408,7 @@ static void cat_ma(uint8_t ch)
 /* "W 1234   12Hz ": a pulse input's count (5 digits) and rate */
 static void cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
-    con.line[0] = name;
+    con_line[0] = name;
     con_at = 1;
     con_cat_num(pulses - pulses / 100000u * 100000u, 5, 0, 0);     /* pulses % 100000 */
     con_cat_num(hz, 5, 0, 0);
@@ -458,6 +456,8 @@ static void draw_iotest(void)
 
 void con_draw(void)
 {
+    char line[SCREEN_COLS + 1];
+    con_line = (__idata char *)line;
     if (con_msg_on() && (int16_t)((uint16_t)hal_ms() - con.msg_until_ms) >= 0)
         con_say_none();
     switch (con_state) {

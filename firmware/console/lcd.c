@@ -25,7 +25,7 @@ void lcd_init(void)
     ready = 0;
 }
 
-void lcd_poll(void)
+void lcd_poll(void) __reentrant
 {
     uint8_t row, pair, d, budget = LCD_WORDS_PER_POLL;
     if (!ready) {

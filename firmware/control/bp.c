@@ -12,6 +12,12 @@
  * 1 KB of XRAM an 8-bit momentum memory. docs/CONTROLLERS.md has each one and why.
  */
 static uint16_t bp_rng;
+#if !defined(__SDCC)
+int16_t bp_o_seen[BP_HID];
+#define BP_SEEN_O(i, v) (bp_o_seen[i] = (v))
+#else
+#define BP_SEEN_O(i, v)
+#endif
 
 static uint16_t bp_rand(void)
 {
@@ -41,12 +47,11 @@ void bp_init(void)
 
 /* ---- the control step, in named steps (each inlined into bp_step) ------------------------- */
 
-/* Forward pass (eqs. 8-13): this period's inputs, the hidden layer, the gains. n: the
- * normalised error (Q12). */
-CTL_STEP void bp_forward(int16_t n) CTL_SHARED
+/* Forward pass (eqs. 8-13): this period's inputs x (Q12), the hidden layer o (Q15), the gains.
+ * n: the normalised error (Q12). x and o are bp_step's (idata, where DOT and UPD read them). */
+CTL_STEP void bp_forward(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
-    __xdata int16_t *x = b->x;      /* Q12 */
     __xdata int16_t *wp;
     int16_t t;
     uint8_t i;
@@ -59,12 +64,13 @@ CTL_STEP void bp_forward(int16_t n) CTL_SHARED
         mul_acc = 2048;             /* rounding of the >> 12 */
         DOT(wp, x, BP_IN);
         wp += BP_IN;
-        b->o[i] = fx_tanh(fx_sat16(ACC_SHR12()));
+        o[i] = fx_tanh(fx_sat16(ACC_SHR12()));
+        BP_SEEN_O(i, o[i]);
     }
     wp = &b->v[0][0];
     for (i = 0; i < BP_OUT; i++) {
         mul_acc = 16384;
-        DOT(wp, b->o, BP_HID);
+        DOT(wp, o, BP_HID);
         wp += BP_HID;
         /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined): (32769 + t) >> 1 in 16 bits */
         t = fx_tanh(fx_sat16(ACC_SHR15()));
@@ -77,7 +83,7 @@ CTL_STEP void bp_forward(int16_t n) CTL_SHARED
 CTL_STEP q15_t bp_law(int16_t e) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
-    __xdata int16_t *de = b->de;
+    int16_t de[BP_OUT];             /* e - e1, e, e - 2e1 + e2 (x100): on bp_step's stack */
     int32_t du;
     uint8_t i;
     de[0] = (int16_t)(e - b->e1);
@@ -94,10 +100,11 @@ CTL_STEP q15_t bp_law(int16_t e) CTL_SHARED
  * Output rows: delta_l = n * d(du)/dK_l * g'(net_l), g' = 2K(1-K); dv = eta delta_l O_i.
  * Hidden rows, with the output weights just updated (the reference code's order):
  * delta_i = (1 - O_i^2) sum_l delta_l v_li; dw = eta delta_i x_j. */
-CTL_STEP void bp_learn(int16_t n) CTL_SHARED
+CTL_STEP void bp_learn(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_SHARED
 {
     __xdata bp_state_t *b = &ctl_st.bp;
-    __xdata int16_t *dn = b->dn;
+    int16_t dn[BP_OUT];             /* the same of the normalised error (Q12) */
+    int16_t dl[BP_OUT];             /* Q12 output deltas of this period */
     int16_t eg, one_m;              /* Q12: n * dn, then eta * delta; Q15: 1 - O^2 */
     uint8_t i, l;
     dn[0] = n - b->n1;
@@ -106,18 +113,18 @@ CTL_STEP void bp_learn(int16_t n) CTL_SHARED
     for (l = 0; l < BP_OUT; l++) {
         int16_t gp = (int16_t)((MUL(b->k[l], (int16_t)(32767 - b->k[l])) + 8192) >> 14);   /* Q15 */
         eg = fx_sat16(MUL_R12(n, dn[l]));                                                   /* Q12 */
-        b->dl[l] = fx_sat16(MUL_R15(eg, gp));                                               /* Q12 */
-        eg = (int16_t)MUL_R12(b->dl[l], BP_ETA);
-        UPD(&b->v[l][0], &b->dv[l][0], b->o, eg, BP_WMAX, BP_HID, 1);
+        dl[l] = fx_sat16(MUL_R15(eg, gp));                                                  /* Q12 */
+        eg = (int16_t)MUL_R12(dl[l], BP_ETA);
+        UPD(&b->v[l][0], &b->dv[l][0], o, eg, BP_WMAX, BP_HID, 1);
     }
     for (i = 0; i < BP_HID; i++) {
-        one_m = (int16_t)(32767 - MUL_R15(b->o[i], b->o[i]));
+        one_m = (int16_t)(32767 - MUL_R15(o[i], o[i]));
         mul_acc = 2048;
         for (l = 0; l < BP_OUT; l++)
-            MAC(b->dl[l], b->v[l][i]);
+            MAC(dl[l], b->v[l][i]);
         eg = fx_sat16(MUL_R15(fx_sat16(ACC_SHR12()), one_m));
         eg = (int16_t)MUL_R12(eg, BP_ETA);
-        UPD(&b->w[i][0], &b->dw[i][0], b->x, eg, BP_WMAX, BP_IN, 4);
+        UPD(&b->w[i][0], &b->dw[i][0], x, eg, BP_WMAX, BP_IN, 4);
     }
 }
 
@@ -127,6 +134,8 @@ q15_t bp_step(void) CTL_SHARED
     int16_t e = ctl_clamp_e(ctl_in->target_lpm_x100 - ctl_in->flow_lpm_x100);
     int16_t n;
     q15_t out;
+    int16_t x[BP_IN];               /* Q12 this period's inputs, on the stack (idata) */
+    int16_t o[BP_HID];              /* Q15 this period's hidden outputs */
 
     n = (int16_t)((MUL(ctl_clamp16(e, -BP_E_CLAMP, BP_E_CLAMP), BP_E_NORM) + 1024) >> 11);
     if (ctl_first) {                /* from rest: no kick, no learning from stale history */
@@ -134,12 +143,12 @@ q15_t bp_step(void) CTL_SHARED
         b->n1 = b->n2 = n;
         ctl_first = 0;
     }
-    bp_forward(n);
+    bp_forward(n, (__idata int16_t *)x, (__idata int16_t *)o);
     out = bp_law(e);
     /* learning frozen while the drive was cut or the valve sits at an end stop: the error
      * there says nothing about the gains */
     if (!ctl_sat && !ctl_in->valve_limit)
-        bp_learn(n);
+        bp_learn(n, (__idata int16_t *)x, (__idata int16_t *)o);
     b->e2 = b->e1;
     b->e1 = e;
     b->n2 = b->n1;

@@ -34,7 +34,7 @@ int16_t ctl_stiction = CTL_STICTION_DEF;    /* P_VALVE_BRK in Q15 */
 int16_t ctl_drun;
 int16_t ctl_run_span = 32767;
 int16_t ctl_backlash = CTL_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
-q15_t ctl_carry;
+__data q15_t ctl_carry;
 q15_t ctl_last;
 __data uint8_t ctl_sat;
 const __xdata ctl_in_t *__data ctl_in;

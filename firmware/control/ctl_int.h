@@ -49,12 +49,7 @@ typedef struct {
     int16_t v[BP_OUT][BP_HID];      /* Q12 hidden -> output */
     int8_t dw[BP_HID][BP_IN];       /* Q12 last change of w (momentum), saturated to +-127 */
     int8_t dv[BP_OUT][BP_HID];      /* Q12 last change of v */
-    int16_t x[BP_IN];               /* Q12 this period's inputs */
-    int16_t o[BP_HID];              /* Q15 this period's hidden outputs */
     int16_t k[BP_OUT];              /* Q15 kp, ki, kd */
-    int16_t de[BP_OUT];             /* scratch: the law's e - e1, e, e - 2e1 + e2 (x100) */
-    int16_t dn[BP_OUT];             /* scratch: the same of the normalised error (Q12) */
-    int16_t dl[BP_OUT];             /* Q12 output deltas of this period */
     int16_t e1, e2;                 /* x100 L/min */
     int16_t n1, n2;                 /* Q12 normalised error e(k-1), e(k-2) */
 } bp_state_t;
@@ -104,6 +99,7 @@ typedef struct {
     uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
     int16_t epk;                    /* x100 the largest abs error since the last reversal */
     uint8_t big;                    /* 1: the half cycle before the last reversal swung big */
+    uint8_t epk_now;                /* 1: this period's abs error beyond target >> FM_BIG_SHIFT */
 } fm_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */
@@ -142,6 +138,11 @@ typedef union {
 
 /* The live state (read by the tests; only the controllers' files write it). */
 extern ctl_state_t ctl_st;
+#if !defined(__SDCC)
+/* bp_pid's inputs and hidden outputs live on bp_step's stack; the host build keeps the last
+ * step's hidden outputs here for the tests (Q15) */
+extern int16_t bp_o_seen[BP_HID];
+#endif
 /* 1 when the last drive was cut: drive limit or end stop (learning is frozen then). */
 uint8_t ctl_saturated(void);
 /* Q15 sub-stiction drive accumulated by the output stage of pid / fuzzy_pid / bp_pid. */
@@ -171,7 +172,7 @@ extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke
 #define CTL_RUN_NUM 10
 extern int16_t ctl_drun;            /* Q15: d_run (at most 0.45) */
 extern int16_t ctl_run_span;        /* Q15: 1 - d_run */
-extern q15_t ctl_carry;             /* Q15: accumulated sub-stiction drive */
+extern __data q15_t ctl_carry;      /* Q15: accumulated sub-stiction drive (direct RAM: every step) */
 extern q15_t ctl_last;              /* Q15: last drive sent */
 extern __data uint8_t ctl_sat;      /* 1: the last drive was cut (limit or end stop) */
 extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */

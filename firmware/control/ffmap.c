@@ -70,8 +70,7 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
         M->warm++;
     if (M->rest || (e > 0) != (M->e1 > 0) || M->warm < FM_WARM || ctl_in->valve_limit) {
         M->slow_n = 0;
-    } else if ((M->slow_n += (e < 0 ? -e : e) > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT) ? 4 : 1)
-               >= FM_SLOW_N) {
+    } else if ((M->slow_n += M->epk_now ? 4 : 1) >= FM_SLOW_N) {
         M->slow_n = 0;
         if (M->g < FM_G_MAX)
             M->g += M->g >> 4;
@@ -206,8 +205,10 @@ q15_t fm_step(void) CTL_SHARED
     }
     fm_deadband(e, q);
     fm_stall(e, q);
-    if ((e < 0 ? -e : e) > M->epk)
-        M->epk = e < 0 ? -e : e;
+    d2e = e < 0 ? -e : e;
+    if (d2e > M->epk)
+        M->epk = d2e;
+    M->epk_now = d2e > (q >> FM_BIG_SHIFT);    /* a big error this period */
     if (M->rest) {
         du = MUL(FM_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
     } else {

@@ -90,7 +90,7 @@ static uint32_t value(uint8_t k) __reentrant
     if (k & V_PARAM)
         return param_v[k & 0x7Fu];
     if (k & V_TOTAL)
-        return (&totals_get()->job_dm2)[k & 3u];
+        return (&totals.job_dm2)[k & 3u];
     switch (k) {
     case V_AR:
         return actual_x10();

@@ -17,11 +17,12 @@
 static struct {
     char buf[SERIAL_TX_MAX];
     uint16_t reported;              /* alarm bits the PC has been told about */
-    uint8_t tx_i;                   /* next byte to send */
-    uint8_t state;                  /* S_* */
-    uint8_t log_due;                /* log lines asked for and not yet sent */
 } se;
-static __data uint8_t se_n;         /* bytes in se.buf (direct RAM: the most used byte here) */
+/* the most used bytes here, in the direct RAM */
+static __data uint8_t se_n;         /* bytes in se.buf */
+static __data uint8_t se_tx_i;      /* next byte to send */
+static __data uint8_t se_state;     /* S_* */
+static __data uint8_t se_log_due;   /* log lines asked for and not yet sent */
 
 #define S_RX 0                      /* collecting a line */
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
@@ -35,16 +36,16 @@ static const __code char hexd[] = "0123456789ABCDEF";
 
 void serial_init(void)
 {
-    se_n = se.tx_i = se.log_due = 0;
-    se.state = S_RX;
+    se_n = se_tx_i = se_log_due = 0;
+    se_state = S_RX;
     se.reported = 0;
     boot_due = 1;
 }
 
 void serial_log_request(void)
 {
-    if (se.log_due < 255)
-        se.log_due++;
+    if (se_log_due < 255)
+        se_log_due++;
     remote_tick();
 }
 
@@ -101,8 +102,8 @@ static void tx_crlf(void) __reentrant
 {
     se.buf[se_n++] = '\r';
     se.buf[se_n++] = '\n';
-    se.tx_i = 0;
-    se.state = S_TX;
+    se_tx_i = 0;
+    se_state = S_TX;
 }
 
 static void tx_end(void) __reentrant
@@ -198,7 +199,6 @@ static void ok(const char *word) __reentrant
 /* The handlers, after the arguments were parsed as the table says. */
 static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
 {
-    const __xdata totals_t *t;
     switch (handler) {
     case C_GET:
     case C_SET:
@@ -237,17 +237,15 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         ok("RST");
         break;
     case C_TOT:
-        t = totals_get();
         ok("TOT");
-        tx_sp_u32(t->job_dm2);
-        tx_sp_u32(t->job_ml);
+        tx_sp_u32(totals.job_dm2);
+        tx_sp_u32(totals.job_ml);
         tx_sp_u32(totals_applied_l_ha_x10());
         break;
     case C_LIF:
-        t = totals_get();
         ok("LIF");
-        tx_sp_u32(t->life_m2);
-        tx_sp_u32(t->life_ml);
+        tx_sp_u32(totals.life_m2);
+        tx_sp_u32(totals.life_ml);
         break;
     case C_PUL:
         ok("PUL");
@@ -395,8 +393,8 @@ static void compose_next(void) __reentrant
             tx_c(' ');
             tx_s(diag_text(bit));
         }
-    } else if (se.log_due) {
-        se.log_due = 0;
+    } else if (se_log_due) {
+        se_log_due = 0;
         tx_s("LOG ");
         tx_u32(hal_ms());
         tx_sp_u32(app_status.speed_kmh_x100);
@@ -417,13 +415,13 @@ static void compose_next(void) __reentrant
 /* Hand the line being sent to the UART as far as it takes it; 1 when all of it went. */
 static uint8_t drain(void) __reentrant
 {
-    while (se.tx_i < se_n) {
-        if (!hal_uart_put((uint8_t)se.buf[se.tx_i]))
+    while (se_tx_i < se_n) {
+        if (!hal_uart_put((uint8_t)se.buf[se_tx_i]))
             return 0;
-        se.tx_i++;
+        se_tx_i++;
     }
     se_n = 0;
-    se.state = S_RX;
+    se_state = S_RX;
     return 1;
 }
 
@@ -439,8 +437,8 @@ void serial_hil_send(hil_out_t *o) __reentrant
 {
     hil_answer(o, (uint8_t *)se.buf);
     se_n = HIL_OUT_BYTES;
-    se.tx_i = 0;
-    se.state = S_TX;
+    se_tx_i = 0;
+    se_state = S_TX;
     drain();
 }
 #endif
@@ -448,7 +446,7 @@ uint8_t serial_poll(void) __reentrant
 {
     int16_t b;
 
-    if (se.state == S_TX && !drain())
+    if (se_state == S_TX && !drain())
         return 0;
 #if FW_HIL
     if (hil_active()) {             /* frames only (hil.c) */
@@ -458,10 +456,10 @@ uint8_t serial_poll(void) __reentrant
 #endif
     while ((b = hal_uart_get()) != -1) {
         if (b == HAL_UART_LOST) {
-            se.state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
+            se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
         } else if (b == '\r' || b == '\n') {
-            if (se.state != S_RX) {
-                reply_err(se.state == S_RX_LONG ? "LONG" : se.state == S_RX_LOST ? "LOST" : "CHAR");
+            if (se_state != S_RX) {
+                reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
                 send();
                 return 1;
             }
@@ -472,28 +470,28 @@ uint8_t serial_poll(void) __reentrant
                 }
                 se_n = 0;           /* taken, answers queued (Raven) */
             }
-        } else if (se.state == S_RX) {
+        } else if (se_state == S_RX) {
             if (b < 0x20 || b > 0x7E)
-                se.state = S_RX_CHAR;
+                se_state = S_RX_CHAR;
             else if (se_n >= SERIAL_LINE_MAX)
-                se.state = S_RX_LONG;
+                se_state = S_RX_LONG;
             else
                 se.buf[se_n++] = (char)b;
         }
     }
-    if (se_n || se.state != S_RX) {
+    if (se_n || se_state != S_RX) {
         /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
          * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
-        if (se.log_due < 3)
+        if (se_log_due < 3)
             return 0;
-        if (se.state == S_RX_LOST) {
+        if (se_state == S_RX_LOST) {
             reply_err("LOST");
             send();
             return 1;
         }
         se_n = 0;
-        se.state = S_RX;
+        se_state = S_RX;
     }
     compose_next();                 /* S_TX: a line composed (it was not at the drain above) */
-    return se.state == S_TX ? (drain(), 1) : 0;
+    return se_state == S_TX ? (drain(), 1) : 0;
 }

@@ -64,8 +64,8 @@ void mac_ab(void) __naked
         ret
     __endasm;
 }
-/* mul_acc += the sum of n products w[j] * x[j]: w at the xdata address in mul_a, x at the one in
- * mul_b (int16 each, contiguous); the registers it uses are saved */
+/* mul_acc += the sum of n products w[j] * x[j]: w at the xdata address in mul_a, x at the idata
+ * address in mul_b's low byte (int16 each, contiguous); the registers it uses are saved */
 void dot_ab(uint8_t n) __naked
 {
     (void)n;
@@ -88,7 +88,15 @@ void dot_ab(uint8_t n) __naked
         push ar7
         mov _mul_r,dpl
 00010$:
-        mov dpl,_mul_a
+        mov r0,_mul_b           ; x[j] from the internal RAM
+        mov a,@r0
+        mov r6,a
+        inc r0
+        mov a,@r0
+        mov r7,a
+        inc r0
+        mov _mul_b,r0
+        mov dpl,_mul_a          ; w[j] from the XRAM
         mov dph,(_mul_a + 1)
         movx a,@dptr
         mov r0,a
@@ -98,16 +106,6 @@ void dot_ab(uint8_t n) __naked
         inc dptr
         mov _mul_a,dpl
         mov (_mul_a + 1),dph
-        mov dpl,_mul_b
-        mov dph,(_mul_b + 1)
-        movx a,@dptr
-        mov r6,a
-        inc dptr
-        movx a,@dptr
-        mov r7,a
-        inc dptr
-        mov _mul_b,dpl
-        mov (_mul_b + 1),dph
         mov a,r0
         mov b,r6
         mul ab
@@ -186,8 +184,8 @@ void dot_ab(uint8_t n) __naked
 }
 
 /* One row of a network's learning step (mul.h, UPD): w at the xdata address in mul_a, x at the
- * one in mul_b, dw at upd_dw; eg and lim in upd_eg, upd_lim; n in dpl, s in dph. The product is
- * dot_ab's; the registers it uses are saved. */
+ * idata address in mul_b's low byte, dw at the xdata address upd_dw; eg and lim in upd_eg,
+ * upd_lim; n in dpl, s in dph. The product is dot_ab's; the registers it uses are saved. */
 void upd_ab(uint16_t n_s) __naked
 {
     (void)n_s;
@@ -208,20 +206,18 @@ void upd_ab(uint16_t n_s) __naked
         rr a
         djnz b,00020$
         mov (_mul_r + 2),a          ; the rounding 2^(15-s), as a byte above the lowest
-        mov r0,_upd_eg
         mov r1,(_upd_eg + 1)
 00021$:
-        ; x[j] -> r7:r6
-        mov dpl,_mul_b
-        mov dph,(_mul_b + 1)
-        movx a,@dptr
+        ; x[j] -> r7:r6, from the internal RAM (r0 its pointer, then the low byte of eg)
+        mov r0,_mul_b
+        mov a,@r0
         mov r6,a
-        inc dptr
-        movx a,@dptr
+        inc r0
+        mov a,@r0
         mov r7,a
-        inc dptr
-        mov _mul_b,dpl
-        mov (_mul_b + 1),dph
+        inc r0
+        mov _mul_b,r0
+        mov r0,_upd_eg
         ; r5:r4:r3:r2 = eg * x, signed
         mov a,r0
         mov b,r6

@@ -14,13 +14,14 @@
  * the s51 comparison can fail).
  *   MUL(a, b)     a * b, int16 operands, int32 product
  *   MAC(a, b)     mul_acc += a * b
- *   DOT(w, x, n)  mul_acc += w[0] * x[0] + ... + w[n-1] * x[n-1], w and x int16 arrays in xdata
+ *   DOT(w, x, n)  mul_acc += w[0] * x[0] + ... + w[n-1] * x[n-1], int16 arrays: w in xdata, x in
+ *                 idata (a reentrant caller's locals, on the stack)
  *   UMUL(a, b)    a * b, uint16 operands, uint32 product (one expression holds at most one)
  *   MUL_R15(a, b), MUL_R12(a, b)   (a * b + 2^14) >> 15, (a * b + 2^11) >> 12: rounded, int32
  *   ACC_SHR15(), ACC_SHR12()       mul_acc >> 15, >> 12 (arithmetic), int32
  *   UPD(w, dw, x, eg, lim, n, s)   one row of a network's learning step (below)
  *
- * UPD, for j = 0 .. n-1 (w int16, dw int8 and x int16 arrays in xdata; s = 1 or 4):
+ * UPD, for j = 0 .. n-1 (w int16 and dw int8 arrays in xdata, x int16 in idata; s = 1 or 4):
  *   d     = (eg * x[j] + 2^(15-s)) >> (16-s)      eg * x rounded (x Q15: s = 1, x Q12: s = 4)
  *   d    += (dw[j] >> 4) - (dw[j] >> 6) + (dw[j] >> 8)    the momentum term, 0.0508 dw
  *   w[j]  = w[j] + d, held within +-lim

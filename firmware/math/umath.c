@@ -69,7 +69,8 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant
     m = (uint16_t)(q >> 16);                    /* 32768 .. 65535 */
     i = (uint8_t)((m >> 8) - 128u);
     f = (uint8_t)m;
-    r16 = recip_tab[i] - (uint16_t)(((uint16_t)(recip_tab[i] - recip_tab[i + 1]) * f + 128u) >> 8);
+    /* the table's steps are below 256 (254 at most): an 8 x 8 product, MUL AB, no call */
+    r16 = recip_tab[i] - (uint16_t)(((uint16_t)((uint8_t)(recip_tab[i] - recip_tab[i + 1]) * f) + 128u) >> 8);
     p = UMUL(p >> 16, r16);                     /* (a n / d) * 2^(14 - e) */
     e -= 14;
     if (e >= 0) {

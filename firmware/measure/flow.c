@@ -49,7 +49,7 @@ int16_t flow_step(void) __reentrant
 
     if (fl.gen != param_generation)
         flow_derive();
-    hal_flow_capture_take(&c);
+    hal_flow_capture_take((__idata hal_capture_t *)&c);   /* on the stack: idata */
     if (c.count) {
         fl.pulses += c.count;
         fl.quiet = 0;

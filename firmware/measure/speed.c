@@ -32,13 +32,12 @@ static struct {
 /* the span speed_learn checks, measured by speed_step */
 static uint32_t sl_dt;
 
-/* The last SPEED_WIN periods that brought pulses: the newest edge's PCA time / 256, and where
- * it is, in 1/4096 of a spacing: pulses * 4096 + the element's learnt offset (16 bits: a window
- * of up to 15 pulses). Until the wheel's offsets are learnt one period's speed carries two
+/* The last SPEED_WIN periods that brought pulses: the newest edge's PCA time / 256 and the low
+ * byte of the pulse count. Until the wheel's offsets are learnt one period's speed carries two
  * elements' spacing errors whole; over w pulses they weigh 1/w (and cancel over a turn). */
 static struct {
     uint16_t t[SPEED_WIN];
-    uint16_t d[SPEED_WIN];
+    uint8_t p[SPEED_WIN];
     uint8_t at, fill;
 } sw;
 
@@ -179,22 +178,21 @@ static uint32_t r12(uint32_t x) __reentrant
  * the window anew, so a span fits 16 bits of PCA/256. */
 static void speed_window(void) __reentrant
 {
-    static __data uint8_t a, j;
-    uint16_t w;
+    static __data uint8_t a, j, n;
     if (c.last - sp.last_pca >= 0x400000ul)
         sw.fill = 0;
     a = (sw.at + 1u) & (SPEED_WIN - 1u);
     sw.at = a;
     sw.t[a] = (uint16_t)(c.last >> 8);
-    sw.d[a] = ((uint16_t)sp.pulses << 12) + sp.off[sp.idx];
+    sw.p[a] = (uint8_t)sp.pulses;
     if (sw.fill < SPEED_WIN)
         sw.fill++;
     if (sp.shift || sw.fill <= SPEED_WIN_BACK)
         return;
     j = (a - SPEED_WIN_BACK) & (SPEED_WIN - 1u);
-    w = sw.d[a] - sw.d[j];
-    if (w < (15u << 12))
-        v = r12(um_muldiv(sp.k, w, (uint32_t)(uint16_t)(sw.t[a] - sw.t[j]) << 8));
+    n = sw.p[a] - sw.p[j];
+    if (n < 15u)
+        v = um_muldiv(sp.k, n, (uint32_t)(uint16_t)(sw.t[a] - sw.t[j]) << 8);
 }
 
 uint16_t speed_step(void) __reentrant

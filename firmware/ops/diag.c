@@ -84,7 +84,7 @@ void diag_init(void)
     dg.gen = (uint8_t)(param_generation - 1u);
 }
 
-uint8_t store_learnt_byte(uint8_t i)
+uint8_t store_learnt_byte(uint8_t i) __reentrant
 {
     if (i < STORE_LEARN_CTL)
         return ctl_learnt_byte(i);
@@ -124,9 +124,9 @@ static uint16_t x_of(int16_t meter) __reentrant
  * sane nozzles. */
 static void learn_fit(void) __reentrant
 {
-    uint32_t a = (uint32_t)DIAG_LEARN_N * dg.sxx - (uint32_t)dg.sx * dg.sx;   /* N^2 var(x) */
-    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = (uint32_t)dg.sx * dg.sy;
-    if ((uint32_t)DIAG_LEARN_N * dg.sxx > (uint32_t)dg.sx * dg.sx && a >= DIAG_LEARN_SPREAD && k > c) {
+    uint32_t n = (uint32_t)DIAG_LEARN_N * dg.sxx, a = UMUL(dg.sx, dg.sx);    /* sx, sy < 2^15 */
+    uint32_t k = (uint32_t)DIAG_LEARN_N * dg.sxy, c = UMUL(dg.sx, dg.sy);
+    if (n > a && (a = n - a) >= DIAG_LEARN_SPREAD && k > c) {           /* a: N^2 var(x) */
         k = um_muldiv(k - c, 256u, a);                                  /* kPa at the rated flow */
         c = um_muldiv(dg.sx, (uint16_t)(k > 2000u ? 2000u : k), 256u);
         c = dg.sy > c ? (dg.sy - c) / DIAG_LEARN_N : 0;                 /* the check valves */
@@ -280,8 +280,8 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     int16_t target = in->target_lpm_x100;
     uint8_t working = in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
     uint8_t judge = settled && analog_pressure_ok(), g;
-    uint16_t pexp;
-    uint32_t p100, x;
+    uint16_t pexp, x, d;
+    uint32_t a, lo, hi;
     dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
                        && flow_quiet_periods() >= DIAG_METER_QUIET;
     rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
@@ -291,29 +291,36 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
         && target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;
     x = judge ? x_of(meter) : 0xFFFFu;
     if (g)
-        learn((uint16_t)x, p);      /* (the fit is diag_step's: a shorter call chain) */
+        learn(x, p);                /* (the fit is diag_step's: a shorter call chain) */
     judge = judge && pexp != 0xFFFFu;
-    /* near the learnt model (learnt over the range, or near the flow it was learnt at) the
-     * pressure above the check valves must be within P_PDEV / 2; elsewhere (not learnt yet, far
-     * from a model learnt at one flow) only a gross deviation counts: P_PDEV of it and
-     * DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can make */
+    /* near the learnt model (learnt over the range, or near the flow it was learnt at: x within
+     * 3/4 .. 4/3 of xm) the pressure above the check valves must be within P_PDEV / 2; elsewhere
+     * (not learnt yet, far from a model learnt at one flow) only a gross deviation counts:
+     * P_PDEV of it and DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can
+     * make. Either way a leak is a below lo, a clog a above hi. */
     g = dg.learnt == 2;
-    if (dg.learnt == 1)
-        g = x * 4u >= (uint32_t)dg.xm * 3u && x * 3u <= (uint32_t)dg.xm * 4u;
+    if (dg.learnt == 1) {
+        lo = UMUL(dg.xm, 3u);
+        hi = UMUL(x, 3u);
+        g = ((uint32_t)x << 2) >= lo && hi <= ((uint32_t)dg.xm << 2);
+    }
     if (g) {
         judge = judge && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA;
-        p100 = UMUL(p > dg.pc_kpa ? p - dg.pc_kpa : 0, 100u);
-        x = (uint32_t)(pexp - dg.pc_kpa) * (100u - (param_v[P_PDEV] >> 1));
-        rule(AL_LEAK, judge && p100 < x, judge && p100 >= x, DIAG_PDEV_PERIODS);
-        x = (uint32_t)(pexp - dg.pc_kpa) * (100u + (param_v[P_PDEV] >> 1));
-        rule(AL_CLOG, judge && p100 > x, judge && p100 <= x, DIAG_PDEV_PERIODS);
+        a = UMUL(p > dg.pc_kpa ? p - dg.pc_kpa : 0, 100u);
+        d = pexp - dg.pc_kpa;
+        x = param_v[P_PDEV] >> 1;   /* (P_PDEV <= 90) */
+        lo = UMUL(d, 100u - x);
+        hi = UMUL(d, 100u + x);
     } else {
-        x = (UMUL(pexp, param_v[P_PDEV]) + 50u) / 100u;
-        if (x < DIAG_PDEV_FAR_KPA)
-            x = DIAG_PDEV_FAR_KPA;
-        rule(AL_LEAK, judge && (uint32_t)p + x < pexp, judge && (uint32_t)p + x >= pexp, DIAG_PDEV_PERIODS);
-        rule(AL_CLOG, judge && p > pexp + x, judge && p <= pexp + x, DIAG_PDEV_PERIODS);
+        hi = (UMUL(pexp, param_v[P_PDEV]) + 50u) / 100u;
+        if (hi < DIAG_PDEV_FAR_KPA)
+            hi = DIAG_PDEV_FAR_KPA;
+        a = p;
+        lo = pexp > hi ? pexp - hi : 0;     /* p + dev < pexp */
+        hi += pexp;                         /* p > pexp + dev */
     }
+    rule(AL_LEAK, judge && a < lo, judge && a >= lo, DIAG_PDEV_PERIODS);
+    rule(AL_CLOG, judge && a > hi, judge && a <= hi, DIAG_PDEV_PERIODS);
 }
 
 /* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, in auto with the boom settled, at
@@ -322,22 +329,16 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
 static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
     int16_t target = in->target_lpm_x100;
-    uint8_t judge = !in->manual && settled && target > 0
-                    && in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
     int16_t qp = in->flow_lpm_x100 - target;
-    uint32_t p100 = UMUL(qp < 0 ? -(int32_t)qp : qp, 100u);     /* |qp| <= 32768 */
-    uint32_t x = UMUL(param_v[P_OFFRATE], target);
-    if (!(dg.alarms & (1u << AL_OFFRATE))) {
-        if (judge && p100 > x) {
-            if (++dg.offrate_cnt >= param_v[P_OFFRATE_S] * 10u) {
-                dg.alarms |= 1u << AL_OFFRATE;
-                dg.offrate_cnt = 0;
-            }
-        } else {
-            dg.offrate_cnt = 0;
-        }
-    } else {
-        rule(AL_OFFRATE, 0, !judge || p100 <= x, 1);
+    uint8_t off = !in->manual && settled && target > 0 && in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u
+                  && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);    /* |qp| <= 32768 */
+    if (dg.alarms & (1u << AL_OFFRATE))
+        rule(AL_OFFRATE, 0, !off, 1);
+    else if (!off)
+        dg.offrate_cnt = 0;
+    else if (++dg.offrate_cnt >= param_v[P_OFFRATE_S] * 10u) {
+        dg.alarms |= 1u << AL_OFFRATE;
+        dg.offrate_cnt = 0;
     }
 }
 
@@ -386,12 +387,12 @@ uint16_t diag_alarms(void)
     return dg.alarms;
 }
 
-const char *diag_code(uint8_t bit)
+const char *diag_code(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? codes[bit] : "";
 }
 
-const char *diag_text(uint8_t bit)
+const char *diag_text(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? texts[bit] : "";
 }

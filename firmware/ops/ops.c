@@ -16,7 +16,7 @@ void ops_init(void)
     ops_io = 0;
 }
 
-void ops_io_test(uint8_t flags)
+void ops_io_test(uint8_t flags) __reentrant
 {
     ops_io = (flags & OPS_IO_ON) ? flags : 0;
     hal_spray_enable((ops_io & OPS_IO_ON) ? (ops_io & OPS_IO_RELAY) : app_status.spraying);
@@ -25,7 +25,7 @@ void ops_io_test(uint8_t flags)
         ops_jog_req.periods = 0;
 }
 
-void ops_jog(int8_t dir)
+void ops_jog(int8_t dir) __reentrant
 {
     if (!(app_status.manual || (ops_io & OPS_IO_ON)) || dir == 0)
         return;
@@ -43,7 +43,6 @@ void ops_totals_reset(void)
 {
     totals_job_reset();
     app_status.job_area_m2 = 0;
-    app_status.job_volume_ml = 0;
     app_status.applied_l_ha_x10 = 0;
 }
 

@@ -6,25 +6,24 @@
 
 /* What the application measured and decided in its last control step: the console, the
  * serial log and the simulator's trace read it; app.c writes it (and ops.c, for the
- * operator's acknowledgement and totals reset). */
+ * operator's acknowledgement and totals reset). Its first fields are laid out as ctl.h's
+ * ctl_in_t (app.c checks it): the control step reads its inputs here, not from a copy. The
+ * totals are totals_get()'s, the gains ctl_gain()'s (no copies here). */
 typedef struct {
-    uint16_t speed_kmh_x100;        /* ground speed used for the target (measured or given) */
     int16_t target_lpm_x100;        /* target boom flow, eq. (1) and Table 1 */
     int16_t flow_lpm_x100;          /* measured boom flow */
+    uint16_t speed_kmh_x100;        /* ground speed used for the target (measured or given) */
     uint16_t pressure_kpa;          /* boom line pressure */
+    uint8_t valve_limit;            /* the control step's CTL_AT_* (and CTL_NO_CLOSE) */
     uint16_t tank_l;                /* tank contents from the level sensor */
     uint16_t applied_l_ha_x10;      /* dose applied over the job so far */
     int16_t drive;                  /* Q15 valve drive from the controller (+ = more flow) */
-    int16_t gain[3];                /* kp, ki, kd the controller used in its last step, Q12 */
     uint16_t alarms;                /* active alarm bits */
     uint16_t alarms_unacked;        /* alarm bits raised and not yet acknowledged */
     uint8_t spraying;               /* master boom valve open */
     uint8_t manual;                 /* manual mode (operator jogs the valve) */
     uint8_t open_nozzles;           /* nozzles in the switched-on sections */
-    uint32_t job_area_m2;           /* totals: area and volume of this job ... */
-    uint32_t job_volume_ml;
-    uint32_t life_area_m2;          /* ... and of the machine's life */
-    uint32_t life_volume_ml;
+    uint32_t job_area_m2;           /* the job's area, taken once a second (a divide) */
 } app_status_t;
 
 extern app_status_t app_status;

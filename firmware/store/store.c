@@ -2,6 +2,7 @@
 #if defined(__SDCC)
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
+#include <stddef.h>
 #include "hal.h"
 #include "params.h"
 #include "store.h"
@@ -67,6 +68,8 @@ static uint32_t read32(uint16_t a)
 /* the learnt figures start a pass's bytes of their own: read from their owners at one time */
 typedef char store_learnt_in_one_pass[(STORE_LEARN_BYTES <= STORE_BYTES_PER_POLL) ? 1 : -1];
 typedef char store_totals_in_one_chunk[(HDR_LIFE / STORE_BYTES_PER_POLL == (HDR_LIFE + 7u) / STORE_BYTES_PER_POLL) ? 1 : -1];
+/* record_byte reads the two lifetime totals as one run of 8 bytes */
+typedef char store_life_adjacent[(offsetof(totals_t, life_ml) == offsetof(totals_t, life_m2) + 4u) ? 1 : -1];
 enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
 /* sv.flags: who asked for the save running (STORE_BY_*), who asked for the next one (SV_NEXT),
  * whose save has ended (SV_DONE, store_done), SV_AGAIN: a save was asked for while this one's
@@ -234,7 +237,6 @@ static void sv_end(uint8_t st)
  * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
 static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
 {
-    const __xdata totals_t *t = totals_get();
     if (i == 0)
         return STORE_MAGIC;
     if (i == 1)
@@ -247,10 +249,8 @@ static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
         return (uint8_t)(next >> 8);
     if (i >= HDR_LEARN)
         return store_learnt_byte((uint8_t)(i - HDR_LEARN));
-    if (i >= HDR_LIFE + 4u)
-        return ((const __xdata uint8_t *)&t->life_ml)[i - HDR_LIFE - 4u];
-    if (i >= HDR_LIFE)
-        return ((const __xdata uint8_t *)&t->life_m2)[i - HDR_LIFE];
+    if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
+        return ((const __xdata uint8_t *)&totals.life_m2)[i - HDR_LIFE];
     return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];
 }
 

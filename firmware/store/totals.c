@@ -6,8 +6,9 @@
 #include "totals.h"
 #include "mul.h"
 
+totals_t totals;
+
 static struct {
-    totals_t t;
     uint16_t dm2_frac;              /* area below one dm^2, Q11 */
     uint16_t life_dm2;              /* dm^2 of the life total not yet a whole m^2 */
     uint32_t ml_frac;               /* volume below one ml, Q20 */
@@ -15,7 +16,7 @@ static struct {
 
 void totals_init(void)
 {
-    to.t.job_dm2 = to.t.job_ml = to.t.life_m2 = to.t.life_ml = 0;
+    totals.job_dm2 = totals.job_ml = totals.life_m2 = totals.life_ml = 0;
     to.dm2_frac = 0;
     to.life_dm2 = 0;
     to.ml_frac = 0;
@@ -23,8 +24,8 @@ void totals_init(void)
 
 void totals_job_reset(void)
 {
-    to.t.job_dm2 = 0;
-    to.t.job_ml = 0;
+    totals.job_dm2 = 0;
+    totals.job_ml = 0;
 }
 
 void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __reentrant
@@ -36,11 +37,11 @@ void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __re
         a = um_mul32x16_shr16(UMUL(speed_x100, width_cm), 37282u) + to.dm2_frac;
         to.dm2_frac = (uint16_t)(a & 0x7FFu);
         a >>= 11;
-        to.t.job_dm2 += a;
+        totals.job_dm2 += a;
         to.life_dm2 += (uint16_t)a;             /* a <= 16000 dm^2 a period */
         while (to.life_dm2 >= 100u) {
             to.life_dm2 -= 100u;
-            to.t.life_m2++;
+            totals.life_m2++;
         }
     }
     if (flow_x100 > 0) {
@@ -48,30 +49,25 @@ void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __re
         to.ml_frac += MUL(flow_x100, 17476);   /* both positive, below 2^15 */
         a = to.ml_frac >> 20;
         to.ml_frac &= 0xFFFFFUL;
-        to.t.job_ml += a;
-        to.t.life_ml += a;
+        totals.job_ml += a;
+        totals.life_ml += a;
     }
 }
 
 void totals_set_life(uint32_t m2, uint32_t ml)
 {
-    to.t.life_m2 = m2;
-    to.t.life_ml = ml;
-}
-
-const __xdata totals_t *totals_get(void)
-{
-    return &to.t;
+    totals.life_m2 = m2;
+    totals.life_ml = ml;
 }
 
 uint32_t totals_job_m2(void)
 {
-    return to.t.job_dm2 / 100u;
+    return totals.job_dm2 / 100u;
 }
 
 uint16_t totals_applied_l_ha_x10(void) __reentrant
 {
-    uint32_t ml = to.t.job_ml, dm2 = to.t.job_dm2, r;
+    uint32_t ml = totals.job_ml, dm2 = totals.job_dm2, r;
     if (dm2 < 100u)
         return 0;
     /* L/ha x10 = ml * 10000 / dm^2; scale both down until the product fits */

@@ -25,7 +25,9 @@ void totals_init(void);
 void totals_step(uint16_t speed_x100, uint16_t width_cm, int16_t flow_x100) __reentrant;
 /* Zero the job totals. */
 void totals_job_reset(void);
-const __xdata totals_t *totals_get(void);
+/* The totals (only totals.c writes them): at a fixed XRAM address, read without a call */
+extern totals_t totals;
+#define totals_get() ((const __xdata totals_t *)&totals)
 /* The lifetime totals read back from the EEPROM (store_load). */
 void totals_set_life(uint32_t m2, uint32_t ml) __reentrant;
 uint32_t totals_job_m2(void);

@@ -123,7 +123,7 @@ uint32_t hal_pca_now(void)
     return pca_now;
 }
 
-static void take(uint8_t what, hal_capture_t *c)
+static void take(uint8_t what, __idata hal_capture_t *c)
 {
     pil_measured = 1;
     pil_put(what);
@@ -132,12 +132,12 @@ static void take(uint8_t what, hal_capture_t *c)
     c->rejected = pil_get();
 }
 
-void hal_flow_capture_take(hal_capture_t *c)
+void hal_flow_capture_take(__idata hal_capture_t *c)
 {
     take(PIL_FLOW, c);
 }
 
-void hal_wheel_capture_take(hal_capture_t *c)
+void hal_wheel_capture_take(__idata hal_capture_t *c)
 {
     take(PIL_WHEEL, c);
 }

@@ -5,6 +5,7 @@
 #include "pil_proto.h"
 #include "params.h"
 #include "app.h"
+#include "ctl.h"
 
 #define STACK_MARK 0x5A
 
@@ -85,9 +86,9 @@ int main(void)
         status(app_status.pressure_kpa);
         status(app_status.tank_l);
         status((uint16_t)app_status.drive);
-        status((uint16_t)app_status.gain[0]);
-        status((uint16_t)app_status.gain[1]);
-        status((uint16_t)app_status.gain[2]);
+        status((uint16_t)ctl_gain(0));
+        status((uint16_t)ctl_gain(1));
+        status((uint16_t)ctl_gain(2));
         status(app_status.alarms);
         status(param_v[P_RATE]);
         status(param_v[P_METER_K]);

@@ -4,7 +4,7 @@
 #include "pins.h"
 
 /* Sync byte, then the high and low nibbles. */
-static void lcd_shift(uint8_t b)
+static void lcd_shift(uint8_t b) __reentrant
 {
     uint8_t i;
     for (i = 0; i < 8; i++) {
@@ -21,7 +21,7 @@ static void lcd_shift(uint8_t b)
 #define US_TICKS(us) ((uint16_t)(((us) * (HAL_PCA_HZ / 1000UL) + 999UL) / 1000UL))
 static uint16_t ready_at;           /* PCA time (low 16 bits) the ST7920 has done the last byte */
 
-static uint16_t pca16(void)
+static uint16_t pca16(void) __reentrant
 {
     uint8_t h, l;
     do {

@@ -49,7 +49,7 @@ void stc12_pca_isr(void) __interrupt(7)
     uint16_t cap = (uint16_t)CCAP0H << 8 | CCAP0L;
     uint8_t captured = CCF0;
     CCF0 = 0;
-    pca_isr_body(captured, cap);
+    PCA_ISR_WORK(captured, cap);
 }
 
 #if FW_HIL
@@ -75,7 +75,7 @@ void stc12_int0_isr(void) __interrupt(0)
     WHEEL_ISR_WORK();
 }
 
-void hal_wheel_min_interval(uint32_t min_ticks)
+void hal_wheel_min_interval(uint32_t min_ticks) __reentrant
 {
     uint8_t ea;
 #if FW_HIL
@@ -91,7 +91,7 @@ void hal_wheel_min_interval(uint32_t min_ticks)
 
 #if FW_HIL
 /* a frame's capture, taken: the next take sees only the next frame's */
-static void hil_take(hal_capture_t __xdata *f, hal_capture_t *c)
+static void hil_take(hal_capture_t __xdata *f, __idata hal_capture_t *c)
 {
     c->count = f->count;
     c->last = f->last;
@@ -101,7 +101,7 @@ static void hil_take(hal_capture_t __xdata *f, hal_capture_t *c)
 }
 #endif
 
-void hal_flow_capture_take(hal_capture_t *c)
+void hal_flow_capture_take(__idata hal_capture_t *c) __reentrant
 {
     uint8_t ea;
 #if FW_HIL
@@ -118,7 +118,7 @@ void hal_flow_capture_take(hal_capture_t *c)
     IRQ_RESTORE(ea);
 }
 
-void hal_wheel_capture_take(hal_capture_t *c)
+void hal_wheel_capture_take(__idata hal_capture_t *c) __reentrant
 {
     uint8_t ea;
 #if FW_HIL
@@ -155,15 +155,15 @@ static uint8_t tick_fifths;         /* fifths of a PCA tick carried */
 
 void stc12_timer0_isr(void) __interrupt(1)
 {
-    uint8_t h, l;
+    uint16_t t;                     /* one 16-bit value: in registers (two bytes took XRAM) */
     TL0 = (uint8_t)(65536u - 11059u);   /* about a millisecond; its exactness does not matter */
     TH0 = (uint8_t)((65536u - 11059u) >> 8);
     for (;;) {
         do {
-            h = CH;
-            l = CL;
-        } while (h != CH);
-        if ((int16_t)(((uint16_t)h << 8 | l) - tick_next_pca) < 0)
+            t = (uint16_t)CH << 8;
+            t |= CL;
+        } while ((uint8_t)(t >> 8) != CH);
+        if ((int16_t)(t - tick_next_pca) < 0)
             break;
         tick_ms++;
         tick_next_pca += 921u;
@@ -191,7 +191,7 @@ uint32_t hal_ms(void)
 #define ADC_FLAG 0x10
 #define ADC_START 0x08
 
-uint16_t hal_adc_read(uint8_t ch)
+uint16_t hal_adc_read(uint8_t ch) __reentrant
 {
     uint8_t n = 0;
 #if FW_HIL
@@ -219,7 +219,7 @@ uint8_t hal_sections(void)
     return (uint8_t)~PORT_SECTIONS;
 }
 
-uint8_t hal_keypad_row(uint8_t row)
+uint8_t hal_keypad_row(uint8_t row) __reentrant
 {
     uint8_t cols;
     PORT_KEYPAD = (uint8_t)~(1u << (row & 3));  /* columns stay high (inputs) */
@@ -249,7 +249,7 @@ void hal_valve_out(int8_t dir, uint8_t duty) __reentrant
     PIN_VALVE_B = dir < 0;
 }
 
-void hal_spray_enable(uint8_t on)
+void hal_spray_enable(uint8_t on) __reentrant
 {
 #if FW_HIL
     if (hil)
@@ -258,7 +258,7 @@ void hal_spray_enable(uint8_t on)
     PIN_SPRAY = on ? 1 : 0;
 }
 
-void hal_buzzer(uint8_t on)
+void hal_buzzer(uint8_t on) __reentrant
 {
 #if FW_HIL
     if (hil)

@@ -35,34 +35,36 @@ static volatile uint32_t wheel_last;
 static volatile uint32_t wheel_min;     /* hal_wheel_min_interval: sooner is not a pulse */
 static volatile uint8_t wheel_rejected;
 
-/* PCA time now; the caller has interrupts off. */
+/* PCA time now; the caller has interrupts off. (The reading one 16-bit value: SDCC keeps it
+ * in registers, where two bytes took a byte of XRAM each.) */
 static uint32_t pca_read(void)
 {
-    uint8_t h, l, cf;
+    uint16_t t;
+    uint8_t cf;
     do {
-        h = PCA_CH;
+        t = (uint16_t)PCA_CH << 8;
         PCA_PREEMPT();
-        l = PCA_CL;
+        t |= PCA_CL;
         PCA_PREEMPT();
         cf = PCA_CF;
         PCA_PREEMPT();
-    } while (h != PCA_CH);
+    } while ((uint8_t)(t >> 8) != PCA_CH);
     PCA_PREEMPT();
-    return PCA_EXTEND(pca_hi, (uint16_t)h << 8 | l, cf);
+    return PCA_EXTEND(pca_hi, t, cf);
 }
 
-/* The PCA interrupt's work: a meter capture (its 16-bit latch cap) and the overflow count. */
-static void pca_isr_body(uint8_t captured, uint16_t cap)
-{
-    if (captured) {
-        flow_last = PCA_EXTEND(pca_hi, cap, PCA_CF);
-        flow_count++;
-    }
-    if (PCA_CF) {
-        PCA_CF_CLEAR();
-        pca_hi++;
-    }
-}
+/* The PCA interrupt's work: a meter capture (its 16-bit latch cap) and the overflow count. A
+ * macro, as INT0's below: no call, and no parameters in XRAM. */
+#define PCA_ISR_WORK(captured, cap) do {                                        \
+        if (captured) {                                                         \
+            flow_last = PCA_EXTEND(pca_hi, (cap), PCA_CF);                      \
+            flow_count++;                                                       \
+        }                                                                       \
+        if (PCA_CF) {                                                           \
+            PCA_CF_CLEAR();                                                     \
+            pca_hi++;                                                           \
+        }                                                                       \
+    } while (0)
 
 /* INT0's work: time-stamp a wheel pulse, or drop an edge too early to be one (bounce,
  * interference). Interrupts stay off from the first counter read to the stored stamp, so

@@ -14,6 +14,7 @@
 #include "app.h"
 #include "ctl.h"
 #include "store.h"
+#include "totals.h"
 #include "diag.h"
 #include "screen.h"
 #include "keypad.h"
@@ -567,33 +568,33 @@ static void test_console_totals_show_and_reset_the_job(void **state)
     sim_active = sim;
     run_ms(60000);
     press('*');
-    uint32_t area = app_status.job_area_m2, vol = app_status.job_volume_ml;
+    uint32_t area = app_status.job_area_m2, vol = totals_get()->job_ml;
     assert_true(area > 1000 && vol > 10000);   /* about 0.2 ha, 30 L */
     press('B');
     const char *l0 = lcd(0);
     assert_true(fabs(number_after(l0, "Job") - app_status.job_area_m2 / 10000.0) < 0.011);
     assert_non_null(strstr(l0, " ha"));
-    assert_true(fabs(number_after(lcd(1), "Job") - app_status.job_volume_ml / 1000.0) < 2.0);
-    assert_true(fabs(number_after(lcd(2), "Life") - app_status.life_area_m2 / 10000.0) < 0.011);
-    uint32_t life_ml = app_status.life_volume_ml;
+    assert_true(fabs(number_after(lcd(1), "Job") - totals_get()->job_ml / 1000.0) < 2.0);
+    assert_true(fabs(number_after(lcd(2), "Life") - totals_get()->life_m2 / 10000.0) < 0.011);
+    uint32_t life_ml = totals_get()->life_ml;
     press('D');
     assert_string_equal(lcd(3), "Reset job? D=yes");
     press('D');
     assert_string_equal(lcd(3), "Job reset       ");
     /* the job starts again from nothing (a second of spraying at most); the life totals go on */
-    assert_true(app_status.job_volume_ml < vol / 20);
+    assert_true(totals_get()->job_ml < vol / 20);
     assert_true(app_status.job_area_m2 < area / 20);
-    assert_true(app_status.life_volume_ml >= life_ml);
+    assert_true(totals_get()->life_ml >= life_ml);
     assert_true(number_after(lcd(0), "Job") < 0.01);
     /* from the menu too; C instead of the second D keeps the totals */
     run_ms(5000);
-    vol = app_status.job_volume_ml;
+    vol = totals_get()->job_ml;
     assert_true(vol > 1000);
     to_item(MENU_TOTALS);
     press('D');
     press('D');
     press('C');
-    assert_true(app_status.job_volume_ml >= vol);
+    assert_true(totals_get()->job_ml >= vol);
     sim_active = NULL;
     sim_free(sim);
     free(sim);

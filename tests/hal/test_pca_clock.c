@@ -56,6 +56,7 @@ static void m_point_hit(void)
 #define PCA_PREEMPT() m_point_hit()
 #include "stc12/pca_clock.h"
 static void wheel_isr_body(void) { WHEEL_ISR_WORK(); }
+static void pca_isr_body(uint8_t captured, uint16_t cap) { PCA_ISR_WORK(captured, cap); }
 
 /* The handler as it was before (INT0 read the counter with interrupts on), the same code
  * under other names: the model must find its race, or the test above proves nothing. */
@@ -73,8 +74,10 @@ static void wheel_isr_body(void) { WHEEL_ISR_WORK(); }
 #define pca_isr_body old_pca_isr_body
 #define wheel_isr_body old_wheel_isr_body
 #undef WHEEL_ISR_WORK
+#undef PCA_ISR_WORK
 #include "stc12/pca_clock.h"
 static void wheel_isr_body(void) { WHEEL_ISR_WORK(); }
+static void pca_isr_body(uint8_t captured, uint16_t cap) { PCA_ISR_WORK(captured, cap); }
 #undef pca_hi
 #undef flow_count
 #undef flow_last

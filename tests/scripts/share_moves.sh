@@ -76,3 +76,14 @@ if [ "$calls" -eq 1 ] && grep -q 'lcall	_mv_ld_r4567' "$tmp/a.asm" && grep -q 't
 else
     echo "not ok - share_moves: replacement"; sed 's/^/#   /' "$tmp/a.asm"
 fi
+
+# --skip-func=NAME leaves that function alone (a controller's step) and shares in the others
+seq=$'\tmovx\ta,@dptr\n\tmov\tr6,a\n\tinc\tdptr\n\tmovx\ta,@dptr\n\tmov\tr7,a\n'
+printf '_step:\n%s\tret\n_derive:\n%s\tret\n' "$seq" "$seq" > "$tmp/b.asm"
+python3 tools/share_moves.py --skip-func=step "$tmp/b.asm"
+if [ "$(grep -c 'lcall' "$tmp/b.asm")" -eq 1 ] \
+    && [ "$(sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -c 'lcall	_mv_ld_r67')" -eq 1 ]; then
+    echo "ok - share_moves: --skip-func leaves the named function alone, the next one shares"
+else
+    echo "not ok - share_moves: --skip-func"; sed 's/^/#   /' "$tmp/b.asm"
+fi

@@ -46,7 +46,8 @@ static void all_ops(int16_t a, int16_t b)
 /* UPD (mul.h), one learning row, on random rows within its contract: bounds, momentum and the
  * change's clamp all reached; the row's weights and changes printed */
 #define UPD_N 8
-static __xdata int16_t uw[UPD_N], ux[UPD_N];
+static __xdata int16_t uw[UPD_N];
+static __idata int16_t ux[UPD_N];   /* x in the internal RAM, as bp_step's locals */
 static __xdata int8_t udw[UPD_N];
 
 static void upd_rows(uint16_t rows)
@@ -81,6 +82,47 @@ static void upd_rows(uint16_t rows)
     }
 }
 
+/* x / y of 32-bit unsigned values: SDCC's __divulong (firmware/math/divulong.c on the target)
+ * against the host's divide, on edges and on random pairs of every pair of magnitudes */
+static void div_line(uint32_t x, uint32_t y)
+{
+    tt_putc('d');
+    tt_putc(' ');
+    tt_hex32(x);
+    tt_putc(' ');
+    tt_hex32(y);
+    tt_putc(' ');
+    tt_hex32(x / y);
+    tt_putc(' ');
+    tt_hex32(x - x / y * y);
+    tt_putc('\n');
+}
+
+static uint32_t rand32(void)
+{
+    uint32_t hi = tt_rand16();
+    return hi << 16 | tt_rand16();
+}
+
+static void div_lines(void)
+{
+    static const __code uint32_t e[] = {
+        0, 1, 2, 3, 7, 10, 100, 255, 256, 65535, 65536, 1000000, 0x7FFFFFFFUL, 0x80000000UL,
+        0xFFFFFFFEUL, 0xFFFFFFFFUL
+    };
+    uint8_t i, j;
+    uint32_t x, y;
+    for (i = 0; i < sizeof e / sizeof e[0]; i++)
+        for (j = 1; j < sizeof e / sizeof e[0]; j++)
+            div_line(e[i], e[j]);
+    for (i = 0; i < 32; i++)
+        for (j = 0; j < 32; j++) {
+            x = rand32() >> i;
+            y = rand32() >> j;
+            div_line(x, y ? y : 1);
+        }
+}
+
 static void fmt_line(uint32_t v, uint8_t decimals, uint8_t trim)
 {
     __idata char s[FMT_MAX];        /* fmt_u32 writes to the internal RAM (fmt.h) */
@@ -99,6 +141,7 @@ int main(void)
     uint8_t i, j;
     uint16_t k;
     volatile int16_t va = 12345, vb = -23456, vx = 5000;
+    volatile uint32_t vd = 0xFFFFFFFFUL;
     volatile int32_t sink32;
     volatile int16_t sink16;
     uint32_t c;
@@ -119,6 +162,7 @@ int main(void)
     }
 
     upd_rows(400);
+    div_lines();
 
     /* the cost of the building blocks, in machine cycles (stopwatch overhead included) */
     tt_cycles_start();
@@ -142,6 +186,9 @@ int main(void)
     tt_cycles_start();
     UPD(uw, udw, ux, 100, 16384, 5, 1);
     tt_bench("upd_row_of_5", tt_cycles_stop());
+    tt_cycles_start();
+    sink32 = (int32_t)(vd / 3u);
+    tt_bench("divulong", tt_cycles_stop());
     (void)sink32;
     (void)sink16;
     tt_end();
