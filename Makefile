@@ -53,8 +53,8 @@ HIL ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 # Shared moves (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
-# replaces its long moves by calls of firmware/math/moves.c, sdas assembles it. Not in the
-# controllers (their step's cycles count; bp_pid in part) nor in the modules written in assembly.
+# replaces its long moves by calls of firmware/math/moves.c, sdas assembles it. Not in the peers'
+# controllers (outside the field image) nor in the modules written in assembly; bp_pid in part.
 SDAS ?= sdas8051
 SHARE_SKIP := $(addprefix firmware/control/,aog.c raven.c) \
               $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c divulong.c)
