@@ -126,7 +126,7 @@ CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
  * makes the motion against the running friction. */
 CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
 {
-    int32_t d, k;
+    uint16_t d, k;                  /* (duties up to 2 x 0.7 of full: 16 bits unsigned) */
     int8_t s;
     uint8_t c;
     m += ctl_carry;
@@ -137,13 +137,13 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         ctl_carry = 0;
         return 0;
     }
-    d = m > 0 ? m : -m;
-    if (s != M->dir && M->dir != 0 && d < M->rmin) {
+    d = (uint16_t)(m > 0 ? m : -m);    /* (clipped to 15 bits) */
+    if (s != M->dir && M->dir != 0 && d < (uint16_t)M->rmin) {
         ctl_carry = (q15_t)m;       /* a reversal waits until it is worth more than the slack */
         return 0;
     }
-    d = ctl_drun + MUL_R15((int16_t)d, ctl_run_span);
-    k = (int32_t)CTL_STICTION + M->brk;
+    d = (uint16_t)ctl_drun + (uint16_t)MUL_R15((int16_t)d, ctl_run_span);
+    k = (uint16_t)CTL_STICTION + (uint16_t)M->brk;
     if (d < k) {
         ctl_carry = (q15_t)m;       /* owed until it is worth a pulse */
         return 0;
@@ -158,7 +158,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         if (c && M->big && M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN) {
             M->g -= M->g >> 2;
         } else if (M->rev_age <= FM_OSC_GAP && M->warm >= FM_WARM && d > 2 * k
-            && (int32_t)(e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
+            && (e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
             /* (a pulse near the smallest: the valve's resolution, not the gain) */
             if (M->g > FM_G_MIN)
                 M->g -= M->g >> 3;
@@ -182,7 +182,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         M->stall_n = 0;
     }
     M->dir = s;
-    return (q15_t)(s > 0 ? d : -d);
+    return s > 0 ? (q15_t)d : -(q15_t)d;
 }
 
 q15_t fm_step(void) CTL_SHARED

@@ -190,6 +190,8 @@ static void speed_window(void) __reentrant
     if (sp.shift || sw.fill <= SPEED_WIN_BACK)
         return;
     j = (a - SPEED_WIN_BACK) & (SPEED_WIN - 1u);
+    if ((uint16_t)(sw.t[a] - sw.t[j]) > SPEED_WIN_MAX_T)
+        j = (a - 2u) & (SPEED_WIN - 1u);    /* slow: fewer periods, less lag */
     n = sw.p[a] - sw.p[j];
     if (n < 15u)
         v = um_muldiv(sp.k, n, (uint32_t)(uint16_t)(sw.t[a] - sw.t[j]) << 8);

@@ -35,6 +35,7 @@
 #define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
 #define SPEED_LOST_X100 200u        /* pulses that stop above 2 km/h: a lost sensor, not a stop */
 #define SPEED_WIN 4u                /* periods with pulses the speed window keeps (a power of 2) */
+#define SPEED_WIN_MAX_T 2700u       /* ... 2 when those span more than this (PCA/256: 0.75 s) */
 #define SPEED_WIN_BACK 3u           /* periods back the speed is taken over, offsets unlearnt */
 #define SPEED_TEETH_MAX 16u         /* most wheel pulses a turn (P_WHEEL_PPR) */
 #define SPEED_LEARN_DRIFT 128       /* an edge this far (1/4096 of a spacing) from its learnt place:
