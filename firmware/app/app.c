@@ -101,6 +101,7 @@ static void app_start(void)
     app_status.spraying = 0;
     app_status.manual = 0;
     app_status.open_nozzles = 0;
+    app_status.boom_wait = 0;
     app_status.job_area_m2 = 0;
     ap.next_ms = hal_ms() + APP_PERIOD_MS;
 }
@@ -186,6 +187,10 @@ static void app_spray(void)
     uint8_t want = app_status.open_nozzles && !((diag_alarms() >> AL_TANK_LOW) & 1u)
                    && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
                    && (manual || app_status.speed_kmh_x100 > 0) && !ap.internal && !IO_ON;
+    /* after power-up the boom does not open into a line over P max (a fixed PTO's pump against a
+     * bypass still opening): it waits, shown, until the pressure is under P max or APP_P_WAIT */
+    app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp();
+    want &= !app_status.boom_wait;
     if (want != app_status.spraying) {
         app_status.spraying = want;
         hal_spray_enable(want);

@@ -215,7 +215,8 @@ static void draw_run(void)
     con_cat_num(st->speed_kmh_x100, 4, 1, CON_DROP(1));
     con_cat("km/h ");
     at = con_at;
-    con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL" : "AUTO");
+    con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL"
+            : st->boom_wait ? "WAIT P" : "AUTO");
     con_right_align(at);
     con_show(0);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */

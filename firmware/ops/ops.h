@@ -23,6 +23,7 @@ typedef struct {
     uint8_t spraying;               /* master boom valve open */
     uint8_t manual;                 /* manual mode (operator jogs the valve) */
     uint8_t open_nozzles;           /* nozzles in the switched-on sections */
+    uint8_t boom_wait;              /* the boom kept shut after power-up: the line over P max */
     uint32_t job_area_m2;           /* the job's area, taken once a second (a divide) */
 } app_status_t;
 

@@ -1,4 +1,4 @@
-/* test_drive.c: drive.c against the simulated sprayer: a shut boom holds the bypass at the spraying pressure, parks it open without a pressure to hold on, and the restart from a hold. */
+/* test_drive.c: drive.c and the boom's opening against the simulated sprayer: a shut boom holds the bypass at the spraying pressure, parks it open without a pressure to hold on, the restart from a hold, the power-up wait for the line under P max. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -10,6 +10,7 @@
 #include "sim.h"
 #include "app.h"
 #include "drive.h"
+#include "params.h"
 
 static scenario_t scn;
 static sim_t sim;
@@ -117,11 +118,51 @@ static void test_drive_without_the_pressure_sensor_the_bypass_parks_open(void **
     assert_true(s.pos_max_shut >= 0.9);
 }
 
+/* Power-up with the bypass closed and a fixed PTO: the line is over P max until the slow valve
+ * has opened enough; the boom stays shut meanwhile, although the tractor moves, and opens once
+ * the pressure is under P max (then the rule is done: a later over-pressure does not hold the
+ * boom, it opens the bypass and raises the alarm). */
+static void test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up(void **state)
+{
+    (void)state;
+    static char text[512];
+    char err[256];
+    snprintf(text, sizeof text,
+             "[run]\nduration_s = 40\nseed = 5\n[config]\ncontroller = best\n"
+             "[plant]\npto_coupled = 0\nvalve_travel_s = 12\nvalve_start_pos = 0\n"
+             "[drive]\n0 0\n1 0\n3 8\n40 8\n[events]\n");
+    if (scenario_parse(&scn, text, "test_drive", err, sizeof err) != 0)
+        fail_msg("scenario: %s", err);
+    sim_init(&sim, &scn);
+    sim_live = 1;
+    sim_row_t row;
+    double p_open = -1, t_open = -1, p_max_sprayed = 0, t_moving = -1;
+    while (sim_time_s(&sim) < 30.0) {
+        for (int i = 0; i < 10; i++)
+            sim_step(&sim);
+        sim_row(&sim, &row);
+        if (row.v_meas_kmh > 0 && t_moving < 0)
+            t_moving = row.t_s;
+        if (row.spray_on && t_open < 0) {
+            t_open = row.t_s;
+            p_open = row.p_bar;
+        }
+        if (row.spray_on)
+            p_max_sprayed = fmax(p_max_sprayed, row.p_bar);
+    }
+    printf("# power-up, bypass closed: moving at %.1f s, the boom opened at %.1f s at %.2f bar "
+           "(P max %.2f)\n", t_moving, t_open, p_open, param_v[P_P_MAX] / 100.0);
+    assert_true(t_moving > 0 && t_open > t_moving + 1.0);
+    assert_true(p_open <= param_v[P_P_MAX] / 100.0 + 0.1);
+    assert_true(app_status.spraying);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_teardown(test_drive_a_shut_boom_holds_the_spraying_pressure, teardown),
         cmocka_unit_test_teardown(test_drive_without_the_pressure_sensor_the_bypass_parks_open, teardown),
+        cmocka_unit_test_teardown(test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
