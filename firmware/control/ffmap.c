@@ -15,7 +15,8 @@
  *   - break-away: from rest nothing moves below Min duty, so motions too small for one pulse are
  *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
  *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way (twice as many up
- *     to twice the smallest) without the flow moving that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
+ *     to twice the smallest) without the flow moving that way are a stall, and the smallest
+ *     pulse grows (brk, forgotten slowly);
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
  *     answers (reversals in quick succession near the target lower it, a long run of error one
  *     way raises it);

@@ -174,8 +174,9 @@ static uint32_t r12(uint32_t x) __reentrant
 }
 
 /* Until a turn of offsets is learnt: the speed over the last SPEED_WIN_BACK periods that brought
- * pulses, in place of the newest period's `v`. A period longer than 2^22 ticks (4.5 s) starts
- * the window anew, so a span fits 16 bits of PCA/256. */
+ * pulses (2 when those span more than SPEED_WIN_MAX_T: at a crawl the window's lag costs more
+ * than the spacing errors), in place of the newest period's `v`. A period longer than 2^22
+ * ticks (4.5 s) starts the window anew, so a span fits 16 bits of PCA/256. */
 static void speed_window(void) __reentrant
 {
     static __data uint8_t a, j, n;
