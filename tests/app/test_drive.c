@@ -8,11 +8,11 @@
 #include <string.h>
 #include <cmocka.h>
 #include "sim.h"
+#include "helper_sim.h"
 #include "app.h"
 #include "drive.h"
 #include "params.h"
 
-static scenario_t scn;
 static sim_t sim;
 static int sim_live;
 
@@ -22,25 +22,17 @@ static int sim_live;
 static void start(const char *events)
 {
     static char text[2048];
-    char err[256];
     snprintf(text, sizeof text,
              "[run]\nduration_s = 120\nseed = 5\n[config]\ncontroller = best\n"
              "[plant]\npto_coupled = 0\nvalve_travel_s = 12\n"
              "[drive]\n0 0\n5 8\n120 8\n[events]\n%s60 sections_open 0\n70 sections_open 36\n", events);
-    if (sim_live)
-        sim_free(&sim);
-    if (scenario_parse(&scn, text, "test_drive", err, sizeof err) != 0)
-        fail_msg("scenario: %s", err);
-    sim_init(&sim, &scn);
-    sim_live = 1;
+    helper_sim_load(&sim, &sim_live, text, "test_drive");
 }
 
 static int teardown(void **state)
 {
     (void)state;
-    if (sim_live)
-        sim_free(&sim);
-    sim_live = 0;
+    helper_sim_end(&sim, &sim_live);
     return 0;
 }
 
@@ -126,15 +118,11 @@ static void test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up(void 
 {
     (void)state;
     static char text[512];
-    char err[256];
     snprintf(text, sizeof text,
              "[run]\nduration_s = 40\nseed = 5\n[config]\ncontroller = best\n"
              "[plant]\npto_coupled = 0\nvalve_travel_s = 12\nvalve_start_pos = 0\n"
              "[drive]\n0 0\n1 0\n3 8\n40 8\n[events]\n");
-    if (scenario_parse(&scn, text, "test_drive", err, sizeof err) != 0)
-        fail_msg("scenario: %s", err);
-    sim_init(&sim, &scn);
-    sim_live = 1;
+    helper_sim_load(&sim, &sim_live, text, "test_drive");
     sim_row_t row;
     double p_open = -1, t_open = -1, p_max_sprayed = 0, t_moving = -1;
     while (sim_time_s(&sim) < 30.0) {

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "sim.h"
+#include "helper_sim.h"
 #include "store.h"
 #include "totals.h"
 #include "hal_host.h"
@@ -16,7 +17,6 @@
 #include "flow.h"
 #include "params.h"
 
-static scenario_t scn;
 static sim_t sim;
 
 /* What a run saw from `from_s` on (the fault's time). */
@@ -39,17 +39,10 @@ static const char *fault_ctl = "pid";
 static void start_drive(const char *events, const char *extra_config, const char *plant, const char *drive)
 {
     static char text[4096];
-    char err[256];
     snprintf(text, sizeof text,
              "[run]\nduration_s = 400\nseed = 3\n[config]\ncontroller = %s\n%s\n[plant]\n%s\n"
              "[drive]\n%s\n[events]\n%s\n", fault_ctl, extra_config, plant, drive, events);
-    if (sim_live)
-        sim_free(&sim);
-    sim_live = 0;
-    if (scenario_parse(&scn, text, "test_faults", err, sizeof err) != 0)
-        fail_msg("scenario: %s", err);
-    sim_init(&sim, &scn);
-    sim_live = 1;
+    helper_sim_load(&sim, &sim_live, text, "test_faults");
 }
 
 /* accelerate to kmh in 5 s and hold it */
@@ -63,9 +56,7 @@ static void start(const char *events, const char *extra_config, const char *plan
 static int teardown(void **state)
 {
     (void)state;
-    if (sim_live)
-        sim_free(&sim);
-    sim_live = 0;
+    helper_sim_end(&sim, &sim_live);
     return 0;
 }
 

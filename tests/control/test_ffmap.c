@@ -12,6 +12,7 @@
 #include "ctl_int.h"
 #include "params.h"
 #include "sim.h"
+#include "../app/helper_sim.h"
 
 static int setup(void **state)
 {
@@ -22,14 +23,11 @@ static int setup(void **state)
     return 0;
 }
 
-/* A simulated sprayer from a scenario's text. */
+/* A simulated sprayer from a scenario's text (its scenario outlives the run: helper_sim.c). */
 static void sim_from(sim_t *sim, const char *text)
 {
-    scenario_t scn;
-    char err[256];
-    if (scenario_parse(&scn, text, "test_ffmap", err, sizeof err) != 0)
-        fail_msg("scenario: %s", err);
-    sim_init(sim, &scn);
+    int live = 0;
+    helper_sim_load(sim, &live, text, "test_ffmap");
 }
 
 /* A whole run: its metrics. */
