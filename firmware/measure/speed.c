@@ -14,6 +14,7 @@ static struct {
     int32_t d_rev;          /* how much it changed from the turn before */
     uint16_t v_x100;
     uint16_t v_pulse_x100;  /* speed at the last pulse */
+    uint16_t v_meas;        /* the last span's own speed (before speed_ahead), 0: none */
     uint16_t quiet;         /* periods since the last pulse */
     uint16_t glitches;
     uint8_t since;          /* periods since the estimate was last measured (slew allowance) */
@@ -89,6 +90,7 @@ void speed_init(void)
     sp.quiet = 0xFFFF;
     sp.glitches = 0;
     sp.have_edge = 0;
+    sp.v_meas = 0;
     sp.since = 0;
     sp.n = 0;
     speed_derive();
@@ -198,6 +200,24 @@ static void speed_window(void) __reentrant
         v = um_muldiv(sp.k, n, (uint32_t)(uint16_t)(sw.t[a] - sw.t[j]) << 8);
 }
 
+/* A span's speed is the speed at its middle, half a span before its newest edge. While the
+ * offsets are learnt, a quarter of the change from the span before (about as long) is added:
+ * carried on over half of that way it takes most of the lag out of a speed change (over the
+ * whole way it runs ahead when the tractor levels off, and the boom's flow itself follows the
+ * pump a little late); at most 1/2^SPEED_AHEAD_MAX of the speed either way. */
+static void speed_ahead(void) __reentrant
+{
+    static __data uint16_t vm, d;
+    vm = (uint16_t)v;
+    if (sp.shift && sp.v_meas) {
+        d = (vm > sp.v_meas ? vm - sp.v_meas : sp.v_meas - vm) >> 2;
+        if (d > (vm >> SPEED_AHEAD_MAX))
+            d = vm >> SPEED_AHEAD_MAX;
+        v = vm > sp.v_meas ? vm + d : vm - d;
+    }
+    sp.v_meas = vm;
+}
+
 uint16_t speed_step(void) __reentrant
 {
 
@@ -230,6 +250,7 @@ uint16_t speed_step(void) __reentrant
                 sp.idx = nw;
                 if (sp.n > 1)
                     speed_window();
+                speed_ahead();
                 /* the rise allowed since the last measurement, period by period */
                 uint32_t lim = (uint32_t)sp.v_x100 + UMUL(SPEED_SLEW_X100, sp.since);
                 if (v > lim)
@@ -256,6 +277,7 @@ uint16_t speed_step(void) __reentrant
                 sp.v_x100 = (uint16_t)v;
             if (sp.quiet >= SPEED_STALE_PERIODS) {
                 sp.have_edge = 0;   /* before the 32-bit PCA time can wrap */
+                sp.v_meas = 0;      /* ... and no span before the next one */
                 if (sp.v_pulse_x100 >= SPEED_LOST_X100)
                     speed_forget_offsets();     /* pulses stopped at speed: which element is next is lost */
             }

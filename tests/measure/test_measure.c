@@ -249,6 +249,43 @@ static void test_speed_does_not_learn_a_change_of_speed_as_spacing(void **state)
 }
 
 /* 12, 30, 50 L/min at 380 p/L: every period within 0.1 % (+1 LSB) once two windows are in */
+/* An even wheel, learnt over 20 turns at 5 km/h, then the tractor's full acceleration (0.5 m/s2)
+ * to 10 km/h and a hold. A span's speed is the speed at its middle, so read at the period's end
+ * it lags a change by half a span and more; speed_ahead adds a quarter of the change from the
+ * span before. Over the ramp the mean lag is at most 0.28 km/h (the span's speed alone lags it by
+ * over 0.33 km/h); when the tractor levels off the speed overshoots the hold by at most 0.5 %
+ * (+1 LSB). */
+static void test_speed_takes_the_lag_out_of_an_acceleration(void **state)
+{
+    double v = 5.0 / 3.6, x = 0.0, t = 0.0, lag = 0.0, over = 0.0;
+    uint64_t k = 1;
+    int n = 0;
+    (void)state;
+    now_ns = 0;
+    for (int p = 0; p < 1000; p++) {
+        now_ns += PERIOD_NS;
+        while (t * 1e9 < (double)now_ns) {          /* 0.1 ms steps of the tractor */
+            if (p >= 700 && v < 10.0 / 3.6)
+                v = fmin(v + 0.5e-4, 10.0 / 3.6);
+            x += v * 1e-4;
+            t += 1e-4;
+            if (x >= k * 0.3927)
+                hal_host_wheel_edge((uint64_t)(t * 1e9)), k++;
+        }
+        hal_host_set_time_ns(now_ns);
+        uint16_t m = speed_step();
+        if (p >= 705 && v < 10.0 / 3.6)
+            lag += v * 360.0 - m, n++;
+        if (p >= 760)
+            over = fmax(over, m - 1000.0);
+    }
+    lag /= n;
+    printf("# 0.5 m/s2 from 5 to 10 km/h: mean lag %.3f km/h over the ramp, %.2f %% over the hold after\n",
+           lag / 100, over / 10);
+    assert_true(lag <= 28.0 && lag >= 0.0);
+    assert_true(over <= 5.0 + 1.0);
+}
+
 static void test_flow_is_measured_from_periods_at_12_30_50_lpm(void **state)
 {
     static const double lpm[] = {12.0, 30.0, 50.0};
@@ -403,6 +440,7 @@ int main(void)
         cmocka_unit_test_setup(test_speed_rejects_a_burst_of_impossible_pulses, setup),
         cmocka_unit_test_setup(test_speed_learns_the_element_spacing_and_drops_bounce, setup),
         cmocka_unit_test_setup(test_speed_does_not_learn_a_change_of_speed_as_spacing, setup),
+        cmocka_unit_test_setup(test_speed_takes_the_lag_out_of_an_acceleration, setup),
         cmocka_unit_test_setup(test_flow_is_measured_from_periods_at_12_30_50_lpm, setup),
         cmocka_unit_test_setup(test_flow_rejects_glitches_and_reads_zero_when_pulses_stop, setup),
         cmocka_unit_test_setup(test_analog_4ma_reads_0_mpa_and_the_span_is_linear, setup),
