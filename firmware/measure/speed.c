@@ -25,6 +25,9 @@ static struct {
     uint8_t t0_stamp;       /* low byte of `pulses` at t0 */
     uint8_t t0_ok;
     uint8_t learnt;         /* offsets learnt in this turn of learning */
+    uint8_t steady;         /* 1: the last turn as long as the one before (learning allowed) */
+    uint8_t drift;          /* bit 0: an edge left its learnt place in this turn; bits 1-6: steady
+                             * turns in a row that had one, times 2; SPEED_FIRST_TURN */
     uint8_t turns;          /* turns learnt at this gain */
     uint8_t shift;          /* the gain: 1 / 2^shift */
     int16_t off[SPEED_TEETH_MAX];   /* each element's position against element 0's, 1/4096 of a spacing */
@@ -51,6 +54,7 @@ static void speed_restart_offsets(void) __reentrant
     sp.learnt = 0;
     sp.turns = 0;
     sp.shift = 0;
+    sp.drift = 0;
 }
 
 static void speed_forget_offsets(void) __reentrant
@@ -90,7 +94,6 @@ void speed_init(void)
     sp.quiet = 0xFFFF;
     sp.glitches = 0;
     sp.have_edge = 0;
-    sp.v_meas = 0;
     sp.since = 0;
     sp.n = 0;
     speed_derive();
@@ -110,7 +113,7 @@ static int32_t spans(uint32_t dt, uint8_t count) __reentrant
 
 static void speed_learn(uint8_t count, uint8_t old) __reentrant
 {
-    uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg, steady;
+    uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg, c;
     int32_t err;
     int16_t e;
     if (sp.idx == 0) {
@@ -125,21 +128,35 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         sp.t0_stamp = (uint8_t)sp.pulses;
         sp.t0_ok = 1;
         m = 0;
+        err = sp.d_rev < 0 ? -sp.d_rev : sp.d_rev;
+        sp.steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> 9);
+        /* The first turn's offsets are taken whole: if the speed changed in the turn they were
+         * learnt in (or it could not be timed), they hold the change, not the wheel: learning
+         * starts again. Edges off their learnt places through SPEED_BAD_TURNS turns in a row,
+         * each as long as the one before, are no speed change either: the offsets are wrong
+         * (an element bent, a change the turn's time did not show): learning starts again. */
+        c = sp.drift;
+        sp.drift = 0;
+        if (!sp.steady) {
+            if (sp.shift == 0 || (c & SPEED_FIRST_TURN))
+                speed_restart_offsets();
+        } else if (c & 1) {
+            c = (uint8_t)((c & 0x7Eu) + 2u);
+            if (c >= 2 * SPEED_BAD_TURNS)
+                speed_restart_offsets();
+            else
+                sp.drift = c;
+        }
     }
-    err = sp.d_rev < 0 ? -sp.d_rev : sp.d_rev;
-    steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> 9);
-    /* the first turn's offsets are taken whole: if the speed changed in the turn they were
-     * learnt in (or the turn could not be timed), they hold the change, not the wheel, and
-     * learning starts again */
-    if (sp.idx == 0 && sp.shift == 0 && !steady)
-        speed_restart_offsets();
-    if (!steady || m > sp.n)
+    if (!sp.steady || m > sp.n)
         return;
     /* later turns: an edge away from where its learnt offset puts it against element 0's (which
      * opened this turn) says the speed changed since the turn was timed: nothing is learnt */
     err = spans(sp.last_pca - sp.t0, m) - sp.off[sp.idx];
-    if (sp.shift && (err > SPEED_LEARN_DRIFT || err < -SPEED_LEARN_DRIFT))
+    if (sp.shift && (err > SPEED_LEARN_DRIFT || err < -SPEED_LEARN_DRIFT)) {
+        sp.drift |= 1;
         return;
+    }
     /* where the new edge sits against the old one */
     err = spans(sl_dt, count) - ((int32_t)sp.off[sp.idx] - sp.off[old]);
     if (err > 1024 || err < -1024)
@@ -155,8 +172,11 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         e = -e;
     if (++sp.learnt >= sp.n) {
         sp.learnt = 0;
-        if (sp.shift < 4 && ++sp.turns >= (uint8_t)(1u << sp.shift))
-            sp.shift++, sp.turns = 0;
+        if (sp.shift < 4 && ++sp.turns >= (uint8_t)(1u << sp.shift)) {
+            if (sp.shift++ == 0)
+                sp.drift |= SPEED_FIRST_TURN;   /* judged at element 0's edge, which ends it */
+            sp.turns = 0;
+        }
     }
     if (sp.idx != 0)
         sp.off[sp.idx] += e;

@@ -37,6 +37,8 @@
 #define SPEED_WIN 4u                /* periods with pulses the speed window keeps (a power of 2) */
 #define SPEED_WIN_MAX_T 2700u       /* ... 2 when those span more than this (PCA/256: 0.75 s) */
 #define SPEED_WIN_BACK 3u           /* periods back the speed is taken over, offsets unlearnt */
+#define SPEED_FIRST_TURN 0x80u      /* speed.c: the first turn of offsets was just learnt */
+#define SPEED_BAD_TURNS 3u          /* steady turns with an edge off its learnt place: relearn */
 #define SPEED_AHEAD_MAX 4u          /* speed_ahead moves the speed by at most 1/2^this of it */
 #define SPEED_TEETH_MAX 16u         /* most wheel pulses a turn (P_WHEEL_PPR) */
 #define SPEED_LEARN_DRIFT 128       /* an edge this far (1/4096 of a spacing) from its learnt place:
