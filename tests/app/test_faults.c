@@ -312,6 +312,39 @@ static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void *
         assert_true(detect_s(&r, b) > 1000);
 }
 
+/* A wheel sensor that bounces now and then (3 % of its pulses, within the plant family) is
+ * dropped at the input and raises nothing over 200 s; one that bounces on 30 % of its pulses
+ * raises WHEEL_NOISE within 15 s while spraying and the measured speed go on (within 1 % of
+ * the truth); the alarm clears within 70 s of the bounce stopping. */
+static void test_faults_wheel_bounce_is_dropped_and_persistent_noise_alarms(void **state)
+{
+    run_t r;
+    sim_row_t row;
+    double err = 0;
+    int n = 0;
+    (void)state;
+    start("200 speed_bounce_pct 30\n260 speed_bounce_pct 0", "", "pto_coupled = 0\nspeed_bounce_pct = 3", 8);
+    run_init(&r, 0);
+    run_to(&r, 200);
+    assert_true(detect_s(&r, AL_WHEEL_NOISE) > 1000);
+    run_init(&r, 200);
+    while (sim_time_s(&sim) < 255 - 1e-9) {
+        run_to(&r, sim_time_s(&sim) + 0.1);
+        sim_row(&sim, &row);
+        if (row.t_s >= 205) {
+            err += (row.v_meas_kmh - row.v_true_kmh) / row.v_true_kmh;
+            n++;
+        }
+    }
+    printf("# wheel bounce 30 %%: WHEEL_NOISE after %.1f s, speed %+.2f %% of the truth\n",
+           detect_s(&r, AL_WHEEL_NOISE), 100 * err / n);
+    assert_true(detect_s(&r, AL_WHEEL_NOISE) <= 15);
+    assert_true(fabs(err / n) <= 0.01);
+    assert_true(app_status.spraying);
+    run_to(&r, 330);                            /* the score (at most 255) runs down a pulse at a time */
+    assert_false(active(AL_WHEEL_NOISE));
+}
+
 /* tank below its minimum (a sudden drop from 980 L to 25 L: the level filter's 0.4 s time
  * constant takes 2.1 s to come down, then 1 s of persistence) stops spraying within 3.5 s;
  * an empty tank sprays nothing and the dry pump has its alarm within 2.5 s; a refill
@@ -500,6 +533,7 @@ int main(void)
         cmocka_unit_test(test_faults_most_nozzles_clogged_is_a_clog_not_a_lost_meter),
         cmocka_unit_test(test_faults_small_leak_and_few_clogs_are_seen),
         cmocka_unit_test(test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing),
+        cmocka_unit_test(test_faults_wheel_bounce_is_dropped_and_persistent_noise_alarms),
         cmocka_unit_test(test_faults_empty_tank_sprays_nothing_and_the_dry_pump_alarms),
         cmocka_unit_test(test_faults_over_pressure_with_a_stuck_valve),
         cmocka_unit_test(test_faults_off_rate_when_the_flow_cannot_follow),
