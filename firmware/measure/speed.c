@@ -33,7 +33,7 @@ static struct {
     int16_t off[SPEED_TEETH_MAX];   /* each element's position against element 0's, 1/4096 of a spacing */
 } sp;
 
-/* the span speed_learn checks, measured by speed_step */
+/* the newest span, measured by speed_step (speed_learn checks it) */
 static uint32_t sl_dt;
 
 /* The last SPEED_WIN periods that brought pulses: the newest edge's PCA time / 256 and the low
@@ -63,6 +63,7 @@ static void speed_forget_offsets(void) __reentrant
     sw.fill = 0;
     sp.t0_ok = 0;
     sp.t_rev = 0;
+    sp.steady = 0;          /* no learning before a turn is timed again */
 }
 
 static void speed_derive(void) __reentrant
@@ -257,11 +258,11 @@ uint16_t speed_step(void) __reentrant
         sp.pulses += c.count;
         sp.quiet = 0;
         if (sp.have_edge) {
-            uint32_t dt = c.last - sp.last_pca;
+            sl_dt = c.last - sp.last_pca;
             /* the distance the span covers, in 1/4096 of a pulse spacing: each element's
              * learnt offset takes the wheel's spacing error out of the period */
             w = c.count < 15u ? (uint16_t)(((uint16_t)c.count << 12) + sp.off[nw] - sp.off[old]) : c.count;
-            v = um_muldiv(sp.k, w, dt);
+            v = um_muldiv(sp.k, w, sl_dt);
             if (c.count < 15u)
                 v = r12(v);
             if (c.last == sp.last_pca || v > SPEED_MAX_X100) {
@@ -279,7 +280,6 @@ uint16_t speed_step(void) __reentrant
                 sp.since = 0;
             }
         }
-        sl_dt = c.last - sp.last_pca;
         sp.idx = nw;
         sp.last_pca = c.last;
         if (sp.n > 1 && sp.have_edge && c.count < 15u)
