@@ -294,15 +294,20 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
         learn(x, p);                /* (the fit is diag_step's: a shorter call chain) */
     judge = judge && pexp != 0xFFFFu;
     /* near the learnt model (learnt over the range, or near the flow it was learnt at: x within
-     * 3/4 .. 4/3 of xm) the pressure above the check valves must be within P_PDEV / 2; elsewhere
-     * (not learnt yet, far from a model learnt at one flow) only a gross deviation counts:
+     * 3/4 .. 4/3 of xm) the pressure above the check valves must be within P_PDEV / 2; far above
+     * a model learnt at one flow nothing is judged; far below it, or not learnt yet, only a gross
+     * deviation counts:
      * P_PDEV of it and DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can
      * make. Either way a leak is a below lo, a clog a above hi. */
     g = dg.learnt == 2;
     if (dg.learnt == 1) {
         lo = UMUL(dg.xm, 3u);
         hi = UMUL(x, 3u);
-        g = ((uint32_t)x << 2) >= lo && hi <= ((uint32_t)dg.xm << 2);
+        if (hi > ((uint32_t)dg.xm << 2))
+            judge = 0;              /* a model learnt at one flow, carried far above it with the
+                                     * check valves' told pressure, is wrong by more than a fault
+                                     * (below it, by less than that pressure's error) */
+        g = ((uint32_t)x << 2) >= lo;
     }
     if (g) {
         judge = judge && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA;
