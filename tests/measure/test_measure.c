@@ -175,6 +175,16 @@ static void test_speed_rejects_a_burst_of_impossible_pulses(void **state)
  * and the speed does not move. */
 static const double pattern[12] = {0.03, -0.02, 0.01, -0.03, 0.02, 0.0, -0.01, 0.025, -0.015, 0.005, -0.02, 0.005};
 
+/* One 0.1 ms step of a wheel of 12 elements placed by `pat` (NULL: evenly) rolling at v m/s:
+ * its position x (m) and the time t (s) move on, and element k's edge goes out once reached. */
+static void roll(double v, double *x, double *t, uint64_t *k, const double *pat)
+{
+    *x += v * 1e-4;
+    *t += 1e-4;
+    if (*x >= (*k + (pat ? pat[*k % 12] : 0.0)) * 0.3927)
+        hal_host_wheel_edge((uint64_t)(*t * 1e9)), (*k)++;
+}
+
 static void test_speed_learns_the_element_spacing_and_drops_bounce(void **state)
 {
     const double T = wheel_period_ns(7.0);
@@ -234,10 +244,7 @@ static void test_speed_does_not_learn_a_change_of_speed_as_spacing(void **state)
             v = v < aim - dv ? v + dv : v > aim + dv ? v - dv : aim;
             if (v != aim)
                 steady_t = t;
-            x += v * 1e-4;
-            t += 1e-4;
-            if (x >= (k + pattern[k % 12]) * 0.3927)
-                hal_host_wheel_edge((uint64_t)(t * 1e9)), k++;
+            roll(v, &x, &t, &k, pattern);
         }
         hal_host_set_time_ns(now_ns);
         uint16_t m = speed_step();
@@ -299,10 +306,7 @@ static void test_speed_learns_again_a_first_turn_the_tractor_slowed_in(void **st
                 aim = (t < 6.0 + 0.2 * k ? 9.3 : 6.4) / 3.6;
                 double dv = (aim - v) * 1e-4;
                 v += fmax(-0.5e-4, fmin(0.5e-4, dv));
-                x += v * 1e-4;
-                t += 1e-4;
-                if (x >= (n + pattern[n % 12]) * 0.3927)
-                    hal_host_wheel_edge((uint64_t)(t * 1e9)), n++;
+                roll(v, &x, &t, &n, pattern);
             }
             hal_host_set_time_ns(now_ns);
             uint16_t m = speed_step();
@@ -332,10 +336,7 @@ static void test_speed_takes_the_lag_out_of_an_acceleration(void **state)
         while (t * 1e9 < (double)now_ns) {          /* 0.1 ms steps of the tractor */
             if (p >= 700 && v < 10.0 / 3.6)
                 v = fmin(v + 0.5e-4, 10.0 / 3.6);
-            x += v * 1e-4;
-            t += 1e-4;
-            if (x >= k * 0.3927)
-                hal_host_wheel_edge((uint64_t)(t * 1e9)), k++;
+            roll(v, &x, &t, &k, NULL);
         }
         hal_host_set_time_ns(now_ns);
         uint16_t m = speed_step();
