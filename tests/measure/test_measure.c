@@ -255,7 +255,6 @@ static void test_speed_does_not_learn_a_change_of_speed_as_spacing(void **state)
     assert_true(worst <= 0.005 + 1.0 / 730);
 }
 
-/* 12, 30, 50 L/min at 380 p/L: every period within 0.1 % (+1 LSB) once two windows are in */
 /* The wheel of the spacing test at a steady 7 km/h, learnt; then a stone bends element 5 by 8 % of
  * a spacing. Its edge is then off its learnt place turn after turn at a steady speed, which a
  * speed change cannot explain: learning starts again, and from 20 turns after the bend every
@@ -352,6 +351,7 @@ static void test_speed_takes_the_lag_out_of_an_acceleration(void **state)
     assert_true(over <= 5.0 + 1.0);
 }
 
+/* 12, 30, 50 L/min at 380 p/L: every period within 0.1 % (+1 LSB) once two windows are in */
 static void test_flow_is_measured_from_periods_at_12_30_50_lpm(void **state)
 {
     static const double lpm[] = {12.0, 30.0, 50.0};
