@@ -55,11 +55,13 @@ HIL ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 # Shared moves (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
-# replaces its long moves by calls of firmware/math/moves.c, sdas assembles it. Not in the peers'
-# controllers (outside the field image) nor in the modules written in assembly; bp_pid in part.
+# replaces its long moves by calls of firmware/math/moves.c and moves_short.c, sdas assembles it.
+# Not in the peers' controllers (outside the field image) nor in the modules written in assembly;
+# bp_pid in part.
 SDAS ?= sdas8051
 SHARE_SKIP := $(addprefix firmware/control/,aog.c raven.c) \
-              $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c divulong.c)
+              $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c moves_short.c \
+                divulong.c)
 # bp_pid: its step has some cycles to spare (make bench), not for calls at its inner loops' locals
 SHARE_OPTS_firmware/control/bp.c := --skip=fp_r0_0f
 # ctl.c: its derivations and selection share, not the step's dispatch nor ctl_applied (timed with it)

@@ -70,10 +70,50 @@ MOVES = {
                 "movx @dptr,a"],
     "st_aaaa": ["movx @dptr,a", "inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a",
                 "inc dptr", "movx @dptr,a"],
+    # the shorter ones: a 16-bit value between DPTR and a register
+    # pair, the registers a call's 24- or 32-bit result lands in, 16-bit moves through @R0 and
+    # @R1, SDCC's signed compare (sign bits flipped; the carry is the result), 32-bit sums and
+    # differences with a local, carries and sign extensions into R6-R7, 32-bit shifts by 4
+    "ar_r67": ["mov dpl,r6", "mov dph,r7"],
+    "ar_r45": ["mov dpl,r4", "mov dph,r5"],
+    "ar_r23": ["mov dpl,r2", "mov dph,r3"],
+    "rv_r67": ["mov r6,dpl", "mov r7,dph"],
+    "rv_r45": ["mov r4,dpl", "mov r5,dph"],
+    "rv_r23": ["mov r2,dpl", "mov r3,dph"],
+    "rv_r3456": ["mov r3,dpl", "mov r4,dph", "mov r5,b", "mov r6,a"],
+    "st_i2": ["mov a,@r0", "movx @dptr,a", "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a"],
+    "cp_ii2": ["mov @r1,a", "inc r0", "mov a,@r0", "inc r1", "mov @r1,a"],
+    "ld_ir23": ["mov ar2,@r0", "inc r0", "mov ar3,@r0"],
+    "ld_ir45": ["mov ar4,@r0", "inc r0", "mov ar5,@r0"],
+    "ld_ir67": ["mov ar6,@r0", "inc r0", "mov ar7,@r0"],
+    "st_ir23": ["mov @r0,ar2", "inc r0", "mov @r0,ar3"],
+    "st_ir67": ["mov @r0,ar6", "inc r0", "mov @r0,ar7"],
+    "st_ir3456": ["mov @r0,ar3", "inc r0", "mov @r0,ar4", "inc r0", "mov @r0,ar5", "inc r0",
+                  "mov @r0,ar6"],
+    "ld_r56": ["movx a,@dptr", "mov r5,a", "inc dptr", "movx a,@dptr", "mov r6,a"],
+    "st_r23": ["mov a,r2", "movx @dptr,a", "mov a,r3", "inc dptr", "movx @dptr,a"],
+    "st_00": ["clr a", "movx @dptr,a", "inc dptr", "movx @dptr,a"],
+    "ld_fp1a": ["mov r0,_bp", "inc r0", "mov a,@r0"],
+    "r67_0": ["mov r6,#0x00", "mov r7,#0x00"],
+    "inc_dptr5": ["inc dptr", "inc dptr", "inc dptr", "inc dptr", "inc dptr"],
+    "scmp_b": ["xrl b,#0x80", "subb a,b"],
+    "sub_i_r2367": ["mov a,@r0", "clr c", "subb a,r2", "mov r2,a", "inc r0", "mov a,@r0",
+                    "subb a,r3", "mov r3,a", "inc r0", "mov a,@r0", "subb a,r6", "mov r6,a",
+                    "inc r0", "mov a,@r0", "subb a,r7"],
+    "add_i_r4567": ["mov a,@r0", "add a,r4", "mov r4,a", "inc r0", "mov a,@r0", "addc a,r5",
+                    "mov r5,a", "inc r0", "mov a,@r0", "addc a,r6", "mov r6,a", "inc r0",
+                    "mov a,@r0", "addc a,r7"],
+    "adc_r67": ["clr a", "addc a,r6", "mov r6,a", "clr a", "addc a,r7", "mov r7,a"],
+    "sext_r67": ["rlc a", "subb a,acc", "mov r6,a", "mov r7,a"],
+    "shr4_r4": ["swap a", "xch a,r4", "swap a", "anl a,#0x0f", "xrl a,r4", "xch a,r4",
+                "anl a,#0x0f", "xch a,r4", "xrl a,r4", "xch a,r4"],
+    "shr4_r6": ["swap a", "xch a,r6", "swap a", "anl a,#0x0f", "xrl a,r6", "xch a,r6",
+                "anl a,#0x0f", "xch a,r6", "xrl a,r6", "xch a,r6"],
 }
 # R0 (or R1) = the address of a reentrant function's local: the frame base _bp plus its offset
 # (the offsets the firmware uses most)
-for _reg, _offs in (("r0", (0x03, 0x04, 0x05, 0x07, 0x09, 0x0b, 0x0d, 0x0f, 0x11, 0xfc, 0xfd)),
+for _reg, _offs in (("r0", (0x03, 0x04, 0x05, 0x06, 0x07, 0x09, 0x0b, 0x0d, 0x0f, 0x11, 0x13, 0x15,
+                            0xfc, 0xfd)),
                     ("r1", (0x05,))):
     for _off in _offs:
         MOVES["fp_%s_%02x" % (_reg, _off)] = ["mov a,_bp", "add a,#0x%02x" % _off, "mov %s,a" % _reg]

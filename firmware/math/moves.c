@@ -349,6 +349,21 @@ _mv_fp_r1_05::
         add a,#0x05
         mov r1,a
         ret
+_mv_fp_r0_06::
+        mov a,_bp
+        add a,#0x06
+        mov r0,a
+        ret
+_mv_fp_r0_13::
+        mov a,_bp
+        add a,#0x13
+        mov r0,a
+        ret
+_mv_fp_r0_15::
+        mov a,_bp
+        add a,#0x15
+        mov r0,a
+        ret
     __endasm;
 }
 #endif

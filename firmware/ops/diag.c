@@ -12,13 +12,13 @@
 #include "store.h"
 #include "ctl.h"
 
-static const char * const __code codes[AL_COUNT] = {
+static const char __code *const __code codes[AL_COUNT] = {
     "TANK_LOW", "PUMP_DRY", "LEAK", "CLOG", "METER_LOST", "SPEED_LOST", "PSENS_FAULT",
     "LSENS_FAULT", "OVERPRESSURE", "OFF_RATE", "VALVE_STOP", "METER_NOISE", "WHEEL_NOISE",
     "INTERNAL"
 };
 /* LCD texts: at most 16 characters */
-static const char * const __code texts[AL_COUNT] = {
+static const char __code *const __code texts[AL_COUNT] = {
     "Tank low: stop",
     "Pump dry:PTO off",
     "Leak after meter",
