@@ -93,6 +93,7 @@ static void ctl_derive(void)
         ctl_st.fm.brk_age = 0;
         ctl_st.fm.g = 256;
         ctl_st.fm.rmin = FM_REV_MIN;
+        ctl_st.fm.kff = 0;
     }
     ctl_stiction = s;
     ctl_backlash = b;

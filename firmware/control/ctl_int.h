@@ -78,6 +78,10 @@ typedef struct {
 #define FM_SLOW_N 20                /* this long awake with the error one way: +1/16 */
 #define FM_BIG_SHIFT 4              /* a half cycle whose error reached target >> this swung big */
 #define FM_P_WAIT 5                 /* periods after a (re)start without the proportional term */
+#define FM_FF_RSH 2                 /* the speed's feed-forward: a ramp is its change of the target ... */
+#define FM_FF_RAMP 40               /* ... filtered over about 2^FM_FF_RSH periods beyond this (x100) */
+#define FM_FF_ESH 7                 /* ... the error beyond target >> this: kff lags or leads */
+#define FM_FF_MAX 2000              /* the largest kff (a 9.4 s valve of the family learnt 430) */
 #define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
                                      * up, the line primes, the flow overshoots from the parked valve */
 typedef struct {
@@ -92,6 +96,7 @@ typedef struct {
     int16_t g;                      /* Q8: the loop gain learnt for this valve (256 = as told) */
     int16_t brk;                    /* Q15 added to Min duty after stalls */
     int16_t rmin;                   /* Q15: the motion owed the other way that makes a reversal */
+    int16_t kff;                    /* Q15 drive per x100 L/min the speed moves the target (fm_ff, even) */
     uint16_t brk_age;               /* periods since the last stall */
     uint8_t rev_age;                /* periods since the last reversal (saturates) */
     uint8_t moved;                  /* 1: the target moved since the last reversal */
@@ -100,6 +105,10 @@ typedef struct {
     int16_t epk;                    /* x100 the largest abs error since the last reversal */
     uint8_t big;                    /* 1: the half cycle before the last reversal swung big */
     uint8_t epk_now;                /* 1: this period's abs error beyond target >> FM_BIG_SHIFT */
+    uint16_t v1;                    /* x100 km/h: the last period's speed */
+    int16_t rf;                     /* x100 L/min: the speed's change of the target, filtered */
+    int32_t ffd;                    /* Q15 this period's feed-forward drive */
+    int16_t ffe;                    /* x100 L/min this period's error */
 } fm_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */

@@ -1,4 +1,4 @@
-/* ffmap.c: best, the project's own controller: a damped PID with a deadband, an output stage that knows the valve's motor. */
+/* ffmap.c: best, the project's own controller: a damped PID with a deadband and a learnt speed feed-forward, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
 #include "store.h"
 
@@ -27,9 +27,10 @@
  *     target still) lower that threshold by 1/8 down to FM_REV_LOW: a fast valve's cycle is
  *     its smallest reversal, not its noise.
  * The proportional term acts on the error, so a change of the target (the speed) moves the valve
- * at once; the speed it comes from is smoothed over several pulses until the wheel's spacing is
- * learnt (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT periods after a
- * (re)start: the flow rising as the line fills is not the valve's doing.
+ * at once, and a feed-forward learnt from this sprayer (fm_ff) moves it with the speed where
+ * the pump does not follow the wheels; the speed is smoothed over several pulses until the
+ * wheel's spacing is learnt (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT
+ * periods after a (re)start: the flow rising as the line fills is not the valve's doing.
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
  * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period.
  * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
@@ -56,6 +57,7 @@ void fm_init(void)
         M->g = 256;
         M->brk = 0;
         M->rmin = FM_REV_MIN;
+        M->kff = 0;
     }
     M->slow_n = 0;
     M->warm = 0;
@@ -78,6 +80,47 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
     }
     if (M->rev_age < 255)
         M->rev_age++;
+}
+
+/* The speed's feed-forward. With the pump at a fixed PTO speed the bypass must move as the
+ * ground speed does, and a loop on the error alone lags through every change of speed; with the
+ * pump on the wheels the boom's flow follows the speed by itself. Which of the two this sprayer
+ * is, and how far its valve moves the flow, is learnt from the error a speed change leaves:
+ * kff, the drive per x100 L/min the speed moves the target, rises by 2 each period the flow
+ * lags a ramp of the target (its change filtered over about 2^FM_FF_RSH periods beyond
+ * FM_FF_RAMP) by more than target >> FM_FF_ESH, and falls by 2 each period it leads; nothing in
+ * the first FM_WARM periods (the start-up's own error), at rest or against a stop. Only a
+ * change of the target that the speed made counts, the speed moving the same way (not the
+ * minimum-flow rule, not a section, not the rate). The working values the code uses most are in
+ * the direct RAM (the cheapest addressing; the step never runs inside itself), the others in
+ * the controllers' union (XRAM that bp_pid's network sizes). */
+static __data uint16_t ff_v;           /* the speed, then the error band */
+static __data int16_t ff_dq;
+#define ff_d (M->ffd)
+#define ff_e (M->ffe)
+
+static void fm_ff(void)
+{
+    ff_v = ctl_in->speed_kmh_x100;
+    ff_dq = ctl_in->target_lpm_x100 - M->t1;
+    if (!M->v1 || (ff_v > M->v1 ? ff_dq <= 0 : ff_v == M->v1 || ff_dq >= 0))
+        ff_dq = 0;
+    M->v1 = ff_v;
+    M->rf += ff_dq - (M->rf >> FM_FF_RSH);
+    ff_d = 0;
+    if (M->rest)
+        return;
+    ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FM_FF_ESH);
+    if (M->warm >= FM_WARM && !ctl_in->valve_limit && (M->rf > FM_FF_RAMP || M->rf < -FM_FF_RAMP)
+        && (ff_e > (int16_t)ff_v || ff_e < -(int16_t)ff_v)) {
+        if ((M->rf ^ ff_e) >= 0) {          /* the same sign: the flow lags */
+            if (M->kff < FM_FF_MAX)
+                M->kff += 2;
+        } else if (M->kff) {
+            M->kff -= 2;
+        }
+    }
+    ff_d = MUL(ff_dq, M->kff);
 }
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. */
@@ -202,9 +245,13 @@ q15_t fm_step(void) CTL_SHARED
         M->warm = 0;
         M->epk = 0;
         M->big = 0;
+        M->v1 = ctl_in->speed_kmh_x100;
+        M->rf = 0;
         ctl_first = 0;
     }
     fm_deadband(e, q);
+    ff_e = e;
+    fm_ff();
     fm_stall(e, q);
     d2e = e < 0 ? -e : e;
     if (d2e > M->epk)
@@ -225,7 +272,7 @@ q15_t fm_step(void) CTL_SHARED
         d32 = 2097151L;
     else if (d32 < -2097151L)
         d32 = -2097151L;
-    d = fm_out((d32 * M->g) >> 8, e);
+    d = fm_out(((d32 * M->g) >> 8) + ff_d, e);
     M->e2 = M->e1;
     M->e1 = e;
     M->t1 = q;

@@ -123,6 +123,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             sv.end = (uint8_t)CRC_N(b);
             if (sv_lo == PARAMS_VERSION)
                 sv.end += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
+            else if (sv_lo == 6u)
+                sv.end += STORE_LEARN_V6;
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
             if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
                 return 0;

@@ -15,9 +15,10 @@
  *          ahead of the others by 1..32767, so it may wrap)
  *   5..    P_COUNT values, uint16 little endian, in the order of params.h
  *   then   the lifetime totals: area m^2 and volume ml, uint32 little endian each
- *   then   (version 6) the figures learnt from the sprayer, STORE_LEARN_BYTES: best's valve
- *          (ctl_learnt_byte: loop gain, break-away, reversal threshold) and the nozzle model
- *          (diag_learnt_byte), 0xFF where none is learnt; a version 5 copy (no such bytes)
+ *   then   (version 7) the figures learnt from the sprayer, STORE_LEARN_BYTES: best's valve
+ *          (ctl_learnt_byte: loop gain, break-away, reversal threshold, the speed's feed-forward)
+ *          and the nozzle model (diag_learnt_byte), 0xFF where none is learnt; a version 5 copy
+ *          (no such bytes) or a version 6 one (STORE_LEARN_V6 of them, without the feed-forward)
  *          still loads, and nothing learnt is restored from it
  *   then   CRC-16/CCITT (poly 0x1021, init 0xFFFF) of all the bytes before it, high byte first
  * A save appends a record to the first erased slot after the newest one, CRC last; only when
@@ -31,10 +32,11 @@
  * reason (STORE_CROSS).
  * No save starts while the supply is low (hal_supply_low): STORE_LOW_SUPPLY.
  */
-#define STORE_LEARN_CTL 6u          /* learnt bytes: best's valve ... */
+#define STORE_LEARN_CTL 8u          /* learnt bytes: best's valve and speed feed-forward ... */
 #define STORE_LEARN_BYTES (STORE_LEARN_CTL + 4u)   /* ... and the nozzle model */
+#define STORE_LEARN_V6 10u          /* a version 6 record's learnt bytes */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + 2u)
-#define STORE_SLOT_BYTES 128u         /* a record of 32 values and the learnt figures is 89 bytes (64 held 24) */
+#define STORE_SLOT_BYTES 128u         /* a record of 32 values and the learnt figures is 91 bytes (64 held 24) */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
 #define STORE_NO_SLOT 0xFFu

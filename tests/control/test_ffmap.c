@@ -1,4 +1,4 @@
-/* test_ffmap.c: the project's own controller (ffmap, `best`) on the simulated sprayer: an over-pressure start settles on the target, the valve rests at a steady target, and a valve faster or stiffer than it was told is followed. */
+/* test_ffmap.c: the project's own controller (ffmap, `best`) on the simulated sprayer: an over-pressure start settles on the target, the valve rests at a steady target, and a valve faster or stiffer than it was told is followed, the speed's feed-forward is learnt where the PTO is fixed. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -121,12 +121,44 @@ static void test_ffmap_does_not_hunt_on_an_untold_valve(void **state)
     }
 }
 
+/* The speed's feed-forward: with the PTO at a fixed speed the bypass must move at every change
+ * of speed, and kff is learnt from the lag the loop shows; with the pump on the wheels the flow
+ * follows the speed by itself, and kff stays near nothing. The same drive both ways. */
+static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state)
+{
+    (void)state;
+    static const char *const pto[2] = { "pto_coupled = 0\npto_rpm = 540\n", "pto_coupled = 1\n" };
+    int16_t kff[2];
+    double cv[2];
+    for (int i = 0; i < 2; i++) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "[run]\nduration_s = 240\nseed = 11\n[config]\ncontroller = best\nrate_l_ha = 125\n[plant]\n%s"
+                 "[drive]\n0 0\n2 0\n2 6\n30 6\n30 10\n50 10\n50 5\n70 5\n70 9\n90 9\n90 6\n110 6\n"
+                 "110 10\n130 10\n130 5\n150 5\n150 9\n170 9\n170 6\n190 6\n190 10\n210 10\n210 5\n240 5\n",
+                 pto[i]);
+        metrics_result_t r;
+        run(text, &r);
+        kff[i] = ctl_st.fm.kff;
+        cv[i] = r.cv_pct;
+        print_message("ffmap, PTO %s: kff %d, CV %.2f %%, %.1f reversals a minute, dose (loop) %.3f %%\n",
+                      i ? "coupled" : "fixed", kff[i], r.cv_pct, r.valve_reversals_per_min, r.dose_ctl_pct);
+        assert_true(fabs(r.dose_ctl_pct) < 0.5);
+        assert_true(r.valve_reversals_per_min < 20);
+    }
+    assert_true(kff[0] >= 40);
+    assert_true(kff[1] <= 10);
+    assert_true(cv[0] < 1.4);
+    assert_true(cv[1] < 1.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_ffmap_over_pressure_start_settles_on_the_target, setup),
         cmocka_unit_test_setup(test_ffmap_holds_still_at_a_steady_target, setup),
         cmocka_unit_test_setup(test_ffmap_does_not_hunt_on_an_untold_valve, setup),
+        cmocka_unit_test_setup(test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto, setup),
     };
     return cmocka_run_group_tests_name("ffmap", tests, NULL, NULL);
 }

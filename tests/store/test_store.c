@@ -35,15 +35,17 @@ static uint16_t twin_crc(const uint8_t *p, size_t n)
 /* lifetime totals the twin writes after the values (area m^2, volume ml, little endian) */
 static uint32_t twin_life_m2 = 0, twin_life_ml = 0;
 
-/* the learnt figures the twin writes after the totals in this version's layout (10 bytes: best's
- * loop gain, break-away and reversal threshold, the nozzle model's check valves and rated kPa) */
-static uint8_t twin_learnt[10] = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
+/* the learnt figures the twin writes after the totals in this version's layout (12 bytes: best's
+ * loop gain, break-away, reversal threshold and speed feed-forward, the nozzle model's check
+ * valves and rated kPa); a version 6 record held the first 10 of such bytes (no feed-forward) */
+static uint8_t twin_learnt[12] = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
+#define TWIN_LEARNT(version) ((version) == PARAMS_VERSION ? sizeof twin_learnt : (version) == 6 ? 10u : 0u)
 
 /* a copy of the first `count` values (an older version's shorter table) */
 static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t version, int count)
 {
     uint8_t *e = hal_host_eeprom() + sector * HAL_EEPROM_SECTOR;
-    size_t n = 5 + 2 * (size_t)count + 8 + (version == PARAMS_VERSION ? sizeof twin_learnt : 0);
+    size_t n = 5 + 2 * (size_t)count + 8 + TWIN_LEARNT(version);
     memset(e, 0xFF, HAL_EEPROM_SECTOR);
     e[0] = 0x5A;
     e[1] = version;
@@ -58,8 +60,7 @@ static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t ve
         e[5 + 2 * count + k] = (uint8_t)(twin_life_m2 >> (8 * k));
         e[9 + 2 * count + k] = (uint8_t)(twin_life_ml >> (8 * k));
     }
-    if (version == PARAMS_VERSION)
-        memcpy(e + 13 + 2 * count, twin_learnt, sizeof twin_learnt);
+    memcpy(e + 13 + 2 * count, twin_learnt, TWIN_LEARNT(version));
     uint16_t crc = twin_crc(e, n);
     e[n] = (uint8_t)(crc >> 8);
     e[n + 1] = (uint8_t)crc;
@@ -560,9 +561,9 @@ static void test_store_keeps_the_lifetime_totals(void **state)
 }
 
 /* The figures learnt from the sprayer ride in the record: best's valve (loop gain, break-away,
- * reversal threshold) and the nozzle model come back after a power cycle; told a new Valve
- * time, best drops what it learnt before it is kept; a version 5 copy (no learnt bytes) loads
- * with nothing learnt. */
+ * reversal threshold), its speed feed-forward and the nozzle model come back after a power
+ * cycle; told a new Valve time, best drops what it learnt before it is kept; a version 5 copy
+ * (no learnt bytes) and a version 6 one (no feed-forward) load with nothing learnt. */
 static void test_store_keeps_the_learnt_figures(void **state)
 {
     uint16_t a[P_COUNT];
@@ -573,13 +574,15 @@ static void test_store_keeps_the_learnt_figures(void **state)
     ctl_st.fm.g = 150;
     ctl_st.fm.brk = FM_BRK_STEP;
     ctl_st.fm.rmin = FM_REV_MIN - 1000;
+    ctl_st.fm.kff = 120;
     assert_true(store_save());
-    ctl_st.fm.g = ctl_st.fm.brk = ctl_st.fm.rmin = 0;   /* power cycle */
+    ctl_st.fm.g = ctl_st.fm.brk = ctl_st.fm.rmin = ctl_st.fm.kff = 0;   /* power cycle */
     assert_int_equal(store_load(), STORE_OK);
     ctl_select(CTL_BEST);
     assert_int_equal(ctl_st.fm.g, 150);
     assert_int_equal(ctl_st.fm.brk, FM_BRK_STEP);
     assert_int_equal(ctl_st.fm.rmin, FM_REV_MIN - 1000);
+    assert_int_equal(ctl_st.fm.kff, 120);
     /* another controller runs a while: the record keeps best's figures */
     ctl_select(CTL_BP_PID);
     assert_true(store_save());
@@ -590,8 +593,9 @@ static void test_store_keeps_the_learnt_figures(void **state)
     twin_learnt[0] = 150; twin_learnt[1] = 0;           /* g 150 */
     twin_learnt[2] = 0; twin_learnt[3] = 0;             /* brk 0 */
     twin_learnt[4] = 0x00; twin_learnt[5] = 0x40;       /* rmin 0x4000 */
-    twin_learnt[6] = 45; twin_learnt[7] = 0;
-    twin_learnt[8] = 0x40; twin_learnt[9] = 0x01;       /* 320 */
+    twin_learnt[6] = 64; twin_learnt[7] = 1;            /* kff 320 */
+    twin_learnt[8] = 45; twin_learnt[9] = 0;
+    twin_learnt[10] = 0x40; twin_learnt[11] = 0x01;     /* 320 */
     hal_host_reset();
     twin_write(0, 3, a, PARAMS_VERSION);
     memset(twin_learnt, 0xFF, sizeof twin_learnt);
@@ -602,10 +606,11 @@ static void test_store_keeps_the_learnt_figures(void **state)
     ctl_travel = 0;                                     /* as at power-up: nothing derived yet */
     ctl_select(CTL_BEST);
     assert_int_equal(ctl_st.fm.rmin, 0x4000);
+    assert_int_equal(ctl_st.fm.kff, 320);
     /* relearnt from the menu: nothing kept at the next save */
     diag_nozzle_relearn();
     assert_true(store_save());
-    assert_int_equal(store_learnt(6), 0xFF);
+    assert_int_equal(store_learnt(STORE_LEARN_CTL), 0xFF);
     diag_init();
     assert_int_equal(diag_nozzle_learnt(), 0);
     /* the operator tells a new Valve time: the next record holds best as told */
@@ -614,6 +619,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     ctl_select(CTL_BEST);
     assert_int_equal(ctl_st.fm.g, 256);
     assert_int_equal(ctl_st.fm.rmin, FM_REV_MIN);
+    assert_int_equal(ctl_st.fm.kff, 0);
     /* a version 5 copy: its values, nothing learnt */
     hal_host_reset();
     twin_write_n(0, 9, a, 5, P_COUNT);
@@ -622,6 +628,17 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(store_learnt(0), 0xFF);
     ctl_select(CTL_BEST);
     assert_int_equal(ctl_st.fm.g, 256);
+    /* a version 6 copy (10 learnt bytes, a gain among them): its values, nothing learnt */
+    hal_host_reset();
+    twin_learnt[0] = 150; twin_learnt[1] = 0;
+    twin_write_n(0, 9, a, 6, P_COUNT);
+    memset(twin_learnt, 0xFF, sizeof twin_learnt);
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(a));
+    assert_int_equal(store_learnt(0), 0xFF);
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.g, 256);
+    assert_int_equal(ctl_st.fm.kff, 0);
     params_defaults();
     ctl_select(CTL_BEST);
 }
