@@ -55,6 +55,7 @@ static struct {
     uint16_t xm;                                /* Q8: the mean x of a model learnt near one flow */
     uint8_t ldiv;                               /* clean periods since the last sample */
     uint16_t pc_kpa, kp_kpa;                    /* the model: check valves, kPa at the rated flow */
+    int16_t t1;                                 /* the target a period ago (diag_model) */
 } dg;
 
 void diag_init(void)
@@ -286,6 +287,13 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
                        && flow_quiet_periods() >= DIAG_METER_QUIET;
     rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
     judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
+    /* nor while the target moves by more than 1/2^DIAG_MOVE_SHIFT a period: the meter's rotor
+     * lags the flow that the pressure follows at once, and through a slow-down the metered flow
+     * reads high for the pressure (a false leak) */
+    x = (uint16_t)(target >> DIAG_MOVE_SHIFT);
+    if ((uint16_t)(target - dg.t1 + x) > (uint16_t)(x << 1))
+        judge = 0;                  /* (abs(target - dg.t1) > x, one compare) */
+    dg.t1 = target;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
     g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
         && target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;

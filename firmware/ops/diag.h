@@ -38,6 +38,7 @@ enum {
 #define DIAG_METER_QUIET 3u         /* periods without a meter pulse that make the meter suspect */
 #define DIAG_PDEV_FAR_KPA 120u      /* ... elsewhere a deviation of P_PDEV % and at least this */
 #define DIAG_PDEV_MIN_KPA 50u       /* leak/clog judged where the nozzles need this above their check valves */
+#define DIAG_MOVE_SHIFT 7u          /* ... and not while the target moves by more than 1/128 a period */
 /* The nozzle model learnt from the sprayer: DIAG_LEARN_N samples, one every DIAG_LEARN_EVERY
  * clean periods (steady flow within 5 % of its target, no flow alarm): the first half minute
  * of clean spraying. A fit needs the flows' squares to spread (N^2 var(x), x in Q8). */
