@@ -67,6 +67,8 @@ typedef struct {
 #define FM_STALL_N 6                /* smallest pulses one way without the flow moving: a stall
                                      * (fewer counted the backlash's take-up as one) */
 #define FM_STALL_MOVE 6             /* ... the flow not moved that way by target >> this */
+#define FM_STALL_BIG 4              /* ... a smallest pulse counts this while the error is beyond
+                                     * target >> FM_BIG_SHIFT (2 otherwise) */
 #define FM_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
 #define FM_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
 #define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */

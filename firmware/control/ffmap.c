@@ -14,9 +14,9 @@
  *     so a motion m needs the duty d_run + m (1 - d_run) (d_run from Min duty, ctl_int.h);
  *   - break-away: from rest nothing moves below Min duty, so motions too small for one pulse are
  *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
- *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way (twice as many up
- *     to twice the smallest) without the flow moving that way are a stall, and the smallest
- *     pulse grows (brk, forgotten slowly);
+ *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way (half as many
+ *     while the error is big, twice as many up to twice the smallest) without the flow moving
+ *     that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
  *     answers (reversals in quick succession near the target lower it, a long run of error one
  *     way raises it);
@@ -215,13 +215,15 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         M->moved = 0;
         M->slow_n = 0;
     }
-    /* the smallest pulses count two toward a stall, those up to twice the smallest one (a
-     * valve stiffer than that, or a gain learnt that low, would never see the smallest) */
+    /* the smallest pulses count two toward a stall (FM_STALL_BIG while the error is big: a
+     * valve stiffer than told leaves the flow off its target for seconds), those up to twice
+     * the smallest one (a valve stiffer than that, or a gain learnt that low, would never see
+     * the smallest) one */
     if (d <= 2 * k && s == M->dir) {
         if (M->stall_n == 0)
             M->stall_y = ctl_in->flow_lpm_x100;
         if (M->stall_n < 250)
-            M->stall_n += d <= k + (k >> 3) ? 2 : 1;
+            M->stall_n += d <= k + (k >> 3) ? (M->epk_now ? FM_STALL_BIG : 2) : 1;
     } else {
         M->stall_n = 0;
     }

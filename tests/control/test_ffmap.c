@@ -121,6 +121,47 @@ static void test_ffmap_does_not_hunt_on_an_untold_valve(void **state)
     }
 }
 
+/* A 1.6 s valve breaking away at 0.33 (told 0.2: the family's stiffest) with a fixed PTO,
+ * through a slow-down and a speed-up, seeds 1-6: pulses under the break-away do not move it, and
+ * the stall rule raises the smallest pulse; a smallest pulse counts twice as much toward a stall
+ * while the error is beyond target/16, so no stretch with the meter more than 10 % off the
+ * target at working speed lasts longer than 1.5 s (with the count as for a small error, 3.1 s
+ * on seed 1: OFF_RATE needs 5 s). */
+static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
+{
+    double worst = 0;
+    (void)state;
+    for (int seed = 1; seed <= 6; seed++) {
+        char text[512];
+        sim_t sim;
+        snprintf(text, sizeof text,
+                 "[run]\nduration_s = 120\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 120\n"
+                 "valve_travel_s = 1.6\n[plant]\nvalve_travel_s = 1.6\nvalve_stiction_duty = 0.33\n"
+                 "valve_running_duty = 0.17\nvalve_backlash = 0.01\npto_coupled = 0\npto_rpm = 540\n"
+                 "[drive]\n0 0\n2 0\n6 8\n40 8\n44 4.3\n80 4.3\n84 7\n120 7\n", seed);
+        params_defaults();
+        ctl_select(CTL_BEST);
+        ctl_reset(0);
+        sim_from(&sim, text);
+        double run_s = 0;
+        while (!sim_done(&sim)) {
+            for (int i = 0; i < 100; i++)
+                sim_step(&sim);
+            sim_row_t r;
+            sim_row(&sim, &r);
+            if (r.spray_on && r.v_true_kmh >= 4 && r.target_lpm > 0
+                && fabs(r.flow_meas_lpm - r.target_lpm) > 0.1 * r.target_lpm)
+                run_s += 0.1;
+            else
+                run_s = 0;
+            worst = run_s > worst ? run_s : worst;
+        }
+        sim_free(&sim);
+    }
+    print_message("ffmap, a stiff valve: the longest stretch over 10 %% off the target %.1f s\n", worst);
+    assert_true(worst <= 1.5);
+}
+
 /* The speed's feed-forward: with the PTO at a fixed speed the bypass must move at every change
  * of speed, and kff is learnt from the lag the loop shows; with the pump on the wheels the flow
  * follows the speed by itself, and kff stays near nothing. The same drive both ways. */
@@ -158,6 +199,7 @@ int main(void)
         cmocka_unit_test_setup(test_ffmap_over_pressure_start_settles_on_the_target, setup),
         cmocka_unit_test_setup(test_ffmap_holds_still_at_a_steady_target, setup),
         cmocka_unit_test_setup(test_ffmap_does_not_hunt_on_an_untold_valve, setup),
+        cmocka_unit_test_setup(test_ffmap_a_stiff_valve_breaks_away_within_seconds, setup),
         cmocka_unit_test_setup(test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto, setup),
     };
     return cmocka_run_group_tests_name("ffmap", tests, NULL, NULL);
