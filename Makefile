@@ -81,7 +81,8 @@ TEST_LDFLAGS := -fsanitize=address,undefined
 OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O3 -fno-tree-slp-vectorize -fno-math-errno -flto=auto -g
 
 # ==== build folders and products =====================================================================
-STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)
+# each image its own folder: the objects of one are compiled with other flags than another's
+STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(HIL)),-hil)
 # the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
 # firmware's archive only the modules something calls
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
