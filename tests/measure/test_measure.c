@@ -284,6 +284,19 @@ static void test_speed_learns_again_when_an_element_is_bent(void **state)
     assert_true(worst <= 0.005 + 1.0 / 700);
 }
 
+/* The tractor of the next two tests, in 0.1 ms steps up to now_ns: a lag of 1 s and at most
+ * 0.5 m/s2 toward 9.3 km/h, then toward 6.4 km/h from 6 + 0.2 k s; the wheel of the spacing
+ * test rolls with it. */
+static void slow_down_to_now(int k, double *v, double *x, double *t, uint64_t *n)
+{
+    while (*t * 1e9 < (double)now_ns) {
+        double aim = (*t < 6.0 + 0.2 * k ? 9.3 : 6.4) / 3.6;
+        double dv = (aim - *v) * 1e-4;
+        *v += fmax(-0.5e-4, fmin(0.5e-4, dv));
+        roll(*v, x, t, n, pattern);
+    }
+}
+
 /* The tractor reaches 9.3 km/h through its 1 s lag, so the turns grow steady slowly, and slows
  * to 6.4 km/h at some moment in the next 12 s: one of those moments falls in the first turn the
  * offsets are learnt from. A first turn whose time differs from the one before is learnt again,
@@ -295,18 +308,13 @@ static void test_speed_learns_again_a_first_turn_the_tractor_slowed_in(void **st
     double worst = 0.0;
     (void)state;
     for (int k = 0; k < 60; k++) {
-        double v = 0.0, x = 0.0, t = 0.0, aim;
+        double v = 0.0, x = 0.0, t = 0.0;
         uint64_t n = 1;
         setup(NULL);
         now_ns = 0;
         for (int p = 0; p < 400; p++) {
             now_ns += PERIOD_NS;
-            while (t * 1e9 < (double)now_ns) {      /* 0.1 ms steps: lag 1 s, at most 0.5 m/s2 */
-                aim = (t < 6.0 + 0.2 * k ? 9.3 : 6.4) / 3.6;
-                double dv = (aim - v) * 1e-4;
-                v += fmax(-0.5e-4, fmin(0.5e-4, dv));
-                roll(v, &x, &t, &n, pattern);
-            }
+            slow_down_to_now(k, &v, &x, &t, &n);
             hal_host_set_time_ns(now_ns);
             uint16_t m = speed_step();
             if (t >= 6.0 + 0.2 * k + 8.0 + 3 * 12 * 0.3927 / v)
@@ -328,18 +336,13 @@ static void test_speed_between_pulses_does_not_use_a_half_learnt_turn(void **sta
     double worst = 0.0;
     (void)state;
     for (int k = 0; k < 60; k++) {
-        double v = 0.0, x = 0.0, t = 0.0, aim;
+        double v = 0.0, x = 0.0, t = 0.0;
         uint64_t n = 1;
         setup(NULL);
         now_ns = 0;
         for (int p = 0; p < 250; p++) {
             now_ns += PERIOD_NS;
-            while (t * 1e9 < (double)now_ns) {
-                aim = (t < 6.0 + 0.2 * k ? 9.3 : 6.4) / 3.6;
-                double dv = (aim - v) * 1e-4;
-                v += fmax(-0.5e-4, fmin(0.5e-4, dv));
-                roll(v, &x, &t, &n, pattern);
-            }
+            slow_down_to_now(k, &v, &x, &t, &n);
             hal_host_set_time_ns(now_ns);
             uint16_t m = speed_step();
             if (t >= 6.0)
