@@ -84,6 +84,9 @@ typedef struct {
 #define FM_FF_RAMP 40               /* ... filtered over about 2^FM_FF_RSH periods beyond this (x100) */
 #define FM_FF_ESH 7                 /* ... the error beyond target >> this: kff lags or leads */
 #define FM_FF_MAX 2000              /* the largest kff (a 9.4 s valve of the family learnt 430) */
+#define FM_LEAD 3                   /* after a start-up closing: the integral on the flow this many
+                                     * periods ahead while it comes toward the target ... */
+#define FM_LEAD_DRIVE Q15(0.5)      /* ... and the valve runs beyond this duty */
 #define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
                                      * up, the line primes, the flow overshoots from the parked valve */
 typedef struct {
@@ -111,6 +114,7 @@ typedef struct {
     int16_t rf;                     /* x100 L/min: the speed's change of the target, filtered */
     int32_t ffd;                    /* Q15 this period's feed-forward drive */
     int16_t ffe;                    /* x100 L/min this period's error */
+    uint8_t lead;                   /* 1: this (re)start found the flow near its target */
 } fm_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */

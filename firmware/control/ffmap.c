@@ -33,6 +33,14 @@
  * periods after a (re)start: the flow rising as the line fills is not the valve's doing.
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
  * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period.
+ * After a start-up closing (the loop starts with the flow within half of its target), for
+ * FM_WARM periods while the valve runs beyond FM_LEAD_DRIVE, the integral acts on the flow
+ * FM_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
+ * turns) before the flow arrives, not after. The flow arrives late by the motor's coast, the
+ * backlash of the turn, the line's filling and the meter's lag; on a valve faster than it was
+ * told, with a slow motor, the loop swung at full duty between the pump's relief and half the
+ * target. Not after a start that held the bypass (the flow refills from nothing) nor later:
+ * there the same lead cost CV on stiff valves, whose turn it delays.
  * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
  * the valve near the target (the noise of the meter, the pump's pulsation and the target's own
  * jitter move nothing); resting, a slow integral removes a steady bias.
@@ -249,6 +257,7 @@ q15_t fm_step(void) CTL_SHARED
         M->big = 0;
         M->v1 = ctl_in->speed_kmh_x100;
         M->rf = 0;
+        M->lead = e <= (q >> 1);
         ctl_first = 0;
     }
     fm_deadband(e, q);
@@ -267,6 +276,12 @@ q15_t fm_step(void) CTL_SHARED
         du = M->warm < FM_P_WAIT ? 0 : MUL(FM_KP, fx_sat16((int32_t)e - M->e1));
         du += MUL(FM_KI, e);
         du += MUL(FM_KD, d2e);
+        if (M->lead && M->warm < FM_WARM && (ctl_last > FM_LEAD_DRIVE || ctl_last < -FM_LEAD_DRIVE)) {
+            /* the flow's change this period (the error is clamped far beyond any target) */
+            d2e = fx_sat16((int32_t)(q - e) - (M->t1 - M->e1));
+            if ((d2e > 0) == (e > 0))
+                du -= MUL(FM_KI, fx_sat16((int32_t)FM_LEAD * d2e));
+        }
     }
     fm_gain_adapt(e);
     d32 = ctl_du_to_drive(du);

@@ -109,6 +109,8 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->brk = fm->brk / 32768.0;
     tw->g = fm->g / 256.0;
     tw->carry = carry / 32768.0;
+    tw->last = ctl_last / 32768.0;
+    tw->lead = fm->lead;
     tw->first = first;
 }
 
@@ -132,6 +134,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->warm = 0;
         m->epk = 0;
         m->big = 0;
+        /* (the firmware compares x100 L/min with half the target rounded down) */
+        o.near |= ctltw_near(e, q / 2, 0.02);
+        m->lead = e <= q / 2;
     }
     /* deadband on the error filtered over 4 periods */
     dq = q - m->t1;
@@ -173,6 +178,13 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     else
         du = (m->warm < FM_P_WAIT ? 0 : CTLTW_FM_KP * (e - m->e1)) + CTLTW_FM_KI * e
              + CTLTW_FM_KD * (e - 2 * m->e1 + m->e2);
+    /* after a start-up closing, while the valve runs fast: the integral on the flow FM_LEAD
+     * periods ahead when it comes toward the target */
+    if (!m->rest && m->lead && m->warm < FM_WARM && fabs(m->last) > FM_LEAD_DRIVE / 32768.0) {
+        double dy = (q - e) - (m->t1 - m->e1);
+        if ((dy > 0) == (e > 0))
+            du -= CTLTW_FM_KI * FM_LEAD * dy;
+    }
     /* the firmware carries du to the drive in Q4 x100 L/min, 16 bits: +-32767 / 16 / 100 */
     du = ctltw_clamp(du, -32767 / 1600.0, 32767 / 1600.0);
     /* the gain's learning: a long run of error one way (four times as fast beyond target >>
