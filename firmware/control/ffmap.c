@@ -94,12 +94,15 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * ground speed does, and a loop on the error alone lags through every change of speed; with the
  * pump on the wheels the boom's flow follows the speed by itself. Which of the two this sprayer
  * is, and how far its valve moves the flow, is learnt from the error a speed change leaves:
- * kff, the drive per x100 L/min the speed moves the target, rises by 2 each period the flow
+ * kff, the drive per x100 L/min the speed moves the target a period, rises by 2 each period the flow
  * lags a ramp of the target (its change filtered over about 2^FM_FF_RSH periods beyond
  * FM_FF_RAMP) by more than target >> FM_FF_ESH, and falls by 2 each period it leads; nothing in
  * the first FM_WARM periods (the start-up's own error), at rest or against a stop. Only a
  * change of the target that the speed made counts, the speed moving the same way (not the
- * minimum-flow rule, not a section, not the rate). The working values the code uses most are in
+ * minimum-flow rule, not a section, not the rate). The drive is kff times that change filtered
+ * over about 2^FM_FF_RSH periods, not this period's: the wheel's pulses move the target up and
+ * back by a percent at a steady speed, and on a stiff valve each of those was two reversals.
+ * The working values the code uses most are in
  * the direct RAM (the cheapest addressing; the step never runs inside itself), the others in
  * the controllers' union (XRAM that bp_pid's network sizes). */
 static __data uint16_t ff_v;           /* the speed, then the error band */
@@ -128,7 +131,7 @@ static void fm_ff(void)
             M->kff -= 2;
         }
     }
-    ff_d = MUL(ff_dq, M->kff);
+    ff_d = MUL(M->rf >> FM_FF_RSH, M->kff);
 }
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. */
