@@ -38,9 +38,10 @@
  * FM_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
  * turns) before the flow arrives, not after. The flow arrives late by the motor's coast, the
  * backlash of the turn, the line's filling and the meter's lag; on a valve faster than it was
- * told, with a slow motor, the loop swung at full duty between the pump's relief and half the
- * target. Not after a start that held the bypass (the flow refills from nothing) nor later:
- * there the same lead cost CV on stiff valves, whose turn it delays.
+ * told with a slow motor, a loop that turns only once the flow has arrived swings at full duty
+ * between the pump's relief valve and half the target. Not after a start that held the bypass
+ * (the flow refills the line from nothing) nor later in the run: there the lead delays the turn
+ * of stiff valves.
  * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
  * the valve near the target (the noise of the meter, the pump's pulsation and the target's own
  * jitter move nothing); resting, a slow integral removes a steady bias.
@@ -94,17 +95,17 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * ground speed does, and a loop on the error alone lags through every change of speed; with the
  * pump on the wheels the boom's flow follows the speed by itself. Which of the two this sprayer
  * is, and how far its valve moves the flow, is learnt from the error a speed change leaves:
- * kff, the drive per x100 L/min the speed moves the target a period, rises by 2 each period the flow
- * lags a ramp of the target (its change filtered over about 2^FM_FF_RSH periods beyond
+ * kff, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
+ * the flow lags a ramp of the target (its change filtered over about 2^FM_FF_RSH periods beyond
  * FM_FF_RAMP) by more than target >> FM_FF_ESH, and falls by 2 each period it leads; nothing in
  * the first FM_WARM periods (the start-up's own error), at rest or against a stop. Only a
  * change of the target that the speed made counts, the speed moving the same way (not the
  * minimum-flow rule, not a section, not the rate). The drive is kff times that change filtered
- * over about 2^FM_FF_RSH periods, not this period's: the wheel's pulses move the target up and
- * back by a percent at a steady speed, and on a stiff valve each of those was two reversals.
- * The working values the code uses most are in
- * the direct RAM (the cheapest addressing; the step never runs inside itself), the others in
- * the controllers' union (XRAM that bp_pid's network sizes). */
+ * over about 2^FM_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
+ * the target up and back by about a percent, which on a stiff valve would be two reversals
+ * each. The working values the code uses most are in the direct RAM (the cheapest addressing;
+ * the step never runs inside itself), the others in the controllers' union (XRAM that bp_pid's
+ * network sizes). */
 static __data uint16_t ff_v;           /* the speed, then the error band */
 static __data int16_t ff_dq;
 #define ff_d (M->ffd)
