@@ -14,12 +14,18 @@
 #include "sim.h"
 #include "../app/helper_sim.h"
 
-static int setup(void **state)
+/* best as a new controller from the default settings (nothing learnt): a seed's run of its own. */
+static void best_anew(void)
 {
-    (void)state;
     params_defaults();
     ctl_select(CTL_BEST);
     ctl_reset(0);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    best_anew();
     return 0;
 }
 
@@ -30,16 +36,20 @@ static void sim_from(sim_t *sim, const char *text)
     helper_sim_load(sim, &live, text, "test_ffmap");
 }
 
-/* A whole run: its metrics. */
-static void run(const char *text, metrics_result_t *r)
+/* A whole run: its metrics; returns the alarms it raised. */
+static int run(const char *text, metrics_result_t *r)
 {
     sim_t sim;
+    int alarms;
     sim_from(&sim, text);
     while (!sim_done(&sim))
         sim_step(&sim);
     sim_finish(&sim, r);
+    alarms = sim.metrics.n_alarms;
     sim_free(&sim);
+    return alarms;
 }
+
 
 /* Closed loop on the simulated sprayer with the valve starting shut and the boom spraying at
  * once (given speed): the start climbs to the relief valve, the application opens the bypass
@@ -139,9 +149,7 @@ static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
                  "valve_travel_s = 1.6\n[plant]\nvalve_travel_s = 1.6\nvalve_stiction_duty = 0.33\n"
                  "valve_running_duty = 0.17\nvalve_backlash = 0.01\npto_coupled = 0\npto_rpm = 540\n"
                  "[drive]\n0 0\n2 0\n6 8\n40 8\n44 4.3\n80 4.3\n84 7\n120 7\n", seed);
-        params_defaults();
-        ctl_select(CTL_BEST);
-        ctl_reset(0);
+        best_anew();
         sim_from(&sim, text);
         double run_s = 0;
         while (!sim_done(&sim)) {
@@ -185,16 +193,8 @@ static void test_ffmap_a_fast_valve_with_a_slow_motor_starts_without_over_pressu
                  "speed_bounce_pct = 1.54\npressure_noise_lsb = 0.7\nnozzle_wear_pct = 10.27\n"
                  "check_valve_bar = 0.719\nvalve_cv_open = 307.4\n"
                  "[drive]\n0 0\n2 0\n2 9.3\n20 9.3\n20 4.7\n34.7 4.7\n34.7 6.6\n", seed);
-        sim_t sim;
-        params_defaults();
-        ctl_select(CTL_BEST);
-        ctl_reset(0);
-        sim_from(&sim, text);
-        while (!sim_done(&sim))
-            sim_step(&sim);
-        sim_finish(&sim, &r);
-        alarms += sim.metrics.n_alarms;
-        sim_free(&sim);
+        best_anew();
+        alarms += run(text, &r);
         p_max = r.pressure_max_bar > p_max ? r.pressure_max_bar : p_max;
     }
     print_message("ffmap, a fast valve with a slow motor: pressure up to %.2f bar, %d alarms over 8 seeds\n",
@@ -259,9 +259,7 @@ static void test_ffmap_the_feed_forward_does_not_follow_the_wheels_jitter(void *
                  "83.8 6.1\n83.8 10\n96.2 10\n96.2 6.3\n112.7 6.3\n112.7 9.6\n126.8 9.6\n126.8 7.9\n"
                  "136.2 7.9\n136.2 4.9\n146.8 4.9\n146.8 7.1\n162.3 7.1\n162.3 5.3\n181 5.3\n181 8.5\n"
                  "200.7 8.5\n200.7 6.4\n211 6.4\n211 7.8\n224.8 7.8\n224.8 4.1\n240 4.1\n", seed);
-        params_defaults();
-        ctl_select(CTL_BEST);
-        ctl_reset(0);
+        best_anew();
         run(text, &r);
         sum += r.valve_reversals_per_min;
         worst = r.valve_reversals_per_min > worst ? r.valve_reversals_per_min : worst;
