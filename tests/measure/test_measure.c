@@ -297,30 +297,42 @@ static void slow_down_to_now(int k, double *v, double *x, double *t, uint64_t *n
     }
 }
 
+/* The slow-down at each of 60 moments k, from power-up, over `periods` periods: the largest of
+ * err(k, t, v, m) over every period (t s, the true speed v m/s, the speed measured m, x100
+ * km/h), 0 where err does not judge. */
+static double slow_downs_worst(int periods, double (*err)(int k, double t, double v, uint16_t m))
+{
+    double worst = 0.0;
+    for (int k = 0; k < 60; k++) {
+        double v = 0.0, x = 0.0, t = 0.0;
+        uint64_t n = 1;
+        setup(NULL);
+        now_ns = 0;
+        for (int p = 0; p < periods; p++) {
+            now_ns += PERIOD_NS;
+            slow_down_to_now(k, &v, &x, &t, &n);
+            hal_host_set_time_ns(now_ns);
+            worst = fmax(worst, err(k, t, v, speed_step()));
+        }
+    }
+    return worst;
+}
+
 /* The tractor reaches 9.3 km/h through its 1 s lag, so the turns grow steady slowly, and slows
  * to 6.4 km/h at some moment in the next 12 s: one of those moments falls in the first turn the
  * offsets are learnt from. A first turn whose time differs from the one before is learnt again,
  * so in the hold at 6.4 km/h (from its third turn) every period is within 1 % (+1 LSB),
  * whenever the change came (taken whole, it put one element's offset 8 % out, for good: later
  * turns do not learn an edge that far from its place). */
+static double hold_error(int k, double t, double v, uint16_t m)
+{
+    return t >= 6.0 + 0.2 * k + 8.0 + 3 * 12 * 0.3927 / v ? fabs(m - v * 360.0) / (v * 360.0) : 0.0;
+}
+
 static void test_speed_learns_again_a_first_turn_the_tractor_slowed_in(void **state)
 {
-    double worst = 0.0;
+    double worst = slow_downs_worst(400, hold_error);
     (void)state;
-    for (int k = 0; k < 60; k++) {
-        double v = 0.0, x = 0.0, t = 0.0;
-        uint64_t n = 1;
-        setup(NULL);
-        now_ns = 0;
-        for (int p = 0; p < 400; p++) {
-            now_ns += PERIOD_NS;
-            slow_down_to_now(k, &v, &x, &t, &n);
-            hal_host_set_time_ns(now_ns);
-            uint16_t m = speed_step();
-            if (t >= 6.0 + 0.2 * k + 8.0 + 3 * 12 * 0.3927 / v)
-                worst = fmax(worst, fabs(m - v * 360.0) / (v * 360.0));
-        }
-    }
     printf("# a slow-down in the first turn learnt: worst period error %.2f %% in the hold after\n", 100 * worst);
     assert_true(worst <= 0.01 + 1.0 / 640);
 }
@@ -331,24 +343,16 @@ static void test_speed_learns_again_a_first_turn_the_tractor_slowed_in(void **st
  * judged only (the span's speed at that edge, the fall between pulses), so it never reads more
  * than 5 % under the truth, the unlearnt window's own spacing error (with the turn's offsets
  * it read up to 18 % under). */
+static double under_truth(int k, double t, double v, uint16_t m)
+{
+    (void)k;
+    return t >= 6.0 ? (v * 360.0 - m) / (v * 360.0) : 0.0;
+}
+
 static void test_speed_between_pulses_does_not_use_a_half_learnt_turn(void **state)
 {
-    double worst = 0.0;
+    double worst = slow_downs_worst(250, under_truth);
     (void)state;
-    for (int k = 0; k < 60; k++) {
-        double v = 0.0, x = 0.0, t = 0.0;
-        uint64_t n = 1;
-        setup(NULL);
-        now_ns = 0;
-        for (int p = 0; p < 250; p++) {
-            now_ns += PERIOD_NS;
-            slow_down_to_now(k, &v, &x, &t, &n);
-            hal_host_set_time_ns(now_ns);
-            uint16_t m = speed_step();
-            if (t >= 6.0)
-                worst = fmax(worst, (v * 360.0 - m) / (v * 360.0));
-        }
-    }
     printf("# slowing down while the first turn is learnt: at most %.2f %% under the truth\n", 100 * worst);
     assert_true(worst <= 0.05);
 }
