@@ -21,14 +21,17 @@
 static struct {
     uint8_t prime;                  /* periods of start-up closing left (0: done) */
     uint8_t parked;                 /* boom shut and the bypass found at its open stop, or held */
-    uint16_t p_hold;                /* kPa the boom sprayed at (filtered), 0: park open */
+    union {
+        uint16_t p_hold;            /* kPa the boom sprayed at (filtered), 0: park open */
+        int16_t f1;                 /* while priming (p_hold is 0 then): the meter's flow a period ago */
+    } u;
 } dv;
 
 void drive_init(void)
 {
     dv.prime = 0;
     dv.parked = 0;
-    dv.p_hold = 0;
+    dv.u.p_hold = 0;
 }
 
 /* The boom opens: the start-up closing at full duty while the line is under P start (the
@@ -36,8 +39,10 @@ void drive_init(void)
  * from rest. */
 void drive_spray_on(uint8_t manual)
 {
-    dv.prime = (!manual && !dv.p_hold && analog_pressure_ok()
+    dv.prime = (!manual && !dv.u.p_hold && analog_pressure_ok()
                 && app_status.pressure_kpa < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
+    if (dv.prime)
+        dv.u.f1 = app_status.flow_lpm_x100;
     ctl_reset(0);
 }
 
@@ -63,20 +68,29 @@ typedef char app_in_layout[(APP_IN_AT(target_lpm_x100) && APP_IN_AT(flow_lpm_x10
                             && APP_IN_AT(pressure_kpa) && APP_IN_AT(valve_limit)) ? 1 : -1];
 
 /* The drive of a spraying boom in auto: the start-up closing at full duty until the line
- * reaches P_P_MIN (the paper's start) or the meter reads 7/8 of the target, then the
+ * reaches P_P_MIN (the paper's start) or the meter reads 7/8 of the target a period ahead (the
+ * flow as it is plus its last period's rise: the valve coasts, the line fills and the meter
+ * lags, so a closing that stops once the flow is there leaves it past the target), then the
  * controller. */
 static q15_t drive_auto(uint8_t overp)
 {
     q15_t drive = 0;
+    int16_t rise;
     if (dv.prime) {
         dv.prime--;
+        rise = app_status.flow_lpm_x100 - dv.u.f1;
+        dv.u.f1 = app_status.flow_lpm_x100;
+        if (rise < 0)
+            rise = 0;
         if (app_status.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok()
-            || app_status.flow_lpm_x100 >= app_status.target_lpm_x100 - (app_status.target_lpm_x100 >> APP_PRIME_SHIFT))
+            || app_status.flow_lpm_x100 >= app_status.target_lpm_x100 - (app_status.target_lpm_x100 >> APP_PRIME_SHIFT) - rise)
             dv.prime = 0;
         else
             drive = Q15_MAX;
-        if (!dv.prime)
+        if (!dv.prime) {
+            dv.u.p_hold = 0;            /* (f1 no more) */
             ctl_reset(drive);
+        }
     }
     if (!dv.prime) {
         app_status.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
@@ -89,9 +103,9 @@ static q15_t drive_auto(uint8_t overp)
  * done: what a shut boom holds the bypass to. */
 static void drive_hold_learn(void)
 {
-    int16_t d = (int16_t)(app_status.pressure_kpa - dv.p_hold);
+    int16_t d = (int16_t)(app_status.pressure_kpa - dv.u.p_hold);
     if (!dv.prime)
-        dv.p_hold = dv.p_hold ? (uint16_t)(dv.p_hold + ((d + 4) >> 3)) : app_status.pressure_kpa;
+        dv.u.p_hold = dv.u.p_hold ? (uint16_t)(dv.u.p_hold + ((d + 4) >> 3)) : app_status.pressure_kpa;
 }
 
 /* A shut boom: the bypass opens until the pressure is no higher than the boom sprayed at (the
@@ -101,7 +115,7 @@ static void drive_hold_learn(void)
  * moved by hand, the pressure sensor failed) the bypass is parked at its open stop. */
 static q15_t drive_park(void)
 {
-    uint16_t h = dv.p_hold;
+    uint16_t h = dv.u.p_hold;
     if ((valve_limit() & CTL_AT_OPEN)
         || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9))) {
         dv.parked = 1;                      /* open enough (or at the stop): stay, no retries */
@@ -109,7 +123,7 @@ static q15_t drive_park(void)
         /* held within h/16 + APP_HOLD_KPA of the spraying pressure; once held, opened again
          * beyond twice that (the pump sped up) */
         h = (h >> 4) + APP_HOLD_KPA;
-        dv.parked = app_status.pressure_kpa <= dv.p_hold + (dv.parked ? 2 * h : h);
+        dv.parked = app_status.pressure_kpa <= dv.u.p_hold + (dv.parked ? 2 * h : h);
     }
     return dv.parked ? 0 : -Q15_MAX;
 }
@@ -134,7 +148,7 @@ void drive_step(void)
         drive = drive_park();
     }
     if (manual || IO_ON || !analog_pressure_ok())
-        dv.p_hold = 0;                      /* the valve moved by hand, or no pressure to hold on */
+        dv.u.p_hold = 0;                      /* the valve moved by hand, or no pressure to hold on */
     if (app_status.spraying || manual || IO_ON)
         dv.parked = 0;
     if (overp && drive > -APP_RELIEVE_DRIVE)

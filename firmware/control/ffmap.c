@@ -33,7 +33,7 @@
  * periods after a (re)start: the flow rising as the line fills is not the valve's doing.
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
  * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period.
- * After a start-up closing (the loop starts with the flow within half of its target), for
+ * After a start-up closing (the loop starts with the meter reading a quarter of the target), for
  * FM_WARM periods while the valve runs beyond FM_LEAD_DRIVE, the integral acts on the flow
  * FM_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
  * turns) before the flow arrives, not after. The flow arrives late by the motor's coast, the
@@ -261,7 +261,7 @@ q15_t fm_step(void) CTL_SHARED
         M->big = 0;
         M->v1 = ctl_in->speed_kmh_x100;
         M->rf = 0;
-        M->lead = e <= (q >> 1);
+        M->lead = e <= q - (q >> 2);
         ctl_first = 0;
     }
     fm_deadband(e, q);

@@ -52,7 +52,7 @@ typedef struct {
     double g;                       /* loop gain (1 = as told) */
     double carry;                   /* motion owed, share of full speed for a period */
     double last;                    /* the last drive, fraction of full duty */
-    int lead;                       /* the (re)start found the flow within half of its target */
+    int lead;                       /* the (re)start found the meter reading a quarter of the target */
     int first;
 } ctltw_fm_t;
 typedef struct {

@@ -136,7 +136,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->big = 0;
         /* (the firmware compares x100 L/min with half the target rounded down) */
         o.near |= ctltw_near(e, q / 2, 0.02);
-        m->lead = e <= q / 2;
+        m->lead = e <= q - q / 4;
     }
     /* deadband on the error filtered over 4 periods */
     dq = q - m->t1;
