@@ -27,6 +27,9 @@ static struct {
     } u;
 } dv;
 
+/* 1: the meter read half the target since the boom opened in auto (drive_starved) */
+static __bit flowed;
+
 void drive_init(void)
 {
     dv.prime = 0;
@@ -43,6 +46,7 @@ void drive_spray_on(uint8_t manual)
                 && app_status.pressure_kpa < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
     if (dv.prime)
         dv.u.f1 = app_status.flow_lpm_x100;
+    flowed = 0;
     ctl_reset(0);
 }
 
@@ -60,6 +64,23 @@ uint8_t drive_parked(void)
 uint8_t drive_overp(void)
 {
     return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
+}
+
+/* The pump stopped under a spraying boom: a pump on the wheels of a tractor that halts while the
+ * minimum-flow rule holds the target. The flow the meter read falls under half the target,
+ * below P start, under MinQ speed; closing the bypass then makes no flow, and the tractor's
+ * restart would find it shut, the line at the relief valve while a slow valve reopens. So
+ * nothing closes (as over P max) until the flow, the pressure or the speed comes back. Not
+ * before the meter has read half the target since the boom opened: a line still filling (the
+ * bypass held at a low pressure, a start at a crawl) needs the loop to close. */
+static uint8_t drive_starved(void)
+{
+    int16_t half = app_status.target_lpm_x100 >> 1;
+    if (app_status.flow_lpm_x100 >= half)
+        flowed = 1;
+    return flowed && app_status.flow_lpm_x100 < half && analog_pressure_ok()
+           && app_status.pressure_kpa < param_v[P_P_MIN]
+           && app_status.speed_kmh_x100 < param_v[P_MINF_SPEED] * 10u;
 }
 
 /* The control step's inputs are app_status's first fields (ops.h): their layout checked here */
@@ -93,7 +114,7 @@ static q15_t drive_auto(uint8_t overp)
         }
     }
     if (!dv.prime) {
-        app_status.valve_limit = valve_limit() | (overp ? CTL_NO_CLOSE : 0);
+        app_status.valve_limit = valve_limit() | (overp || drive_starved() ? CTL_NO_CLOSE : 0);
         drive = ctl_step((const __xdata ctl_in_t *)&app_status);   /* its first fields (ops.h) */
     }
     return drive;
@@ -149,6 +170,8 @@ void drive_step(void)
     }
     if (manual || IO_ON || !analog_pressure_ok())
         dv.u.p_hold = 0;                      /* the valve moved by hand, or no pressure to hold on */
+    if (manual || IO_ON)
+        flowed = 0;                         /* back in auto the loop may have to close first */
     if (app_status.spraying || manual || IO_ON)
         dv.parked = 0;
     if (overp && drive > -APP_RELIEVE_DRIVE)

@@ -17,8 +17,9 @@ typedef struct {
 } ctl_in_t;
 #define CTL_AT_OPEN 1               /* bypass fully open: no more "less flow" */
 #define CTL_AT_CLOSED 2             /* bypass fully closed: no more "more flow" */
-#define CTL_NO_CLOSE 4              /* closing refused (over-pressure) with the valve NOT at a stop:
-                                     * like CTL_AT_CLOSED for anti-windup, but no end-stop calibration */
+#define CTL_NO_CLOSE 4              /* closing refused (over-pressure, a stopped pump) with the valve
+                                     * NOT at a stop: like CTL_AT_CLOSED for anti-windup, but no
+                                     * end-stop calibration */
 #define CTL_CLOSE_BLOCKED (CTL_AT_CLOSED | CTL_NO_CLOSE)
 
 /* The output: valve drive for the next period, Q15 signed duty. Positive = more boom flow,

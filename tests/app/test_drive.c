@@ -1,4 +1,4 @@
-/* test_drive.c: drive.c and the boom's opening against the simulated sprayer: a shut boom holds the bypass at the spraying pressure, parks it open without a pressure to hold on, the restart from a hold, the power-up wait for the line under P max, the start-up closing's end. */
+/* test_drive.c: drive.c and the boom's opening against the simulated sprayer: a shut boom holds the bypass at the spraying pressure, parks it open without a pressure to hold on, the restart from a hold, the power-up wait for the line under P max, the start-up closing's end, a halt with the pump on the wheels. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -192,6 +192,46 @@ static void test_drive_the_start_up_closing_stops_a_period_ahead(void **state)
     assert_true(start_sum / 8 <= 3.3);
 }
 
+/* A pump on the wheels (coupled PTO) and an 11.3 s valve (plant 59 of `make family SEED=61`):
+ * the tractor halts for 3 s with the boom spraying under the minimum-flow rule, then goes on
+ * to 9.2 km/h. While it stands, the pump gives nothing and the meter reads nothing: closing
+ * the bypass makes no flow, so the loop does not (drive_starved); at the restart the pump finds
+ * the bypass where it sprayed. The loop that closed it (here from 0.75 to 0.19) put the line at
+ * the relief valve as the tractor went on (5.07 bar; on the family's plant OVERPRESSURE, then
+ * OFF_RATE while the slow valve reopened). */
+static void test_drive_a_halt_with_the_pump_on_the_wheels_keeps_the_bypass(void **state)
+{
+    (void)state;
+    static char text[512];
+    snprintf(text, sizeof text,
+             "[run]\nduration_s = 60\nseed = 3\n[config]\ncontroller = best\nrate_l_ha = 105\n"
+             "valve_travel_s = 11.3\n[plant]\npto_coupled = 1\nvalve_travel_s = 11.31\n"
+             "valve_backlash = 0.0383\nvalve_motor_tau_s = 0.127\n"
+             "[drive]\n0 0\n2 0\n8 6\n30 6\n35 0\n38 0\n44 9.2\n60 9.2\n");
+    helper_sim_load(&sim, &sim_live, text, "test_drive");
+    sim_row_t row;
+    double p_max = 0, pos_sprayed = -1, pos_min_stop = 1;
+    unsigned alarms = 0;
+    while (sim_time_s(&sim) < 59.9) {
+        for (int i = 0; i < 100; i++)
+            sim_step(&sim);
+        sim_row(&sim, &row);
+        alarms |= row.alarms;
+        if (row.t_s >= 29.0 && row.t_s < 29.1)
+            pos_sprayed = row.valve_pos;
+        if (row.t_s >= 30.0 && row.t_s < 40.0)
+            pos_min_stop = fmin(pos_min_stop, row.valve_pos);
+        if (row.t_s >= 38.0)
+            p_max = fmax(p_max, row.p_bar);
+    }
+    printf("# a halt, pump on the wheels: the bypass at %.2f spraying, at least %.2f through the halt; "
+           "after it at most %.2f bar (P max %.2f), alarms 0x%04x\n",
+           pos_sprayed, pos_min_stop, p_max, param_v[P_P_MAX] / 100.0, alarms);
+    assert_true(pos_min_stop >= pos_sprayed - 0.25);
+    assert_true(p_max < param_v[P_P_MAX] / 100.0);
+    assert_true(alarms == 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -199,6 +239,7 @@ int main(void)
         cmocka_unit_test_teardown(test_drive_without_the_pressure_sensor_the_bypass_parks_open, teardown),
         cmocka_unit_test_teardown(test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up, teardown),
         cmocka_unit_test_teardown(test_drive_the_start_up_closing_stops_a_period_ahead, teardown),
+        cmocka_unit_test_teardown(test_drive_a_halt_with_the_pump_on_the_wheels_keeps_the_bypass, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
