@@ -166,6 +166,10 @@ void drive_step(void)
         drive = drive_auto(overp);
         drive_hold_learn();
     } else {
+        if (dv.prime) {
+            dv.prime = 0;                   /* shut while priming: nothing sprayed to hold, */
+            dv.u.p_hold = 0;                /* and f1 is no pressure */
+        }
         drive = drive_park();
     }
     if (manual || IO_ON || !analog_pressure_ok())
