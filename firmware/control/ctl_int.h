@@ -114,7 +114,7 @@ typedef struct {
     int16_t rf;                     /* x100 L/min: the speed's change of the target, filtered */
     int32_t ffd;                    /* Q15 this period's feed-forward drive */
     int16_t ffe;                    /* x100 L/min this period's error */
-    uint8_t lead;                   /* 1: this (re)start found the flow near its target */
+    uint8_t lead;                   /* 1: this (re)start found the meter at a quarter of the target */
 } fm_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */
