@@ -160,8 +160,8 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
     }
     /* where the new edge sits against the old one */
     err = spans(sl_dt, count) - ((int32_t)sp.off[sp.idx] - sp.off[old]);
-    if (err > 1024 || err < -1024)
-        return;                 /* a quarter of a spacing: a missed or extra pulse, not an offset */
+    if (err > SPEED_SPAN_MAX || err < -SPEED_SPAN_MAX)
+        return;                 /* a missed or an extra pulse, not the wheel */
     /* the first turn takes what it sees, then a mean growing to about 16 turns: halved for
      * every doubling of the turns learnt (on the magnitude: shifts, no divide) */
     e = (int16_t)err;

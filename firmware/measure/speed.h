@@ -41,6 +41,10 @@
 #define SPEED_BAD_TURNS 3u          /* steady turns with an edge off its learnt place: relearn */
 #define SPEED_AHEAD_MAX 4u          /* speed_ahead moves the speed by at most 1/2^this of it */
 #define SPEED_TEETH_MAX 16u         /* most wheel pulses a turn (P_WHEEL_PPR) */
+#define SPEED_SPAN_MAX 2048         /* a span this far (1/4096 of a spacing) from where the learnt
+                                     * offsets put it is a missed or an extra pulse (a whole spacing
+                                     * off), not learnt; a wheel's own spans differ by up to a
+                                     * quarter (4 % spacing: 5.7 % a span, 27 % seen in the family) */
 #define SPEED_LEARN_DRIFT 128       /* an edge this far (1/4096 of a spacing) from its learnt place:
                                      * the speed changed, no offset is learnt from it */
 
