@@ -23,7 +23,7 @@ static struct {
     uint8_t parked;                 /* boom shut and the bypass found at its open stop, or held */
     union {
         uint16_t p_hold;            /* kPa the boom sprayed at (filtered), 0: park open */
-        int16_t f1;                 /* while priming (p_hold is 0 then): the meter's flow a period ago */
+        int16_t f1;                 /* priming (p_hold 0 then): the meter's flow a period ago */
     } u;
 } dv;
 
@@ -104,7 +104,8 @@ static q15_t drive_auto(uint8_t overp)
         if (rise < 0)
             rise = 0;
         if (app_status.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok()
-            || app_status.flow_lpm_x100 >= app_status.target_lpm_x100 - (app_status.target_lpm_x100 >> APP_PRIME_SHIFT) - rise)
+            || app_status.flow_lpm_x100
+                   >= app_status.target_lpm_x100 - (app_status.target_lpm_x100 >> APP_PRIME_SHIFT) - rise)
             dv.prime = 0;
         else
             drive = Q15_MAX;
@@ -173,7 +174,7 @@ void drive_step(void)
         drive = drive_park();
     }
     if (manual || IO_ON || !analog_pressure_ok())
-        dv.u.p_hold = 0;                      /* the valve moved by hand, or no pressure to hold on */
+        dv.u.p_hold = 0;                    /* the valve moved by hand, or no pressure to hold on */
     if (manual || IO_ON)
         flowed = 0;                         /* back in auto the loop may have to close first */
     if (app_status.spraying || manual || IO_ON)
