@@ -40,4 +40,14 @@
 #endif
 #endif
 
+/* FW_PROBES: accessors only the host's programs, the s51 tests and PIL read (a flag, a learnt
+ * byte, a gain, a synchronous save): not in the chip's image, where nothing calls them. */
+#ifndef FW_PROBES
+#if defined(HAL_STC12)
+#define FW_PROBES 0
+#else
+#define FW_PROBES 1
+#endif
+#endif
+
 #endif

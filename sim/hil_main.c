@@ -121,8 +121,14 @@ static void exchange(sim_t *sim, hil_pc_t *h)
     h->meter_total = (uint16_t)(h->meter_total + c.count);
     in.meter_count = h->meter_total;
     in.meter_last = c.last;
-    in.adc_pressure = hal_adc_read(HAL_ADC_PRESSURE);
-    in.adc_level = hal_adc_read(HAL_ADC_LEVEL);
+    /* the four conversions of each channel the controller's period takes (analog.c), in its
+     * order, summed: the board's HAL gives them back as quarters of the sum */
+    in.adc_pressure = 0;
+    in.adc_level = 0;
+    for (int i = 0; i < 4; i++)
+        in.adc_pressure = (uint16_t)(in.adc_pressure + hal_adc_read(HAL_ADC_PRESSURE));
+    for (int i = 0; i < 4; i++)
+        in.adc_level = (uint16_t)(in.adc_level + hal_adc_read(HAL_ADC_LEVEL));
     in.sections = hal_sections();
     hil_in_encode(&in, f);
     h->frames++;

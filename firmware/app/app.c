@@ -408,6 +408,7 @@ void app_poll(void)
         hal_wdt_kick();
 }
 
+#if FW_PROBES
 const char *app_alarm_code(uint8_t bit)
 {
     return diag_code(bit);
@@ -422,3 +423,4 @@ uint16_t app_overruns(void)
 {
     return ap.overruns;
 }
+#endif

@@ -27,10 +27,12 @@ void keypad_init(void)
     same = 0;
 }
 
+#if FW_PROBES
 char keypad_char(uint8_t row, uint8_t col)
 {
     return keymap[((row & 3) << 2) | (col & 3)];
 }
+#endif
 
 /* The one key pressed now; NO_KEY for none, and also for two or more (a chord is ignored). */
 static uint8_t scan(void)

@@ -63,6 +63,7 @@ const char *ctl_name(uint8_t id)
     }
 }
 
+#if FW_PROBES
 uint8_t ctl_saturated(void)
 {
     return ctl_sat;
@@ -72,6 +73,7 @@ q15_t ctl_carry_now(void)
 {
     return ctl_carry;
 }
+#endif
 
 /* Constants derived from parameters: recomputed when a parameter changes (the one divide is
  * here, not in the control law). */
@@ -175,10 +177,12 @@ uint8_t ctl_learnt_byte(uint8_t i)
     return ((const uint8_t *)&ctl_st.fm.g)[i];
 }
 
+#if FW_PROBES
 int16_t ctl_gain(uint8_t i)
 {
     return i < 3 ? ctl_k[i] : 0;
 }
+#endif
 
 void ctl_prepare(void)
 {

@@ -87,6 +87,7 @@ typedef struct {
 #define FM_LEAD 3                   /* after a start-up closing: the integral on the flow this many
                                      * periods ahead while it comes toward the target ... */
 #define FM_LEAD_DRIVE Q15(0.5)      /* ... and the valve runs beyond this duty */
+#define FM_P_REF 200u              /* kPa: above this the loop gain is cut by sqrt(FM_P_REF / P) */
 #define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
                                      * up, the line primes, the flow overshoots from the parked valve */
 typedef struct {

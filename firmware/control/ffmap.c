@@ -1,6 +1,7 @@
 /* ffmap.c: best, the project's own controller: a damped PID with a deadband and a learnt speed feed-forward, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
 #include "store.h"
+#include "umath.h"
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
@@ -19,7 +20,8 @@
  *     that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
  *     answers (reversals in quick succession near the target lower it, a long run of error one
- *     way raises it);
+ *     way raises it), and cut above FM_P_REF, where the bypass's hold on the flow grows with the
+ *     pressure (fm_gain_at_p);
  *   - backlash is not taken up: on a valve with less slack than it was told that overshoots;
  *   - a reversal is owed until the motion asked the other way is worth FM_REV_MIN of a period
  *     at full speed (a small one is mostly lost in the backlash, and the next periods often ask
@@ -243,6 +245,21 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     return s > 0 ? (q15_t)d : -(q15_t)d;
 }
 
+/* The loop gain at this pressure. The bypass's hold on the boom's flow grows with the boom's
+ * share of the pump's flow: with q the boom's flow and Q the pump's, dq/dx goes as q^2 / Q, and
+ * q^2 as the pressure P at the nozzles. With the pump at a fixed PTO speed that is P itself; with
+ * the pump on the wheels (Q with the speed, as q) sqrt(P). Above FM_P_REF the learnt gain is cut
+ * by sqrt(FM_P_REF / P), the lesser of the two: near P max a gain learnt lower down swings the
+ * flow and takes the line over P max. (A failed sensor holds its last reading: the cut it had,
+ * a slower loop, never a faster one.) */
+static int16_t fm_gain_at_p(void)
+{
+    uint16_t p = ctl_in->pressure_kpa;
+    if (p <= FM_P_REF)
+        return M->g;
+    return (int16_t)(MUL(M->g, (int16_t)um_sqrt32(((uint32_t)FM_P_REF << 16) / p)) >> 8);
+}
+
 q15_t fm_step(void) CTL_SHARED
 {
     int16_t q = ctl_in->target_lpm_x100;
@@ -293,7 +310,7 @@ q15_t fm_step(void) CTL_SHARED
         d32 = 2097151L;
     else if (d32 < -2097151L)
         d32 = -2097151L;
-    d = fm_out(((d32 * M->g) >> 8) + ff_d, e);
+    d = fm_out(((d32 * fm_gain_at_p()) >> 8) + ff_d, e);
     M->e2 = M->e1;
     M->e1 = e;
     M->t1 = q;

@@ -78,6 +78,13 @@ void hil_put_crc(uint8_t *f, uint8_t size) __reentrant
     f[size - 1u] = (uint8_t)crc;
 }
 
+/* an ADC field: the sum of 4 ten-bit conversions, at most 4 x 1023 */
+static uint16_t adc_sum(const uint8_t *p) __reentrant
+{
+    uint16_t v = get16(p) & 0xFFFu;
+    return v > 4092u ? 4092u : v;
+}
+
 uint8_t hil_in_decode(const uint8_t *f, hal_hil_t *in) __reentrant
 {
     in->pca_now = get32(f + 2);
@@ -87,8 +94,8 @@ uint8_t hil_in_decode(const uint8_t *f, hal_hil_t *in) __reentrant
     in->meter.count = get16(f + 13);
     in->meter.last = get32(f + 15);
     in->meter.rejected = 0;
-    in->adc[HAL_ADC_PRESSURE] = get16(f + 19) & 0x3FFu;
-    in->adc[HAL_ADC_LEVEL] = get16(f + 21) & 0x3FFu;
+    in->adc[HAL_ADC_PRESSURE] = adc_sum(f + 19);
+    in->adc[HAL_ADC_LEVEL] = adc_sum(f + 21);
     in->sections = f[23];
     return f[1];
 }

@@ -25,7 +25,8 @@
  *   12     wheel edges the PC's filter dropped since HIL ON (mod 2^8; the output frame's wheel_min)
  *   13..14 meter edges since HIL ON (mod 2^16)   15..18 PCA time of the newest meter edge
  *          (running totals: a frame that is lost loses no edge, the next one carries it)
- *   19..20 pressure ADC counts (0..1023)         21..22 level ADC counts (0..1023)
+ *   19..20 pressure ADC counts, the sum of the period's 4 conversions (0..4092: analog.c averages
+ *          four; the HAL returns its quarters, which add up to it)   21..22 level, the same
  *   23     section switch bits
  *   24..25 CRC
  * output frame, controller -> PC, HIL_OUT_BYTES:

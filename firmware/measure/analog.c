@@ -144,6 +144,7 @@ uint8_t analog_level_ok(void)
     return an.l.ok;
 }
 
+#if FW_PROBES
 uint8_t analog_pressure_fault(void)
 {
     return an.p.raw_fault;
@@ -153,3 +154,4 @@ uint8_t analog_level_fault(void)
 {
     return an.l.raw_fault;
 }
+#endif

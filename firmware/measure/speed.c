@@ -318,10 +318,12 @@ uint16_t speed_step(void) __reentrant
     return sp.v_x100;
 }
 
+#if FW_PROBES
 uint16_t speed_kmh_x100(void)
 {
     return sp.v_x100;
 }
+#endif
 
 uint32_t speed_pulses(void)
 {

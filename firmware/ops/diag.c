@@ -105,10 +105,12 @@ void diag_nozzle_relearn(void)
     diag_set_nozzles(dg.nozzles);
 }
 
+#if FW_PROBES
 uint8_t diag_nozzle_learnt(void)
 {
     return dg.learnt;
 }
+#endif
 
 /* x = (q / n Q3)^2, Q8; 0xFFFF beyond twice the rated pressure */
 static uint16_t x_of(int16_t meter) __reentrant

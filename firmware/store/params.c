@@ -85,10 +85,12 @@ uint8_t param_try(uint8_t id, uint16_t v)
     return why;
 }
 
+#if FW_PROBES
 uint8_t param_set(uint8_t id, uint16_t v)
 {
     return param_try(id, v) == PARAM_OK;
 }
+#endif
 
 static const char __code *const __code why_texts[] = {
     "", "Out of range", "Tank min>=size", "P start>=P max", "Meter K:too fast"

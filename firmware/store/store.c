@@ -385,6 +385,7 @@ uint8_t store_done(uint8_t who)
     return 1;
 }
 
+#if FW_PROBES
 uint8_t store_save(void) __reentrant
 {
     if (!store_save_start(0))
@@ -393,6 +394,7 @@ uint8_t store_save(void) __reentrant
         ;
     return status == STORE_OK;
 }
+#endif
 
 uint8_t store_status(void)
 {

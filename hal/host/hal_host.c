@@ -153,8 +153,12 @@ void hal_host_adc_source(uint16_t (*source)(uint8_t ch))
 
 uint16_t hal_adc_read(uint8_t ch)
 {
-    if (hil)
-        return ch < 2 ? hil->adc[ch] & 0x3FF : 0;
+    if (hil) {
+        /* the frame carries the sum of the period's four conversions: four reads in a row return
+         * its quarters, rounded so that they add up to it (analog.c reads four a period) */
+        static uint8_t k;
+        return ch < 2 ? (uint16_t)((hil->adc[ch] + (k++ & 3u)) >> 2) : 0;
+    }
     if (adc_source && ch < 8)
         hal_host_io.adc[ch] = adc_source(ch);
     return ch < 8 ? hal_host_io.adc[ch] & 0x3FF : 0;

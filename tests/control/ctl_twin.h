@@ -59,6 +59,7 @@ typedef struct {
     double target, flow;            /* L/min */
     double travel;                  /* periods of a full stroke (Valve time) */
     int limit;                      /* CTL_AT_* | CTL_NO_CLOSE */
+    double pressure;                /* kPa */
 } ctltw_fm_in_t;
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed */

@@ -120,6 +120,22 @@ static int ctltw_near(double x, double t, double lsb)
     return fabs(x - t) <= lsb;
 }
 
+/* The loop gain at this pressure (fm_gain_at_p): cut by sqrt(FM_P_REF / P) above FM_P_REF,
+ * with the firmware's integer roundings (an exact divide, the root's floor, the product's). */
+static double ctltw_gain_at_p(double g, double p_kpa)
+{
+    unsigned long p = (unsigned long)p_kpa, x, f;
+    if (p <= FM_P_REF)
+        return g;
+    x = ((unsigned long)FM_P_REF << 16) / p;
+    f = (unsigned long)sqrt((double)x);
+    while (f * f > x)
+        f--;
+    while ((f + 1) * (f + 1) <= x)
+        f++;
+    return floor(g * 256 * f / 256) / 256;
+}
+
 ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
 {
     ctltw_fm_out_t o = {0, 0, 0};
@@ -202,7 +218,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     if (m->rev_age < 255)
         m->rev_age++;
     /* the output stage: the motion owed, limits, the running friction, the smallest pulse */
-    mv = du / CTL_FLOW_SCALE_LPM * in->travel * m->g + m->carry;
+    mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_p(m->g, in->pressure) + m->carry;
     mv = ctltw_clamp(mv, -32767.0 / 32768, 32767.0 / 32768);
     if ((mv > 0 && (in->limit & CTL_CLOSE_BLOCKED)) || (mv < 0 && (in->limit & CTL_AT_OPEN)))
         mv = 0;

@@ -24,7 +24,7 @@ static ctl_in_t mk(int target, int flow, uint8_t limit)
     in.target_lpm_x100 = (int16_t)target;
     in.flow_lpm_x100 = (int16_t)flow;
     in.speed_kmh_x100 = 700;
-    in.pressure_kpa = 300;
+    in.pressure_kpa = FM_P_REF;     /* ffmap's loop gain as learnt (no cut: fm_gain_at_p) */
     in.valve_limit = limit;
     return in;
 }
@@ -383,6 +383,27 @@ static void test_ctl_ffmap_output_knows_the_running_friction(void **state)
     print_message("ffmap: motion %.4f owed, then sent at duty %.4f (d_run %.3f)\n", m, d / 32768.0, run);
 }
 
+/* ffmap: above FM_P_REF (200 kPa) the loop gain is cut by sqrt(FM_P_REF / P): the bypass's hold
+ * on the boom's flow grows with the pressure. The same error from rest asks 2/3 of the motion at
+ * 450 kPa, the same at 100 kPa as at 200 (no boost below). */
+static void test_ctl_ffmap_cuts_its_gain_above_the_reference_pressure(void **state)
+{
+    (void)state;
+    static const uint16_t p[3] = {200, 450, 100};
+    double run = CTLTW_RUN, m[3];
+    for (int i = 0; i < 3; i++) {
+        ctl_select(CTL_BEST);
+        ctl_in_t in = mk(2000, 1800, 0);    /* 2 L/min short: a pulse at once */
+        in.pressure_kpa = p[i];
+        q15_t d = ctl_step(&in);
+        assert_true(d > 0);
+        m[i] = (d / 32768.0 - run) / (1 - run);     /* the motion asked */
+    }
+    print_message("ffmap: motion at 450 kPa %.3f of that at 200, at 100 kPa %.3f\n", m[1] / m[0], m[2] / m[0]);
+    assert_true(fabs(m[1] / m[0] - sqrt(200.0 / 450)) < 0.01);
+    assert_true(fabs(m[2] / m[0] - 1) < 1e-3);
+}
+
 /* ffmap: a deadband with hysteresis on the error filtered over 4 periods. Within target/256 the
  * valve rests (only a slow integral: a pulse now and then, the same way); it wakes beyond
  * target/128, or at once when the target moves. */
@@ -520,9 +541,11 @@ static void test_ctl_ffmap_matches_twin(void **state)
                 target += (rnd(0, 100) - 50) / 500.0;
             uint8_t lim = pos >= 1 ? CTL_AT_CLOSED : pos <= 0 ? CTL_AT_OPEN : 0;
             ctl_in_t in = mk((int)(target * 100), (int)(flow * 100 + rnd(-20, 20)), lim);
+            in.pressure_kpa = (uint16_t)(flow * flow / 4);  /* 56-506 kPa: both sides of FM_P_REF */
             ctltw_fm_t tw;
             ctltw_fm_load(&tw, &ctl_st.fm, first, ctl_carry_now());
-            ctltw_fm_in_t ti = {in.target_lpm_x100 / 100.0, in.flow_lpm_x100 / 100.0, travels[c], lim};
+            ctltw_fm_in_t ti = {in.target_lpm_x100 / 100.0, in.flow_lpm_x100 / 100.0, travels[c], lim,
+                                in.pressure_kpa};
             ctltw_fm_out_t o = ctltw_fm_step(&tw, &ti);
             q15_t d = ctl_step(&in);
             first = 0;
@@ -739,6 +762,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_learning_frozen_while_saturated, setup),
         cmocka_unit_test_setup(test_ctl_bp_weights_bounded_over_one_hour, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_output_knows_the_running_friction, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_cuts_its_gain_above_the_reference_pressure, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_deadband_hysteresis, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_a_stiffer_break_away, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_the_loop_gain, setup),

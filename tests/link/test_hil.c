@@ -75,8 +75,8 @@ static void frame(uint8_t seq, uint32_t at_ms, uint16_t wheel_total, uint16_t me
     in.wheel_last = in.pca_now - 1000;
     in.meter_count = meter_total;
     in.meter_last = in.pca_now - 100;
-    in.adc_pressure = adc_p;
-    in.adc_level = MA(20.0);
+    in.adc_pressure = (uint16_t)(4 * adc_p);   /* the sum of a period's 4 conversions */
+    in.adc_level = (uint16_t)(4 * MA(20.0));
     in.sections = 0x3F;
     hil_in_encode(&in, f);
     for (size_t i = 0; i < sizeof f; i++)
