@@ -77,7 +77,7 @@ typedef struct {
 #define FM_REV_MIN Q15(0.6)         /* a reversal is sent once the motion owed the other way is this */
 #define FM_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
 #define FM_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */
-#define FM_SLOW_N 20                /* this long awake with the error one way: +1/16 */
+#define FM_SLOW_N 20                /* this long awake with the error one way: +3/32 */
 #define FM_BIG_SHIFT 4              /* a half cycle whose error reached target >> this swung big */
 #define FM_P_WAIT 5                 /* periods after a (re)start without the proportional term */
 #define FM_FF_RSH 2                 /* the speed's feed-forward: a ramp is its change of the target ... */

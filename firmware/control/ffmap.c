@@ -76,7 +76,7 @@ void fm_init(void)
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
  * FM_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
- * 1/8; FM_SLOW_N periods awake with the error one way (slower than told) raise it by 1/16;
+ * 1/8; FM_SLOW_N periods awake with the error one way (slower than told) raise it by 3/32;
  * nothing is learnt in the first FM_WARM periods nor against a stop (saturated). */
 CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 {
@@ -87,7 +87,7 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
     } else if ((M->slow_n += M->epk_now ? 4 : 1) >= FM_SLOW_N) {
         M->slow_n = 0;
         if (M->g < FM_G_MAX)
-            M->g += M->g >> 4;
+            M->g += (M->g >> 4) + (M->g >> 5);
     }
     if (M->rev_age < 255)
         M->rev_age++;

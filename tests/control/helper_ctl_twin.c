@@ -213,7 +213,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     else if ((m->slow_n += fabs(e) > q / (1 << FM_BIG_SHIFT) ? 4 : 1) >= FM_SLOW_N) {
         m->slow_n = 0;
         if (m->g < FM_G_MAX / 256.0)
-            m->g += floor(m->g * 256 / 16) / 256;
+            m->g += (floor(m->g * 256 / 16) + floor(m->g * 256 / 32)) / 256;
     }
     if (m->rev_age < 255)
         m->rev_age++;
