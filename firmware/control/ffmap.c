@@ -1,7 +1,6 @@
 /* ffmap.c: best, the project's own controller: a damped PID with a deadband and a learnt speed feed-forward, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
 #include "store.h"
-#include "umath.h"
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
@@ -110,6 +109,9 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * network sizes). */
 static __data uint16_t ff_v;           /* the speed, then the error band */
 static __data int16_t ff_dq;
+/* fm_gain_at_p's root and bit, in the same bytes (it runs after fm_ff, which is done with them) */
+#define gp_f ff_v
+#define gp_b ff_dq
 #define ff_d (M->ffd)
 #define ff_e (M->ffe)
 
@@ -254,10 +256,17 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
  * a slower loop, never a faster one.) */
 static int16_t fm_gain_at_p(void)
 {
-    uint16_t p = ctl_in->pressure_kpa;
-    if (p <= FM_P_REF)
+    if (ctl_in->pressure_kpa <= FM_P_REF)
         return M->g;
-    return (int16_t)(MUL(M->g, (int16_t)um_sqrt32(((uint32_t)FM_P_REF << 16) / p)) >> 8);
+    /* f = floor(sqrt(FM_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
+     * with f^2 P <= FM_P_REF 2^16 (below 256, as P > FM_P_REF) */
+    gp_f = 0;
+    for (gp_b = 0x80; gp_b; gp_b >>= 1) {
+        gp_f |= gp_b;
+        if (UMUL(gp_f * gp_f, ctl_in->pressure_kpa) > ((uint32_t)FM_P_REF << 16))
+            gp_f ^= gp_b;
+    }
+    return (int16_t)(MUL(M->g, gp_f) >> 8);
 }
 
 q15_t fm_step(void) CTL_SHARED

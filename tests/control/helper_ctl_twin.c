@@ -121,7 +121,7 @@ static int ctltw_near(double x, double t, double lsb)
 }
 
 /* The loop gain at this pressure (fm_gain_at_p): cut by sqrt(FM_P_REF / P) above FM_P_REF,
- * with the firmware's integer roundings (an exact divide, the root's floor, the product's). */
+ * with the firmware's integer roundings (the root's floor, the product's). */
 static double ctltw_gain_at_p(double g, double p_kpa)
 {
     unsigned long p = (unsigned long)p_kpa, x, f;
