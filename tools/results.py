@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """results.py: docs/RESULTS.md and its plots: the paper's experiments reproduced, and beyond.
 
-usage: results.py [--sim build/host/bin/sim] [--out docs] [--jobs N] [--family-n 200] [--quick]
+usage: results.py [--sim build/host/bin/sim] [--out docs] [--jobs N] [--family-n 200]
 Every figure in the report comes from the runs this program makes (fixed seeds: run twice, the
 same figures); the paper's own numbers are typed in below and marked as the paper's. It also
 rewrites the headline table in README.md between its results markers. `make report` builds what
@@ -156,20 +156,38 @@ def section_steps(R, ctls):
 # ---- 2. Section 5.1: dynamic following -----------------------------------------------------------
 def section_dynamic(R, ctls, out):
     jobs = []
+    sdir = os.path.join(R.scn_dir, "samples")
+    os.makedirs(sdir, exist_ok=True)
     for r in RATES:
         for kind in ("", "_fixed_pto"):
             for c in ctls:
                 for s in SEEDS:
-                    jobs.append(("scenarios/paper_dynamic_%d%s.scn" % (r, kind), c, s, []))
+                    # the first controller's series also give the reference's own figures (below)
+                    extra = ["--samples", os.path.join(sdir, "dyn%d%s_%d.csv" % (r, kind, s))] if c == ctls[0] else []
+                    jobs.append(("scenarios/paper_dynamic_%d%s.scn" % (r, kind), c, s, extra))
     res = R.many(jobs)
     agg = {}
     for (p, c, s, _), m in zip(jobs, res):
         agg.setdefault((os.path.basename(p)[:-4], c), []).append(m)
+    # A flow exactly on the reference (the target the true speed gives), scored like a controller's
+    # against the firmware's target (sim/steps.c --flow ref_lpm): what the measured speed's own lag
+    # and jitter cost the step figures before any controller acts.
+    steps_bin = os.path.join(os.path.dirname(R.sim), "steps")
+    ref = {}
+    for r in RATES:
+        for kind in ("", "_fixed_pto"):
+            for s in SEEDS:
+                st = subprocess.run([steps_bin, os.path.join(sdir, "dyn%d%s_%d.csv" % (r, kind, s)), "--flow", "ref_lpm"],
+                                     capture_output=True, text=True, check=True)
+                ref.setdefault((r, kind), []).append(json.loads(st.stdout.strip().splitlines()[-1]))
     text = ("## 2. Dynamic flow following (cf. section 5.1, Figs. 8-9)\n\n"
             "The speed changed at random between 4 and 11 km/h with the throttle (`scenarios/paper_dynamic_*`), "
             "the PTO coupled to the wheel (pump and speed move together, as on the paper's tractor) or held at "
             "540 rpm (the valve does all the work); means over seeds %s. Paper: its field figures at 150 L/ha, "
-            "coupled.\n\n" % SEEDS)
+            "coupled. \"flow = true reference\": a flow exactly equal to the target the true speed gives, scored "
+            "the same way against the firmware's target (`build/host/bin/steps SAMPLES --flow ref_lpm` on the "
+            "first controller's `--samples`): the overshoot and settling that the measured speed's lag and jitter "
+            "alone give, before any controller acts.\n\n" % SEEDS)
     for kind, title in (("", "PTO coupled"), ("_fixed_pto", "PTO fixed at 540 rpm")):
         rows = []
         for r in RATES:
@@ -180,6 +198,8 @@ def section_dynamic(R, ctls, out):
                              fmt(mean(m["dose_error_pct"] for m in ms), 3), fmt(mean(m["cv_pct"] for m in ms)),
                              fmt(mean(m["valve_reversals_per_min"] for m in ms), 1),
                              fmt(mean(m["start_s"] for m in ms), 1)])
+            rows.append(["%d" % r, "flow = true reference", fmt(mean(m["overshoot_mean_pct"] for m in ref[(r, kind)])),
+                         fmt(mean(m["settle_mean_s"] for m in ref[(r, kind)])), "-", "-", "-", "-", "-"])
             if kind == "" and r == 150:
                 for c, pv in PAPER_51.items():
                     rows.append(["150", "paper %s" % c, fmt(pv["ovs"]), fmt(pv["settle"]), fmt(pv["l_ha"], 1),
