@@ -173,14 +173,13 @@ def section_dynamic(R, ctls, out):
     # against the firmware's target (sim/steps.c --flow ref_lpm): what the measured speed's own lag
     # and jitter cost the step figures before any controller acts.
     steps_bin = os.path.join(os.path.dirname(R.sim), "steps")
-    ref = {}
     for r in RATES:
         for kind in ("", "_fixed_pto"):
             for s in SEEDS:
                 st = subprocess.run([steps_bin, os.path.join(sdir, "dyn%d%s_%d.csv" % (r, kind, s)), "--flow", "ref_lpm"],
                                      capture_output=True, text=True, check=True)
-                ref.setdefault((r, kind), []).append(json.loads(st.stdout.strip().splitlines()[-1]))
-            agg[("paper_dynamic_%d%s" % (r, kind), "ref")] = ref[(r, kind)]
+                agg.setdefault(("paper_dynamic_%d%s" % (r, kind), "ref"), []).append(
+                    json.loads(st.stdout.strip().splitlines()[-1]))
     text = ("## 2. Dynamic flow following (cf. section 5.1, Figs. 8-9)\n\n"
             "The speed changed at random between 4 and 11 km/h with the throttle (`scenarios/paper_dynamic_*`), "
             "the PTO coupled to the wheel (pump and speed move together, as on the paper's tractor) or held at "
@@ -199,8 +198,9 @@ def section_dynamic(R, ctls, out):
                              fmt(mean(m["dose_error_pct"] for m in ms), 3), fmt(mean(m["cv_pct"] for m in ms)),
                              fmt(mean(m["valve_reversals_per_min"] for m in ms), 1),
                              fmt(mean(m["start_s"] for m in ms), 1)])
-            rows.append(["%d" % r, "flow = true reference", fmt(mean(m["overshoot_mean_pct"] for m in ref[(r, kind)])),
-                         fmt(mean(m["settle_mean_s"] for m in ref[(r, kind)])), "-", "-", "-", "-", "-"])
+            ms = agg[("paper_dynamic_%d%s" % (r, kind), "ref")]
+            rows.append(["%d" % r, "flow = true reference", fmt(mean(m["overshoot_mean_pct"] for m in ms)),
+                         fmt(mean(m["settle_mean_s"] for m in ms)), "-", "-", "-", "-", "-"])
             if kind == "" and r == 150:
                 for c, pv in PAPER_51.items():
                     rows.append(["150", "paper %s" % c, fmt(pv["ovs"]), fmt(pv["settle"]), fmt(pv["l_ha"], 1),
