@@ -57,8 +57,14 @@ q15_t fx_tanh(q12_t x) __reentrant
         y = 32767;
     } else {
         i = ax >> 6;
-        y = fx_tanh_tab[i];
-        d = fx_tanh_tab[i + 1] - y;
+        if (i < FX_TANH_J) {
+            y = fx_tanh_tab[i];
+            d = fx_tanh_tab[i + 1] - y;
+        } else {            /* within 255 of 32767: a byte a point */
+            const FX_CODE uint8_t *t = &fx_tanh_tail[i - FX_TANH_J];
+            y = 32767 - t[0];
+            d = (uint8_t)(t[0] - t[1]);
+        }
         /* d * frac <= 512 * 63 = 32256, d >= 0 (tanh rises): two 8 x 8 products (MUL AB) */
         f = (uint8_t)(ax & 63u);
         y += (int16_t)(((uint16_t)((uint8_t)d * f) + ((uint16_t)((uint8_t)((uint16_t)d >> 8) * f) << 8) + 32u) >> 6);

@@ -31,9 +31,13 @@ typedef int32_t q16_t;
 #define Q8(x)  ((q8_t)((x) * 256.0 + ((x) >= 0 ? 0.5 : -0.5)))
 #define Q16(x) ((q16_t)((x) * 65536.0 + ((x) >= 0 ? 0.5 : -0.5)))
 
-/* tanh table: FX_TANH_N points of tanh(i / 64) in Q15, i.e. x in [0, 6]; beyond 6 tanh is 32767. */
-#define FX_TANH_N 385
-extern const FX_CODE q15_t fx_tanh_tab[FX_TANH_N];
+/* tanh tables (tools/gen_tanh.py): FX_TANH_N points of tanh(i / 64) in Q15, i.e. x in
+ * [0, 5.34]; from the last point on tanh is 32767. Points 0..FX_TANH_J in fx_tanh_tab, points
+ * FX_TANH_J..FX_TANH_N - 1 (within 255 of 32767) as 32767 - tanh in a byte each. */
+#define FX_TANH_N 343
+#define FX_TANH_J 178
+extern const FX_CODE q15_t fx_tanh_tab[FX_TANH_J + 1];
+extern const FX_CODE uint8_t fx_tanh_tail[FX_TANH_N - FX_TANH_J];
 
 /* FX_NAKED: an assembly routine on the 8051 that leaves R0-R7 alone (callers keep theirs). */
 #if defined(__SDCC)
