@@ -1,20 +1,21 @@
 #!/usr/bin/env bash
 # share_moves.sh: tools/share_moves.py replaces exactly its sequences by calls of routines that
-# hold exactly those instructions (firmware/math/moves.c, moves_short.c), and leaves alone a sequence with a
+# hold exactly those instructions (firmware/math/moves*.c), and leaves alone a sequence with a
 # label inside (a jump into its middle) or one cut short.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# every MOVES entry has a routine in moves.c or moves_short.c with the same instructions, then
-# RET, and no other
+# every MOVES entry has a routine in moves.c, moves_short.c, moves_arith.c or moves_more.c with
+# the same instructions, then RET, and no other
 if out=$(python3 - <<'EOF' 2>&1
 import re, sys
 sys.path.insert(0, "tools")
 from share_moves import MOVES, norm
 asm = "".join(re.search(r"__asm(.*?)__endasm;", open(f).read(), re.S).group(1)
-              for f in ("firmware/math/moves.c", "firmware/math/moves_short.c"))
+              for f in ("firmware/math/moves.c", "firmware/math/moves_short.c",
+                        "firmware/math/moves_arith.c", "firmware/math/moves_more.c"))
 found, cur = {}, None
 for line in asm.splitlines():
     m = re.match(r"\s*_mv_(\w+)::\s*$", line)
@@ -29,9 +30,9 @@ if bad:
 print("%d routines" % len(found))
 EOF
 ); then
-    echo "ok - share_moves: moves.c and moves_short.c hold each sequence exactly, then RET ($out)"
+    echo "ok - share_moves: moves.c, moves_short.c, moves_arith.c and moves_more.c hold each sequence exactly, then RET ($out)"
 else
-    echo "not ok - share_moves: moves.c and moves_short.c hold each sequence exactly"; echo "$out" | sed 's/^/#   /'
+    echo "not ok - share_moves: moves.c, moves_short.c, moves_arith.c and moves_more.c hold each sequence exactly"; echo "$out" | sed 's/^/#   /'
 fi
 
 # a whole sequence (a C line comment inside it kept) is replaced; one with a label inside, or
