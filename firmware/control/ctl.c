@@ -86,7 +86,7 @@ static void ctl_derive(void)
     /* drive(Q15) = du(Q12 x100 L/min) * T / (4096 * 100 * 100) * 32768 = du_q4 * T * 0.2048 */
     ctl_kf = (int16_t)((MUL(ctl_travel, 839) + 8) >> 4);   /* Q8 of T * 0.2048 (839/4096) */
     /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded); told new values of
-     * these or of Valve time, ffmap drops the break-away and the loop gain it had learnt against
+     * these or of Valve time, ffmap drops the break-away, the loop gain and the duty cap it had learnt against
      * the old ones (the operator knows the valve now) */
     s = (int16_t)((((uint32_t)param_v[P_VALVE_BRK] << 15) + 50u) / 100u);
     b = (int16_t)((((uint32_t)param_v[P_VALVE_SLACK] << 15) + 500u) / 1000u);
@@ -96,6 +96,7 @@ static void ctl_derive(void)
         ctl_st.fm.g = 256;
         ctl_st.fm.rmin = FM_REV_MIN;
         ctl_st.fm.kff = 0;
+        ctl_st.fm.cap = 255;
     }
     ctl_stiction = s;
     ctl_backlash = b;

@@ -87,6 +87,10 @@ typedef struct {
 #define FM_LEAD 3                   /* after a start-up closing: the integral on the flow this many
                                      * periods ahead while it comes toward the target ... */
 #define FM_LEAD_DRIVE Q15(0.5)      /* ... and the valve runs beyond this duty */
+#define FM_CAP_N 3                  /* the duty cap (ffmap.c fm_cap): after this many periods at it,
+                                     * a period ... */
+#define FM_CAP_SH 2                 /* ... that moved the flow by more than target >> this: -1/4 */
+#define FM_CAP_MIN 13               /* ... not below 13/256 of full duty */
 #define FM_P_REF 200u              /* kPa: above this the loop gain is cut by sqrt(FM_P_REF / P) */
 #define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
                                      * up, the line primes, the flow overshoots from the parked valve */
@@ -116,6 +120,10 @@ typedef struct {
     int32_t ffd;                    /* Q15 this period's feed-forward drive */
     int16_t ffe;                    /* x100 L/min this period's error */
     uint8_t lead;                   /* 1: this (re)start found the meter at a quarter of the target */
+    uint8_t cap;                    /* the duty cap: (cap << 7) | 127, Q15 (255: full duty) */
+    uint8_t capn;                   /* periods in a row the valve was driven at the cap one way */
+    uint8_t capc;                   /* ... before this period */
+    int16_t f1;                     /* x100 L/min the last period's flow */
 } fm_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */

@@ -4,6 +4,7 @@
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
+static void fm_cap_up(void);
 
 /*
  * The law is the incremental PID of eq. (7) on the pid normalisation (ctl.c), with gains near
@@ -21,6 +22,8 @@
  *     answers (reversals in quick succession near the target lower it, a long run of error one
  *     way raises it), and cut above FM_P_REF, where the bypass's hold on the flow grows with the
  *     pressure (fm_gain_at_p);
+ *   - a valve so fast that one period at full duty moves the flow by more than a quarter of the
+ *     target: its top duty is cut until it does not (the duty cap, fm_cap);
  *   - backlash is not taken up: on a valve with less slack than it was told that overshoots;
  *   - a reversal is owed until the motion asked the other way is worth FM_REV_MIN of a period
  *     at full speed (a small one is mostly lost in the backlash, and the next periods often ask
@@ -71,6 +74,7 @@ void fm_init(void)
     }
     M->slow_n = 0;
     M->warm = 0;
+    M->cap = 255;
 }
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
@@ -87,6 +91,7 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
         M->slow_n = 0;
         if (M->g < FM_G_MAX)
             M->g += (M->g >> 4) + (M->g >> 5);
+        fm_cap_up();
     }
     if (M->rev_age < 255)
         M->rev_age++;
@@ -137,6 +142,60 @@ static void fm_ff(void)
         }
     }
     ff_d = MUL(M->rf >> FM_FF_RSH, M->kff);
+}
+
+/* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve
+ * much faster than it was told, on a pump and bypass far bigger than the boom needs, moves the
+ * flow by more in one period at full duty than the loop can see in time: the meter's lag, the
+ * motor's coast and the backlash carry it past the target before the loop turns, and it swings
+ * at full duty from nothing to twice the target (family plant 10 of SEED=62: a 1.64 s valve told
+ * 4 s, a 144 L/min pump, 14.7 L/min at the boom). At full duty a smaller gain changes nothing; a
+ * lower top speed does. After FM_CAP_N periods in a row at the cap one way, a period whose flow
+ * moved that way by more than target >> FM_CAP_SH takes a quarter off the cap (down to
+ * FM_CAP_MIN), one that moved by less than half of that gives an eighth back, as does the gain's
+ * raise (a long run of error one way: the valve is slower than the cap lets it be). It never
+ * goes under the smallest pulse. A valve that moves the flow by less never meets the threshold
+ * and runs at full duty as before. Kept in RAM only: a valve this fast shows itself in its first swing. */
+static void fm_cap_up(void)
+{
+    ff_v = M->cap + (M->cap >> 3) + 1;
+    M->cap = ff_v > 255 ? 255 : (uint8_t)ff_v;
+}
+
+/* each period before the output stage: the flow's change, judged after FM_CAP_N periods at
+ * the cap (ff_v, ff_dq: fm_ff is done with them, fm_gain_at_p not begun) */
+static void fm_cap(void)
+{
+    ff_dq = ctl_in->flow_lpm_x100 - M->f1;
+    M->f1 = ctl_in->flow_lpm_x100;
+    M->capc = M->capn;
+    M->capn = 0;
+    if (M->capc < FM_CAP_N)
+        return;
+    if (M->dir < 0)
+        ff_dq = -ff_dq;
+    ff_v = ctl_in->target_lpm_x100 >> FM_CAP_SH;
+    if (ff_dq > (int16_t)ff_v) {
+        if (M->cap > FM_CAP_MIN)
+            M->cap -= M->cap >> 2;
+    } else if (ff_dq < (int16_t)(ff_v >> 1)) {
+        fm_cap_up();
+    }
+    if (M->capc == 255)
+        M->capc--;
+}
+
+/* the output stage's duty ff_dq at most the cap, which is at least the smallest pulse ff_v; a
+ * duty within 1/256 of full duty under the cap counts as at the cap (capc 255: a reversal) */
+static void fm_capd(void)
+{
+    if ((uint8_t)(ff_v >> 7) < M->cap)
+        ff_v = ((uint16_t)M->cap << 7) | 0x7F;
+    if ((uint16_t)ff_dq >= (ff_v & 0xFF80u)) {
+        if ((uint16_t)ff_dq > ff_v)
+            ff_dq = ff_v;
+        M->capn = M->capc + 1;
+    }
 }
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. */
@@ -211,6 +270,12 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     ctl_carry = 0;
     if (d > 32767)
         d = 32767;
+    if (s != M->dir)
+        M->capc = 255;
+    ff_v = k;
+    ff_dq = d;
+    fm_capd();
+    d = ff_dq;
     if (s != M->dir && M->dir != 0) {
         /* two half cycles in a row that swung the flow big, soon after each other: the loop is
          * unstable, whatever the start-up is doing; a quarter off at once */
@@ -288,6 +353,7 @@ q15_t fm_step(void) CTL_SHARED
         M->v1 = ctl_in->speed_kmh_x100;
         M->rf = 0;
         M->lead = e <= q - (q >> 2);
+        M->capn = 0;
         ctl_first = 0;
     }
     fm_deadband(e, q);
@@ -314,6 +380,7 @@ q15_t fm_step(void) CTL_SHARED
         }
     }
     fm_gain_adapt(e);
+    fm_cap();
     d32 = ctl_du_to_drive(du);
     if (d32 > 2097151L)
         d32 = 2097151L;

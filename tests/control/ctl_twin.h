@@ -53,6 +53,8 @@ typedef struct {
     double carry;                   /* motion owed, share of full speed for a period */
     double last;                    /* the last drive, fraction of full duty */
     int lead;                       /* the (re)start found the meter reading a quarter of the target */
+    int cap, capn;                  /* the duty cap (/256 of full duty, 255 none), periods at it */
+    double f1;                      /* L/min: the last period's flow */
     int first;
 } ctltw_fm_t;
 typedef struct {

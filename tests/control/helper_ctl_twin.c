@@ -111,6 +111,9 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->carry = carry / 32768.0;
     tw->last = ctl_last / 32768.0;
     tw->lead = fm->lead;
+    tw->cap = fm->cap;
+    tw->capn = fm->capn;
+    tw->f1 = fm->f1 / 100.0;
     tw->first = first;
 }
 
@@ -136,12 +139,19 @@ static double ctltw_gain_at_p(double g, double p_kpa)
     return floor(g * 256 * f / 256) / 256;
 }
 
+/* the duty cap up by an eighth (fm_cap_up) */
+static int ctltw_cap_up(int cap)
+{
+    cap += cap / 8 + 1;
+    return cap > 255 ? 255 : cap;
+}
+
 ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
 {
     ctltw_fm_out_t o = {0, 0, 0};
     double q = in->target, e = ctltw_clamp(q - in->flow, -CTLTW_E_MAX, CTLTW_E_MAX);
     double dq, c, du, mv, d, k, run = CTLTW_RUN;
-    int s;
+    int s, capc;
     if (m->first) {
         m->e1 = m->e2 = m->ef = e;
         m->t1 = q;
@@ -153,6 +163,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         /* (the firmware compares x100 L/min with half the target rounded down) */
         o.near |= ctltw_near(e, q / 2, 0.02);
         m->lead = e <= q - q / 4;
+        m->capn = 0;
     }
     /* deadband on the error filtered over 4 periods */
     dq = q - m->t1;
@@ -214,9 +225,30 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->slow_n = 0;
         if (m->g < FM_G_MAX / 256.0)
             m->g += (floor(m->g * 256 / 16) + floor(m->g * 256 / 32)) / 256;
+        m->cap = ctltw_cap_up(m->cap);
     }
     if (m->rev_age < 255)
         m->rev_age++;
+    /* the duty cap: the flow's change (x100 L/min, as the firmware has it) after FM_CAP_N periods
+     * at the cap one way */
+    {
+        long dq100 = lround(in->flow * 100) - lround(m->f1 * 100), th = lround(q * 100) >> FM_CAP_SH;
+        capc = m->capn;
+        m->capn = 0;
+        m->f1 = in->flow;
+        if (capc >= FM_CAP_N) {
+            if (m->dir < 0)
+                dq100 = -dq100;
+            if (dq100 > th) {
+                if (m->cap > FM_CAP_MIN)
+                    m->cap -= m->cap / 4;
+            } else if (dq100 < th / 2) {
+                m->cap = ctltw_cap_up(m->cap);
+            }
+            if (capc == 255)
+                capc--;
+        }
+    }
     /* the output stage: the motion owed, limits, the running friction, the smallest pulse */
     mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_p(m->g, in->pressure) + m->carry;
     mv = ctltw_clamp(mv, -32767.0 / 32768, 32767.0 / 32768);
@@ -237,6 +269,17 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
             m->carry = mv;
         } else {
             m->carry = 0;
+            /* the duty cap, never under the smallest pulse; within 1/256 of it is at it */
+            double cap = ((k * 32768 >= (m->cap << 7) ? k * 32768 : ((m->cap << 7) | 0x7F))) / 32768;
+            o.near |= ctltw_near(d, cap, 0.002) || ctltw_near(d, floor(cap * 256) / 256, 0.002)
+                      || ctltw_near(k * 32768, m->cap << 7, 128);
+            if (s != m->dir)
+                capc = 255;
+            if (d >= floor(cap * 256) / 256) {
+                if (d > cap)
+                    d = cap;
+                m->capn = (capc + 1) & 255;
+            }
             if (s != m->dir && m->dir != 0) {
                 int big = m->epk > q / (1 << FM_BIG_SHIFT);
                 o.near |= ctltw_near(d, 2 * k, 0.002);

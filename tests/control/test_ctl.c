@@ -486,6 +486,59 @@ static void test_ctl_ffmap_learns_the_loop_gain(void **state)
     print_message("ffmap: gain after 200 s of hunting %.3f\n", ctl_st.fm.g / 256.0);
 }
 
+/* A toy valve and line for the duty cap: the motor runs at (duty - 0.12) / 0.88 of full speed
+ * over a stroke of `travel` periods, the flow follows `lpm_per_stroke` times the closure beyond
+ * 0.5 of it with a lag, and the meter reads it two periods late. Returns the largest duty and
+ * the flow's swing (largest - smallest, x100 L/min) over the last 300 of `periods`. */
+static void cap_toy(int periods, double travel, double lpm_per_stroke, int target, double *duty_max, int *swing)
+{
+    double pos = 0.5, flow = 0, seen[3] = {0, 0, 0};
+    int lo = 32767, hi = 0;
+    *duty_max = 0;
+    for (int k = 0; k < periods; k++) {
+        ctl_in_t in = mk(target, (int)(seen[0] * 100), 0);
+        double d = ctl_step(&in) / 32768.0, a = fabs(d);
+        if (k >= periods - 300) {
+            *duty_max = a > *duty_max ? a : *duty_max;
+            lo = in.flow_lpm_x100 < lo ? in.flow_lpm_x100 : lo;
+            hi = in.flow_lpm_x100 > hi ? in.flow_lpm_x100 : hi;
+        }
+        if (a > 0.2)
+            pos += (d > 0 ? 1 : -1) * (a - 0.12) / 0.88 / travel;
+        pos = pos < 0 ? 0 : pos > 1 ? 1 : pos;
+        flow += ((pos > 0.5 ? (pos - 0.5) * lpm_per_stroke : 0) - flow) * 0.5;
+        seen[0] = seen[1];
+        seen[1] = seen[2];
+        seen[2] = flow;
+    }
+    *swing = hi - lo;
+}
+
+/* ffmap: a valve that moves the flow by more than a quarter of the target in one period at full
+ * duty (here a 1.6 s valve told 4 s, where a fifth of the stroke swings the flow by 60 L/min
+ * around a 15 L/min target) gets its top duty cut, and the swing from nothing to twice the
+ * target stops; a valve that moves it by less keeps full duty (a 20 % step of the target
+ * answered at full duty). */
+static void test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow(void **state)
+{
+    (void)state;
+    double duty;
+    int swing;
+    ctl_select(CTL_BEST);
+    assert_int_equal(ctl_st.fm.cap, 255);
+    cap_toy(1200, 16, 300, 1500, &duty, &swing);
+    print_message("ffmap: a fast valve's duty cap %d/256, largest duty %.2f, the flow's swing %.2f L/min\n",
+                  ctl_st.fm.cap, duty, swing / 100.0);
+    assert_true(ctl_st.fm.cap < 128);
+    assert_true(duty < 0.6);
+    assert_true(swing < 1500);
+    ctl_select(CTL_BEST);
+    cap_toy(200, 40, 60, 1500, &duty, &swing);
+    cap_toy(300, 40, 60, 2500, &duty, &swing);      /* a step of the target */
+    assert_int_equal(ctl_st.fm.cap, 255);
+    assert_true(duty > 0.99);
+}
+
 /* ffmap: what it learnt of the valve (break-away, loop gain) stays through other settings'
  * changes, and goes when the operator tells new Min duty, Backlash or Valve time values: they
  * are taken as given. */
@@ -498,10 +551,12 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
     for (int p = 0; p < 3; p++) {
         ctl_st.fm.brk = FM_BRK_STEP;
         ctl_st.fm.g = 128;
+        ctl_st.fm.cap = 100;
         assert_int_equal(param_set(P_RATE, 140 + p), 1);
         ctl_step(&in);
         assert_int_equal(ctl_st.fm.brk, FM_BRK_STEP);
         assert_int_equal(ctl_st.fm.g, 128);
+        assert_int_equal(ctl_st.fm.cap, 100);
         if (p == 0)
             assert_int_equal(param_set(P_VALVE_SLACK, 15), 1);
         else if (p == 1)
@@ -511,6 +566,7 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
         ctl_step(&in);
         assert_int_equal(ctl_st.fm.brk, 0);
         assert_int_equal(ctl_st.fm.g, 256);
+        assert_int_equal(ctl_st.fm.cap, 255);
     }
     assert_int_equal(CTL_STICTION, Q15(0.3));
     params_defaults();
@@ -527,23 +583,28 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
 static void test_ctl_ffmap_matches_twin(void **state)
 {
     (void)state;
-    static const int travels[3] = {40, 15, 100}, brks[3] = {20, 30, 12};
+    /* (the fourth: a valve three times as fast as told moving the flow by 250 L/min a stroke,
+     * read two periods late: its duty is capped) */
+    static const int travels[4] = {40, 15, 100, 40}, brks[4] = {20, 30, 12, 20};
+    static const double gains[4] = {50, 50, 50, 250};
     double worst = 0;
-    int checked = 0, near = 0, pulses = 0, rests = 0, g_moved = 0, brk_moved = 0;
-    for (int c = 0; c < 3; c++) {
+    int checked = 0, near = 0, pulses = 0, rests = 0, g_moved = 0, brk_moved = 0, capped = 0;
+    for (int c = 0; c < 4; c++) {
         assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)travels[c]), 1);
         assert_int_equal(param_set(P_VALVE_BRK, (uint16_t)brks[c]), 1);
         ctl_select(CTL_BEST);
-        double pos = 0.5, flow = 30, target = 30, t_true = travels[c] * (c == 1 ? 0.5 : 1.5);
-        double brk_true = (brks[c] + 8) / 100.0, run_true = brk_true * 0.6, v = 0;
+        double pos = 0.5, flow = 30, target = 30, t_true = travels[c] * (c % 2 ? 0.5 : 1.5);
+        double brk_true = (brks[c] + 8) / 100.0, run_true = brk_true * 0.6, v = 0, seen[3] = {30, 30, 30};
         int first = 1;
+        if (c == 3)
+            t_true = travels[c] / 3.0;
         for (int k = 0; k < 12000; k++) {
             if (k % 400 == 0)
                 target = 15 + rnd(0, 3000) / 100.0;
             else if (k % 400 < 60)
                 target += (rnd(0, 100) - 50) / 500.0;
             uint8_t lim = pos >= 1 ? CTL_AT_CLOSED : pos <= 0 ? CTL_AT_OPEN : 0;
-            ctl_in_t in = mk((int)(target * 100), (int)(flow * 100 + rnd(-20, 20)), lim);
+            ctl_in_t in = mk((int)(target * 100), (int)((c == 3 ? seen[0] : flow) * 100 + rnd(-20, 20)), lim);
             in.pressure_kpa = (uint16_t)(flow * flow / 4);  /* 56-506 kPa: both sides of FM_P_REF */
             ctltw_fm_t tw;
             ctltw_fm_load(&tw, &ctl_st.fm, first, ctl_carry_now());
@@ -566,20 +627,24 @@ static void test_ctl_ffmap_matches_twin(void **state)
             rests += ctl_st.fm.rest;
             g_moved |= ctl_st.fm.g != 256;
             brk_moved |= ctl_st.fm.brk != 0;
+            capped += ctl_st.fm.cap != 255;
             /* the toy valve and line */
             double a = fabs(d / 32768.0);
             v = (a >= (v ? run_true : brk_true)) ? (d > 0 ? 1 : -1) * (a - run_true) / (1 - run_true) : 0;
             pos += v / t_true;
             pos = pos < 0 ? 0 : pos > 1 ? 1 : pos;
-            flow += (8 + 50 * pos - flow) * 0.4;
+            flow += (8 + gains[c] * pos - flow) * 0.4;
+            seen[0] = seen[1];
+            seen[1] = seen[2];
+            seen[2] = flow;
         }
     }
     params_defaults();
     ctl_reset(0);
-    print_message("ffmap vs twin: %d steps checked, worst %.1f LSB beyond 0.2 %%; %d near a threshold; %d pulses, %d resting\n",
-                  checked, worst * 32768, near, pulses, rests);
+    print_message("ffmap vs twin: %d steps checked, worst %.1f LSB beyond 0.2 %%; %d near a threshold; %d pulses, %d resting, %d capped\n",
+                  checked, worst * 32768, near, pulses, rests, capped);
     assert_true(checked > 30000 && near < checked / 10);
-    assert_true(pulses > 1000 && rests > 3000 && g_moved && brk_moved);
+    assert_true(pulses > 1000 && rests > 3000 && g_moved && brk_moved && capped > 100);
 }
 
 /* ---- the peers: aog and raven ------------------------------------------------------------- */
@@ -769,6 +834,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_deadband_hysteresis, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_a_stiffer_break_away, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_the_loop_gain, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_matches_twin, setup),
         cmocka_unit_test_setup(test_ctl_aog_hand_worked_dead_band_brake_point_and_limits, setup),
