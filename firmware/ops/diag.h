@@ -41,10 +41,12 @@ enum {
 #define DIAG_MOVE_SHIFT 7u          /* ... and not while the target moves by more than 1/128 a period */
 /* The nozzle model learnt from the sprayer: DIAG_LEARN_N samples, one every DIAG_LEARN_EVERY
  * clean periods (steady flow within 5 % of its target, no flow alarm): the first half minute
- * of clean spraying. A fit needs the flows' squares to spread (N^2 var(x), x in Q8). */
+ * of clean spraying. A fit needs the flows' squares to spread (N^2 var(x), x in Q8), and by at
+ * least 1/2^DIAG_LEARN_REL of their mean's square (a standard deviation of a quarter of it). */
 #define DIAG_LEARN_N 64u
 #define DIAG_LEARN_EVERY 4u
 #define DIAG_LEARN_SPREAD 2700000UL
+#define DIAG_LEARN_REL 4u
 
 void diag_init(void);
 /* One period: evaluate every rule. The inputs: this period's figures `st` (tank, pressure,
