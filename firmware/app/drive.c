@@ -16,6 +16,8 @@
 #define APP_JOG_DRIVE Q15(0.6)      /* a jog (OPS_JOG_PERIODS) at 60 % duty */
 #define APP_RELIEVE_DRIVE Q15(0.5)  /* over-pressure: open the bypass at 50 % */
 #define APP_HOLD_KPA 5u             /* a shut boom holds the spraying pressure within this (+1/16) */
+#define APP_P_AHEAD 12u             /* no closing while this many periods more of the pressure's
+                                     * last rise would take it over P max (drive_overp_soon) */
 #define IO_ON (ops_io & OPS_IO_ON)
 
 static struct {
@@ -29,6 +31,8 @@ static struct {
 
 /* 1: the meter read half the target since the boom opened in auto (drive_starved) */
 static __bit flowed;
+/* kPa: the pressure a period ago (drive_overp_soon; the direct RAM, as XRAM is at its floor) */
+static __data uint16_t p_last;
 
 void drive_init(void)
 {
@@ -88,11 +92,26 @@ static uint8_t drive_starved(void)
 typedef char app_in_layout[(APP_IN_AT(target_lpm_x100) && APP_IN_AT(flow_lpm_x100) && APP_IN_AT(speed_kmh_x100)
                             && APP_IN_AT(pressure_kpa) && APP_IN_AT(valve_limit)) ? 1 : -1];
 
+/* Over P max soon: the pressure rising so fast that APP_P_AHEAD periods more of this period's
+ * rise would take it over P max. A fast valve closing toward a target near P max turns once the
+ * meter shows the target, and its coast, its backlash and the meter's lag carry the pressure on
+ * past P max (the family's OVERPRESSURE runs: 1.5-2 s valves told 4 s, 141-149 L/ha, the target
+ * at 4.0-4.4 bar); the pressure shows the flow's rise at once, the meter a few periods late. So
+ * the closing stops that far ahead, as over P max; the loop may still open. */
+static uint8_t drive_overp_soon(void)
+{
+    uint16_t p = app_status.pressure_kpa;
+    int16_t dp = (int16_t)(p - p_last);
+    p_last = p;
+    return dp > 0 && analog_pressure_ok()
+           && (dp >= 1024 || p + (uint16_t)dp * APP_P_AHEAD > param_v[P_P_MAX]);
+}
+
 /* The drive of a spraying boom in auto: the start-up closing at full duty until the line
  * reaches P_P_MIN (the paper's start) or the meter reads 7/8 of the target a period ahead (the
  * flow as it is plus its last period's rise: the valve coasts, the line fills and the meter
  * lags, so a closing that stops once the flow is there leaves it past the target), then the
- * controller. */
+ * controller, which closes nothing over P max, soon over it, or with the pump stopped. */
 static q15_t drive_auto(uint8_t overp)
 {
     q15_t drive = 0;
@@ -156,7 +175,7 @@ static q15_t drive_park(void)
 void drive_step(void)
 {
     uint8_t manual = app_status.manual;
-    uint8_t overp = drive_overp();
+    uint8_t overp = drive_overp(), soon = drive_overp_soon();   /* (the pressure's rise: every period) */
     q15_t drive = 0;
     if (manual || IO_ON) {
         if (ops_jog_req.periods) {
@@ -164,7 +183,7 @@ void drive_step(void)
             drive = ops_jog_req.dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
         }
     } else if (app_status.spraying) {
-        drive = drive_auto(overp);
+        drive = drive_auto(overp | soon);
         drive_hold_learn();
     } else {
         if (dv.prime) {
