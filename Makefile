@@ -64,7 +64,7 @@ SHARE_SKIP := $(addprefix firmware/control/,aog.c raven.c) \
               $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c moves_short.c \
                 moves_arith.c moves_more.c \
                 divulong.c)
-# the controllers' modules: not the ninth round's sequences (x_: their steps' cycles as before)
+# the controllers' modules: not the tenth round's sequences (x_: their steps' cycles as before)
 SHARE_OPTS_firmware/control/ffmap.c := --skip=x_
 SHARE_OPTS_firmware/control/pid.c := --skip=x_
 SHARE_OPTS_firmware/control/ctl_out.c := --skip=x_

@@ -186,8 +186,9 @@ def section_dynamic(R, ctls, out):
             "540 rpm (the valve does all the work); means over seeds %s. Paper: its field figures at 150 L/ha, "
             "coupled. \"flow = true reference\": a flow exactly equal to the target the true speed gives, scored "
             "the same way against the firmware's target (`build/host/bin/steps SAMPLES --flow ref_lpm` on the "
-            "first controller's `--samples`): the overshoot and settling that the measured speed's lag and jitter "
-            "alone give, before any controller acts.\n\n" % SEEDS)
+            "first controller's `--samples`): the overshoot, settling and start that the measured speed's lag and "
+            "jitter alone give, before any controller acts (its start: from the boom's opening, with no line to "
+            "fill, until it has stayed within 5 %% of the firmware's target for 2 s).\n\n" % SEEDS)
     for kind, title in (("", "PTO coupled"), ("_fixed_pto", "PTO fixed at 540 rpm")):
         rows = []
         for r in RATES:
@@ -200,7 +201,8 @@ def section_dynamic(R, ctls, out):
                              fmt(mean(m["start_s"] for m in ms), 1)])
             ms = agg[("paper_dynamic_%d%s" % (r, kind), "ref")]
             rows.append(["%d" % r, "flow = true reference", fmt(mean(m["overshoot_mean_pct"] for m in ms)),
-                         fmt(mean(m["settle_mean_s"] for m in ms)), "-", "-", "-", "-", "-"])
+                         fmt(mean(m["settle_mean_s"] for m in ms)), "-", "-", "-", "-",
+                         fmt(mean(m["start_s"] for m in ms), 1)])
             if kind == "" and r == 150:
                 for c, pv in PAPER_51.items():
                     rows.append(["150", "paper %s" % c, fmt(pv["ovs"]), fmt(pv["settle"]), fmt(pv["l_ha"], 1),

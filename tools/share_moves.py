@@ -109,7 +109,7 @@ MOVES = {
                 "anl a,#0x0f", "xch a,r4", "xrl a,r4", "xch a,r4"],
     "shr4_r6": ["swap a", "xch a,r6", "swap a", "anl a,#0x0f", "xrl a,r6", "xch a,r6",
                 "anl a,#0x0f", "xch a,r6", "xrl a,r6", "xch a,r6"],
-    # issue 14's ninth round (x_): sequences found by counting those the firmware's modules still
+    # issue 14's tenth round (x_): sequences found by counting those the firmware's modules still
     # write out after the sets above; not in the controllers' modules (--skip=x_: their steps' cycles)
     "x_sbc_ii3": ["subb a,@r0", "inc r1", "mov a,@r1", "inc r0", "subb a,@r0", "inc r1",
                   "mov a,@r1", "inc r0", "subb a,@r0"],
