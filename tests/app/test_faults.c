@@ -312,6 +312,19 @@ static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void *
         assert_true(detect_s(&r, b) > 1000);
 }
 
+/* A family plant's scenario `text` run to `t_end` s: the nozzle model it learnt, and no alarm. */
+static void run_plant_raising_nothing(const char *text, double t_end, const char *what)
+{
+    run_t r;
+    helper_sim_load(&sim, &sim_live, text, "test_faults");
+    run_init(&r, 0);
+    run_to(&r, t_end);
+    printf("# %s: model learnt %d, LEAK %s\n", what, diag_nozzle_learnt(),
+           detect_s(&r, AL_LEAK) > 1000 ? "not raised" : "raised");
+    for (int b = 0; b < AL_COUNT; b++)
+        assert_true(detect_s(&r, b) > 1000);
+}
+
 /* Family plant 26 of SEED=23 (check valves at 0.64 bar, its meter 0.7 % fast, the pump on the
  * wheels), its field drive cut short: through the slow-down from 6.4 to 2.6 km/h the meter's
  * rotor lags the flow that the pressure follows at once, and the metered flow reads high for
@@ -320,7 +333,6 @@ static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void *
 static void test_faults_a_slow_down_is_no_leak(void **state)
 {
     static char text[2048];
-    run_t r;
     (void)state;
     snprintf(text, sizeof text,
              "[run]\nduration_s = 190\nseed = 387231\n[config]\ncontroller = %s\nrate_l_ha = 146\n"
@@ -332,13 +344,7 @@ static void test_faults_a_slow_down_is_no_leak(void **state)
              "check_valve_bar = 0.638\nvalve_cv_open = 186.5\n[drive]\n0 0\n2 0\n8 9.6\n68 9.6\n"
              "73 2.1\n80 2.1\n86 8.9\n120 8.9\n125 2.6\n132 2.6\n138 6.4\n170 6.4\n175 2.6\n190 2.6\n",
              fault_ctl);
-    helper_sim_load(&sim, &sim_live, text, "test_faults");
-    run_init(&r, 0);
-    run_to(&r, 190);
-    printf("# a slow-down at 0.64 bar check valves: model learnt %d, LEAK %s\n", diag_nozzle_learnt(),
-           detect_s(&r, AL_LEAK) > 1000 ? "not raised" : "raised");
-    for (int b = 0; b < AL_COUNT; b++)
-        assert_true(detect_s(&r, b) > 1000);
+    run_plant_raising_nothing(text, 190, "a slow-down at 0.64 bar check valves");
 }
 
 /* Family plant 20 of SEED=173 (clean nozzles, check valves at 0.607 bar, a 1.67 s valve told
@@ -351,7 +357,6 @@ static void test_faults_a_slow_down_is_no_leak(void **state)
 static void test_faults_a_model_fitted_over_one_speed_makes_no_leak(void **state)
 {
     static char text[2048];
-    run_t r;
     (void)state;
     snprintf(text, sizeof text,
              "[run]\nduration_s = 442\nseed = 927665\n[config]\ncontroller = %s\nrate_l_ha = 147\n"
@@ -363,13 +368,7 @@ static void test_faults_a_model_fitted_over_one_speed_makes_no_leak(void **state
              "[drive]\n0 0\n2 0\n8 9.7\n70.02 9.7\n75.02 0\n80.19 0\n86.19 8.8\n179.21 8.8\n184.21 0\n"
              "187.48 0\n193.48 6\n330.25 6\n335.25 2.2\n342.52 2.2\n348.52 9\n432.87 9\n437.87 0\n442 0\n",
              fault_ctl);
-    helper_sim_load(&sim, &sim_live, text, "test_faults");
-    run_init(&r, 0);
-    run_to(&r, 442);
-    printf("# a model fitted over one speed: learnt %d, LEAK %s\n", diag_nozzle_learnt(),
-           detect_s(&r, AL_LEAK) > 1000 ? "not raised" : "raised");
-    for (int b = 0; b < AL_COUNT; b++)
-        assert_true(detect_s(&r, b) > 1000);
+    run_plant_raising_nothing(text, 442, "a model fitted over one speed");
 }
 
 /* A wheel sensor that bounces now and then (3 % of its pulses, within the plant family) is
