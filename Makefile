@@ -153,7 +153,7 @@ help:
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
 	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
-	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1]   the controllers over N sprayers of the plant family"
+	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn]   the controllers over N sprayers of the plant family"
 	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
@@ -315,8 +315,9 @@ compare: $(SIM_BIN)
 N ?= 200
 CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid,aog,raven
 SEED ?= 1
+TOLD ?= both
 family: $(SIM_BIN)
-	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --out $(BUILD)/family
+	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --out $(BUILD)/family
 
 # ==== the simulator, the demo and the virtual panel ========================================================
 # Programs from sim/*_main.c, linked with the -O2 library: build/host/bin/<name> (build/host/sim/

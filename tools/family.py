@@ -2,7 +2,7 @@
 """family.py: the controllers judged on a family of sprayers (docs/SCENARIOS.md, "The plant family").
 
 Usage: tools/family.py SIM [--n 200] [--controllers best,bp_pid,fuzzy_pid,pid,aog,raven] [--seed 1]
-                       [--out build/family] [--jobs N] [--kind dynamic|field|both]
+                       [--out build/family] [--jobs N] [--kind dynamic|field|both] [--told both|drawn]
 
 The peers aog and raven run with their default settings; `aog_tuned` and `raven_tuned` run them
 with settings tuned for each plant's valve (tuned_config below: what a careful user reaches by
@@ -13,6 +13,11 @@ random stream fixed by --seed and the plant's number, so the same command gives 
 Each plant is one scenario file (a paper-style dynamic drive, or a field run with headland
 stops, 100-150 L/ha, the firmware at its defaults except the valve's stroke time, which it is
 told in half of the runs); every controller runs every plant, spread over the machine's cores.
+--told both (the default) runs every plant twice, once told the valve's stroke time and once
+told 4 s, so that the told / untold medians compare the same sprayers: drawn apart (--told
+drawn, one run a plant, told or not by the plant's draw) the two halves are different plants,
+and the ratio of their medians scatters by about 0.09 from seed to seed with no change in the
+controller.
 Prints per controller the median and 95th percentile of abs(dose error), abs(the controller's
 share of it), CV, worst zone error, valve reversals a minute and mean settling, and the count of
 runs with an alarm the plant gave no cause for; writes every run to OUT/runs.csv and the table
@@ -175,7 +180,7 @@ def scenario_text_tuned(i, d):
 
 
 def run_one(job):
-    sim, path, ctl = job
+    sim, path, ctl = job[:3]
     if ctl.endswith("_tuned"):
         path, ctl = path[:-4] + "_tuned.scn", ctl[:-6]
     out = subprocess.run([sim, "--scenario", path, "--controller", ctl], capture_output=True, text=True)
@@ -225,39 +230,41 @@ def main():
     ap.add_argument("--out", default="build/family")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--kind", choices=("dynamic", "field", "both"), default="both")
+    ap.add_argument("--told", choices=("both", "drawn"), default="both")
     a = ap.parse_args()
     if not os.access(a.sim, os.X_OK):
         sys.exit("family: %s: not an executable simulator (make sim-progs)" % a.sim)
     ctls = [c for c in a.controllers.split(",") if c]
     scn_dir = os.path.join(a.out, "scn")
     os.makedirs(scn_dir, exist_ok=True)
-    plants, jobs = [], []
+    jobs = []
     for i in range(a.n):
-        d = draw(a.seed, i, a.kind)
-        path = os.path.join(scn_dir, "plant_%03d.scn" % i)
-        with open(path, "w") as f:
-            f.write(scenario_text(i, d))
-        if any(c.endswith("_tuned") for c in ctls):
-            with open(path[:-4] + "_tuned.scn", "w") as f:
-                f.write(scenario_text_tuned(i, d))
-        plants.append(d)
-        jobs += [(a.sim, path, c) for c in ctls]
+        d0 = draw(a.seed, i, a.kind)
+        for told in ((1, 0) if a.told == "both" else (d0["told"],)):
+            d = dict(d0, told=bool(told))
+            name = "plant_%03d%s.scn" % (i, ("_told" if told else "_untold") if a.told == "both" else "")
+            path = os.path.join(scn_dir, name)
+            with open(path, "w") as f:
+                f.write(scenario_text(i, d))
+            if any(c.endswith("_tuned") for c in ctls):
+                with open(path[:-4] + "_tuned.scn", "w") as f:
+                    f.write(scenario_text_tuned(i, d))
+            jobs += [(a.sim, path, c, i, d) for c in ctls]
     with Pool(max(1, a.jobs)) as pool:
         results = pool.map(run_one, jobs, chunksize=1)
     rows, errors = [], []
-    for (sim, path, ctl), m in zip(jobs, results):
-        i = int(os.path.basename(path)[6:9])
+    for (sim, path, ctl, i, d), m in zip(jobs, results):
         if "error" in m:
             errors.append("%s %s: %s" % (path, ctl, m["error"]))
             continue
-        rows.append(row_of(i, plants[i], ctl, m))
+        rows.append(row_of(i, d, ctl, m))
     if errors:
         sys.exit("family: %d runs failed, first: %s" % (len(errors), errors[0]))
     with open(os.path.join(a.out, "runs.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    summary = {"n": a.n, "seed": a.seed, "kind": a.kind, "controllers": {}}
+    summary = {"n": a.n, "seed": a.seed, "kind": a.kind, "told": a.told, "controllers": {}}
     for c in ctls:
         rs = [r for r in rows if r["controller"] == c]
         s = {}
@@ -270,11 +277,14 @@ def main():
         s["alarm_codes"] = {c2: sum(1 for r in rs if c2 in r["alarms"].split()) for c2 in codes}
         for told in (0, 1):
             s["cv_median_%s" % ("told" if told else "untold")] = pct([r["cv_pct"] for r in rs if r["told"] == told], 0.5)
+        s["cv_untold_over_told"] = (s["cv_median_untold"] / s["cv_median_told"]
+                                    if s["cv_median_told"] and s["cv_median_untold"] is not None else None)
         summary["controllers"][c] = s
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
     head = "%-12s" % "" + "".join("%22s" % lab for _, _, lab in FIGURES) + "  runs with alarms (code: runs)"
-    print("plant family: %d plants (seed %d, %s runs), median / 95th percentile" % (a.n, a.seed, a.kind))
+    print("plant family: %d plants (seed %d, %s runs%s), median / 95th percentile"
+          % (a.n, a.seed, a.kind, ", each told and untold" if a.told == "both" else ""))
     print(head)
     for c in ctls:
         s = summary["controllers"][c]
@@ -282,6 +292,9 @@ def main():
                                   else "-") for k, _, _ in FIGURES)
         print("%-12s%s  %d %s" % (c, cells, s["alarm_runs"],
                                   " ".join("%s:%d" % kv for kv in s["alarm_codes"].items())))
+    print("median CV untold / told: " + ", ".join(
+        "%s %s" % (c, "-" if summary["controllers"][c]["cv_untold_over_told"] is None
+                   else "%.3f" % summary["controllers"][c]["cv_untold_over_told"]) for c in ctls))
     with open(os.path.join(a.out, "table.md"), "w") as f:
         f.write("| controller | " + " | ".join(lab for _, _, lab in FIGURES) + " | runs with alarms |\n")
         f.write("|---" * (len(FIGURES) + 2) + "|\n")

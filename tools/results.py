@@ -431,10 +431,12 @@ def section_family(sim, ctls, n, jobs_n, out):
                      fmt(cs["cv_median_told"]), fmt(cs["cv_median_untold"])])
     text = ("## 6. Robustness\n\n### The plant family\n\n"
             "`make family N=%d SEED=1` (`tools/family.py`, docs/SCENARIOS.md): %d sprayers drawn from the family "
-            "(valve 1.5-12 s, told or not, break-away 0.10-0.35, backlash 0.5-4 %%, pump, pulsation, PTO, meter, "
-            "wheel, bounce, nozzle wear, check valves), each run with every controller. Median / 95th "
+            "(valve 1.5-12 s, break-away 0.10-0.35, backlash 0.5-4 %%, pump, pulsation, PTO, meter, "
+            "wheel, bounce, nozzle wear, check valves), each run with every controller twice: the firmware "
+            "told the valve's stroke time, and told 4 s. Median / 95th "
             "percentile; alarm runs: runs with any alarm (the family has no faults); the last two columns: "
-            "median CV where the firmware was told the valve's stroke time and where it was told 4 s. "
+            "median CV where the firmware was told the valve's stroke time and where it was told 4 s "
+            "(the same sprayers). "
             "The peers aog and raven run at their default settings, and as `aog_tuned` / `raven_tuned` with "
             "settings for each plant's valve as a careful user would set them (docs/PEERS.md).\n\n"
             % (n, n))

@@ -21,10 +21,25 @@ fi
 cmp -s "$tmp/a/summary.json" "$tmp/b/summary.json" && cmp -s "$tmp/a/runs.csv" "$tmp/b/runs.csv" \
     && ok "the same seed gives the same table and runs" || nok "the same seed gives the same table and runs"
 n=$(($(wc -l < "$tmp/a/runs.csv") - 1))
-[ "$n" -eq 12 ] && ok "runs.csv has every run (12)" || nok "runs.csv has every run ($n of 12)"
+[ "$n" -eq 24 ] && ok "runs.csv has every run, each plant told and untold (24)" || nok "runs.csv has every run ($n of 24)"
+# told and untold: the same sprayer, the firmware's stroke time the only difference
+d=$(diff "$tmp/a/scn/plant_003_told.scn" "$tmp/a/scn/plant_003_untold.scn" | grep '^[<>]' | grep -v '^[<>] # plant')
+if [ "$(echo "$d" | grep -c '^< valve_travel_s = ')" -eq 1 ] && [ "$(echo "$d" | wc -l)" -eq 1 ] \
+   && [ "$(awk -F, 'NR > 1 && $2 == "best" { c[$4]++ } END { print c[0] "/" c[1] }' "$tmp/a/runs.csv")" = "6/6" ]; then
+    ok "each plant runs told and untold, the scenarios differing only in the told stroke time"
+else
+    nok "each plant runs told and untold, the scenarios differing only in the told stroke time" "$d"
+fi
+if $PY tools/family.py "$SIM" --n 6 --controllers best --told drawn --out "$tmp/d" > "$tmp/d.out" 2>&1 \
+   && [ "$(($(wc -l < "$tmp/d/runs.csv") - 1))" -eq 6 ] && [ -f "$tmp/d/scn/plant_005.scn" ]; then
+    ok "--told drawn runs each plant once, told by its draw"
+else
+    nok "--told drawn runs each plant once, told by its draw" "$(tail -3 "$tmp/d.out")"
+fi
 if $PY - "$tmp/a/summary.json" <<'PYEOF'
 import json, sys
 s = json.load(open(sys.argv[1]))
+assert s["told"] == "both" and s["controllers"]["best"]["cv_untold_over_told"] > 0
 for c in ("best", "pid"):
     for k in ("dose_abs_pct", "dose_ctl_abs_pct", "cv_pct", "zone_worst_pct", "reversals_per_min", "settle_mean_s"):
         assert s["controllers"][c][k]["median"] is not None, (c, k)
@@ -37,10 +52,10 @@ $PY tools/family.py /nonexistent --n 1 > /dev/null 2> "$tmp/err" && nok "a missi
     || { grep -q "not an executable" "$tmp/err" && ok "a missing simulator is refused in one line" || nok "a missing simulator is refused in one line" "$(cat "$tmp/err")"; }
 # the peers tuned for each plant's valve: a second scenario per plant with their settings, scored apart
 if $PY tools/family.py "$SIM" --n 2 --controllers raven,raven_tuned,aog_tuned --out "$tmp/t" > "$tmp/t.out" 2>&1 \
-   && grep -q "^raven_valve_cal = [1-9][0-9][0-9][1-9]$" "$tmp/t/scn/plant_000_tuned.scn" \
-   && grep -q "^aog_min_pwm = " "$tmp/t/scn/plant_000_tuned.scn" \
-   && ! grep -q "raven_valve_cal" "$tmp/t/scn/plant_000.scn" \
-   && [ "$(grep -c ',raven_tuned,' "$tmp/t/runs.csv")" -eq 2 ] && grep -q "| raven_tuned |" "$tmp/t/table.md"; then
+   && grep -q "^raven_valve_cal = [1-9][0-9][0-9][1-9]$" "$tmp/t/scn/plant_000_told_tuned.scn" \
+   && grep -q "^aog_min_pwm = " "$tmp/t/scn/plant_000_untold_tuned.scn" \
+   && ! grep -q "raven_valve_cal" "$tmp/t/scn/plant_000_told.scn" \
+   && [ "$(grep -c ',raven_tuned,' "$tmp/t/runs.csv")" -eq 4 ] && grep -q "| raven_tuned |" "$tmp/t/table.md"; then
     ok "raven_tuned and aog_tuned run each plant with settings for its valve"
 else
     nok "raven_tuned and aog_tuned run each plant with settings for its valve" "$(tail -3 "$tmp/t.out")"
