@@ -79,13 +79,23 @@ void fm_init(void)
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
  * FM_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
- * 1/8; FM_SLOW_N periods awake with the error one way (slower than told) raise it by 3/32;
- * nothing is learnt in the first FM_WARM periods nor against a stop (saturated). */
+ * 1/8; FM_SLOW_N periods awake with the error one way (slower than told; a quarter as many
+ * while the error is beyond target >> FM_BIG_SHIFT) raise it by 3/32. Nothing is raised against
+ * a stop or a refusal the error pushes toward (saturated: the rule against closing toward P max
+ * does not hold a loop that must open), nor in the first FM_WARM periods of a (re)start while
+ * the gain is where the start found it (the line's filling is not the valve's slowness). A
+ * start's swings may cut it there (a stiff valve's stick-slip looks like a fast one's
+ * overshoot): it comes back at once, not after FM_WARM, or a fast stiff valve told the truth
+ * creeps at drives near its break-away with the flow a tenth short until OFF_RATE (family
+ * plants 32 of SEED=47, 69 of SEED=82); unless the duty cap holds a valve that swung the flow
+ * (fm_cap): there the cut is the cure. (Raised by a quarter while a big error did not shrink,
+ * the family's reversals rose by a seventh and its alarm runs fourfold: docs/CONTROLLERS.md.) */
 CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 {
     if (M->warm < FM_WARM)
         M->warm++;
-    if (M->rest || (e > 0) != (M->e1 > 0) || M->warm < FM_WARM || ctl_in->valve_limit) {
+    if (M->rest || (e > 0) != (M->e1 > 0) || (M->warm < FM_WARM && (M->g >= M->g0 || M->cap != 255))
+        || (ctl_in->valve_limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN))) {
         M->slow_n = 0;
     } else if ((M->slow_n += M->epk_now ? 4 : 1) >= FM_SLOW_N) {
         M->slow_n = 0;
@@ -354,6 +364,7 @@ q15_t fm_step(void) CTL_SHARED
         M->rf = 0;
         M->lead = e <= q - (q >> 2);
         M->capn = 0;
+        M->g0 = M->g;
         ctl_first = 0;
     }
     fm_deadband(e, q);

@@ -50,6 +50,7 @@ typedef struct {
     int big;                        /* the half cycle before the last reversal swung big */
     double brk;                     /* duty added to Min duty */
     double g;                       /* loop gain (1 = as told) */
+    double g0;                      /* the loop gain when the loop (re)started */
     double carry;                   /* motion owed, share of full speed for a period */
     double last;                    /* the last drive, fraction of full duty */
     int lead;                       /* the (re)start found the meter reading a quarter of the target */

@@ -108,6 +108,7 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->big = fm->big;
     tw->brk = fm->brk / 32768.0;
     tw->g = fm->g / 256.0;
+    tw->g0 = fm->g0 / 256.0;
     tw->carry = carry / 32768.0;
     tw->last = ctl_last / 32768.0;
     tw->lead = fm->lead;
@@ -164,6 +165,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         o.near |= ctltw_near(e, q / 2, 0.02);
         m->lead = e <= q - q / 4;
         m->capn = 0;
+        m->g0 = m->g;
     }
     /* deadband on the error filtered over 4 periods */
     dq = q - m->t1;
@@ -215,11 +217,13 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     /* the firmware carries du to the drive in Q4 x100 L/min, 16 bits: +-32767 / 16 / 100 */
     du = ctltw_clamp(du, -32767 / 1600.0, 32767 / 1600.0);
     /* the gain's learning: a long run of error one way (four times as fast beyond target >>
-     * FM_BIG_SHIFT) */
+     * FM_BIG_SHIFT); in the start's first periods only back to where the start found it; not
+     * against a stop or refusal the error pushes toward */
     o.near |= ctltw_near(fabs(e), q / (1 << FM_BIG_SHIFT), 0.02);
     if (m->warm < FM_WARM)
         m->warm++;
-    if (m->rest || (e > 0) != (m->e1 > 0) || m->warm < FM_WARM || in->limit)
+    if (m->rest || (e > 0) != (m->e1 > 0) || (m->warm < FM_WARM && (m->g >= m->g0 || m->cap != 255))
+        || (in->limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN)))
         m->slow_n = 0;
     else if ((m->slow_n += fabs(e) > q / (1 << FM_BIG_SHIFT) ? 4 : 1) >= FM_SLOW_N) {
         m->slow_n = 0;

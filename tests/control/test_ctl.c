@@ -323,7 +323,7 @@ static void test_ctl_learning_frozen_while_saturated(void **state)
 
     /* ffmap: its loop gain learns nothing against a stop, and again without one */
     ctl_select(CTL_BEST);
-    in = mk(3000, 2500, CTL_AT_CLOSED);     /* short of flow, closing refused */
+    in = mk(3000, 2900, CTL_AT_CLOSED);     /* short of flow (under target >> FM_BIG_SHIFT), closing refused */
     for (int k = 0; k < 3 * FM_WARM; k++)
         ctl_step(&in);
     assert_int_equal(ctl_st.fm.g, 256);
@@ -484,6 +484,37 @@ static void test_ctl_ffmap_learns_the_loop_gain(void **state)
     assert_int_equal(g_warm, 256);
     assert_true(ctl_st.fm.g < 128);
     print_message("ffmap: gain after 200 s of hunting %.3f\n", ctl_st.fm.g / 256.0);
+}
+
+/* ffmap: a gain cut in a start's first periods (a stiff valve's stick-slip looks like a fast
+ * one's swings) comes back at once while the error stays one way, by 3/32 every 5 periods of a
+ * big error (it waited for FM_WARM before); a gain where the start found it is not raised then
+ * (the line fills); and a refusal to close holds the raise only while the error asks to close. */
+static void test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once(void **state)
+{
+    (void)state;
+    ctl_in_t in = mk(3000, 2500, 0);
+    ctl_select(CTL_BEST);
+    for (int k = 0; k < 40; k++)            /* the start's own gain: nothing raised while warm */
+        ctl_step(&in);
+    assert_int_equal(ctl_st.fm.g, 256);
+    ctl_st.fm.g = 64;                       /* cut by the start's swings */
+    for (int k = 0; k < 20; k++)
+        ctl_step(&in);
+    assert_true(ctl_st.fm.warm < FM_WARM);
+    print_message("ffmap: a gain cut to 0.25 in the start, 2 s of a 17 %% error later %.3f\n", ctl_st.fm.g / 256.0);
+    assert_int_equal(ctl_st.fm.g, 89);      /* 64 -> 70 -> 76 -> 82 -> 89 */
+    ctl_select(CTL_BEST);
+    ctl_step(&in);
+    ctl_st.fm.g = 64;
+    in.valve_limit = CTL_NO_CLOSE;          /* the error asks to close: refused, no raise */
+    for (int k = 0; k < 20; k++)
+        ctl_step(&in);
+    assert_int_equal(ctl_st.fm.g, 64);
+    in.flow_lpm_x100 = 3500;                /* ... it asks to open: raised */
+    for (int k = 0; k < 21; k++)
+        ctl_step(&in);
+    assert_int_equal(ctl_st.fm.g, 89);
 }
 
 /* A toy valve and line for the duty cap: the motor runs at (duty - 0.12) / 0.88 of full speed
@@ -834,6 +865,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_deadband_hysteresis, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_a_stiffer_break_away, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_the_loop_gain, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_matches_twin, setup),
