@@ -25,6 +25,9 @@ typedef struct {
 /* The output: valve drive for the next period, Q15 signed duty. Positive = more boom flow,
  * i.e. drive the bypass valve toward closed; negative opens it. */
 
+/* Min duty (P_VALVE_BRK), Q15: the valve's break-away as the operator told it. */
+extern int16_t ctl_stiction;
+
 /* Select a controller (0 when id is unknown and nothing changes) and start it from rest. */
 uint8_t ctl_select(uint8_t id);
 uint8_t ctl_selected(void);
