@@ -88,8 +88,8 @@ void fm_init(void)
  * overshoot): it comes back at once, not after FM_WARM, or a fast stiff valve told the truth
  * creeps at drives near its break-away with the flow a tenth short until OFF_RATE (family
  * plants 32 of SEED=47, 69 of SEED=82); unless the duty cap holds a valve that swung the flow
- * (fm_cap): there the cut is the cure. (Raised by a quarter while a big error did not shrink,
- * the family's reversals rose by a seventh and its alarm runs fourfold: docs/CONTROLLERS.md.) */
+ * (fm_cap): there the cut is the cure. The raise stays 3/32 for a big error too: a target
+ * step's error is big one way while the valve answers (docs/CONTROLLERS.md, the eleventh round). */
 CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 {
     if (M->warm < FM_WARM)

@@ -232,6 +232,32 @@ static void test_drive_a_halt_with_the_pump_on_the_wheels_keeps_the_bypass(void 
     assert_true(alarms == 0);
 }
 
+/* A fast valve near P max: the scenario `text` run for 30 s; the highest pressure after 5 s,
+ * the largest closing drive (the plant's sign: closing < 0) after 8 s while the line is above
+ * 3.8 bar, and the alarms raised. */
+typedef struct {
+    double p_max_bar, close_max;
+    unsigned alarms;
+} near_p_t;
+
+static near_p_t run_near_p_max(const char *text)
+{
+    near_p_t n = {0, 0, 0};
+    sim_row_t row;
+    helper_sim_load(&sim, &sim_live, text, "test_drive");
+    while (sim_time_s(&sim) < 29.9) {
+        for (int i = 0; i < 100; i++)
+            sim_step(&sim);
+        sim_row(&sim, &row);
+        n.alarms |= row.alarms;
+        if (row.t_s >= 5.0)
+            n.p_max_bar = fmax(n.p_max_bar, row.p_bar);
+        if (row.t_s >= 8.0 && row.p_bar > 3.8)
+            n.close_max = fmax(n.close_max, -row.valve_drive);
+    }
+    return n;
+}
+
 /* Family plant 72 of SEED=78: a 2.01 s valve told 4 s with a slow motor (0.14 s) and 3 % of
  * backlash, a fixed PTO, 141 L/ha at 10.9 km/h: the target needs 4.3 bar of the 4.8 allowed.
  * The loop turned once the meter showed the target, and the motor's coast, the backlash and the
@@ -251,22 +277,11 @@ static void test_drive_a_fast_valve_near_p_max_stops_closing_ahead_of_it(void **
              "speed_bounce_pct = 1.35\npressure_noise_lsb = 0.9\nnozzle_wear_pct = 4.04\n"
              "check_valve_bar = 0.458\nvalve_cv_open = 183.4\n"
              "[drive]\n0 0\n2 0\n2 10.9\n12.7 10.9\n12.7 6.2\n30 6.2\n");
-    helper_sim_load(&sim, &sim_live, text, "test_drive");
-    sim_row_t row;
-    double p_max = 0;
-    unsigned alarms = 0;
-    while (sim_time_s(&sim) < 29.9) {
-        for (int i = 0; i < 100; i++)
-            sim_step(&sim);
-        sim_row(&sim, &row);
-        alarms |= row.alarms;
-        if (row.t_s >= 5.0)
-            p_max = fmax(p_max, row.p_bar);
-    }
-    printf("# a fast valve near P max: at most %.2f bar (P max %.2f), alarms 0x%04x\n", p_max,
-           param_v[P_P_MAX] / 100.0, alarms);
-    assert_true(p_max < param_v[P_P_MAX] / 100.0);
-    assert_true(alarms == 0);
+    near_p_t n = run_near_p_max(text);
+    printf("# a fast valve near P max: at most %.2f bar (P max %.2f), alarms 0x%04x\n", n.p_max_bar,
+           param_v[P_P_MAX] / 100.0, n.alarms);
+    assert_true(n.p_max_bar < param_v[P_P_MAX] / 100.0);
+    assert_true(n.alarms == 0);
 }
 
 /* Family plant 35 of SEED=28: a 1.91 s valve told 4 s with a motor that coasts 0.15 s and 3.3 %
@@ -289,24 +304,11 @@ static void test_drive_near_p_max_a_closing_drive_is_held_to_twice_min_duty(void
              "speed_bounce_pct = 2.23\npressure_noise_lsb = 1.52\nnozzle_wear_pct = 0.07\n"
              "check_valve_bar = 0.596\nvalve_cv_open = 280.5\n"
              "[drive]\n0 0\n2 0\n2 10.7\n21.5 10.7\n21.5 7.3\n30 7.3\n");
-    helper_sim_load(&sim, &sim_live, text, "test_drive");
-    sim_row_t row;
-    double p_max = 0, close_max = 0;
-    unsigned alarms = 0;
-    while (sim_time_s(&sim) < 29.9) {
-        for (int i = 0; i < 100; i++)
-            sim_step(&sim);
-        sim_row(&sim, &row);
-        alarms |= row.alarms;
-        if (row.t_s >= 5.0)
-            p_max = fmax(p_max, row.p_bar);
-        if (row.t_s >= 8.0 && row.p_bar > 3.8)
-            close_max = fmax(close_max, -row.valve_drive);  /* (the plant's sign: closing < 0) */
-    }
+    near_p_t n = run_near_p_max(text);
     printf("# near P max: at most %.2f bar (P max %.2f), closing drive above 3.8 bar at most %.2f, "
-           "alarms 0x%04x\n", p_max, param_v[P_P_MAX] / 100.0, close_max, alarms);
-    assert_true(close_max <= 2 * param_v[P_VALVE_BRK] / 100.0 + 0.01);
-    assert_true(alarms == 0);
+           "alarms 0x%04x\n", n.p_max_bar, param_v[P_P_MAX] / 100.0, n.close_max, n.alarms);
+    assert_true(n.close_max <= 2 * param_v[P_VALVE_BRK] / 100.0 + 0.01);
+    assert_true(n.alarms == 0);
 }
 
 /* The boom shut during the start-up closing (the paper's start with the pump on the wheels, the
