@@ -139,7 +139,7 @@ DEMO_DIR := $(BUILD)/demo
 .SECONDARY:
 .DELETE_ON_ERROR:
 .PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests bench sim pil pil-image \
-        sim-progs demo compare family report \
+        sim-progs demo compare family redraw report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -154,6 +154,7 @@ help:
 	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
 	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn]   the controllers over N sprayers of the plant family"
+	@echo "make redraw [PLANTS=\"28/35/untold ..\"] [SELECT=fast-high|fast-stiff] [SEEDS=1-140] [DRAWS=12]   family plants with more noise draws: runs with an alarm"
 	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
@@ -318,6 +319,16 @@ SEED ?= 1
 TOLD ?= both
 family: $(SIM_BIN)
 	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --out $(BUILD)/family
+
+# family plants again with more noise draws (the plant's own seed, then --seed 1..DRAWS-1): the
+# runs with an alarm per plant; PLANTS as SEED/NUMBER/told|untold, or SELECT a class of SEEDS'
+# plants (tools/redraw.py); neither: the alarm plants of docs/CONTROLLERS.md
+PLANTS ?=
+SELECT ?=
+SEEDS ?= 1-140
+DRAWS ?= 12
+redraw: $(SIM_BIN)
+	$(Q)$(PYTHON) tools/redraw.py $(SIM_BIN) $(PLANTS) $(if $(SELECT),--select $(SELECT) --seeds $(SEEDS)) --draws $(DRAWS) --out $(BUILD)/redraw
 
 # ==== the simulator, the demo and the virtual panel ========================================================
 # Programs from sim/*_main.c, linked with the -O2 library: build/host/bin/<name> (build/host/sim/

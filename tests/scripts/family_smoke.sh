@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# family_smoke.sh: tools/family.py on a few plants: the same seed gives the same table, every run scored, the files written.
+# family_smoke.sh: tools/family.py (and tools/redraw.py) on a few plants: the same seed gives the same table, every run scored, the files written.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 B=${BUILD:-build}
@@ -50,6 +50,33 @@ then ok "summary.json has the median and 95th percentile of every figure"; else 
 grep -q "plant family: 6 plants" "$tmp/a.out" && ok "the table is printed" || nok "the table is printed" "$(cat "$tmp/a.out")"
 $PY tools/family.py /nonexistent --n 1 > /dev/null 2> "$tmp/err" && nok "a missing simulator is refused" \
     || { grep -q "not an executable" "$tmp/err" && ok "a missing simulator is refused in one line" || nok "a missing simulator is refused in one line" "$(cat "$tmp/err")"; }
+# redraw.py: a plant of the family again with more noise draws, the scenario the family wrote
+if $PY tools/redraw.py "$SIM" 1/3/told 1/3/untold --draws 2 --out "$tmp/r" > "$tmp/r.out" 2>&1 \
+   && diff -q "$tmp/a/scn/plant_003_told.scn" "$tmp/r/scn/seed1_plant_003_told.scn" > /dev/null \
+   && diff -q "$tmp/a/scn/plant_003_untold.scn" "$tmp/r/scn/seed1_plant_003_untold.scn" > /dev/null \
+   && grep -Eq "^1/3/told +[0-9]+ of 2 +median CV [0-9.]+ %" "$tmp/r.out" && grep -q "^alarm runs: [0-9]* of 4$" "$tmp/r.out"; then
+    ok "redraw runs a family plant (the same scenario) with more noise draws and counts the alarm runs"
+else
+    nok "redraw runs a family plant (the same scenario) with more noise draws and counts the alarm runs" "$(tail -3 "$tmp/r.out")"
+fi
+$PY tools/redraw.py "$SIM" 28/35 > /dev/null 2> "$tmp/err" && nok "redraw refuses a plant without told/untold" \
+    || { grep -q "a plant is SEED/NUMBER/told" "$tmp/err" && ok "redraw refuses a bad plant name in one line" || nok "redraw refuses a bad plant name in one line" "$(cat "$tmp/err")"; }
+if $PY - <<'PYEOF'
+import sys
+sys.path.insert(0, "tools")
+import family, redraw
+sel = redraw.select("fast-high", 1, 2)
+assert sel and all(n.split("/")[2] in ("told", "untold") for n in sel)
+for n in sel:
+    s, i, _ = n.split("/")
+    d = family.draw(int(s), int(i), "both")
+    vmax = max(v for _, v in d["drive"])
+    assert d["plant"]["valve_travel_s"] < 3.0
+    assert family.nozzle_bar(d["rate"], vmax, d["plant"]["nozzle_wear_pct"], d["plant"]["check_valve_bar"]) >= 4.0
+st = redraw.select("fast-stiff", 1, 1)
+assert st and all(family.draw(1, int(n.split("/")[1]), "both")["plant"]["valve_stiction_duty"] >= 0.30 for n in st)
+PYEOF
+then ok "redraw --select picks the fast valves near P max, and the fast stiff ones"; else nok "redraw --select picks the fast valves near P max, and the fast stiff ones"; fi
 # the peers tuned for each plant's valve: a second scenario per plant with their settings, scored apart
 if $PY tools/family.py "$SIM" --n 2 --controllers raven,raven_tuned,aog_tuned --out "$tmp/t" > "$tmp/t.out" 2>&1 \
    && grep -q "^raven_valve_cal = [1-9][0-9][0-9][1-9]$" "$tmp/t/scn/plant_000_told_tuned.scn" \
