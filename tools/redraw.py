@@ -116,7 +116,7 @@ def main():
           % (a.controller, a.draws, a.draws - 1))
     for n, name in enumerate(names):
         ms = results[n * a.draws:(n + 1) * a.draws]
-        hits = ["%s%s %.1f s" % ("own" if k == 0 else "seed %d" % k, ":", m["alarms"][0]["t_s"]) + " " + m["alarms"][0]["code"]
+        hits = ["%s: %.1f s %s" % ("own" if k == 0 else "seed %d" % k, m["alarms"][0]["t_s"], m["alarms"][0]["code"])
                 for k, m in enumerate(ms) if m["alarms"]]
         total += len(hits)
         cvs = sorted(m["cv_pct"] for m in ms)
