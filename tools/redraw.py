@@ -29,8 +29,8 @@ from multiprocessing import Pool
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import family  # noqa: E402  (tools/family.py: the family's draw and scenario files)
 
-# the OVERPRESSURE / OFF_RATE plants of the eleventh round's firmware (seeds 1-140 and 221-240)
 FAMILY_N = 200  # plants a seed (make family N=200)
+# the OVERPRESSURE / OFF_RATE plants of the eleventh round's firmware (seeds 1-140 and 221-240)
 ALARM_PLANTS = ["236/192/untold", "28/35/untold", "29/34/untold", "50/155/untold",
                 "69/171/untold", "89/42/untold", "120/124/told", "57/9/untold"]
 
@@ -90,21 +90,24 @@ def main():
         r = a.seeds.split("-")
         if len(r) != 2 or not r[0].isdigit() or not r[1].isdigit() or int(r[0]) > int(r[1]):
             sys.exit("redraw: --seeds %s: give a range FIRST-LAST (1-140)" % a.seeds)
-        names += select(a.select, int(r[0]), int(r[1]))
+        picked = select(a.select, int(r[0]), int(r[1]))
+        if not picked:
+            sys.exit("redraw: no plant of seeds %s is %s" % (a.seeds, a.select))
+        names += picked
     try:
         plants = [parse_plant(p) for p in (names or ALARM_PLANTS)]
     except ValueError as e:
         sys.exit("redraw: %s" % e)
     scn_dir = os.path.join(a.out, "scn")
     os.makedirs(scn_dir, exist_ok=True)
-    jobs, names = [], []
+    jobs, labels = [], []
     for seed, i, told in plants:
         d = dict(family.draw(seed, i, "both"), told=told)
         name = "%d/%d/%s" % (seed, i, "told" if told else "untold")
         path = os.path.join(scn_dir, "seed%d_plant_%03d_%s.scn" % (seed, i, "told" if told else "untold"))
         with open(path, "w") as f:
             f.write(family.scenario_text(i, d))
-        names.append(name)
+        labels.append(name)
         jobs += [(a.sim, path, a.controller, k) for k in range(a.draws)]
     with Pool(max(1, a.jobs)) as pool:
         results = pool.map(run_one, jobs, chunksize=1)
@@ -114,7 +117,7 @@ def main():
     total = 0
     print("%s, %d draws a plant (the plant's own seed, then --seed 1..%d): runs with an alarm"
           % (a.controller, a.draws, a.draws - 1))
-    for n, name in enumerate(names):
+    for n, name in enumerate(labels):
         ms = results[n * a.draws:(n + 1) * a.draws]
         hits = ["%s: %.1f s %s" % ("own" if k == 0 else "seed %d" % k, m["alarms"][0]["t_s"], m["alarms"][0]["code"])
                 for k, m in enumerate(ms) if m["alarms"]]

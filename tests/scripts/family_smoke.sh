@@ -61,6 +61,10 @@ else
 fi
 $PY tools/redraw.py "$SIM" 28/35 > /dev/null 2> "$tmp/err" && nok "redraw refuses a plant without told/untold" \
     || { grep -q "a plant is SEED/NUMBER/told" "$tmp/err" && ok "redraw refuses a bad plant name in one line" || nok "redraw refuses a bad plant name in one line" "$(cat "$tmp/err")"; }
+$PY tools/redraw.py "$SIM" --select fast-high --seeds 1-1 > "$tmp/r1.out" 2> "$tmp/err" && nok "redraw refuses a class with no plant" \
+    || { grep -q "no plant of seeds 1-1 is fast-high" "$tmp/err" && ! grep -q "alarm runs" "$tmp/r1.out" \
+         && ok "redraw refuses a class with no plant, rather than run the default plants" \
+         || nok "redraw refuses a class with no plant, rather than run the default plants" "$(cat "$tmp/err")"; }
 if $PY - <<'PYEOF'
 import sys
 sys.path.insert(0, "tools")
