@@ -13,8 +13,9 @@ The scenario is the one `make family SEED=28` writes (tools/family.py's draw), w
 OUT/scn. Without plants, the alarm plants of docs/CONTROLLERS.md's eleventh and twelfth rounds.
 --select picks every plant of the seeds (each told and untold) of a class where the family's
 alarm runs come from: fast-high, a valve under 3 s whose nozzles need 4 bar or more somewhere in
-the drive (P max is 4.8: OVERPRESSURE); fast-stiff, a valve under 3 s that breaks away at 0.30
-or more (Min duty says 0.2: a gain cut too deep creeps, OFF_RATE). A change aimed at one class is
+the drive (P max is 4.8: OVERPRESSURE); fast-stiff, a valve under 3 s that breaks away at 0.25
+or more (Min duty says 0.2: a gain cut too deep creeps, OFF_RATE; from 0.25, not 0.30, since
+plant 28 of SEED=36 crept at 0.281: docs/CONTROLLERS.md, the thirteenth round). A change aimed at one class is
 judged on both.
 Prints per plant the alarm runs (the first alarm's code and time of each) and the median CV, then
 the total; a bad plant name is refused in one line.
@@ -55,7 +56,7 @@ def select(kind, first, last):
                 vmax = max(v for _, v in d["drive"])
                 hit = family.nozzle_bar(d["rate"], vmax, p["nozzle_wear_pct"], p["check_valve_bar"]) >= 4.0
             else:
-                hit = p["valve_stiction_duty"] >= 0.30
+                hit = p["valve_stiction_duty"] >= 0.25
             if hit:
                 out += ["%d/%d/told" % (seed, i), "%d/%d/untold" % (seed, i)]
     return out

@@ -78,7 +78,8 @@ for n in sel:
     assert d["plant"]["valve_travel_s"] < 3.0
     assert family.nozzle_bar(d["rate"], vmax, d["plant"]["nozzle_wear_pct"], d["plant"]["check_valve_bar"]) >= 4.0
 st = redraw.select("fast-stiff", 1, 1)
-assert st and all(family.draw(1, int(n.split("/")[1]), "both")["plant"]["valve_stiction_duty"] >= 0.30 for n in st)
+assert st and all(family.draw(1, int(n.split("/")[1]), "both")["plant"]["valve_stiction_duty"] >= 0.25 for n in st)
+assert "36/28/told" in redraw.select("fast-stiff", 36, 36)    # breaks away at 0.281 and crept
 PYEOF
 then ok "redraw --select picks the fast valves near P max, and the fast stiff ones"; else nok "redraw --select picks the fast valves near P max, and the fast stiff ones"; fi
 # the peers tuned for each plant's valve: a second scenario per plant with their settings, scored apart
