@@ -74,6 +74,8 @@ typedef struct {
 #define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
 #define FM_G_MIN 32                 /* the learnt loop gain, Q8: 1/8 .. 2 of what Valve time gives */
 #define FM_G_MAX 512
+#define FM_TOP_N 3                  /* a start's big-swing cut takes half after this many periods at
+                                     * the top duty, not a quarter (ffmap.c fm_out) */
 #define FM_REV_MIN Q15(0.6)         /* a reversal is sent once the motion owed the other way is this */
 #define FM_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
 #define FM_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */

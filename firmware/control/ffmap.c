@@ -36,7 +36,9 @@ static void fm_cap_up(void);
  * wheel's spacing is learnt (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT
  * periods after a (re)start: the flow rising as the line fills is not the valve's doing.
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
- * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period.
+ * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period; half
+ * in a start when the half cycle ended in FM_TOP_N periods at the top duty (a valve much faster
+ * than told swings at full duty from its first closing).
  * After a start-up closing (the loop starts with the meter reading a quarter of the target), for
  * FM_WARM periods while the valve runs beyond FM_LEAD_DRIVE, the integral acts on the flow
  * FM_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
@@ -280,6 +282,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     ctl_carry = 0;
     if (d > 32767)
         d = 32767;
+    c = M->capc;                    /* periods in a row at the top duty before this one */
     if (s != M->dir)
         M->capc = 255;
     ff_v = k;
@@ -288,10 +291,12 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     d = ff_dq;
     if (s != M->dir && M->dir != 0) {
         /* two half cycles in a row that swung the flow big, soon after each other: the loop is
-         * unstable, whatever the start-up is doing; a quarter off at once */
-        c = M->epk > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT);
-        if (c && M->big && M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN) {
-            M->g -= M->g >> 2;
+         * unstable, whatever the start-up is doing; a quarter off at once, or half in a start
+         * when the half cycle ended in FM_TOP_N periods at the top duty (a valve much faster
+         * than told; a stiff one's stick-slip swings at small drives) */
+        c = (uint8_t)((c >= FM_TOP_N) << 1) | (M->epk > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT));
+        if ((c & 1) && M->big && M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN) {
+            M->g -= M->warm < FM_WARM && c == 3 ? M->g >> 1 : M->g >> 2;
         } else if (M->rev_age <= FM_OSC_GAP && M->warm >= FM_WARM && d > 2 * k
             && (e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
             /* (a pulse near the smallest: the valve's resolution, not the gain) */
@@ -300,7 +305,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
             if (!M->moved && M->rmin > FM_REV_LOW)
                 M->rmin -= M->rmin >> 3;    /* a cycle at a steady target: smaller reversals */
         }
-        M->big = c;
+        M->big = c & 1;
         M->epk = 0;
         M->rev_age = 0;
         M->moved = 0;

@@ -277,6 +277,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
             double cap = ((k * 32768 >= (m->cap << 7) ? k * 32768 : ((m->cap << 7) | 0x7F))) / 32768;
             o.near |= ctltw_near(d, cap, 0.002) || ctltw_near(d, floor(cap * 256) / 256, 0.002)
                       || ctltw_near(k * 32768, m->cap << 7, 128);
+            int top = capc >= FM_TOP_N;     /* the half cycle ended at the top duty */
             if (s != m->dir)
                 capc = 255;
             if (d >= floor(cap * 256) / 256) {
@@ -289,7 +290,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
                 o.near |= ctltw_near(d, 2 * k, 0.002);
                 o.near |= ctltw_near(m->epk, q / (1 << FM_BIG_SHIFT), 0.02);
                 if (big && m->big && m->rev_age <= FM_OSC_GAP && m->g > FM_G_MIN / 256.0) {
-                    m->g -= floor(m->g * 256 / 4) / 256;
+                    m->g -= floor(m->g * 256 / (m->warm < FM_WARM && top ? 2 : 4)) / 256;
                 } else if (m->rev_age <= FM_OSC_GAP && m->warm >= FM_WARM && d > 2 * k && fabs(e) <= q) {
                     if (m->g > FM_G_MIN / 256.0)
                         m->g -= floor(m->g * 256 / 8) / 256;

@@ -486,6 +486,41 @@ static void test_ctl_ffmap_learns_the_loop_gain(void **state)
     print_message("ffmap: gain after 200 s of hunting %.3f\n", ctl_st.fm.g / 256.0);
 }
 
+/* ffmap: swings of the flow beyond target >> FM_BIG_SHIFT, two in a row, cut the loop gain. In
+ * a start (the first FM_WARM periods) a half cycle that ended in FM_TOP_N periods or more at the
+ * top duty takes half at once: a valve much faster than told swings at full duty from its first
+ * closing, and quarters came three swings late (family plant 192 of SEED=236). Shorter runs at
+ * the top duty (a stiff valve's stick-slip, a target that ramps) and any swing after the start
+ * take a quarter: a gain cut that deep leaves a stiff valve creeping at drives near its running
+ * friction (OFF_RATE). The flow is a triangle of +-amp around the target, `half` periods a way. */
+static int swing_cut(int amp, int half, int warm)
+{
+    ctl_in_t in = mk(3000, 3000, 0);
+    int g0, k;
+    ctl_select(CTL_BEST);
+    while (ctl_st.fm.warm < warm) {         /* a start that is over, at the start's gain */
+        ctl_step(&in);
+        ctl_st.fm.g = 256;
+    }
+    g0 = ctl_st.fm.g;
+    for (k = 0; k < FM_WARM - 10 && ctl_st.fm.g == g0; k++) {
+        int ph = k % (2 * half);
+        in.flow_lpm_x100 = (int16_t)(3000 - amp + 2 * amp * (ph < half ? ph : 2 * half - ph) / half);
+        ctl_step(&in);
+    }
+    print_message("ffmap: the flow +-%d %% every %d periods%s: gain %d -> %d after %d periods\n", amp / 30,
+                  half, warm ? ", after the start" : "", g0, ctl_st.fm.g, k);
+    return ctl_st.fm.g;
+}
+
+static void test_ctl_ffmap_halves_a_start_gain_on_full_duty_swings(void **state)
+{
+    (void)state;
+    assert_int_equal(swing_cut(1500, 8, 0), 128);       /* 4 periods at full duty, then turned */
+    assert_int_equal(swing_cut(300, 3, 0), 192);        /* 1 period at full duty */
+    assert_int_equal(swing_cut(1500, 8, FM_WARM), 192); /* after the start */
+}
+
 /* ffmap: a gain cut in a start's first periods (a stiff valve's stick-slip looks like a fast
  * one's swings) comes back at once while the error stays one way, by 3/32 every 5 periods of a
  * big error (it waited for FM_WARM before); a gain where the start found it is not raised then
@@ -652,6 +687,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
                 worst = err > worst ? err : worst;
                 assert_true(err < 12.0 / 32768);
                 assert_int_equal(ctl_st.fm.rest, o.rest);
+                assert_true(fabs(tw.g - ctl_st.fm.g / 256.0) < 1e-9);     /* the gain's rules */
                 checked++;
             }
             pulses += d != 0;
@@ -865,6 +901,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_deadband_hysteresis, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_a_stiffer_break_away, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_learns_the_loop_gain, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_halves_a_start_gain_on_full_duty_swings, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),
