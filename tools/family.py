@@ -179,14 +179,20 @@ def scenario_text_tuned(i, d):
     return "\n".join(lines[:at] + tuned_config(d["plant"]) + lines[at:]) + "\n"
 
 
+def run_sim(sim, path, ctl, seed=0):
+    """One run's metrics (the simulator's last line), or {"error": ...}; seed 0: the scenario's own."""
+    cmd = [sim, "--scenario", path, "--controller", ctl] + (["--seed", str(seed)] if seed else [])
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        return {"error": (out.stderr or out.stdout).strip().splitlines()[-1:]}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
 def run_one(job):
     sim, path, ctl = job[:3]
     if ctl.endswith("_tuned"):
         path, ctl = path[:-4] + "_tuned.scn", ctl[:-6]
-    out = subprocess.run([sim, "--scenario", path, "--controller", ctl], capture_output=True, text=True)
-    if out.returncode != 0:
-        return {"error": (out.stderr or out.stdout).strip().splitlines()[-1:]}
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return run_sim(sim, path, ctl)
 
 
 def pct(values, q):

@@ -15,15 +15,13 @@ OUT/scn. Without plants, the alarm plants of docs/CONTROLLERS.md's eleventh and 
 alarm runs come from: fast-high, a valve under 3 s whose nozzles need 4 bar or more somewhere in
 the drive (P max is 4.8: OVERPRESSURE); fast-stiff, a valve under 3 s that breaks away at 0.25
 or more (Min duty says 0.2: a gain cut too deep creeps, OFF_RATE; from 0.25, not 0.30, since
-plant 28 of SEED=36 crept at 0.281: docs/CONTROLLERS.md, the thirteenth round). A change aimed at one class is
-judged on both.
+plant 28 of SEED=36 crept at 0.281: docs/CONTROLLERS.md, the thirteenth round). A change aimed
+at one class is judged on both.
 Prints per plant the alarm runs (the first alarm's code and time of each) and the median CV, then
 the total; a bad plant name is refused in one line.
 """
 import argparse
-import json
 import os
-import subprocess
 import sys
 from multiprocessing import Pool
 
@@ -63,12 +61,7 @@ def select(kind, first, last):
 
 
 def run_one(job):
-    sim, path, ctl, draw = job
-    cmd = [sim, "--scenario", path, "--controller", ctl] + (["--seed", str(draw)] if draw else [])
-    out = subprocess.run(cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        return {"error": (out.stderr or out.stdout).strip().splitlines()[-1:]}
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return family.run_sim(*job)     # (sim, scenario, controller, draw: 0 the plant's own seed)
 
 
 def main():
@@ -104,8 +97,9 @@ def main():
     jobs, labels = [], []
     for seed, i, told in plants:
         d = dict(family.draw(seed, i, "both"), told=told)
-        name = "%d/%d/%s" % (seed, i, "told" if told else "untold")
-        path = os.path.join(scn_dir, "seed%d_plant_%03d_%s.scn" % (seed, i, "told" if told else "untold"))
+        t = "told" if told else "untold"
+        name = "%d/%d/%s" % (seed, i, t)
+        path = os.path.join(scn_dir, "seed%d_plant_%03d_%s.scn" % (seed, i, t))
         with open(path, "w") as f:
             f.write(family.scenario_text(i, d))
         labels.append(name)
