@@ -18,20 +18,22 @@ static struct {
     uint16_t quiet;         /* periods since the last pulse */
     uint16_t glitches;
     uint8_t since;          /* periods since the estimate was last measured (slew allowance) */
-    uint8_t have_edge;
     uint8_t gen;
     uint8_t n;              /* elements a turn (P_WHEEL_PPR) */
     uint8_t idx;            /* element of the newest edge */
     uint8_t t0_stamp;       /* low byte of `pulses` at t0 */
-    uint8_t t0_ok;
     uint8_t learnt;         /* offsets learnt in this turn of learning */
-    uint8_t steady;         /* 1: the last turn as long as the one before (learning allowed) */
     uint8_t drift;          /* bit 0: an edge left its learnt place in this turn; bits 1-6: steady
                              * turns in a row that had one, times 2; SPEED_FIRST_TURN */
     uint8_t turns;          /* turns learnt at this gain */
     uint8_t shift;          /* the gain: 1 / 2^shift */
     int16_t off[SPEED_TEETH_MAX];   /* each element's position against element 0's, 1/4096 of a spacing */
 } sp;
+
+/* flags in the bit-addressable RAM (XRAM is at its floor): a previous edge to time a span
+ * from; element 0's last edge is timed (t0); the last turn as long as the one before
+ * (learning allowed) */
+static __bit have_edge, t0_ok, steady;
 
 /* the newest span, measured by speed_step (speed_learn checks it) */
 static uint32_t sl_dt;
@@ -61,9 +63,9 @@ static void speed_forget_offsets(void) __reentrant
 {
     speed_restart_offsets();
     sw.fill = 0;
-    sp.t0_ok = 0;
+    t0_ok = 0;
     sp.t_rev = 0;
-    sp.steady = 0;          /* no learning before a turn is timed again */
+    steady = 0;             /* no learning before a turn is timed again */
 }
 
 static void speed_derive(void) __reentrant
@@ -94,7 +96,7 @@ void speed_init(void)
     sp.v_pulse_x100 = 0;
     sp.quiet = 0xFFFF;
     sp.glitches = 0;
-    sp.have_edge = 0;
+    have_edge = 0;
     sp.since = 0;
     sp.n = 0;
     speed_derive();
@@ -118,7 +120,7 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
     int32_t err;
     int16_t e;
     if (sp.idx == 0) {
-        if (sp.t0_ok && m == sp.n) {
+        if (t0_ok && m == sp.n) {
             /* the change needs two turns in a row; until then it reads as too fast to learn */
             sp.d_rev = sp.t_rev ? (int32_t)(sp.last_pca - sp.t0 - sp.t_rev) : 0x7FFFFFFFL;
             sp.t_rev = sp.last_pca - sp.t0;
@@ -127,10 +129,10 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         }
         sp.t0 = sp.last_pca;
         sp.t0_stamp = (uint8_t)sp.pulses;
-        sp.t0_ok = 1;
+        t0_ok = 1;
         m = 0;
         err = sp.d_rev < 0 ? -sp.d_rev : sp.d_rev;
-        sp.steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> 9);
+        steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> 9);
         /* The first turn's offsets are taken whole: if the speed changed in the turn they were
          * learnt in (or it could not be timed), they hold the change, not the wheel: learning
          * starts again. Edges off their learnt places through SPEED_BAD_TURNS turns in a row,
@@ -138,7 +140,7 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
          * (an element bent, a change the turn's time did not show): learning starts again. */
         c = sp.drift;
         sp.drift = 0;
-        if (!sp.steady) {
+        if (!steady) {
             if (sp.shift == 0 || (c & SPEED_FIRST_TURN))
                 speed_restart_offsets();
         } else if (c & 1) {
@@ -149,7 +151,7 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
                 sp.drift = c;
         }
     }
-    if (!sp.steady || m > sp.n)
+    if (!steady || m > sp.n)
         return;
     /* later turns: an edge away from where its learnt offset puts it against element 0's (which
      * opened this turn) says the speed changed since the turn was timed: nothing is learnt */
@@ -261,7 +263,7 @@ uint16_t speed_step(void) __reentrant
         nw = (uint8_t)w;
         sp.pulses += c.count;
         sp.quiet = 0;
-        if (sp.have_edge) {
+        if (have_edge) {
             sl_dt = c.last - sp.last_pca;
             /* the distance the span covers, in 1/4096 of a pulse spacing: each element's
              * learnt offset takes the wheel's spacing error out of the period */
@@ -286,14 +288,14 @@ uint16_t speed_step(void) __reentrant
         }
         sp.idx = nw;
         sp.last_pca = c.last;
-        if (sp.n > 1 && sp.have_edge && c.count < 15u)
+        if (sp.n > 1 && have_edge && c.count < 15u)
             speed_learn((uint8_t)c.count, old);
-        sp.have_edge = 1;
+        have_edge = 1;
         sp.v_pulse_x100 = sp.v_x100;
     } else {
         if (sp.quiet < 0xFFFF)
             sp.quiet++;
-        if (sp.have_edge) {
+        if (have_edge) {
             /* the next element is (1 + its offset - this one's) spacings away, once the
              * offsets are learnt (a turn's being learnt may hold a speed change) */
             uint8_t nx = sp.idx + 1u == sp.n ? 0 : sp.idx + 1u;
@@ -302,7 +304,7 @@ uint16_t speed_step(void) __reentrant
             if (v < sp.v_x100)
                 sp.v_x100 = (uint16_t)v;
             if (sp.quiet >= SPEED_STALE_PERIODS) {
-                sp.have_edge = 0;   /* before the 32-bit PCA time can wrap */
+                have_edge = 0;   /* before the 32-bit PCA time can wrap */
                 sp.v_meas = 0;      /* ... and no span before the next one */
                 if (sp.v_pulse_x100 >= SPEED_LOST_X100)
                     speed_forget_offsets();     /* pulses stopped at speed: which element is next is lost */
