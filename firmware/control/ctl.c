@@ -93,7 +93,7 @@ static void ctl_derive(void)
     if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && t && ctl_id == CTL_BEST) {
         ctl_st.fm.brk = 0;
         ctl_st.fm.brk_age = 0;
-        ctl_st.fm.g = 256;
+        ctl_st.fm.g = FM_G_INIT;
         ctl_st.fm.rmin = FM_REV_MIN;
         ctl_st.fm.kff = 0;
         ctl_st.fm.cap = 255;

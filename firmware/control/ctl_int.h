@@ -73,6 +73,8 @@ typedef struct {
 #define FM_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
 #define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
 #define FM_G_MIN 32                 /* the learnt loop gain, Q8: 1/8 .. 2 of what Valve time gives */
+#define FM_G_INIT 192               /* ... where a valve nothing was learnt of starts: 3/4, as the
+                                     * valve may be faster than told (docs/CONTROLLERS.md) */
 #define FM_G_MAX 512
 #define FM_TOP_N 3                  /* a start's big-swing cut takes half after this many periods at
                                      * the top duty, not a quarter (ffmap.c fm_out) */

@@ -69,7 +69,7 @@ void fm_init(void)
     for (i = 0; i < STORE_LEARN_CTL; i++)
         ((uint8_t *)&M->g)[i] = store_learnt(i);
     if (M->g <= 0) {
-        M->g = 256;
+        M->g = FM_G_INIT;
         M->brk = 0;
         M->rmin = FM_REV_MIN;
         M->kff = 0;

@@ -136,7 +136,8 @@ static void test_ffmap_does_not_hunt_on_an_untold_valve(void **state)
  * the stall rule raises the smallest pulse; a smallest pulse counts twice as much toward a stall
  * while the error is beyond target/16, so no stretch with the meter more than 10 % off the
  * target at working speed lasts longer than 1.5 s (with the count as for a small error, 3.1 s
- * on seed 1: OFF_RATE needs 5 s). */
+ * on seed 1: OFF_RATE needs 5 s). 1.5 s from the start's 3/4 of the gain (FM_G_INIT), 0.9 s
+ * from the full gain. */
 static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
 {
     double worst = 0;
@@ -167,7 +168,7 @@ static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
         sim_free(&sim);
     }
     print_message("ffmap, a stiff valve: the longest stretch over 10 %% off the target %.1f s\n", worst);
-    assert_true(worst <= 1.5);
+    assert_true(worst <= 1.55);              /* 15 periods */
 }
 
 /* A valve of 1.6 s that the firmware believes 4 s, with a slow motor (0.145 s) and 3.3 % of

@@ -570,7 +570,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     (void)state;
     assert_int_equal(store_load(), STORE_DEFAULTS);
     ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, 256);                 /* nothing in the EEPROM: as told */
+    assert_int_equal(ctl_st.fm.g, FM_G_INIT);           /* nothing in the EEPROM: where a new valve starts */
     ctl_st.fm.g = 150;
     ctl_st.fm.brk = FM_BRK_STEP;
     ctl_st.fm.rmin = FM_REV_MIN - 1000;
@@ -617,7 +617,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)(param_v[P_VALVE_TRAVEL] + 10u)), 1);
     assert_true(store_save());
     ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, 256);
+    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
     assert_int_equal(ctl_st.fm.rmin, FM_REV_MIN);
     assert_int_equal(ctl_st.fm.kff, 0);
     /* a version 5 copy: its values, nothing learnt */
@@ -627,7 +627,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_true(equals(a));
     assert_int_equal(store_learnt(0), 0xFF);
     ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, 256);
+    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
     /* a version 6 copy (10 learnt bytes, a gain among them): its values, nothing learnt */
     hal_host_reset();
     twin_learnt[0] = 150; twin_learnt[1] = 0;
@@ -637,7 +637,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_true(equals(a));
     assert_int_equal(store_learnt(0), 0xFF);
     ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, 256);
+    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
     assert_int_equal(ctl_st.fm.kff, 0);
     params_defaults();
     ctl_select(CTL_BEST);
