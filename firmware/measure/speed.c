@@ -30,9 +30,9 @@ static struct {
     int16_t off[SPEED_TEETH_MAX];   /* each element's position against element 0's, 1/4096 of a spacing */
 } sp;
 
-/* flags in the bit-addressable RAM (XRAM is at its floor): a previous edge to time a span
- * from; element 0's last edge is timed (t0); the last turn as long as the one before
- * (learning allowed) */
+/* flags in the bit-addressable RAM (XRAM is within bytes of its floor): a previous edge to
+ * time a span from; element 0's last edge is timed (t0); the last turn as long as the one
+ * before (learning allowed) */
 static __bit have_edge, t0_ok, steady;
 
 /* the newest span, measured by speed_step (speed_learn checks it) */
