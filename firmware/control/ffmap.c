@@ -144,8 +144,9 @@ static void fm_ff(void)
     if (M->rest)
         return;
     ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FM_FF_ESH);
+    ff_dq = ff_e < 0 ? -ff_e : ff_e;
     if (M->warm >= FM_WARM && !ctl_in->valve_limit && (M->rf > FM_FF_RAMP || M->rf < -FM_FF_RAMP)
-        && (ff_e > (int16_t)ff_v || ff_e < -(int16_t)ff_v)) {
+        && (uint16_t)ff_dq > ff_v) {
         if ((M->rf ^ ff_e) >= 0) {          /* the same sign: the flow lags */
             if (M->kff < FM_FF_MAX)
                 M->kff += 2;
@@ -153,6 +154,11 @@ static void fm_ff(void)
             M->kff -= 2;
         }
     }
+    /* nothing while the flow is past the target the way it would push, by a big error: the
+     * speed's change is not what this sprayer's flow needs now (kff is learnt slowly, and a loop
+     * gain learnt low would not outweigh it: family plant 171 of SEED=69) */
+    if (M->epk_now && (M->rf ^ ff_e) < 0)
+        return;
     ff_d = MUL(M->rf >> FM_FF_RSH, M->kff);
 }
 
@@ -373,13 +379,13 @@ q15_t fm_step(void) CTL_SHARED
         ctl_first = 0;
     }
     fm_deadband(e, q);
-    ff_e = e;
-    fm_ff();
     fm_stall(e, q);
     d2e = e < 0 ? -e : e;
     if (d2e > M->epk)
         M->epk = d2e;
     M->epk_now = d2e > (q >> FM_BIG_SHIFT);    /* a big error this period */
+    ff_e = e;
+    fm_ff();
     if (M->rest) {
         du = MUL(FM_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
     } else {
