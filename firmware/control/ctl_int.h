@@ -96,8 +96,11 @@ typedef struct {
 #define FM_CAP_SH 2                 /* ... that moved the flow by more than target >> this: -1/4 */
 #define FM_CAP_MIN 13               /* ... not below 13/256 of full duty */
 #define FM_P_REF 200u              /* kPa: above this the loop gain is cut by sqrt(FM_P_REF / P) */
-#define FM_WARM 100                 /* no gain learning in the first 10 s of a (re)start: the pump spins
-                                     * up, the line primes, the flow overshoots from the parked valve */
+#define FM_P_HI_F 191u              /* ... and beyond 360 kPa (that root under 191/256), where the
+                                     * bypass holds the flow hardest, cycles cut it in a start too */
+#define FM_WARM 100                 /* little gain learning in the first 10 s of a (re)start: the pump
+                                     * spins up, the line primes, the flow overshoots from the parked
+                                     * valve (fm_gain_adapt says what is learnt there) */
 typedef struct {
     int16_t e1, e2;                 /* x100 L/min: e(k-1), e(k-2) */
     int16_t ef;                     /* x100 the error filtered over 4 periods (the deadband's) */

@@ -4,6 +4,8 @@
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
+/* warm reached FM_WARM: the (re)start is over (a bit: the step asks it six times) */
+static __bit fm_warm;
 static void fm_cap_up(void);
 
 /*
@@ -76,12 +78,15 @@ void fm_init(void)
     }
     M->slow_n = 0;
     M->warm = 0;
+    fm_warm = 0;
     M->cap = 255;
 }
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
  * FM_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
- * 1/8; FM_SLOW_N periods awake with the error one way (slower than told; a quarter as many
+ * 1/8, after the first FM_WARM periods of a (re)start or, in them, over the pressure of
+ * FM_P_HI_F (fm_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
+ * in a start reached P max, family plants 124 of SEED=120 and 139 of SEED=124); FM_SLOW_N periods awake with the error one way (slower than told; a quarter as many
  * while the error is beyond target >> FM_BIG_SHIFT) raise it by 3/32. Nothing is raised against
  * a stop or a refusal the error pushes toward (saturated: the rule against closing toward P max
  * does not hold a loop that must open), nor in the first FM_WARM periods of a (re)start while
@@ -94,9 +99,9 @@ void fm_init(void)
  * step's error is big one way while the valve answers (docs/CONTROLLERS.md, the eleventh round). */
 CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 {
-    if (M->warm < FM_WARM)
-        M->warm++;
-    if (M->rest || (e > 0) != (M->e1 > 0) || (M->warm < FM_WARM && (M->g >= M->g0 || M->cap != 255))
+    if (!fm_warm && ++M->warm >= FM_WARM)
+        fm_warm = 1;
+    if (M->rest || (e > 0) != (M->e1 > 0) || (!fm_warm && (M->g >= M->g0 || M->cap != 255))
         || (ctl_in->valve_limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN))) {
         M->slow_n = 0;
     } else if ((M->slow_n += M->epk_now ? 4 : 1) >= FM_SLOW_N) {
@@ -125,6 +130,7 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * the step never runs inside itself), the others in the controllers' union (XRAM that bp_pid's
  * network sizes). */
 static __data uint16_t ff_v;           /* the speed, then the error band */
+static __bit fm_hi_p;                   /* this period's pressure over FM_P_HI (fm_gain_at_p) */
 static __data int16_t ff_dq;
 /* fm_gain_at_p's root and bit, in the same bytes (it runs after fm_ff, which is done with them) */
 #define gp_f ff_v
@@ -145,7 +151,7 @@ static void fm_ff(void)
         return;
     ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FM_FF_ESH);
     ff_dq = ff_e < 0 ? -ff_e : ff_e;
-    if (M->warm >= FM_WARM && !ctl_in->valve_limit && (M->rf > FM_FF_RAMP || M->rf < -FM_FF_RAMP)
+    if (fm_warm && !ctl_in->valve_limit && (M->rf > FM_FF_RAMP || M->rf < -FM_FF_RAMP)
         && (uint16_t)ff_dq > ff_v) {
         if ((M->rf ^ ff_e) >= 0) {          /* the same sign: the flow lags */
             if (M->kff < FM_FF_MAX)
@@ -302,13 +308,13 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
          * than told; a stiff one's stick-slip swings at small drives) */
         c = (uint8_t)((c >= FM_TOP_N) << 1) | (M->epk > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT));
         if ((c & 1) && M->big && M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN) {
-            M->g -= M->warm < FM_WARM && c == 3 ? M->g >> 1 : M->g >> 2;
-        } else if (M->rev_age <= FM_OSC_GAP && M->warm >= FM_WARM && d > 2 * k
+            M->g -= !fm_warm && c == 3 ? M->g >> 1 : M->g >> 2;
+        } else if (M->rev_age <= FM_OSC_GAP && (fm_warm || fm_hi_p) && d > 2 * k
             && (e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
             /* (a pulse near the smallest: the valve's resolution, not the gain) */
             if (M->g > FM_G_MIN)
                 M->g -= M->g >> 3;
-            if (!M->moved && M->rmin > FM_REV_LOW)
+            if (!M->moved && M->rmin > FM_REV_LOW && fm_warm)
                 M->rmin -= M->rmin >> 3;    /* a cycle at a steady target: smaller reversals */
         }
         M->big = c & 1;
@@ -342,6 +348,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
  * a slower loop, never a faster one.) */
 static int16_t fm_gain_at_p(void)
 {
+    fm_hi_p = 0;
     if (ctl_in->pressure_kpa <= FM_P_REF)
         return M->g;
     /* f = floor(sqrt(FM_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
@@ -352,6 +359,7 @@ static int16_t fm_gain_at_p(void)
         if (UMUL(gp_f * gp_f, ctl_in->pressure_kpa) > ((uint32_t)FM_P_REF << 16))
             gp_f ^= gp_b;
     }
+    fm_hi_p = (uint8_t)gp_f < FM_P_HI_F;
     return (int16_t)(MUL(M->g, gp_f) >> 8);
 }
 
@@ -369,6 +377,7 @@ q15_t fm_step(void) CTL_SHARED
         M->rest = 0;
         M->stall_n = 0;
         M->warm = 0;
+        fm_warm = 0;
         M->epk = 0;
         M->big = 0;
         M->v1 = ctl_in->speed_kmh_x100;
@@ -394,7 +403,7 @@ q15_t fm_step(void) CTL_SHARED
         du = M->warm < FM_P_WAIT ? 0 : MUL(FM_KP, fx_sat16((int32_t)e - M->e1));
         du += MUL(FM_KI, e);
         du += MUL(FM_KD, d2e);
-        if (M->lead && M->warm < FM_WARM && (ctl_last > FM_LEAD_DRIVE || ctl_last < -FM_LEAD_DRIVE)) {
+        if (M->lead && !fm_warm && (ctl_last > FM_LEAD_DRIVE || ctl_last < -FM_LEAD_DRIVE)) {
             /* the flow's change this period (the error is clamped far beyond any target) */
             d2e = fx_sat16((int32_t)(q - e) - (M->t1 - M->e1));
             if ((d2e > 0) == (e > 0))

@@ -126,18 +126,24 @@ static int ctltw_near(double x, double t, double lsb)
 
 /* The loop gain at this pressure (fm_gain_at_p): cut by sqrt(FM_P_REF / P) above FM_P_REF,
  * with the firmware's integer roundings (the root's floor, the product's). */
-static double ctltw_gain_at_p(double g, double p_kpa)
+static unsigned long ctltw_root_at_p(double p_kpa)
 {
     unsigned long p = (unsigned long)p_kpa, x, f;
     if (p <= FM_P_REF)
-        return g;
+        return 256;
     x = ((unsigned long)FM_P_REF << 16) / p;
     f = (unsigned long)sqrt((double)x);
     while (f * f > x)
         f--;
     while ((f + 1) * (f + 1) <= x)
         f++;
-    return floor(g * 256 * f / 256) / 256;
+    return f;
+}
+
+static double ctltw_gain_at_p(double g, double p_kpa)
+{
+    unsigned long f = ctltw_root_at_p(p_kpa);
+    return f == 256 ? g : floor(g * 256 * f / 256) / 256;
 }
 
 /* the duty cap up by an eighth (fm_cap_up) */
@@ -291,10 +297,13 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
                 o.near |= ctltw_near(m->epk, q / (1 << FM_BIG_SHIFT), 0.02);
                 if (big && m->big && m->rev_age <= FM_OSC_GAP && m->g > FM_G_MIN / 256.0) {
                     m->g -= floor(m->g * 256 / (m->warm < FM_WARM && top ? 2 : 4)) / 256;
-                } else if (m->rev_age <= FM_OSC_GAP && m->warm >= FM_WARM && d > 2 * k && fabs(e) <= q) {
+                } else if (m->rev_age <= FM_OSC_GAP && (m->warm >= FM_WARM || ctltw_root_at_p(in->pressure) < FM_P_HI_F)
+                           && d > 2 * k && fabs(e) <= q) {
+                    /* (cycles cut the gain in a start too over FM_P_HI_F's pressure; smaller
+                     * reversals are learnt only after it) */
                     if (m->g > FM_G_MIN / 256.0)
                         m->g -= floor(m->g * 256 / 8) / 256;
-                    if (!m->moved && m->rmin > FM_REV_LOW / 32768.0)
+                    if (!m->moved && m->rmin > FM_REV_LOW / 32768.0 && m->warm >= FM_WARM)
                         m->rmin -= floor(m->rmin * 32768 / 8) / 32768;
                 }
                 m->big = big;
