@@ -51,6 +51,25 @@ static int run(const char *text, metrics_result_t *r)
 }
 
 
+/* The highest pressure of eight runs of a new controller (seeds 1-8) of DURATION_S s at RATE
+ * L/ha on the plant and drive PLANT ([plant] lines, then [drive]); adds their alarms to
+ * *alarms. */
+static double p_max_on_seeds(int duration_s, int rate, const char *plant, int *alarms)
+{
+    double p_max = 0;
+    for (int seed = 1; seed <= 8; seed++) {
+        char text[1024];
+        metrics_result_t r;
+        snprintf(text, sizeof text,
+                 "[run]\nduration_s = %d\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = %d\n[plant]\n%s",
+                 duration_s, seed, rate, plant);
+        best_anew();
+        *alarms += run(text, &r);
+        p_max = r.pressure_max_bar > p_max ? r.pressure_max_bar : p_max;
+    }
+    return p_max;
+}
+
 /* A whole run of a new controller: the longest stretch (s) with the meter more than 10 % off the
  * target at working speed; adds the alarms it raised to *alarms when given. */
 static double longest_off_stretch(const char *text, int *alarms)
@@ -190,25 +209,17 @@ static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
  * few periods ahead turns it in time: the line stays under 4.5 bar and nothing is raised. */
 static void test_ffmap_a_fast_valve_with_a_slow_motor_starts_without_over_pressure(void **state)
 {
-    double p_max = 0;
     int alarms = 0;
+    double p_max;
     (void)state;
-    for (int seed = 1; seed <= 8; seed++) {
-        char text[1024];
-        metrics_result_t r;
-        snprintf(text, sizeof text,
-                 "[run]\nduration_s = 40\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 137\n[plant]\n"
-                 "valve_travel_s = 1.59\nvalve_stiction_duty = 0.161\nvalve_running_duty = 0.083\n"
-                 "valve_backlash = 0.0333\nvalve_motor_tau_s = 0.145\npump_lpm_at_540 = 139.1\n"
-                 "pump_pulsation_pct = 2.31\npto_coupled = 0\npto_rpm = 523\nmeter_k_ppl = 381.23\n"
-                 "meter_blade_jitter_pct = 0.45\nwheel_spacing_jitter_pct = 0.71\nwheel_slip_pct = 2.67\n"
-                 "speed_bounce_pct = 1.54\npressure_noise_lsb = 0.7\nnozzle_wear_pct = 10.27\n"
-                 "check_valve_bar = 0.719\nvalve_cv_open = 307.4\n"
-                 "[drive]\n0 0\n2 0\n2 9.3\n20 9.3\n20 4.7\n34.7 4.7\n34.7 6.6\n", seed);
-        best_anew();
-        alarms += run(text, &r);
-        p_max = r.pressure_max_bar > p_max ? r.pressure_max_bar : p_max;
-    }
+    p_max = p_max_on_seeds(40, 137,
+                           "valve_travel_s = 1.59\nvalve_stiction_duty = 0.161\nvalve_running_duty = 0.083\n"
+                           "valve_backlash = 0.0333\nvalve_motor_tau_s = 0.145\npump_lpm_at_540 = 139.1\n"
+                           "pump_pulsation_pct = 2.31\npto_coupled = 0\npto_rpm = 523\nmeter_k_ppl = 381.23\n"
+                           "meter_blade_jitter_pct = 0.45\nwheel_spacing_jitter_pct = 0.71\nwheel_slip_pct = 2.67\n"
+                           "speed_bounce_pct = 1.54\npressure_noise_lsb = 0.7\nnozzle_wear_pct = 10.27\n"
+                           "check_valve_bar = 0.719\nvalve_cv_open = 307.4\n"
+                           "[drive]\n0 0\n2 0\n2 9.3\n20 9.3\n20 4.7\n34.7 4.7\n34.7 6.6\n", &alarms);
     print_message("ffmap, a fast valve with a slow motor: pressure up to %.2f bar, %d alarms over 8 seeds\n",
                   p_max, alarms);
     assert_true(p_max < 4.5);
@@ -223,25 +234,17 @@ static void test_ffmap_a_fast_valve_with_a_slow_motor_starts_without_over_pressu
  * cut the gain in a start too: the line stays under 4.6 bar (4.46; seeds 1-16 at most 4.71). */
 static void test_ffmap_a_fast_valve_near_p_max_learns_its_gain_in_the_start(void **state)
 {
-    double p_max = 0;
     int alarms = 0;
+    double p_max;
     (void)state;
-    for (int seed = 1; seed <= 8; seed++) {
-        char text[1024];
-        metrics_result_t r;
-        snprintf(text, sizeof text,
-                 "[run]\nduration_s = 25\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 145\n[plant]\n"
-                 "valve_travel_s = 1.77\nvalve_stiction_duty = 0.12\nvalve_running_duty = 0.066\n"
-                 "valve_backlash = 0.0221\nvalve_motor_tau_s = 0.12\npump_lpm_at_540 = 144.1\n"
-                 "pump_pulsation_pct = 2.33\npto_coupled = 0\npto_rpm = 533\nmeter_k_ppl = 382.5\n"
-                 "meter_blade_jitter_pct = 0.93\nwheel_spacing_jitter_pct = 3.66\nwheel_slip_pct = 0.77\n"
-                 "speed_bounce_pct = 2.61\npressure_noise_lsb = 2.62\nnozzle_wear_pct = 2.87\n"
-                 "check_valve_bar = 0.645\nvalve_cv_open = 335.4\n"
-                 "[drive]\n0 0\n2 0\n2 10.5\n20.8 10.5\n20.8 6.8\n25 6.8\n", seed);
-        best_anew();
-        alarms += run(text, &r);
-        p_max = r.pressure_max_bar > p_max ? r.pressure_max_bar : p_max;
-    }
+    p_max = p_max_on_seeds(25, 145,
+                           "valve_travel_s = 1.77\nvalve_stiction_duty = 0.12\nvalve_running_duty = 0.066\n"
+                           "valve_backlash = 0.0221\nvalve_motor_tau_s = 0.12\npump_lpm_at_540 = 144.1\n"
+                           "pump_pulsation_pct = 2.33\npto_coupled = 0\npto_rpm = 533\nmeter_k_ppl = 382.5\n"
+                           "meter_blade_jitter_pct = 0.93\nwheel_spacing_jitter_pct = 3.66\nwheel_slip_pct = 0.77\n"
+                           "speed_bounce_pct = 2.61\npressure_noise_lsb = 2.62\nnozzle_wear_pct = 2.87\n"
+                           "check_valve_bar = 0.645\nvalve_cv_open = 335.4\n"
+                           "[drive]\n0 0\n2 0\n2 10.5\n20.8 10.5\n20.8 6.8\n25 6.8\n", &alarms);
     print_message("ffmap, a fast valve near P max: pressure up to %.2f bar, %d alarms over 8 seeds\n",
                   p_max, alarms);
     assert_true(p_max < 4.6);
