@@ -288,8 +288,8 @@ static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state
  * period's change of the target, every such step was two pulses against each other (18-40
  * reversals a minute, 27 on average); on the change filtered over four periods, a ramp's
  * feed-forward is the same and the steps cancel. Since the feed-forward stops while the flow is
- * past the target its way by a big error, the loop alone turns those overshoots: 18.4
- * reversals a minute on average (15.7 before), CV 2.35 % on average (2.83 % before). */
+ * past the target its way by a big error, the loop alone turns those overshoots: 18.3
+ * reversals a minute on average (15.7 before), CV 2.37 % on average (2.77 % before). */
 static void test_ffmap_the_feed_forward_does_not_follow_the_wheels_jitter(void **state)
 {
     double sum = 0, worst = 0;
