@@ -86,8 +86,9 @@ void fm_init(void)
  * FM_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
  * 1/8, after the first FM_WARM periods of a (re)start or, in them, over the pressure of
  * FM_P_HI_F (fm_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
- * in a start reached P max, family plants 124 of SEED=120 and 139 of SEED=124); FM_SLOW_N periods awake with the error one way (slower than told; a quarter as many
- * while the error is beyond target >> FM_BIG_SHIFT) raise it by 3/32. Nothing is raised against
+ * in a start reached P max, family plants 124 of SEED=120 and 139 of SEED=124); FM_SLOW_N
+ * periods awake with the error one way (slower than told; a quarter as many while the error is
+ * beyond target >> FM_BIG_SHIFT) raise it by 3/32. Nothing is raised against
  * a stop or a refusal the error pushes toward (saturated: the rule against closing toward P max
  * does not hold a loop that must open), nor in the first FM_WARM periods of a (re)start while
  * the gain is where the start found it (the line's filling is not the valve's slowness). A
@@ -130,7 +131,7 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * the step never runs inside itself), the others in the controllers' union (XRAM that bp_pid's
  * network sizes). */
 static __data uint16_t ff_v;           /* the speed, then the error band */
-static __bit fm_hi_p;                   /* this period's pressure over FM_P_HI (fm_gain_at_p) */
+static __bit fm_hi_p;                   /* the pressure over 360 kPa this period (FM_P_HI_F) */
 static __data int16_t ff_dq;
 /* fm_gain_at_p's root and bit, in the same bytes (it runs after fm_ff, which is done with them) */
 #define gp_f ff_v
