@@ -131,8 +131,8 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * the step never runs inside itself), the others in the controllers' union (XRAM that bp_pid's
  * network sizes). */
 static __data uint16_t ff_v;           /* the speed, then the error band */
+static __data int16_t ff_dq;            /* the target's change, then the error's size */
 static __bit fm_hi_p;                   /* the pressure over 360 kPa this period (FM_P_HI_F) */
-static __data int16_t ff_dq;
 /* fm_gain_at_p's root and bit, in the same bytes (it runs after fm_ff, which is done with them) */
 #define gp_f ff_v
 #define gp_b ff_dq
