@@ -26,6 +26,8 @@ static void fm_cap_up(void);
  *     pressure (fm_gain_at_p);
  *   - a valve so fast that one period at full duty moves the flow by more than a quarter of the
  *     target: its top duty is cut until it does not (the duty cap, fm_cap);
+ *   - a valve learnt faster than a new one starts, closing toward a target that needs over
+ *     400 kPa: at most the smallest pulse + FM_P_T_DUTY (a slow motor's coast is its speed's);
  *   - backlash is not taken up: on a valve with less slack than it was told that overshoots;
  *   - a reversal is owed until the motion asked the other way is worth FM_REV_MIN of a period
  *     at full speed (a small one is mostly lost in the backlash, and the next periods often ask
@@ -133,6 +135,7 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 static __data uint16_t ff_v;           /* the speed, then the error band */
 static __data int16_t ff_dq;            /* the target's change, then the error's size */
 static __bit fm_hi_p;                   /* the pressure over 360 kPa this period (FM_P_HI_F) */
+static __bit fm_hi_t;                   /* the target's pressure over 400 kPa (FM_P_T_F) */
 /* fm_gain_at_p's root and bit, in the same bytes (it runs after fm_ff, which is done with them) */
 #define gp_f ff_v
 #define gp_b ff_dq
@@ -230,7 +233,7 @@ CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
     uint8_t c2;
     M->ef = (int16_t)(M->ef + ((e - M->ef + 2) >> 2));
     c = M->ef < 0 ? (int16_t)-M->ef : M->ef;
-    c2 = ((int32_t)(dq < 0 ? -dq : dq) << FM_MOVE_SHIFT) > q;
+    c2 = (uint16_t)(dq < 0 ? -dq : dq) > (uint16_t)(q >> FM_MOVE_SHIFT);  /* |dq| 2^6 > q (q >= 0) */
     M->moved |= c2;
     if (c2 || (M->rest && c > (q >> FM_DB_OUT))) {
         if (M->rest && (ctl_carry > 0) != (e > 0))
@@ -251,7 +254,9 @@ CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
 {
     int32_t k;
     if (M->stall_n >= 2 * FM_STALL_N) {
-        k = M->dir > 0 ? (int32_t)ctl_in->flow_lpm_x100 - M->stall_y : (int32_t)M->stall_y - ctl_in->flow_lpm_x100;
+        k = (int32_t)ctl_in->flow_lpm_x100 - M->stall_y;
+        if (M->dir <= 0)
+            k = -k;
         if (k <= (q >> FM_STALL_MOVE) && (M->dir > 0 ? e > 0 : e < 0)) {
             if (M->brk <= FM_BRK_MAX - FM_BRK_STEP)
                 M->brk += FM_BRK_STEP;
@@ -337,7 +342,12 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         M->stall_n = 0;
     }
     M->dir = s;
-    return s > 0 ? (q15_t)d : -(q15_t)d;
+    if (s < 0)
+        return -(q15_t)d;
+    /* a slower closing coasts less (fm_gain_at_p); the rules above judged the loop's demand */
+    if (fm_hi_t && d > k + FM_P_T_DUTY)
+        d = k + FM_P_T_DUTY;
+    return (q15_t)d;
 }
 
 /* The loop gain at this pressure. The bypass's hold on the boom's flow grows with the boom's
@@ -350,6 +360,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
 static int16_t fm_gain_at_p(void)
 {
     fm_hi_p = 0;
+    fm_hi_t = 0;
     if (ctl_in->pressure_kpa <= FM_P_REF)
         return M->g;
     /* f = floor(sqrt(FM_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
@@ -357,10 +368,20 @@ static int16_t fm_gain_at_p(void)
     gp_f = 0;
     for (gp_b = 0x80; gp_b; gp_b >>= 1) {
         gp_f |= gp_b;
-        if (UMUL(gp_f * gp_f, ctl_in->pressure_kpa) > ((uint32_t)FM_P_REF << 16))
+        if (UMUL((uint16_t)UMUL(gp_f, gp_f), ctl_in->pressure_kpa) > ((uint32_t)FM_P_REF << 16))
             gp_f ^= gp_b;
     }
     fm_hi_p = (uint8_t)gp_f < FM_P_HI_F;
+    /* Closing toward a target that needs over 400 kPa, on a valve learnt faster than a new one
+     * starts, fm_out gives at most the smallest pulse + FM_P_T_DUTY. A motor that runs on after
+     * its drive stops (its time constant) carries the flow past the target by what its speed
+     * was, and near P max a sixth over the target is over P max: the family's last OVERPRESSURE
+     * runs were 1.8-2 s valves told 4 s with 0.10-0.15 s motors, their targets at 4.3-4.5 bar
+     * (120/124, 28/35, 72/107): closing at full duty from a fifth under the target, where the
+     * line is at 3 bar, the motor's coast took it over. The target's pressure P (q / f)^2 over
+     * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FM_P_REF) / f_root. */
+    if (M->g < FM_G_INIT && UMUL(ctl_in->target_lpm_x100, FM_P_T_F) > UMUL(M->f1, gp_f))
+        fm_hi_t = 1;                    /* (f1: fm_cap took this period's flow) */
     return (int16_t)(MUL(M->g, gp_f) >> 8);
 }
 
@@ -422,9 +443,13 @@ q15_t fm_step(void) CTL_SHARED
     M->e2 = M->e1;
     M->e1 = e;
     M->t1 = q;
+#if FW_PROBES
+    /* the gains for the probes (ctl_gain: the simulator, PIL, the s51 tests); the field image
+     * reads ctl_k only in pid's and bp_pid's own steps */
     ctl_k[0] = FM_KP;
     ctl_k[1] = FM_KI;
     ctl_k[2] = FM_KD;
+#endif
     ctl_last = d;
     return d;
 }

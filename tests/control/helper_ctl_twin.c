@@ -158,7 +158,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     ctltw_fm_out_t o = {0, 0, 0};
     double q = in->target, e = ctltw_clamp(q - in->flow, -CTLTW_E_MAX, CTLTW_E_MAX);
     double dq, c, du, mv, d, k, run = CTLTW_RUN;
-    int s, capc;
+    int s, capc, hi_t;
     if (m->first) {
         m->e1 = m->e2 = m->ef = e;
         m->t1 = q;
@@ -260,6 +260,14 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         }
     }
     /* the output stage: the motion owed, limits, the running friction, the smallest pulse */
+    /* the target's pressure P (target / flow)^2 over 400 kPa (fm_gain_at_p, in its integers:
+     * target x100 FM_P_T_F against flow x100 times the root), on a gain learnt under FM_G_INIT */
+    {
+        unsigned long r = ctltw_root_at_p(in->pressure);
+        double lhs = (double)lround(q * 100) * FM_P_T_F, rhs = (double)lround(in->flow * 100) * r;
+        hi_t = r < 256 && m->g < FM_G_INIT / 256.0 && lhs > rhs;
+        o.near |= r < 256 && fabs(lhs - rhs) <= 2.0 * r;
+    }
     mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_p(m->g, in->pressure) + m->carry;
     mv = ctltw_clamp(mv, -32767.0 / 32768, 32767.0 / 32768);
     if ((mv > 0 && (in->limit & CTL_CLOSE_BLOCKED)) || (mv < 0 && (in->limit & CTL_AT_OPEN)))
@@ -322,6 +330,12 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
                 m->stall_n = 0;
             }
             m->dir = s;
+            /* closing toward a target over 400 kPa: at most the smallest pulse + FM_P_T_DUTY */
+            if (s > 0 && hi_t) {
+                o.near |= ctltw_near(d, k + FM_P_T_DUTY / 32768.0, 0.002);
+                if (d > k + FM_P_T_DUTY / 32768.0)
+                    d = k + FM_P_T_DUTY / 32768.0;
+            }
             o.drive = s * d;
         }
     }
