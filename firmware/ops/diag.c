@@ -308,20 +308,22 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
         learn(x, p);                /* (the fit is diag_step's: a shorter call chain) */
     judge = judge && pexp != 0xFFFFu;
     /* near the learnt model (learnt over the range, or near the flow it was learnt at: x within
-     * 3/4 .. 4/3 of xm) the pressure above the check valves must be within P_PDEV / 2; far above
+     * 7/8 .. 8/7 of xm) the pressure above the check valves must be within P_PDEV / 2; far above
      * a model learnt at one flow nothing is judged; far below it, or not learnt yet, only a gross
-     * deviation counts:
+     * deviation counts. (A model through one flow with the check valves' told 0.3 bar is wrong
+     * by (pc - 0.3 bar)(1 - x / xm) elsewhere: with check valves at 1.0 bar, 0.18 bar at 3/4 of
+     * xm, a false CLOG at 1 bar after a slow-down from 5.1 to 4.1 km/h.) Gross:
      * P_PDEV of it and DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can
      * make. Either way a leak is a below lo, a clog a above hi. */
     g = dg.learnt == 2;
     if (dg.learnt == 1) {
-        lo = UMUL(dg.xm, 3u);
-        hi = UMUL(x, 3u);
-        if (hi > ((uint32_t)dg.xm << 2))
+        lo = UMUL(dg.xm, 7u);
+        hi = UMUL(x, 7u);
+        if (hi > UMUL(dg.xm, 8u))
             judge = 0;              /* a model learnt at one flow, carried far above it with the
                                      * check valves' told pressure, is wrong by more than a fault
                                      * (below it, by less than that pressure's error) */
-        g = ((uint32_t)x << 2) >= lo;
+        g = UMUL(x, 8u) >= lo;
     }
     if (g) {
         judge = judge && pexp >= dg.pc_kpa + DIAG_PDEV_MIN_KPA;
