@@ -140,9 +140,9 @@ static unsigned long ctltw_root_at_p(double p_kpa)
     return f;
 }
 
-static double ctltw_gain_at_p(double g, double p_kpa)
+/* ... the gain cut by that root f (256: not cut) */
+static double ctltw_gain_at_root(double g, unsigned long f)
 {
-    unsigned long f = ctltw_root_at_p(p_kpa);
     return f == 256 ? g : floor(g * 256 * f / 256) / 256;
 }
 
@@ -159,6 +159,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     double q = in->target, e = ctltw_clamp(q - in->flow, -CTLTW_E_MAX, CTLTW_E_MAX);
     double dq, c, du, mv, d, k, run = CTLTW_RUN;
     int s, capc, hi_t;
+    unsigned long root = ctltw_root_at_p(in->pressure);   /* fm_gain_at_p's, once a step */
     if (m->first) {
         m->e1 = m->e2 = m->ef = e;
         m->t1 = q;
@@ -263,12 +264,11 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     /* the target's pressure P (target / flow)^2 over 400 kPa (fm_gain_at_p, in its integers:
      * target x100 FM_P_T_F against flow x100 times the root), on a gain learnt under FM_G_INIT */
     {
-        unsigned long r = ctltw_root_at_p(in->pressure);
-        double lhs = (double)lround(q * 100) * FM_P_T_F, rhs = (double)lround(in->flow * 100) * r;
-        hi_t = r < 256 && m->g < FM_G_INIT / 256.0 && lhs > rhs;
-        o.near |= r < 256 && fabs(lhs - rhs) <= 2.0 * r;
+        double lhs = (double)lround(q * 100) * FM_P_T_F, rhs = (double)lround(in->flow * 100) * root;
+        hi_t = root < 256 && m->g < FM_G_INIT / 256.0 && lhs > rhs;
+        o.near |= root < 256 && fabs(lhs - rhs) <= 2.0 * root;
     }
-    mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_p(m->g, in->pressure) + m->carry;
+    mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_root(m->g, root) + m->carry;
     mv = ctltw_clamp(mv, -32767.0 / 32768, 32767.0 / 32768);
     if ((mv > 0 && (in->limit & CTL_CLOSE_BLOCKED)) || (mv < 0 && (in->limit & CTL_AT_OPEN)))
         mv = 0;
@@ -305,7 +305,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
                 o.near |= ctltw_near(m->epk, q / (1 << FM_BIG_SHIFT), 0.02);
                 if (big && m->big && m->rev_age <= FM_OSC_GAP && m->g > FM_G_MIN / 256.0) {
                     m->g -= floor(m->g * 256 / (m->warm < FM_WARM && top ? 2 : 4)) / 256;
-                } else if (m->rev_age <= FM_OSC_GAP && (m->warm >= FM_WARM || ctltw_root_at_p(in->pressure) < FM_P_HI_F)
+                } else if (m->rev_age <= FM_OSC_GAP && (m->warm >= FM_WARM || root < FM_P_HI_F)
                            && d > 2 * k && fabs(e) <= q) {
                     /* (cycles cut the gain in a start too over FM_P_HI_F's pressure; smaller
                      * reversals are learnt only after it) */

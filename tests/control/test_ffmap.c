@@ -70,6 +70,17 @@ static double p_max_on_seeds(int duration_s, int rate, const char *plant, int *a
     return p_max;
 }
 
+/* p_max_on_seeds over seeds 1-8 on a fast valve near P max (WHAT names it): the line stays under
+ * BOUND bar and nothing is raised. */
+static void assert_p_max_on_seeds(const char *what, int duration_s, int rate, const char *plant, double bound)
+{
+    int alarms = 0;
+    double p_max = p_max_on_seeds(duration_s, rate, plant, &alarms);
+    print_message("ffmap, %s: pressure up to %.2f bar, %d alarms over 8 seeds\n", what, p_max, alarms);
+    assert_true(p_max < bound);
+    assert_int_equal(alarms, 0);
+}
+
 /* A whole run of a new controller: the longest stretch (s) with the meter more than 10 % off the
  * target at working speed; adds the alarms it raised to *alarms when given. */
 static double longest_off_stretch(const char *text, int *alarms)
@@ -209,21 +220,15 @@ static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
  * few periods ahead turns it in time: the line stays under 4.5 bar and nothing is raised. */
 static void test_ffmap_a_fast_valve_with_a_slow_motor_starts_without_over_pressure(void **state)
 {
-    int alarms = 0;
-    double p_max;
     (void)state;
-    p_max = p_max_on_seeds(40, 137,
-                           "valve_travel_s = 1.59\nvalve_stiction_duty = 0.161\nvalve_running_duty = 0.083\n"
-                           "valve_backlash = 0.0333\nvalve_motor_tau_s = 0.145\npump_lpm_at_540 = 139.1\n"
-                           "pump_pulsation_pct = 2.31\npto_coupled = 0\npto_rpm = 523\nmeter_k_ppl = 381.23\n"
-                           "meter_blade_jitter_pct = 0.45\nwheel_spacing_jitter_pct = 0.71\nwheel_slip_pct = 2.67\n"
-                           "speed_bounce_pct = 1.54\npressure_noise_lsb = 0.7\nnozzle_wear_pct = 10.27\n"
-                           "check_valve_bar = 0.719\nvalve_cv_open = 307.4\n"
-                           "[drive]\n0 0\n2 0\n2 9.3\n20 9.3\n20 4.7\n34.7 4.7\n34.7 6.6\n", &alarms);
-    print_message("ffmap, a fast valve with a slow motor: pressure up to %.2f bar, %d alarms over 8 seeds\n",
-                  p_max, alarms);
-    assert_true(p_max < 4.5);
-    assert_int_equal(alarms, 0);
+    assert_p_max_on_seeds("a fast valve with a slow motor", 40, 137,
+                          "valve_travel_s = 1.59\nvalve_stiction_duty = 0.161\nvalve_running_duty = 0.083\n"
+                          "valve_backlash = 0.0333\nvalve_motor_tau_s = 0.145\npump_lpm_at_540 = 139.1\n"
+                          "pump_pulsation_pct = 2.31\npto_coupled = 0\npto_rpm = 523\nmeter_k_ppl = 381.23\n"
+                          "meter_blade_jitter_pct = 0.45\nwheel_spacing_jitter_pct = 0.71\nwheel_slip_pct = 2.67\n"
+                          "speed_bounce_pct = 1.54\npressure_noise_lsb = 0.7\nnozzle_wear_pct = 10.27\n"
+                          "check_valve_bar = 0.719\nvalve_cv_open = 307.4\n"
+                          "[drive]\n0 0\n2 0\n2 9.3\n20 9.3\n20 4.7\n34.7 4.7\n34.7 6.6\n", 4.5);
 }
 
 /* A valve of 1.77 s that the firmware believes 4 s, with a slow motor (0.12 s), at 145 L/ha on a
@@ -234,21 +239,15 @@ static void test_ffmap_a_fast_valve_with_a_slow_motor_starts_without_over_pressu
  * cut the gain in a start too: the line stays under 4.6 bar (4.46; seeds 1-16 at most 4.71). */
 static void test_ffmap_a_fast_valve_near_p_max_learns_its_gain_in_the_start(void **state)
 {
-    int alarms = 0;
-    double p_max;
     (void)state;
-    p_max = p_max_on_seeds(25, 145,
-                           "valve_travel_s = 1.77\nvalve_stiction_duty = 0.12\nvalve_running_duty = 0.066\n"
-                           "valve_backlash = 0.0221\nvalve_motor_tau_s = 0.12\npump_lpm_at_540 = 144.1\n"
-                           "pump_pulsation_pct = 2.33\npto_coupled = 0\npto_rpm = 533\nmeter_k_ppl = 382.5\n"
-                           "meter_blade_jitter_pct = 0.93\nwheel_spacing_jitter_pct = 3.66\nwheel_slip_pct = 0.77\n"
-                           "speed_bounce_pct = 2.61\npressure_noise_lsb = 2.62\nnozzle_wear_pct = 2.87\n"
-                           "check_valve_bar = 0.645\nvalve_cv_open = 335.4\n"
-                           "[drive]\n0 0\n2 0\n2 10.5\n20.8 10.5\n20.8 6.8\n25 6.8\n", &alarms);
-    print_message("ffmap, a fast valve near P max: pressure up to %.2f bar, %d alarms over 8 seeds\n",
-                  p_max, alarms);
-    assert_true(p_max < 4.6);
-    assert_int_equal(alarms, 0);
+    assert_p_max_on_seeds("a fast valve near P max", 25, 145,
+                          "valve_travel_s = 1.77\nvalve_stiction_duty = 0.12\nvalve_running_duty = 0.066\n"
+                          "valve_backlash = 0.0221\nvalve_motor_tau_s = 0.12\npump_lpm_at_540 = 144.1\n"
+                          "pump_pulsation_pct = 2.33\npto_coupled = 0\npto_rpm = 533\nmeter_k_ppl = 382.5\n"
+                          "meter_blade_jitter_pct = 0.93\nwheel_spacing_jitter_pct = 3.66\nwheel_slip_pct = 0.77\n"
+                          "speed_bounce_pct = 2.61\npressure_noise_lsb = 2.62\nnozzle_wear_pct = 2.87\n"
+                          "check_valve_bar = 0.645\nvalve_cv_open = 335.4\n"
+                          "[drive]\n0 0\n2 0\n2 10.5\n20.8 10.5\n20.8 6.8\n25 6.8\n", 4.6);
 }
 
 /* A valve of 2.04 s that the firmware believes 4 s, with a 0.10 s motor and 3.4 % of backlash, on
@@ -260,21 +259,15 @@ static void test_ffmap_a_fast_valve_near_p_max_learns_its_gain_in_the_start(void
  * starts is held to the smallest pulse + FM_P_T_DUTY: at most 4.71 bar, nothing raised. */
 static void test_ffmap_a_fast_valve_closes_slowly_toward_a_target_near_p_max(void **state)
 {
-    int alarms = 0;
-    double p_max;
     (void)state;
-    p_max = p_max_on_seeds(25, 146,
-                           "valve_travel_s = 2.04\nvalve_stiction_duty = 0.163\nvalve_running_duty = 0.096\n"
-                           "valve_backlash = 0.0339\nvalve_motor_tau_s = 0.103\npump_lpm_at_540 = 132.5\n"
-                           "pump_pulsation_pct = 3.52\npto_coupled = 1\npto_rpm = 540\nmeter_k_ppl = 378.96\n"
-                           "meter_blade_jitter_pct = 1.48\nwheel_spacing_jitter_pct = 0.3\nwheel_slip_pct = 0.29\n"
-                           "speed_bounce_pct = 2.52\npressure_noise_lsb = 2.56\nnozzle_wear_pct = 6.53\n"
-                           "check_valve_bar = 0.792\nvalve_cv_open = 317.8\n"
-                           "[drive]\n0 0\n2 0\n2 11\n15.8 11\n15.8 7.6\n25 7.6\n", &alarms);
-    print_message("ffmap, a fast valve closing toward a target near P max: pressure up to %.2f bar, "
-                  "%d alarms over 8 seeds\n", p_max, alarms);
-    assert_true(p_max < 4.8);
-    assert_int_equal(alarms, 0);
+    assert_p_max_on_seeds("a fast valve closing toward a target near P max", 25, 146,
+                          "valve_travel_s = 2.04\nvalve_stiction_duty = 0.163\nvalve_running_duty = 0.096\n"
+                          "valve_backlash = 0.0339\nvalve_motor_tau_s = 0.103\npump_lpm_at_540 = 132.5\n"
+                          "pump_pulsation_pct = 3.52\npto_coupled = 1\npto_rpm = 540\nmeter_k_ppl = 378.96\n"
+                          "meter_blade_jitter_pct = 1.48\nwheel_spacing_jitter_pct = 0.3\nwheel_slip_pct = 0.29\n"
+                          "speed_bounce_pct = 2.52\npressure_noise_lsb = 2.56\nnozzle_wear_pct = 6.53\n"
+                          "check_valve_bar = 0.792\nvalve_cv_open = 317.8\n"
+                          "[drive]\n0 0\n2 0\n2 11\n15.8 11\n15.8 7.6\n25 7.6\n", 4.8);
 }
 
 /* The speed's feed-forward: with the PTO at a fixed speed the bypass must move at every change
