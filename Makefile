@@ -317,8 +317,11 @@ N ?= 200
 CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid,aog,raven
 SEED ?= 1
 TOLD ?= both
+# KIND=dynamic|field|both: the family's drives; EVENTS=1: an operator's events on every run
+KIND ?= both
+EVENTS ?=
 family: $(SIM_BIN)
-	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --out $(BUILD)/family
+	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --kind $(KIND) $(if $(EVENTS),--events) --out $(BUILD)/family
 
 # family plants again with more noise draws (the plant's own seed, then --seed 1..DRAWS-1): the
 # runs with an alarm per plant; PLANTS as SEED/NUMBER/told|untold, or SELECT a class of SEEDS'

@@ -3,6 +3,7 @@
 
 Usage: tools/family.py SIM [--n 200] [--controllers best,bp_pid,fuzzy_pid,pid,aog,raven] [--seed 1]
                        [--out build/family] [--jobs N] [--kind dynamic|field|both] [--told both|drawn]
+                       [--events]
 
 The peers aog and raven run with their default settings; `aog_tuned` and `raven_tuned` run them
 with settings tuned for each plant's valve (tuned_config below: what a careful user reaches by
@@ -18,6 +19,9 @@ told 4 s, so that the told / untold medians compare the same sprayers: drawn apa
 drawn, one run a plant, told or not by the plant's draw) the two halves are different plants,
 and the ratio of their medians scatters by about 0.09 from seed to seed with no change in the
 controller.
+--events adds an operator's doings to every run (operator_events: sections switching down to 6
+of the 36 nozzles, a rate change, a PTO step, a refill, the bypass parked anywhere at the start):
+conditions the family's drives leave out, and where the meter runs below its range.
 Prints per controller the median and 95th percentile of abs(dose error), abs(the controller's
 share of it), CV, worst zone error, valve reversals a minute and mean settling, and the count of
 runs with an alarm the plant gave no cause for; writes every run to OUT/runs.csv and the table
@@ -136,6 +140,36 @@ def draw(seed, i, kind):
                     "seed": rnd.randint(1, 10 ** 6)}
 
 
+def operator_events(seed, i, d):
+    """What an operator does in a field (--events), on a random stream of its own so that the
+    plants are the same draws: sections closed and opened in steps of 6 nozzles (12 now and then,
+    down to 6 open) every 4-30 s, in half of the runs a change of the rate (one the plant reaches
+    within P_LIMIT at its top speed), on half of the fixed PTOs a step of the PTO speed, in a
+    third a refill, and the bypass parked anywhere at the start. Returns ([plant] lines, events)."""
+    rnd = random.Random("events-%d-%d" % (seed, i))
+    p, rows = d["plant"], d["drive"]
+    end, vmax = rows[-1][0], max(v for _, v in rows)
+    plant = ["valve_start_pos = %.2f" % rnd.choice([0.0, 0.0, rnd.uniform(0.0, 1.0), 1.0])]
+    ev, t, n_open = [], rnd.uniform(15.0, 40.0), NOZZLES
+    while t < end - 20.0:
+        step = rnd.choice([6, 6, 6, 12])
+        if n_open - step >= 6 and rnd.random() < 0.6:
+            n_open -= step
+        elif n_open < NOZZLES:
+            n_open = min(NOZZLES, n_open + step)
+        ev.append((t, "sections_open %d" % n_open))
+        t += rnd.uniform(4.0, 30.0)
+    if rnd.random() < 0.5:
+        rates = [r for r in range(100, 151)
+                 if nozzle_bar(r, vmax, p["nozzle_wear_pct"], p["check_valve_bar"]) <= P_LIMIT]
+        ev.append((rnd.uniform(20.0, end - 30.0), "rate_l_ha %d" % rnd.choice(rates)))
+    if not p["pto_coupled"] and rnd.random() < 0.5:
+        ev.append((rnd.uniform(20.0, end - 30.0), "pto_rpm %d" % rnd.randint(450, 600)))
+    if rnd.random() < 0.3:
+        ev.append((rnd.uniform(20.0, end - 30.0), "tank_l 1000"))
+    return plant, sorted(ev)
+
+
 def scenario_text(i, d):
     p = d["plant"]
     duration = math.floor(d["drive"][-1][0])
@@ -147,8 +181,14 @@ def scenario_text(i, d):
         lines.append("valve_travel_s = %.1f" % max(0.5, round(p["valve_travel_s"], 1)))
     lines.append("[plant]")
     lines += ["%s = %s" % (k, v) for k, v in p.items()]
+    ops = d.get("events")
+    if ops:
+        lines += ops[0]
     lines.append("[drive]")
     lines += ["%-8g %g" % (t, v) for t, v in d["drive"]]
+    if ops:
+        lines.append("[events]")
+        lines += ["%.1f %s" % e for e in ops[1]]
     return "\n".join(lines) + "\n"
 
 
@@ -237,6 +277,8 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--kind", choices=("dynamic", "field", "both"), default="both")
     ap.add_argument("--told", choices=("both", "drawn"), default="both")
+    ap.add_argument("--events", action="store_true",
+                    help="an operator's events on every run (operator_events): sections, rate, PTO, refill")
     a = ap.parse_args()
     if not os.access(a.sim, os.X_OK):
         sys.exit("family: %s: not an executable simulator (make sim-progs)" % a.sim)
@@ -246,6 +288,8 @@ def main():
     jobs = []
     for i in range(a.n):
         d0 = draw(a.seed, i, a.kind)
+        if a.events:
+            d0["events"] = operator_events(a.seed, i, d0)
         for told in ((1, 0) if a.told == "both" else (d0["told"],)):
             d = dict(d0, told=bool(told))
             name = "plant_%03d%s.scn" % (i, ("_told" if told else "_untold") if a.told == "both" else "")
@@ -270,14 +314,15 @@ def main():
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    summary = {"n": a.n, "seed": a.seed, "kind": a.kind, "told": a.told, "controllers": {}}
+    summary = {"n": a.n, "seed": a.seed, "kind": a.kind, "told": a.told, "events": a.events, "controllers": {}}
     for c in ctls:
         rs = [r for r in rows if r["controller"] == c]
         s = {}
         for key, col, _ in FIGURES:
             vals = [r[col] for r in rs]
             s[key] = {"median": pct(vals, 0.5), "p95": pct(vals, 0.95)}
-        # the family has no faults: every alarm is one the plant gave no cause for
+        # the family has no faults: every alarm is one the plant gave no cause for (with --events,
+        # an OFF_RATE may be a loop slower than the operator's change: docs/CONTROLLERS.md)
         s["alarm_runs"] = sum(1 for r in rs if r["alarms"])
         codes = sorted({x for r in rs for x in r["alarms"].split()})
         s["alarm_codes"] = {c2: sum(1 for r in rs if c2 in r["alarms"].split()) for c2 in codes}
@@ -289,8 +334,9 @@ def main():
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
     head = "%-12s" % "" + "".join("%22s" % lab for _, _, lab in FIGURES) + "  runs with alarms (code: runs)"
-    print("plant family: %d plants (seed %d, %s runs%s), median / 95th percentile"
-          % (a.n, a.seed, a.kind, ", each told and untold" if a.told == "both" else ""))
+    print("plant family: %d plants (seed %d, %s runs%s%s), median / 95th percentile"
+          % (a.n, a.seed, a.kind, ", each told and untold" if a.told == "both" else "",
+             ", with an operator's events" if a.events else ""))
     print(head)
     for c in ctls:
         s = summary["controllers"][c]

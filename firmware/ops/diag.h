@@ -34,6 +34,7 @@ enum {
 #define DIAG_CLEAR_PERIODS 10u      /* 1 s without the cause clears an alarm */
 #define DIAG_P_CHECK_KPA 30u        /* anti-drip check valves open at 0.3 bar (nozzle model) */
 #define DIAG_MODEL_MIN_X100 500     /* leak/clog/meter rules need 5 L/min or more */
+#define DIAG_METER_RANGE_X100 750   /* ... learning and the fine band 7.5 L/min (the meter's K within 3 %) */
 #define DIAG_WHEEL_GLITCH 8u        /* wheel noise score of a rejected pulse (a good one: -1) */
 #define DIAG_METER_QUIET 3u         /* periods without a meter pulse that make the meter suspect */
 #define DIAG_PDEV_FAR_KPA 120u      /* ... elsewhere a deviation of P_PDEV % and at least this */

@@ -296,6 +296,33 @@ static void test_faults_small_leak_and_few_clogs_are_seen(void **state)
     assert_true(detect_s(&r, AL_LEAK) > 100);
 }
 
+/* Six nozzles of 36 left open at 5.1 L/min (128 L/ha, 8 km/h, check valves at 0.6 bar), the
+ * nozzle model learnt over the first minute's speeds. Below its range the turbine reads about 8 %
+ * low (docs/SCENARIOS.md), which is 17 % of the pressure above the check valves: CLOG was raised
+ * at 83-91 s on seeds 1-8, with the pump on the wheels or at a fixed PTO. Below 7.5 L/min the
+ * model is judged on P_PDEV, not half of it: nothing is raised, and one of the six clogged
+ * (70 % over the model's pressure) is still seen, once the loop has the flow back (best: 4 s;
+ * pid, whose gains were set for the whole boom, 12 s). */
+static void test_faults_few_nozzles_below_the_meters_range_are_no_clog(void **state)
+{
+    const char *drive = "0 0\n2 0\n8 9\n30 9\n35 5\n55 5\n60 8\n400 8";
+    const char *plants[2] = {"pto_coupled = 0\ncheck_valve_bar = 0.6", "pto_coupled = 1\ncheck_valve_bar = 0.6"};
+    run_t r;
+    (void)state;
+    for (int i = 0; i < 2; i++) {
+        start_drive("80 sections_open 6\n130 clog_nozzles 1", "rate_l_ha = 128", plants[i], drive);
+        run_init(&r, 0);
+        run_to(&r, 130);
+        for (int b = 0; b < AL_COUNT; b++)
+            assert_true(detect_s(&r, b) > 1000);
+        run_init(&r, 130);
+        run_to(&r, 150);
+        printf("# 6 of 36 nozzles open at 5.1 L/min, %s: nothing raised; one of them clogged: CLOG after "
+               "%.2f s\n", i ? "coupled" : "fixed PTO", detect_s(&r, AL_CLOG));
+        assert_true(detect_s(&r, AL_CLOG) <= 15.0);
+    }
+}
+
 /* Nozzles worn 15 % and check valves opening at 1.0 bar: learnt, not alarmed, over a drive
  * through the working speeds. */
 static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void **state)
@@ -631,6 +658,7 @@ int main(void)
         cmocka_unit_test(test_faults_clogged_nozzles_raise_the_pressure_alarm),
         cmocka_unit_test(test_faults_most_nozzles_clogged_is_a_clog_not_a_lost_meter),
         cmocka_unit_test(test_faults_small_leak_and_few_clogs_are_seen),
+        cmocka_unit_test(test_faults_few_nozzles_below_the_meters_range_are_no_clog),
         cmocka_unit_test(test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing),
         cmocka_unit_test(test_faults_stiff_check_valves_at_a_nearby_flow_raise_nothing),
         cmocka_unit_test(test_faults_a_slow_down_is_no_leak),
