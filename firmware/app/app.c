@@ -58,6 +58,7 @@ static struct {
     uint8_t prep_gen;               /* ... this param_generation (all done when it is current) */
     uint8_t periods;                /* periods this step covers (more than 1: it was late) */
     uint8_t diag;                   /* APP_DIAG_*: the step's alarms are due (app_diag) */
+    int16_t q_model;                /* the nozzle model's flow at the pressure (app_measure) */
 } ap;
 #define APP_DIAG_DUE 1u
 #define APP_DIAG_SETTLED 2u         /* diag_step's settled */
@@ -171,8 +172,9 @@ static void app_measure(void)
      * valve). A live meter that reads low is a clog (diag.c), and the loop stays on the meter. */
     meter_lost = (diag_alarms() >> AL_METER_LOST) & 1u;
     q_used = q_meter;
+    ap.q_model = diag_nozzle_flow_x100(p, open);
     if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok())
-        q_used = diag_nozzle_flow_x100(p, open);
+        q_used = ap.q_model;
     app_status.flow_lpm_x100 = q_used;
     app_status.pressure_kpa = p;
     app_status.open_nozzles = open;
@@ -184,12 +186,14 @@ static void app_measure(void)
 static void app_spray(void)
 {
     uint8_t manual = app_status.manual;
-    uint8_t want = app_status.open_nozzles && !((diag_alarms() >> AL_TANK_LOW) & 1u)
-                   && !((diag_alarms() >> AL_PUMP_DRY) & 1u)
+    uint8_t want = app_status.open_nozzles
+                   && !(diag_alarms() & ((1u << AL_TANK_LOW) | (1u << AL_PUMP_DRY)))
                    && (manual || app_status.speed_kmh_x100 > 0) && !ap.internal && !IO_ON;
     /* after power-up the boom does not open into a line over P max (a fixed PTO's pump against a
      * bypass still opening): it waits, shown, until the pressure is under P max or APP_P_WAIT */
-    app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp();
+    app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp()
+
+        && (uint16_t)ap.q_model > ((uint16_t)app_status.target_lpm_x100 << 1);
     want &= !app_status.boom_wait;
     if (want != app_status.spraying) {
         app_status.spraying = want;

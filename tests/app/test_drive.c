@@ -110,39 +110,52 @@ static void test_drive_without_the_pressure_sensor_the_bypass_parks_open(void **
     assert_true(s.pos_max_shut >= 0.9);
 }
 
-/* Power-up with the bypass closed and a fixed PTO: the line is over P max until the slow valve
- * has opened enough; the boom stays shut meanwhile, although the tractor moves, and opens once
- * the pressure is under P max (then the rule is done: a later over-pressure does not hold the
- * boom, it opens the bypass and raises the alarm). */
+/* Power-up with the bypass closed and a fixed PTO: the line is at the relief valve until the slow
+ * valve has opened enough. At 4 km/h (18 L/min) the nozzles would spray about three times the
+ * target there: the boom stays shut meanwhile, although the tractor moves, and opens once the
+ * pressure is under P max (then the rule is done: a later over-pressure does not hold the boom,
+ * it opens the bypass and raises the alarm). At 8 km/h they would spray under twice the target,
+ * no further from it than a shut boom is, once the tractor passes about 6 km/h: the boom opens
+ * then, 2.4 s after it moves off, over P max, and the flow stays under twice the target while
+ * the bypass opens (it waited 6.9 s before, until 4.74 bar). */
 static void test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up(void **state)
 {
     (void)state;
     static char text[512];
-    snprintf(text, sizeof text,
-             "[run]\nduration_s = 40\nseed = 5\n[config]\ncontroller = best\n"
-             "[plant]\npto_coupled = 0\nvalve_travel_s = 12\nvalve_start_pos = 0\n"
-             "[drive]\n0 0\n1 0\n3 8\n40 8\n[events]\n");
-    helper_sim_load(&sim, &sim_live, text, "test_drive");
-    sim_row_t row;
-    double p_open = -1, t_open = -1, p_max_sprayed = 0, t_moving = -1;
-    while (sim_time_s(&sim) < 30.0) {
-        for (int i = 0; i < 10; i++)
-            sim_step(&sim);
-        sim_row(&sim, &row);
-        if (row.v_meas_kmh > 0 && t_moving < 0)
-            t_moving = row.t_s;
-        if (row.spray_on && t_open < 0) {
-            t_open = row.t_s;
-            p_open = row.p_bar;
+    for (int kmh = 4; kmh <= 8; kmh += 4) {
+        snprintf(text, sizeof text,
+                 "[run]\nduration_s = 40\nseed = 5\n[config]\ncontroller = best\n"
+                 "[plant]\npto_coupled = 0\nvalve_travel_s = 12\nvalve_start_pos = 0\n"
+                 "[drive]\n0 0\n1 0\n3 %d\n40 %d\n[events]\n", kmh, kmh);
+        helper_sim_load(&sim, &sim_live, text, "test_drive");
+        sim_row_t row;
+        double p_open = -1, t_open = -1, t_moving = -1, over = 0;
+        while (sim_time_s(&sim) < 30.0) {
+            for (int i = 0; i < 10; i++)
+                sim_step(&sim);
+            sim_row(&sim, &row);
+            if (row.v_meas_kmh > 0 && t_moving < 0)
+                t_moving = row.t_s;
+            if (row.spray_on && t_open < 0) {
+                t_open = row.t_s;
+                p_open = row.p_bar;
+            }
+            if (row.spray_on && row.target_lpm > 0)
+                over = fmax(over, row.boom_lpm / row.target_lpm);
         }
-        if (row.spray_on)
-            p_max_sprayed = fmax(p_max_sprayed, row.p_bar);
+        printf("# power-up, bypass closed, %d km/h: moving at %.1f s, the boom opened at %.1f s at "
+               "%.2f bar (P max %.2f), the flow at most %.2f times the target\n", kmh, t_moving, t_open,
+               p_open, param_v[P_P_MAX] / 100.0, over);
+        if (kmh == 4) {
+            assert_true(t_moving > 0 && t_open > t_moving + 1.0);
+            assert_true(p_open <= param_v[P_P_MAX] / 100.0 + 0.1);
+        } else {
+            assert_true(t_moving > 0 && t_open < t_moving + 3.0);
+            assert_true(p_open > param_v[P_P_MAX] / 100.0);
+            assert_true(over < 2.05);
+        }
+        assert_true(app_status.spraying);
     }
-    printf("# power-up, bypass closed: moving at %.1f s, the boom opened at %.1f s at %.2f bar "
-           "(P max %.2f)\n", t_moving, t_open, p_open, param_v[P_P_MAX] / 100.0);
-    assert_true(t_moving > 0 && t_open > t_moving + 1.0);
-    assert_true(p_open <= param_v[P_P_MAX] / 100.0 + 0.1);
-    assert_true(app_status.spraying);
 }
 
 /* The paper's start (coupled PTO, the default plant, the bypass parked open, the tractor from
