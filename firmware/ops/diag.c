@@ -318,15 +318,15 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     judge = judge && pexp != 0xFFFFu;
     /* near the learnt model (learnt over the range, or near the flow it was learnt at: x within
      * 7/8 .. 8/7 of xm) the pressure above the check valves must be within P_PDEV / 2 (P_PDEV
-     * below the meter's range, x_of); far above a model learnt at one flow, or below the meter's
-     * range on it, nothing is judged; far below it, or not learnt yet, only a gross
+     * below the meter's range, x_of); far above a model learnt at one flow nothing is judged; far
+     * below it, below the meter's range on it (x_of's 0xFFFF), or not learnt yet, only a gross
      * deviation counts. (A model through one flow with the check valves' told 0.3 bar is wrong
      * by (pc - 0.3 bar)(1 - x / xm) elsewhere: with check valves at 1.0 bar, 0.18 bar at 3/4 of
      * xm, a false CLOG at 1 bar after a slow-down from 5.1 to 4.1 km/h.) Gross:
      * P_PDEV of it and DIAG_PDEV_FAR_KPA, more than a wrong check valve or a worn nozzle can
      * make. Either way a leak is a below lo, a clog a above hi. */
     g = dg.learnt == 2;
-    if (dg.learnt == 1) {
+    if (dg.learnt == 1 && x != 0xFFFFu) {
         lo = UMUL(dg.xm, 7u);
         hi = UMUL(x, 7u);
         if (hi > UMUL(dg.xm, 8u))
