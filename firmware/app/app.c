@@ -190,10 +190,13 @@ static void app_spray(void)
                    && !(diag_alarms() & ((1u << AL_TANK_LOW) | (1u << AL_PUMP_DRY)))
                    && (manual || app_status.speed_kmh_x100 > 0) && !ap.internal && !IO_ON;
     /* after power-up the boom does not open into a line over P max (a fixed PTO's pump against a
-     * bypass still opening): it waits, shown, until the pressure is under P max or APP_P_WAIT */
+     * bypass still opening) where the nozzles would spray over twice the target: it waits, shown,
+     * until the pressure is under P max, the target over half the nozzle model's flow there, or
+     * APP_P_WAIT. Under twice the target is no further from it than a shut boom, and the flow
+     * falls as the bypass opens (a 10-12 s valve from closed needs 5-7 s to get under P max,
+     * and those metres got nothing: docs/CONTROLLERS.md, the seventeenth round) */
     app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp()
-
-        && (uint16_t)ap.q_model > ((uint16_t)app_status.target_lpm_x100 << 1);
+                           && (uint16_t)ap.q_model > ((uint16_t)app_status.target_lpm_x100 << 1);
     want &= !app_status.boom_wait;
     if (want != app_status.spraying) {
         app_status.spraying = want;
