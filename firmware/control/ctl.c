@@ -47,8 +47,10 @@ static const __code char nm_pid[] = "pid";
 static const __code char nm_fuzzy[] = "fuzzy_pid";
 static const __code char nm_bp[] = "bp_pid";
 static const __code char nm_best[] = "ffmap";
+#if FW_PEERS                        /* (the field image's Control stops at best: params.h) */
 static const __code char nm_aog[] = "aog";
 static const __code char nm_raven[] = "raven";
+#endif
 
 const char *ctl_name(uint8_t id)
 {
@@ -57,8 +59,10 @@ const char *ctl_name(uint8_t id)
     case CTL_FUZZY_PID: return nm_fuzzy;
     case CTL_BP_PID: return nm_bp;
     case CTL_BEST: return nm_best;
+#if FW_PEERS
     case CTL_AOG: return nm_aog;
     case CTL_RAVEN: return nm_raven;
+#endif
     default: return "?";
     }
 }

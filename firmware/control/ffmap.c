@@ -1,6 +1,7 @@
 /* ffmap.c: best, the project's own controller: a damped PID with a deadband and a learnt speed feed-forward, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
 #include "store.h"
+#include "target.h"
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
@@ -356,13 +357,21 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
  * the pump on the wheels (Q with the speed, as q) sqrt(P). Above FM_P_REF the learnt gain is cut
  * by sqrt(FM_P_REF / P), the lesser of the two: near P max a gain learnt lower down swings the
  * flow and takes the line over P max. (A failed sensor holds its last reading: the cut it had,
- * a slower loop, never a faster one.) */
+ * a slower loop, never a faster one.)
+ * With o of the boom's n nozzles open the gain is (n / o + 1) / 2 times the whole boom's, at most
+ * 4 (target.c target_noz_q, in quarters). At a given pressure the boom's flow q is o / n of the
+ * whole boom's, and through the bypass's equal-percentage opening dq/dx goes as q (Q - q) / Q:
+ * with the pump at two to three times the whole boom's flow that is (n / o + 1) / 2 times less
+ * within about 15 % (6 of 36 nozzles: 3.3-4.2 against 3.5). A loop set in flow units on the whole
+ * boom was that much slower with sections shut: with six of 36 nozzles open a halt's restart took
+ * OFF_RATE (docs/CONTROLLERS.md, the eighteenth round). What is learnt stays the whole boom's. */
 static int16_t fm_gain_at_p(void)
 {
     fm_hi_p = 0;
     fm_hi_t = 0;
+    gp_f = 256;
     if (ctl_in->pressure_kpa <= FM_P_REF)
-        return M->g;
+        goto noz;
     /* f = floor(sqrt(FM_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
      * with f^2 P <= FM_P_REF 2^16 (below 256, as P > FM_P_REF) */
     gp_f = 0;
@@ -382,7 +391,10 @@ static int16_t fm_gain_at_p(void)
      * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FM_P_REF) / f_root. */
     if (M->g < FM_G_INIT && UMUL(ctl_in->target_lpm_x100, FM_P_T_F) > UMUL(M->f1, gp_f))
         fm_hi_t = 1;                    /* (f1: fm_cap took this period's flow) */
-    return (int16_t)(MUL(M->g, gp_f) >> 8);
+noz:
+    /* (the product first: on the 8051 MUL and UMUL share their operands' bytes, and a product
+     * in MUL's second operand would overwrite its first) */
+    return (int16_t)(MUL((uint16_t)UMUL(gp_f, target_noz_q) >> 2, M->g) >> 8);
 }
 
 q15_t fm_step(void) CTL_SHARED
@@ -435,10 +447,11 @@ q15_t fm_step(void) CTL_SHARED
     fm_gain_adapt(e);
     fm_cap();
     d32 = ctl_du_to_drive(du);
-    if (d32 > 2097151L)
-        d32 = 2097151L;
-    else if (d32 < -2097151L)
-        d32 = -2097151L;
+    /* (the gain is at most 2 x 4 of as told: 2^11 in Q8, so d32 times it fits 32 bits) */
+    if (d32 > 1048575L)
+        d32 = 1048575L;
+    else if (d32 < -1048575L)
+        d32 = -1048575L;
     d = fm_out(((d32 * fm_gain_at_p()) >> 8) + ff_d, e);
     M->e2 = M->e1;
     M->e1 = e;

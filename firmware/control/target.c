@@ -14,6 +14,7 @@ static struct {
     uint8_t gen;
     uint8_t valid;
 } tg;
+__data uint8_t target_noz_q = 4;
 
 uint8_t target_section_nozzles(uint8_t s) __reentrant
 {
@@ -61,6 +62,18 @@ uint8_t target_remote_refusals(void)
     return tg.refusals;
 }
 
+/* (n / o + 1) / 2 for o of the n nozzles open, in quarters: 2 + n / o in halves, at most
+ * TARGET_NOZ_MAX (P_NOZZLES <= 96; by subtraction: no divide routine for it) */
+static void target_noz(void)
+{
+    static __data uint8_t w;
+    uint8_t o = tg.open, f;
+    w = (uint8_t)param_v[P_NOZZLES] << 1;
+    for (f = 2; w >= o && f < TARGET_NOZ_MAX; f++)
+        w -= o;
+    target_noz_q = f;
+}
+
 static void target_derive(void) __reentrant
 {
     uint8_t s, m;
@@ -70,6 +83,7 @@ static void target_derive(void) __reentrant
         if (m & 1u)
             tg.open += target_section_nozzles(s);
     tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
+    target_noz();
     if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))
         tg.remote_x10 = 0;          /* Remote off, or a new Dose or window leaves it outside */
     cdm = UMUL(target_rate_x10(), param_v[P_SPACING]) * tg.open;       /* <= 1.92e8 */

@@ -19,6 +19,8 @@
 #define RV_D3 0x40
 static uint8_t rv_due;
 
+const __code char link_e_cmd[] = "CMD", link_e_arg[] = "ARG", link_e_num[] = "NUM";
+
 /* ---- parsing ------------------------------------------------------------------------------ */
 const char *remote_command(const __xdata char *line) __reentrant
 {
@@ -27,25 +29,25 @@ const char *remote_command(const __xdata char *line) __reentrant
     if (!param_v[P_REMOTE])
         return "REMOTE";
     if (line[1] != 'R' || line[2] != ',')      /* line[0] is '$' (serial.c) */
-        return "CMD";
+        return link_e_cmd;
     c = (uint8_t)line[3];
     if ((c == 'C' || c == 'D') && line[4] == 'R') {
         if (line[5])
-            return "ARG";
+            return link_e_arg;
         rv_due |= c == 'C' ? RV_C1 | RV_C2 | RV_C3 : RV_D1 | RV_D2 | RV_D3;
         return 0;
     }
     if (c != 'R' || line[4] != 'C' || line[5] != ',')
-        return "CMD";
+        return link_e_cmd;
     for (line += 6; (c = (uint8_t)(*line - '0')) <= 9u; line++, n++) {
         if (v > 6553u || (v == 6553u && c > 5u))
-            return "NUM";           /* beyond 65535 */
+            return link_e_num;           /* beyond 65535 */
         v = v * 10u + c;
     }
     if (*line == ',')
-        return n ? "ARG" : "NUM";   /* one product: no rate 2 or 3 */
+        return n ? link_e_arg : link_e_num;   /* one product: no rate 2 or 3 */
     if (n == 0 || *line)
-        return "NUM";
+        return link_e_num;
     if (!target_remote_rate(v))
         return "WINDOW";
     rv_due |= RV_AR;

@@ -289,12 +289,12 @@ static uint8_t line_ok(uint8_t n) __reentrant
     }
     se.buf[n] = 0;
     if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ') {
-        reply_err("ARG");
+        reply_err(link_e_arg);
         return 0;
     }
     for (i = 1; i < n; i++)
         if (se.buf[i] == ' ' && se.buf[i - 1] == ' ') {
-            reply_err("ARG");
+            reply_err(link_e_arg);
             return 0;
         }
     return n;
@@ -325,7 +325,7 @@ static uint8_t answer(void) __reentrant
             && se.buf[2] == cmd->word[2] && (se.buf[3] == ' ' || se.buf[3] == 0))
             break;
     if (c == N_COMMANDS) {
-        reply_err("CMD");
+        reply_err(link_e_cmd);
         return 1;
     }
     if (!csum_seen && ((CHANGES >> cmd->handler) & 1u)) {
@@ -337,13 +337,13 @@ static uint8_t answer(void) __reentrant
     case ARG_NUM2:
         if (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&a))
             || (cmd->args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&b))))) {
-            reply_err("NUM");
+            reply_err(link_e_num);
             return 1;
         }
         break;
     case ARG_SIGN:
         if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0)) {
-            reply_err("ARG");
+            reply_err(link_e_arg);
             return 1;
         }
         a = p[1] == '+' ? 1 : (uint16_t)-1;
@@ -351,7 +351,7 @@ static uint8_t answer(void) __reentrant
         break;
     case ARG_ON:                    /* the word ON */
         if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N')) {
-            reply_err("ARG");
+            reply_err(link_e_arg);
             return 1;
         }
         p += 3;
@@ -360,7 +360,7 @@ static uint8_t answer(void) __reentrant
         break;
     }
     if (*p) {
-        reply_err("ARG");
+        reply_err(link_e_arg);
         return 1;
     }
     run(cmd->handler, a, b);

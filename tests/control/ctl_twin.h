@@ -63,6 +63,7 @@ typedef struct {
     double travel;                  /* periods of a full stroke (Valve time) */
     int limit;                      /* CTL_AT_* | CTL_NO_CLOSE */
     double pressure;                /* kPa */
+    int noz_q;                      /* the gain's factor for the nozzles open, quarters (target_noz_q) */
 } ctltw_fm_in_t;
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed */

@@ -140,10 +140,11 @@ static unsigned long ctltw_root_at_p(double p_kpa)
     return f;
 }
 
-/* ... the gain cut by that root f (256: not cut) */
-static double ctltw_gain_at_root(double g, unsigned long f)
+/* ... the gain cut by that root f (256: not cut) and times the nozzles' factor q / 4 (the
+ * product f q / 4 floored first, as fm_gain_at_p takes it) */
+static double ctltw_gain_at_root(double g, unsigned long f, int q)
 {
-    return f == 256 ? g : floor(g * 256 * f / 256) / 256;
+    return floor(g * 256 * floor(f * q / 4.0) / 256) / 256;
 }
 
 /* the duty cap up by an eighth (fm_cap_up) */
@@ -268,7 +269,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         hi_t = root < 256 && m->g < FM_G_INIT / 256.0 && lhs > rhs;
         o.near |= root < 256 && fabs(lhs - rhs) <= 2.0 * root;
     }
-    mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_root(m->g, root) + m->carry;
+    mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_root(m->g, root, in->noz_q) + m->carry;
     mv = ctltw_clamp(mv, -32767.0 / 32768, 32767.0 / 32768);
     if ((mv > 0 && (in->limit & CTL_CLOSE_BLOCKED)) || (mv < 0 && (in->limit & CTL_AT_OPEN)))
         mv = 0;

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 #include "ctl_int.h"
 #include "params.h"
+#include "target.h"
 #include "ctl_twin.h"
 
 static uint32_t rng = 2468u;
@@ -699,12 +700,14 @@ static void test_ctl_ffmap_matches_twin(void **state)
      * read two periods late: its duty is capped) */
     static const int travels[4] = {40, 15, 100, 40}, brks[4] = {20, 30, 12, 20};
     static const double gains[4] = {50, 50, 50, 250};
+    static const uint8_t noz_qs[4] = {4, 6, 8, 4};
     double worst = 0;
     int checked = 0, near = 0, pulses = 0, rests = 0, g_moved = 0, brk_moved = 0, capped = 0;
     for (int c = 0; c < 4; c++) {
         assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)travels[c]), 1);
         assert_int_equal(param_set(P_VALVE_BRK, (uint16_t)brks[c]), 1);
         ctl_select(CTL_BEST);
+        target_noz_q = noz_qs[c];       /* some sections shut: the gain's factor (target.c) */
         double pos = 0.5, flow = 30, target = 30, t_true = travels[c] * (c % 2 ? 0.5 : 1.5);
         double brk_true = (brks[c] + 8) / 100.0, run_true = brk_true * 0.6, v = 0, seen[3] = {30, 30, 30};
         int first = 1;
@@ -721,7 +724,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
             ctltw_fm_t tw;
             ctltw_fm_load(&tw, &ctl_st.fm, first, ctl_carry_now());
             ctltw_fm_in_t ti = {in.target_lpm_x100 / 100.0, in.flow_lpm_x100 / 100.0, travels[c], lim,
-                                in.pressure_kpa};
+                                in.pressure_kpa, target_noz_q};
             ctltw_fm_out_t o = ctltw_fm_step(&tw, &ti);
             q15_t d = ctl_step(&in);
             first = 0;
@@ -752,6 +755,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
             seen[2] = flow;
         }
     }
+    target_noz_q = 4;
     params_defaults();
     ctl_reset(0);
     print_message("ffmap vs twin: %d steps checked, worst %.1f LSB beyond 0.2 %%; %d near a threshold; %d pulses, %d resting, %d capped\n",

@@ -81,6 +81,33 @@ static void test_target_counts_the_nozzles_of_the_switched_on_sections(void **st
     assert_int_equal(target_open_nozzles(), 7);
 }
 
+/* The gain factor of a loop set on the whole boom, (n / o + 1) / 2 in quarters for o of n
+ * nozzles open (ffmap.c): 1 with all open, 3.5 with 6 of 36, at most 4, on every count */
+static void test_target_gain_factor_for_the_nozzles_open(void **state)
+{
+    static const struct { uint8_t mask; uint8_t q; } t[] = {
+        {0x3F, 4}, {0x1F, 4}, {0x0F, 5}, {0x07, 6}, {0x03, 8}, {0x01, 14},
+    };
+    (void)state;
+    for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+        target_update(t[i].mask);               /* 36, 30, 24, 18, 12, 6 nozzles */
+        assert_int_equal(target_noz_q, t[i].q);
+    }
+    for (uint16_t n = 1; n <= 96; n++) {
+        assert_true(param_set(P_NOZZLES, n));
+        for (uint8_t ns = 1; ns <= 8 && ns <= n; ns++) {
+            assert_true(param_set(P_SECTIONS, ns));
+            for (uint16_t m = 1; m < (1u << ns); m++) {
+                target_update((uint8_t)m);
+                uint8_t o = target_open_nozzles();
+                double f = 2.0 + 2.0 * n / o;           /* in quarters */
+                assert_true(target_noz_q >= 4 && target_noz_q <= TARGET_NOZ_MAX);
+                assert_int_equal(target_noz_q, f >= TARGET_NOZ_MAX ? TARGET_NOZ_MAX : (uint8_t)f);
+            }
+        }
+    }
+}
+
 /* eq. (1) over the whole range against the double formula: within 1 LSB (0.01 L/min) */
 static void test_target_eq1_matches_the_formula_over_the_range(void **state)
 {
@@ -108,6 +135,7 @@ int main(void)
         cmocka_unit_test_setup(test_target_table1_minimum_flow_below_4_kmh, setup),
         cmocka_unit_test_setup(test_target_counts_the_nozzles_of_the_switched_on_sections, setup),
         cmocka_unit_test_setup(test_target_eq1_matches_the_formula_over_the_range, setup),
+        cmocka_unit_test_setup(test_target_gain_factor_for_the_nozzles_open, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,7 @@
 /* tt_ctl.c: every controller (the peers aog and raven with non-default settings too) on recorded input sequences and a long closed-loop learning run with an integer toy plant; s51 and host must print the same bits; cycles per control step, within the budget. */
 #include "ctl_int.h"
 #include "params.h"
+#include "target.h"
 #include "tt.h"
 
 /* A deterministic integer plant: closure p (Q15) moved by the drive at 1/40 stroke a period
@@ -112,9 +113,11 @@ static void run_ctl(uint8_t id, const char *bench)
         in.pressure_kpa = 300;
         r = tt_rand16();
         in.valve_limit = (r & 0x700u) == 0 ? (uint8_t)((r & 1u) + 1u) : 0;
+        target_noz_q = (uint8_t)(4u + k % 13u);     /* sections shut: ffmap's gain factor 1-4 */
         d = ctl_step(&in);
         out_line(d);
     }
+    target_noz_q = 4;
     /* long closed-loop run on the toy plant: target steps every 5 s, learning on */
     ctl_select(id);
     pl_p = 0;                   /* from the open stop (as after parking) */
