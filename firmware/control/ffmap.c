@@ -362,9 +362,10 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
  * 4 (target.c target_noz_q, in quarters). At a given pressure the boom's flow q is o / n of the
  * whole boom's, and through the bypass's equal-percentage opening dq/dx goes as q (Q - q) / Q:
  * with the pump at two to three times the whole boom's flow that is (n / o + 1) / 2 times less
- * within about a fifth (6 of 36 nozzles: 3.3-4.2 against 3.5). A loop set in flow units on the whole
- * boom was that much slower with sections shut: with six of 36 nozzles open a halt's restart took
- * OFF_RATE (docs/CONTROLLERS.md, the eighteenth round). What is learnt stays the whole boom's. */
+ * within about a fifth (6 of 36 nozzles: 3.3-4.2 against 3.5). A loop set in flow units on the
+ * whole boom was that much slower with sections shut: with six of 36 nozzles open a halt's
+ * restart took OFF_RATE (docs/CONTROLLERS.md, the eighteenth round). What is learnt stays the
+ * whole boom's. */
 static int16_t fm_gain_at_p(void)
 {
     fm_hi_p = 0;

@@ -41,11 +41,11 @@ const char *remote_command(const __xdata char *line) __reentrant
         return link_e_cmd;
     for (line += 6; (c = (uint8_t)(*line - '0')) <= 9u; line++, n++) {
         if (v > 6553u || (v == 6553u && c > 5u))
-            return link_e_num;           /* beyond 65535 */
+            return link_e_num;      /* beyond 65535 */
         v = v * 10u + c;
     }
     if (*line == ',')
-        return n ? link_e_arg : link_e_num;   /* one product: no rate 2 or 3 */
+        return n ? link_e_arg : link_e_num;     /* one product: no rate 2 or 3 */
     if (n == 0 || *line)
         return link_e_num;
     if (!target_remote_rate(v))

@@ -1,4 +1,4 @@
-/* test_drive.c: drive.c and the boom's opening against the simulated sprayer: a shut boom holds the bypass at the spraying pressure, parks it open without a pressure to hold on, the restart from a hold, the power-up wait for the line under P max, the start-up closing's end, a halt with the pump on the wheels. */
+/* test_drive.c: drive.c and the boom's opening against the simulated sprayer: a shut boom holds the bypass at the spraying pressure, parks it open without a pressure to hold on, the restart from a hold, the power-up wait for the line under P max, the start-up closing's end, a halt with the pump on the wheels, a restart with most sections shut. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>

@@ -1,4 +1,4 @@
-/* test_target.c: eq. (1) with the paper's numbers (Table 3), the minimum-flow rule (Table 1), sections, standstill, given speed. */
+/* test_target.c: eq. (1) with the paper's numbers (Table 3), the minimum-flow rule (Table 1), sections and the gain factor they give, standstill, given speed. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
