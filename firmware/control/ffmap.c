@@ -371,28 +371,27 @@ static int16_t fm_gain_at_p(void)
     fm_hi_p = 0;
     fm_hi_t = 0;
     gp_f = 256;
-    if (ctl_in->pressure_kpa <= FM_P_REF)
-        goto noz;
-    /* f = floor(sqrt(FM_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
-     * with f^2 P <= FM_P_REF 2^16 (below 256, as P > FM_P_REF) */
-    gp_f = 0;
-    for (gp_b = 0x80; gp_b; gp_b >>= 1) {
-        gp_f |= gp_b;
-        if (UMUL((uint16_t)UMUL(gp_f, gp_f), ctl_in->pressure_kpa) > ((uint32_t)FM_P_REF << 16))
-            gp_f ^= gp_b;
+    if (ctl_in->pressure_kpa > FM_P_REF) {
+        /* f = floor(sqrt(FM_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
+         * with f^2 P <= FM_P_REF 2^16 (below 256, as P > FM_P_REF) */
+        gp_f = 0;
+        for (gp_b = 0x80; gp_b; gp_b >>= 1) {
+            gp_f |= gp_b;
+            if (UMUL((uint16_t)UMUL(gp_f, gp_f), ctl_in->pressure_kpa) > ((uint32_t)FM_P_REF << 16))
+                gp_f ^= gp_b;
+        }
+        fm_hi_p = (uint8_t)gp_f < FM_P_HI_F;
+        /* Closing toward a target that needs over 400 kPa, on a valve learnt faster than a new one
+         * starts, fm_out gives at most the smallest pulse + FM_P_T_DUTY. A motor that runs on after
+         * its drive stops (its time constant) carries the flow past the target by what its speed
+         * was, and near P max a sixth over the target is over P max: the family's last OVERPRESSURE
+         * runs were 1.8-2 s valves told 4 s with 0.10-0.15 s motors, their targets at 4.3-4.5 bar
+         * (120/124, 28/35, 72/107): closing at full duty from a fifth under the target, where the
+         * line is at 3 bar, the motor's coast took it over. The target's pressure P (q / f)^2 over
+         * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FM_P_REF) / f_root. */
+        if (M->g < FM_G_INIT && UMUL(ctl_in->target_lpm_x100, FM_P_T_F) > UMUL(M->f1, gp_f))
+            fm_hi_t = 1;                    /* (f1: fm_cap took this period's flow) */
     }
-    fm_hi_p = (uint8_t)gp_f < FM_P_HI_F;
-    /* Closing toward a target that needs over 400 kPa, on a valve learnt faster than a new one
-     * starts, fm_out gives at most the smallest pulse + FM_P_T_DUTY. A motor that runs on after
-     * its drive stops (its time constant) carries the flow past the target by what its speed
-     * was, and near P max a sixth over the target is over P max: the family's last OVERPRESSURE
-     * runs were 1.8-2 s valves told 4 s with 0.10-0.15 s motors, their targets at 4.3-4.5 bar
-     * (120/124, 28/35, 72/107): closing at full duty from a fifth under the target, where the
-     * line is at 3 bar, the motor's coast took it over. The target's pressure P (q / f)^2 over
-     * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FM_P_REF) / f_root. */
-    if (M->g < FM_G_INIT && UMUL(ctl_in->target_lpm_x100, FM_P_T_F) > UMUL(M->f1, gp_f))
-        fm_hi_t = 1;                    /* (f1: fm_cap took this period's flow) */
-noz:
     /* (the product first: on the 8051 MUL and UMUL share their operands' bytes, and a product
      * in MUL's second operand would overwrite its first) */
     return (int16_t)(MUL((uint16_t)UMUL(gp_f, target_noz_q) >> 2, M->g) >> 8);
