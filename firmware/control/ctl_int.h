@@ -136,6 +136,7 @@ typedef struct {
     uint8_t capc;                   /* ... before this period */
     int16_t f1;                     /* x100 L/min the last period's flow */
     int16_t g0;                     /* Q8: the loop gain when the loop (re)started */
+    uint8_t hold;                   /* periods left without P and D after the sections changed */
 } fm_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */

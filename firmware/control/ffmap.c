@@ -39,7 +39,9 @@ static void fm_cap_up(void);
  * at once, and a feed-forward learnt from this sprayer (fm_ff) moves it with the speed where
  * the pump does not follow the wheels; the speed is smoothed over several pulses until the
  * wheel's spacing is learnt (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT
- * periods after a (re)start: the flow rising as the line fills is not the valve's doing.
+ * periods after a (re)start: the flow rising as the line fills is not the valve's doing; and for
+ * FM_P_WAIT periods after the number of nozzles open changes it sees no change of the error (the
+ * boom's flow steps by itself then, fm_step).
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
  * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period; half
  * in a start when the half cycle ended in FM_TOP_N periods at the top duty (a valve much faster
@@ -60,11 +62,7 @@ static void fm_cap_up(void);
 void fm_init(void)
 {
     uint8_t i;
-    M->e1 = M->e2 = M->ef = 0;
-    M->t1 = 0;
-    M->rest = 0;
     M->dir = 0;
-    M->stall_n = 0;
     M->stall_y = 0;
     M->brk_age = 0;
     M->rev_age = 255;
@@ -80,9 +78,8 @@ void fm_init(void)
         M->kff = 0;
     }
     M->slow_n = 0;
-    M->warm = 0;
-    fm_warm = 0;
     M->cap = 255;
+    /* (the errors, the deadband, the start's counters: the first step sets them, ctl_first) */
 }
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
@@ -397,16 +394,27 @@ static int16_t fm_gain_at_p(void)
     return (int16_t)(MUL((uint16_t)UMUL(gp_f, target_noz_q) >> 2, M->g) >> 8);
 }
 
+/* this period's error, the step's most used value: in the direct RAM (the cheapest addressing;
+ * the step never runs inside itself) */
+static __data int16_t fm_e;
+
+/* The hold. When the number of nozzles open changes (target.c target_noz_new), the target steps
+ * at once and the boom's flow steps by itself a period or two later, as the nozzles open or shut
+ * and the meter follows. The proportional and derivative terms would read the flow's own step
+ * as the valve's answer and turn the valve with the error still a fifth of the target; the
+ * reversal rules then took that turn for a swing and cut the learnt gain by a quarter, twice, at
+ * every switch (a 10.6 s valve: 192 -> 25 in a field run, then OFF_RATE). For FM_P_WAIT periods
+ * the step sees no change of the error (the integral alone acts), as after a start. */
 q15_t fm_step(void) CTL_SHARED
 {
     int16_t q = ctl_in->target_lpm_x100;
-    int16_t e = ctl_clamp_e(q - ctl_in->flow_lpm_x100);
     int16_t d2e;
     int32_t du, d32;
     q15_t d;
 
+    fm_e = ctl_clamp_e(q - ctl_in->flow_lpm_x100);
     if (ctl_first) {
-        M->e1 = M->e2 = M->ef = e;
+        M->e1 = M->e2 = M->ef = fm_e;
         M->t1 = q;
         M->rest = 0;
         M->stall_n = 0;
@@ -416,35 +424,45 @@ q15_t fm_step(void) CTL_SHARED
         M->big = 0;
         M->v1 = ctl_in->speed_kmh_x100;
         M->rf = 0;
-        M->lead = e <= q - (q >> 2);
+        M->lead = fm_e <= q - (q >> 2);
         M->capn = 0;
         M->g0 = M->g;
+        M->hold = 0;
+        target_noz_new = 0;
         ctl_first = 0;
     }
-    fm_deadband(e, q);
-    fm_stall(e, q);
-    d2e = e < 0 ? -e : e;
+    if (target_noz_new) {               /* the hold (above) */
+        target_noz_new = 0;
+        M->hold = FM_P_WAIT;
+    }
+    if (M->hold) {
+        M->hold--;
+        M->e1 = M->e2 = fm_e;
+    }
+    fm_deadband(fm_e, q);
+    fm_stall(fm_e, q);
+    d2e = fm_e < 0 ? -fm_e : fm_e;
     if (d2e > M->epk)
         M->epk = d2e;
     M->epk_now = d2e > (q >> FM_BIG_SHIFT);    /* a big error this period */
-    ff_e = e;
+    ff_e = fm_e;
     fm_ff();
     if (M->rest) {
         du = MUL(FM_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
     } else {
-        d2e = fx_sat16((int32_t)e - 2 * (int32_t)M->e1 + M->e2);
+        d2e = fx_sat16((int32_t)fm_e - 2 * (int32_t)M->e1 + M->e2);
         /* (not while the line fills after the boom opens: the flow's rise is not the valve's) */
-        du = M->warm < FM_P_WAIT ? 0 : MUL(FM_KP, fx_sat16((int32_t)e - M->e1));
-        du += MUL(FM_KI, e);
+        du = M->warm < FM_P_WAIT ? 0 : MUL(FM_KP, fx_sat16((int32_t)fm_e - M->e1));
+        du += MUL(FM_KI, fm_e);
         du += MUL(FM_KD, d2e);
         if (M->lead && !fm_warm && (ctl_last > FM_LEAD_DRIVE || ctl_last < -FM_LEAD_DRIVE)) {
             /* the flow's change this period (the error is clamped far beyond any target) */
-            d2e = fx_sat16((int32_t)(q - e) - (M->t1 - M->e1));
-            if ((d2e > 0) == (e > 0))
+            d2e = fx_sat16((int32_t)(q - fm_e) - (M->t1 - M->e1));
+            if ((d2e > 0) == (fm_e > 0))
                 du -= MUL(FM_KI, fx_sat16((int32_t)FM_LEAD * d2e));
         }
     }
-    fm_gain_adapt(e);
+    fm_gain_adapt(fm_e);
     fm_cap();
     d32 = ctl_du_to_drive(du);
     /* (the gain is at most 2 x 4 of as told: 2^11 in Q8, so d32 times it fits 32 bits) */
@@ -452,9 +470,9 @@ q15_t fm_step(void) CTL_SHARED
         d32 = 1048575L;
     else if (d32 < -1048575L)
         d32 = -1048575L;
-    d = fm_out(((d32 * fm_gain_at_p()) >> 8) + ff_d, e);
+    d = fm_out(((d32 * fm_gain_at_p()) >> 8) + ff_d, fm_e);
     M->e2 = M->e1;
-    M->e1 = e;
+    M->e1 = fm_e;
     M->t1 = q;
 #if FW_PROBES
     /* the gains for the probes (ctl_gain: the simulator, PIL, the s51 tests); the field image

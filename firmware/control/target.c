@@ -15,6 +15,7 @@ static struct {
     uint8_t valid;
 } tg;
 __data uint8_t target_noz_q = 4;
+__bit target_noz_new;               /* the nozzles open changed (ffmap.c's hold) */
 
 uint8_t target_section_nozzles(uint8_t s) __reentrant
 {
@@ -76,12 +77,14 @@ static void target_noz(void)
 
 static void target_derive(void) __reentrant
 {
-    uint8_t s, m;
+    uint8_t s, m, o = tg.open;
     uint32_t cdm, q;
     tg.open = 0;
     for (s = 0, m = tg.sections; s < 8u; s++, m >>= 1)
         if (m & 1u)
             tg.open += target_section_nozzles(s);
+    if (tg.open != o)
+        target_noz_new = 1;
     tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
     target_noz();
     if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))

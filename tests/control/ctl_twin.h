@@ -56,6 +56,7 @@ typedef struct {
     int lead;                       /* the (re)start found the meter reading a quarter of the target */
     int cap, capn;                  /* the duty cap (/256 of full duty, 255 none), periods at it */
     double f1;                      /* L/min: the last period's flow */
+    int hold;                       /* periods left without P and D after the nozzles changed */
     int first;
 } ctltw_fm_t;
 typedef struct {
@@ -64,6 +65,7 @@ typedef struct {
     int limit;                      /* CTL_AT_* | CTL_NO_CLOSE */
     double pressure;                /* kPa */
     int noz_q;                      /* the gain's factor for the nozzles open, quarters (target_noz_q) */
+    int noz_new;                    /* 1: the nozzles open changed this period (target_noz_new) */
 } ctltw_fm_in_t;
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed */

@@ -115,6 +115,7 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->cap = fm->cap;
     tw->capn = fm->capn;
     tw->f1 = fm->f1 / 100.0;
+    tw->hold = fm->hold;
     tw->first = first;
 }
 
@@ -174,6 +175,14 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->lead = e <= q - q / 4;
         m->capn = 0;
         m->g0 = m->g;
+        m->hold = 0;
+    }
+    /* the nozzles open changed: FM_P_WAIT periods in which the step sees no change of the error */
+    if (in->noz_new && !m->first)
+        m->hold = FM_P_WAIT;
+    if (m->hold) {
+        m->hold--;
+        m->e1 = m->e2 = e;
     }
     /* deadband on the error filtered over 4 periods */
     dq = q - m->t1;

@@ -162,6 +162,34 @@ static void test_ffmap_holds_still_at_a_steady_target(void **state)
     assert_true(fabs(r.dose_ctl_pct) < 0.5);
 }
 
+/* Sections switched between 18 and 30 of 36 nozzles every 12 s at a steady 6.4 km/h, a 10.6 s
+ * valve told 4 s, the pump on the wheels (plant 23 of `make family SEED=18 KIND=field EVENTS=1`,
+ * whose learnt gain fell 192 -> 25 and raised OFF_RATE). The boom's flow steps by itself a period
+ * after the target does; the proportional and derivative terms read that as the valve's answer
+ * and turned the valve with the error a fifth of the target, and the reversal rules cut the gain
+ * by a quarter twice at each switch. With the step seeing no change of the error for FM_P_WAIT
+ * periods after a switch (ffmap.c), the gain the valve needs is kept: at least FM_G_INIT at the
+ * end (30 without the hold, and CV 3.78 % against 0.95 %), and no alarm. */
+static void test_ffmap_a_section_switch_does_not_cut_the_gain(void **state)
+{
+    (void)state;
+    static char text[1536];
+    int n = snprintf(text, sizeof text,
+                     "[run]\nduration_s = 200\nseed = 5\n[config]\ncontroller = best\nrate_l_ha = 133\n"
+                     "[plant]\nvalve_travel_s = 10.63\nvalve_stiction_duty = 0.171\nvalve_running_duty = 0.093\n"
+                     "valve_backlash = 0.0185\nvalve_motor_tau_s = 0.028\npump_lpm_at_540 = 123.2\npto_coupled = 1\n"
+                     "valve_cv_open = 262.1\n[drive]\n0 0\n2 0\n8 6.4\n200 6.4\n[events]\n");
+    for (int t = 30; t < 200; t += 12)
+        n += snprintf(text + n, sizeof text - (size_t)n, "%d sections_open %d\n", t, (t / 12) % 2 ? 18 : 30);
+    metrics_result_t r;
+    int alarms = run(text, &r);
+    print_message("ffmap, sections switched every 12 s on a 10.6 s valve told 4 s: gain %d (256: as told), "
+                  "%d alarms, CV %.2f %%, %.1f reversals a minute\n", ctl_st.fm.g, alarms, r.cv_pct,
+                  r.valve_reversals_per_min);
+    assert_true(ctl_st.fm.g >= FM_G_INIT);
+    assert_int_equal(alarms, 0);
+}
+
 /* A valve that the firmware was not told about: 1.5 s of travel where it believes 4 s, or a
  * break-away of 0.33 where it believes 0.2. The loop learns the gain and the smallest pulse: it
  * does not hunt, and the flow follows. */
@@ -379,6 +407,7 @@ int main(void)
         cmocka_unit_test_setup(test_ffmap_over_pressure_start_settles_on_the_target, setup),
         cmocka_unit_test_setup(test_ffmap_holds_still_at_a_steady_target, setup),
         cmocka_unit_test_setup(test_ffmap_does_not_hunt_on_an_untold_valve, setup),
+        cmocka_unit_test_setup(test_ffmap_a_section_switch_does_not_cut_the_gain, setup),
         cmocka_unit_test_setup(test_ffmap_a_stiff_valve_breaks_away_within_seconds, setup),
         cmocka_unit_test_setup(test_ffmap_a_fast_valve_with_a_slow_motor_starts_without_over_pressure, setup),
         cmocka_unit_test_setup(test_ffmap_a_fast_valve_near_p_max_learns_its_gain_in_the_start, setup),

@@ -114,6 +114,8 @@ static void run_ctl(uint8_t id, const char *bench)
         r = tt_rand16();
         in.valve_limit = (r & 0x700u) == 0 ? (uint8_t)((r & 1u) + 1u) : 0;
         target_noz_q = (uint8_t)(4u + k % 13u);     /* sections shut: ffmap's gain factor 1-4 */
+        if (k % 13u == 0 || k % 13u == 7)
+            target_noz_new = 1;                     /* ... switched: ffmap's hold */
         d = ctl_step(&in);
         out_line(d);
     }
