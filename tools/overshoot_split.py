@@ -19,7 +19,8 @@ import tempfile
 
 
 def peaks(rows, steps, target_key):
-    """Per scored change: (overshoot %, seconds after t_a of the peak, peak index) against target_key."""
+    """Per scored change, against target_key: (overshoot %, seconds from t_a to the peak, the peak's
+    sample index, sign(D), abs(D)); t_a is found on the firmware's target, as the simulator does."""
     t = [float(r["t_s"]) for r in rows]
     r_ = [float(r[target_key]) for r in rows]
     fw = [float(r["target_lpm"]) for r in rows]
