@@ -129,7 +129,6 @@ typedef struct {
     uint16_t v1;                    /* x100 km/h: the last period's speed */
     int16_t rf;                     /* x100 L/min: the speed's change of the target, filtered */
     int32_t ffd;                    /* Q15 this period's feed-forward drive */
-    int16_t ffe;                    /* x100 L/min this period's error */
     uint8_t lead;                   /* 1: this (re)start found the meter at a quarter of the target */
     uint8_t cap;                    /* the duty cap: (cap << 7) | 127, Q15 (255: full duty) */
     uint8_t capn;                   /* periods in a row the valve was driven at the cap one way */

@@ -130,6 +130,9 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * each. The working values the code uses most are in the direct RAM (the cheapest addressing;
  * the step never runs inside itself), the others in the controllers' union (XRAM that bp_pid's
  * network sizes). */
+/* this period's error, the step's most used value: in the direct RAM (the cheapest addressing;
+ * the step never runs inside itself; fm_ff reads it too) */
+static __data int16_t fm_e;
 static __data uint16_t ff_v;           /* the speed, then the error band */
 static __data int16_t ff_dq;            /* the target's change, then the error's size */
 static __bit fm_hi_p;                   /* the pressure over 360 kPa this period (FM_P_HI_F) */
@@ -138,7 +141,6 @@ static __bit fm_hi_t;                   /* the target's pressure over 400 kPa (F
 #define gp_f ff_v
 #define gp_b ff_dq
 #define ff_d (M->ffd)
-#define ff_e (M->ffe)
 
 static void fm_ff(void)
 {
@@ -152,10 +154,10 @@ static void fm_ff(void)
     if (M->rest)
         return;
     ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FM_FF_ESH);
-    ff_dq = ff_e < 0 ? -ff_e : ff_e;
+    ff_dq = fm_e < 0 ? -fm_e : fm_e;
     if (fm_warm && !ctl_in->valve_limit && (M->rf > FM_FF_RAMP || M->rf < -FM_FF_RAMP)
         && (uint16_t)ff_dq > ff_v) {
-        if ((M->rf ^ ff_e) >= 0) {          /* the same sign: the flow lags */
+        if ((M->rf ^ fm_e) >= 0) {          /* the same sign: the flow lags */
             if (M->kff < FM_FF_MAX)
                 M->kff += 2;
         } else if (M->kff) {
@@ -164,8 +166,16 @@ static void fm_ff(void)
     }
     /* nothing while the flow is past the target the way it would push, by a big error: the
      * speed's change is not what this sprayer's flow needs now (kff is learnt slowly, and a loop
-     * gain learnt low would not outweigh it: family plant 171 of SEED=69) */
-    if (M->epk_now && (M->rf ^ ff_e) < 0)
+     * gain learnt low would not outweigh it: family plant 171 of SEED=69); and no closing while
+     * the line is over 360 kPa (fm_hi_p, the last period's) and the error filtered over 4
+     * periods (the deadband's) says the flow is over the target by more than target >>
+     * FM_FF_ESH (ff_v). Near P max the feed-forward's closing held back the loop's opening, a
+     * reversal that waits for FM_REV_MIN, for 1.5 s as the speed rose from 7 to 11 km/h, and
+     * the line went over P max (family plant 128 of SEED=605: a 2.34 s valve told the truth,
+     * its gain learnt to a fifth, kff 40 learnt on the pump on the wheels). On the filtered
+     * error, not this period's: the wheel's jitter moves the target by about a percent from one
+     * period to the next, and a ramp's feed-forward should not stop at every other one. */
+    if ((M->epk_now || (fm_hi_p && M->ef < -(int16_t)ff_v)) && (M->rf ^ fm_e) < 0)
         return;
     ff_d = MUL(M->rf >> FM_FF_RSH, M->kff);
 }
@@ -394,9 +404,6 @@ static int16_t fm_gain_at_p(void)
     return (int16_t)(MUL((uint16_t)UMUL(gp_f, target_noz_q) >> 2, M->g) >> 8);
 }
 
-/* this period's error, the step's most used value: in the direct RAM (the cheapest addressing;
- * the step never runs inside itself) */
-static __data int16_t fm_e;
 
 /* The hold. When the number of nozzles open changes (target.c target_noz_new), the target steps
  * at once and the boom's flow steps by itself a period or two later, as the nozzles open or shut
@@ -445,7 +452,6 @@ q15_t fm_step(void) CTL_SHARED
     if (d2e > M->epk)
         M->epk = d2e;
     M->epk_now = d2e > (q >> FM_BIG_SHIFT);    /* a big error this period */
-    ff_e = fm_e;
     fm_ff();
     if (M->rest) {
         du = MUL(FM_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
