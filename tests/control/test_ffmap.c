@@ -301,8 +301,8 @@ static void test_ffmap_a_fast_valve_closes_slowly_toward_a_target_near_p_max(voi
 
 /* A valve of 2.34 s that the firmware is told (2.3 s), its motor 0.15 s, on a pump on the wheels
  * at 149 L/ha (plant 128 of `make family SEED=605`, told, its first 60 s), seeds 1-8: the
- * slow-downs teach kff a closing with the speed and the start's swings take the loop gain to a
- * fifth; on the speed-up from 7.1 to 11 km/h the flow ran 2-4 % over the target for 1.5 s while
+ * speed-up at 33 s teaches kff a closing with the speed and the start's swings take the loop
+ * gain to a fifth; on the speed-up from 7.1 to 11 km/h the flow ran 2-4 % over the target for 1.5 s while
  * the feed-forward's closing outweighed the loop's opening (a reversal, owed until it is worth
  * FM_REV_MIN), and the line reached 4.88 bar, OVERPRESSURE on seed 8. Over 360 kPa the
  * feed-forward does not close while the flow, filtered over 4 periods, is over the target by
