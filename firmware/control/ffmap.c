@@ -404,7 +404,6 @@ static int16_t fm_gain_at_p(void)
     return (int16_t)(MUL((uint16_t)UMUL(gp_f, target_noz_q) >> 2, M->g) >> 8);
 }
 
-
 /* The hold. When the number of nozzles open changes (target.c target_noz_new), the target steps
  * at once and the boom's flow steps by itself a period or two later, as the nozzles open or shut
  * and the meter follows. The proportional and derivative terms would read the flow's own step
