@@ -199,7 +199,12 @@ extern const __code int8_t fz_tab[3][7][7];
 #define CTL_STEP static inline
 #endif
 
-extern const __xdata ctl_in_t *__data ctl_in;  /* the inputs of the step in progress */
+/* the inputs of the step in progress (ctl.h ctl_step: on the chip at ctl_src's address) */
+#if defined(__SDCC)
+#define ctl_in (&ctl_src)
+#else
+extern const ctl_in_t *ctl_in;
+#endif
 extern __data uint8_t ctl_first;    /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */

@@ -30,6 +30,13 @@ static void plant(q15_t drive, ctl_in_t *in)
 
 static uint32_t cyc_max, cyc_sum;
 
+/* the step's inputs: on the chip the controllers read them at ctl_src's address (ctl.h) */
+#if defined(__SDCC)
+__xdata ctl_in_t ctl_src;
+#else
+static ctl_in_t ctl_src;
+#endif
+
 static q15_t timed_step(const __xdata ctl_in_t *in)
 {
     q15_t d;
@@ -96,7 +103,7 @@ static const __code char *const bench_names[CTL_COUNT] = {
 static void run_ctl(uint8_t id, const char *bench)
 {
     uint16_t k, n_long;
-    ctl_in_t in;
+    __xdata ctl_in_t *in = &ctl_src;
     q15_t d;
     uint16_t r;
 
@@ -106,17 +113,17 @@ static void run_ctl(uint8_t id, const char *bench)
     ctl_select(id);
     for (k = 0; k < 120; k++) {
         r = tt_rand16();
-        in.target_lpm_x100 = (int16_t)(1500 + (r & 4095u));
+        in->target_lpm_x100 = (int16_t)(1500 + (r & 4095u));
         r = tt_rand16();
-        in.flow_lpm_x100 = (int16_t)(in.target_lpm_x100 + (int16_t)(r & 1023u) - 512);
-        in.speed_kmh_x100 = 700;
-        in.pressure_kpa = 300;
+        in->flow_lpm_x100 = (int16_t)(in->target_lpm_x100 + (int16_t)(r & 1023u) - 512);
+        in->speed_kmh_x100 = 700;
+        in->pressure_kpa = 300;
         r = tt_rand16();
-        in.valve_limit = (r & 0x700u) == 0 ? (uint8_t)((r & 1u) + 1u) : 0;
+        in->valve_limit = (r & 0x700u) == 0 ? (uint8_t)((r & 1u) + 1u) : 0;
         target_noz_q = (uint8_t)(4u + k % 13u);     /* sections shut: ffmap's gain factor 1-4 */
         if (k % 13u == 0 || k % 13u == 7)
             target_noz_new = 1;                     /* ... switched: ffmap's hold */
-        d = ctl_step(&in);
+        d = ctl_step(in);
         out_line(d);
     }
     target_noz_q = 4;
@@ -125,29 +132,29 @@ static void run_ctl(uint8_t id, const char *bench)
     pl_p = 0;                   /* from the open stop (as after parking) */
     pl_q = 0;
     pl_pump = 6000;
-    in.flow_lpm_x100 = 0;
-    in.valve_limit = CTL_AT_OPEN;
-    in.target_lpm_x100 = 3000;
-    in.speed_kmh_x100 = 700;
-    in.pressure_kpa = 300;
+    in->flow_lpm_x100 = 0;
+    in->valve_limit = CTL_AT_OPEN;
+    in->target_lpm_x100 = 3000;
+    in->speed_kmh_x100 = 700;
+    in->pressure_kpa = 300;
     cyc_max = 0;
     cyc_sum = 0;
     n_long = id == CTL_BP_PID ? 3000 : 1000;
     for (k = 0; k < n_long; k++) {
         if (k % 50 == 0) {
             r = tt_rand16();
-            in.target_lpm_x100 = (int16_t)(1800 + (r & 2047u));
+            in->target_lpm_x100 = (int16_t)(1800 + (r & 2047u));
         }
         if (k == n_long / 2)
             pl_pump = 5000;     /* the plant changes under the controller */
-        d = timed_step(&in);
-        plant(d, &in);
+        d = timed_step(in);
+        plant(d, in);
         if (k % 100 == 99) {
             tt_hex16((uint16_t)k);
             tt_putc(' ');
             tt_hex16((uint16_t)pl_p);
             tt_putc(' ');
-            tt_hex16((uint16_t)in.flow_lpm_x100);
+            tt_hex16((uint16_t)in->flow_lpm_x100);
             tt_putc(' ');
             tt_hex16(state_sum(id));
             tt_putc(' ');
