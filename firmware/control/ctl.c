@@ -5,6 +5,7 @@
 #include "ctl_int.h"
 #include "params.h"
 #include "store.h"
+#include "speed.h"
 
 /*
  * Units and the mapping of the paper's incremental PID, eq. (7), onto this valve
@@ -147,6 +148,7 @@ uint8_t ctl_select(uint8_t id)
         return 0;                   /* the field image has no peers (FW_PEERS) */
 #endif
     ctl_id = id;
+    speed_plain = 0;                /* (best sets it from what it learnt, each step) */
     ctl_kf = 0;                     /* the reset below derives this controller's constants */
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {

@@ -88,6 +88,9 @@ typedef struct {
 #define FM_FF_RAMP 40               /* ... filtered over about 2^FM_FF_RSH periods beyond this (x100) */
 #define FM_FF_ESH 7                 /* ... the error beyond target >> this: kff lags or leads */
 #define FM_FF_MAX 2000              /* the largest kff (a 9.4 s valve of the family learnt 430) */
+#define FM_FF_LEAD 32               /* kff under this: the flow follows the speed by itself (a pump
+                                     * on the wheels learns at most 20, one on a fixed PTO 56-404
+                                     * after its first ramps): the speed without its lead (speed.h) */
 #define FM_LEAD 3                   /* after a start-up closing: the integral on the flow this many
                                      * periods ahead while it comes toward the target ... */
 #define FM_LEAD_DRIVE Q15(0.5)      /* ... and the valve runs beyond this duty */

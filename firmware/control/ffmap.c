@@ -2,6 +2,7 @@
 #include "ctl_int.h"
 #include "store.h"
 #include "target.h"
+#include "speed.h"
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
@@ -144,6 +145,7 @@ static __bit fm_hi_t;                   /* the target's pressure over 400 kPa (F
 
 static void fm_ff(void)
 {
+    speed_plain = M->kff < FM_FF_LEAD;
     ff_v = ctl_in->speed_kmh_x100;
     ff_dq = ctl_in->target_lpm_x100 - M->t1;
     if (!M->v1 || (ff_v > M->v1 ? ff_dq <= 0 : ff_v == M->v1 || ff_dq >= 0))

@@ -170,7 +170,8 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
     neg = e < 0;
     if (neg)
         e = -e;
-    e >>= sp.shift;
+    if (sp.shift)
+        e = ((e >> (sp.shift - 1)) + 1) >> 1;  /* rounded: a truncated one never learns a residue under 2^shift */
     if (neg)
         e = -e;
     if (++sp.learnt >= sp.n) {
@@ -230,12 +231,16 @@ static void speed_window(void) __reentrant
  * offsets are learnt, a quarter of the change from the span before (about as long) is added:
  * carried on over half of that way it takes most of the lag out of a speed change (over the
  * whole way it runs ahead when the tractor levels off, and the boom's flow itself follows the
- * pump a little late); at most 1/2^SPEED_AHEAD_MAX of the speed either way. */
+ * pump a little late); at most 1/2^SPEED_AHEAD_MAX of the speed either way. Not while
+ * speed_plain (speed.h): where the pump is on the wheels the boom's flow follows the true speed
+ * by itself, and a target run ahead at a level-off is a bump the loop chases. */
+__bit speed_plain;
+
 static void speed_ahead(void) __reentrant
 {
     static __data uint16_t vm, d;
     vm = (uint16_t)v;
-    if (use_off && sp.v_meas) {
+    if (use_off && sp.v_meas && !speed_plain) {
         d = (vm > sp.v_meas ? vm - sp.v_meas : sp.v_meas - vm) >> 2;
         if (d > (vm >> SPEED_AHEAD_MAX))
             d = vm >> SPEED_AHEAD_MAX;

@@ -45,12 +45,16 @@
                                      * offsets put it is a missed or an extra pulse (a whole spacing
                                      * off), not learnt; a wheel's own spans differ by up to a
                                      * quarter (4 % spacing: 5.7 % a span, 27 % seen in the family) */
-#define SPEED_LEARN_DRIFT 128       /* an edge this far (1/4096 of a spacing) from its learnt place:
+#define SPEED_LEARN_DRIFT 16        /* an edge this far (1/4096 of a spacing) from its learnt place:
                                      * the speed changed, no offset is learnt from it */
 
 void speed_init(void);
 /* One control period: take the wheel edges, return the speed in km/h x100. */
 uint16_t speed_step(void) __reentrant;
+/* 1: the speed without speed_ahead's lead on a change (speed.c), for a flow that follows the
+ * speed by itself. The flow controller sets it (ffmap.c: a pump on the wheels learns no speed
+ * feed-forward); 0 after power-up and when another controller is selected (ctl.c). */
+extern __bit speed_plain;
 /* Derive the constants of changed parameters now, so that the next step need not. */
 void speed_prepare(void);
 uint16_t speed_kmh_x100(void);

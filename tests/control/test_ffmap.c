@@ -11,6 +11,7 @@
 #include "ctl.h"
 #include "ctl_int.h"
 #include "params.h"
+#include "speed.h"
 #include "sim.h"
 #include "../app/helper_sim.h"
 
@@ -323,12 +324,15 @@ static void test_ffmap_the_feed_forward_does_not_close_over_the_target_near_p_ma
 
 /* The speed's feed-forward: with the PTO at a fixed speed the bypass must move at every change
  * of speed, and kff is learnt from the lag the loop shows; with the pump on the wheels the flow
- * follows the speed by itself, and kff stays near nothing. The same drive both ways. */
+ * follows the speed by itself, and kff stays near nothing. The same drive both ways. kff also
+ * tells the speed whether to lead a change (speed.h speed_plain): on the fixed PTO it does, on
+ * the wheels it does not; another controller selected, it does again. */
 static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state)
 {
     (void)state;
     static const char *const pto[2] = { "pto_coupled = 0\npto_rpm = 540\n", "pto_coupled = 1\n" };
     int16_t kff[2];
+    int plain[2];
     double cv[2];
     for (int i = 0; i < 2; i++) {
         char text[512];
@@ -340,6 +344,7 @@ static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state
         metrics_result_t r;
         run(text, &r);
         kff[i] = ctl_st.fm.kff;
+        plain[i] = speed_plain;
         cv[i] = r.cv_pct;
         print_message("ffmap, PTO %s: kff %d, CV %.2f %%, %.1f reversals a minute, dose (loop) %.3f %%\n",
                       i ? "coupled" : "fixed", kff[i], r.cv_pct, r.valve_reversals_per_min, r.dose_ctl_pct);
@@ -348,6 +353,9 @@ static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state
     }
     assert_true(kff[0] >= 40);
     assert_true(kff[1] <= 10);
+    assert_true(!plain[0] && plain[1]);
+    ctl_select(CTL_BP_PID);
+    assert_false(speed_plain);
     assert_true(cv[0] < 1.4);
     assert_true(cv[1] < 1.0);
 }

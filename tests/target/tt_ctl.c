@@ -33,6 +33,7 @@ static uint32_t cyc_max, cyc_sum;
 /* the step's inputs: on the chip the controllers read them at ctl_src's address (ctl.h) */
 #if defined(__SDCC)
 __xdata ctl_in_t ctl_src;
+__bit speed_plain;              /* speed.h's, which best sets: here without the wheel's module and its HAL */
 #else
 static ctl_in_t ctl_src;
 #endif
