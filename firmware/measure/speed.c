@@ -171,7 +171,7 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
     if (neg)
         e = -e;
     if (sp.shift)
-        e = ((e >> (sp.shift - 1)) + 1) >> 1;  /* rounded: a truncated one never learns a residue under 2^shift */
+        e = ((e >> (sp.shift - 1)) + 1) >> 1;  /* rounded: truncated, a residue under 2^shift stays */
     if (neg)
         e = -e;
     if (++sp.learnt >= sp.n) {

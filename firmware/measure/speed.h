@@ -46,7 +46,8 @@
                                      * off), not learnt; a wheel's own spans differ by up to a
                                      * quarter (4 % spacing: 5.7 % a span, 27 % seen in the family) */
 #define SPEED_LEARN_DRIFT 16        /* an edge this far (1/4096 of a spacing) from its learnt place:
-                                     * the speed changed, no offset is learnt from it */
+                                     * the speed changed, no offset is learnt from it (at 128 the
+                                     * start of a change inside a turn timed steady was learnt) */
 
 void speed_init(void);
 /* One control period: take the wheel edges, return the speed in km/h x100. */
