@@ -208,6 +208,10 @@ extern const __code int8_t fz_tab[3][7][7];
 #else
 extern const ctl_in_t *ctl_in;
 #endif
+/* ffmap: the last reversal sent was under 1.5 times the smallest one (rmin) and at most one pulse
+ * followed it the same way: what the half cycle swung is the valve's resolution, not the loop
+ * gain (ffmap.c fm_out); fm_rl1: a pulse followed it */
+extern __bit fm_rlim, fm_rl1;
 extern __data uint8_t ctl_first;    /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */

@@ -8,6 +8,7 @@
 #define M (&ctl_st.fm)
 /* warm reached FM_WARM: the (re)start is over (a bit: the step asks it six times) */
 static __bit fm_warm;
+__bit fm_rlim, fm_rl1;                  /* the last reversal near the smallest (ctl_int.h) */
 static void fm_cap_up(void);
 
 /*
@@ -46,7 +47,11 @@ static void fm_cap_up(void);
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
  * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period; half
  * in a start when the half cycle ended in FM_TOP_N periods at the top duty (a valve much faster
- * than told swings at full duty from its first closing).
+ * than told swings at full duty from its first closing). Not below FM_G_INIT / 2 when the half
+ * cycle was a reversal under 1.5 times the smallest and at most one pulse more (fm_rlim): that
+ * swing is the valve's resolution, which a lower gain only makes slower to answer a change (a
+ * stiff 2 s valve: OFF_RATE at a slow-down); there, at a steady target, the reversals are made
+ * smaller instead (docs/CONTROLLERS.md, the twenty-second round).
  * After a start-up closing (the loop starts with the meter reading a quarter of the target), for
  * FM_WARM periods while the valve runs beyond FM_LEAD_DRIVE, the integral acts on the flow
  * FM_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
@@ -87,17 +92,15 @@ void fm_init(void)
  * FM_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
  * 1/8, after the first FM_WARM periods of a (re)start or, in them, over the pressure of
  * FM_P_HI_F (fm_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
- * in a start reached P max, family plants 124 of SEED=120 and 139 of SEED=124); FM_SLOW_N
- * periods awake with the error one way (slower than told; a quarter as many while the error is
- * beyond target >> FM_BIG_SHIFT) raise it by 3/32. Nothing is raised against
- * a stop or a refusal the error pushes toward (saturated: the rule against closing toward P max
- * does not hold a loop that must open), nor in the first FM_WARM periods of a (re)start while
- * the gain is where the start found it (the line's filling is not the valve's slowness). A
- * start's swings may cut it there (a stiff valve's stick-slip looks like a fast one's
- * overshoot): it comes back at once, not after FM_WARM, or a fast stiff valve told the truth
- * creeps at drives near its break-away with the flow a tenth short until OFF_RATE (family
- * plants 32 of SEED=47, 69 of SEED=82); unless the duty cap holds a valve that swung the flow
- * (fm_cap): there the cut is the cure. The raise stays 3/32 for a big error too: a target
+ * in a start reached P max); FM_SLOW_N periods awake with the error one way (slower than told;
+ * a quarter as many while the error is beyond target >> FM_BIG_SHIFT) raise it by 3/32. Nothing
+ * is raised against a stop or a refusal the error pushes toward (saturated: the rule against
+ * closing toward P max does not hold a loop that must open), nor in the first FM_WARM periods
+ * of a (re)start while the gain is where the start found it (the line's filling is not the
+ * valve's slowness). A start's swings may cut it there (a stiff valve's stick-slip looks like a
+ * fast one's overshoot): it comes back at once, or a fast stiff valve told the truth creeps at
+ * drives near its break-away until OFF_RATE; unless the duty cap holds a valve that swung the
+ * flow (fm_cap): there the cut is the cure. The raise stays 3/32 for a big error too: a target
  * step's error is big one way while the valve answers (docs/CONTROLLERS.md, the eleventh round). */
 CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
 {
@@ -166,17 +169,13 @@ static void fm_ff(void)
             M->kff -= 2;
         }
     }
-    /* nothing while the flow is past the target the way it would push, by a big error: the
-     * speed's change is not what this sprayer's flow needs now (kff is learnt slowly, and a loop
-     * gain learnt low would not outweigh it: family plant 171 of SEED=69); and no closing while
-     * the line is over 360 kPa (fm_hi_p, the last period's) and the error filtered over 4
-     * periods (the deadband's) says the flow is over the target by more than target >>
-     * FM_FF_ESH (ff_v). Near P max the feed-forward's closing held back the loop's opening, a
-     * reversal that waits for FM_REV_MIN, for 1.5 s as the speed rose from 7 to 11 km/h, and
-     * the line went over P max (family plant 128 of SEED=605: a 2.34 s valve told the truth,
-     * its gain learnt to a fifth, kff 40 learnt on the pump on the wheels). On the filtered
-     * error, not this period's: the wheel's jitter moves the target by about a percent from one
-     * period to the next, and a ramp's feed-forward should not stop at every other one. */
+    /* nothing while the flow is past the target the way it would push, by a big error (kff is
+     * learnt slowly, and a gain learnt low would not outweigh it); and no closing while the line
+     * is over 360 kPa (fm_hi_p, the last period's) and the error filtered over 4 periods says the
+     * flow is over the target by more than target >> FM_FF_ESH (ff_v): near P max the closing
+     * held back the loop's opening, a reversal owed until FM_REV_MIN, and the line went over P
+     * max (docs/CONTROLLERS.md, the fifteenth round). Filtered: the wheel's jitter moves the
+     * target by about a percent a period. */
     if ((M->epk_now || (fm_hi_p && M->ef < -(int16_t)ff_v)) && (M->rf ^ fm_e) < 0)
         return;
     ff_d = MUL(M->rf >> FM_FF_RSH, M->kff);
@@ -282,12 +281,16 @@ CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
 
 /* The output stage: the motion owed plus this period's (Q15 share of full speed for a period),
  * limits and stops; below the smallest pulse it stays owed; a pulse is sent at the duty that
- * makes the motion against the running friction. */
+ * makes the motion against the running friction. At a reversal, the gain's rules (the file's
+ * header). The smallest pulses count two toward a stall (FM_STALL_BIG while the error is big: a
+ * valve stiffer than told leaves the flow off its target for seconds), those up to twice the
+ * smallest one (a valve stiffer than that, or a gain learnt that low, never sees it) one. */
 CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
 {
     uint16_t d, k;                  /* (duties up to 2 x 0.7 of full: 16 bits unsigned) */
     int8_t s;
     uint8_t c;
+    __bit lim, fl = 0;              /* fl: smaller reversals, at a steady target */
     m += ctl_carry;
     CTL_CLIP(m);
     CTL_STOP(m, ctl_in->valve_limit, CTL_CLOSE_BLOCKED);
@@ -301,6 +304,7 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         ctl_carry = (q15_t)m;       /* a reversal waits until it is worth more than the slack */
         return 0;
     }
+    lim = d - (uint16_t)M->rmin < ((uint16_t)M->rmin >> 1);    /* (a reversal: d >= rmin) */
     d = (uint16_t)ctl_drun + (uint16_t)MUL_R15((int16_t)d, ctl_run_span);
     k = (uint16_t)CTL_STICTION + (uint16_t)M->brk;
     if (d < k) {
@@ -318,32 +322,34 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
     fm_capd();
     d = ff_dq;
     if (s != M->dir && M->dir != 0) {
-        /* two half cycles in a row that swung the flow big, soon after each other: the loop is
-         * unstable, whatever the start-up is doing; a quarter off at once, or half in a start
-         * when the half cycle ended in FM_TOP_N periods at the top duty (a valve much faster
-         * than told; a stiff one's stick-slip swings at small drives) */
+        /* two half cycles in a row that swung big, soon after each other; the last at the top */
         c = (uint8_t)((c >= FM_TOP_N) << 1) | (M->epk > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT));
-        if ((c & 1) && M->big && M->rev_age <= FM_OSC_GAP && M->g > FM_G_MIN) {
-            M->g -= !fm_warm && c == 3 ? M->g >> 1 : M->g >> 2;
+        if ((c & 1) && M->big && M->rev_age <= FM_OSC_GAP) {
+            if (M->g > (fm_rlim ? FM_G_INIT / 2 : FM_G_MIN))
+                M->g -= !fm_warm && c == 3 ? M->g >> 1 : M->g >> 2;
+            else
+                fl = fm_rlim;
         } else if (M->rev_age <= FM_OSC_GAP && (fm_warm || fm_hi_p) && d > 2 * k
             && (e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
             /* (a pulse near the smallest: the valve's resolution, not the gain) */
             if (M->g > FM_G_MIN)
                 M->g -= M->g >> 3;
-            if (!M->moved && M->rmin > FM_REV_LOW && fm_warm)
-                M->rmin -= M->rmin >> 3;    /* a cycle at a steady target: smaller reversals */
+            fl = 1;
         }
+        if (fl && !M->moved && M->rmin > FM_REV_LOW && fm_warm)
+            M->rmin -= M->rmin >> 3;        /* a cycle at a steady target: smaller reversals */
+        fm_rlim = lim;
         M->big = c & 1;
         M->epk = 0;
         M->rev_age = 0;
         M->moved = 0;
         M->slow_n = 0;
+        fm_rl1 = 0;
+    } else {
+        fm_rlim &= !fm_rl1;         /* a second pulse after the reversal: the swing is the loop's */
+        fm_rl1 = 1;
     }
-    /* the smallest pulses count two toward a stall (FM_STALL_BIG while the error is big: a
-     * valve stiffer than told leaves the flow off its target for seconds), those up to twice
-     * the smallest one (a valve stiffer than that, or a gain learnt that low, would never see
-     * the smallest) one */
-    if (d <= 2 * k && s == M->dir) {
+    if (d <= 2 * k && s == M->dir) {    /* toward a stall */
         if (M->stall_n == 0)
             M->stall_y = ctl_in->flow_lpm_x100;
         if (M->stall_n < 250)

@@ -48,6 +48,8 @@ typedef struct {
     double stall_y;                 /* L/min: the flow when the stall count started */
     double epk;                     /* L/min: the largest abs error since the last reversal */
     int big;                        /* the half cycle before the last reversal swung big */
+    int rlim, rl1;                  /* the last reversal was under 1.5 rmin, with at most one pulse
+                                     * after it; a pulse followed it (ffmap.c fm_rlim, fm_rl1) */
     double brk;                     /* duty added to Min duty */
     double g;                       /* loop gain (1 = as told) */
     double g0;                      /* the loop gain when the loop (re)started */

@@ -106,6 +106,8 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->stall_y = fm->stall_y / 100.0;
     tw->epk = fm->epk / 100.0;
     tw->big = fm->big;
+    tw->rlim = fm_rlim;
+    tw->rl1 = fm_rl1;
     tw->brk = fm->brk / 32768.0;
     tw->g = fm->g / 256.0;
     tw->g0 = fm->g0 / 256.0;
@@ -290,6 +292,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->carry = mv;              /* a reversal waits until it is worth more than the slack */
     } else {
         o.near |= ctltw_near(fabs(mv), m->rmin, 0.002);
+        /* (its integers: |m| - rmin < rmin >> 1) */
+        int lim = floor(fabs(mv) * 32768) - m->rmin * 32768 < floor(m->rmin * 32768 / 2);
+        o.near |= s != m->dir && m->dir != 0 && ctltw_near(fabs(mv), 1.5 * m->rmin, 0.002);
         d = run + fabs(mv) * (1 - run);
         k = CTLTW_STICTION + m->brk;
         o.near |= ctltw_near(d, k, 0.002);
@@ -313,22 +318,35 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
                 int big = m->epk > q / (1 << FM_BIG_SHIFT);
                 o.near |= ctltw_near(d, 2 * k, 0.002);
                 o.near |= ctltw_near(m->epk, q / (1 << FM_BIG_SHIFT), 0.02);
-                if (big && m->big && m->rev_age <= FM_OSC_GAP && m->g > FM_G_MIN / 256.0) {
-                    m->g -= floor(m->g * 256 / (m->warm < FM_WARM && top ? 2 : 4)) / 256;
+                int smaller = 0;        /* smaller reversals (at a steady target) */
+                if (big && m->big && m->rev_age <= FM_OSC_GAP) {
+                    /* after a reversal near the smallest, the gain is cut only down to half of
+                     * where a new valve starts; below that the reversals are made smaller */
+                    if (m->g > (m->rlim ? FM_G_INIT / 2 : FM_G_MIN) / 256.0)
+                        m->g -= floor(m->g * 256 / (m->warm < FM_WARM && top ? 2 : 4)) / 256;
+                    else
+                        smaller = m->rlim;
                 } else if (m->rev_age <= FM_OSC_GAP && (m->warm >= FM_WARM || root < FM_P_HI_F)
                            && d > 2 * k && fabs(e) <= q) {
                     /* (cycles cut the gain in a start too over FM_P_HI_F's pressure; smaller
                      * reversals are learnt only after it) */
                     if (m->g > FM_G_MIN / 256.0)
                         m->g -= floor(m->g * 256 / 8) / 256;
-                    if (!m->moved && m->rmin > FM_REV_LOW / 32768.0 && m->warm >= FM_WARM)
-                        m->rmin -= floor(m->rmin * 32768 / 8) / 32768;
+                    smaller = 1;
                 }
+                if (smaller && !m->moved && m->rmin > FM_REV_LOW / 32768.0 && m->warm >= FM_WARM)
+                    m->rmin -= floor(m->rmin * 32768 / 8) / 32768;
+                m->rlim = lim;
                 m->big = big;
                 m->epk = 0;
                 m->rev_age = 0;
                 m->moved = 0;
                 m->slow_n = 0;
+                m->rl1 = 0;
+            } else if (m->rl1) {
+                m->rlim = 0;            /* a second pulse after the reversal */
+            } else {
+                m->rl1 = 1;
             }
             o.near |= ctltw_near(d, 2 * k, 0.002) || ctltw_near(d, k * 9 / 8, 0.002);
             if (d <= 2 * k && s == m->dir) {

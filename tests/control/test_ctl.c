@@ -746,6 +746,8 @@ static void test_ctl_ffmap_matches_twin(void **state)
                 assert_true(err < 12.0 / 32768);
                 assert_int_equal(ctl_st.fm.rest, o.rest);
                 assert_true(fabs(tw.g - ctl_st.fm.g / 256.0) < 1e-9);     /* the gain's rules */
+                assert_int_equal(fm_rlim, tw.rlim);     /* the last reversal near the smallest */
+                assert_int_equal(fm_rl1, tw.rl1);
                 checked++;
             }
             pulses += d != 0;
