@@ -184,8 +184,10 @@ uint8_t hil_byte(uint8_t b)
     hm.meter_total = total;
     hm.first = hm.on == HIL_WAIT;
     gap = (uint8_t)(seq - hm.seq - 1u);             /* frames that never came, or came damaged */
-    if (!hm.first && gap)
-        hm.lost = (uint32_t)hm.lost + gap > 0xFFFFu ? 0xFFFFu : (uint16_t)(hm.lost + gap);
+    if (!hm.first && gap) {
+        total = (uint16_t)(hm.lost + gap);
+        hm.lost = total < gap ? 0xFFFFu : total;    /* (wrapped: it stops at 65535) */
+    }
     hm.seq = seq;
     hm.on = HIL_RUN;
     return 1;

@@ -164,6 +164,15 @@ static void test_hil_counts_lost_frames_and_loses_no_edge_with_them(void **state
     link_run_ms(100);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.lost, 3);
+    /* the count stops at 65535: frames whose sequence byte steps back by one (254 lost each) */
+    uint8_t seq = 6;
+    for (uint32_t i = 0; i < 260; i++) {
+        seq = (uint8_t)(seq - 1u);
+        frame(seq, 700 + 100 * i, 0, 0, MA(4.0));
+        link_run_ms(100);
+        assert_int_equal(take_frames(&o), 1);
+        assert_int_equal(o.lost, i < 257 ? 3 + 254 * (i + 1) : 0xFFFF);
+    }
 }
 
 static void test_hil_holds_the_pins_off_and_reports_the_outputs(void **state)
