@@ -91,6 +91,7 @@ typedef struct {
 #define FM_FF_LEAD 32               /* kff under this: the flow follows the speed by itself (a pump
                                      * on the wheels learns at most 20, one on a fixed PTO 56-404
                                      * after its first ramps): the speed without its lead (speed.h) */
+#define FM_FF_OFF_SH 3              /* ... and, the wheel unlearnt, only a ramp 2^this past the band teaches it */
 #define FM_LEAD 3                   /* after a start-up closing: the integral on the flow this many
                                      * periods ahead while it comes toward the target ... */
 #define FM_LEAD_DRIVE Q15(0.5)      /* ... and the valve runs beyond this duty */

@@ -126,7 +126,9 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * kff, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
  * the flow lags a ramp of the target (its change filtered over about 2^FM_FF_RSH periods beyond
  * FM_FF_RAMP) by more than target >> FM_FF_ESH, and falls by 2 each period it leads; nothing in
- * the first FM_WARM periods (the start-up's own error), at rest or against a stop. Only a
+ * the first FM_WARM periods (the start-up's own error), at rest or against a stop. While kff is
+ * under FM_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
+ * wheel steps the target by a few percent a pulse, which the flow never follows (read as lag). Only a
  * change of the target that the speed made counts, the speed moving the same way (not the
  * minimum-flow rule, not a section, not the rate). The drive is kff times that change filtered
  * over about 2^FM_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
@@ -160,8 +162,9 @@ static void fm_ff(void)
         return;
     ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FM_FF_ESH);
     ff_dq = fm_e < 0 ? -fm_e : fm_e;
-    if (fm_warm && !ctl_in->valve_limit && (M->rf > FM_FF_RAMP || M->rf < -FM_FF_RAMP)
-        && (uint16_t)ff_dq > ff_v) {
+    if (fm_warm && !ctl_in->valve_limit && (uint16_t)ff_dq > ff_v
+        && (uint16_t)(M->rf < 0 ? -M->rf : M->rf)
+               > (speed_plain && !speed_learnt ? ff_v << FM_FF_OFF_SH : FM_FF_RAMP)) {
         if ((M->rf ^ fm_e) >= 0) {          /* the same sign: the flow lags */
             if (M->kff < FM_FF_MAX)
                 M->kff += 2;
@@ -182,25 +185,23 @@ static void fm_ff(void)
 }
 
 /* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve
- * much faster than it was told, on a pump and bypass far bigger than the boom needs, moves the
- * flow by more in one period at full duty than the loop can see in time: the meter's lag, the
- * motor's coast and the backlash carry it past the target before the loop turns, and it swings
- * at full duty from nothing to twice the target (family plant 10 of SEED=62: a 1.64 s valve told
- * 4 s, a 144 L/min pump, 14.7 L/min at the boom). At full duty a smaller gain changes nothing; a
- * lower top speed does. After FM_CAP_N periods in a row at the cap one way, a period whose flow
- * moved that way by more than target >> FM_CAP_SH takes a quarter off the cap (down to
- * FM_CAP_MIN), one that moved by less than half of that gives an eighth back, as does the gain's
- * raise (a long run of error one way: the valve is slower than the cap lets it be). It never
- * goes under the smallest pulse. A valve that moves the flow by less never meets the threshold
- * and runs at full duty as before. Kept in RAM only: a valve this fast shows itself in its first swing. */
+ * much faster than told, on a pump and bypass far bigger than the boom needs, moves the flow by
+ * more in one period at full duty than the loop sees in time (the meter's lag, the motor's coast
+ * and the backlash carry it past the target), and it swings at full duty from nothing to twice
+ * the target (family plant 10 of SEED=62: a 1.64 s valve told 4 s, a 144 L/min pump, 14.7 L/min
+ * at the boom); at full duty a smaller gain changes nothing, a lower top speed does. After
+ * FM_CAP_N periods in a row at the cap one way, a period whose flow moved that way by more than
+ * target >> FM_CAP_SH takes a quarter off the cap (down to FM_CAP_MIN), one that moved by less
+ * than half of that gives an eighth back, as does the gain's raise (the valve is slower than the
+ * cap lets it be). Never under the smallest pulse; in RAM only (a valve this fast shows itself
+ * in its first swing). */
 static void fm_cap_up(void)
 {
     ff_v = M->cap + (M->cap >> 3) + 1;
     M->cap = ff_v > 255 ? 255 : (uint8_t)ff_v;
 }
 
-/* each period before the output stage: the flow's change, judged after FM_CAP_N periods at
- * the cap (ff_v, ff_dq: fm_ff is done with them, fm_gain_at_p not begun) */
+/* each period before the output stage: the flow's change, judged after FM_CAP_N at the cap (ff_v, ff_dq) */
 static void fm_cap(void)
 {
     ff_dq = ctl_in->flow_lpm_x100 - M->f1;

@@ -193,8 +193,8 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
 static __data hal_capture_t c;
 static __data uint32_t v;
 /* 1: the offsets are learnt and judged (a first turn's are judged at the edge that ends it,
- * after this step's speed: until then they may hold a speed change, not the wheel) */
-static __bit use_off;
+ * after this step's speed: until then they may hold a speed change, not the wheel); speed.h */
+__bit speed_learnt;
 
 /* x / 4096, rounded */
 static uint32_t r12(uint32_t x) __reentrant
@@ -217,7 +217,7 @@ static void speed_window(void) __reentrant
     sw.p[a] = (uint8_t)sp.pulses;
     if (sw.fill < SPEED_WIN)
         sw.fill++;
-    if (use_off || sw.fill <= SPEED_WIN_BACK)
+    if (speed_learnt || sw.fill <= SPEED_WIN_BACK)
         return;
     j = (a - SPEED_WIN_BACK) & (SPEED_WIN - 1u);
     if ((uint16_t)(sw.t[a] - sw.t[j]) > SPEED_WIN_MAX_T)
@@ -240,7 +240,7 @@ static void speed_ahead(void) __reentrant
 {
     static __data uint16_t vm, d;
     vm = (uint16_t)v;
-    if (use_off && sp.v_meas && !speed_plain) {
+    if (speed_learnt && sp.v_meas && !speed_plain) {
         d = (vm > sp.v_meas ? vm - sp.v_meas : sp.v_meas - vm) >> 2;
         if (d > (vm >> SPEED_AHEAD_MAX))
             d = vm >> SPEED_AHEAD_MAX;
@@ -255,7 +255,7 @@ uint16_t speed_step(void) __reentrant
     if (sp.gen != param_generation)
         speed_derive();
     hal_wheel_capture_take(&c);
-    use_off = sp.shift && !(sp.drift & SPEED_FIRST_TURN);
+    speed_learnt = sp.shift && !(sp.drift & SPEED_FIRST_TURN);
     if (c.rejected)
         sp.glitches += c.rejected;
     if (sp.since < 255)
@@ -304,7 +304,7 @@ uint16_t speed_step(void) __reentrant
             /* the next element is (1 + its offset - this one's) spacings away, once the
              * offsets are learnt (a turn's being learnt may hold a speed change) */
             uint8_t nx = sp.idx + 1u == sp.n ? 0 : sp.idx + 1u;
-            uint16_t w = use_off ? (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]) : 4096u;
+            uint16_t w = speed_learnt ? (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]) : 4096u;
             v = r12(um_muldiv(sp.k, w, hal_pca_now() - sp.last_pca));
             if (v < sp.v_x100)
                 sp.v_x100 = (uint16_t)v;

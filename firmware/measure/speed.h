@@ -56,6 +56,9 @@ uint16_t speed_step(void) __reentrant;
  * speed by itself. The flow controller sets it (ffmap.c: a pump on the wheels learns no speed
  * feed-forward); 0 after power-up and when another controller is selected (ctl.c). */
 extern __bit speed_plain;
+/* 1: the wheel's spacing errors are learnt: the speed no longer steps by them at each pulse
+ * (ffmap.c: until then a small change of the target teaches the feed-forward nothing while it is off) */
+extern __bit speed_learnt;
 /* Derive the constants of changed parameters now, so that the next step need not. */
 void speed_prepare(void);
 uint16_t speed_kmh_x100(void);

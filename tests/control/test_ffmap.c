@@ -13,44 +13,14 @@
 #include "params.h"
 #include "speed.h"
 #include "sim.h"
-#include "../app/helper_sim.h"
-
-/* best as a new controller from the default settings (nothing learnt): a seed's run of its own. */
-static void best_anew(void)
-{
-    params_defaults();
-    ctl_select(CTL_BEST);
-    ctl_reset(0);
-}
+#include "helper_ffmap.h"
 
 static int setup(void **state)
 {
     (void)state;
-    best_anew();
+    ffmap_anew();
     return 0;
 }
-
-/* A simulated sprayer from a scenario's text (its scenario outlives the run: helper_sim.c). */
-static void sim_from(sim_t *sim, const char *text)
-{
-    int live = 0;
-    helper_sim_load(sim, &live, text, "test_ffmap");
-}
-
-/* A whole run: its metrics; returns the alarms it raised. */
-static int run(const char *text, metrics_result_t *r)
-{
-    sim_t sim;
-    int alarms;
-    sim_from(&sim, text);
-    while (!sim_done(&sim))
-        sim_step(&sim);
-    sim_finish(&sim, r);
-    alarms = sim.metrics.n_alarms;
-    sim_free(&sim);
-    return alarms;
-}
-
 
 /* The highest pressure of eight runs of a new controller (seeds 1-8) of DURATION_S s at RATE
  * L/ha, the firmware told CONFIG ([config] lines, "" for its defaults), on the plant and drive
@@ -64,8 +34,8 @@ static double p_max_on_seeds(int duration_s, int rate, const char *config, const
         snprintf(text, sizeof text,
                  "[run]\nduration_s = %d\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = %d\n%s[plant]\n%s",
                  duration_s, seed, rate, config, plant);
-        best_anew();
-        *alarms += run(text, &r);
+        ffmap_anew();
+        *alarms += ffmap_run(text, &r);
         p_max = r.pressure_max_bar > p_max ? r.pressure_max_bar : p_max;
     }
     return p_max;
@@ -89,8 +59,8 @@ static double longest_off_stretch(const char *text, int *alarms)
 {
     sim_t sim;
     double run_s = 0, worst = 0;
-    best_anew();
-    sim_from(&sim, text);
+    ffmap_anew();
+    ffmap_sim_from(&sim, text);
     while (!sim_done(&sim)) {
         for (int i = 0; i < 100; i++)
             sim_step(&sim);
@@ -136,7 +106,7 @@ static void test_ffmap_over_pressure_start_settles_on_the_target(void **state)
         "[run]\nduration_s = 60\nseed = 5\n[config]\ncontroller = best\nrate_l_ha = 150\ngiven_speed_kmh = 6\n"
         "[plant]\npto_coupled = 0\nvalve_start_pos = 0\n[drive]\n0 0\n[events]\n30 given_speed_kmh 8\n";
     sim_t sim;
-    sim_from(&sim, text);
+    ffmap_sim_from(&sim, text);
     int saw_over = 0;
     double worst_late = 0, p_late = 0;
     while (sim_time_s(&sim) < 60) {
@@ -170,7 +140,7 @@ static void test_ffmap_holds_still_at_a_steady_target(void **state)
         "[plant]\nspeed_bounce_pct = 3\npump_pulsation_pct = 8\npressure_noise_lsb = 2\n"
         "[drive]\n0 0\n2 0\n2 6\n40 6\n40 9\n80 9\n80 5\n120 5\n";
     metrics_result_t r;
-    run(text, &r);
+    ffmap_run(text, &r);
     print_message("ffmap: %.1f reversals a minute, CV %.2f %%, dose (loop) %.3f %%\n", r.valve_reversals_per_min,
                   r.cv_pct, r.dose_ctl_pct);
     assert_true(r.valve_reversals_per_min < 25);
@@ -198,7 +168,7 @@ static void test_ffmap_a_section_switch_does_not_cut_the_gain(void **state)
     for (int t = 30; t < 200; t += 12)
         n += snprintf(text + n, sizeof text - (size_t)n, "%d sections_open %d\n", t, (t / 12) % 2 ? 18 : 30);
     metrics_result_t r;
-    int alarms = run(text, &r);
+    int alarms = ffmap_run(text, &r);
     print_message("ffmap, sections switched every 12 s on a 10.6 s valve told 4 s: gain %d (256: as told), "
                   "%d alarms, CV %.2f %%, %.1f reversals a minute\n", ctl_st.fm.g, alarms, r.cv_pct,
                   r.valve_reversals_per_min);
@@ -222,7 +192,7 @@ static void test_ffmap_does_not_hunt_on_an_untold_valve(void **state)
                  "[run]\nduration_s = 180\nseed = 7\n[config]\ncontroller = best\nrate_l_ha = 125\n[plant]\n%s"
                  "[drive]\n0 0\n2 0\n2 7\n60 7\n60 10\n120 10\n120 5\n180 5\n", plants[i]);
         metrics_result_t r;
-        run(text, &r);
+        ffmap_run(text, &r);
         print_message("ffmap, untold valve %d: %.1f reversals a minute, CV %.2f %%, dose (loop) %.3f %%\n", i,
                       r.valve_reversals_per_min, r.cv_pct, r.dose_ctl_pct);
         assert_true(r.valve_reversals_per_min < 50);
@@ -384,7 +354,7 @@ static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state
                  "110 10\n130 10\n130 5\n150 5\n150 9\n170 9\n170 6\n190 6\n190 10\n210 10\n210 5\n240 5\n",
                  pto[i]);
         metrics_result_t r;
-        run(text, &r);
+        ffmap_run(text, &r);
         kff[i] = ctl_st.fm.kff;
         plain[i] = speed_plain;
         cv[i] = r.cv_pct;
@@ -429,8 +399,8 @@ static void test_ffmap_the_feed_forward_does_not_follow_the_wheels_jitter(void *
                  "83.8 6.1\n83.8 10\n96.2 10\n96.2 6.3\n112.7 6.3\n112.7 9.6\n126.8 9.6\n126.8 7.9\n"
                  "136.2 7.9\n136.2 4.9\n146.8 4.9\n146.8 7.1\n162.3 7.1\n162.3 5.3\n181 5.3\n181 8.5\n"
                  "200.7 8.5\n200.7 6.4\n211 6.4\n211 7.8\n224.8 7.8\n224.8 4.1\n240 4.1\n", seed);
-        best_anew();
-        run(text, &r);
+        ffmap_anew();
+        ffmap_run(text, &r);
         sum += r.valve_reversals_per_min;
         worst = r.valve_reversals_per_min > worst ? r.valve_reversals_per_min : worst;
         assert_true(r.cv_pct < 4.0);

@@ -34,6 +34,7 @@ static uint32_t cyc_max, cyc_sum;
 #if defined(__SDCC)
 __xdata ctl_in_t ctl_src;
 __bit speed_plain;              /* speed.h's, which best sets: here without the wheel's module and its HAL */
+__bit speed_learnt;             /* ... and reads: 0, a wheel not learnt */
 #else
 static ctl_in_t ctl_src;
 #endif
