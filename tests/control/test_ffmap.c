@@ -10,7 +10,6 @@
 #include <cmocka.h>
 #include "ctl.h"
 #include "ctl_int.h"
-#include "params.h"
 #include "speed.h"
 #include "sim.h"
 #include "helper_ffmap.h"
