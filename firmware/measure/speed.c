@@ -103,7 +103,7 @@ void speed_init(void)
 }
 
 /* Element 0's edges time the wheel's turns (t_rev, and d_rev how much the last turn's time
- * changed from the one before). At a steady speed (the turn's time changed by at most 1/512)
+ * changed from the one before). At a steady speed (the turn's time changed by at most 1/2^SPEED_STEADY_SH)
  * and within a turn of that measurement, the span of `count` pulses just measured (sl_dt) should
  * be (count + off[new] - off[old]) t_rev / n: what it differs by moves the new element's offset
  * (element 0 is the zero; when it is the new one, the old one's moves instead). */
@@ -132,7 +132,7 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         t0_ok = 1;
         m = 0;
         err = sp.d_rev < 0 ? -sp.d_rev : sp.d_rev;
-        steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> 9);
+        steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> SPEED_STEADY_SH);
         /* The first turn's offsets are taken whole: if the speed changed in the turn they were
          * learnt in (or it could not be timed), they hold the change, not the wheel: learning
          * starts again. Edges off their learnt places through SPEED_BAD_TURNS turns in a row,

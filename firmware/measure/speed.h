@@ -38,6 +38,10 @@
 #define SPEED_WIN_MAX_T 2700u       /* ... 2 when those span more than this (PCA/256: 0.75 s) */
 #define SPEED_WIN_BACK 3u           /* periods back the speed is taken over, offsets unlearnt */
 #define SPEED_FIRST_TURN 0x80u      /* speed.c: the first turn of offsets was just learnt */
+#define SPEED_STEADY_SH 8u          /* a steady turn: its time within 1/2^this of the last one's
+                                     * (at 1/512 a wheel was learnt only at 28-72 s in some dynamic
+                                     * runs; at 1/128 offsets learnt while the tractor still gained
+                                     * speed held part of that gain: docs/CONTROLLERS.md) */
 #define SPEED_BAD_TURNS 3u          /* steady turns with an edge off its learnt place: relearn */
 #define SPEED_AHEAD_MAX 4u          /* speed_ahead moves the speed by at most 1/2^this of it */
 #define SPEED_TEETH_MAX 16u         /* most wheel pulses a turn (P_WHEEL_PPR) */

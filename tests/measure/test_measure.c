@@ -323,6 +323,42 @@ static void test_speed_learns_no_speed_change_begun_inside_a_turn(void **state)
     assert_true(sum <= 0.0005);
 }
 
+/* A dynamic run's start (family plant 90 of `make family SEED=105`: 9.8 km/h from 2 s), the
+ * tractor following with its 1 s lag on the spacing test's wheel. The offsets are learnt only from
+ * turns timed as steady, and the lag's tail moves a turn's time for several turns into the hold;
+ * until the wheel is learnt the speed is smoothed over several pulses and the speed's
+ * feed-forward learns nothing from a change under target / 16 (ffmap.c). With a turn steady
+ * within 1/512 of its time the wheel was learnt at 17.1 s here; within 1/256, at 15.4 s, a turn
+ * sooner (1/128 gave no sooner here, and in the paper's run offsets that held part of the tail).
+ * What is learnt from that tail is the wheel: from then on every period is within 0.3 % (+1 LSB). */
+static void test_speed_learns_the_wheel_a_turn_into_a_hold(void **state)
+{
+    double v = 0.0, x = 0.0, t = 0.0, learnt_t = -1.0, worst = 0.0;
+    uint64_t k = 1;
+    (void)state;
+    now_ns = 0;
+    for (int p = 0; p < 300; p++) {
+        double aim = p >= 20 ? 9.8 / 3.6 : 0.0;
+        now_ns += PERIOD_NS;
+        while (t * 1e9 < (double)now_ns) {          /* 0.1 ms steps of the tractor */
+            double a = (aim - v) / 1.0;             /* a 1 s lag, at most 0.5 m/s2 */
+            a = a > 0.5 ? 0.5 : a < -0.5 ? -0.5 : a;
+            v += a * 1e-4;
+            roll(v, &x, &t, &k, pattern);
+        }
+        hal_host_set_time_ns(now_ns);
+        uint16_t m = speed_step();
+        if (speed_learnt && learnt_t < 0)
+            learnt_t = t;
+        if (learnt_t >= 0)
+            worst = fmax(worst, fabs(m - v * 360.0) / (v * 360.0));
+    }
+    printf("# 9.8 km/h from standstill at 2 s: the wheel learnt at %.1f s; worst period error %.2f %% after\n",
+           learnt_t, 100 * worst);
+    assert_true(learnt_t > 0 && learnt_t < 16.0);
+    assert_true(worst <= 0.003 + 1.0 / 980);
+}
+
 /* The wheel of the spacing test at a steady 7 km/h, learnt; then a stone bends element 5 by 8 % of
  * a spacing. Its edge is then off its learnt place turn after turn at a steady speed, which a
  * speed change cannot explain: learning starts again, and from 20 turns after the bend every
@@ -641,6 +677,7 @@ int main(void)
         cmocka_unit_test_setup(test_speed_learns_a_wheel_whose_spans_differ_by_a_quarter, setup),
         cmocka_unit_test_setup(test_speed_does_not_learn_a_change_of_speed_as_spacing, setup),
         cmocka_unit_test_setup(test_speed_learns_no_speed_change_begun_inside_a_turn, setup),
+        cmocka_unit_test_setup(test_speed_learns_the_wheel_a_turn_into_a_hold, setup),
         cmocka_unit_test_setup(test_speed_learns_again_when_an_element_is_bent, setup),
         cmocka_unit_test_setup(test_speed_learns_again_a_first_turn_the_tractor_slowed_in, setup),
         cmocka_unit_test_setup(test_speed_between_pulses_does_not_use_a_half_learnt_turn, setup),
