@@ -103,10 +103,11 @@ void speed_init(void)
 }
 
 /* Element 0's edges time the wheel's turns (t_rev, and d_rev how much the last turn's time
- * changed from the one before). At a steady speed (the turn's time changed by at most 1/2^SPEED_STEADY_SH)
- * and within a turn of that measurement, the span of `count` pulses just measured (sl_dt) should
- * be (count + off[new] - off[old]) t_rev / n: what it differs by moves the new element's offset
- * (element 0 is the zero; when it is the new one, the old one's moves instead). */
+ * changed from the one before). At a steady speed (the turn's time changed by at most
+ * 1/2^SPEED_STEADY_SH) and within a turn of that measurement, the span of `count` pulses just
+ * measured (sl_dt) should be (count + off[new] - off[old]) t_rev / n: what it differs by moves
+ * the new element's offset (element 0 is the zero; when it is the new one, the old one's moves
+ * instead). */
 /* where an edge `count` pulses after another one sits against it, from the span dt between
  * them, in 1/4096 of a spacing past the even place: dt n 4096 / T - count 4096 */
 static int32_t spans(uint32_t dt, uint8_t count) __reentrant
