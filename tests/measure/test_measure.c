@@ -185,6 +185,18 @@ static void roll(double v, double *x, double *t, uint64_t *k, const double *pat)
         hal_host_wheel_edge((uint64_t)(*t * 1e9)), (*k)++;
 }
 
+/* The tractor on the spacing test's wheel, in 0.1 ms steps up to now_ns: its speed v (m/s)
+ * follows aim (m/s) with the plant's 1 s lag, at most 0.5 m/s2 (docs/SCENARIOS.md). */
+static void tractor_to_now(double aim, double *v, double *x, double *t, uint64_t *k)
+{
+    while (*t * 1e9 < (double)now_ns) {
+        double a = (aim - *v) / 1.0;
+        a = a > 0.5 ? 0.5 : a < -0.5 ? -0.5 : a;
+        *v += a * 1e-4;
+        roll(*v, x, t, k, pattern);
+    }
+}
+
 static void test_speed_learns_the_element_spacing_and_drops_bounce(void **state)
 {
     const double T = wheel_period_ns(7.0);
@@ -303,12 +315,7 @@ static void test_speed_learns_no_speed_change_begun_inside_a_turn(void **state)
     for (int p = 0; p < nh * 200; p++) {
         double aim = holds[p / 200] / 3.6;
         now_ns += PERIOD_NS;
-        while (t * 1e9 < (double)now_ns) {          /* 0.1 ms steps of the tractor */
-            double a = (aim - v) / 1.0;             /* a 1 s lag, at most 0.5 m/s2 */
-            a = a > 0.5 ? 0.5 : a < -0.5 ? -0.5 : a;
-            v += a * 1e-4;
-            roll(v, &x, &t, &k, pattern);
-        }
+        tractor_to_now(aim, &v, &x, &t, &k);
         hal_host_set_time_ns(now_ns);
         uint16_t m = speed_step();
         if (p >= 600 && p % 200 >= 100) {
@@ -340,12 +347,7 @@ static void test_speed_learns_the_wheel_a_turn_into_a_hold(void **state)
     for (int p = 0; p < 300; p++) {
         double aim = p >= 20 ? 9.8 / 3.6 : 0.0;
         now_ns += PERIOD_NS;
-        while (t * 1e9 < (double)now_ns) {          /* 0.1 ms steps of the tractor */
-            double a = (aim - v) / 1.0;             /* a 1 s lag, at most 0.5 m/s2 */
-            a = a > 0.5 ? 0.5 : a < -0.5 ? -0.5 : a;
-            v += a * 1e-4;
-            roll(v, &x, &t, &k, pattern);
-        }
+        tractor_to_now(aim, &v, &x, &t, &k);
         hal_host_set_time_ns(now_ns);
         uint16_t m = speed_step();
         if (speed_learnt && learnt_t < 0)
