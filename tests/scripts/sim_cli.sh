@@ -89,8 +89,9 @@ printf 'a,b\n1,2\n' > "$tmp/x.csv"
 out=$($PY tools/plot.py flow "$tmp/x.csv" "$tmp/x.png" 2>&1); rc=$?
 if [ $rc -ne 0 ] && echo "$out" | grep -q "lacks the column" && [ ! -e "$tmp/x.png" ]; then ok "plot.py refuses a CSV without its columns"; else nok "plot.py refuses bad CSV" "$out"; fi
 
-# tools/bound.py: the step scorer on the trace reproduces the sim's figures, and the ideal follower gets worse
-# as it sees the pump later (0, 0.1, 0.2, 0.3 s), never better than flow = target
+# tools/bound.py: the step scorer on the trace reproduces the sim's figures (start_s too), and the ideal
+# follower gets worse as it sees the pump later (0, 0.1, 0.2, 0.3 s), never better than flow = target;
+# its start from parked open takes longer once it sees the pump 0.3 s late
 out=$($PY tools/bound.py --run "$SIM" scenarios/paper_dynamic_150.scn 2>&1)
 if echo "$out" | $PY -c '
 import re, sys
@@ -98,13 +99,16 @@ t = sys.stdin.read()
 d = re.search(r"largest per-step difference: overshoot (\S+) %, settle (\S+) s", t)
 assert d and float(d.group(1)) < 0.05 and float(d.group(2)) < 0.05, "trace vs sim"
 def row(name):
-    m = re.search(re.escape(name) + r"\s+(\S+)\s+(\S+)\n", t)
-    return float(m.group(1)), float(m.group(2))
+    m = re.search(re.escape(name) + r"\s+(\S+)\s+(\S+)\s+(\S+)\n", t)
+    return float(m.group(1)), float(m.group(2)), float(m.group(3))
 rows = [row("flow = target (no plant limit)"), row("ideal, from parked open")] + \
        [row("ideal, parked open, pump seen %.1f s late" % s) for s in (0.1, 0.2, 0.3)]
 for a, b in zip(rows, rows[1:]):
     assert b[0] >= a[0] - 1e-9 and b[1] >= a[1] - 1e-9, (a, b)
 assert rows[-1][0] > rows[1][0] and rows[-1][1] > rows[1][1], "lateness costs"
+assert rows[0][2] == 0.0 and rows[-1][2] > rows[1][2] > 0.0, "the start: none for flow = target, later when late"
+trace, js = row("the run'"'"'s own controller (trace)"), row("the run'"'"'s own controller (sim JSON)")
+assert abs(trace[2] - js[2]) < 0.05, "start_s: trace vs sim"
 '; then
     ok "tools/bound.py: the trace scores as the sim; the ideal follower worsens as it sees the pump later"
 else
