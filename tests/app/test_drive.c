@@ -206,6 +206,50 @@ static void test_drive_the_start_up_closing_stops_a_period_ahead(void **state)
     assert_true(start_sum / 8 <= 3.5);
 }
 
+/* The clean start of issue 14: the operator switches the boom on while driving at a steady
+ * 8 km/h, at power-up, so the bypass stands parked open (no spraying pressure to hold yet); the
+ * paper's sprayer at 150 L/ha, the pump on the wheels and on a fixed PTO, seeds 1-8 of each. The
+ * flow (sampled every 0.1 s) comes within 5 % of the target 1.2-1.9 s after the boom opens and
+ * is at most 7.5 % over it in the first 10 s (the issue asks 5 % and no more than 10 % over). */
+static void test_drive_a_start_at_a_steady_speed_is_clean(void **state)
+{
+    (void)state;
+    static char text[512];
+    double reach_max = 0, over_max = 0;
+    for (int pto = 0; pto <= 1; pto++) {
+        for (int seed = 1; seed <= 8; seed++) {
+            snprintf(text, sizeof text,
+                     "[run]\nduration_s = 20\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 150\n"
+                     "[plant]\npto_coupled = %d\n[drive]\n0 8\n20 8\n[events]\n0 sections_open 0\n"
+                     "10 sections_open 36\n", seed, pto);
+            helper_sim_load(&sim, &sim_live, text, "test_drive");
+            sim_row_t row;
+            double open_at = -1, reach = -1, over = 0;
+            while (sim_time_s(&sim) < 19.9) {
+                for (int i = 0; i < 100; i++)
+                    sim_step(&sim);
+                sim_row(&sim, &row);
+                if (!row.spray_on || row.target_lpm <= 0)
+                    continue;
+                if (open_at < 0)
+                    open_at = row.t_s;
+                if (reach < 0 && fabs(row.boom_lpm - row.target_lpm) <= 0.05 * row.target_lpm)
+                    reach = row.t_s - open_at;
+                over = fmax(over, (row.boom_lpm - row.target_lpm) / row.target_lpm * 100.0);
+            }
+            assert_true(open_at >= 10.0 && open_at < 10.2);   /* the boom opened when told */
+            assert_true(reach > 0);
+            reach_max = fmax(reach_max, reach);
+            over_max = fmax(over_max, over);
+            helper_sim_end(&sim, &sim_live);
+        }
+    }
+    printf("# the boom on at 8 km/h from a parked-open bypass, seeds 1-8 of each pump: within 5 %% of "
+           "the target after %.1f s at most, at most %.1f %% over it\n", reach_max, over_max);
+    assert_true(reach_max <= 2.5);
+    assert_true(over_max <= 10.0);
+}
+
 /* A pump on the wheels (coupled PTO) and an 11.3 s valve (plant 59 of `make family SEED=61`):
  * the tractor halts for 3 s with the boom spraying under the minimum-flow rule, then goes on
  * to 9.2 km/h. While it stands, the pump gives nothing and the meter reads nothing: closing
@@ -408,6 +452,7 @@ int main(void)
         cmocka_unit_test_teardown(test_drive_without_the_pressure_sensor_the_bypass_parks_open, teardown),
         cmocka_unit_test_teardown(test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up, teardown),
         cmocka_unit_test_teardown(test_drive_the_start_up_closing_stops_a_period_ahead, teardown),
+        cmocka_unit_test_teardown(test_drive_a_start_at_a_steady_speed_is_clean, teardown),
         cmocka_unit_test_teardown(test_drive_a_halt_with_the_pump_on_the_wheels_keeps_the_bypass, teardown),
         cmocka_unit_test_teardown(test_drive_a_fast_valve_near_p_max_stops_closing_ahead_of_it, teardown),
         cmocka_unit_test_teardown(test_drive_near_p_max_a_closing_drive_is_held_to_twice_min_duty, teardown),
