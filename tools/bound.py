@@ -7,8 +7,8 @@ usage: bound.py TRACE.csv --samples SAMPLES.csv [--travel S] [--scenario SCN] [-
 TRACE.csv is a 0.1 s trace of the simulator (sim --csv), SAMPLES.csv its step series (sim --samples). The target flow, the PTO speed, the
 boom switch and the open nozzles in it do not depend on the controller, so any controller's
 run will do. --run runs SIM_BIN on SCENARIO (controller 'best' unless given) to a temporary
-trace first (--seed N: the sim's --seed, another noise draw of the run), reads the scenario's [plant] keys and checks the step metrics against the sim's
-own JSON.
+trace first (--seed N: the sim's --seed, another noise draw of the run), reads the scenario's
+[plant] keys and checks the step metrics against the sim's own JSON.
 
 The ideal controller knows the true pump flow and the target exactly, has no measurement delay,
 no backlash, no stiction, and moves the bypass valve at most at the valve's full speed (one
@@ -22,7 +22,9 @@ simulator's own step code (build/host/bin/steps) against the run's reference and
 
 The summary adds the same follower seeing the pump's speed 0.1, 0.2 and 0.3 s late (it aims at
 the position that suits the target now and the pump as it was then): what the meter, the control
-period and the valve's response cost a controller that is otherwise ideal.
+period and the valve's response cost a controller that is otherwise ideal. Each row gives the
+steps' mean overshoot and settling, and start_s (the boom's opening until the flow stays within
+5 % of the firmware's target for 2 s).
 
 Left out, both on the kind side (the bound is optimistic): the pump pulsation, the line
 compliance (the pressure follows the valve at once instead of in about 0.1 s) and the turbine's
@@ -477,8 +479,8 @@ def main(argv):
     print("  over 1 s windows (the target's 0.1 s staircase averaged): %.1f %%, largest %.3f stroke/s at t = %.1f s"
           % (100 * f1, m1, t1))
 
-    # start_s: the start from standstill is no step (docs/SCENARIOS.md); the ideal follower's starts
-    # show what the target's own staircase leaves a flow that sees it late
+    # start_s: the start is no step (docs/SCENARIOS.md), scored on its own; the late followers'
+    # starts show what seeing the pump late costs it
     print("\nsummary: %-34s %12s %12s %9s" % ("", "overshoot %", "settle s", "start s"))
     print("  %-42s %12s %12s %9s" % ("goal", "<= 1.00", "<= 0.50", "<= 3.0"))
     print("  %-42s %12s %12s %9s" % ("flow = target (no plant limit)", fmt(o_pf), fmt(s_pf), fmt(start_pf, 1)))
