@@ -158,6 +158,23 @@ static void test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up(void 
     }
 }
 
+/* The next 0.1 s row in which the boom sprays toward a target, before `until`; the first such
+ * row's time into *open_at (while it is still negative). 0: none left. */
+static int spraying_row(sim_row_t *row, double *open_at, double until)
+{
+    while (sim_time_s(&sim) < until) {
+        for (int i = 0; i < 100; i++)
+            sim_step(&sim);
+        sim_row(&sim, row);
+        if (!row->spray_on || row->target_lpm <= 0)
+            continue;
+        if (*open_at < 0)
+            *open_at = row->t_s;
+        return 1;
+    }
+    return 0;
+}
+
 /* The paper's start (coupled PTO, the default plant, the bypass parked open, the tractor from
  * 0 to 6 km/h): the start-up closing stops once the meter reads 7/8 of the target a period
  * ahead (the flow plus its last rise), so the flow the valve's coast and the line's filling
@@ -178,14 +195,7 @@ static void test_drive_the_start_up_closing_stops_a_period_ahead(void **state)
         helper_sim_load(&sim, &sim_live, text, "test_drive");
         sim_row_t row;
         double open_at = -1, in_since = -1, start_s = -1, over = 0;
-        while (sim_time_s(&sim) < 19.9) {
-            for (int i = 0; i < 100; i++)
-                sim_step(&sim);
-            sim_row(&sim, &row);
-            if (!row.spray_on || row.target_lpm <= 0)
-                continue;
-            if (open_at < 0)
-                open_at = row.t_s;
+        while (spraying_row(&row, &open_at, 19.9)) {
             if (row.t_s < open_at + 4.0)
                 over = fmax(over, (row.boom_lpm - row.target_lpm) / row.target_lpm * 100.0);
             if (fabs(row.boom_lpm - row.target_lpm) > 0.05 * row.target_lpm)
@@ -225,14 +235,7 @@ static void test_drive_a_start_at_a_steady_speed_is_clean(void **state)
             helper_sim_load(&sim, &sim_live, text, "test_drive");
             sim_row_t row;
             double open_at = -1, reach = -1, over = 0;
-            while (sim_time_s(&sim) < 19.9) {
-                for (int i = 0; i < 100; i++)
-                    sim_step(&sim);
-                sim_row(&sim, &row);
-                if (!row.spray_on || row.target_lpm <= 0)
-                    continue;
-                if (open_at < 0)
-                    open_at = row.t_s;
+            while (spraying_row(&row, &open_at, 19.9)) {
                 if (reach < 0 && fabs(row.boom_lpm - row.target_lpm) <= 0.05 * row.target_lpm)
                     reach = row.t_s - open_at;
                 over = fmax(over, (row.boom_lpm - row.target_lpm) / row.target_lpm * 100.0);
@@ -241,7 +244,6 @@ static void test_drive_a_start_at_a_steady_speed_is_clean(void **state)
             assert_true(reach > 0);
             reach_max = fmax(reach_max, reach);
             over_max = fmax(over_max, over);
-            helper_sim_end(&sim, &sim_live);
         }
     }
     printf("# the boom on at 8 km/h from a parked-open bypass, seeds 1-8 of each pump: within 5 %% of "
