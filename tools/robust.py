@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """robust.py: best and bp_pid on valves that differ from the defaults, told or not told.
 
-usage: robust.py SIM_BIN [--seeds A-B] [--only NAME,NAME...]
+usage: robust.py SIM_BIN [--seeds A-B] [--only NAME,NAME...] [--scenarios NAME,NAME...]
 Each case changes the simulated valve ([plant] keys of docs/SCENARIOS.md) and says what the firmware is
 told about it ([config] keys: its Valve time, Min duty and Backlash parameters). The scenarios
 are the 150 L/ha ones of scenarios/ (target steps, the paper's run coupled and with a fixed PTO,
 the field run), rewritten to a temporary directory; both controllers run on the same seeds
 (default 1-8) and the means are printed best/bp_pid, with W where best's mean is worse. Figures:
 target steps: mean overshoot %, mean settling s, mean |sse| %; the runs: |dose error| %, CV %,
-worst zones %; all: motor reversals a minute. Two runs at a time; stdlib only.
+worst zones %; all: motor reversals a minute. --scenarios: other scenarios of scenarios/ (by name,
+without .scn) in place of the 150 L/ha ones. Two runs at a time; stdlib only.
 """
 import json
 import os
@@ -33,6 +34,10 @@ CASES = [
     ("stiction1", ["valve_stiction_duty = 0.1", "valve_running_duty = 0.06"], [], "a freer valve, not told"),
     ("travel8_told", ["valve_travel_s = 8"], ["valve_travel_s = 8"], "a slow valve, told"),
     ("travel2_told", ["valve_travel_s = 2"], ["valve_travel_s = 2"], "a fast valve, told"),
+    ("issue14", ["pump_pulsation_pct = 8", "speed_bounce_pct = 3", "pressure_noise_lsb = 8"], [],
+     "issue 14's rough sprayer: 8 % pump pulsation, 3 % wheel bounce, noisy pressure"),
+    ("issue14_fast", ["pump_pulsation_pct = 8", "speed_bounce_pct = 3", "pressure_noise_lsb = 8",
+                      "valve_travel_s = 1.5"], [], "... with a 1.5 s valve, the firmware not told"),
 ]
 SCENARIOS = ["target_step_150", "paper_dynamic_150", "paper_dynamic_150_fixed_pto", "field_3220m_150"]
 
@@ -88,11 +93,17 @@ def main():
         cases = [c for c in CASES if c[0] in want]
         if not cases:
             sys.exit("robust: no case named %s" % ",".join(want))
+    scenarios = SCENARIOS
+    if "--scenarios" in args:
+        scenarios = args[args.index("--scenarios") + 1].split(",")
+        missing = [n for n in scenarios if not os.path.isfile("scenarios/%s.scn" % n)]
+        if missing:
+            sys.exit("robust: no scenarios/%s.scn" % missing[0])
     print("best/bp_pid on other valves: means over seeds %d-%d (W: best worse)" % (seeds[0], seeds[-1]))
     with tempfile.TemporaryDirectory(prefix="robust_") as tmp:
         for name, plant, config, what in cases:
             print("%s: %s" % (name, what))
-            for scn in SCENARIOS:
+            for scn in scenarios:
                 with open("scenarios/%s.scn" % scn) as f:
                     src = rewrite(f.read(), plant, config)
                 path = os.path.join(tmp, "%s_%s.scn" % (scn, name))
