@@ -36,6 +36,8 @@ CASES = [
     ("travel2_told", ["valve_travel_s = 2"], ["valve_travel_s = 2"], "a fast valve, told"),
     ("issue14", ["pump_pulsation_pct = 8", "speed_bounce_pct = 3", "pressure_noise_lsb = 8"], [],
      "issue 14's rough sprayer: 8 % pump pulsation, 3 % wheel bounce, noisy pressure"),
+    ("issue14_nobounce", ["pump_pulsation_pct = 8", "pressure_noise_lsb = 8"], [],
+     "... without the bounce (what the bounce costs: issue14 against this)"),
     ("issue14_fast", ["pump_pulsation_pct = 8", "speed_bounce_pct = 3", "pressure_noise_lsb = 8",
                       "valve_travel_s = 1.5"], [], "... with a 1.5 s valve, the firmware not told"),
 ]
