@@ -12,13 +12,14 @@ seeds A-B (default 1-64) with each and with the unpatched firmware. Prints per v
 `start_s`, the seeds over 3 s, the mean step overshoot and CV. Nothing in the tree is changed;
 the builds are deleted at the end. docs/CONTROLLERS.md (the twenty-sixth round) quotes it.
 """
-import json
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
+
+from robust import run
 
 # (label, ORACLE_LAG in 0.1 s samples, ORACLE_HELD); None: the firmware as it is
 VARIANTS = [
@@ -34,15 +35,6 @@ VARIANTS = [
     ("true speed 0.3 s late, taken at pulses", 3, 1),
     ("true speed 0.5 s late, taken at pulses", 5, 1),
 ]
-
-
-def run(job):
-    sim, scn, seed = job
-    out = subprocess.run([sim, "--scenario", scn, "--controller", "best", "--seed", str(seed)],
-                         capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit("speed_oracle: %s --seed %d failed:\n%s" % (sim, seed, out.stderr))
-    return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def main():
@@ -81,7 +73,7 @@ def main():
             subprocess.run(["make", "-s", "BUILD=" + build, "CC=" + cc, sim], cwd=tree, check=True,
                            stdout=subprocess.DEVNULL)
             with ThreadPoolExecutor(2) as ex:
-                res = list(ex.map(run, [(sim, scn, s) for s in seeds]))
+                res = list(ex.map(run, [(sim, scn, "best", s) for s in seeds]))
             n = len(res)
             print("| %s | %.2f s | %d of %d | %.3f %% | %.3f %% |" % (
                 label, sum(r["start_s"] for r in res) / n, sum(r["start_s"] > 3 for r in res), n,
