@@ -62,6 +62,7 @@ typedef struct {
 #define FM_KD Q12(0.8)
 #define FM_DB_IN 8                  /* deadband: the valve rests once the filtered error <= target >> 8 */
 #define FM_DB_OUT 7                 /* ... and wakes beyond target >> 7, or when the target moves */
+#define FM_DB_PAST 10               /* ... past the target the way it last moved, within target >> 10 */
 #define FM_MOVE_SHIFT 6             /* the target moves: |dq| > target >> 6 in one period */
 #define FM_REST_KI Q12(0.15)        /* resting, a slow integral only, on the filtered error */
 #define FM_STALL_N 6                /* smallest pulses one way without the flow moving: a stall
@@ -215,6 +216,8 @@ extern const ctl_in_t *ctl_in;
  * followed it the same way: what the half cycle swung is the valve's resolution, not the loop
  * gain (ffmap.c fm_out); fm_rl1: a pulse followed it */
 extern __bit fm_rlim, fm_rl1;
+/* ffmap: the target last moved up (fm_deadband: past it, the valve rests only nearer) */
+extern __bit fm_up;
 extern __data uint8_t ctl_first;    /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */

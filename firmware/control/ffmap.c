@@ -39,8 +39,8 @@ static void fm_cap_up(void);
  *     its smallest reversal, not its noise.
  * The proportional term acts on the error, so a change of the target (the speed) moves the valve
  * at once, and a feed-forward learnt from this sprayer (fm_ff) moves it with the speed where
- * the pump does not follow the wheels; the speed is smoothed over several pulses until the
- * wheel's spacing is learnt (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT
+ * the pump does not follow the wheels; until the wheel's spacing is learnt the speed is a
+ * tracker's filter on the edges' positions (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT
  * periods after a (re)start: the flow rising as the line fills is not the valve's doing; and for
  * FM_P_WAIT periods after the number of nozzles open changes it sees no change of the error (the
  * boom's flow steps by itself then, fm_step).
@@ -236,7 +236,12 @@ static void fm_capd(void)
     }
 }
 
-/* Deadband with hysteresis on the filtered error; the target moving wakes the loop. */
+/* Deadband with hysteresis on the filtered error; the target moving wakes the loop. Past the
+ * target the way it last moved (fm_up), the valve rests only within target >> FM_DB_PAST: a
+ * flow resting past a new target is that change's overshoot, and at a small change a rest
+ * 0.3 % past the level was 2 % of the change for the whole hold (docs/CONTROLLERS.md, the
+ * twenty-seventh round); on the side the flow came from it rests as before. */
+__bit fm_up;
 CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
 {
     int16_t c, dq = (int16_t)(q - M->t1);
@@ -245,11 +250,13 @@ CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
     c = M->ef < 0 ? (int16_t)-M->ef : M->ef;
     c2 = (uint16_t)(dq < 0 ? -dq : dq) > (uint16_t)(q >> FM_MOVE_SHIFT);  /* |dq| 2^6 > q (q >= 0) */
     M->moved |= c2;
+    if (c2)
+        fm_up = dq > 0;
     if (c2 || (M->rest && c > (q >> FM_DB_OUT))) {
         if (M->rest && (ctl_carry > 0) != (e > 0))
             ctl_carry = 0;          /* waking: what the slow integral owed the other way is stale */
         M->rest = 0;
-    } else if (!M->rest && c <= (q >> FM_DB_IN) && q > 0) {
+    } else if (!M->rest && c <= (q >> ((M->ef < 0) == fm_up ? FM_DB_PAST : FM_DB_IN)) && q > 0) {
         M->rest = 1;
         ctl_carry = 0;              /* entering the band: nothing owed */
         M->stall_n = 0;

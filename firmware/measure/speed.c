@@ -38,14 +38,19 @@ static __bit have_edge, t0_ok, steady;
 /* the newest span, measured by speed_step (speed_learn checks it) */
 static uint32_t sl_dt;
 
-/* The last SPEED_WIN periods that brought pulses: the newest edge's PCA time / 256 and the low
- * byte of the pulse count. Until the wheel's offsets are learnt one period's speed carries two
- * elements' spacing errors whole; over w pulses they weigh 1/w (and cancel over a turn). */
+/* Until the offsets are learnt: a tracker of the wheel's position (speed_track). The spacing
+ * errors of one turn are independent of each other, so the edges' positions carry white noise,
+ * which a filter on the position averages; a span's speed carries two elements' errors and the
+ * next span the same one again, and a window of spans lags by half its length. v: the pulse
+ * rate at the newest edge, 1/4096 pulse per 512 PCA/256 ticks (SPEED_TK_V_MAX: over the range,
+ * not used); e: the estimate's position there less the pulses counted, 1/4096 pulse; a: the
+ * rate's change, v's units per PCA/256 tick x8192; n: edges tracked. */
 static struct {
-    uint16_t t[SPEED_WIN];
-    uint8_t p[SPEED_WIN];
-    uint8_t at, fill;
-} sw;
+    uint16_t v;
+    int16_t e;
+    int16_t a;
+    uint8_t n;
+} tk;
 
 /* the learnt offsets back to nothing (the turn's timing is kept) */
 static void speed_restart_offsets(void) __reentrant
@@ -62,7 +67,6 @@ static void speed_restart_offsets(void) __reentrant
 static void speed_forget_offsets(void) __reentrant
 {
     speed_restart_offsets();
-    sw.fill = 0;
     t0_ok = 0;
     sp.t_rev = 0;
     steady = 0;             /* no learning before a turn is timed again */
@@ -203,29 +207,85 @@ static uint32_t r12(uint32_t x) __reentrant
     return (x + 2048u) >> 12;
 }
 
-/* Until a turn of offsets is learnt: the speed over the last SPEED_WIN_BACK periods that brought
- * pulses (2 when those span more than SPEED_WIN_MAX_T: at a crawl the window's lag costs more
- * than the spacing errors), in place of the newest period's `v`. A period longer than 2^22
- * ticks (4.5 s) starts the window anew, so a span fits 16 bits of PCA/256. */
-static void speed_window(void) __reentrant
+/* The tracker's working values in the direct RAM (the cheapest addressing; speed_ahead's, which
+ * is done with them when the tracker runs): the span (PCA/256), 2^23 over it, the rate's change
+ * over it; and `v`, the step's, once the step is done with it. */
+static __data uint16_t tk_t;
+static __data int16_t tk_r, tk_x;
+#define tk_w (*(__data int32_t *)&v)
+
+/* tk_w clipped to the rate's range */
+static uint16_t speed_tk_clip(void) __reentrant
 {
-    static __data uint8_t a, j, n;
-    if (c.last - sp.last_pca >= 0x400000ul)
-        sw.fill = 0;
-    a = (sw.at + 1u) & (SPEED_WIN - 1u);
-    sw.at = a;
-    sw.t[a] = (uint16_t)(c.last >> 8);
-    sw.p[a] = (uint8_t)sp.pulses;
-    if (sw.fill < SPEED_WIN)
-        sw.fill++;
-    if (speed_learnt || sw.fill <= SPEED_WIN_BACK)
+    return tk_w < 0 ? 0 : tk_w > (int32_t)SPEED_TK_V_MAX ? SPEED_TK_V_MAX : (uint16_t)tk_w;
+}
+
+/* tk_x: the rate's change over tk_t at the acceleration */
+static void speed_tk_dv(void) __reentrant
+{
+    tk_x = (int16_t)(MUL(tk.a, tk_t) >> 13);
+}
+
+/* The tracker's gains by the edges it has tracked (tk.n, 1 .. SPEED_TK_FILL_N): for its first
+ * edges after the two that set it going, those of the expanding-memory polynomial filter (the
+ * least-squares quadratic through every edge so far), g 3 (3n^2 + 3n + 2) / N, h 18 (2n + 1) / N,
+ * k 30 / N with N = (n + 1)(n + 2)(n + 3) for n = 2 .. 6; then the steady ones (speed.h). g and h
+ * x256, k x16384. */
+static __code const int16_t tk_gain[SPEED_TK_FILL_N][3] = {
+    {256, 384, 8192}, {243, 269, 4096}, {227, 197, 2341}, {210, 151, 1463}, {195, 119, 975},
+    {SPEED_TK_ALPHA, SPEED_TK_BETA, SPEED_TK_GAMMA},
+};
+
+static int16_t speed_tk_gain(uint8_t k) __reentrant
+{
+    return tk_gain[tk.n - 1][k];
+}
+
+/* tk_w within 16 bits */
+static int16_t speed_tk_16(void) __reentrant
+{
+    return tk_w > 32767 ? 32767 : tk_w < -32767 ? -32767 : (int16_t)tk_w;
+}
+
+/* An edge: c.count pulses over sl_dt. The tracker's alpha-beta-gamma step on the position
+ * (speed.h SPEED_TK_*); after a span over SPEED_TK_T_MAX (a crawl, a stop) it starts again from
+ * rest at this edge. */
+static void speed_track(void) __reentrant
+{
+    if (sl_dt >= ((uint32_t)SPEED_TK_T_MAX << 8) || sl_dt <= 0x10000ul) {
+        tk.n = 0;
         return;
-    j = (a - SPEED_WIN_BACK) & (SPEED_WIN - 1u);
-    if ((uint16_t)(sw.t[a] - sw.t[j]) > SPEED_WIN_MAX_T)
-        j = (a - 2u) & (SPEED_WIN - 1u);    /* slow: fewer periods, less lag */
-    n = sw.p[a] - sw.p[j];
-    if (n < 15u)
-        v = um_muldiv(sp.k, n, (uint32_t)(uint16_t)(sw.t[a] - sw.t[j]) << 8);
+    }
+    tk_t = (uint16_t)(sl_dt >> 8);
+    if (tk.n == 0) {
+        /* the second edge: the span's rate, no acceleration yet (exact on two edges) */
+        tk_w = ((uint32_t)c.count << 21) / tk_t;
+        tk.v = speed_tk_clip();
+        tk.a = tk.e = 0;
+        tk.n = 1;
+        return;
+    }
+    tk_r = (int16_t)(0x800000ul / tk_t);
+    /* the edge's position less the one predicted from the last edge, (v + dv / 2) t, within 16 bits */
+    speed_tk_dv();
+    tk_w = (int32_t)tk.v + (tk_x >> 1);
+    tk_w = ((int32_t)c.count << 12) - tk.e - (int32_t)(UMUL(speed_tk_clip(), tk_t) >> 9);
+    tk_w = speed_tk_16();
+    /* on the steady gains (the first edges fitted), an edge over half a spacing from its place is
+     * a pulse missed or extra (bounce the HAL let through), not the wheel: only what is left of a
+     * whole pulse counts */
+    if (tk.n == SPEED_TK_FILL_N)
+        tk_w = (int16_t)((uint16_t)tk_w << 4) >> 4;
+    tk.e = (int16_t)-(MUL((int16_t)tk_w, 256 - speed_tk_gain(0)) >> 8);
+    /* the residual as a rate over the span (r 2^9 / t; tk_t is done with), then the rate and
+     * the acceleration */
+    tk_t = (uint16_t)(MUL((int16_t)tk_w, tk_r) >> 14);
+    tk_w = (int32_t)tk.v + tk_x + (MUL((int16_t)tk_t, speed_tk_gain(1)) >> 8);
+    tk.v = speed_tk_clip();
+    tk_w = (int32_t)tk.a + (MUL((int16_t)(MUL((int16_t)tk_t, tk_r) >> 14), speed_tk_gain(2)) >> 9);
+    tk.a = speed_tk_16();
+    if (tk.n < SPEED_TK_FILL_N)
+        tk.n++;
 }
 
 /* A span's speed is the speed at its middle, half a span before its newest edge. While the
@@ -239,7 +299,8 @@ __bit speed_plain;
 
 static void speed_ahead(void) __reentrant
 {
-    static __data uint16_t vm, d;
+#define vm tk_t
+#define d (*(__data uint16_t *)&tk_x)
     vm = (uint16_t)v;
     if (speed_learnt && sp.v_meas && !speed_plain) {
         d = (vm > sp.v_meas ? vm - sp.v_meas : sp.v_meas - vm) >> 2;
@@ -248,6 +309,8 @@ static void speed_ahead(void) __reentrant
         v = vm > sp.v_meas ? vm + d : vm - d;
     }
     sp.v_meas = vm;
+#undef vm
+#undef d
 }
 
 uint16_t speed_step(void) __reentrant
@@ -269,6 +332,8 @@ uint16_t speed_step(void) __reentrant
         nw = (uint8_t)w;
         sp.pulses += c.count;
         sp.quiet = 0;
+        if (!have_edge)
+            tk.n = 0;               /* the tracker starts again from this edge */
         if (have_edge) {
             sl_dt = c.last - sp.last_pca;
             /* the distance the span covers, in 1/4096 of a pulse spacing: each element's
@@ -281,8 +346,6 @@ uint16_t speed_step(void) __reentrant
                 sp.glitches++;
             } else {
                 sp.idx = nw;
-                if (sp.n > 1)
-                    speed_window();
                 speed_ahead();
                 /* the rise allowed since the last measurement, period by period */
                 uint32_t lim = (uint32_t)sp.v_x100 + UMUL(SPEED_SLEW_X100, sp.since);
@@ -290,6 +353,8 @@ uint16_t speed_step(void) __reentrant
                     v = lim;
                 sp.v_x100 = (uint16_t)v;
                 sp.since = 0;
+                if (sp.n > 1)
+                    speed_track();      /* (the last use of v in this period's edge) */
             }
         }
         sp.idx = nw;
@@ -305,7 +370,7 @@ uint16_t speed_step(void) __reentrant
             /* the next element is (1 + its offset - this one's) spacings away, once the
              * offsets are learnt (a turn's being learnt may hold a speed change) */
             uint8_t nx = sp.idx + 1u == sp.n ? 0 : sp.idx + 1u;
-            uint16_t w = speed_learnt ? (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]) : 4096u;
+            uint16_t w = speed_learnt ? (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]) : SPEED_TK_NEXT;
             v = r12(um_muldiv(sp.k, w, hal_pca_now() - sp.last_pca));
             if (v < sp.v_x100)
                 sp.v_x100 = (uint16_t)v;
@@ -318,6 +383,21 @@ uint16_t speed_step(void) __reentrant
         } else {
             sp.v_x100 = 0;
         }
+    }
+    if (tk.n == SPEED_TK_FILL_N)
+        tk.a -= tk.a >> SPEED_TK_DECAY;     /* (the first edges' fit takes it as constant) */
+    /* Offsets unlearnt: the tracker's speed, carried on between edges but never past the bound
+     * the edge not yet come sets (v, a spacing of SPEED_TK_NEXT) */
+    if (!speed_learnt && have_edge && tk.n >= SPEED_TK_OUT_N && tk.v < SPEED_TK_V_MAX) {
+        /* the rate now, carried on from the newest edge at the acceleration, under the bound
+         * v when no edge came (tk_r; tk_w is v) */
+        tk_r = c.count || v > 32767u ? 32767 : (int16_t)v;
+        tk_w = hal_pca_now() - sp.last_pca;
+        tk_t = tk_w >= ((int32_t)SPEED_TK_T_MAX << 8) ? SPEED_TK_T_MAX : (uint16_t)(tk_w >> 8);
+        speed_tk_dv();
+        tk_w = (int32_t)tk.v + tk_x;
+        tk_t = (uint16_t)(UMUL(speed_tk_clip(), (uint16_t)(sp.k >> 14)) >> 15);     /* k v / 2^29 */
+        sp.v_x100 = tk_t < (uint16_t)tk_r ? tk_t : (uint16_t)tk_r;
     }
     if (sp.v_x100 < SPEED_ZERO_X100)
         sp.v_x100 = 0;

@@ -24,7 +24,15 @@
  * element's offset from its even place is learnt at steady speed (the same element's edge
  * one turn apart gives the turn's time, against which the span since the previous edge reads
  * the two offsets' difference) and taken out of every span, so one period measures the speed
- * as a whole turn would. A pulse sooner than a quarter of the period at 1.5 times the speed is
+ * as a whole turn would. Until they are learnt (the first turns, and after every restart of the
+ * learning) the speed is a tracker's (speed.c speed_track): an alpha-beta-gamma filter on the
+ * edges' positions, whose spacing errors are white within a turn, carried on between edges at
+ * the acceleration it reads (which decays over about 1.6 s: a tractor levels off) and never past
+ * the speed at which the next edge would have come. It starts on the expanding-memory gains (the
+ * least-squares quadratic through the edges so far) and settles on SPEED_TK_*'s; a speed taken
+ * over a window of spans lags by half the window, which at a start from standstill left the
+ * target 5-14 % under the truth for a second and a half (docs/CONTROLLERS.md, the twenty-seventh
+ * round). A pulse sooner than a quarter of the period at 1.5 times the speed is
  * dropped by the HAL (bounce, interference) and counted as a glitch.
  * The distance per pulse is P_WHEEL (0.1 mm); its 100 m calibration counts
  * speed_pulses() over a measured 100 m: P_WHEEL = 1000000 / pulses.
@@ -34,9 +42,31 @@
 #define SPEED_SLEW_X100 108u        /* 3 m/s^2 over 100 ms = 1.08 km/h */
 #define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
 #define SPEED_LOST_X100 200u        /* pulses that stop above 2 km/h: a lost sensor, not a stop */
-#define SPEED_WIN 4u                /* periods with pulses the speed window keeps (a power of 2) */
-#define SPEED_WIN_MAX_T 2700u       /* ... 2 when those span more than this (PCA/256: 0.75 s) */
-#define SPEED_WIN_BACK 3u           /* periods back the speed is taken over, offsets unlearnt */
+#ifndef SPEED_TK_ALPHA
+#define SPEED_TK_ALPHA 166         /* the tracker (speed.c, offsets unlearnt): position gain 0.65, /256 */
+#endif
+#ifndef SPEED_TK_BETA
+#define SPEED_TK_BETA 77            /* ... rate gain 0.3, /256 */
+#endif
+#ifndef SPEED_TK_GAMMA
+#define SPEED_TK_GAMMA 492          /* ... acceleration gain 0.03, x 16384 (speed.c's units) */
+#endif
+#define SPEED_TK_T_MAX 7200u        /* ... spans over 2 s (PCA/256): start again */
+#ifndef SPEED_TK_DECAY
+#define SPEED_TK_DECAY 4u           /* ... the acceleration decays by 1/2^this a period (1.6 s) */
+#endif
+#ifndef SPEED_TK_FILL_N
+#define SPEED_TK_FILL_N 6u         /* ... edges on the expanding-memory gains first (speed.c) */
+#endif
+#ifndef SPEED_TK_OUT_N
+#define SPEED_TK_OUT_N 3u          /* ... edges tracked before its speed is used (the span's before) */
+#endif
+#define SPEED_TK_V_MAX 60000u       /* ... the rate's range: 103 pulses a second (40 km/h) */
+#ifndef SPEED_TK_NEXT
+#define SPEED_TK_NEXT 4352u         /* unlearnt, the next edge may come up to 1/16 of a spacing past
+                                     * its even place: the speed between edges stays under the
+                                     * speed at which it would have come */
+#endif
 #define SPEED_FIRST_TURN 0x80u      /* speed.c: the first turn of offsets was just learnt */
 #define SPEED_STEADY_SH 8u          /* a steady turn: its time within 1/2^this of the last one's
                                      * (at 1/512 a wheel was learnt only at 28-72 s in some dynamic

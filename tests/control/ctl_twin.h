@@ -34,6 +34,7 @@ void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], cons
 #define CTLTW_FM_REST_KI (FM_REST_KI / 4096.0)
 #define CTLTW_FM_DB_IN (1 << FM_DB_IN)      /* rest once the filtered error <= target / 256 */
 #define CTLTW_FM_DB_OUT (1 << FM_DB_OUT)    /* wake beyond target / 128 */
+#define CTLTW_FM_DB_PAST (1 << FM_DB_PAST)  /* past the target the way it moved: rest within target / 1024 */
 #define CTLTW_FM_MOVE (1 << FM_MOVE_SHIFT)  /* the target moves: |dq| > target / 64 */
 #define CTLTW_STICTION (param_v[P_VALVE_BRK] / 100.0)       /* ctl.c ctl_stiction: Min duty, % */
 #define CTLTW_RUN (CTLTW_STICTION * CTL_RUN_NUM / 16.0 > 0.45 ? 0.45 : CTLTW_STICTION * CTL_RUN_NUM / 16.0)
@@ -44,6 +45,7 @@ void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], cons
 typedef struct {
     double e1, e2, ef, t1;          /* L/min */
     int rest, dir, stall_n, warm, rev_age, slow_n, brk_age, moved;
+    int up;                         /* the target last moved up (ffmap.c fm_up) */
     double rmin;                    /* motion owed the other way that makes a reversal */
     double stall_y;                 /* L/min: the flow when the stall count started */
     double epk;                     /* L/min: the largest abs error since the last reversal */

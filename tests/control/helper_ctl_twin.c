@@ -108,6 +108,7 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->big = fm->big;
     tw->rlim = fm_rlim;
     tw->rl1 = fm_rl1;
+    tw->up = fm_up;
     tw->brk = fm->brk / 32768.0;
     tw->g = fm->g / 256.0;
     tw->g0 = fm->g0 / 256.0;
@@ -161,7 +162,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
 {
     ctltw_fm_out_t o = {0, 0, 0};
     double q = in->target, e = ctltw_clamp(q - in->flow, -CTLTW_E_MAX, CTLTW_E_MAX);
-    double dq, c, du, mv, d, k, run = CTLTW_RUN;
+    double dq, c, du, mv, d, k, db, run = CTLTW_RUN;
     int s, capc, hi_t;
     unsigned long root = ctltw_root_at_p(in->pressure);   /* fm_gain_at_p's, once a step */
     if (m->first) {
@@ -193,14 +194,16 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
     m->ef = (round(m->ef * 100) + floor((round(e * 100) - round(m->ef * 100) + 2) / 4)) / 100;
     c = fabs(m->ef);
     o.near |= ctltw_near(fabs(dq) * CTLTW_FM_MOVE, q, 0.02 * CTLTW_FM_MOVE);
-    o.near |= ctltw_near(c, q / (m->rest ? CTLTW_FM_DB_OUT : CTLTW_FM_DB_IN), 0.03);
     if (fabs(dq) * CTLTW_FM_MOVE > q)
-        m->moved = 1;
+        m->moved = 1, m->up = dq > 0;
+    /* past the target the way it last moved, the valve rests only nearer */
+    db = (m->ef < 0) == (m->up != 0) ? CTLTW_FM_DB_PAST : CTLTW_FM_DB_IN;
+    o.near |= ctltw_near(c, q / (m->rest ? CTLTW_FM_DB_OUT : db), 0.03);
     if (fabs(dq) * CTLTW_FM_MOVE > q || (m->rest && c > q / CTLTW_FM_DB_OUT)) {
         if (m->rest && (m->carry > 0) != (e > 0))
             m->carry = 0;
         m->rest = 0;
-    } else if (!m->rest && c <= q / CTLTW_FM_DB_IN && q > 0) {
+    } else if (!m->rest && c <= q / db && q > 0) {
         m->rest = 1;
         m->carry = 0;
         m->stall_n = 0;

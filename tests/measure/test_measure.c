@@ -106,22 +106,25 @@ static void test_speed_falls_as_the_missing_pulse_allows_and_is_zero_at_standsti
     for (int i = 0; i < 40; i++) {
         advance(&w, NULL);
         uint16_t v = speed_step();
-        double bound = 0.3927 * 3.6 / (((double)now_ns - last_edge) * 1e-9) * 100.0;
+        /* (the wheel's spacing not learnt yet, the next element may be up to SPEED_TK_NEXT) */
+        double bound = 0.3927 * SPEED_TK_NEXT / 4096.0 * 3.6 / (((double)now_ns - last_edge) * 1e-9) * 100.0;
         assert_true(v <= prev);                 /* never rises without a pulse */
         assert_true(v <= bound + 1.0);          /* at most what the missing pulse allows */
         prev = v;
         if (v == 0 && zero_at < 0)
             zero_at = i;
     }
-    /* 0.5 km/h = 0.3927 m in 2.83 s: zero by then */
+    /* 0.5 km/h = 0.3927 x 17/16 m in 3.0 s: zero by then */
     assert_true(zero_at >= 0);
-    assert_true(((double)(zero_at + 1) * 1e8 + (double)now_ns - 40e8 - last_edge) < 2.95e9);
+    assert_true(((double)(zero_at + 1) * 1e8 + (double)now_ns - 40e8 - last_edge) < 3.1e9);
     assert_true(speed_quiet_periods() >= 40);
 }
 
-/* latency, offsets not learnt yet: the old-speed pulse still due, the window's intervals at
- * the new speed (SPEED_WIN_BACK periods with pulses), the period */
-static void test_speed_follows_a_change_within_the_window(void **state)
+/* Offsets not learnt yet, an even wheel: a step of 4 -> 6 km/h (no tractor does it: 0.55 m/s in
+ * a period) is a jump of the tracker's position error, which its gains (speed.h SPEED_TK_*) take
+ * out over a few edges, passing the new speed by some percent on the way (the acceleration it
+ * reads in the jump); it settles within 1 % */
+static void test_speed_tracker_follows_a_step_and_settles(void **state)
 {
     train_t w = {0};
     (void)state;
@@ -133,16 +136,20 @@ static void test_speed_follows_a_change_within_the_window(void **state)
         advance(&w, NULL);
         speed_step();
     }
-    w.period_ns = wheel_period_ns(6.0);     /* 1.5 km/h a period would be a slew, this is a step */
-    int t_ok = -1;
-    for (int i = 0; i < 20; i++) {
+    w.period_ns = wheel_period_ns(6.0);
+    int t_in = -1, v_max = 0;
+    for (int i = 0; i < 60; i++) {
         advance(&w, NULL);
-        if (abs(speed_step() - 600) <= 1 && t_ok < 0)
-            t_ok = i + 1;
+        int v = speed_step();
+        v_max = v > v_max ? v : v_max;
+        if (abs(v - 600) > 6)
+            t_in = -1;
+        else if (t_in < 0)
+            t_in = i + 1;
     }
-    printf("# speed step 4 -> 6 km/h: measured after %d periods (0.35 s + %u x 0.24 s of pulse intervals)\n",
-           t_ok, SPEED_WIN_BACK);
-    assert_true(t_ok > 0 && t_ok * 1e8 <= wheel_period_ns(4.0) + SPEED_WIN_BACK * wheel_period_ns(6.0) + 2e8);
+    printf("# speed step 4 -> 6 km/h: within 1 %% from %d periods on, at most %.2f km/h\n", t_in, v_max / 100.0);
+    assert_true(t_in > 0 && t_in <= 30);
+    assert_true(v_max <= 660);
 }
 
 static void test_speed_rejects_a_burst_of_impossible_pulses(void **state)
@@ -169,8 +176,8 @@ static void test_speed_rejects_a_burst_of_impossible_pulses(void **state)
 
 /* A wheel of 12 elements whose positions are off by a fixed pattern (+-3 % of a spacing, summing
  * to zero over a turn), at a steady 7 km/h: a single period would read the pattern as speed, up
- * to 5 % off; until the offsets are learnt the speed is taken over SPEED_WIN_BACK periods
- * (at most 2 % off with this pattern, still more than 1 %); once they are (after 10 turns) every
+ * to 5 % off; until the offsets are learnt the tracker's filter on the edges' positions takes
+ * most of it out (at most 2 % off with this pattern, still more than 1 %); once they are (after 10 turns) every
  * period is within 0.3 % (+1 LSB). A bounce 0.5 ms after every fifth pulse is dropped at the input and counted,
  * and the speed does not move. */
 static const double pattern[12] = {0.03, -0.02, 0.01, -0.03, 0.02, 0.0, -0.01, 0.025, -0.015, 0.005, -0.02, 0.005};
@@ -673,7 +680,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_speed_is_measured_from_periods_at_4_7_11_kmh, setup),
         cmocka_unit_test_setup(test_speed_falls_as_the_missing_pulse_allows_and_is_zero_at_standstill, setup),
-        cmocka_unit_test_setup(test_speed_follows_a_change_within_the_window, setup),
+        cmocka_unit_test_setup(test_speed_tracker_follows_a_step_and_settles, setup),
         cmocka_unit_test_setup(test_speed_rejects_a_burst_of_impossible_pulses, setup),
         cmocka_unit_test_setup(test_speed_learns_the_element_spacing_and_drops_bounce, setup),
         cmocka_unit_test_setup(test_speed_learns_a_wheel_whose_spans_differ_by_a_quarter, setup),
