@@ -33,7 +33,7 @@ typedef struct {
         char entry[ENTRY_MAX + 1];  /* the number being typed (edit, tank calibration) */
         con_io_t io;                /* the I/O test's window (go() clears the entry first) */
     } u;
-    const char *msg;                /* the message on the bottom line, 0 for none ... */
+    const __code char *msg;         /* the message on the bottom line, 0 for none ... */
     uint8_t msg_range;              /* ... or the parameter whose range it shows, NO_RANGE */
     uint16_t msg_until_ms;          /* hal_ms() low 16 bits: messages and redraws are short */
     uint16_t next_draw_ms;
@@ -48,11 +48,12 @@ extern console_t con;
 
 /* text helpers and number entry (console_view.c, console.c); all __reentrant: both files keep
  * their locals on the stack */
-void con_say(const char *s) __reentrant;
+void con_say(const __code char *s) __reentrant;
 void con_say_none(void) __reentrant;
 uint8_t con_msg_on(void) __reentrant;
-void con_cat(const char *s) __reentrant;
-void con_start(const char *s) __reentrant;
+void con_cat_ram(const char *s) __reentrant;
+void con_cat(const __code char *s) __reentrant;
+void con_start(const __code char *s) __reentrant;
 /* fmt: CON_TRIM (no trailing zeros after the point) or CON_DROP(k): v / 10^k rounded, without a
  * divide (v + 10^k / 2 formatted with k more decimals, those digits cut off again) */
 #define CON_TRIM 1
@@ -60,7 +61,7 @@ void con_start(const char *s) __reentrant;
 void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt) __reentrant;
 void con_right_align(uint8_t from) __reentrant;
 uint8_t con_is_choice(uint8_t id) __reentrant;
-const char *con_choice_name(uint8_t id, uint16_t v) __reentrant;
+const __code char *con_choice_name(uint8_t id, uint16_t v) __reentrant;
 void con_cat_value(uint8_t id, uint16_t v) __reentrant;
 void con_say_range(uint8_t id) __reentrant;
 void con_draw_msg(void) __reentrant;

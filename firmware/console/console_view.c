@@ -20,7 +20,7 @@
 #include "totals.h"
 
 /* ---- small text helpers ---------------------------------------------------------------- */
-void con_say(const char *s)
+void con_say(const __code char *s)
 {
     con.msg = s;
     con.msg_range = NO_RANGE;
@@ -40,7 +40,7 @@ uint8_t con_msg_on(void)
 
 /* The bottom-line screens put a whole line together in `line` (con_at: where the next text
  * goes), then screen_line() it: each column is written once, so only real changes reach the LCD. */
-void con_cat(const char *s)
+void con_cat_ram(const char *s)
 {
     uint8_t at = con_at;
     while (*s && at < SCREEN_COLS)
@@ -49,8 +49,15 @@ void con_cat(const char *s)
     con_at = at;
 }
 
+/* the same for a text in the code memory, as nearly all are: its callers pass two bytes, not a
+ * generic pointer's three */
+void con_cat(const __code char *s)
+{
+    con_cat_ram(s);
+}
+
 /* a new line, starting with s */
-void con_start(const char *s)
+void con_start(const __code char *s)
 {
     con_at = 0;
     con_cat(s);
@@ -83,7 +90,7 @@ void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt)
     }
     while (width-- > n)
         con_cat(" ");
-    con_cat(num);
+    con_cat_ram(num);
 }
 
 /* move line[from..] to the right end of the row, spaces in between */
@@ -109,7 +116,7 @@ uint8_t con_is_choice(uint8_t id)
     return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
 }
 
-const char *con_choice_name(uint8_t id, uint16_t v)
+const __code char *con_choice_name(uint8_t id, uint16_t v)
 {
     if (id == P_MODE)
         return v ? "Manual" : "Auto";
@@ -175,7 +182,7 @@ uint8_t con_apply(uint8_t id, uint16_t v)
 
 /* ---- screens ------------------------------------------------------------------------------- */
 
-static void draw_bottom(const char *otherwise)
+static void draw_bottom(const __code char *otherwise)
 {
     if (con_msg_on())
         con_draw_msg();
@@ -332,7 +339,7 @@ static void draw_edit(void)
     con_right_align(4);             /* the value after "now " */
     con_show(1);
     con_start("new ");
-    con_cat(con.u.entry);
+    con_cat_ram(con.u.entry);
     con_cat("_");
     if (pi->unit[0]) {
         con_cat(" ");
@@ -375,7 +382,7 @@ static void draw_cal(void)
         draw_bottom("C:cancel");
     } else if (con_step == 2) {             /* tank: litres sprayed */
         con_start("Litres ");
-        con_cat(con.u.entry);
+        con_cat_ram(con.u.entry);
         con_cat("_");
         con_show(2);
         draw_bottom("D:ok C:clear");

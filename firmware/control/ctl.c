@@ -55,7 +55,7 @@ static const __code char nm_aog[] = "aog";
 static const __code char nm_raven[] = "raven";
 #endif
 
-const char *ctl_name(uint8_t id)
+const __code char *ctl_name(uint8_t id)
 {
     switch (id) {
     case CTL_PID: return nm_pid;

@@ -63,6 +63,6 @@ void ctl_prepare(void);
 /* The gain (0 kp, 1 ki, 2 kd) the controller used in its last step, Q12, for logs and traces. */
 int16_t ctl_gain(uint8_t i);
 /* Name of a controller for the console and the logs ("pid", "fuzzy_pid", "bp_pid", "ffmap", "aog", "raven"). */
-const char *ctl_name(uint8_t id);
+const __code char *ctl_name(uint8_t id);
 
 #endif

@@ -7,7 +7,7 @@
 /* Append to the line being composed: a character, a string, v / 10^drop in decimal (truncated).
  * What does not fit (SERIAL_TX_MAX, less the line's end) is dropped. */
 void serial_put_c(char c) __reentrant;
-void serial_put_s(const char *s) __reentrant;
+void serial_put_s(const __code char *s) __reentrant;
 void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant;
 
 #endif

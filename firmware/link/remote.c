@@ -22,7 +22,7 @@ static uint8_t rv_due;
 const __code char link_e_cmd[] = "CMD", link_e_arg[] = "ARG", link_e_num[] = "NUM";
 
 /* ---- parsing ------------------------------------------------------------------------------ */
-const char *remote_command(const __xdata char *line) __reentrant
+const __code char *remote_command(const __xdata char *line) __reentrant
 {
     uint16_t v = 0;
     uint8_t n = 0, c;

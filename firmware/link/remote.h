@@ -26,7 +26,7 @@
 
 /* A line that starts with '$': 0 when it was taken (its answers are queued), else the reason
  * for our ERR line ("REMOTE", "CMD", "ARG", "NUM", "WINDOW"). */
-const char *remote_command(const __xdata char *line) __reentrant;
+const __code char *remote_command(const __xdata char *line) __reentrant;
 /* The error words both parsers answer with (one copy in the code memory; serial.c's too). */
 extern const __code char link_e_cmd[], link_e_arg[], link_e_num[];
 /* The next queued Raven line, composed with serial_put_* (linebuf.h; CR LF not included): 1, or 0 when

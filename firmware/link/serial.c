@@ -58,7 +58,7 @@ void serial_put_c(char c) __reentrant
         se.buf[se_n++] = c;
 }
 
-void serial_put_s(const char *s) __reentrant
+void serial_put_s(const __code char *s) __reentrant
 {
     while (*s)
         tx_c(*s++);
@@ -147,7 +147,7 @@ static const __xdata char *number(const __xdata char *p, __idata uint16_t *v) __
     return p;
 }
 
-static void reply_err(const char *why) __reentrant
+static void reply_err(const __code char *why) __reentrant
 {
     se_n = 0;
     tx_s("ERR ");
@@ -190,7 +190,7 @@ static const __code command_t commands[] = {
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
 /* "OK <word>", the numbers (tx_sp_u32) to follow */
-static void ok(const char *word) __reentrant
+static void ok(const __code char *word) __reentrant
 {
     tx_s("OK ");
     tx_s(word);
@@ -305,7 +305,7 @@ static uint8_t line_ok(uint8_t n) __reentrant
 static uint8_t answer(void) __reentrant
 {
     const __xdata char *p = se.buf + 3;
-    const char *why;
+    const __code char *why;
     const __code command_t *cmd = commands;
     uint8_t n = se_n, c;
     uint16_t a = 0, b = 0;

@@ -418,12 +418,12 @@ uint16_t diag_alarms(void)
     return dg.alarms;
 }
 
-const char *diag_code(uint8_t bit) __reentrant
+const __code char *diag_code(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? codes[bit] : "";
 }
 
-const char *diag_text(uint8_t bit) __reentrant
+const __code char *diag_text(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? texts[bit] : "";
 }
@@ -434,12 +434,12 @@ static const char __code *const __code reset_texts[] = {
     "Reset: power-on", "Reset: watchdog", "Reset:brown-out", "Reset: reset pin"
 };
 
-const char *diag_reset_code(void)
+const __code char *diag_reset_code(void)
 {
     return hal_reset_cause() <= HAL_RESET_OTHER ? reset_codes[hal_reset_cause()] : "?";
 }
 
-const char *diag_reset_text(void)
+const __code char *diag_reset_text(void)
 {
     return hal_reset_cause() <= HAL_RESET_OTHER ? reset_texts[hal_reset_cause()] : "Reset: ?";
 }

@@ -71,12 +71,12 @@ uint16_t diag_nozzle_pressure_kpa(int16_t flow_x100, uint8_t open_nozzles) __ree
 void diag_set_nozzles(uint8_t open_nozzles) __reentrant;
 /* Latch the internal fault. */
 void diag_internal_fault(void);
-const char *diag_code(uint8_t bit);
-const char *diag_text(uint8_t bit);
+const __code char *diag_code(uint8_t bit);
+const __code char *diag_text(uint8_t bit);
 /* The reset cause (hal_reset_cause): "WATCHDOG" for the serial link's BOOT line, and a line
  * of at most 16 characters for the LCD ("Reset: watchdog"). */
-const char *diag_reset_code(void);
-const char *diag_reset_text(void);
+const __code char *diag_reset_code(void);
+const __code char *diag_reset_text(void);
 
 /* The meter reads under a quarter of what the nozzles pass at this pressure, this period (the
  * METER_LOST rule before its 1 s of persistence): the control stops trusting the meter at once. */

@@ -96,7 +96,7 @@ static const char __code *const __code why_texts[] = {
     "", "Out of range", "Tank min>=size", "P start>=P max", "Meter K:too fast"
 };
 
-const char *param_why_text(uint8_t why)
+const __code char *param_why_text(uint8_t why)
 {
     return why <= PARAM_X_METER ? why_texts[why] : "";
 }

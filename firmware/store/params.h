@@ -94,7 +94,7 @@ uint8_t param_set(uint8_t id, uint16_t v) __reentrant;
 /* Set one value checking its range only (a whole set being loaded: check params_cross after). */
 uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
 /* At most 16 characters on why a value was refused ("Tank min>=size"); "" for PARAM_OK. */
-const char *param_why_text(uint8_t why) __reentrant;
+const __code char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id (and, for Valve cal, its dead band digit is 1-9). */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */

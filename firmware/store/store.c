@@ -406,7 +406,7 @@ void store_status_clear(void)
     status = STORE_OK;
 }
 
-const char *store_status_text(uint8_t st)
+const __code char *store_status_text(uint8_t st)
 {
     if (st >= STORE_CROSS)
         return param_why_text((uint8_t)(st - STORE_CROSS + PARAM_X_TANK));

@@ -83,6 +83,6 @@ uint8_t store_status(void);
 void store_status_clear(void);
 /* One line (at most 16 characters) explaining a status, "" for STORE_OK (the cross-check's
  * reason for STORE_CROSS + n). */
-const char *store_status_text(uint8_t st);
+const __code char *store_status_text(uint8_t st);
 
 #endif
