@@ -54,11 +54,13 @@ uint8_t con_msg_on(void) __reentrant;
 void con_cat_ram(const char *s) __reentrant;
 void con_cat(const __code char *s) __reentrant;
 void con_start(const __code char *s) __reentrant;
-/* fmt: CON_TRIM (no trailing zeros after the point) or CON_DROP(k): v / 10^k rounded, without a
- * divide (v + 10^k / 2 formatted with k more decimals, those digits cut off again) */
-#define CON_TRIM 1
-#define CON_DROP(k) ((k) << 1)
-void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt) __reentrant;
+/* form: the decimals shown (0..3), or'ed with CON_TRIM (no trailing zeros after the point) or
+ * CON_DROP(k): v / 10^k rounded, without a divide (v + 10^k / 2 formatted with k more decimals,
+ * those digits cut off again). One byte, not three: a push less at each of the many calls. */
+#define CON_DEC_MASK 3u
+#define CON_TRIM 4u
+#define CON_DROP(k) ((k) << 3)
+void con_cat_num(uint32_t v, uint8_t width, uint8_t form) __reentrant;
 void con_right_align(uint8_t from) __reentrant;
 uint8_t con_is_choice(uint8_t id) __reentrant;
 const __code char *con_choice_name(uint8_t id, uint16_t v) __reentrant;

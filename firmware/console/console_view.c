@@ -70,13 +70,13 @@ static void con_show(uint8_t row)
 }
 
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
- * is; fmt: CON_TRIM or CON_DROP(k) (console_int.h) */
-void con_cat_num(uint32_t v, uint8_t width, uint8_t decimals, uint8_t fmt)
+ * is; form: the decimals, | CON_TRIM or CON_DROP(k) (console_int.h) */
+void con_cat_num(uint32_t v, uint8_t width, uint8_t form)
 {
     static const __code uint16_t half[4] = {0, 5, 50, 500};
     char num[FMT_MAX];
-    uint8_t n, drop = (uint8_t)(fmt >> 1);
-    n = fmt_u32((__idata char *)num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)(fmt & CON_TRIM));
+    uint8_t n, drop = (uint8_t)(form >> 3), decimals = (uint8_t)(form & CON_DEC_MASK);
+    n = fmt_u32((__idata char *)num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)((form & CON_TRIM) != 0));
     if (drop) {
         n -= drop;
         if (!decimals)
@@ -133,7 +133,7 @@ void con_cat_value(uint8_t id, uint16_t v)
         con_cat(con_choice_name(id, v));
         return;
     }
-    con_cat_num(v, 0, pi->decimals, 0);
+    con_cat_num(v, 0, pi->decimals);
     if (pi->unit[0]) {
         con_cat(" ");
         con_cat(pi->unit);
@@ -157,9 +157,9 @@ void con_draw_msg(void)
     }
     pi = param_info(con.msg_range);
     con_start("Range ");
-    con_cat_num(pi->min, 0, pi->decimals, 1);
+    con_cat_num(pi->min, 0, pi->decimals | CON_TRIM);
     con_cat("..");
-    con_cat_num(pi->max, 0, pi->decimals, 1);
+    con_cat_num(pi->max, 0, pi->decimals | CON_TRIM);
     con_show(3);
 }
 
@@ -219,7 +219,7 @@ static void draw_run(void)
     int16_t q;
     /* " 7.2km/h    AUTO": ground speed, mode (HIL: the inputs come from the PC's plant) */
     con_at = 0;
-    con_cat_num(st->speed_kmh_x100, 4, 1, CON_DROP(1));
+    con_cat_num(st->speed_kmh_x100, 4, 1 | CON_DROP(1));
     con_cat("km/h ");
     at = con_at;
     con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL"
@@ -229,17 +229,17 @@ static void draw_run(void)
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */
     con_start("Q");
     q = st->target_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1, CON_DROP(1));
+    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
     con_cat(">");
     q = st->flow_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1, CON_DROP(1));
+    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
     con_cat("L/mn");
     con_show(1);
     /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
     con_at = 0;
-    con_cat_num(st->applied_l_ha_x10, 4, 0, CON_DROP(1));
+    con_cat_num(st->applied_l_ha_x10, 4, CON_DROP(1));
     con_cat("L/ha");
-    con_cat_num(st->pressure_kpa, 5, 2, 0);
+    con_cat_num(st->pressure_kpa, 5, 2);
     con_cat("bar");
     con_show(2);
     /* bottom: a message, EEPROM trouble, an alarm ("!" not yet acknowledged), or tank and controller */
@@ -256,12 +256,12 @@ static void draw_run(void)
         con_show(3);
     } else {
         con_start("T");
-        con_cat_num(st->tank_l, 5, 0, 0);
+        con_cat_num(st->tank_l, 5, 0);
         con_cat("L ");
         at = con_at;
         if (target_rate_remote()) {         /* the rate comes from the field computer */
             con_cat("RC");
-            con_cat_num(target_rate_x10(), 0, 1, 0);
+            con_cat_num(target_rate_x10(), 0, 1);
         } else
             con_cat(ctl_name(ctl_selected()));
         con_right_align(at);
@@ -272,15 +272,15 @@ static void draw_run(void)
 static void draw_totals(void)
 {
     con_start("Job ");
-    con_cat_num(app_status.job_area_m2, 9, 2, CON_DROP(2));
+    con_cat_num(app_status.job_area_m2, 9, 2 | CON_DROP(2));
     con_cat(" ha");
     con_show(0);
     con_start("Job ");
-    con_cat_num(totals.job_ml, 10, 1, CON_DROP(2));
+    con_cat_num(totals.job_ml, 10, 1 | CON_DROP(2));
     con_cat(" L");
     con_show(1);
     con_start("Life");
-    con_cat_num(totals.life_m2, 9, 2, CON_DROP(2));
+    con_cat_num(totals.life_m2, 9, 2 | CON_DROP(2));
     con_cat(" ha");
     con_show(2);
     if (con_step) {
@@ -289,7 +289,7 @@ static void draw_totals(void)
         con_draw_msg();
     } else {
         con_start("Life");
-        con_cat_num(totals.life_ml, 10, 0, CON_DROP(3));
+        con_cat_num(totals.life_ml, 10, CON_DROP(3));
         con_cat(" L");
         con_show(3);
     }
@@ -313,9 +313,9 @@ static const char *menu_name(uint8_t i)
 static void draw_menu(void)
 {
     con_start("Menu ");
-    con_cat_num(con_item + 1u, 2, 0, 0);
+    con_cat_num(con_item + 1u, 2, 0);
     con_cat("/");
-    con_cat_num(MENU_COUNT, 0, 0, 0);
+    con_cat_num(MENU_COUNT, 0, 0);
     con_right_align(5);
     con_show(0);
     screen_line(menu_name(con_item), 1);
@@ -375,7 +375,7 @@ static void draw_cal(void)
         return;
     }
     con_start("Pulses");
-    con_cat_num(con_step == 1 ? now - con.cal_pulses : con.cal_pulses, 10, 0, 0);
+    con_cat_num(con_step == 1 ? now - con.cal_pulses : con.cal_pulses, 10, 0);
     con_show(1);
     if (con_step == 1) {
         screen_line(tank ? "Spray; D: stop" : "At 100 m: D", 2);
@@ -407,9 +407,9 @@ static void draw_cal(void)
 static void cat_ma(uint8_t ch)
 {
     uint16_t counts = hal_adc_read(ch);
-    con_cat_num(counts, 4, 0, 0);
+    con_cat_num(counts, 4, 0);
     /* I = counts * 5 V / 1023 / 250 ohm, in hundredths of a mA: counts * 2000 / 1023 */
-    con_cat_num((UMUL(counts, 32032u) + 8192u) >> 14, 6, 2, 0);
+    con_cat_num((UMUL(counts, 32032u) + 8192u) >> 14, 6, 2);
     con_cat("mA ");
 }
 
@@ -418,8 +418,8 @@ static void cat_pulses(char name, uint32_t pulses, uint16_t hz)
 {
     con_line[0] = name;
     con_at = 1;
-    con_cat_num(pulses - pulses / 100000u * 100000u, 5, 0, 0);     /* pulses % 100000 */
-    con_cat_num(hz, 5, 0, 0);
+    con_cat_num(pulses - pulses / 100000u * 100000u, 5, 0);     /* pulses % 100000 */
+    con_cat_num(hz, 5, 0);
     con_cat("Hz ");
 }
 
