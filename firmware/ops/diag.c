@@ -231,16 +231,24 @@ void diag_internal_fault(void)
     dg.alarms |= 1u << AL_INTERNAL;
 }
 
-/* One timed rule: `set` for `need` periods raises the alarm, `clr` for DIAG_CLEAR_PERIODS
- * clears it; neither (the rule cannot be judged now) holds the state. */
-static void rule(uint8_t bit, uint8_t set, uint8_t clr, uint8_t need) __reentrant
+/* the periods each timed rule's cause must last to raise its alarm (rule(): AL_OFFRATE's rule
+ * only clears it, diag_offrate counts P_OFFRATE_S to raise it; AL_INTERNAL has no rule) */
+static const __code uint8_t need_periods[AL_COUNT] = {
+    DIAG_TANK_PERIODS, DIAG_TANK_PERIODS, DIAG_PDEV_PERIODS, DIAG_PDEV_PERIODS,
+    DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0
+};
+
+/* One timed rule: `set` for need_periods[bit] periods raises the alarm, `clr` for
+ * DIAG_CLEAR_PERIODS clears it; neither (the rule cannot be judged now) holds the state. (The
+ * periods from a table, not an argument: a push less at each of the thirteen calls.) */
+static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
 {
     uint16_t m = 1u << bit;
     uint8_t active = (dg.alarms & m) != 0;
     if (!active ? set : clr) {
         if (dg.cnt[bit] < 255)
             dg.cnt[bit]++;
-        if (dg.cnt[bit] >= (active ? DIAG_CLEAR_PERIODS : need)) {
+        if (dg.cnt[bit] >= (active ? DIAG_CLEAR_PERIODS : need_periods[bit])) {
             dg.alarms ^= m;
             dg.cnt[bit] = 0;
         }
@@ -270,14 +278,12 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
-    rule(AL_TANK_LOW, lsens && tank < tmin, refill, DIAG_TANK_PERIODS);
-    rule(AL_PUMP_DRY, lsens && x <= param_v[P_TANK_L], refill && x > param_v[P_TANK_L],
-         DIAG_TANK_PERIODS);
-    rule(AL_PSENS, !psens, psens, 1);
-    rule(AL_LSENS, !lsens, lsens, 1);
+    rule(AL_TANK_LOW, lsens && tank < tmin, refill);
+    rule(AL_PUMP_DRY, lsens && x <= param_v[P_TANK_L], refill && x > param_v[P_TANK_L]);
+    rule(AL_PSENS, !psens, psens);
+    rule(AL_LSENS, !lsens, lsens);
     x = UMUL(param_v[P_P_MAX], 19u);
-    rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX], !psens || UMUL(p, 20u) < x,
-         DIAG_OVERP_PERIODS);
+    rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX], !psens || UMUL(p, 20u) < x);
 }
 
 /* The nozzle model against the meter. Flow meter lost: its pulses stopped while the model says
@@ -300,7 +306,7 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     uint32_t a, lo, hi;
     dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
                        && flow_quiet_periods() >= DIAG_METER_QUIET;
-    rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0, DIAG_METER_PERIODS);
+    rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0);
     judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     /* nor while the target moves by more than 1/2^DIAG_MOVE_SHIFT a period: the meter's rotor
      * lags the flow that the pressure follows at once, and through a slow-down the metered flow
@@ -350,8 +356,10 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
         lo = pexp > hi ? pexp - hi : 0;     /* p + dev < pexp */
         hi += pexp;                         /* p > pexp + dev */
     }
-    rule(AL_LEAK, judge && a < lo, judge && a >= lo, DIAG_PDEV_PERIODS);
-    rule(AL_CLOG, judge && a > hi, judge && a <= hi, DIAG_PDEV_PERIODS);
+    g = a < lo;                     /* (each 32-bit compare once: set when it holds, else clear) */
+    rule(AL_LEAK, judge && g, judge && !g);
+    g = a > hi;
+    rule(AL_CLOG, judge && g, judge && !g);
 }
 
 /* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, in auto with the boom settled, at
@@ -364,7 +372,7 @@ static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reen
     uint8_t off = !in->manual && settled && target > 0 && in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u
                   && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);    /* |qp| <= 32768 */
     if (dg.alarms & (1u << AL_OFFRATE))
-        rule(AL_OFFRATE, 0, !off, 1);
+        rule(AL_OFFRATE, 0, !off);
     else if (!off)
         dg.offrate_cnt = 0;
     else if (++dg.offrate_cnt >= param_v[P_OFFRATE_S] * 10u) {
@@ -390,15 +398,15 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     g = target_speed_given();
     rule(AL_SPEED_LOST, !g && speed_quiet_periods() >= DIAG_SPEED_PERIODS &&
                             speed_at_last_pulse_x100() >= param_v[P_MINF_SPEED] * 10u,
-         g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u, 1);
+         g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u);
     diag_offrate(in, settled);
     /* the valve refused at a stop */
     g = valve_refused();
-    rule(AL_VALVE_STOP, g, !g, DIAG_VALVE_PERIODS);
+    rule(AL_VALVE_STOP, g, !g);
     /* pulse noise */
     g = flow_glitches() != dg.meter_glitches;
     dg.meter_glitches = flow_glitches();
-    rule(AL_METER_NOISE, noise(&dg.meter_noise, g) > 60, dg.meter_noise == 0, 1);
+    rule(AL_METER_NOISE, noise(&dg.meter_noise, g) > 60, dg.meter_noise == 0);
     /* the wheel's: +DIAG_WHEEL_GLITCH a rejected pulse, -1 a good one, so the score climbs only
      * while more than 1 pulse in DIAG_WHEEL_GLITCH + 1 is rejected (a bounce now and then is
      * rejected and forgotten) */
@@ -409,7 +417,7 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     dg.wheel_pulses = (uint16_t)speed_pulses();
     x = x > n ? x - n : 0;
     dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
-    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60, dg.wheel_noise == 0, 1);
+    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60, dg.wheel_noise == 0);
     return dg.alarms;
 }
 
