@@ -7,7 +7,8 @@
 
 static struct {
     int32_t oneway;                 /* Q15 strokes driven one way since the last reversal */
-    int32_t over;                   /* Q15 strokes driven past the estimated end */
+    uint16_t over;                  /* Q15 strokes driven past the estimated end (a period adds
+                                     * under 32768 to at most VALVE_OVER_Q15: 16 bits) */
     uint16_t pos;                   /* Q15, 0 closed; VALVE_POS_UNKNOWN */
     q15_t applied;                  /* drive of the current period */
     q15_t rate;                     /* Q15 stroke per period and unit of duty above drun: full speed
@@ -94,7 +95,8 @@ void valve_init(void)
 static void integrate(void) __reentrant
 {
     q15_t d = va.applied;
-    int32_t step, t;
+    int16_t step;                           /* (d - drun) rate / 2^15 <= 32766 */
+    uint16_t t;
     int8_t dir;
 
     if (d == 0)
@@ -104,7 +106,7 @@ static void integrate(void) __reentrant
         d = (q15_t)(d == Q15_MIN ? Q15_MAX : -d);
     if (d < VALVE_MOVE_Q15)
         return;                             /* stiction: it does not move */
-    step = d > va.drun ? MUL_R15(d - va.drun, va.rate) : 0;     /* (.. * rate + 2^14) >> 15 */
+    step = d > va.drun ? (int16_t)MUL_R15(d - va.drun, va.rate) : 0;    /* (.. * rate + 2^14) >> 15 */
     if (dir != va.mv_dir) {                 /* moving the other way: off the other stop */
         va.mv_dir = dir;
         va.oneway = 0;
@@ -114,17 +116,23 @@ static void integrate(void) __reentrant
     va.oneway += step;
     if (va.pos != VALVE_POS_UNKNOWN) {
         /* the new position (step >= 0: rate > 0 for every Valve time); past an end, the rest
-         * counts as driven over it */
-        t = dir > 0 ? (int32_t)va.pos - step : (int32_t)va.pos + step;
-        if (t <= 0) {
-            va.over -= t;
-            va.pos = 0;
-        } else if (t >= 32767) {
-            va.over += t - 32767;
-            va.pos = 32767;
+         * counts as driven over it. In 16 bits: pos and step are at most 32767 */
+        t = va.pos;
+        if (dir > 0) {
+            if ((uint16_t)step >= t) {
+                va.over += (uint16_t)step - t;
+                t = 0;
+            } else {
+                t -= (uint16_t)step;
+            }
         } else {
-            va.pos = (uint16_t)t;
+            t += (uint16_t)step;
+            if (t >= 32767u) {
+                va.over += t - 32767u;
+                t = 32767u;
+            }
         }
+        va.pos = t;
     }
     if (va.oneway >= VALVE_ONEWAY_Q15 || va.over >= VALVE_OVER_Q15) {
         va.limit |= dir > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;
