@@ -55,23 +55,24 @@ HIL ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 # Shared moves (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
-# replaces its long moves by calls of firmware/math/moves.c, moves_short.c, moves_arith.c and
-# moves_more.c, sdas assembles it.
+# replaces its long moves by calls of firmware/math/moves.c, moves_short.c, moves_arith.c,
+# moves_more.c and moves_late.c, sdas assembles it.
 # Not in the peers' controllers (outside the field image) nor in the modules written in assembly;
 # bp_pid in part.
 SDAS ?= sdas8051
 SHARE_SKIP := $(addprefix firmware/control/,aog.c raven.c) \
               $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c moves_short.c \
-                moves_arith.c moves_more.c \
+                moves_arith.c moves_more.c moves_late.c \
                 divulong.c)
-# the controllers' modules: not the tenth round's sequences (x_: their steps' cycles as before)
-SHARE_OPTS_firmware/control/ffmap.c := --skip=x_
-SHARE_OPTS_firmware/control/pid.c := --skip=x_
-SHARE_OPTS_firmware/control/ctl_out.c := --skip=x_
+# the controllers' modules: not the tenth round's sequences (x_) nor the later round's (z_):
+# their steps' cycles as before
+SHARE_OPTS_firmware/control/ffmap.c := --skip=x_ --skip=z_
+SHARE_OPTS_firmware/control/pid.c := --skip=x_ --skip=z_
+SHARE_OPTS_firmware/control/ctl_out.c := --skip=x_ --skip=z_
 # bp_pid: its step has some cycles to spare (make bench), not for calls at its inner loops' locals
-SHARE_OPTS_firmware/control/bp.c := --skip=fp_r0_0f --skip=x_
+SHARE_OPTS_firmware/control/bp.c := --skip=fp_r0_0f --skip=x_ --skip=z_
 # ctl.c: its derivations and selection share, not the step's dispatch nor ctl_applied (timed with it)
-SHARE_OPTS_firmware/control/ctl.c := --skip-func=ctl_step --skip-func=ctl_applied --skip=x_
+SHARE_OPTS_firmware/control/ctl.c := --skip-func=ctl_step --skip-func=ctl_applied --skip=x_ --skip=z_
 # $(call sdcc_rel,FLAGS): $< compiled to $@ (and its .d), through share_moves.py where it applies
 sdcc_rel = $(if $(filter firmware/%,$(filter-out $(SHARE_SKIP),$<)),\
     $(SDCC) $(1) -MMD -S $< -o $(@:.rel=.asm) && sed -i '1s|\.asm:|.rel:|' $(@:.rel=.d) \

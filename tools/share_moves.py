@@ -12,6 +12,9 @@ own optimiser (whose register analysis takes a call to leave R0-R7 unread and wo
 moves that set them up), and before the assembler. The Makefile runs it on every firmware
 module but most of the controllers' (their step's cycles count: make bench).
 
+The later round's sequences (names z_) are a second pass over what the first left: the sets
+before it share exactly as they did.
+
 --stats: print what would be replaced, change nothing. --skip=PREFIX: not the sequences whose
 name starts with PREFIX (fp_: a controller's locals, reached many times a step).
 --skip-func=NAME: nothing in the function NAME (its C name; from its label to the next
@@ -207,6 +210,44 @@ MOVES = {
     "x_rlc_r67": ["mov a,r6", "rlc a", "mov r6,a", "mov a,r7", "rlc a", "mov r7,a"],
     "x_ld_r34": ["movx a,@dptr", "mov r3,a", "inc dptr", "movx a,@dptr", "mov r4,a"],
     "x_st_ir45": ["mov @r0,ar4", "inc r0", "mov @r0,ar5"],
+    # a later round (z_, firmware/math/moves_late.c): the sequences still written out often enough
+    # to pay for a routine, counted on the modules' assembly after every set above had been
+    # shared (LATE: a second pass, so the sets above are shared exactly as before); not in the
+    # controllers' modules (--skip=z_), nor any that sets _bp or SP (tools/stackdepth.py reads
+    # the frames from those)
+    "z_ar_i2": ["mov dpl,@r0", "inc r0", "mov dph,@r0"],
+    "z_mul_b2": ["mov b,#0x02", "mul ab"],
+    "z_fp_r0_14": ["mov a,_bp", "add a,#0x14", "mov r0,a"],
+    "z_sbc_i3_r67": ["inc r0", "subb a,@r0", "mov a,r6", "inc r0", "subb a,@r0", "mov a,r7", "inc r0", "subb a,@r0"],
+    "z_neg_scmp_r23": ["clr c", "clr a", "subb a,r2", "mov a,#(0x00^0x80)", "mov b,r3"],
+    "z_st_1a1a": ["inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a"],
+    "z_ar_r34": ["mov dpl,r3", "mov dph,r4"],
+    "z_c_dpl": ["clr a", "rlc a", "mov dpl,a"],
+    "z_rrc_r67": ["rrc a", "xch a,r6", "rrc a", "xch a,r6", "mov r7,a"],
+    "z_sbc_0_r67": ["subb a,#0x00", "mov a,r6", "subb a,#0x00", "mov a,r7", "subb a,#0x00"],
+    "z_ld_fp1_r34": ["mov r0,_bp", "inc r0", "mov ar3,@r0", "inc r0", "mov ar4,@r0"],
+    "z_rv_r567a": ["mov r5,dph", "mov r6,b", "mov r7,a"],
+    "z_fp_r1_09": ["mov a,_bp", "add a,#0x09", "mov r1,a"],
+    "z_shl4_r45": ["swap a", "anl a,#0xf0", "xch a,r4", "swap a", "xch a,r4", "xrl a,r4", "xch a,r4", "anl a,#0xf0", "xch a,r4", "xrl a,r4", "mov r5,a"],
+    "z_shr2_orl_i": ["mov a,r5", "rr a", "rr a", "anl a,#0x3f", "dec r0", "orl a,@r0", "mov @r0,a", "dec r0", "dec r0", "mov @r0,ar4", "mov a,r5"],
+    "z_shl1_r23": ["mov a,r2", "add a,r2", "mov r2,a", "mov a,r3", "rlc a", "mov r3,a"],
+    "z_ld_r5a": ["movx a,@dptr", "mov r5,a", "inc dptr", "movx a,@dptr"],
+    "z_ar_r56": ["mov dpl,r5", "mov dph,r6"],
+    "z_ar_r76": ["mov dpl,r7", "mov dph,r6"],
+    "z_cld_r3a": ["clr a", "movc a,@a+dptr", "mov r3,a", "inc dptr", "clr a", "movc a,@a+dptr"],
+    "z_sub_ii_r67": ["inc r1", "mov @r1,a", "inc r0", "mov a,@r0", "subb a,r6", "inc r1", "mov @r1,a", "inc r0", "mov a,@r0", "subb a,r7", "inc r1", "mov @r1,a"],
+    "z_add_a_r45": ["add a,r4", "mov r4,a", "clr a", "addc a,r5", "mov r5,a"],
+    "z_ld_r47": ["movx a,@dptr", "mov r4,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
+    "z_fp1_r7a": ["mov r7,a", "mov r0,_bp", "inc r0"],
+    "z_sub_r67_r45": ["mov a,r6", "clr c", "subb a,r4", "mov r4,a", "mov a,r7", "subb a,r5", "mov r5,a"],
+    "z_scmp_0_r2": ["clr c", "mov a,#(0x00^0x80)", "mov b,r2"],
+    "z_cmp_ffff_r3456": ["clr c", "mov a,#0xff", "subb a,r3", "mov a,#0xff", "subb a,r4", "clr a", "subb a,r5", "clr a", "subb a,r6"],
+    "z_st_a_r56": ["movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a", "mov a,r6", "inc dptr", "movx @dptr,a"],
+    "z_shr1_r4": ["clr c", "rrc a", "xch a,r4", "rrc a", "xch a,r4"],
+    "z_add_a_r23": ["add a,r2", "mov r2,a", "clr a", "addc a,r3", "mov r3,a"],
+    "z_ld_ir4567_r1": ["mov ar4,@r1", "inc r1", "mov ar5,@r1", "inc r1", "mov ar6,@r1", "inc r1", "mov ar7,@r1"],
+    "z_i3_clr": ["inc r0", "inc r0", "inc r0", "mov a,@r0", "clr c"],
+    "z_fp_r0_0a": ["mov a,_bp", "add a,#0x0a", "mov r0,a"],
 }
 # R0 (or R1) = the address of a reentrant function's local: the frame base _bp plus its offset
 # (the offsets the firmware uses most)
@@ -215,7 +256,8 @@ for _reg, _offs in (("r0", (0x03, 0x04, 0x05, 0x06, 0x07, 0x09, 0x0b, 0x0d, 0x0f
                     ("r1", (0x05,))):
     for _off in _offs:
         MOVES["fp_%s_%02x" % (_reg, _off)] = ["mov a,_bp", "add a,#0x%02x" % _off, "mov %s,a" % _reg]
-ORDER = sorted(MOVES, key=lambda n: -len(MOVES[n]))
+ORDER = sorted((n for n in MOVES if not n.startswith("z_")), key=lambda n: -len(MOVES[n]))
+LATE = sorted((n for n in MOVES if n.startswith("z_")), key=lambda n: -len(MOVES[n]))
 
 
 def norm(line):
@@ -230,7 +272,8 @@ def norm(line):
 FUNC = re.compile(r"^_(\w+):\s*$")
 
 
-def share(lines, skip_funcs=()):
+def share(lines, skip_funcs=(), order=None):
+    order = ORDER if order is None else order
     out, used, i, func = [], {}, 0, None
     while i < len(lines):
         hit = None
@@ -238,7 +281,7 @@ def share(lines, skip_funcs=()):
         if m:
             func = m.group(1)
         if norm(lines[i]) is not None and func not in skip_funcs:
-            for name in ORDER:
+            for name in order:
                 seq, j, k, kept = MOVES[name], i, 0, []
                 while k < len(seq) and j < len(lines):
                     n = norm(lines[j])
@@ -268,12 +311,13 @@ def share(lines, skip_funcs=()):
 
 
 def main():
-    global ORDER
+    global ORDER, LATE
     args = sys.argv[1:]
     stats = "--stats" in args
     skip = [a.split("=", 1)[1] for a in args if a.startswith("--skip=")]
     skip_funcs = [a.split("=", 1)[1] for a in args if a.startswith("--skip-func=")]
     ORDER = [n for n in ORDER if not any(n.startswith(p) for p in skip)]
+    LATE = [n for n in LATE if not any(n.startswith(p) for p in skip)]
     files = [a for a in args if a != "--stats" and not a.startswith("--skip")]
     if not files:
         sys.exit("usage: share_moves.py [--stats] [--skip=PREFIX] [--skip-func=NAME] FILE.asm...")
@@ -282,6 +326,8 @@ def main():
         with open(path, encoding="latin-1") as f:
             lines = f.readlines()
         out, used = share(lines, skip_funcs)
+        out, late = share(out, skip_funcs, LATE)
+        used.update(late)
         for k, v in used.items():
             total[k] = total.get(k, 0) + v
         if not stats and used:
@@ -289,7 +335,7 @@ def main():
                 f.writelines(out)
     if stats:
         saved = 0
-        for k in ORDER:
+        for k in ORDER + LATE:
             if k in total:
                 b = sum(1 if s.split()[0] in ("movx", "inc") or re.match(r"mov (a,r\d|r\d,a|a,@r0|@r0,a)$", s)
                         else 2 for s in MOVES[k])

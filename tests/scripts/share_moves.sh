@@ -7,7 +7,8 @@ cd "$(dirname "$0")/../.."
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# every MOVES entry has a routine in moves.c, moves_short.c, moves_arith.c or moves_more.c with
+# every MOVES entry has a routine in moves.c, moves_short.c, moves_arith.c, moves_more.c or
+# moves_late.c with
 # the same instructions, then RET, and no other
 if out=$(python3 - <<'EOF' 2>&1
 import re, sys
@@ -15,7 +16,8 @@ sys.path.insert(0, "tools")
 from share_moves import MOVES, norm
 asm = "".join(re.search(r"__asm(.*?)__endasm;", open(f).read(), re.S).group(1)
               for f in ("firmware/math/moves.c", "firmware/math/moves_short.c",
-                        "firmware/math/moves_arith.c", "firmware/math/moves_more.c"))
+                        "firmware/math/moves_arith.c", "firmware/math/moves_more.c",
+                        "firmware/math/moves_late.c"))
 found, cur = {}, None
 for line in asm.splitlines():
     m = re.match(r"\s*_mv_(\w+)::\s*$", line)
@@ -30,13 +32,13 @@ if bad:
 print("%d routines" % len(found))
 EOF
 ); then
-    echo "ok - share_moves: moves.c, moves_short.c, moves_arith.c and moves_more.c hold each sequence exactly, then RET ($out)"
+    echo "ok - share_moves: moves.c, moves_short.c, moves_arith.c, moves_more.c and moves_late.c hold each sequence exactly, then RET ($out)"
 else
-    echo "not ok - share_moves: moves.c, moves_short.c, moves_arith.c and moves_more.c hold each sequence exactly"; echo "$out" | sed 's/^/#   /'
+    echo "not ok - share_moves: moves.c, moves_short.c, moves_arith.c, moves_more.c and moves_late.c hold each sequence exactly"; echo "$out" | sed 's/^/#   /'
 fi
 
 # a whole sequence (a C line comment inside it kept) is replaced; one with a label inside, or
-# cut short, is not
+# cut short, is not (the sets before the later round: its shorter z_ld_r5a would take the rest)
 cat > "$tmp/a.asm" <<'EOF'
 _f:
 	mov	dptr,#_x
@@ -69,13 +71,26 @@ _f:
 	mov	b,r6
 	ret
 EOF
-python3 tools/share_moves.py "$tmp/a.asm"
+python3 tools/share_moves.py --skip=z_ "$tmp/a.asm"
 calls=$(grep -c 'lcall' "$tmp/a.asm")
 if [ "$calls" -eq 1 ] && grep -q 'lcall	_mv_ld_r4567' "$tmp/a.asm" && grep -q 'the comment stays' "$tmp/a.asm" \
     && grep -q '^00101\$:' "$tmp/a.asm" && [ "$(grep -c 'movx	a,@dptr' "$tmp/a.asm")" -eq 4 ]; then
     echo "ok - share_moves: a whole sequence becomes one call; one a label cuts, or one cut short, stays"
 else
     echo "not ok - share_moves: replacement"; sed 's/^/#   /' "$tmp/a.asm"
+fi
+
+# the later round (z_) is a second pass: the sets before share first (ld_r56, not z_ld_r5a and
+# a move left), and it takes what they left (z_ld_r5a before a move of its own)
+seq=$'\tmovx\ta,@dptr\n\tmov\tr5,a\n\tinc\tdptr\n\tmovx\ta,@dptr\n'
+printf '_g:\n%s\tmov\tr6,a\n\tret\n_h:\n%s\tmov\tr2,a\n\tret\n' "$seq" "$seq" > "$tmp/c.asm"
+python3 tools/share_moves.py "$tmp/c.asm"
+if [ "$(grep -c 'lcall' "$tmp/c.asm")" -eq 2 ] \
+    && [ "$(sed -n '/^_g:/,/^_h:/p' "$tmp/c.asm" | grep -c 'lcall	_mv_ld_r56')" -eq 1 ] \
+    && [ "$(sed -n '/^_h:/,$p' "$tmp/c.asm" | grep -c 'lcall	_mv_z_ld_r5a')" -eq 1 ]; then
+    echo "ok - share_moves: the later round's sequences share after the sets before"
+else
+    echo "not ok - share_moves: the later round"; sed 's/^/#   /' "$tmp/c.asm"
 fi
 
 # --skip-func=NAME leaves that function alone (a controller's step) and shares in the others
