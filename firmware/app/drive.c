@@ -8,6 +8,7 @@
 #include "ctl.h"
 #include "analog.h"
 #include "valve.h"
+#include "target.h"
 #include "ops.h"
 #include "drive.h"
 
@@ -86,7 +87,7 @@ static uint8_t drive_starved(void)
         flowed = 1;
     return flowed && app_status.flow_lpm_x100 < half && analog_pressure_ok()
            && app_status.pressure_kpa < param_v[P_P_MIN]
-           && app_status.speed_kmh_x100 < param_v[P_MINF_SPEED] * 10u;
+           && !target_working_speed(app_status.speed_kmh_x100);
 }
 
 /* The control step's inputs are app_status's first fields (ops.h): their layout checked here */

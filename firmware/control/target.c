@@ -124,6 +124,11 @@ uint16_t target_speed_x100(uint16_t measured_x100) __reentrant
     return param_v[P_GIVEN_SPEED] ? param_v[P_GIVEN_SPEED] * 10u : measured_x100;
 }
 
+uint8_t target_working_speed(uint16_t speed_x100) __reentrant
+{
+    return speed_x100 >= param_v[P_MINF_SPEED] * 10u;
+}
+
 int16_t target_flow_x100(uint16_t speed_x100) __reentrant
 {
     uint16_t vmin = param_v[P_MINF_SPEED] * 10u;

@@ -21,6 +21,9 @@ void target_update(uint8_t sections) __reentrant;
 /* The speed the target follows: the given speed when set, else the measured one. */
 uint16_t target_speed_x100(uint16_t measured_x100) __reentrant;
 uint8_t target_speed_given(void);
+/* 1 at working speed: P_MINF_SPEED or more (the alarm rules judge there; below it Table 1's
+ * rule sets the target). One copy of the product and compare for diag.c's and drive.c's. */
+uint8_t target_working_speed(uint16_t speed_x100) __reentrant;
 /* Eq. (1) with Table 1's rule, L/min x100 (saturates at 327.67). */
 int16_t target_flow_x100(uint16_t speed_x100) __reentrant;
 uint8_t target_open_nozzles(void);

@@ -300,7 +300,7 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     int16_t meter = flow_lpm_x100();
     int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
     int16_t target = in->target_lpm_x100;
-    uint8_t working = in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u;
+    uint8_t working = target_working_speed(in->speed_kmh_x100);
     uint8_t judge = settled && analog_pressure_ok(), g;
     uint16_t pexp, x, d;
     uint32_t a, lo, hi;
@@ -369,7 +369,7 @@ static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reen
 {
     int16_t target = in->target_lpm_x100;
     int16_t qp = in->flow_lpm_x100 - target;
-    uint8_t off = !in->manual && settled && target > 0 && in->speed_kmh_x100 >= param_v[P_MINF_SPEED] * 10u
+    uint8_t off = !in->manual && settled && target > 0 && target_working_speed(in->speed_kmh_x100)
                   && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);    /* |qp| <= 32768 */
     if (dg.alarms & (1u << AL_OFFRATE))
         rule(AL_OFFRATE, 0, !off);
@@ -397,7 +397,7 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
      * distance is the false alarm this rule accepts) */
     g = target_speed_given();
     rule(AL_SPEED_LOST, !g && speed_quiet_periods() >= DIAG_SPEED_PERIODS &&
-                            speed_at_last_pulse_x100() >= param_v[P_MINF_SPEED] * 10u,
+                            target_working_speed(speed_at_last_pulse_x100()),
          g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u);
     diag_offrate(in, settled);
     /* the valve refused at a stop */
