@@ -278,8 +278,9 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
+    uint8_t dry = x <= param_v[P_TANK_L];          /* (the 32-bit compare once) */
     rule(AL_TANK_LOW, lsens && tank < tmin, refill);
-    rule(AL_PUMP_DRY, lsens && x <= param_v[P_TANK_L], refill && x > param_v[P_TANK_L]);
+    rule(AL_PUMP_DRY, lsens && dry, refill && !dry);
     rule(AL_PSENS, !psens, psens);
     rule(AL_LSENS, !lsens, lsens);
     x = UMUL(param_v[P_P_MAX], 19u);
