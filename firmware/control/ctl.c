@@ -6,6 +6,7 @@
 #include "params.h"
 #include "store.h"
 #include "speed.h"
+#include "umath.h"
 
 /*
  * Units and the mapping of the paper's incremental PID, eq. (7), onto this valve
@@ -95,8 +96,8 @@ static void ctl_derive(void)
     /* Min duty in % and Backlash in 0.1 % of the stroke, to Q15 (rounded); told new values of
      * these or of Valve time, ffmap drops the break-away, the loop gain and the duty cap it had learnt against
      * the old ones (the operator knows the valve now) */
-    s = (int16_t)((((uint32_t)param_v[P_VALVE_BRK] << 15) + 50u) / 100u);
-    b = (int16_t)((((uint32_t)param_v[P_VALVE_SLACK] << 15) + 500u) / 1000u);
+    s = (int16_t)um_scaled_div(param_v[P_VALVE_BRK], 32768u, 100u);       /* (v 2^15 + 50) / 100 */
+    b = (int16_t)um_scaled_div(param_v[P_VALVE_SLACK], 32768u, 1000u);    /* (v 2^15 + 500) / 1000 */
     if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && t && ctl_id == CTL_BEST) {
         ctl_st.fm.brk = 0;
         ctl_st.fm.brk_age = 0;

@@ -78,7 +78,7 @@ static void target_noz(void)
 static void target_derive(void) __reentrant
 {
     uint8_t s, m, o = tg.open;
-    uint32_t cdm, q;
+    uint32_t cdm;
     tg.open = 0;
     for (s = 0, m = tg.sections; s < 8u; s++, m >>= 1)
         if (m & 1u)
@@ -91,8 +91,7 @@ static void target_derive(void) __reentrant
         tg.remote_x10 = 0;          /* Remote off, or a new Dose or window leaves it outside */
     cdm = UMUL(target_rate_x10(), param_v[P_SPACING]) * tg.open;       /* <= 1.92e8 */
     /* cdm * 65536 / 600000 = cdm * 4096 / 37500, rounded (the same bits as C in L/ha / 60000) */
-    q = cdm / 37500u;               /* (the remainder without a remainder routine) */
-    tg.k_q16 = q * 4096u + ((cdm - q * 37500u) * 4096u + 18750u) / 37500u;
+    tg.k_q16 = um_scaled_div(cdm, 4096u, 37500u);
     tg.gen = param_generation;
     tg.valid = 1;
 }

@@ -3,6 +3,7 @@
 #include "params.h"
 #include "ctl.h"
 #include "valve.h"
+#include "umath.h"
 #include "mul.h"
 
 static struct {
@@ -30,7 +31,7 @@ static void valve_derive(void) __reentrant
 {
     /* one period at full duty moves APP_PERIOD (100 ms) / (P_VALVE_TRAVEL x 100 ms) strokes */
     /* a turning motor runs at (duty - d_run) / (1 - d_run) of full speed (ctl_int.h) */
-    va.drun = (q15_t)((UMUL(param_v[P_VALVE_BRK], 20480u) + 50UL) / 100UL);   /* 10/16 of Min duty, Q15 */
+    va.drun = (q15_t)um_scaled_div(param_v[P_VALVE_BRK], 20480u, 100u);   /* 10/16 of Min duty, Q15, rounded */
     if (va.drun > Q15(0.45))
         va.drun = Q15(0.45);
     va.rate = (q15_t)((((uint32_t)1 << 30) / param_v[P_VALVE_TRAVEL]) / (uint16_t)(32768 - va.drun));

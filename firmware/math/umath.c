@@ -88,6 +88,12 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant
     return (p + (1UL << (e - 1))) >> e;
 }
 
+uint32_t um_scaled_div(uint32_t num, uint16_t m, uint32_t d) __reentrant
+{
+    uint32_t q = num / d;                       /* (the remainder without a remainder routine) */
+    return q * m + ((num - q * d) * m + d / 2u) / d;
+}
+
 uint16_t um_sqrt32(uint32_t x) __reentrant
 {
     uint32_t r = 0, b = 0x40000000UL;

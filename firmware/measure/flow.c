@@ -17,11 +17,9 @@ static struct {
 
 static void flow_derive(void) __reentrant
 {
-    uint32_t kk = param_v[P_METER_K];
-    /* q[L/min x100] = 100 * 60 * 921600 * 10 / (kk[0.1 p/L] * dt) = 5.5296e10 / (kk dt);
-     * 5.5296e10 = 1382400000 * 40, split so nothing overflows 32 bits */
-    uint32_t q = 1382400000UL / kk;         /* (the remainder without a remainder routine) */
-    fl.k = q * 40u + ((1382400000UL - q * kk) * 40u + kk / 2u) / kk;
+    /* q[L/min x100] = 100 * 60 * 921600 * 10 / (kk[0.1 p/L] * dt) = 5.5296e10 / (kk dt), kk
+     * = P_METER_K; 5.5296e10 = 1382400000 * 40, split so nothing overflows 32 bits (kk < 65536) */
+    fl.k = um_scaled_div(1382400000UL, 40u, param_v[P_METER_K]);
     fl.gen = param_generation;
 }
 

@@ -43,12 +43,30 @@ static void test_umath_muldiv_is_within_2e_4_of_the_quotient(void **state)
     assert_true(um_mul32x16_shr16(0xFFFFFFFFu, 65535) == 0xFFFEFFFFu);
 }
 
+/* um_scaled_div is the rounded (num * m + d / 2) / d of 64-bit arithmetic wherever its
+ * remainder's share fits 32 bits: the meter's constant for every K, eq. (1)'s for random sums */
+static void test_umath_scaled_div_is_the_rounded_quotient(void **state)
+{
+    (void)state;
+    for (uint32_t kk = 1; kk < 65536u; kk++)
+        assert_true(um_scaled_div(1382400000UL, 40u, kk)
+                    == (uint32_t)((1382400000ULL * 40u + kk / 2u) / kk));
+    for (int i = 0; i < 200000; i++) {
+        uint32_t num = rnd(), d = rnd() >> 16 | 1u;
+        uint16_t m = (uint16_t)(rnd() >> 16);
+        uint64_t exact = ((uint64_t)num * m + d / 2u) / d;
+        assert_true(um_scaled_div(num, m, d) == (uint32_t)exact);
+    }
+    assert_true(um_scaled_div(192000000UL, 4096u, 37500u) == (uint32_t)((192000000ULL * 4096u + 18750u) / 37500u));
+}
+
 /* 4, 7 and 11 km/h with the default 0.3927 m a pulse: within 1 LSB (0.01 km/h) every period
  * after the second pulse, though at 4 km/h a period holds 0 or 1 pulse */
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_umath_muldiv_is_within_2e_4_of_the_quotient),
+        cmocka_unit_test(test_umath_scaled_div_is_the_rounded_quotient),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
