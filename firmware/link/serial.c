@@ -288,16 +288,15 @@ static uint8_t line_ok(uint8_t n) __reentrant
         csum_seen = 1;
     }
     se.buf[n] = 0;
-    if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ') {
-        reply_err(link_e_arg);
-        return 0;
-    }
+    if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ')
+        goto bad;
     for (i = 1; i < n; i++)
-        if (se.buf[i] == ' ' && se.buf[i - 1] == ' ') {
-            reply_err(link_e_arg);
-            return 0;
-        }
+        if (se.buf[i] == ' ' && se.buf[i - 1] == ' ')
+            goto bad;
     return n;
+bad:                                /* (one copy of the refusal) */
+    reply_err(link_e_arg);
+    return 0;
 }
 
 /* The command in se.buf: look its word up, parse its arguments, run its handler; a line
@@ -342,29 +341,26 @@ static uint8_t answer(void) __reentrant
         }
         break;
     case ARG_SIGN:
-        if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0)) {
-            reply_err(link_e_arg);
-            return 1;
-        }
+        if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))
+            goto bad_arg;
         a = p[1] == '+' ? 1 : (uint16_t)-1;
         p += 2;
         break;
     case ARG_ON:                    /* the word ON */
-        if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N')) {
-            reply_err(link_e_arg);
-            return 1;
-        }
+        if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N'))
+            goto bad_arg;
         p += 3;
         break;
     default:
         break;
     }
-    if (*p) {
-        reply_err(link_e_arg);
-        return 1;
-    }
+    if (*p)
+        goto bad_arg;
     run(cmd->handler, a, b);
     return se_n != 0;               /* (SAV answers later) */
+bad_arg:                            /* (one copy of the refusal) */
+    reply_err(link_e_arg);
+    return 1;
 }
 
 /* ---- the loop's part ----------------------------------------------------------------------- */
