@@ -157,7 +157,9 @@ static void learn_fit(void) __reentrant
     c = (uint32_t)DIAG_P_CHECK_KPA * DIAG_LEARN_N;
     if (dg.sy > c && dg.sx > 0) {
         k = um_muldiv(dg.sy - c, 256u, dg.sx);
-        dg.kp_kpa = (uint16_t)(k < 100u ? 100u : k > 1000u ? 1000u : k);
+        if (k > 1000u)
+            k = 1000u;
+        dg.kp_kpa = (uint16_t)k < 100u ? 100u : (uint16_t)k;    /* (k <= 1000: 16 bits) */
         dg.pc_kpa = DIAG_P_CHECK_KPA;
         dg.xm = (uint16_t)(dg.sx / DIAG_LEARN_N);
         dg.learnt = 1;
