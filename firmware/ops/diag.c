@@ -259,16 +259,6 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
     }
 }
 
-/* leaky score of pulse glitches: +20 a glitch, -1 a period; above 60 the alarm is raised */
-static uint8_t noise(__xdata uint8_t *score, uint8_t glitch) __reentrant
-{
-    if (glitch)
-        *score = (uint8_t)(*score > 235 ? 255 : *score + 20);
-    else if (*score)
-        (*score)--;
-    return *score;
-}
-
 /* Tank and pump, the sensors (debounced by analog.c), over-pressure with 5 % hysteresis: while
  * `p_watch` (spraying or the bypass parked open; at power-up the pump may push against a bypass
  * left closed until the parking opens it: the relief valve's job, not a fault). */
@@ -399,25 +389,35 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
      * down keeps making pulses; one that stops dead from working speed inside one pulse
      * distance is the false alarm this rule accepts) */
     g = target_speed_given();
-    rule(AL_SPEED_LOST, !g && speed_quiet_periods() >= DIAG_SPEED_PERIODS &&
-                            target_working_speed(speed_at_last_pulse_x100()),
-         g || speed_quiet_periods() < DIAG_SPEED_PERIODS / 2u);
+    x = speed_quiet_periods();
+    rule(AL_SPEED_LOST, !g && x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()),
+         g || x < DIAG_SPEED_PERIODS / 2u);
     diag_offrate(in, settled);
     /* the valve refused at a stop */
     g = valve_refused();
     rule(AL_VALVE_STOP, g, !g);
     /* pulse noise */
-    g = flow_glitches() != dg.meter_glitches;
-    dg.meter_glitches = flow_glitches();
-    rule(AL_METER_NOISE, noise(&dg.meter_noise, g) > 60, dg.meter_noise == 0);
+    x = flow_glitches();            /* (each count read once: the steps before set them) */
+    g = x != dg.meter_glitches;
+    dg.meter_glitches = x;
+    /* the meter's: a leaky score of pulse glitches, +20 a glitch, -1 a period; above 60 the
+     * alarm is raised, a period that began at 0 clears it (as before, when a function updated
+     * the score inside rule()'s arguments: SDCC and gcc both read the clear's before the call) */
+    n = dg.meter_noise == 0;
+    if (g)
+        dg.meter_noise = (uint8_t)(dg.meter_noise > 235 ? 255 : dg.meter_noise + 20);
+    else if (dg.meter_noise)
+        dg.meter_noise--;
+    rule(AL_METER_NOISE, dg.meter_noise > 60, (uint8_t)n);
     /* the wheel's: +DIAG_WHEEL_GLITCH a rejected pulse, -1 a good one, so the score climbs only
      * while more than 1 pulse in DIAG_WHEEL_GLITCH + 1 is rejected (a bounce now and then is
      * rejected and forgotten) */
-    x = (uint16_t)(speed_glitches() - dg.wheel_glitches);
+    n = speed_glitches();
+    x = (uint16_t)(n - dg.wheel_glitches);
+    dg.wheel_glitches = n;
     x = (x > 21u ? 255u : x * DIAG_WHEEL_GLITCH) + dg.wheel_noise;
-    dg.wheel_glitches = speed_glitches();
     n = (uint16_t)((uint16_t)speed_pulses() - dg.wheel_pulses);
-    dg.wheel_pulses = (uint16_t)speed_pulses();
+    dg.wheel_pulses += n;           /* (speed_pulses()'s low 16 bits) */
     x = x > n ? x - n : 0;
     dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
     rule(AL_WHEEL_NOISE, dg.wheel_noise > 60, dg.wheel_noise == 0);
