@@ -59,6 +59,14 @@ static struct {
     int16_t t1;                                 /* the target a period ago (diag_model) */
 } dg;
 
+/* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
+ * at the rated flow */
+static void model_told(void)
+{
+    dg.pc_kpa = DIAG_P_CHECK_KPA;
+    dg.kp_kpa = 300u;
+}
+
 void diag_init(void)
 {
     uint8_t i;
@@ -77,12 +85,10 @@ void diag_init(void)
      * without one, 0xFF bytes */
     for (i = 0; i < 4u; i++)
         ((uint8_t *)&dg.pc_kpa)[i] = store_learnt(STORE_LEARN_CTL + i);
-    if (dg.kp_kpa != 0xFFFFu) {
+    if (dg.kp_kpa != 0xFFFFu)
         dg.learnt = 2;
-    } else {
-        dg.pc_kpa = DIAG_P_CHECK_KPA;
-        dg.kp_kpa = 300u;
-    }
+    else
+        model_told();
     dg.gen = (uint8_t)(param_generation - 1u);
 }
 
@@ -100,8 +106,7 @@ void diag_nozzle_relearn(void)
     dg.ldiv = 0;
     dg.learnt = 0;
     dg.xm = 0;
-    dg.pc_kpa = DIAG_P_CHECK_KPA;
-    dg.kp_kpa = 300u;
+    model_told();
     dg.gen = (uint8_t)(param_generation - 1u);
     diag_set_nozzles(dg.nozzles);
 }
@@ -247,15 +252,16 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
 {
     uint16_t m = 1u << bit;
     uint8_t active = (dg.alarms & m) != 0;
+    __xdata uint8_t *cnt = &dg.cnt[bit];        /* (its address once) */
     if (!active ? set : clr) {
-        if (dg.cnt[bit] < 255)
-            dg.cnt[bit]++;
-        if (dg.cnt[bit] >= (active ? DIAG_CLEAR_PERIODS : need_periods[bit])) {
+        if (*cnt < 255)
+            (*cnt)++;
+        if (*cnt >= (active ? DIAG_CLEAR_PERIODS : need_periods[bit])) {
             dg.alarms ^= m;
-            dg.cnt[bit] = 0;
+            *cnt = 0;
         }
     } else {
-        dg.cnt[bit] = 0;
+        *cnt = 0;
     }
 }
 
@@ -447,12 +453,14 @@ static const char __code *const __code reset_texts[] = {
 
 const __code char *diag_reset_code(void)
 {
-    return hal_reset_cause() <= HAL_RESET_OTHER ? reset_codes[hal_reset_cause()] : "?";
+    uint8_t c = hal_reset_cause();
+    return c <= HAL_RESET_OTHER ? reset_codes[c] : "?";
 }
 
 const __code char *diag_reset_text(void)
 {
-    return hal_reset_cause() <= HAL_RESET_OTHER ? reset_texts[hal_reset_cause()] : "Reset: ?";
+    uint8_t c = hal_reset_cause();
+    return c <= HAL_RESET_OTHER ? reset_texts[c] : "Reset: ?";
 }
 
 uint8_t diag_meter_suspect(void)
