@@ -52,10 +52,16 @@ void serial_log_request(void)
 /* ---- composing a line (linebuf.h: remote.c composes through it too) ---------------------- */
 #define tx_c serial_put_c
 #define tx_s serial_put_s
+/* c at the line's end, its room known (one copy of the indexed store) */
+static void put_raw(char c) __reentrant
+{
+    se.buf[se_n++] = c;
+}
+
 void serial_put_c(char c) __reentrant
 {
     if (se_n < SERIAL_TX_MAX - 5)       /* room for "*HH\r\n" */
-        se.buf[se_n++] = c;
+        put_raw(c);
 }
 
 void serial_put_s(const __code char *s) __reentrant
@@ -100,8 +106,8 @@ static void tx_sp_i16(int16_t v) __reentrant
 /* the line's end, and the line to be sent */
 static void tx_crlf(void) __reentrant
 {
-    se.buf[se_n++] = '\r';
-    se.buf[se_n++] = '\n';
+    put_raw('\r');
+    put_raw('\n');
     se_tx_i = 0;
     se_state = S_TX;
 }
@@ -111,9 +117,9 @@ static void tx_end(void) __reentrant
     uint8_t i, x = 0;
     for (i = 0; i < se_n; i++)
         x ^= (uint8_t)se.buf[i];
-    se.buf[se_n++] = '*';
-    se.buf[se_n++] = hexd[x >> 4];
-    se.buf[se_n++] = hexd[x & 15];
+    put_raw('*');
+    put_raw(hexd[x >> 4]);
+    put_raw(hexd[x & 15]);
     tx_crlf();
 }
 
@@ -472,7 +478,7 @@ uint8_t serial_poll(void) __reentrant
             else if (se_n >= SERIAL_LINE_MAX)
                 se_state = S_RX_LONG;
             else
-                se.buf[se_n++] = (char)b;
+                put_raw((char)b);
         }
     }
     if (se_n || se_state != S_RX) {
