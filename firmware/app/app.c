@@ -244,11 +244,18 @@ static void app_save(void)
 static void app_account(void)
 {
     uint8_t on = app_status.spraying;
+    uint16_t v = 0, w = 0;
+    int16_t q = 0;
 
-    /* every period since the last step, a late step's missed ones too */
+    /* every period since the last step, a late step's missed ones too (the same figures for
+     * each: nothing in the loop changes them) */
+    if (on) {
+        v = app_status.speed_kmh_x100;
+        w = target_width_cm();
+        q = app_status.flow_lpm_x100;
+    }
     do
-        totals_step(on ? app_status.speed_kmh_x100 : 0, on ? target_width_cm() : 0,
-                    on ? app_status.flow_lpm_x100 : 0);
+        totals_step(v, w, q);
     while (--ap.periods);
     app_save_when_due();
     app_status.tank_l = analog_tank_l();

@@ -61,13 +61,13 @@ uint16_t con_entry_value(uint8_t decimals)
     uint16_t v = 0;
     uint8_t i, d, frac = 0, point = 0;
     for (i = 0; i < con.entry_n; i++) {
-        if (con.u.entry[i] == '.') {
+        d = (uint8_t)(con.u.entry[i] - '0');        /* (the character read once) */
+        if (d == (uint8_t)('.' - '0')) {
             point = 1;
             continue;
         }
         if (point)
             frac++;
-        d = (uint8_t)(con.u.entry[i] - '0');
         if (v > 6553u || (v == 6553u && d > 4))
             return ENTRY_TOO_BIG;
         v = (uint16_t)(v * 10u + d);

@@ -27,7 +27,7 @@ void lcd_init(void)
 
 void lcd_poll(void) __reentrant
 {
-    uint8_t row, pair, d, budget = LCD_WORDS_PER_POLL;
+    uint8_t row, pair, d, half, budget = LCD_WORDS_PER_POLL;
     if (!ready) {
         if (hal_ms() < LCD_POWERUP_MS)
             return;
@@ -51,8 +51,8 @@ void lcd_poll(void) __reentrant
             /* consecutive pairs need no new address: the counter steps after each word */
             if (pair == 0 || !(d & (1u << (pair - 1))) || budget == LCD_WORDS_PER_POLL)
                 hal_lcd_write(0, (uint8_t)(0x80 | (line_word[row] + pair)));
-            hal_lcd_write(1, (uint8_t)screen_char(row, (uint8_t)(2 * pair)));
-            hal_lcd_write(1, (uint8_t)screen_char(row, (uint8_t)(2 * pair + 1)));
+            for (half = 0; half < 2u; half++)   /* the word's two characters, left first */
+                hal_lcd_write(1, (uint8_t)screen_char(row, (uint8_t)(2 * pair + half)));
             screen_take(row, pair);
             budget--;
         }
