@@ -105,10 +105,11 @@ typedef struct {
                                      * bypass holds the flow hardest, cycles cut it in a start too */
 #define FM_P_T_F 181u               /* the target's pressure P (target / flow)^2 over 400 kPa:
                                      * target FM_P_T_F > flow x that root (256 sqrt(200 / 400)) */
-#define FM_P_T_DUTY Q15(0.15)       /* ... a closing there at most the smallest pulse + this, on
+#define FM_P_T_DUTY Q15(0.10)       /* ... a closing there at most the smallest pulse + this, on
                                      * a valve whose gain was learnt under FM_G_INIT (fm_out); at
-                                     * 1/4 a 0.15 s motor's coast still took a 1.9 s valve's line
-                                     * over P max (docs/CONTROLLERS.md, the twenty-sixth round) */
+                                     * 1/4 and 0.15 a 0.15 s motor's coast still took a 1.9 s
+                                     * valve's line over P max (docs/CONTROLLERS.md, the
+                                     * twenty-sixth and twenty-seventh rounds) */
 #define FM_WARM 100                 /* little gain learning in the first 10 s of a (re)start: the pump
                                      * spins up, the line primes, the flow overshoots from the parked
                                      * valve (fm_gain_adapt says what is learnt there) */

@@ -20,30 +20,25 @@ static void fm_cap_up(void);
  *     so a motion m needs the duty d_run + m (1 - d_run) (d_run from Min duty, ctl_int.h);
  *   - break-away: from rest nothing moves below Min duty, so motions too small for one pulse are
  *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
- *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way (half as many
- *     while the error is big, twice as many up to twice the smallest) without the flow moving
- *     that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
+ *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way (fm_stall) without
+ *     the flow moving that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
- *     answers (reversals in quick succession near the target lower it, a long run of error one
- *     way raises it), and cut above FM_P_REF, where the bypass's hold on the flow grows with the
- *     pressure (fm_gain_at_p);
- *   - a valve so fast that one period at full duty moves the flow by more than a quarter of the
- *     target: its top duty is cut until it does not (the duty cap, fm_cap);
+ *     answers (quick reversals near the target lower it, a long error one way raises it), cut
+ *     above FM_P_REF, where the bypass holds the flow harder (fm_gain_at_p);
+ *   - a valve so fast that one period at full duty moves the flow by over a quarter of the
+ *     target: its top duty is cut until it does not (fm_cap);
  *   - a valve learnt faster than a new one starts, closing toward a target that needs over
  *     400 kPa: at most the smallest pulse + FM_P_T_DUTY (a slow motor's coast is its speed's);
  *   - backlash is not taken up: on a valve with less slack than it was told that overshoots;
  *   - a reversal is owed until the motion asked the other way is worth FM_REV_MIN of a period
  *     at full speed (a small one is mostly lost in the backlash, and the next periods often ask
- *     the first way again); reversals that cycle at a steady target (within FM_OSC_GAP, the
- *     target still) lower that threshold by 1/8 down to FM_REV_LOW: a fast valve's cycle is
- *     its smallest reversal, not its noise.
+ *     the first way again); reversals that cycle at a steady target (within FM_OSC_GAP) lower
+ *     it by 1/8 down to FM_REV_LOW: a fast valve's cycle is its smallest reversal, not noise.
  * The proportional term acts on the error, so a change of the target (the speed) moves the valve
  * at once, and a feed-forward learnt from this sprayer (fm_ff) moves it with the speed where
- * the pump does not follow the wheels; until the wheel's spacing is learnt the speed is a
- * tracker's filter on the edges' positions (speed.c), so the wheel's pulses do not kick it. It waits FM_P_WAIT
- * periods after a (re)start: the flow rising as the line fills is not the valve's doing; and for
- * FM_P_WAIT periods after the number of nozzles open changes it sees no change of the error (the
- * boom's flow steps by itself then, fm_step).
+ * the pump does not follow the wheels (the wheel's pulses do not kick it: speed.c). It waits
+ * FM_P_WAIT periods after a (re)start (the line's filling is not the valve's doing), and for as
+ * many after the nozzles open change it sees no change of the error (the boom's own step, fm_step).
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
  * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period; half
  * in a start when the half cycle ended in FM_TOP_N periods at the top duty (a valve much faster
@@ -59,11 +54,10 @@ static void fm_cap_up(void);
  * backlash of the turn, the line's filling and the meter's lag; on a valve faster than it was
  * told with a slow motor, a loop that turns only once the flow has arrived swings at full duty
  * between the pump's relief valve and half the target. Not after a start that held the bypass
- * (the flow refills the line from nothing) nor later in the run: there the lead delays the turn
- * of stiff valves.
+ * (the flow refills the line from nothing) nor later in the run (it delays stiff valves' turns).
  * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
- * the valve near the target (the noise of the meter, the pump's pulsation and the target's own
- * jitter move nothing); resting, a slow integral removes a steady bias.
+ * the valve near the target (the meter's noise, the pump's pulsation and the target's jitter move
+ * nothing); resting, a slow integral removes a steady bias.
  */
 void fm_init(void)
 {
@@ -237,10 +231,9 @@ static void fm_capd(void)
 }
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. Past the
- * target the way it last moved (fm_up), the valve rests only within target >> FM_DB_PAST: a
- * flow resting past a new target is that change's overshoot, and at a small change a rest
- * 0.3 % past the level was 2 % of the change for the whole hold (docs/CONTROLLERS.md, the
- * twenty-seventh round); on the side the flow came from it rests as before. */
+ * target the way it last moved (fm_up) the valve rests only within target >> FM_DB_PAST: a rest
+ * there is the change's overshoot (0.3 % of the level, 2 % of a small change; docs/CONTROLLERS.md,
+ * the twenty-seventh round). */
 __bit fm_up;
 CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
 {

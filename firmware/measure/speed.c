@@ -313,6 +313,24 @@ static void speed_ahead(void) __reentrant
 #undef d
 }
 
+/* Each period after the edges: offsets unlearnt, the tracker's speed, carried on from the newest
+ * edge at the acceleration, under the bound v when no edge came (the speed at which the next one
+ * would have come, a spacing of SPEED_TK_NEXT; tk_r; tk_w is v). The acceleration decays. */
+static void speed_track_out(void) __reentrant
+{
+    if (tk.n == SPEED_TK_FILL_N)
+        tk.a -= tk.a >> SPEED_TK_DECAY;     /* (the first edges' fit takes it as constant) */
+    if (!speed_learnt && have_edge && tk.n >= SPEED_TK_OUT_N && tk.v < SPEED_TK_V_MAX) {
+        tk_r = c.count || v > 32767u ? 32767 : (int16_t)v;
+        tk_w = hal_pca_now() - sp.last_pca;
+        tk_t = tk_w >= ((int32_t)SPEED_TK_T_MAX << 8) ? SPEED_TK_T_MAX : (uint16_t)(tk_w >> 8);
+        speed_tk_dv();
+        tk_w = (int32_t)tk.v + tk_x;
+        tk_t = (uint16_t)(UMUL(speed_tk_clip(), (uint16_t)(sp.k >> 14)) >> 15);     /* k v / 2^29 */
+        sp.v_x100 = tk_t < (uint16_t)tk_r ? tk_t : (uint16_t)tk_r;
+    }
+}
+
 uint16_t speed_step(void) __reentrant
 {
 
@@ -384,21 +402,7 @@ uint16_t speed_step(void) __reentrant
             sp.v_x100 = 0;
         }
     }
-    if (tk.n == SPEED_TK_FILL_N)
-        tk.a -= tk.a >> SPEED_TK_DECAY;     /* (the first edges' fit takes it as constant) */
-    /* Offsets unlearnt: the tracker's speed, carried on between edges but never past the bound
-     * the edge not yet come sets (v, a spacing of SPEED_TK_NEXT) */
-    if (!speed_learnt && have_edge && tk.n >= SPEED_TK_OUT_N && tk.v < SPEED_TK_V_MAX) {
-        /* the rate now, carried on from the newest edge at the acceleration, under the bound
-         * v when no edge came (tk_r; tk_w is v) */
-        tk_r = c.count || v > 32767u ? 32767 : (int16_t)v;
-        tk_w = hal_pca_now() - sp.last_pca;
-        tk_t = tk_w >= ((int32_t)SPEED_TK_T_MAX << 8) ? SPEED_TK_T_MAX : (uint16_t)(tk_w >> 8);
-        speed_tk_dv();
-        tk_w = (int32_t)tk.v + tk_x;
-        tk_t = (uint16_t)(UMUL(speed_tk_clip(), (uint16_t)(sp.k >> 14)) >> 15);     /* k v / 2^29 */
-        sp.v_x100 = tk_t < (uint16_t)tk_r ? tk_t : (uint16_t)tk_r;
-    }
+    speed_track_out();
     if (sp.v_x100 < SPEED_ZERO_X100)
         sp.v_x100 = 0;
     /* a pulse sooner than a quarter of the period at 1.5 times this speed is not a pulse */
