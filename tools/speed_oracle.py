@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """speed_oracle.py [--seeds A-B] [--scenario FILE]: what the start owes to the measured speed.
 
-While the wheel's spacing offsets are unlearnt (the first turns of a run) the firmware takes the
-speed over a window of wheel pulses (speed.c): it lags the tractor and moves only at pulses. This
+While the wheel's spacing offsets are unlearnt (the first turns of a run) the firmware's speed is
+a tracker's filter on the wheel's edges (speed.c; a window of pulses before the twenty-seventh
+round, which lagged the tractor and moved only at pulses). This
 tool copies the tracked files of the working tree to a temporary folder, applies
 tools/speed_oracle.patch (the simulator keeps the true speed of each 0.1 s sample; speed.c, once
 the wheel gave a speed and until its offsets are learnt, returns that true speed ORACLE_LAG
@@ -10,7 +11,7 @@ samples late, every period or, ORACLE_HELD, taken only when a pulse comes), buil
 simulator once a variant, and runs FILE (default scenarios/paper_dynamic_150.scn) with `best` on
 seeds A-B (default 1-64) with each and with the unpatched firmware. Prints per variant the mean
 `start_s`, the seeds over 3 s, the mean step overshoot and CV. Nothing in the tree is changed;
-the builds are deleted at the end. docs/CONTROLLERS.md (the twenty-sixth round) quotes it.
+the builds are deleted at the end. docs/CONTROLLERS.md (the twenty-sixth and twenty-seventh rounds) quotes it.
 """
 import os
 import shutil
@@ -23,7 +24,7 @@ from robust import run
 
 # (label, ORACLE_LAG in 0.1 s samples, ORACLE_HELD); None: the firmware as it is
 VARIANTS = [
-    ("the firmware's window (as built)", None, None),
+    ("the firmware's tracker (as built)", None, None),
     ("true speed, every period", 0, 0),
     ("true speed 0.2 s late, every period", 2, 0),
     ("true speed 0.3 s late, every period", 3, 0),
