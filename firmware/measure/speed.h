@@ -42,31 +42,19 @@
 #define SPEED_SLEW_X100 108u        /* 3 m/s^2 over 100 ms = 1.08 km/h */
 #define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
 #define SPEED_LOST_X100 200u        /* pulses that stop above 2 km/h: a lost sensor, not a stop */
-#ifndef SPEED_TK_ALPHA
-#define SPEED_TK_ALPHA 166         /* the tracker (speed.c, offsets unlearnt): position gain 0.65, /256 */
-#endif
-#ifndef SPEED_TK_BETA
-#define SPEED_TK_BETA 77            /* ... rate gain 0.3, /256 */
-#endif
-#ifndef SPEED_TK_GAMMA
-#define SPEED_TK_GAMMA 492          /* ... acceleration gain 0.03, x 16384 (speed.c's units) */
-#endif
-#define SPEED_TK_T_MAX 7200u        /* ... spans over 2 s (PCA/256): start again */
-#ifndef SPEED_TK_DECAY
+#define SPEED_TK_ALPHA 166          /* the tracker (speed.c, offsets unlearnt): position gain 0.65, /256 */
+#define SPEED_TK_BETA 77            /* ... rate gain 0.30, /256 */
+#define SPEED_TK_GAMMA 492          /* ... acceleration gain 0.03, x16384 (speed.c's units) */
+#define SPEED_TK_T_MAX 7200u        /* ... a span over 2 s (PCA/256): it starts again */
 #define SPEED_TK_DECAY 4u           /* ... the acceleration decays by 1/2^this a period (1.6 s) */
-#endif
-#ifndef SPEED_TK_FILL_N
-#define SPEED_TK_FILL_N 6u         /* ... edges on the expanding-memory gains first (speed.c) */
-#endif
-#ifndef SPEED_TK_OUT_N
-#define SPEED_TK_OUT_N 3u          /* ... edges tracked before its speed is used (the span's before) */
-#endif
-#define SPEED_TK_V_MAX 60000u       /* ... the rate's range: 103 pulses a second (40 km/h) */
-#ifndef SPEED_TK_NEXT
+#define SPEED_TK_FILL_N 6u          /* ... the steady gains from this many edges tracked (speed.c
+                                     * tk_gain: the first fit's before) */
+#define SPEED_TK_OUT_N 3u           /* ... its speed used from this many edges (the span's before) */
+#define SPEED_TK_V_MAX 60000u       /* ... the rate's range: 103 pulses a second (146 km/h on the
+                                     * default wheel; beyond it the span's speed) */
 #define SPEED_TK_NEXT 4352u         /* unlearnt, the next edge may come up to 1/16 of a spacing past
                                      * its even place: the speed between edges stays under the
                                      * speed at which it would have come */
-#endif
 #define SPEED_FIRST_TURN 0x80u      /* speed.c: the first turn of offsets was just learnt */
 #define SPEED_STEADY_SH 8u          /* a steady turn: its time within 1/2^this of the last one's
                                      * (at 1/512 a wheel was learnt only at 28-72 s in some dynamic
