@@ -102,16 +102,20 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
     m->zone_dist_m += dist * (1.0 - done);
 }
 
-void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, double target_lpm, int at_stop)
+void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, double target_lpm, int at)
 {
     if (v_mps * 3.6 < METRICS_MIN_KMH)
         return;
     double dt_min = dt_s * (1.0 / 60);
     m->target4_l += target_lpm * dt_min;
     m->meter4_l += meter_lpm * dt_min;
-    if (at_stop) {
+    if (at & METRICS_AT_STOP) {
         m->stop_meter4_l += meter_lpm * dt_min;
         m->stop_target4_l += target_lpm * dt_min;
+    }
+    if (at & METRICS_AT_START) {
+        m->start_meter4_l += meter_lpm * dt_min;
+        m->start_target4_l += target_lpm * dt_min;
     }
 }
 
@@ -184,6 +188,7 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
     r->dose_meter_pct = m->expect4_l > 0 ? (m->vol4_l - m->meter4_l) / m->expect4_l * 100.0 : NAN;
     r->dose_ctl_pct = m->expect4_l > 0 ? (m->meter4_l - m->target4_l) / m->expect4_l * 100.0 : NAN;
     r->dose_ctl_stop_pct = m->expect4_l > 0 ? (m->stop_meter4_l - m->stop_target4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_ctl_start_pct = m->expect4_l > 0 ? (m->start_meter4_l - m->start_target4_l) / m->expect4_l * 100.0 : NAN;
     r->valve_reversals = m->valve_reversals;
     r->valve_reversals_per_min = m->spray_s > 0 ? m->valve_reversals_spray / (m->spray_s / 60.0) : NAN;
     r->valve_travel_strokes = m->valve_travel;
@@ -345,6 +350,7 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "dose_meter_pct", r->dose_meter_pct, 1);
     num(f, "dose_ctl_pct", r->dose_ctl_pct, 1);
     num(f, "dose_ctl_stop_pct", r->dose_ctl_stop_pct, 1);
+    num(f, "dose_ctl_start_pct", r->dose_ctl_start_pct, 1);
     num(f, "valve_reversals", r->valve_reversals, 1);
     num(f, "valve_reversals_per_min", r->valve_reversals_per_min, 1);
     num(f, "valve_travel_strokes", r->valve_travel_strokes, 1);

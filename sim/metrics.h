@@ -58,7 +58,7 @@ typedef struct {
     double vol4_l, area4_m2, expect4_l;
     /* the dose error's split (v >= 4 km/h): the target flow the controller was given, what a
      * meter true to its calibration would read, and the same while the valve sat at an end stop */
-    double target4_l, meter4_l, stop_meter4_l, stop_target4_l;
+    double target4_l, meter4_l, stop_meter4_l, stop_target4_l, start_meter4_l, start_target4_l;
     /* the valve's wear (metrics_valve): the motor's reversals, those while spraying, the strokes
      * travelled and the time spraying */
     double valve_reversals, valve_reversals_spray, valve_travel, spray_s;
@@ -93,8 +93,10 @@ typedef struct {
      * the meter misreports of the nozzles' flow (its K off the calibration, its fall-off below
      * range, a leak after it); and the loop's own share, what a meter true to its calibration
      * reads beyond the target. dose_ctl_stop_pct is the part of the last while the valve sat at
-     * an end stop (no controller can change it) */
-    double dose_target_pct, dose_meter_pct, dose_ctl_pct, dose_ctl_stop_pct;
+     * an end stop (no controller can change it); dose_ctl_start_pct its part in the start, from
+     * power-up until 5 s after the boom first opened (the wait for the pressure, the start-up
+     * closing, the first approach) */
+    double dose_target_pct, dose_meter_pct, dose_ctl_pct, dose_ctl_stop_pct, dose_ctl_start_pct;
     /* the valve's wear: motor reversals (each takes up the backlash), per minute of spraying
      * (those while spraying), strokes travelled */
     double valve_reversals, valve_reversals_per_min, valve_travel_strokes;
@@ -123,9 +125,11 @@ void metrics_sample(metrics_t *m, double ref_lpm, double target_lpm, double flow
 void metrics_alarm(metrics_t *m, double t_s, const char *code);
 /* Work out the figures (steps are kept in m until metrics_free). */
 /* The same slice seen by the controller: the target flow it was given, what a meter true to
- * its calibration reads, whether the valve sat at an end stop (the dose error's split; call it
- * beside metrics_add, same slice). */
-void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, double target_lpm, int at_stop);
+ * its calibration reads, whether the valve sat at an end stop or the run is in its start
+ * (METRICS_AT_*: the dose error's split; call it beside metrics_add, same slice). */
+#define METRICS_AT_STOP 1           /* at: the valve sat at an end stop */
+#define METRICS_AT_START 2          /* at: the start (power-up until 5 s after the boom first opened) */
+void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, double target_lpm, int at);
 /* The valve's wear so far: the motor's reversals and the strokes travelled (running totals from
  * the plant), and whether this slice of dt_s sprays. */
 void metrics_valve(metrics_t *m, double dt_s, double reversals, double travel_strokes, int spraying);

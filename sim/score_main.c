@@ -311,7 +311,7 @@ int main(int argc, char **argv)
     /* what a recording cannot tell: the valve's wear, and the dose error's split (it needs what
      * a meter true to its calibration reads and the valve's end stops, every millisecond) */
     r.valve_reversals = r.valve_reversals_per_min = r.valve_travel_strokes = NAN;
-    r.dose_target_pct = r.dose_meter_pct = r.dose_ctl_pct = r.dose_ctl_stop_pct = NAN;
+    r.dose_target_pct = r.dose_meter_pct = r.dose_ctl_pct = r.dose_ctl_stop_pct = r.dose_ctl_start_pct = NAN;
     snprintf(clean, sizeof clean, "%s", name ? name : path);
     for (i = 0; clean[i]; i++)
         if ((unsigned char)clean[i] < 32 || clean[i] == '\\' || clean[i] == '"')

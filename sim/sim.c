@@ -312,8 +312,11 @@ void sim_step(sim_t *sim)
 
     metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
                 param_v[P_RATE], pl->p_bar, pl->spray_on);
+    if (pl->spray_on && !sim->spray_on_ns)
+        sim->spray_on_ns = t1 + 1;
     metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 * 0.01,
-                   pl->theta <= 0.0 || pl->theta >= 1.0);
+                   (pl->theta <= 0.0 || pl->theta >= 1.0 ? METRICS_AT_STOP : 0)
+                       | (!sim->spray_on_ns || t1 < sim->spray_on_ns + SIM_START_NS ? METRICS_AT_START : 0));
     metrics_valve(&sim->metrics, dt, (double)pl->valve_reversals, pl->valve_travel, pl->spray_on);
     sim->acc_meter += pl->q_meter;
     sim->acc_boom += pl->q_boom;

@@ -42,6 +42,7 @@
 #include "metrics.h"
 
 #define SIM_TICK_NS 1000000u        /* plant step: 1 ms */
+#define SIM_START_NS 5000000000u    /* the start's share of the loop's: until 5 s after the boom first opened */
 #define SIM_TICK_MAX_MS 50          /* the longest tick sim_set_tick_ms allows (fast modes) */
 #define SIM_FAST_TICK_MS 5          /* sim --fast: the tick */
 #define SIM_FAST_IDLE_MS 10         /* ... and the tick while the valve is idle */
@@ -88,6 +89,7 @@ typedef struct sim {
     int next_event;                 /* index into scn->events */
     int drive_row;                  /* the last [drive] row at or before now (a cursor) */
     unsigned prev_alarms;
+    uint64_t spray_on_ns;           /* when the boom first opened, +1 (0: not yet; the start's share) */
     /* mean flows over the current sample period */
     double acc_meter, acc_boom;
     uint32_t acc_n;

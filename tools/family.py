@@ -23,7 +23,8 @@ controller.
 of the 36 nozzles, a rate change, a PTO step, a refill, the bypass parked anywhere at the start):
 conditions the family's drives leave out, and where the meter runs below its range.
 Prints per controller the median and 95th percentile of abs(dose error), abs(the controller's
-share of it), CV, worst zone error, valve reversals a minute and mean settling, and the count of
+share of it), abs(that share past the start: from 5 s after the boom first opened), CV, worst
+zone error, valve reversals a minute and mean settling, and the count of
 runs with an alarm the plant gave no cause for; writes every run to OUT/runs.csv and the table
 to OUT/summary.json (and as a Markdown table to OUT/table.md).
 """
@@ -41,6 +42,7 @@ NOZZLES, SPACING_CM, RATING_3BAR, P_LIMIT = 36, 50, 1.18, 4.5
 FIGURES = [  # (summary key, run column, label)
     ("dose_abs_pct", "dose_abs_pct", "|dose| %"),
     ("dose_ctl_abs_pct", "dose_ctl_abs_pct", "|ctl share| %"),
+    ("dose_ctl_after_abs_pct", "dose_ctl_after_abs_pct", "|past start| %"),
     ("cv_pct", "cv_pct", "CV %"),
     ("zone_worst_pct", "zone_worst_pct", "worst zone %"),
     ("reversals_per_min", "reversals_per_min", "reversals/min"),
@@ -258,6 +260,10 @@ def row_of(i, d, ctl, m):
         "dose_error_pct": get("dose_error_pct"),
         "dose_abs_pct": None if get("dose_error_pct") is None else abs(get("dose_error_pct")),
         "dose_ctl_abs_pct": None if get("dose_ctl_pct") is None else abs(get("dose_ctl_pct")),
+        # the loop's share in the start (power-up until 5 s after the boom opened) and past it
+        "dose_ctl_start_pct": get("dose_ctl_start_pct"),
+        "dose_ctl_after_abs_pct": None if get("dose_ctl_pct") is None or get("dose_ctl_start_pct") is None
+        else abs(get("dose_ctl_pct") - get("dose_ctl_start_pct")),
         "cv_pct": get("cv_pct"),
         "zone_worst_pct": None if zmin is None else max(abs(zmin), abs(zmax)),
         "reversals_per_min": get("valve_reversals_per_min"),
