@@ -48,6 +48,28 @@ for c in ("best", "pid"):
 PYEOF
 then ok "summary.json has the median and 95th percentile of every figure"; else nok "summary.json has the median and 95th percentile of every figure"; fi
 grep -q "plant family: 6 plants" "$tmp/a.out" && ok "the table is printed" || nok "the table is printed" "$(cat "$tmp/a.out")"
+# the loop's share in the start and past it: they add up to the whole share (runs.csv)
+if $PY - "$tmp/a/runs.csv" <<'PYEOF'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+n = 0
+for r in rows:
+    whole, start, past = (float(r[k]) for k in ("dose_ctl_abs_pct", "dose_ctl_start_pct", "dose_ctl_after_abs_pct"))
+    assert min(abs(whole - abs(start + past)), abs(whole - abs(start - past))) < 1e-4, r
+    n += start != 0
+assert n > len(rows) // 2, n
+PYEOF
+then ok "runs.csv splits the loop's share into the start's and the rest"; else nok "runs.csv splits the loop's share into the start's and the rest"; fi
+if $PY tools/ctl_tail.py "$tmp/a" "$tmp/b" > "$tmp/t.out" 2>&1 \
+   && grep -Eq "^best: 24 runs; 95th percentile of abs\(dose_ctl_pct\) [0-9.]+ %, past the start [0-9.]+ %$" "$tmp/t.out" \
+   && grep -Eq "^the start over half of the run's share: [0-9]+ of 2 " "$tmp/t.out"; then
+    ok "ctl_tail sorts the runs above the 95th percentile of the loop's share by their start"
+else
+    nok "ctl_tail sorts the runs above the 95th percentile of the loop's share by their start" "$(cat "$tmp/t.out")"
+fi
+$PY tools/ctl_tail.py "$tmp/nonexistent" > /dev/null 2> "$tmp/err" && nok "ctl_tail refuses a directory without runs.csv" \
+    || { grep -q "^ctl_tail: .*runs.csv: No such file" "$tmp/err" && ok "ctl_tail refuses a directory without runs.csv in one line" \
+         || nok "ctl_tail refuses a directory without runs.csv in one line" "$(cat "$tmp/err")"; }
 $PY tools/family.py /nonexistent --n 1 > /dev/null 2> "$tmp/err" && nok "a missing simulator is refused" \
     || { grep -q "not an executable" "$tmp/err" && ok "a missing simulator is refused in one line" || nok "a missing simulator is refused in one line" "$(cat "$tmp/err")"; }
 # redraw.py: a plant of the family again with more noise draws, the scenario the family wrote
