@@ -340,8 +340,8 @@ static void test_metrics_zone_split_inside_a_slice(void **state)
 /* The dose error's split: two 10 s slices at 2 m/s over 18 m (5.4 L expected each), the target
  * 33 L/min (5.5 L), the nozzles 36 then 40 L/min (6 then 6.667 L) which a meter true to its
  * calibration reads as 35 and 39 (5.833 and 6.5 L: the meter's share is 1/6 + 1/6 L), the
- * second slice with the valve at an end stop and in the start; a slice under 4 km/h counts in
- * none. The three shares add up to the dose error. */
+ * first slice in the start, the second with the valve at an end stop; a slice under 4 km/h
+ * counts in none. The three shares add up to the dose error. */
 static void test_metrics_dose_split(void **state)
 {
     metrics_t m;
@@ -349,9 +349,9 @@ static void test_metrics_dose_split(void **state)
     (void)state;
     metrics_init(&m, DT);
     metrics_add(&m, 10.0, 2.0, 36.0, 18.0, 150, 2.0, 1);
-    metrics_target(&m, 10.0, 2.0, 35.0, 33.0, 0);
+    metrics_target(&m, 10.0, 2.0, 35.0, 33.0, METRICS_AT_START);
     metrics_add(&m, 10.0, 2.0, 40.0, 18.0, 150, 2.0, 1);
-    metrics_target(&m, 10.0, 2.0, 39.0, 33.0, METRICS_AT_STOP | METRICS_AT_START);
+    metrics_target(&m, 10.0, 2.0, 39.0, 33.0, METRICS_AT_STOP);
     metrics_add(&m, 10.0, 0.5, 40.0, 18.0, 150, 2.0, 1);
     metrics_target(&m, 10.0, 0.5, 40.0, 10.0, METRICS_AT_STOP | METRICS_AT_START);
     metrics_finish(&m, &r);
@@ -360,7 +360,7 @@ static void test_metrics_dose_split(void **state)
     assert_within(r.dose_meter_pct, 0.33333 / 10.8 * 100, 1e-3);
     assert_within(r.dose_ctl_pct, 1.33333 / 10.8 * 100, 1e-3);
     assert_within(r.dose_ctl_stop_pct, 1.0 / 10.8 * 100, 1e-3);
-    assert_within(r.dose_ctl_start_pct, 1.0 / 10.8 * 100, 1e-3);
+    assert_within(r.dose_ctl_start_pct, 0.33333 / 10.8 * 100, 1e-3);
     assert_within(r.dose_target_pct + r.dose_meter_pct + r.dose_ctl_pct, r.dose_error_pct, 1e-9);
     metrics_free(&m);
 }
