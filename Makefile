@@ -12,8 +12,11 @@ endif
 msg = $(if $(Q),@printf '  %-6s %s\n' "$(1)" "$(2)",@true)
 
 BUILD ?= build
-# one Python for every script: the project's .venv once `make deps` made it, else the system's
-PYTHON ?= $(if $(wildcard .venv/bin/python),.venv/bin/python,python3)
+# one Python for every script: the project's .venv. Every rule that runs $(PYTHON) depends on
+# $(VENV), whose rule (tools/deps.sh) installs the toolchain and makes the .venv first, so that a
+# fresh clone's first `make <anything>` works (the choice is not made when make starts).
+VENV := .venv/.requirements
+PYTHON ?= .venv/bin/python
 CC ?= cc
 
 # the chip: SDCC 4.2 for the STC12C5A60S2 (sizes in bytes)
@@ -152,7 +155,7 @@ help:
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
 	@echo "make bench     machine cycles in s51 of the building blocks and of each controller's step (budget 30,000)"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
-	@echo "make compare   the four controllers on the same plant and seeds, beside the paper; best vs bp_pid over seeds 1-16"
+	@echo "make compare   the six controllers on the same plant and seeds, beside the paper; ffmap against bp_pid, aog and raven over seeds 1-16"
 	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn]   the controllers over N sprayers of the plant family"
 	@echo "make redraw [PLANTS=\"28/35/untold ..\"] [SELECT=fast-high|fast-stiff] [SEEDS=1-140] [DRAWS=12]   family plants with more noise draws: runs with an alarm"
@@ -166,16 +169,19 @@ help:
 	@echo "make clean     remove build/"
 
 # ==== the firmware image ==============================================================================
-firmware: $(FW_HEX)
+$(VENV): tools/requirements.txt tools/deps.sh
+	$(Q)tools/deps.sh --quiet && touch $@
+
+firmware: $(FW_HEX) $(VENV)
 	$(Q)$(PYTHON) tools/memuse.py $(STC_DIR)/sprayer --code $(CODE_SIZE) --iram $(IRAM_SIZE) --xram $(XRAM_SIZE) \
 	    --code-free $(CODE_FREE_PCT) --xram-free $(XRAM_FREE_MIN) --stack-margin $(STACK_MARGIN_MIN)
 	$(Q)$(PYTHON) tools/callcheck.py --tree $(STC_DIR)
 
-memory: $(FW_HEX)
+memory: $(FW_HEX) $(VENV)
 	$(Q)$(PYTHON) tools/memmap.py $(STC_DIR) 20
 	$(Q)$(PYTHON) tools/stackdepth.py $(STC_DIR) --path
 
-$(STC_DIR)/%.rel: %.c tools/share_moves.py
+$(STC_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$<)
 	$(Q)$(call sdcc_rel,$(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1))
@@ -234,7 +240,7 @@ $(TEST_DIR)/fuzz/replay_%: $(TEST_DIR)/tests/fuzz/fuzz_%.o $(TEST_DIR)/tests/fuz
 	$(Q)$(CC) $(TEST_LDFLAGS) $^ -lm -o $@
 
 # ==== target tests: the SDCC build run in s51 against the same program built for the host ================
-$(UC_DIR)/%.rel: %.c tools/share_moves.py
+$(UC_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$< [s51])
 	$(Q)$(call sdcc_rel,$(UC_CFLAGS))
@@ -254,7 +260,7 @@ $(TEST_DIR)/target/tt_%: $(TEST_DIR)/tests/target/tt_%.o $(TEST_DIR)/tests/targe
 target-tests: $(TT_IHX) $(TT_HOST)
 
 # ==== processor in the loop: the whole firmware in s51, the plant on the host (hal/pil, sim/pil_host.c) ====
-$(PIL_DIR)/%.rel: %.c tools/share_moves.py
+$(PIL_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$< [pil])
 	$(Q)$(call sdcc_rel,$(SDCC_CFLAGS) -DHAL_PIL -Ihal/pil)
@@ -296,14 +302,14 @@ bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
 	$(Q)tools/bench.sh $(UC_DIR)
 	$(Q)tools/bench_pil.sh $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
 
-# simulated seconds per wall second for the paper's run (one process, one core; best of 3)
+# simulated seconds per wall second for the paper's run (one process, one core; the fastest of 9)
 bench-sim: $(SIM_BIN)
 	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn
 
-# pid, fuzzy_pid, bp_pid and best on the same plant and seed (target steps, the paper's dynamic run
+# pid, fuzzy_pid, bp_pid and ffmap on the same plant and seed (target steps, the paper's dynamic run
 # coupled and with a fixed PTO, the field run), beside the paper's Table 2 and section 5.1; then
-# best against bp_pid figure by figure, means over seeds 1-16 of every scenario family
-compare: $(SIM_BIN)
+# ffmap against bp_pid figure by figure, means over seeds 1-16 of every scenario family
+compare: $(SIM_BIN) $(VENV)
 	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
 	$(Q)echo
 	$(Q)$(PYTHON) tools/seeds.py $(SIM_BIN)
@@ -315,13 +321,13 @@ compare: $(SIM_BIN)
 # the controllers over N sprayers drawn from the plant family (docs/SCENARIOS.md): median and 95th
 # percentile per controller; every run in build/family/runs.csv, the table in summary.json
 N ?= 200
-CONTROLLERS ?= best,bp_pid,fuzzy_pid,pid,aog,raven
+CONTROLLERS ?= ffmap,bp_pid,fuzzy_pid,pid,aog,raven
 SEED ?= 1
 TOLD ?= both
 # KIND=dynamic|field|both: the family's drives; EVENTS=1: an operator's events on every run
 KIND ?= both
 EVENTS ?=
-family: $(SIM_BIN)
+family: $(SIM_BIN) $(VENV)
 	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --kind $(KIND) $(if $(EVENTS),--events) --out $(BUILD)/family
 
 # family plants again with more noise draws (the plant's own seed, then --seed 1..DRAWS-1): the
@@ -331,7 +337,7 @@ PLANTS ?=
 SELECT ?=
 SEEDS ?= 1-140
 DRAWS ?= 12
-redraw: $(SIM_BIN)
+redraw: $(SIM_BIN) $(VENV)
 	$(Q)$(PYTHON) tools/redraw.py $(SIM_BIN) $(PLANTS) $(if $(SELECT),--select $(SELECT) --seeds $(SEEDS)) --draws $(DRAWS) --out $(BUILD)/redraw
 
 # ==== the simulator, the demo and the virtual panel ========================================================
@@ -375,7 +381,7 @@ PANEL_ARGS ?=
 panel: $(PANEL_BIN)
 	$(Q)$(PANEL_BIN) $(if $(PANEL_SCENARIO),--scenario $(PANEL_SCENARIO)) $(PANEL_ARGS)
 
-screenshots: $(PANEL_BIN)
+screenshots: $(PANEL_BIN) $(VENV)
 	@mkdir -p docs
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......" --screenshot docs/panel_run.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......ABBBB" --screenshot docs/panel_menu.png
@@ -439,7 +445,7 @@ clean:
 # Tables 2-4 and section 5.1 beside this project's figures, ISO 5682-3 style changes, the plant family,
 # single-factor sweeps, and the cost on the chip; also the README's headline table.
 REPORT_DIR := $(BUILD)/report
-report: firmware $(SIM_PROGS) $(TT_IHX) $(TT_HOST)
+report: $(VENV) firmware $(SIM_PROGS) $(TT_IHX) $(TT_HOST)
 	@mkdir -p $(REPORT_DIR)
 	$(Q)$(MAKE) --no-print-directory firmware > $(REPORT_DIR)/memory.txt 2>&1 || true
 	$(Q)tools/bench.sh $(UC_DIR) > $(REPORT_DIR)/bench.txt 2>&1 || true

@@ -71,7 +71,9 @@ int scenario_load(scenario_t *s, const char *path, char *err, size_t errlen);
 int scenario_parse(scenario_t *s, const char *text, const char *name, char *err, size_t errlen);
 /* A scenario of defaults only (what an empty file gives). */
 void scenario_default(scenario_t *s, const char *name);
-/* Controller by name: ctl_name(id) of any id, or "best" (CTL_BEST). -1 when unknown. */
+/* Controller by name: ctl_name(id) of any id, or an old name of the alias table in scenario_rows.c. -1 when unknown. */
+/* The i-th old name the alias table accepts and the id it stands for; NULL past the table's end. */
+const char *scenario_controller_alias(size_t i, int *id);
 int scenario_controller_id(const char *name);
 /* Change the controller after loading (the program's --controller); -1 and err when unknown. */
 int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t errlen);

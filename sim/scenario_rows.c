@@ -99,11 +99,26 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
 }
 
 /* ---- controllers ------------------------------------------------------------------------------ */
+/* Old names still accepted on the command line and in scenario files: the alias table. */
+static const struct { const char *alias; int id; } ctl_aliases[] = {
+    { "best", CTL_FFMAP },          /* the project's own controller's name before it had one */
+};
+
+const char *scenario_controller_alias(size_t i, int *id)
+{
+    if (i >= sizeof ctl_aliases / sizeof ctl_aliases[0])
+        return NULL;
+    *id = ctl_aliases[i].id;
+    return ctl_aliases[i].alias;
+}
+
 int scenario_controller_id(const char *name)
 {
     int id;
-    if (strcmp(name, "best") == 0)
-        return CTL_BEST;
+    size_t a;
+    for (a = 0; a < sizeof ctl_aliases / sizeof ctl_aliases[0]; a++)
+        if (strcmp(name, ctl_aliases[a].alias) == 0)
+            return ctl_aliases[a].id;
     for (id = 0; id < CTL_COUNT; id++)
         if (strcmp(name, ctl_name((uint8_t)id)) == 0)
             return id;
@@ -116,9 +131,7 @@ static void controller_names(char *buf, size_t n)
     size_t k = 0;
     buf[0] = 0;
     for (id = 0; id < CTL_COUNT && k < n; id++)
-        k += (size_t)snprintf(buf + k, n - k, "%s, ", ctl_name((uint8_t)id));
-    if (k < n)
-        snprintf(buf + k, n - k, "best");
+        k += (size_t)snprintf(buf + k, n - k, id ? ", %s" : "%s", ctl_name((uint8_t)id));
 }
 
 int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t errlen)

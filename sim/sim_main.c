@@ -18,7 +18,7 @@ static void usage(FILE *f)
           "           [--fast | --tick-ms N [--idle-tick-ms M]]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
           "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
-          "  NAME: pid, fuzzy_pid, bp_pid, ffmap or 'best' (the project's own), aog, raven. --seed replaces [run] seed.\n"
+          "  NAME: pid, fuzzy_pid, bp_pid, ffmap (the project's own), aog, raven. --seed replaces [run] seed.\n"
           "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
           "  build/host/bin/steps reads it back).\n"
           "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench_sim.sh: simulated seconds per second of the simulator on one scenario (one thread, so one
-# core): the best of RUNS runs (9) by wall time, and by the process's CPU time (the same unless
+# core): the fastest of RUNS runs (9) by wall time, and by the process's CPU time (the same unless
 # other load on the machine takes the core away; a shared machine's wall figure is the lower).
 # PIN=N pins the runs to core N (unpinned, the scheduler may move a run off a busy core).
 #   usage: tools/bench_sim.sh SIM_BINARY SCENARIO [SIM_OPTION...]
@@ -16,7 +16,7 @@ if [ -n "${PIN:-}" ]; then
     command -v taskset >/dev/null 2>&1 || { echo "bench-sim: PIN needs taskset" >&2; exit 1; }
     pin="taskset -c $PIN"
 fi
-best=0 best_cpu=0
+fastest=0 fastest_cpu=0
 for i in $(seq "$runs"); do
     line=$($pin "$bin" --scenario "$scn" "$@" | tail -n 1)
     sim_s=$(echo "$line" | grep -o '"sim_s":[0-9.e+-]*' | cut -d: -f2)
@@ -26,9 +26,10 @@ for i in $(seq "$runs"); do
     x=$(awk -v s="$sim_s" -v w="$wall_s" 'BEGIN { printf "%.0f", (w > 0 ? s / w : 0) }')
     xc=$(awk -v s="$sim_s" -v w="$cpu_s" 'BEGIN { printf "%.0f", (w > 0 ? s / w : 0) }')
     echo "bench-sim: run $i: $sim_s s simulated in $wall_s s wall ($cpu_s s CPU): ${x}x real time (${xc}x by CPU time)"
-    [ "$x" -gt "$best" ] && best=$x
-    [ "$xc" -gt "$best_cpu" ] && best_cpu=$xc
+    [ "$x" -gt "$fastest" ] && fastest=$x
+    [ "$xc" -gt "$fastest_cpu" ] && fastest_cpu=$xc
 done
-verdict="meets"
-[ "$best" -lt 10000 ] && verdict="MISSES"
-echo "bench-sim: $(basename "$scn")${*:+ $*}: best ${best}x real time on one core, ${best_cpu}x by CPU time ($verdict the 10000x goal)"
+# a timing on a shared machine is a measurement of that machine, not a pass or a fail: the
+# figure is reported with the machine it ran on
+cpu=$(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | sed 's/.*: //' || true)
+echo "bench-sim: $(basename "$scn")${*:+ $*}: fastest ${fastest}x real time on one core, ${fastest_cpu}x by CPU time (on ${cpu:-an unknown CPU}, $(nproc 2>/dev/null || echo '?') cores, load $(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo '?'))"

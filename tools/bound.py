@@ -6,7 +6,7 @@ usage: bound.py TRACE.csv --samples SAMPLES.csv [--travel S] [--scenario SCN] [-
 
 TRACE.csv is a 0.1 s trace of the simulator (sim --csv), SAMPLES.csv its step series (sim --samples). The target flow, the PTO speed, the
 boom switch and the open nozzles in it do not depend on the controller, so any controller's
-run will do. --run runs SIM_BIN on SCENARIO (controller 'best' unless given) to a temporary
+run will do. --run runs SIM_BIN on SCENARIO (controller 'ffmap' unless given) to a temporary
 trace first (--seed N: the sim's --seed, another noise draw of the run), reads the scenario's
 [plant] keys and checks the step metrics against the sim's own JSON.
 
@@ -359,7 +359,7 @@ def main(argv):
         if opts["--seed"] is not None and not opts["--seed"].isdigit():
             sys.exit("bound: --seed %s: give a seed 0 or above" % opts["--seed"])
         sim, scn = rest[0], rest[1]
-        ctl = rest[2] if len(rest) > 2 else "best"
+        ctl = rest[2] if len(rest) > 2 else "ffmap"
         fd, tmp = tempfile.mkstemp(prefix="bound_", suffix=".csv")
         os.close(fd)
         fd, tmp_s = tempfile.mkstemp(prefix="bound_s_", suffix=".csv")

@@ -9,8 +9,8 @@ import json
 import subprocess
 import sys
 
-CONTROLLERS = ["pid", "fuzzy_pid", "bp_pid", "best", "aog", "raven"]
-PEERS = ["bp_pid", "aog", "raven"]      # best is compared with each, figure by figure
+CONTROLLERS = ["pid", "fuzzy_pid", "bp_pid", "ffmap", "aog", "raven"]
+PEERS = ["bp_pid", "aog", "raven"]      # ffmap is compared with each, figure by figure
 SCENARIOS = [
     ("target_step_150", "target steps (given speed 6/8/7 km/h, PTO 540 rpm)"),
     ("paper_dynamic_150", "paper's dynamic following, 150 L/ha, 4-11 km/h, PTO coupled"),
@@ -70,7 +70,7 @@ def main():
                 f(m.get("zone_error_min_pct")), f(m.get("zone_error_max_pct")), f(m.get("overshoot_mean_pct")),
                 f(m.get("settle_mean_s")), f(m.get("start_s")), f(m.get("valve_reversals_per_min"), 8, 1),
                 f(p[0], 6, 1), f(p[1], 6, 2), f(p[2], 6, 1), f(p[3], 6, 1)))
-    m = res["paper_dynamic_150"]["best"]
+    m = res["paper_dynamic_150"]["ffmap"]
     print("\nbest on paper_dynamic_150 against the project's goals:")
     for k, g in GOAL_BEST.items():
         v = m.get(k)
@@ -83,14 +83,14 @@ def main():
         worse = []
         for scn, _ in SCENARIOS:
             both = {c: dict(res[scn][c], rise_mean_s=mean_rise(res[scn][c]), sse_mean_abs_pct=mean_abs_sse(res[scn][c]))
-                    for c in ("best", other)}
+                    for c in ("ffmap", other)}
             for k in keys + (["rise_mean_s", "sse_mean_abs_pct"] if scn.startswith("target_step") else []):
-                b, n = both["best"].get(k), both[other].get(k)
+                b, n = both["ffmap"].get(k), both[other].get(k)
                 if not isinstance(b, (int, float)) or not isinstance(n, (int, float)):
                     continue
                 if round(abs(b), 2) > round(abs(n), 2):
                     worse.append("%s/%s %.3g > %.3g" % (scn, k, b, n))
-        print("best at least as good as %s on every metric: %s" % (other, "yes" if not worse else "no: " + "; ".join(worse)))
+        print("ffmap at least as good as %s on every metric: %s" % (other, "yes" if not worse else "no: " + "; ".join(worse)))
     print("valve wear (motor reversals a minute while spraying, not counted above): "
           + "; ".join("%s %s" % (c, " / ".join("%.1f" % res[scn][c].get("valve_reversals_per_min", float("nan"))
                                                 for scn, _ in SCENARIOS)) for c in CONTROLLERS))

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""ctl_tail.py DIR [DIR ..] [--controller best]: where the tail of the loop's dose share comes from.
+"""ctl_tail.py DIR [DIR ..] [--controller ffmap]: where the tail of the loop's dose share comes from.
 
 Reads the runs.csv of one or more `make family` / tools/family.py output directories (each
 written with this simulator, which reports `dose_ctl_start_pct`), takes the controller's runs
@@ -22,7 +22,7 @@ from family import pct      # (the family table's percentile: the same cut as it
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("dirs", nargs="+")
-    ap.add_argument("--controller", default="best")
+    ap.add_argument("--controller", default="ffmap")
     a = ap.parse_args()
     runs = []
     for d in a.dirs:

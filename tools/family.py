@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """family.py: the controllers judged on a family of sprayers (docs/SCENARIOS.md, "The plant family").
 
-Usage: tools/family.py SIM [--n 200] [--controllers best,bp_pid,fuzzy_pid,pid,aog,raven] [--seed 1]
+Usage: tools/family.py SIM [--n 200] [--controllers ffmap,bp_pid,fuzzy_pid,pid,aog,raven] [--seed 1]
                        [--out build/family] [--jobs N] [--kind dynamic|field|both] [--told both|drawn]
                        [--events]
 
@@ -277,7 +277,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("sim")
     ap.add_argument("--n", type=int, default=200)
-    ap.add_argument("--controllers", default="best,bp_pid,fuzzy_pid,pid,aog,raven")
+    ap.add_argument("--controllers", default="ffmap,bp_pid,fuzzy_pid,pid,aog,raven")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--out", default="build/family")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)

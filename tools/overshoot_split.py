@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """overshoot_split.py SIM [--seeds N] [--scenario FILE]: the paper run's step overshoot taken apart.
 
-Runs FILE (default scenarios/paper_dynamic_150.scn) with `best` on seeds 1..N (default 32), each
+Runs FILE (default scenarios/paper_dynamic_150.scn) with `ffmap` on seeds 1..N (default 32), each
 with --samples, and for every scored change finds the sample where sign(D) (y - r) peaks over
 [t_a, t_e - 1 s) (docs/SCENARIOS.md's overshoot). It prints the mean `overshoot_mean_pct`; the
 share of the overshoot that peaks within 1 s, 1-3 s, 3-6 s and 6 s or more after t_a; at the
@@ -31,16 +31,16 @@ def peaks(rows, steps, target_key):
         t1 = steps[i + 1]["t_s"] if i + 1 < len(steps) else t[-1]
         d = s["to_lpm"] - s["from_lpm"]
         sg = 1 if d > 0 else -1
-        ta, best, at = None, 0.0, None
+        ta, peak, at = None, 0.0, None
         for k, tk in enumerate(t):
             if tk < t0 or tk >= t1 - 1:
                 continue
             if ta is None and abs(fw[k] - s["to_lpm"]) <= 0.01 * abs(s["to_lpm"]):
                 ta = tk
-            if ta is not None and (at is None or sg * (y[k] - r_[k]) > best):
-                best, at = sg * (y[k] - r_[k]), k
+            if ta is not None and (at is None or sg * (y[k] - r_[k]) > peak):
+                peak, at = sg * (y[k] - r_[k]), k
         if ta is not None:
-            out.append((max(best, 0.0) / abs(d) * 100, t[at] - ta, at, sg, abs(d)))
+            out.append((max(peak, 0.0) / abs(d) * 100, t[at] - ta, at, sg, abs(d)))
     return out
 
 
@@ -56,7 +56,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(1, a.seeds + 1):
             path = os.path.join(tmp, "s.csv")
-            out = subprocess.run([a.sim, "--scenario", a.scenario, "--controller", "best", "--seed", str(seed),
+            out = subprocess.run([a.sim, "--scenario", a.scenario, "--controller", "ffmap", "--seed", str(seed),
                                   "--samples", path], capture_output=True, text=True, check=True)
             m = json.loads(out.stdout.strip().splitlines()[-1])
             reported += m["overshoot_mean_pct"]

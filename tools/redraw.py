@@ -2,7 +2,7 @@
 """redraw.py: plants of the family run again with more noise draws (docs/CONTROLLERS.md, the twelfth round).
 
 Usage: tools/redraw.py SIM [SEED/PLANT/told|untold ...] [--select fast-high|fast-stiff [--seeds 1-140]]
-                       [--draws 12] [--controller best] [--jobs N] [--out build/redraw]
+                       [--draws 12] [--controller ffmap] [--jobs N] [--out build/redraw]
 
 A family run is one noise draw of its plant: the pump's pulsation, the meter's blades, the
 wheel's pulses and the pressure's noise come from the scenario's seed. The alarm runs left on
@@ -71,7 +71,7 @@ def main():
     ap.add_argument("--select", choices=("fast-high", "fast-stiff"))
     ap.add_argument("--seeds", default="1-140")
     ap.add_argument("--draws", type=int, default=12)
-    ap.add_argument("--controller", default="best")
+    ap.add_argument("--controller", default="ffmap")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--out", default="build/redraw")
     a = ap.parse_args()

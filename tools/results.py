@@ -33,7 +33,7 @@ PAPER_51 = {"fuzzy_pid": {"ovs": 17.6, "settle": 2.54, "l_ha": 142.1, "dose": 5.
 PAPER_T4 = {"bp_pid": "CV 5.1-7.4 % (whole run), 4.2-5.9 % at v >= 4 km/h, errors -5..+5 %",
             "fuzzy_pid": "CV 6.9-9.2 % at v >= 4 km/h, errors -9.9..+9.8 %"}
 
-ALL_CONTROLLERS = ["pid", "fuzzy_pid", "bp_pid", "aog", "raven", "best"]
+ALL_CONTROLLERS = ["pid", "fuzzy_pid", "bp_pid", "aog", "raven", "ffmap"]
 SEEDS = [1, 2, 3]
 RATES = [100, 125, 150]
 
@@ -319,7 +319,7 @@ def section_field(R, ctls, out):
                    "stop zone %", "dose error %", "reversals/min"], rows) + "\n\n"
     fig, ax = plt.subplots(figsize=(10, 3))
     for c in ctls:
-        if c in ("best", "bp_pid", "fuzzy_pid"):
+        if c in ("ffmap", "bp_pid", "fuzzy_pid"):
             z = read_csv(os.path.join(zdir, "field150_%s_1.csv" % c))
             ax.plot(z["start_m"], z["vol_l"], lw=0.7, label=c)
     ax.axhline(1.35, color="k", lw=0.6, ls="--", label="expected 1.35 L")
@@ -548,7 +548,7 @@ def main():
     parts = []
     s1, _ = section_steps(R, ctls)
     s2, dyn = section_dynamic(R, ctls, a.out)
-    s3 = section_accuracy(R, "best")
+    s3 = section_accuracy(R, "ffmap")
     s4 = section_field(R, ctls, a.out)
     s5 = section_iso(R, ctls)
     t_fam = time.time()
@@ -560,7 +560,7 @@ def main():
     intro = ("# Results: the paper's experiments reproduced, and beyond\n\n"
              "Written by `make report` (`tools/results.py`) from the runs it makes on the simulated sprayer of "
              "docs/SCENARIOS.md; nothing below is typed in except the paper's own numbers, which are marked as "
-             "the paper's. Seeds are fixed, so a second run gives the same figures (but the timings of the cost section, which measure the machine the report runs on). Controllers: %s (`best` is the "
+             "the paper's. Seeds are fixed, so a second run gives the same figures (but the timings of the cost section, which measure the machine the report runs on). Controllers: %s (`ffmap` is the "
              "project's own, the firmware's default). The paper's figures come from its own field tests and "
              "simulation, not from this plant: they are a yardstick, not a like-for-like comparison.\n\n"
              "## Headline\n\n%s\n\n" % (", ".join(ctls), head))

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""robust.py: best and bp_pid on valves that differ from the defaults, told or not told.
+"""robust.py: ffmap and bp_pid on valves that differ from the defaults, told or not told.
 
 usage: robust.py SIM_BIN [--seeds A-B] [--only NAME,NAME...] [--scenarios NAME,NAME...]
 Each case changes the simulated valve ([plant] keys of docs/SCENARIOS.md) and says what the firmware is
 told about it ([config] keys: its Valve time, Min duty and Backlash parameters). The scenarios
 are the 150 L/ha ones of scenarios/ (target steps, the paper's run coupled and with a fixed PTO,
 the field run), rewritten to a temporary directory; both controllers run on the same seeds
-(default 1-8) and the means are printed best/bp_pid, with W where best's mean is worse. Figures:
+(default 1-8) and the means are printed ffmap/bp_pid, with W where ffmap's mean is worse. Figures:
 target steps: mean overshoot %, mean settling s, mean |sse| %; the runs: |dose error| %, CV %,
 worst zones %; all: motor reversals a minute. --scenarios: other scenarios of scenarios/ (by name,
 without .scn) in place of the 150 L/ha ones. Two runs at a time; stdlib only.
@@ -101,7 +101,7 @@ def main():
         missing = [n for n in scenarios if not os.path.isfile("scenarios/%s.scn" % n)]
         if missing:
             sys.exit("robust: no scenarios/%s.scn" % missing[0])
-    print("best/bp_pid on other valves: means over seeds %d-%d (W: best worse)" % (seeds[0], seeds[-1]))
+    print("ffmap/bp_pid on other valves: means over seeds %d-%d (W: ffmap worse)" % (seeds[0], seeds[-1]))
     with tempfile.TemporaryDirectory(prefix="robust_") as tmp:
         for name, plant, config, what in cases:
             print("%s: %s" % (name, what))
@@ -111,7 +111,7 @@ def main():
                 path = os.path.join(tmp, "%s_%s.scn" % (scn, name))
                 with open(path, "w") as f:
                     f.write(src)
-                jobs = [(sim, path, c, sd) for c in ("best", "bp_pid") for sd in seeds]
+                jobs = [(sim, path, c, sd) for c in ("ffmap", "bp_pid") for sd in seeds]
                 with ThreadPoolExecutor(2) as ex:
                     res = list(ex.map(run, jobs))
                 n = len(seeds)

@@ -1,22 +1,22 @@
 #!/usr/bin/env python3
-"""seeds.py: best against bp_pid (or a peer) over many seeds and every scenario family, figure by figure.
+"""seeds.py: ffmap against bp_pid (or a peer) over many seeds and every scenario family, figure by figure.
 
 usage: seeds.py SIM_BIN [--seeds A-B] [-v] [--against bp_pid|aog|raven|pid|fuzzy_pid] [--four | --split SCENARIO]
 One seed is one draw of the plant's noise (pump pulsation phase, sensor noise, meter and wheel
 pulse timing); a single run can favour either controller by luck. For each scenario below and
 each seed (default 1-16) both controllers run on the same plant; the figures of docs/SCENARIOS.md are
-averaged over the seeds, and best's mean is compared with bp_pid's on every figure (dose error
+averaged over the seeds, and ffmap's mean is compared with bp_pid's on every figure (dose error
 as its absolute value, the worst zone as its magnitude; lower is better everywhere). Prints a
-table and the count of figures where best's mean is worse; -v also prints the per-seed values
+table and the count of figures where ffmap's mean is worse; -v also prints the per-seed values
 of those; for a worse dose error, the split of the signed means into the target's, the meter's
 and the controller's shares (the JSON's dose_target_pct, dose_meter_pct, dose_ctl_pct,
-dose_ctl_stop_pct). --against C: best against C instead of bp_pid (the peers aog and raven at
+dose_ctl_stop_pct). --against C: ffmap against C instead of bp_pid (the peers aog and raven at
 their default settings). --four: instead, the means of the paper's four controllers and the two
 peers on the 150 L/ha scenarios (the paper's ordering, without the luck of one seed). Also
 prints the valve's wear a minute (motor reversals, strokes travelled), which the count of worse
 figures leaves out. Two runs at
 a time; stdlib only.
---split SCENARIO: instead, where best's and bp_pid's flow leaves its target on that scenario
+--split SCENARIO: instead, where ffmap's and bp_pid's flow leaves its target on that scenario
 (mean over the seeds, % of the target volume at v >= 4 km/h, from a 0.1 s trace): while the
 target rose by more than 1 % over the last second, while it fell, while it was steady, and while
 the valve sat at an end stop.
@@ -90,12 +90,12 @@ def split_run(job):
 
 
 def split(sim, scn, seeds):
-    jobs = [(sim, scn, c, sd) for c in ("best", "bp_pid") for sd in seeds]
+    jobs = [(sim, scn, c, sd) for c in ("ffmap", "bp_pid") for sd in seeds]
     with ThreadPoolExecutor(2) as ex:
         res = list(ex.map(split_run, jobs))
     print("%s: flow beyond the target, %% of the target volume at v >= 4 km/h, means over seeds %d-%d"
           % (scn, seeds[0], seeds[-1]))
-    for n, c in enumerate(("best", "bp_pid")):
+    for n, c in enumerate(("ffmap", "bp_pid")):
         part = res[n * len(seeds):(n + 1) * len(seeds)]
         print("  %-6s " % c + "; ".join("%s %+.4f" % (k, sum(p[k] for p in part) / len(part)) for k in part[0]))
     return 0
@@ -103,7 +103,7 @@ def split(sim, scn, seeds):
 
 def four(sim, seeds):
     scns = ["target_step_150", "paper_dynamic_150", "paper_dynamic_150_fixed_pto", "field_3220m_150"]
-    ctls = ["pid", "fuzzy_pid", "bp_pid", "best", "aog", "raven"]
+    ctls = ["pid", "fuzzy_pid", "bp_pid", "ffmap", "aog", "raven"]
     jobs = [(sim, s, c, seed) for s in scns for c in ctls for seed in seeds]
     with ThreadPoolExecutor(2) as ex:
         res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
@@ -147,16 +147,16 @@ def main():
     if "--split" in args:
         return split(sim, args[args.index("--split") + 1], seeds)
     other = args[args.index("--against") + 1] if "--against" in args else "bp_pid"
-    jobs = [(sim, s, c, seed) for s in SCENARIOS for c in ("best", other) for seed in seeds]
+    jobs = [(sim, s, c, seed) for s in SCENARIOS for c in ("ffmap", other) for seed in seeds]
     with ThreadPoolExecutor(2) as ex:
         res = dict(zip([(j[1], j[2], j[3]) for j in jobs], ex.map(run, jobs)))
-    print("best against %s: means over seeds %d-%d (same plant, same seed for both)" % (other, seeds[0], seeds[-1]))
+    print("ffmap against %s: means over seeds %d-%d (same plant, same seed for both)" % (other, seeds[0], seeds[-1]))
     worse, total = [], 0
     for s in SCENARIOS:
         keys = STEP if s.startswith("target_step") else FIELD
         cells = []
         for k in keys:
-            va = [figure(res[(s, "best", sd)], k) for sd in seeds]
+            va = [figure(res[(s, "ffmap", sd)], k) for sd in seeds]
             vb = [figure(res[(s, other, sd)], k) for sd in seeds]
             if any(v is None for v in va + vb):
                 continue
@@ -170,25 +170,25 @@ def main():
     # the valve's wear (not counted above): motor reversals a minute of spraying (the sim JSON's
     # valve_reversals_per_min) and strokes travelled a minute of the run
     if all("valve_reversals_per_min" in r for r in res.values()):
-        print("valve wear, a minute (best/%s; not counted below):" % other)
+        print("valve wear, a minute (ffmap/%s; not counted below):" % other)
         for s in SCENARIOS:
             w = {}
-            for c in ("best", other):
+            for c in ("ffmap", other):
                 w[c] = (sum(res[(s, c, sd)]["valve_reversals_per_min"] or 0 for sd in seeds) / len(seeds),
                         sum(res[(s, c, sd)]["valve_travel_strokes"] * 60 / res[(s, c, sd)]["sim_s"] for sd in seeds)
                         / len(seeds))
             print("  %-28s reversals %.1f/%.1f; travel %.2f/%.2f strokes"
-                  % (s, w["best"][0], w[other][0], w["best"][1], w[other][1]))
-    print("best worse than %s on %d of %d mean figures%s" % (other, len(worse), total, ":" if worse else ""))
+                  % (s, w["ffmap"][0], w[other][0], w["ffmap"][1], w[other][1]))
+    print("ffmap worse than %s on %d of %d mean figures%s" % (other, len(worse), total, ":" if worse else ""))
     for s, k, ma, mb, va, vb in worse:
         print("  %s/%s: %.4g > %.4g (%+.2g %%)" % (s, k, ma, mb, 100 * (ma - mb) / mb if mb else float("inf")))
         if verbose:
-            print("    best   " + " ".join("%.4g" % v for v in va))
+            print("    ffmap   " + " ".join("%.4g" % v for v in va))
             print("    %-6s " % other + " ".join("%.4g" % v for v in vb))
-        if k == "dose_error_pct" and all("dose_ctl_pct" in res[(s, c, sd)] for c in ("best", other) for sd in seeds):
+        if k == "dose_error_pct" and all("dose_ctl_pct" in res[(s, c, sd)] for c in ("ffmap", other) for sd in seeds):
             # the split of the signed dose error (sim JSON): the target's own share, the same for
             # both, and the controller's share, with the part while the valve sat at an end stop
-            for c in ("best", other):
+            for c in ("ffmap", other):
                 m = {x: sum(res[(s, c, sd)][x] for sd in seeds) / len(seeds)
                      for x in ("dose_error_pct", "dose_target_pct", "dose_meter_pct", "dose_ctl_pct",
                                "dose_ctl_stop_pct")}

@@ -8,7 +8,7 @@ tool copies the tracked files of the working tree to a temporary folder, applies
 tools/speed_oracle.patch (the simulator keeps the true speed of each 0.1 s sample; speed.c, once
 the wheel gave a speed and until its offsets are learnt, returns that true speed ORACLE_LAG
 samples late, every period or, ORACLE_HELD, taken only when a pulse comes), builds the host
-simulator once a variant, and runs FILE (default scenarios/paper_dynamic_150.scn) with `best` on
+simulator once a variant, and runs FILE (default scenarios/paper_dynamic_150.scn) with `ffmap` on
 seeds A-B (default 1-64) with each and with the unpatched firmware. Prints per variant the mean
 `start_s`, the seeds over 3 s, the mean step overshoot and CV. Nothing in the tree is changed;
 the builds are deleted at the end. docs/CONTROLLERS.md (the twenty-sixth and twenty-seventh rounds) quotes it.
@@ -63,7 +63,7 @@ def main():
             if subprocess.run(["patch", "-s", "-p1"], stdin=p, cwd=os.path.join(tmp, "oracle")).returncode:
                 sys.exit("speed_oracle.py: tools/speed_oracle.patch no longer applies to speed.c and sim.c: "
                          "make it again against them")
-        print("speed_oracle: %s, best, seeds %d-%d" % (os.path.basename(scn), first, last))
+        print("speed_oracle: %s, ffmap, seeds %d-%d" % (os.path.basename(scn), first, last))
         print("| speed the firmware's target takes while the wheel is unlearnt | `start_s` | seeds over 3 s | overshoot | CV |")
         print("|---|---|---|---|---|")
         for label, lag, held in VARIANTS:
@@ -74,7 +74,7 @@ def main():
             subprocess.run(["make", "-s", "BUILD=" + build, "CC=" + cc, sim], cwd=tree, check=True,
                            stdout=subprocess.DEVNULL)
             with ThreadPoolExecutor(2) as ex:
-                res = list(ex.map(run, [(sim, scn, "best", s) for s in seeds]))
+                res = list(ex.map(run, [(sim, scn, "ffmap", s) for s in seeds]))
             n = len(res)
             print("| %s | %.2f s | %d of %d | %.3f %% | %.3f %% |" % (
                 label, sum(r["start_s"] for r in res) / n, sum(r["start_s"] > 3 for r in res), n,

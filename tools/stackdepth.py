@@ -79,17 +79,17 @@ def deepest(funcs, name, memo, path, via=None):
     f = funcs.get(name)
     if f is None:
         return LIB_BYTES if name.startswith("__") or name not in funcs else 0
-    best = f["max"]
+    most = f["max"]
     for callee, at in f["calls"]:
         if callee == name or not (callee in funcs or callee.startswith("__")):
             continue                  # a jump to a local label of the same function
         d = at + deepest(funcs, callee, memo, path + [name], via)
-        if d > best:
-            best = d
+        if d > most:
+            most = d
             if via is not None:
                 via[name] = callee
-    memo[name] = best
-    return best
+    memo[name] = most
+    return most
 
 
 def path_of(via, name):

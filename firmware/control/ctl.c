@@ -21,13 +21,13 @@
  * With the paper's kp 1.2, ki 0.2, kd 0.8 and the default 4 s valve: 1 L/min of error held for
  * one period asks for 0.2 * 0.01 * 40 = 0.08 duty (the integral time is 0.5 s).
  * Signs: e = target - measured; positive drive = more boom flow (bypass toward closed).
- * The controllers: pid.c (pid and fuzzy_pid, one law), bp.c (bp_pid), ffmap.c (best), and two
+ * The controllers: pid.c (pid and fuzzy_pid, one law), bp.c (bp_pid), ffmap.c, and two
  * peers to compare with: aog.c (AgOpenGPS Rate Control's valve loop), raven.c (Raven's valve cal); their
  * common output stage: ctl_out.c; their products: mul.h. docs/CONTROLLERS.md has the design.
  */
 
 /* ---- state shared by all controllers -------------------------------------------------- */
-static uint8_t ctl_id = CTL_BEST;
+static uint8_t ctl_id = CTL_FFMAP;
 static uint8_t ctl_gen;             /* param_generation the derived constants belong to */
 __data uint8_t ctl_first;
 int16_t ctl_kf;
@@ -50,8 +50,8 @@ ctl_state_t ctl_st;
 static const __code char nm_pid[] = "pid";
 static const __code char nm_fuzzy[] = "fuzzy_pid";
 static const __code char nm_bp[] = "bp_pid";
-static const __code char nm_best[] = "ffmap";
-#if FW_PEERS                        /* (the field image's Control stops at best: params.h) */
+static const __code char nm_ffmap[] = "ffmap";
+#if FW_PEERS                        /* (the field image's Control stops at ffmap: params.h) */
 static const __code char nm_aog[] = "aog";
 static const __code char nm_raven[] = "raven";
 #endif
@@ -62,7 +62,7 @@ const __code char *ctl_name(uint8_t id)
     case CTL_PID: return nm_pid;
     case CTL_FUZZY_PID: return nm_fuzzy;
     case CTL_BP_PID: return nm_bp;
-    case CTL_BEST: return nm_best;
+    case CTL_FFMAP: return nm_ffmap;
 #if FW_PEERS
     case CTL_AOG: return nm_aog;
     case CTL_RAVEN: return nm_raven;
@@ -98,11 +98,11 @@ static void ctl_derive(void)
      * the old ones (the operator knows the valve now) */
     s = (int16_t)um_scaled_div(param_v[P_VALVE_BRK], 32768u, 100u);       /* (v 2^15 + 50) / 100 */
     b = (int16_t)um_scaled_div(param_v[P_VALVE_SLACK], 32768u, 1000u);    /* (v 2^15 + 500) / 1000 */
-    if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && t && ctl_id == CTL_BEST) {
+    if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && t && ctl_id == CTL_FFMAP) {
         ctl_st.fm.brk = 0;
         ctl_st.fm.brk_age = 0;
-        ctl_st.fm.g = FM_G_INIT;
-        ctl_st.fm.rmin = FM_REV_MIN;
+        ctl_st.fm.g = FFMAP_G_INIT;
+        ctl_st.fm.rmin = FFMAP_REV_MIN;
         ctl_st.fm.kff = 0;
         ctl_st.fm.cap = 255;
     }
@@ -125,7 +125,7 @@ static void ctl_derive(void)
 void ctl_applied(q15_t drive, uint8_t limit)
 {
     (void)limit;
-    if (ctl_id == CTL_BEST && drive != ctl_last)
+    if (ctl_id == CTL_FFMAP && drive != ctl_last)
         ctl_carry = 0;              /* overridden (relief, jog, priming): nothing owed any more */
 }
 
@@ -149,7 +149,7 @@ uint8_t ctl_select(uint8_t id)
         return 0;                   /* the field image has no peers (FW_PEERS) */
 #endif
     ctl_id = id;
-    speed_plain = 0;                /* (best sets it from what it learnt, each step) */
+    speed_plain = 0;                /* (ffmap sets it from what it learnt, each step) */
     ctl_kf = 0;                     /* the reset below derives this controller's constants */
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {
@@ -166,7 +166,7 @@ uint8_t ctl_select(uint8_t id)
     case CTL_RAVEN:
         break;                      /* their first step starts them from rest (ctl_first) */
     default:
-        fm_init();
+        ffmap_init();
         break;
     }
     ctl_reset(0);
@@ -180,7 +180,7 @@ uint8_t ctl_selected(void)
 
 uint8_t ctl_learnt_byte(uint8_t i)
 {
-    if (ctl_id != CTL_BEST)
+    if (ctl_id != CTL_FFMAP)
         return store_learnt(i);
     if (ctl_gen != param_generation)
         ctl_derive();               /* valve parameters told anew: what was learnt goes first */
@@ -223,6 +223,6 @@ q15_t ctl_step(const __xdata ctl_in_t *step_in)
         return rv_step();
 #endif
     default:
-        return fm_step();
+        return ffmap_step();
     }
 }

@@ -5,7 +5,7 @@
 #include "fixed.h"
 
 /* The controllers, chosen by P_CONTROLLER (keypad), the serial link or a scenario's `controller =`. */
-enum { CTL_PID = 0, CTL_FUZZY_PID = 1, CTL_BP_PID = 2, CTL_BEST = 3, CTL_AOG = 4, CTL_RAVEN = 5, CTL_COUNT };
+enum { CTL_PID = 0, CTL_FUZZY_PID = 1, CTL_BP_PID = 2, CTL_FFMAP = 3, CTL_AOG = 4, CTL_RAVEN = 5, CTL_COUNT };
 
 /* What a controller sees each control period (APP_PERIOD_MS). Flows in L/min x100. */
 typedef struct {
@@ -31,7 +31,7 @@ extern int16_t ctl_stiction;
 /* Select a controller (0 when id is unknown and nothing changes) and start it from rest. */
 uint8_t ctl_select(uint8_t id);
 uint8_t ctl_selected(void);
-/* Byte i of what best learnt of the valve, for the EEPROM (store.h STORE_LEARN_CTL); with another
+/* Byte i of what ffmap learnt of the valve, for the EEPROM (store.h STORE_LEARN_CTL); with another
  * controller selected, the record's as it was. */
 uint8_t ctl_learnt_byte(uint8_t i);
 /* Bumpless transfer: the loop (re)starts from the drive the valve has now (manual -> auto). */

@@ -54,65 +54,65 @@ typedef struct {
     int16_t n1, n2;                 /* Q12 normalised error e(k-1), e(k-2) */
 } bp_state_t;
 
-/* ---- ffmap (the project's own, `best`): a damped incremental PID with a deadband, an output
+/* ---- ffmap (the project's own, `ffmap`): a damped incremental PID with a deadband, an output
  * stage that knows the motor's running friction, a break-away, the motion a reversal is worth
  * and a loop gain learnt from the flow (docs/CONTROLLERS.md) ------------------------------------------------------------------ */
-#define FM_KP Q12(1.0)              /* gains on the pid normalisation (ctl.c) */
-#define FM_KI Q12(1.2)
-#define FM_KD Q12(0.8)
-#define FM_DB_IN 8                  /* deadband: the valve rests once the filtered error <= target >> 8 */
-#define FM_DB_OUT 7                 /* ... and wakes beyond target >> 7, or when the target moves */
-#define FM_DB_PAST 10               /* ... past the target the way it last moved, within target >> 10 */
-#define FM_MOVE_SHIFT 6             /* the target moves: |dq| > target >> 6 in one period */
-#define FM_REST_KI Q12(0.15)        /* resting, a slow integral only, on the filtered error */
-#define FM_STALL_N 6                /* smallest pulses one way without the flow moving: a stall
+#define FFMAP_KP Q12(1.0)              /* gains on the pid normalisation (ctl.c) */
+#define FFMAP_KI Q12(1.2)
+#define FFMAP_KD Q12(0.8)
+#define FFMAP_DB_IN 8                  /* deadband: the valve rests once the filtered error <= target >> 8 */
+#define FFMAP_DB_OUT 7                 /* ... and wakes beyond target >> 7, or when the target moves */
+#define FFMAP_DB_PAST 10               /* ... past the target the way it last moved, within target >> 10 */
+#define FFMAP_MOVE_SHIFT 6             /* the target moves: |dq| > target >> 6 in one period */
+#define FFMAP_REST_KI Q12(0.15)        /* resting, a slow integral only, on the filtered error */
+#define FFMAP_STALL_N 6                /* smallest pulses one way without the flow moving: a stall
                                      * (fewer counted the backlash's take-up as one) */
-#define FM_STALL_MOVE 6             /* ... the flow not moved that way by target >> this */
-#define FM_STALL_BIG 4              /* ... a smallest pulse counts this while the error is beyond
-                                     * target >> FM_BIG_SHIFT (2 otherwise) */
-#define FM_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
-#define FM_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
-#define FM_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
-#define FM_G_MIN 32                 /* the learnt loop gain, Q8: 1/8 .. 2 of what Valve time gives */
-#define FM_G_INIT 192               /* ... where a valve nothing was learnt of starts: 3/4, as the
+#define FFMAP_STALL_MOVE 6             /* ... the flow not moved that way by target >> this */
+#define FFMAP_STALL_BIG 4              /* ... a smallest pulse counts this while the error is beyond
+                                     * target >> FFMAP_BIG_SHIFT (2 otherwise) */
+#define FFMAP_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
+#define FFMAP_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
+#define FFMAP_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
+#define FFMAP_G_MIN 32                 /* the learnt loop gain, Q8: 1/8 .. 2 of what Valve time gives */
+#define FFMAP_G_INIT 192               /* ... where a valve nothing was learnt of starts: 3/4, as the
                                      * valve may be faster than told (docs/CONTROLLERS.md) */
-#define FM_G_MAX 512
-#define FM_TOP_N 3                  /* a start's big-swing cut takes half after this many periods at
-                                     * the top duty, not a quarter (ffmap.c fm_out) */
-#define FM_REV_MIN Q15(0.6)         /* a reversal is sent once the motion owed the other way is this */
-#define FM_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
-#define FM_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */
-#define FM_SLOW_N 20                /* this long awake with the error one way: +3/32 */
-#define FM_BIG_SHIFT 4              /* a half cycle whose error reached target >> this swung big */
-#define FM_P_WAIT 5                 /* periods after a (re)start without the proportional term */
-#define FM_FF_RSH 2                 /* the speed's feed-forward: a ramp is its change of the target ... */
-#define FM_FF_RAMP 40               /* ... filtered over about 2^FM_FF_RSH periods beyond this (x100) */
-#define FM_FF_ESH 7                 /* ... the error beyond target >> this: kff lags or leads */
-#define FM_FF_MAX 2000              /* the largest kff (a 9.4 s valve of the family learnt 430) */
-#define FM_FF_LEAD 32               /* kff under this: the flow follows the speed by itself (a pump
+#define FFMAP_G_MAX 512
+#define FFMAP_TOP_N 3                  /* a start's big-swing cut takes half after this many periods at
+                                     * the top duty, not a quarter (ffmap.c ffmap_out) */
+#define FFMAP_REV_MIN Q15(0.6)         /* a reversal is sent once the motion owed the other way is this */
+#define FFMAP_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
+#define FFMAP_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */
+#define FFMAP_SLOW_N 20                /* this long awake with the error one way: +3/32 */
+#define FFMAP_BIG_SHIFT 4              /* a half cycle whose error reached target >> this swung big */
+#define FFMAP_P_WAIT 5                 /* periods after a (re)start without the proportional term */
+#define FFMAP_FF_RSH 2                 /* the speed's feed-forward: a ramp is its change of the target ... */
+#define FFMAP_FF_RAMP 40               /* ... filtered over about 2^FFMAP_FF_RSH periods beyond this (x100) */
+#define FFMAP_FF_ESH 7                 /* ... the error beyond target >> this: kff lags or leads */
+#define FFMAP_FF_MAX 2000              /* the largest kff (a 9.4 s valve of the family learnt 430) */
+#define FFMAP_FF_LEAD 32               /* kff under this: the flow follows the speed by itself (a pump
                                      * on the wheels learns at most 20, one on a fixed PTO 56-404
                                      * after its first ramps): the speed without its lead (speed.h) */
-#define FM_FF_OFF_SH 3              /* ... and, the wheel unlearnt, only a ramp 2^this past the band teaches it */
-#define FM_LEAD 3                   /* after a start-up closing: the integral on the flow this many
+#define FFMAP_FF_OFF_SH 3              /* ... and, the wheel unlearnt, only a ramp 2^this past the band teaches it */
+#define FFMAP_LEAD 3                   /* after a start-up closing: the integral on the flow this many
                                      * periods ahead while it comes toward the target ... */
-#define FM_LEAD_DRIVE Q15(0.5)      /* ... and the valve runs beyond this duty */
-#define FM_CAP_N 3                  /* the duty cap (ffmap.c fm_cap): after this many periods at it,
+#define FFMAP_LEAD_DRIVE Q15(0.5)      /* ... and the valve runs beyond this duty */
+#define FFMAP_CAP_N 3                  /* the duty cap (ffmap.c ffmap_cap): after this many periods at it,
                                      * a period ... */
-#define FM_CAP_SH 2                 /* ... that moved the flow by more than target >> this: -1/4 */
-#define FM_CAP_MIN 13               /* ... not below 13/256 of full duty */
-#define FM_P_REF 200u              /* kPa: above this the loop gain is cut by sqrt(FM_P_REF / P) */
-#define FM_P_HI_F 191u              /* ... and beyond 360 kPa (that root under 191/256), where the
+#define FFMAP_CAP_SH 2                 /* ... that moved the flow by more than target >> this: -1/4 */
+#define FFMAP_CAP_MIN 13               /* ... not below 13/256 of full duty */
+#define FFMAP_P_REF 200u              /* kPa: above this the loop gain is cut by sqrt(FFMAP_P_REF / P) */
+#define FFMAP_P_HI_F 191u              /* ... and beyond 360 kPa (that root under 191/256), where the
                                      * bypass holds the flow hardest, cycles cut it in a start too */
-#define FM_P_T_F 181u               /* the target's pressure P (target / flow)^2 over 400 kPa:
-                                     * target FM_P_T_F > flow x that root (256 sqrt(200 / 400)) */
-#define FM_P_T_DUTY Q15(0.10)       /* ... a closing there at most the smallest pulse + this, on
-                                     * a valve whose gain was learnt under FM_G_INIT (fm_out); at
+#define FFMAP_P_T_F 181u               /* the target's pressure P (target / flow)^2 over 400 kPa:
+                                     * target FFMAP_P_T_F > flow x that root (256 sqrt(200 / 400)) */
+#define FFMAP_P_T_DUTY Q15(0.10)       /* ... a closing there at most the smallest pulse + this, on
+                                     * a valve whose gain was learnt under FFMAP_G_INIT (ffmap_out); at
                                      * 1/4 and 0.15 a 0.15 s motor's coast still took a 1.9 s
                                      * valve's line over P max (docs/CONTROLLERS.md, the
                                      * twenty-sixth and twenty-seventh rounds) */
-#define FM_WARM 100                 /* little gain learning in the first 10 s of a (re)start: the pump
+#define FFMAP_WARM 100                 /* little gain learning in the first 10 s of a (re)start: the pump
                                      * spins up, the line primes, the flow overshoots from the parked
-                                     * valve (fm_gain_adapt says what is learnt there) */
+                                     * valve (ffmap_gain_adapt says what is learnt there) */
 typedef struct {
     int16_t e1, e2;                 /* x100 L/min: e(k-1), e(k-2) */
     int16_t ef;                     /* x100 the error filtered over 4 periods (the deadband's) */
@@ -125,15 +125,15 @@ typedef struct {
     int16_t g;                      /* Q8: the loop gain learnt for this valve (256 = as told) */
     int16_t brk;                    /* Q15 added to Min duty after stalls */
     int16_t rmin;                   /* Q15: the motion owed the other way that makes a reversal */
-    int16_t kff;                    /* Q15 drive per x100 L/min the speed moves the target (fm_ff, even) */
+    int16_t kff;                    /* Q15 drive per x100 L/min the speed moves the target (ffmap_ff, even) */
     uint16_t brk_age;               /* periods since the last stall */
     uint8_t rev_age;                /* periods since the last reversal (saturates) */
     uint8_t moved;                  /* 1: the target moved since the last reversal */
     uint8_t slow_n;                 /* periods awake with the error one way and no reversal */
-    uint8_t warm;                   /* periods since the loop (re)started, up to FM_WARM */
+    uint8_t warm;                   /* periods since the loop (re)started, up to FFMAP_WARM */
     int16_t epk;                    /* x100 the largest abs error since the last reversal */
     uint8_t big;                    /* 1: the half cycle before the last reversal swung big */
-    uint8_t epk_now;                /* 1: this period's abs error beyond target >> FM_BIG_SHIFT */
+    uint8_t epk_now;                /* 1: this period's abs error beyond target >> FFMAP_BIG_SHIFT */
     uint16_t v1;                    /* x100 km/h: the last period's speed */
     int16_t rf;                     /* x100 L/min: the speed's change of the target, filtered */
     int32_t ffd;                    /* Q15 this period's feed-forward drive */
@@ -144,7 +144,7 @@ typedef struct {
     int16_t f1;                     /* x100 L/min the last period's flow */
     int16_t g0;                     /* Q8: the loop gain when the loop (re)started */
     uint8_t hold;                   /* periods left without P and D after the sections changed */
-} fm_state_t;
+} ffmap_state_t;
 
 /* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */
 #define AG_DB_Q15 1311              /* dead band: |e| <= 4 % of the target (Q15 of the target) */
@@ -175,7 +175,7 @@ typedef union {
     pid_state_t pid;
     fz_state_t fz;
     bp_state_t bp;
-    fm_state_t fm;
+    ffmap_state_t fm;
     ag_state_t ag;
     rv_state_t rv;
 } ctl_state_t;
@@ -215,10 +215,10 @@ extern const ctl_in_t *ctl_in;
 #endif
 /* ffmap: the last reversal sent was under 1.5 times the smallest one (rmin) and at most one pulse
  * followed it the same way: what the half cycle swung is the valve's resolution, not the loop
- * gain (ffmap.c fm_out); fm_rl1: a pulse followed it */
-extern __bit fm_rlim, fm_rl1;
-/* ffmap: the target last moved up (fm_deadband: past it, the valve rests only nearer) */
-extern __bit fm_up;
+ * gain (ffmap.c ffmap_out); ffmap_rl1: a pulse followed it */
+extern __bit ffmap_rlim, ffmap_rl1;
+/* ffmap: the target last moved up (ffmap_deadband: past it, the valve rests only nearer) */
+extern __bit ffmap_up;
 extern __data uint8_t ctl_first;    /* 1: the next step starts from rest (no P/D kick) */
 extern int16_t ctl_kf;              /* Q8: drive per unit of du (x100 L/min, Q4) */
 extern int16_t ctl_travel;          /* P_VALVE_TRAVEL: periods for a full stroke at full duty */
@@ -268,8 +268,8 @@ q15_t pid_step(void) CTL_SHARED;
 q15_t fz_step(void) CTL_SHARED;
 void bp_init(void);
 q15_t bp_step(void) CTL_SHARED;
-void fm_init(void);
-q15_t fm_step(void) CTL_SHARED;
+void ffmap_init(void);
+q15_t ffmap_step(void) CTL_SHARED;
 q15_t ag_step(void) CTL_SHARED;
 void ag_derive(void) CTL_SHARED;
 q15_t rv_step(void) CTL_SHARED;

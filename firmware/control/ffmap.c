@@ -1,4 +1,4 @@
-/* ffmap.c: best, the project's own controller: a damped PID with a deadband and a learnt speed feed-forward, an output stage that knows the valve's motor. */
+/* ffmap.c: ffmap, the project's own controller: a damped PID with a deadband and a learnt speed feed-forward, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
 #include "store.h"
 #include "target.h"
@@ -6,10 +6,10 @@
 
 /* the state: at a fixed address (no pointer to load) */
 #define M (&ctl_st.fm)
-/* warm reached FM_WARM: the (re)start is over (a bit: the step asks it six times) */
-static __bit fm_warm;
-__bit fm_rlim, fm_rl1;                  /* the last reversal near the smallest (ctl_int.h) */
-static void fm_cap_up(void);
+/* warm reached FFMAP_WARM: the (re)start is over (a bit: the step asks it six times) */
+static __bit ffmap_warm;
+__bit ffmap_rlim, ffmap_rl1;                  /* the last reversal near the smallest (ctl_int.h) */
+static void ffmap_cap_up(void);
 
 /*
  * The law is the incremental PID of eq. (7) on the pid normalisation (ctl.c), with gains near
@@ -20,36 +20,36 @@ static void fm_cap_up(void);
  *     so a motion m needs the duty d_run + m (1 - d_run) (d_run from Min duty, ctl_int.h);
  *   - break-away: from rest nothing moves below Min duty, so motions too small for one pulse are
  *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
- *   - a valve stiffer than Min duty says: FM_STALL_N smallest pulses one way (fm_stall) without
+ *   - a valve stiffer than Min duty says: FFMAP_STALL_N smallest pulses one way (ffmap_stall) without
  *     the flow moving that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
  *     answers (quick reversals near the target lower it, a long error one way raises it), cut
- *     above FM_P_REF, where the bypass holds the flow harder (fm_gain_at_p);
+ *     above FFMAP_P_REF, where the bypass holds the flow harder (ffmap_gain_at_p);
  *   - a valve so fast that one period at full duty moves the flow by over a quarter of the
- *     target: its top duty is cut until it does not (fm_cap);
+ *     target: its top duty is cut until it does not (ffmap_cap);
  *   - a valve learnt faster than a new one starts, closing toward a target that needs over
- *     400 kPa: at most the smallest pulse + FM_P_T_DUTY (a slow motor's coast is its speed's);
+ *     400 kPa: at most the smallest pulse + FFMAP_P_T_DUTY (a slow motor's coast is its speed's);
  *   - backlash is not taken up: on a valve with less slack than it was told that overshoots;
- *   - a reversal is owed until the motion asked the other way is worth FM_REV_MIN of a period
+ *   - a reversal is owed until the motion asked the other way is worth FFMAP_REV_MIN of a period
  *     at full speed (a small one is mostly lost in the backlash, and the next periods often ask
- *     the first way again); reversals that cycle at a steady target (within FM_OSC_GAP) lower
- *     it by 1/8 down to FM_REV_LOW: a fast valve's cycle is its smallest reversal, not noise.
+ *     the first way again); reversals that cycle at a steady target (within FFMAP_OSC_GAP) lower
+ *     it by 1/8 down to FFMAP_REV_LOW: a fast valve's cycle is its smallest reversal, not noise.
  * The proportional term acts on the error, so a change of the target (the speed) moves the valve
- * at once, and a feed-forward learnt from this sprayer (fm_ff) moves it with the speed where
+ * at once, and a feed-forward learnt from this sprayer (ffmap_ff) moves it with the speed where
  * the pump does not follow the wheels (the wheel's pulses do not kick it: speed.c). It waits
- * FM_P_WAIT periods after a (re)start (the line's filling is not the valve's doing), and for as
- * many after the nozzles open change it sees no change of the error (the boom's own step, fm_step).
+ * FFMAP_P_WAIT periods after a (re)start (the line's filling is not the valve's doing), and for as
+ * many after the nozzles open change it sees no change of the error (the boom's own step, ffmap_step).
  * A loop far too fast for the valve shows as half cycles that swing the flow by more than
- * target >> FM_BIG_SHIFT: two in a row take a quarter off the gain, from the first period; half
- * in a start when the half cycle ended in FM_TOP_N periods at the top duty (a valve much faster
- * than told swings at full duty from its first closing). Not below FM_G_INIT / 2 when the half
- * cycle was a reversal under 1.5 times the smallest and at most one pulse more (fm_rlim): that
+ * target >> FFMAP_BIG_SHIFT: two in a row take a quarter off the gain, from the first period; half
+ * in a start when the half cycle ended in FFMAP_TOP_N periods at the top duty (a valve much faster
+ * than told swings at full duty from its first closing). Not below FFMAP_G_INIT / 2 when the half
+ * cycle was a reversal under 1.5 times the smallest and at most one pulse more (ffmap_rlim): that
  * swing is the valve's resolution, which a lower gain only makes slower to answer a change (a
  * stiff 2 s valve: OFF_RATE at a slow-down); there, at a steady target, the reversals are made
  * smaller instead (docs/CONTROLLERS.md, the twenty-second round).
  * After a start-up closing (the loop starts with the meter reading a quarter of the target), for
- * FM_WARM periods while the valve runs beyond FM_LEAD_DRIVE, the integral acts on the flow
- * FM_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
+ * FFMAP_WARM periods while the valve runs beyond FFMAP_LEAD_DRIVE, the integral acts on the flow
+ * FFMAP_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
  * turns) before the flow arrives, not after. The flow arrives late by the motor's coast, the
  * backlash of the turn, the line's filling and the meter's lag; on a valve faster than it was
  * told with a slow motor, a loop that turns only once the flow has arrived swings at full duty
@@ -59,7 +59,7 @@ static void fm_cap_up(void);
  * the valve near the target (the meter's noise, the pump's pulsation and the target's jitter move
  * nothing); resting, a slow integral removes a steady bias.
  */
-void fm_init(void)
+void ffmap_init(void)
 {
     uint8_t i;
     M->dir = 0;
@@ -72,9 +72,9 @@ void fm_init(void)
     for (i = 0; i < STORE_LEARN_CTL; i++)
         ((uint8_t *)&M->g)[i] = store_learnt(i);
     if (M->g <= 0) {
-        M->g = FM_G_INIT;
+        M->g = FFMAP_G_INIT;
         M->brk = 0;
-        M->rmin = FM_REV_MIN;
+        M->rmin = FFMAP_REV_MIN;
         M->kff = 0;
     }
     M->slow_n = 0;
@@ -83,31 +83,31 @@ void fm_init(void)
 }
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
- * FM_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
- * 1/8, after the first FM_WARM periods of a (re)start or, in them, over the pressure of
- * FM_P_HI_F (fm_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
- * in a start reached P max); FM_SLOW_N periods awake with the error one way (slower than told;
- * a quarter as many while the error is beyond target >> FM_BIG_SHIFT) raise it by 3/32. Nothing
+ * FFMAP_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
+ * 1/8, after the first FFMAP_WARM periods of a (re)start or, in them, over the pressure of
+ * FFMAP_P_HI_F (ffmap_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
+ * in a start reached P max); FFMAP_SLOW_N periods awake with the error one way (slower than told;
+ * a quarter as many while the error is beyond target >> FFMAP_BIG_SHIFT) raise it by 3/32. Nothing
  * is raised against a stop or a refusal the error pushes toward (saturated: the rule against
- * closing toward P max does not hold a loop that must open), nor in the first FM_WARM periods
+ * closing toward P max does not hold a loop that must open), nor in the first FFMAP_WARM periods
  * of a (re)start while the gain is where the start found it (the line's filling is not the
  * valve's slowness). A start's swings may cut it there (a stiff valve's stick-slip looks like a
  * fast one's overshoot): it comes back at once, or a fast stiff valve told the truth creeps at
  * drives near its break-away until OFF_RATE; unless the duty cap holds a valve that swung the
- * flow (fm_cap): there the cut is the cure. The raise stays 3/32 for a big error too: a target
+ * flow (ffmap_cap): there the cut is the cure. The raise stays 3/32 for a big error too: a target
  * step's error is big one way while the valve answers (docs/CONTROLLERS.md, the eleventh round). */
-CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
+CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 {
-    if (!fm_warm && ++M->warm >= FM_WARM)
-        fm_warm = 1;
-    if (M->rest || (e > 0) != (M->e1 > 0) || (!fm_warm && (M->g >= M->g0 || M->cap != 255))
+    if (!ffmap_warm && ++M->warm >= FFMAP_WARM)
+        ffmap_warm = 1;
+    if (M->rest || (e > 0) != (M->e1 > 0) || (!ffmap_warm && (M->g >= M->g0 || M->cap != 255))
         || (ctl_in->valve_limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN))) {
         M->slow_n = 0;
-    } else if ((M->slow_n += M->epk_now ? 4 : 1) >= FM_SLOW_N) {
+    } else if ((M->slow_n += M->epk_now ? 4 : 1) >= FFMAP_SLOW_N) {
         M->slow_n = 0;
-        if (M->g < FM_G_MAX)
+        if (M->g < FFMAP_G_MAX)
             M->g += (M->g >> 4) + (M->g >> 5);
-        fm_cap_up();
+        ffmap_cap_up();
     }
     if (M->rev_age < 255)
         M->rev_age++;
@@ -118,49 +118,49 @@ CTL_STEP void fm_gain_adapt(int16_t e) CTL_SHARED
  * pump on the wheels the boom's flow follows the speed by itself. Which of the two this sprayer
  * is, and how far its valve moves the flow, is learnt from the error a speed change leaves:
  * kff, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
- * the flow lags a ramp of the target (its change filtered over about 2^FM_FF_RSH periods beyond
- * FM_FF_RAMP) by more than target >> FM_FF_ESH, and falls by 2 each period it leads; nothing in
- * the first FM_WARM periods (the start-up's own error), at rest or against a stop. While kff is
- * under FM_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
+ * the flow lags a ramp of the target (its change filtered over about 2^FFMAP_FF_RSH periods beyond
+ * FFMAP_FF_RAMP) by more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; nothing in
+ * the first FFMAP_WARM periods (the start-up's own error), at rest or against a stop. While kff is
+ * under FFMAP_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
  * wheel steps the target by a few percent a pulse, which the flow never follows (read as lag). Only a
  * change of the target that the speed made counts, the speed moving the same way (not the
  * minimum-flow rule, not a section, not the rate). The drive is kff times that change filtered
- * over about 2^FM_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
+ * over about 2^FFMAP_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
  * the target up and back by about a percent, which on a stiff valve would be two reversals
  * each. The working values the code uses most are in the direct RAM (the cheapest addressing;
  * the step never runs inside itself), the others in the controllers' union (XRAM that bp_pid's
  * network sizes). */
 /* this period's error, the step's most used value: in the direct RAM (the cheapest addressing;
- * the step never runs inside itself; fm_ff reads it too) */
-static __data int16_t fm_e;
+ * the step never runs inside itself; ffmap_ff reads it too) */
+static __data int16_t ffmap_e;
 static __data uint16_t ff_v;           /* the speed, then the error band */
 static __data int16_t ff_dq;            /* the target's change, then the error's size */
-static __bit fm_hi_p;                   /* the pressure over 360 kPa this period (FM_P_HI_F) */
-static __bit fm_hi_t;                   /* the target's pressure over 400 kPa (FM_P_T_F) */
-/* fm_gain_at_p's root and bit, in the same bytes (it runs after fm_ff, which is done with them) */
+static __bit ffmap_hi_p;                   /* the pressure over 360 kPa this period (FFMAP_P_HI_F) */
+static __bit ffmap_hi_t;                   /* the target's pressure over 400 kPa (FFMAP_P_T_F) */
+/* ffmap_gain_at_p's root and bit, in the same bytes (it runs after ffmap_ff, which is done with them) */
 #define gp_f ff_v
 #define gp_b ff_dq
 #define ff_d (M->ffd)
 
-static void fm_ff(void)
+static void ffmap_ff(void)
 {
-    speed_plain = M->kff < FM_FF_LEAD;
+    speed_plain = M->kff < FFMAP_FF_LEAD;
     ff_v = ctl_in->speed_kmh_x100;
     ff_dq = ctl_in->target_lpm_x100 - M->t1;
     if (!M->v1 || (ff_v > M->v1 ? ff_dq <= 0 : ff_v == M->v1 || ff_dq >= 0))
         ff_dq = 0;
     M->v1 = ff_v;
-    M->rf += ff_dq - (M->rf >> FM_FF_RSH);
+    M->rf += ff_dq - (M->rf >> FFMAP_FF_RSH);
     ff_d = 0;
     if (M->rest)
         return;
-    ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FM_FF_ESH);
-    ff_dq = fm_e < 0 ? -fm_e : fm_e;
-    if (fm_warm && !ctl_in->valve_limit && (uint16_t)ff_dq > ff_v
+    ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FFMAP_FF_ESH);
+    ff_dq = ffmap_e < 0 ? -ffmap_e : ffmap_e;
+    if (ffmap_warm && !ctl_in->valve_limit && (uint16_t)ff_dq > ff_v
         && (uint16_t)(M->rf < 0 ? -M->rf : M->rf)
-               > (speed_plain && !speed_learnt ? ff_v << FM_FF_OFF_SH : FM_FF_RAMP)) {
-        if ((M->rf ^ fm_e) >= 0) {          /* the same sign: the flow lags */
-            if (M->kff < FM_FF_MAX)
+               > (speed_plain && !speed_learnt ? ff_v << FFMAP_FF_OFF_SH : FFMAP_FF_RAMP)) {
+        if ((M->rf ^ ffmap_e) >= 0) {          /* the same sign: the flow lags */
+            if (M->kff < FFMAP_FF_MAX)
                 M->kff += 2;
         } else if (M->kff) {
             M->kff -= 2;
@@ -168,14 +168,14 @@ static void fm_ff(void)
     }
     /* nothing while the flow is past the target the way it would push, by a big error (kff is
      * learnt slowly, and a gain learnt low would not outweigh it); and no closing while the line
-     * is over 360 kPa (fm_hi_p, the last period's) and the error filtered over 4 periods says the
-     * flow is over the target by more than target >> FM_FF_ESH (ff_v): near P max the closing
-     * held back the loop's opening, a reversal owed until FM_REV_MIN, and the line went over P
+     * is over 360 kPa (ffmap_hi_p, the last period's) and the error filtered over 4 periods says the
+     * flow is over the target by more than target >> FFMAP_FF_ESH (ff_v): near P max the closing
+     * held back the loop's opening, a reversal owed until FFMAP_REV_MIN, and the line went over P
      * max (docs/CONTROLLERS.md, the fifteenth round). Filtered: the wheel's jitter moves the
      * target by about a percent a period. */
-    if ((M->epk_now || (fm_hi_p && M->ef < -(int16_t)ff_v)) && (M->rf ^ fm_e) < 0)
+    if ((M->epk_now || (ffmap_hi_p && M->ef < -(int16_t)ff_v)) && (M->rf ^ ffmap_e) < 0)
         return;
-    ff_d = MUL(M->rf >> FM_FF_RSH, M->kff);
+    ff_d = MUL(M->rf >> FFMAP_FF_RSH, M->kff);
 }
 
 /* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve
@@ -184,34 +184,34 @@ static void fm_ff(void)
  * and the backlash carry it past the target), and it swings at full duty from nothing to twice
  * the target (family plant 10 of SEED=62: a 1.64 s valve told 4 s, a 144 L/min pump, 14.7 L/min
  * at the boom); at full duty a smaller gain changes nothing, a lower top speed does. After
- * FM_CAP_N periods in a row at the cap one way, a period whose flow moved that way by more than
- * target >> FM_CAP_SH takes a quarter off the cap (down to FM_CAP_MIN), one that moved by less
+ * FFMAP_CAP_N periods in a row at the cap one way, a period whose flow moved that way by more than
+ * target >> FFMAP_CAP_SH takes a quarter off the cap (down to FFMAP_CAP_MIN), one that moved by less
  * than half of that gives an eighth back, as does the gain's raise (the valve is slower than the
  * cap lets it be). Never under the smallest pulse; in RAM only (a valve this fast shows itself
  * in its first swing). */
-static void fm_cap_up(void)
+static void ffmap_cap_up(void)
 {
     ff_v = M->cap + (M->cap >> 3) + 1;
     M->cap = ff_v > 255 ? 255 : (uint8_t)ff_v;
 }
 
-/* each period before the output stage: the flow's change, judged after FM_CAP_N at the cap (ff_v, ff_dq) */
-static void fm_cap(void)
+/* each period before the output stage: the flow's change, judged after FFMAP_CAP_N at the cap (ff_v, ff_dq) */
+static void ffmap_cap(void)
 {
     ff_dq = ctl_in->flow_lpm_x100 - M->f1;
     M->f1 = ctl_in->flow_lpm_x100;
     M->capc = M->capn;
     M->capn = 0;
-    if (M->capc < FM_CAP_N)
+    if (M->capc < FFMAP_CAP_N)
         return;
     if (M->dir < 0)
         ff_dq = -ff_dq;
-    ff_v = ctl_in->target_lpm_x100 >> FM_CAP_SH;
+    ff_v = ctl_in->target_lpm_x100 >> FFMAP_CAP_SH;
     if (ff_dq > (int16_t)ff_v) {
-        if (M->cap > FM_CAP_MIN)
+        if (M->cap > FFMAP_CAP_MIN)
             M->cap -= M->cap >> 2;
     } else if (ff_dq < (int16_t)(ff_v >> 1)) {
-        fm_cap_up();
+        ffmap_cap_up();
     }
     if (M->capc == 255)
         M->capc--;
@@ -219,7 +219,7 @@ static void fm_cap(void)
 
 /* the output stage's duty ff_dq at most the cap, which is at least the smallest pulse ff_v; a
  * duty within 1/256 of full duty under the cap counts as at the cap (capc 255: a reversal) */
-static void fm_capd(void)
+static void ffmap_capd(void)
 {
     if ((uint8_t)(ff_v >> 7) < M->cap)
         ff_v = ((uint16_t)M->cap << 7) | 0x7F;
@@ -231,51 +231,51 @@ static void fm_capd(void)
 }
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. Past the
- * target the way it last moved (fm_up) the valve rests only within target >> FM_DB_PAST: a rest
+ * target the way it last moved (ffmap_up) the valve rests only within target >> FFMAP_DB_PAST: a rest
  * there is the change's overshoot (0.3 % of the level, 2 % of a small change; docs/CONTROLLERS.md,
  * the twenty-seventh round). */
-__bit fm_up;
-CTL_STEP void fm_deadband(int16_t e, int16_t q) CTL_SHARED
+__bit ffmap_up;
+CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 {
     int16_t c, dq = (int16_t)(q - M->t1);
     uint8_t c2;
     M->ef = (int16_t)(M->ef + ((e - M->ef + 2) >> 2));
     c = M->ef < 0 ? (int16_t)-M->ef : M->ef;
-    c2 = (uint16_t)(dq < 0 ? -dq : dq) > (uint16_t)(q >> FM_MOVE_SHIFT);  /* |dq| 2^6 > q (q >= 0) */
+    c2 = (uint16_t)(dq < 0 ? -dq : dq) > (uint16_t)(q >> FFMAP_MOVE_SHIFT);  /* |dq| 2^6 > q (q >= 0) */
     M->moved |= c2;
     if (c2)
-        fm_up = dq > 0;
-    if (c2 || (M->rest && c > (q >> FM_DB_OUT))) {
+        ffmap_up = dq > 0;
+    if (c2 || (M->rest && c > (q >> FFMAP_DB_OUT))) {
         if (M->rest && (ctl_carry > 0) != (e > 0))
             ctl_carry = 0;          /* waking: what the slow integral owed the other way is stale */
         M->rest = 0;
-    } else if (!M->rest && c <= (q >> ((M->ef < 0) == fm_up ? FM_DB_PAST : FM_DB_IN)) && q > 0) {
+    } else if (!M->rest && c <= (q >> ((M->ef < 0) == ffmap_up ? FFMAP_DB_PAST : FFMAP_DB_IN)) && q > 0) {
         M->rest = 1;
         ctl_carry = 0;              /* entering the band: nothing owed */
         M->stall_n = 0;
     }
 }
 
-/* A stall: FM_STALL_N smallest pulses one way (or twice as many up to twice the smallest) and
- * the flow has not moved that way by target >> FM_STALL_MOVE (whatever the target did
+/* A stall: FFMAP_STALL_N smallest pulses one way (or twice as many up to twice the smallest) and
+ * the flow has not moved that way by target >> FFMAP_STALL_MOVE (whatever the target did
  * meanwhile; the meter's lag after a motion is less), the error still asking for that way: the
- * smallest pulse grows. brk steps back after FM_BRK_AGE periods without one. */
-CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
+ * smallest pulse grows. brk steps back after FFMAP_BRK_AGE periods without one. */
+CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
 {
     int32_t k;
-    if (M->stall_n >= 2 * FM_STALL_N) {
+    if (M->stall_n >= 2 * FFMAP_STALL_N) {
         k = (int32_t)ctl_in->flow_lpm_x100 - M->stall_y;
         if (M->dir <= 0)
             k = -k;
-        if (k <= (q >> FM_STALL_MOVE) && (M->dir > 0 ? e > 0 : e < 0)) {
-            if (M->brk <= FM_BRK_MAX - FM_BRK_STEP)
-                M->brk += FM_BRK_STEP;
+        if (k <= (q >> FFMAP_STALL_MOVE) && (M->dir > 0 ? e > 0 : e < 0)) {
+            if (M->brk <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
+                M->brk += FFMAP_BRK_STEP;
             M->brk_age = 0;
         }
         M->stall_n = 0;
     }
-    if (M->brk > 0 && ++M->brk_age >= FM_BRK_AGE) {
-        M->brk -= FM_BRK_STEP;
+    if (M->brk > 0 && ++M->brk_age >= FFMAP_BRK_AGE) {
+        M->brk -= FFMAP_BRK_STEP;
         M->brk_age = 0;
     }
 }
@@ -283,10 +283,10 @@ CTL_STEP void fm_stall(int16_t e, int16_t q) CTL_SHARED
 /* The output stage: the motion owed plus this period's (Q15 share of full speed for a period),
  * limits and stops; below the smallest pulse it stays owed; a pulse is sent at the duty that
  * makes the motion against the running friction. At a reversal, the gain's rules (the file's
- * header). The smallest pulses count two toward a stall (FM_STALL_BIG while the error is big: a
+ * header). The smallest pulses count two toward a stall (FFMAP_STALL_BIG while the error is big: a
  * valve stiffer than told leaves the flow off its target for seconds), those up to twice the
  * smallest one (a valve stiffer than that, or a gain learnt that low, never sees it) one. */
-CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
+CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
 {
     uint16_t d, k;                  /* (duties up to 2 x 0.7 of full: 16 bits unsigned) */
     int8_t s;
@@ -320,58 +320,58 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
         M->capc = 255;
     ff_v = k;
     ff_dq = d;
-    fm_capd();
+    ffmap_capd();
     d = ff_dq;
     if (s != M->dir && M->dir != 0) {
         /* two half cycles in a row that swung big, soon after each other; the last at the top */
-        c = (uint8_t)((c >= FM_TOP_N) << 1) | (M->epk > (ctl_in->target_lpm_x100 >> FM_BIG_SHIFT));
-        if ((c & 1) && M->big && M->rev_age <= FM_OSC_GAP) {
-            if (M->g > (fm_rlim ? FM_G_INIT / 2 : FM_G_MIN))
-                M->g -= !fm_warm && c == 3 ? M->g >> 1 : M->g >> 2;
+        c = (uint8_t)((c >= FFMAP_TOP_N) << 1) | (M->epk > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
+        if ((c & 1) && M->big && M->rev_age <= FFMAP_OSC_GAP) {
+            if (M->g > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
+                M->g -= !ffmap_warm && c == 3 ? M->g >> 1 : M->g >> 2;
             else
-                fl = fm_rlim;
-        } else if (M->rev_age <= FM_OSC_GAP && (fm_warm || fm_hi_p) && d > 2 * k
+                fl = ffmap_rlim;
+        } else if (M->rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p) && d > 2 * k
             && (e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
             /* (a pulse near the smallest: the valve's resolution, not the gain) */
-            if (M->g > FM_G_MIN)
+            if (M->g > FFMAP_G_MIN)
                 M->g -= M->g >> 3;
             fl = 1;
         }
-        if (fl && !M->moved && M->rmin > FM_REV_LOW && fm_warm)
+        if (fl && !M->moved && M->rmin > FFMAP_REV_LOW && ffmap_warm)
             M->rmin -= M->rmin >> 3;        /* a cycle at a steady target: smaller reversals */
-        fm_rlim = lim;
+        ffmap_rlim = lim;
         M->big = c & 1;
         M->epk = 0;
         M->rev_age = 0;
         M->moved = 0;
         M->slow_n = 0;
-        fm_rl1 = 0;
+        ffmap_rl1 = 0;
     } else {
-        fm_rlim &= !fm_rl1;         /* a second pulse after the reversal: the swing is the loop's */
-        fm_rl1 = 1;
+        ffmap_rlim &= !ffmap_rl1;         /* a second pulse after the reversal: the swing is the loop's */
+        ffmap_rl1 = 1;
     }
     if (d <= 2 * k && s == M->dir) {    /* toward a stall */
         if (M->stall_n == 0)
             M->stall_y = ctl_in->flow_lpm_x100;
         if (M->stall_n < 250)
-            M->stall_n += d <= k + (k >> 3) ? (M->epk_now ? FM_STALL_BIG : 2) : 1;
+            M->stall_n += d <= k + (k >> 3) ? (M->epk_now ? FFMAP_STALL_BIG : 2) : 1;
     } else {
         M->stall_n = 0;
     }
     M->dir = s;
     if (s < 0)
         return -(q15_t)d;
-    /* a slower closing coasts less (fm_gain_at_p); the rules above judged the loop's demand */
-    if (fm_hi_t && d > k + FM_P_T_DUTY)
-        d = k + FM_P_T_DUTY;
+    /* a slower closing coasts less (ffmap_gain_at_p); the rules above judged the loop's demand */
+    if (ffmap_hi_t && d > k + FFMAP_P_T_DUTY)
+        d = k + FFMAP_P_T_DUTY;
     return (q15_t)d;
 }
 
 /* The loop gain at this pressure. The bypass's hold on the boom's flow grows with the boom's
  * share of the pump's flow: with q the boom's flow and Q the pump's, dq/dx goes as q^2 / Q, and
  * q^2 as the pressure P at the nozzles. With the pump at a fixed PTO speed that is P itself; with
- * the pump on the wheels (Q with the speed, as q) sqrt(P). Above FM_P_REF the learnt gain is cut
- * by sqrt(FM_P_REF / P), the lesser of the two: near P max a gain learnt lower down swings the
+ * the pump on the wheels (Q with the speed, as q) sqrt(P). Above FFMAP_P_REF the learnt gain is cut
+ * by sqrt(FFMAP_P_REF / P), the lesser of the two: near P max a gain learnt lower down swings the
  * flow and takes the line over P max. (A failed sensor holds its last reading: the cut it had,
  * a slower loop, never a faster one.)
  * With o of the boom's n nozzles open the gain is (n / o + 1) / 2 times the whole boom's, at most
@@ -382,31 +382,31 @@ CTL_STEP q15_t fm_out(int32_t m, int16_t e) CTL_SHARED
  * whole boom was that much slower with sections shut: with six of 36 nozzles open a halt's
  * restart took OFF_RATE (docs/CONTROLLERS.md, the eighteenth round). What is learnt stays the
  * whole boom's. */
-static int16_t fm_gain_at_p(void)
+static int16_t ffmap_gain_at_p(void)
 {
-    fm_hi_p = 0;
-    fm_hi_t = 0;
+    ffmap_hi_p = 0;
+    ffmap_hi_t = 0;
     gp_f = 256;
-    if (ctl_in->pressure_kpa > FM_P_REF) {
-        /* f = floor(sqrt(FM_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
-         * with f^2 P <= FM_P_REF 2^16 (below 256, as P > FM_P_REF) */
+    if (ctl_in->pressure_kpa > FFMAP_P_REF) {
+        /* f = floor(sqrt(FFMAP_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
+         * with f^2 P <= FFMAP_P_REF 2^16 (below 256, as P > FFMAP_P_REF) */
         gp_f = 0;
         for (gp_b = 0x80; gp_b; gp_b >>= 1) {
             gp_f |= gp_b;
-            if (UMUL((uint16_t)UMUL(gp_f, gp_f), ctl_in->pressure_kpa) > ((uint32_t)FM_P_REF << 16))
+            if (UMUL((uint16_t)UMUL(gp_f, gp_f), ctl_in->pressure_kpa) > ((uint32_t)FFMAP_P_REF << 16))
                 gp_f ^= gp_b;
         }
-        fm_hi_p = (uint8_t)gp_f < FM_P_HI_F;
+        ffmap_hi_p = (uint8_t)gp_f < FFMAP_P_HI_F;
         /* Closing toward a target that needs over 400 kPa, on a valve learnt faster than a new one
-         * starts, fm_out gives at most the smallest pulse + FM_P_T_DUTY. A motor that runs on after
+         * starts, ffmap_out gives at most the smallest pulse + FFMAP_P_T_DUTY. A motor that runs on after
          * its drive stops (its time constant) carries the flow past the target by what its speed
          * was, and near P max a sixth over the target is over P max: the family's last OVERPRESSURE
          * runs were 1.8-2 s valves told 4 s with 0.10-0.15 s motors, their targets at 4.3-4.5 bar
          * (120/124, 28/35, 72/107): closing at full duty from a fifth under the target, where the
          * line is at 3 bar, the motor's coast took it over. The target's pressure P (q / f)^2 over
-         * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FM_P_REF) / f_root. */
-        if (M->g < FM_G_INIT && UMUL(ctl_in->target_lpm_x100, FM_P_T_F) > UMUL(M->f1, gp_f))
-            fm_hi_t = 1;                    /* (f1: fm_cap took this period's flow) */
+         * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FFMAP_P_REF) / f_root. */
+        if (M->g < FFMAP_G_INIT && UMUL(ctl_in->target_lpm_x100, FFMAP_P_T_F) > UMUL(M->f1, gp_f))
+            ffmap_hi_t = 1;                    /* (f1: ffmap_cap took this period's flow) */
     }
     /* (the product first: on the 8051 MUL and UMUL share their operands' bytes, and a product
      * in MUL's second operand would overwrite its first) */
@@ -418,28 +418,28 @@ static int16_t fm_gain_at_p(void)
  * and the meter follows. The proportional and derivative terms would read the flow's own step
  * as the valve's answer and turn the valve with the error still a fifth of the target; the
  * reversal rules then took that turn for a swing and cut the learnt gain by a quarter, twice, at
- * every switch (a 10.6 s valve: 192 -> 25 in a field run, then OFF_RATE). For FM_P_WAIT periods
+ * every switch (a 10.6 s valve: 192 -> 25 in a field run, then OFF_RATE). For FFMAP_P_WAIT periods
  * the step sees no change of the error (the integral alone acts), as after a start. */
-q15_t fm_step(void) CTL_SHARED
+q15_t ffmap_step(void) CTL_SHARED
 {
     int16_t q = ctl_in->target_lpm_x100;
     int16_t d2e;
     int32_t du, d32;
     q15_t d;
 
-    fm_e = ctl_clamp_e(q - ctl_in->flow_lpm_x100);
+    ffmap_e = ctl_clamp_e(q - ctl_in->flow_lpm_x100);
     if (ctl_first) {
-        M->e1 = M->e2 = M->ef = fm_e;
+        M->e1 = M->e2 = M->ef = ffmap_e;
         M->t1 = q;
         M->rest = 0;
         M->stall_n = 0;
         M->warm = 0;
-        fm_warm = 0;
+        ffmap_warm = 0;
         M->epk = 0;
         M->big = 0;
         M->v1 = ctl_in->speed_kmh_x100;
         M->rf = 0;
-        M->lead = fm_e <= q - (q >> 2);
+        M->lead = ffmap_e <= q - (q >> 2);
         M->capn = 0;
         M->g0 = M->g;
         M->hold = 0;
@@ -448,52 +448,52 @@ q15_t fm_step(void) CTL_SHARED
     }
     if (target_noz_new) {               /* the hold (above) */
         target_noz_new = 0;
-        M->hold = FM_P_WAIT;
+        M->hold = FFMAP_P_WAIT;
     }
     if (M->hold) {
         M->hold--;
-        M->e1 = M->e2 = fm_e;
+        M->e1 = M->e2 = ffmap_e;
     }
-    fm_deadband(fm_e, q);
-    fm_stall(fm_e, q);
-    d2e = fm_e < 0 ? -fm_e : fm_e;
+    ffmap_deadband(ffmap_e, q);
+    ffmap_stall(ffmap_e, q);
+    d2e = ffmap_e < 0 ? -ffmap_e : ffmap_e;
     if (d2e > M->epk)
         M->epk = d2e;
-    M->epk_now = d2e > (q >> FM_BIG_SHIFT);    /* a big error this period */
-    fm_ff();
+    M->epk_now = d2e > (q >> FFMAP_BIG_SHIFT);    /* a big error this period */
+    ffmap_ff();
     if (M->rest) {
-        du = MUL(FM_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
+        du = MUL(FFMAP_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
     } else {
-        d2e = fx_sat16((int32_t)fm_e - 2 * (int32_t)M->e1 + M->e2);
+        d2e = fx_sat16((int32_t)ffmap_e - 2 * (int32_t)M->e1 + M->e2);
         /* (not while the line fills after the boom opens: the flow's rise is not the valve's) */
-        du = M->warm < FM_P_WAIT ? 0 : MUL(FM_KP, fx_sat16((int32_t)fm_e - M->e1));
-        du += MUL(FM_KI, fm_e);
-        du += MUL(FM_KD, d2e);
-        if (M->lead && !fm_warm && (ctl_last > FM_LEAD_DRIVE || ctl_last < -FM_LEAD_DRIVE)) {
+        du = M->warm < FFMAP_P_WAIT ? 0 : MUL(FFMAP_KP, fx_sat16((int32_t)ffmap_e - M->e1));
+        du += MUL(FFMAP_KI, ffmap_e);
+        du += MUL(FFMAP_KD, d2e);
+        if (M->lead && !ffmap_warm && (ctl_last > FFMAP_LEAD_DRIVE || ctl_last < -FFMAP_LEAD_DRIVE)) {
             /* the flow's change this period (the error is clamped far beyond any target) */
-            d2e = fx_sat16((int32_t)(q - fm_e) - (M->t1 - M->e1));
-            if ((d2e > 0) == (fm_e > 0))
-                du -= MUL(FM_KI, fx_sat16((int32_t)FM_LEAD * d2e));
+            d2e = fx_sat16((int32_t)(q - ffmap_e) - (M->t1 - M->e1));
+            if ((d2e > 0) == (ffmap_e > 0))
+                du -= MUL(FFMAP_KI, fx_sat16((int32_t)FFMAP_LEAD * d2e));
         }
     }
-    fm_gain_adapt(fm_e);
-    fm_cap();
+    ffmap_gain_adapt(ffmap_e);
+    ffmap_cap();
     d32 = ctl_du_to_drive(du);
     /* (the gain is at most 2 x 4 of as told: 2^11 in Q8, so d32 times it fits 32 bits) */
     if (d32 > 1048575L)
         d32 = 1048575L;
     else if (d32 < -1048575L)
         d32 = -1048575L;
-    d = fm_out(((d32 * fm_gain_at_p()) >> 8) + ff_d, fm_e);
+    d = ffmap_out(((d32 * ffmap_gain_at_p()) >> 8) + ff_d, ffmap_e);
     M->e2 = M->e1;
-    M->e1 = fm_e;
+    M->e1 = ffmap_e;
     M->t1 = q;
 #if FW_PROBES
     /* the gains for the probes (ctl_gain: the simulator, PIL, the s51 tests); the field image
      * reads ctl_k only in pid's and bp_pid's own steps */
-    ctl_k[0] = FM_KP;
-    ctl_k[1] = FM_KI;
-    ctl_k[2] = FM_KD;
+    ctl_k[0] = FFMAP_KP;
+    ctl_k[1] = FFMAP_KI;
+    ctl_k[2] = FFMAP_KD;
 #endif
     ctl_last = d;
     return d;

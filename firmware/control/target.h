@@ -29,7 +29,7 @@ int16_t target_flow_x100(uint16_t speed_x100) __reentrant;
 uint8_t target_open_nozzles(void);
 /* What a loop set on the whole boom multiplies its gain by with o of the n nozzles open, in
  * quarters: (n / o + 1) / 2 (4: all open; n / o floored to halves), at most TARGET_NOZ_MAX,
- * and TARGET_NOZ_MAX with none open (ffmap.c fm_gain_at_p says why). */
+ * and TARGET_NOZ_MAX with none open (ffmap.c ffmap_gain_at_p says why). */
 #define TARGET_NOZ_MAX 16u
 extern __data uint8_t target_noz_q;
 extern __bit target_noz_new;        /* 1: the nozzles open changed (ffmap.c clears it) */

@@ -60,7 +60,7 @@ uint16_t diag_alarms(void);
 /* Forget the learnt nozzle model (new nozzles, a meter calibration, the menu): learn it again. */
 void diag_nozzle_relearn(void);
 uint8_t diag_nozzle_learnt(void);
-/* The EEPROM's learnt figures (store_learnt_byte, store.h) are given from here: best's valve, then
+/* The EEPROM's learnt figures (store_learnt_byte, store.h) are given from here: ffmap's valve, then
  * the nozzle model learnt over the range (check valves, kPa at the rated flow; 0xFF while there
  * is none). diag_init restores the record's model. */
 /* The flow the nozzles pass at this pressure, q = n Q3 / sqrt(3 bar) * sqrt(P - P_check), L/min x100. */

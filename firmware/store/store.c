@@ -156,29 +156,29 @@ static uint8_t record_valid(uint8_t slot) __reentrant
 
 uint8_t store_load(void) __reentrant
 {
-    uint8_t s, best = NO_SLOT, n;
-    uint16_t q, best_q = 0, base;
+    uint8_t s, newest_slot = NO_SLOT, n;
+    uint16_t q, newest_q = 0, base;
     sv_state = SV_IDLE;             /* no save runs from before */
     sv.flags = 0;
     for (s = 0; s < STORE_SLOTS; s++) {
         if (!record_valid(s))
             continue;
         q = read16(slot_base(s) + HDR_SEQ);
-        if (best == NO_SLOT || (int16_t)(q - best_q) > 0) {
-            best = s;
-            best_q = q;
+        if (newest_slot == NO_SLOT || (int16_t)(q - newest_q) > 0) {
+            newest_slot = s;
+            newest_q = q;
         }
     }
-    newest = best;                  /* the next save goes after it, above its sequence */
-    seq = best_q;
-    if (best == NO_SLOT) {
+    newest = newest_slot;             /* the next save goes after it, above its sequence */
+    seq = newest_q;
+    if (newest_slot == NO_SLOT) {
         params_defaults();
         status = STORE_DEFAULTS;
         return status;
     }
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
-    base = slot_base(best);
-    n = record_valid(best);
+    base = slot_base(newest_slot);
+    n = record_valid(newest_slot);
     params_defaults();
     for (s = 0; s < n; s++)
         param_put(s, read16(base + HDR_VALUES + 2u * s));
@@ -195,7 +195,7 @@ uint8_t store_load(void) __reentrant
     status = STORE_OK;
     /* a started write after it (magic there, its sequence seq + 1 or not yet programmed):
      * a cut save, the previous values are loaded and the operator is told */
-    s = (uint8_t)((best + 1u) % STORE_SLOTS);
+    s = (uint8_t)((newest_slot + 1u) % STORE_SLOTS);
     q = read16(slot_base(s) + HDR_SEQ);
     if (hal_eeprom_read(slot_base(s)) == STORE_MAGIC && !record_valid(s)
         && (q == (uint16_t)(seq + 1u) || q == 0xFFFFu))

@@ -15,7 +15,7 @@
  *          ahead of the others by 1..32767, so it may wrap)
  *   5..    P_COUNT values, uint16 little endian, in the order of params.h
  *   then   the lifetime totals: area m^2 and volume ml, uint32 little endian each
- *   then   (version 7) the figures learnt from the sprayer, STORE_LEARN_BYTES: best's valve
+ *   then   (version 7) the figures learnt from the sprayer, STORE_LEARN_BYTES: ffmap's valve
  *          (ctl_learnt_byte: loop gain, break-away, reversal threshold, the speed's feed-forward)
  *          and the nozzle model (diag_learnt_byte), 0xFF where none is learnt; a version 5 copy
  *          (no such bytes) or a version 6 one (STORE_LEARN_V6 of them, without the feed-forward)
@@ -32,7 +32,7 @@
  * reason (STORE_CROSS).
  * No save starts while the supply is low (hal_supply_low): STORE_LOW_SUPPLY.
  */
-#define STORE_LEARN_CTL 8u          /* learnt bytes: best's valve and speed feed-forward ... */
+#define STORE_LEARN_CTL 8u          /* learnt bytes: ffmap's valve and speed feed-forward ... */
 #define STORE_LEARN_BYTES (STORE_LEARN_CTL + 4u)   /* ... and the nozzle model */
 #define STORE_LEARN_V6 10u          /* a version 6 record's learnt bytes */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + 2u)
@@ -76,7 +76,7 @@ uint8_t store_learnt(uint8_t i);
 extern uint8_t store_newest;
 uint16_t store_slot_base(uint8_t slot);
 /* Byte i of the learnt figures a save writes: provided by the layer that owns them (ops/diag.c:
- * best's valve through ctl.h, then the nozzle model), as the HAL's functions are by the HAL. */
+ * ffmap's valve through ctl.h, then the nozzle model), as the HAL's functions are by the HAL. */
 uint8_t store_learnt_byte(uint8_t i);
 /* Status of the last load or save; store_status_clear() once the operator has seen it. */
 uint8_t store_status(void);

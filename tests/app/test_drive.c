@@ -23,7 +23,7 @@ static void start(const char *events)
 {
     static char text[2048];
     snprintf(text, sizeof text,
-             "[run]\nduration_s = 120\nseed = 5\n[config]\ncontroller = best\n"
+             "[run]\nduration_s = 120\nseed = 5\n[config]\ncontroller = ffmap\n"
              "[plant]\npto_coupled = 0\nvalve_travel_s = 12\n"
              "[drive]\n0 0\n5 8\n120 8\n[events]\n%s60 sections_open 0\n70 sections_open 36\n", events);
     helper_sim_load(&sim, &sim_live, text, "test_drive");
@@ -124,7 +124,7 @@ static void test_drive_the_boom_waits_for_the_line_under_p_max_at_power_up(void 
     static char text[512];
     for (int kmh = 4; kmh <= 8; kmh += 4) {
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = 40\nseed = 5\n[config]\ncontroller = best\n"
+                 "[run]\nduration_s = 40\nseed = 5\n[config]\ncontroller = ffmap\n"
                  "[plant]\npto_coupled = 0\nvalve_travel_s = 12\nvalve_start_pos = 0\n"
                  "[drive]\n0 0\n1 0\n3 %d\n40 %d\n[events]\n", kmh, kmh);
         helper_sim_load(&sim, &sim_live, text, "test_drive");
@@ -181,7 +181,7 @@ static int spraying_row(sim_row_t *row, double *open_at, double until)
  * still bring does not carry it far past the target. Over seeds 1-8: the flow's largest excess
  * over the firmware's target and the time from the boom's opening until the flow stays within
  * 5 % of it for 2 s (start_s). Stopping at 7/8 of the target as measured gave 24.7 % and
- * 3.69 s. A new valve's loop starts at 3/4 of the gain (FM_G_INIT): 3.45 s on these seeds, 3.11
+ * 3.69 s. A new valve's loop starts at 3/4 of the gain (FFMAP_G_INIT): 3.45 s on these seeds, 3.11
  * at the full gain (the paper run's seeds 1-32: 3.28 s either way). */
 static void test_drive_the_start_up_closing_stops_a_period_ahead(void **state)
 {
@@ -190,7 +190,7 @@ static void test_drive_the_start_up_closing_stops_a_period_ahead(void **state)
     double over_sum = 0, start_sum = 0, start_max = 0;
     for (int seed = 1; seed <= 8; seed++) {
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = 20\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 150\n"
+                 "[run]\nduration_s = 20\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 150\n"
                  "min_flow_speed_kmh = 4\n[plant]\npto_coupled = 1\n[drive]\n0 0\n3 0\n8 6\n20 6\n", seed);
         helper_sim_load(&sim, &sim_live, text, "test_drive");
         sim_row_t row;
@@ -229,7 +229,7 @@ static void test_drive_a_start_at_a_steady_speed_is_clean(void **state)
     for (int pto = 0; pto <= 1; pto++) {
         for (int seed = 1; seed <= 8; seed++) {
             snprintf(text, sizeof text,
-                     "[run]\nduration_s = 20\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 150\n"
+                     "[run]\nduration_s = 20\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 150\n"
                      "[plant]\npto_coupled = %d\n[drive]\n0 8\n20 8\n[events]\n0 sections_open 0\n"
                      "10 sections_open 36\n", seed, pto);
             helper_sim_load(&sim, &sim_live, text, "test_drive");
@@ -264,7 +264,7 @@ static void test_drive_a_halt_with_the_pump_on_the_wheels_keeps_the_bypass(void 
     (void)state;
     static char text[512];
     snprintf(text, sizeof text,
-             "[run]\nduration_s = 60\nseed = 3\n[config]\ncontroller = best\nrate_l_ha = 105\n"
+             "[run]\nduration_s = 60\nseed = 3\n[config]\ncontroller = ffmap\nrate_l_ha = 105\n"
              "valve_travel_s = 11.3\n[plant]\npto_coupled = 1\nvalve_travel_s = 11.31\n"
              "valve_backlash = 0.0383\nvalve_motor_tau_s = 0.127\n"
              "[drive]\n0 0\n2 0\n8 6\n30 6\n35 0\n38 0\n44 9.2\n60 9.2\n");
@@ -299,7 +299,7 @@ static double restart_error(int open)
 {
     static char text[1024];
     snprintf(text, sizeof text,
-             "[run]\nduration_s = 80\nseed = 1\n[config]\ncontroller = best\nrate_l_ha = 123\n"
+             "[run]\nduration_s = 80\nseed = 1\n[config]\ncontroller = ffmap\nrate_l_ha = 123\n"
              "[plant]\nvalve_travel_s = 3.21\nvalve_stiction_duty = 0.193\nvalve_running_duty = 0.141\n"
              "valve_backlash = 0.0124\npto_coupled = 1\n"
              "[drive]\n0 0\n5 8\n60 8\n64 0\n66 0\n72 8.8\n80 8.8\n[events]\n20 sections_open %d\n", open);
@@ -319,7 +319,7 @@ static double restart_error(int open)
 }
 
 /* With o of n nozzles open the boom's flow answers the bypass about (n / o + 1) / 2 times less
- * than the whole boom's (ffmap.c fm_gain_at_p): the loop's gain follows, so a restart with six of
+ * than the whole boom's (ffmap.c ffmap_gain_at_p): the loop's gain follows, so a restart with six of
  * 36 nozzles open comes back to the target nearly as the whole boom does (before: 1.6 times the
  * whole boom's error; OFF_RATE on the family's plant). */
 static void test_drive_few_nozzles_open_restart_as_the_whole_boom(void **state)
@@ -369,7 +369,7 @@ static void test_drive_a_fast_valve_near_p_max_stops_closing_ahead_of_it(void **
     (void)state;
     static char text[1024];
     snprintf(text, sizeof text,
-             "[run]\nduration_s = 30\nseed = 96914\n[config]\ncontroller = best\nrate_l_ha = 141\n"
+             "[run]\nduration_s = 30\nseed = 96914\n[config]\ncontroller = ffmap\nrate_l_ha = 141\n"
              "[plant]\nvalve_travel_s = 2.01\nvalve_stiction_duty = 0.112\nvalve_running_duty = 0.056\n"
              "valve_backlash = 0.0302\nvalve_motor_tau_s = 0.14\npump_lpm_at_540 = 115.1\n"
              "pump_pulsation_pct = 7.29\npto_coupled = 0\npto_rpm = 486\nmeter_k_ppl = 376.49\n"
@@ -396,7 +396,7 @@ static void test_drive_near_p_max_a_closing_drive_is_held_to_twice_min_duty(void
     (void)state;
     static char text[1024];
     snprintf(text, sizeof text,
-             "[run]\nduration_s = 30\nseed = 711347\n[config]\ncontroller = best\nrate_l_ha = 146\n"
+             "[run]\nduration_s = 30\nseed = 711347\n[config]\ncontroller = ffmap\nrate_l_ha = 146\n"
              "[plant]\nvalve_travel_s = 1.91\nvalve_stiction_duty = 0.215\nvalve_running_duty = 0.133\n"
              "valve_backlash = 0.0333\nvalve_motor_tau_s = 0.15\npump_lpm_at_540 = 113.6\n"
              "pump_pulsation_pct = 8.86\npto_coupled = 0\npto_rpm = 538\nmeter_k_ppl = 378.56\n"
@@ -421,7 +421,7 @@ static void test_drive_a_boom_shut_while_priming_parks_the_bypass_open(void **st
     (void)state;
     static char text[512];
     snprintf(text, sizeof text,
-             "[run]\nduration_s = 30\nseed = 5\n[config]\ncontroller = best\nrate_l_ha = 150\n"
+             "[run]\nduration_s = 30\nseed = 5\n[config]\ncontroller = ffmap\nrate_l_ha = 150\n"
              "[plant]\npto_coupled = 1\n[drive]\n0 0\n3 0\n8 6\n30 6\n");
     helper_sim_load(&sim, &sim_live, text, "test_drive");
     sim_row_t row;

@@ -32,8 +32,8 @@ typedef struct {
 } run_t;
 
 static int sim_live;
-/* The controller the faults are run with: the paper's conventional pid, then the default `best`
- * (the whole suite runs once with each; the `best` run's names start with "best: "). */
+/* The controller the faults are run with: the paper's conventional pid, then the default `ffmap`
+ * (the whole suite runs once with each; the `ffmap` run's names start with "ffmap: "). */
 static const char *fault_ctl = "pid";
 
 static void start_drive(const char *events, const char *extra_config, const char *plant, const char *drive)
@@ -301,7 +301,7 @@ static void test_faults_small_leak_and_few_clogs_are_seen(void **state)
  * low (docs/SCENARIOS.md), which is 17 % of the pressure above the check valves: CLOG was raised
  * at 83-91 s on seeds 1-8, with the pump on the wheels or at a fixed PTO. Below 7.5 L/min the
  * model is judged on P_PDEV, not half of it: nothing is raised, and one of the six clogged
- * (70 % over the model's pressure) is still seen, once the loop has the flow back (best: 2.6-2.9
+ * (70 % over the model's pressure) is still seen, once the loop has the flow back (ffmap: 2.6-2.9
  * s, asked within 5; pid, whose gains were set for the whole boom, 15.0-15.3 s since
  * the speed is tracked from the start (12 s before: a nozzle model learnt over other speeds in
  * the first minute), asked within 20). */
@@ -321,7 +321,7 @@ static void test_faults_few_nozzles_below_the_meters_range_are_no_clog(void **st
         run_to(&r, 150);
         printf("# 6 of 36 nozzles open at 5.1 L/min, %s: nothing raised; one of them clogged: CLOG after "
                "%.2f s\n", i ? "coupled" : "fixed PTO", detect_s(&r, AL_CLOG));
-        assert_true(detect_s(&r, AL_CLOG) <= (strcmp(fault_ctl, "best") ? 20.0 : 5.0));
+        assert_true(detect_s(&r, AL_CLOG) <= (strcmp(fault_ctl, "ffmap") ? 20.0 : 5.0));
     }
 }
 
@@ -358,7 +358,7 @@ static void run_plant_raising_nothing(const char *text, double t_end, const char
  * wheels), its field drive cut short: through the slow-down from 6.4 to 2.6 km/h the meter's
  * rotor lags the flow that the pressure follows at once, and the metered flow reads high for
  * the pressure. No leak is judged while the target moves by more than 1/128 a period: nothing
- * is raised (with this seed best raised LEAK at 174 s before). */
+ * is raised (with this seed ffmap raised LEAK at 174 s before). */
 static void test_faults_a_slow_down_is_no_leak(void **state)
 {
     static char text[2048];
@@ -398,7 +398,7 @@ static void test_faults_stiff_check_valves_at_a_nearby_flow_raise_nothing(void *
  * 4 s on a pump on the wheels): its first minute at 9.7 km/h gave flows that spread by a tenth
  * around one target, enough for DIAG_LEARN_SPREAD, and the least-squares line through them put
  * the check valves at 91 kPa (the meter's noise flattens a line fitted over so little spread);
- * at 20-27 L/min that model asked for more pressure than the line had, and best raised LEAK at
+ * at 20-27 L/min that model asked for more pressure than the line had, and ffmap raised LEAK at
  * 274.7 s. A line is fitted only once the flows' squares spread by a quarter of their mean:
  * nothing is raised. */
 static void test_faults_a_model_fitted_over_one_speed_makes_no_leak(void **state)
@@ -423,7 +423,7 @@ static void test_faults_a_model_fitted_over_one_speed_makes_no_leak(void **state
  * drives it then asks for sit near the break-away, the valve creeps and the flow stays a
  * sixth under the target through a speed-up: OFF_RATE at 26.7 s before, the gain's raise held
  * for the start's first 10 s. A gain the start cut now comes back at once: nothing is raised.
- * That is best's rule: pid learns no gain, and on this valve its flow sits 10-12 % over the
+ * That is ffmap's rule: pid learns no gain, and on this valve its flow sits 10-12 % over the
  * target for seconds after the slow-down at 29.7 s (OFF_RATE at 35.8 s since the speed is
  * tracked from the start, a true one; 10.5 % and none before): with pid only OFF_RATE may be
  * raised. */
@@ -442,7 +442,7 @@ static void test_faults_a_stiff_fast_valve_told_the_truth_keeps_the_rate(void **
              "check_valve_bar = 0.524\nvalve_cv_open = 225.0\n[drive]\n0 0\n2 0\n2 5.6\n21.5 5.6\n21.5 9.7\n"
              "29.7 9.7\n29.7 6.3\n41.2 6.3\n41.2 10\n45 10\n",
              fault_ctl);
-    if (!strcmp(fault_ctl, "best")) {
+    if (!strcmp(fault_ctl, "ffmap")) {
         run_plant_raising_nothing(text, 45, "a stiff fast valve told the truth");
         return;
     }
@@ -695,9 +695,9 @@ int main(void)
     static char names[sizeof tests / sizeof tests[0]][96];
     for (size_t i = 0; i < sizeof tests / sizeof tests[0]; i++) {
         best_tests[i] = tests[i];
-        snprintf(names[i], sizeof names[i], "best: %s", tests[i].name);
+        snprintf(names[i], sizeof names[i], "ffmap: %s", tests[i].name);
         best_tests[i].name = names[i];
     }
-    fault_ctl = "best";
-    return failed + cmocka_run_group_tests_name("faults with best", best_tests, NULL, teardown);
+    fault_ctl = "ffmap";
+    return failed + cmocka_run_group_tests_name("faults with ffmap", best_tests, NULL, teardown);
 }

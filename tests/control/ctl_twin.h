@@ -24,18 +24,18 @@ void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], cons
                     const double x[4], const double o[5], const double k[3], double n, double n1, double n2,
                     double wmax);
 
-/* ---- ffmap (`best`): one step of the damped PID with its deadband and motor-aware output ------
+/* ---- ffmap: one step of the damped PID with its deadband and motor-aware output ------
  * Flows in L/min, drives as fractions of full duty, plain double arithmetic, no rounding. */
 
 /* ffmap's constants as plain numbers, from the firmware's own (ctl_int.h): nothing retyped. */
-#define CTLTW_FM_KP (FM_KP / 4096.0)
-#define CTLTW_FM_KI (FM_KI / 4096.0)
-#define CTLTW_FM_KD (FM_KD / 4096.0)
-#define CTLTW_FM_REST_KI (FM_REST_KI / 4096.0)
-#define CTLTW_FM_DB_IN (1 << FM_DB_IN)      /* rest once the filtered error <= target / 256 */
-#define CTLTW_FM_DB_OUT (1 << FM_DB_OUT)    /* wake beyond target / 128 */
-#define CTLTW_FM_DB_PAST (1 << FM_DB_PAST)  /* past the target the way it moved: rest within target / 1024 */
-#define CTLTW_FM_MOVE (1 << FM_MOVE_SHIFT)  /* the target moves: |dq| > target / 64 */
+#define CTLTW_FFMAP_KP (FFMAP_KP / 4096.0)
+#define CTLTW_FFMAP_KI (FFMAP_KI / 4096.0)
+#define CTLTW_FFMAP_KD (FFMAP_KD / 4096.0)
+#define CTLTW_FFMAP_REST_KI (FFMAP_REST_KI / 4096.0)
+#define CTLTW_FFMAP_DB_IN (1 << FFMAP_DB_IN)      /* rest once the filtered error <= target / 256 */
+#define CTLTW_FFMAP_DB_OUT (1 << FFMAP_DB_OUT)    /* wake beyond target / 128 */
+#define CTLTW_FFMAP_DB_PAST (1 << FFMAP_DB_PAST)  /* past the target the way it moved: rest within target / 1024 */
+#define CTLTW_FFMAP_MOVE (1 << FFMAP_MOVE_SHIFT)  /* the target moves: |dq| > target / 64 */
 #define CTLTW_STICTION (param_v[P_VALVE_BRK] / 100.0)       /* ctl.c ctl_stiction: Min duty, % */
 #define CTLTW_RUN (CTLTW_STICTION * CTL_RUN_NUM / 16.0 > 0.45 ? 0.45 : CTLTW_STICTION * CTL_RUN_NUM / 16.0)
 #define CTLTW_E_MAX (CTL_E_MAX / 100.0) /* errors clamped to +-160 L/min */
@@ -45,13 +45,13 @@ void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], cons
 typedef struct {
     double e1, e2, ef, t1;          /* L/min */
     int rest, dir, stall_n, warm, rev_age, slow_n, brk_age, moved;
-    int up;                         /* the target last moved up (ffmap.c fm_up) */
+    int up;                         /* the target last moved up (ffmap.c ffmap_up) */
     double rmin;                    /* motion owed the other way that makes a reversal */
     double stall_y;                 /* L/min: the flow when the stall count started */
     double epk;                     /* L/min: the largest abs error since the last reversal */
     int big;                        /* the half cycle before the last reversal swung big */
     int rlim, rl1;                  /* the last reversal was under 1.5 rmin, with at most one pulse
-                                     * after it; a pulse followed it (ffmap.c fm_rlim, fm_rl1) */
+                                     * after it; a pulse followed it (ffmap.c ffmap_rlim, ffmap_rl1) */
     double brk;                     /* duty added to Min duty */
     double g;                       /* loop gain (1 = as told) */
     double g0;                      /* the loop gain when the loop (re)started */
@@ -62,7 +62,7 @@ typedef struct {
     double f1;                      /* L/min: the last period's flow */
     int hold;                       /* periods left without P and D after the nozzles changed */
     int first;
-} ctltw_fm_t;
+} ctltw_ffmap_t;
 typedef struct {
     double target, flow;            /* L/min */
     double travel;                  /* periods of a full stroke (Valve time) */
@@ -70,16 +70,16 @@ typedef struct {
     double pressure;                /* kPa */
     int noz_q;                      /* the gain's factor for the nozzles open, quarters (target_noz_q) */
     int noz_new;                    /* 1: the nozzles open changed this period (target_noz_new) */
-} ctltw_fm_in_t;
+} ctltw_ffmap_in_t;
 typedef struct {
     double drive;                   /* fraction of full duty, + toward closed */
     int rest;                       /* the deadband's state after the step */
     int near;                       /* 1: a decision (band, pulse, gain) within rounding of its
                                      * threshold: the firmware may have taken the other side */
-} ctltw_fm_out_t;
-void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry);
-/* One step of ffmap (fm_step of ffmap.c) on the twin's state. */
-ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in);
+} ctltw_ffmap_out_t;
+void ctltw_ffmap_load(ctltw_ffmap_t *tw, const ffmap_state_t *fm, int first, q15_t carry);
+/* One step of ffmap (ffmap_step of ffmap.c) on the twin's state. */
+ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in);
 
 /* ---- the peers: aog (AgOpenGPS Rate Control, valve mode) and raven (Raven's valve cal) ----------
  * Each returns the drive (fraction of full duty, + = more boom flow) its description asks for,

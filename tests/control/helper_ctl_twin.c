@@ -88,7 +88,7 @@ void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], cons
 
 /* ---- ffmap --------------------------------------------------------------------------------- */
 
-void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
+void ctltw_ffmap_load(ctltw_ffmap_t *tw, const ffmap_state_t *fm, int first, q15_t carry)
 {
     tw->e1 = fm->e1 / 100.0;
     tw->e2 = fm->e2 / 100.0;
@@ -106,9 +106,9 @@ void ctltw_fm_load(ctltw_fm_t *tw, const fm_state_t *fm, int first, q15_t carry)
     tw->stall_y = fm->stall_y / 100.0;
     tw->epk = fm->epk / 100.0;
     tw->big = fm->big;
-    tw->rlim = fm_rlim;
-    tw->rl1 = fm_rl1;
-    tw->up = fm_up;
+    tw->rlim = ffmap_rlim;
+    tw->rl1 = ffmap_rl1;
+    tw->up = ffmap_up;
     tw->brk = fm->brk / 32768.0;
     tw->g = fm->g / 256.0;
     tw->g0 = fm->g0 / 256.0;
@@ -128,14 +128,14 @@ static int ctltw_near(double x, double t, double lsb)
     return fabs(x - t) <= lsb;
 }
 
-/* The loop gain at this pressure (fm_gain_at_p): cut by sqrt(FM_P_REF / P) above FM_P_REF,
+/* The loop gain at this pressure (ffmap_gain_at_p): cut by sqrt(FFMAP_P_REF / P) above FFMAP_P_REF,
  * with the firmware's integer roundings (the root's floor, the product's). */
 static unsigned long ctltw_root_at_p(double p_kpa)
 {
     unsigned long p = (unsigned long)p_kpa, x, f;
-    if (p <= FM_P_REF)
+    if (p <= FFMAP_P_REF)
         return 256;
-    x = ((unsigned long)FM_P_REF << 16) / p;
+    x = ((unsigned long)FFMAP_P_REF << 16) / p;
     f = (unsigned long)sqrt((double)x);
     while (f * f > x)
         f--;
@@ -145,26 +145,26 @@ static unsigned long ctltw_root_at_p(double p_kpa)
 }
 
 /* ... the gain cut by that root f (256: not cut) and times the nozzles' factor q / 4 (the
- * product f q / 4 floored first, as fm_gain_at_p takes it) */
+ * product f q / 4 floored first, as ffmap_gain_at_p takes it) */
 static double ctltw_gain_at_root(double g, unsigned long f, int q)
 {
     return floor(g * 256 * floor(f * q / 4.0) / 256) / 256;
 }
 
-/* the duty cap up by an eighth (fm_cap_up) */
+/* the duty cap up by an eighth (ffmap_cap_up) */
 static int ctltw_cap_up(int cap)
 {
     cap += cap / 8 + 1;
     return cap > 255 ? 255 : cap;
 }
 
-ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
+ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
 {
-    ctltw_fm_out_t o = {0, 0, 0};
+    ctltw_ffmap_out_t o = {0, 0, 0};
     double q = in->target, e = ctltw_clamp(q - in->flow, -CTLTW_E_MAX, CTLTW_E_MAX);
     double dq, c, du, mv, d, k, db, run = CTLTW_RUN;
     int s, capc, hi_t;
-    unsigned long root = ctltw_root_at_p(in->pressure);   /* fm_gain_at_p's, once a step */
+    unsigned long root = ctltw_root_at_p(in->pressure);   /* ffmap_gain_at_p's, once a step */
     if (m->first) {
         m->e1 = m->e2 = m->ef = e;
         m->t1 = q;
@@ -180,9 +180,9 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->g0 = m->g;
         m->hold = 0;
     }
-    /* the nozzles open changed: FM_P_WAIT periods in which the step sees no change of the error */
+    /* the nozzles open changed: FFMAP_P_WAIT periods in which the step sees no change of the error */
     if (in->noz_new && !m->first)
-        m->hold = FM_P_WAIT;
+        m->hold = FFMAP_P_WAIT;
     if (m->hold) {
         m->hold--;
         m->e1 = m->e2 = e;
@@ -193,13 +193,13 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
      * input: at a long Valve time its rounding alone is worth more than the tolerance) */
     m->ef = (round(m->ef * 100) + floor((round(e * 100) - round(m->ef * 100) + 2) / 4)) / 100;
     c = fabs(m->ef);
-    o.near |= ctltw_near(fabs(dq) * CTLTW_FM_MOVE, q, 0.02 * CTLTW_FM_MOVE);
-    if (fabs(dq) * CTLTW_FM_MOVE > q)
+    o.near |= ctltw_near(fabs(dq) * CTLTW_FFMAP_MOVE, q, 0.02 * CTLTW_FFMAP_MOVE);
+    if (fabs(dq) * CTLTW_FFMAP_MOVE > q)
         m->moved = 1, m->up = dq > 0;
     /* past the target the way it last moved, the valve rests only nearer */
-    db = (m->ef < 0) == (m->up != 0) ? CTLTW_FM_DB_PAST : CTLTW_FM_DB_IN;
-    o.near |= ctltw_near(c, q / (m->rest ? CTLTW_FM_DB_OUT : db), 0.03);
-    if (fabs(dq) * CTLTW_FM_MOVE > q || (m->rest && c > q / CTLTW_FM_DB_OUT)) {
+    db = (m->ef < 0) == (m->up != 0) ? CTLTW_FFMAP_DB_PAST : CTLTW_FFMAP_DB_IN;
+    o.near |= ctltw_near(c, q / (m->rest ? CTLTW_FFMAP_DB_OUT : db), 0.03);
+    if (fabs(dq) * CTLTW_FFMAP_MOVE > q || (m->rest && c > q / CTLTW_FFMAP_DB_OUT)) {
         if (m->rest && (m->carry > 0) != (e > 0))
             m->carry = 0;
         m->rest = 0;
@@ -209,64 +209,64 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         m->stall_n = 0;
     }
     /* stall */
-    if (m->stall_n >= 2 * FM_STALL_N) {
+    if (m->stall_n >= 2 * FFMAP_STALL_N) {
         k = m->dir > 0 ? in->flow - m->stall_y : m->stall_y - in->flow;
-        o.near |= ctltw_near(k, q / (1 << FM_STALL_MOVE), 0.02);
-        if (k <= q / (1 << FM_STALL_MOVE) && (m->dir > 0 ? e > 0 : e < 0) && m->brk <= (FM_BRK_MAX - FM_BRK_STEP) / 32768.0)
-            m->brk += FM_BRK_STEP / 32768.0;
+        o.near |= ctltw_near(k, q / (1 << FFMAP_STALL_MOVE), 0.02);
+        if (k <= q / (1 << FFMAP_STALL_MOVE) && (m->dir > 0 ? e > 0 : e < 0) && m->brk <= (FFMAP_BRK_MAX - FFMAP_BRK_STEP) / 32768.0)
+            m->brk += FFMAP_BRK_STEP / 32768.0;
         m->stall_n = 0;
     }
-    if (m->brk > 0 && ++m->brk_age >= (int)FM_BRK_AGE) {
-        m->brk -= FM_BRK_STEP / 32768.0;
+    if (m->brk > 0 && ++m->brk_age >= (int)FFMAP_BRK_AGE) {
+        m->brk -= FFMAP_BRK_STEP / 32768.0;
         m->brk_age = 0;
     }
     if (fabs(e) > m->epk)
         m->epk = fabs(e);
     /* the law (the firmware's rest integral works on its own filtered error); no proportional
-     * term in the first FM_P_WAIT periods */
+     * term in the first FFMAP_P_WAIT periods */
     if (m->rest)
-        du = CTLTW_FM_REST_KI * m->ef;
+        du = CTLTW_FFMAP_REST_KI * m->ef;
     else
-        du = (m->warm < FM_P_WAIT ? 0 : CTLTW_FM_KP * (e - m->e1)) + CTLTW_FM_KI * e
-             + CTLTW_FM_KD * (e - 2 * m->e1 + m->e2);
-    /* after a start-up closing, while the valve runs fast: the integral on the flow FM_LEAD
+        du = (m->warm < FFMAP_P_WAIT ? 0 : CTLTW_FFMAP_KP * (e - m->e1)) + CTLTW_FFMAP_KI * e
+             + CTLTW_FFMAP_KD * (e - 2 * m->e1 + m->e2);
+    /* after a start-up closing, while the valve runs fast: the integral on the flow FFMAP_LEAD
      * periods ahead when it comes toward the target */
-    if (!m->rest && m->lead && m->warm < FM_WARM && fabs(m->last) > FM_LEAD_DRIVE / 32768.0) {
+    if (!m->rest && m->lead && m->warm < FFMAP_WARM && fabs(m->last) > FFMAP_LEAD_DRIVE / 32768.0) {
         double dy = (q - e) - (m->t1 - m->e1);
         if ((dy > 0) == (e > 0))
-            du -= CTLTW_FM_KI * FM_LEAD * dy;
+            du -= CTLTW_FFMAP_KI * FFMAP_LEAD * dy;
     }
     /* the firmware carries du to the drive in Q4 x100 L/min, 16 bits: +-32767 / 16 / 100 */
     du = ctltw_clamp(du, -32767 / 1600.0, 32767 / 1600.0);
     /* the gain's learning: a long run of error one way (four times as fast beyond target >>
-     * FM_BIG_SHIFT); in the start's first periods only back to where the start found it; not
+     * FFMAP_BIG_SHIFT); in the start's first periods only back to where the start found it; not
      * against a stop or refusal the error pushes toward */
-    o.near |= ctltw_near(fabs(e), q / (1 << FM_BIG_SHIFT), 0.02);
-    if (m->warm < FM_WARM)
+    o.near |= ctltw_near(fabs(e), q / (1 << FFMAP_BIG_SHIFT), 0.02);
+    if (m->warm < FFMAP_WARM)
         m->warm++;
-    if (m->rest || (e > 0) != (m->e1 > 0) || (m->warm < FM_WARM && (m->g >= m->g0 || m->cap != 255))
+    if (m->rest || (e > 0) != (m->e1 > 0) || (m->warm < FFMAP_WARM && (m->g >= m->g0 || m->cap != 255))
         || (in->limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN)))
         m->slow_n = 0;
-    else if ((m->slow_n += fabs(e) > q / (1 << FM_BIG_SHIFT) ? 4 : 1) >= FM_SLOW_N) {
+    else if ((m->slow_n += fabs(e) > q / (1 << FFMAP_BIG_SHIFT) ? 4 : 1) >= FFMAP_SLOW_N) {
         m->slow_n = 0;
-        if (m->g < FM_G_MAX / 256.0)
+        if (m->g < FFMAP_G_MAX / 256.0)
             m->g += (floor(m->g * 256 / 16) + floor(m->g * 256 / 32)) / 256;
         m->cap = ctltw_cap_up(m->cap);
     }
     if (m->rev_age < 255)
         m->rev_age++;
-    /* the duty cap: the flow's change (x100 L/min, as the firmware has it) after FM_CAP_N periods
+    /* the duty cap: the flow's change (x100 L/min, as the firmware has it) after FFMAP_CAP_N periods
      * at the cap one way */
     {
-        long dq100 = lround(in->flow * 100) - lround(m->f1 * 100), th = lround(q * 100) >> FM_CAP_SH;
+        long dq100 = lround(in->flow * 100) - lround(m->f1 * 100), th = lround(q * 100) >> FFMAP_CAP_SH;
         capc = m->capn;
         m->capn = 0;
         m->f1 = in->flow;
-        if (capc >= FM_CAP_N) {
+        if (capc >= FFMAP_CAP_N) {
             if (m->dir < 0)
                 dq100 = -dq100;
             if (dq100 > th) {
-                if (m->cap > FM_CAP_MIN)
+                if (m->cap > FFMAP_CAP_MIN)
                     m->cap -= m->cap / 4;
             } else if (dq100 < th / 2) {
                 m->cap = ctltw_cap_up(m->cap);
@@ -276,11 +276,11 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
         }
     }
     /* the output stage: the motion owed, limits, the running friction, the smallest pulse */
-    /* the target's pressure P (target / flow)^2 over 400 kPa (fm_gain_at_p, in its integers:
-     * target x100 FM_P_T_F against flow x100 times the root), on a gain learnt under FM_G_INIT */
+    /* the target's pressure P (target / flow)^2 over 400 kPa (ffmap_gain_at_p, in its integers:
+     * target x100 FFMAP_P_T_F against flow x100 times the root), on a gain learnt under FFMAP_G_INIT */
     {
-        double lhs = (double)lround(q * 100) * FM_P_T_F, rhs = (double)lround(in->flow * 100) * root;
-        hi_t = root < 256 && m->g < FM_G_INIT / 256.0 && lhs > rhs;
+        double lhs = (double)lround(q * 100) * FFMAP_P_T_F, rhs = (double)lround(in->flow * 100) * root;
+        hi_t = root < 256 && m->g < FFMAP_G_INIT / 256.0 && lhs > rhs;
         o.near |= root < 256 && fabs(lhs - rhs) <= 2.0 * root;
     }
     mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_root(m->g, root, in->noz_q) + m->carry;
@@ -309,7 +309,7 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
             double cap = ((k * 32768 >= (m->cap << 7) ? k * 32768 : ((m->cap << 7) | 0x7F))) / 32768;
             o.near |= ctltw_near(d, cap, 0.002) || ctltw_near(d, floor(cap * 256) / 256, 0.002)
                       || ctltw_near(k * 32768, m->cap << 7, 128);
-            int top = capc >= FM_TOP_N;     /* the half cycle ended at the top duty */
+            int top = capc >= FFMAP_TOP_N;     /* the half cycle ended at the top duty */
             if (s != m->dir)
                 capc = 255;
             if (d >= floor(cap * 256) / 256) {
@@ -318,26 +318,26 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
                 m->capn = (capc + 1) & 255;
             }
             if (s != m->dir && m->dir != 0) {
-                int big = m->epk > q / (1 << FM_BIG_SHIFT);
+                int big = m->epk > q / (1 << FFMAP_BIG_SHIFT);
                 o.near |= ctltw_near(d, 2 * k, 0.002);
-                o.near |= ctltw_near(m->epk, q / (1 << FM_BIG_SHIFT), 0.02);
+                o.near |= ctltw_near(m->epk, q / (1 << FFMAP_BIG_SHIFT), 0.02);
                 int smaller = 0;        /* smaller reversals (at a steady target) */
-                if (big && m->big && m->rev_age <= FM_OSC_GAP) {
+                if (big && m->big && m->rev_age <= FFMAP_OSC_GAP) {
                     /* after a reversal near the smallest, the gain is cut only down to half of
                      * where a new valve starts; below that the reversals are made smaller */
-                    if (m->g > (m->rlim ? FM_G_INIT / 2 : FM_G_MIN) / 256.0)
-                        m->g -= floor(m->g * 256 / (m->warm < FM_WARM && top ? 2 : 4)) / 256;
+                    if (m->g > (m->rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN) / 256.0)
+                        m->g -= floor(m->g * 256 / (m->warm < FFMAP_WARM && top ? 2 : 4)) / 256;
                     else
                         smaller = m->rlim;
-                } else if (m->rev_age <= FM_OSC_GAP && (m->warm >= FM_WARM || root < FM_P_HI_F)
+                } else if (m->rev_age <= FFMAP_OSC_GAP && (m->warm >= FFMAP_WARM || root < FFMAP_P_HI_F)
                            && d > 2 * k && fabs(e) <= q) {
-                    /* (cycles cut the gain in a start too over FM_P_HI_F's pressure; smaller
+                    /* (cycles cut the gain in a start too over FFMAP_P_HI_F's pressure; smaller
                      * reversals are learnt only after it) */
-                    if (m->g > FM_G_MIN / 256.0)
+                    if (m->g > FFMAP_G_MIN / 256.0)
                         m->g -= floor(m->g * 256 / 8) / 256;
                     smaller = 1;
                 }
-                if (smaller && !m->moved && m->rmin > FM_REV_LOW / 32768.0 && m->warm >= FM_WARM)
+                if (smaller && !m->moved && m->rmin > FFMAP_REV_LOW / 32768.0 && m->warm >= FFMAP_WARM)
                     m->rmin -= floor(m->rmin * 32768 / 8) / 32768;
                 m->rlim = lim;
                 m->big = big;
@@ -361,11 +361,11 @@ ctltw_fm_out_t ctltw_fm_step(ctltw_fm_t *m, const ctltw_fm_in_t *in)
                 m->stall_n = 0;
             }
             m->dir = s;
-            /* closing toward a target over 400 kPa: at most the smallest pulse + FM_P_T_DUTY */
+            /* closing toward a target over 400 kPa: at most the smallest pulse + FFMAP_P_T_DUTY */
             if (s > 0 && hi_t) {
-                o.near |= ctltw_near(d, k + FM_P_T_DUTY / 32768.0, 0.002);
-                if (d > k + FM_P_T_DUTY / 32768.0)
-                    d = k + FM_P_T_DUTY / 32768.0;
+                o.near |= ctltw_near(d, k + FFMAP_P_T_DUTY / 32768.0, 0.002);
+                if (d > k + FFMAP_P_T_DUTY / 32768.0)
+                    d = k + FFMAP_P_T_DUTY / 32768.0;
             }
             o.drive = s * d;
         }

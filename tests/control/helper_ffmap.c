@@ -1,4 +1,4 @@
-/* helper_ffmap.c: best (ffmap) as a new controller on a simulated sprayer, for the ffmap tests. */
+/* helper_ffmap.c: ffmap as a new controller on a simulated sprayer, for the ffmap tests. */
 #include "ctl.h"
 #include "params.h"
 #include "helper_ffmap.h"
@@ -7,7 +7,7 @@
 void ffmap_anew(void)
 {
     params_defaults();
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_reset(0);
 }
 

@@ -1,9 +1,9 @@
-/* helper_ffmap.h: best (ffmap) as a new controller on a simulated sprayer, for the ffmap tests. */
+/* helper_ffmap.h: ffmap as a new controller on a simulated sprayer, for the ffmap tests. */
 #ifndef HELPER_FFMAP_H
 #define HELPER_FFMAP_H
 #include "sim.h"
 
-/* best as a new controller from the default settings (nothing learnt): a seed's run of its own */
+/* ffmap as a new controller from the default settings (nothing learnt): a seed's run of its own */
 void ffmap_anew(void);
 /* a simulated sprayer from a scenario's text (its scenario outlives the run: helper_sim.c) */
 void ffmap_sim_from(sim_t *sim, const char *text);

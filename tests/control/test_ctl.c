@@ -25,7 +25,7 @@ static ctl_in_t mk(int target, int flow, uint8_t limit)
     in.target_lpm_x100 = (int16_t)target;
     in.flow_lpm_x100 = (int16_t)flow;
     in.speed_kmh_x100 = 700;
-    in.pressure_kpa = FM_P_REF;     /* ffmap's loop gain as learnt (no cut: fm_gain_at_p) */
+    in.pressure_kpa = FFMAP_P_REF;     /* ffmap's loop gain as learnt (no cut: ffmap_gain_at_p) */
     in.valve_limit = limit;
     return in;
 }
@@ -43,7 +43,7 @@ static void test_ctl_names_and_selection(void **state)
     assert_string_equal(ctl_name(CTL_PID), "pid");
     assert_string_equal(ctl_name(CTL_FUZZY_PID), "fuzzy_pid");
     assert_string_equal(ctl_name(CTL_BP_PID), "bp_pid");
-    assert_string_equal(ctl_name(CTL_BEST), "ffmap");
+    assert_string_equal(ctl_name(CTL_FFMAP), "ffmap");
     assert_string_equal(ctl_name(CTL_AOG), "aog");
     assert_string_equal(ctl_name(CTL_RAVEN), "raven");
     assert_int_equal(ctl_select(CTL_COUNT), 0);
@@ -323,18 +323,18 @@ static void test_ctl_learning_frozen_while_saturated(void **state)
     assert_true(memcmp(before.v, ctl_st.bp.v, sizeof before.v) != 0);
 
     /* ffmap: its loop gain learns nothing against a stop, and again without one */
-    ctl_select(CTL_BEST);
-    in = mk(3000, 2900, CTL_AT_CLOSED);     /* short of flow (under target >> FM_BIG_SHIFT), closing refused */
-    for (int k = 0; k < 3 * FM_WARM; k++)
+    ctl_select(CTL_FFMAP);
+    in = mk(3000, 2900, CTL_AT_CLOSED);     /* short of flow (under target >> FFMAP_BIG_SHIFT), closing refused */
+    for (int k = 0; k < 3 * FFMAP_WARM; k++)
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
+    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
     in.valve_limit = 0;
-    for (int k = 0; k < FM_SLOW_N && ctl_st.fm.g == FM_G_INIT; k++)
+    for (int k = 0; k < FFMAP_SLOW_N && ctl_st.fm.g == FFMAP_G_INIT; k++)
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, FM_G_INIT + FM_G_INIT * 3 / 32);     /* slower than told: it rises by 3/32 */
-    for (int k = 0; k < 3 * FM_SLOW_N; k++)
+    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT + FFMAP_G_INIT * 3 / 32);     /* slower than told: it rises by 3/32 */
+    for (int k = 0; k < 3 * FFMAP_SLOW_N; k++)
         ctl_step(&in);
-    assert_true(ctl_st.fm.g > FM_G_INIT + FM_G_INIT / 4);
+    assert_true(ctl_st.fm.g > FFMAP_G_INIT + FFMAP_G_INIT / 4);
 }
 
 /* One hour (36000 periods) of noisy, saturating, sign-changing inputs: every weight stays
@@ -373,11 +373,11 @@ static void test_ctl_ffmap_output_knows_the_running_friction(void **state)
 {
     (void)state;
     double run = CTLTW_RUN, m;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_st.fm.g = 256;                      /* the gain Valve time gives (the twin's) */
     ctl_in_t in = mk(2000, 1985, 0);        /* 0.15 L/min short of 20 L/min: outside the band */
     q15_t d = ctl_step(&in);                /* from rest: the integral alone */
-    m = ctltw_drive(ctltw_pid_du_stroke(0.15, 0.15, 0.15, CTLTW_FM_KP, CTLTW_FM_KI, CTLTW_FM_KD), 40);
+    m = ctltw_drive(ctltw_pid_du_stroke(0.15, 0.15, 0.15, CTLTW_FFMAP_KP, CTLTW_FFMAP_KI, CTLTW_FFMAP_KD), 40);
     assert_true(run + m * (1 - run) < CTLTW_STICTION);  /* under Min duty: owed */
     assert_int_equal(d, 0);
     assert_true(fabs(ctl_carry_now() / 32768.0 - m) < 3e-4);
@@ -388,7 +388,7 @@ static void test_ctl_ffmap_output_knows_the_running_friction(void **state)
     print_message("ffmap: motion %.4f owed, then sent at duty %.4f (d_run %.3f)\n", m, d / 32768.0, run);
 }
 
-/* ffmap: above FM_P_REF (200 kPa) the loop gain is cut by sqrt(FM_P_REF / P): the bypass's hold
+/* ffmap: above FFMAP_P_REF (200 kPa) the loop gain is cut by sqrt(FFMAP_P_REF / P): the bypass's hold
  * on the boom's flow grows with the pressure. The same error from rest asks 2/3 of the motion at
  * 450 kPa, the same at 100 kPa as at 200 (no boost below). */
 static void test_ctl_ffmap_cuts_its_gain_above_the_reference_pressure(void **state)
@@ -397,7 +397,7 @@ static void test_ctl_ffmap_cuts_its_gain_above_the_reference_pressure(void **sta
     static const uint16_t p[3] = {200, 450, 100};
     double run = CTLTW_RUN, m[3];
     for (int i = 0; i < 3; i++) {
-        ctl_select(CTL_BEST);
+        ctl_select(CTL_FFMAP);
         ctl_in_t in = mk(2000, 1800, 0);    /* 2 L/min short: a pulse at once */
         in.pressure_kpa = p[i];
         q15_t d = ctl_step(&in);
@@ -415,7 +415,7 @@ static void test_ctl_ffmap_cuts_its_gain_above_the_reference_pressure(void **sta
 static void test_ctl_ffmap_deadband_hysteresis(void **state)
 {
     (void)state;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_in_t in = mk(4000, 4000, 0);
     ctl_step(&in);
     assert_int_equal(ctl_st.fm.rest, 1);
@@ -451,14 +451,14 @@ static void test_ctl_ffmap_deadband_hysteresis(void **state)
 static void test_ctl_ffmap_learns_a_stiffer_break_away(void **state)
 {
     (void)state;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_in_t in = mk(2000, 1985, 0);        /* the valve never moves: the error stays */
     for (int k = 0; k < 1000; k++)
         ctl_step(&in);
-    assert_true(ctl_st.fm.brk >= 3 * FM_BRK_STEP && ctl_st.fm.brk <= FM_BRK_MAX);
+    assert_true(ctl_st.fm.brk >= 3 * FFMAP_BRK_STEP && ctl_st.fm.brk <= FFMAP_BRK_MAX);
     /* a valve that answers: the flow moves after each pulse (by less than the deadband, while
      * the target keeps running away from it), nothing is learnt */
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     in = mk(2000, 1970, 0);
     for (int k = 0; k < 400; k++) {
         if (ctl_step(&in) > 0)
@@ -470,18 +470,18 @@ static void test_ctl_ffmap_learns_a_stiffer_break_away(void **state)
 }
 
 /* ffmap: a valve faster than told hunts: reversals in quick succession near the target lower the
- * loop gain (to where the pulses are near the smallest: the valve's resolution); nothing in the first FM_WARM periods. */
+ * loop gain (to where the pulses are near the smallest: the valve's resolution); nothing in the first FFMAP_WARM periods. */
 static void test_ctl_ffmap_learns_the_loop_gain(void **state)
 {
     (void)state;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_st.fm.g = 256;                      /* the full gain (a new valve starts at 3/4 of it: */
     ctl_in_t in = mk(3000, 3000, 0);        /* there this swing of the flow sends no reversals) */
     int g_warm = 0;
     for (int k = 0; k < 2000; k++) {        /* the flow swings +-5 % every 3 periods */
         in.flow_lpm_x100 = (int16_t)((k / 3) % 2 ? 3150 : 2850);
         ctl_step(&in);
-        if (k == FM_WARM - 2)
+        if (k == FFMAP_WARM - 2)
             g_warm = ctl_st.fm.g;
     }
     assert_int_equal(g_warm, 256);
@@ -489,8 +489,8 @@ static void test_ctl_ffmap_learns_the_loop_gain(void **state)
     assert_true(ctl_st.fm.g < 128);
 }
 
-/* ffmap: swings of the flow beyond target >> FM_BIG_SHIFT, two in a row, cut the loop gain. In
- * a start (the first FM_WARM periods) a half cycle that ended in FM_TOP_N periods or more at the
+/* ffmap: swings of the flow beyond target >> FFMAP_BIG_SHIFT, two in a row, cut the loop gain. In
+ * a start (the first FFMAP_WARM periods) a half cycle that ended in FFMAP_TOP_N periods or more at the
  * top duty takes half at once: a valve much faster than told swings at full duty from its first
  * closing, and quarters came three swings late (family plant 192 of SEED=236). Shorter runs at
  * the top duty (a stiff valve's stick-slip, a target that ramps) and any swing after the start
@@ -500,14 +500,14 @@ static int swing_cut(int amp, int half, int warm)
 {
     ctl_in_t in = mk(3000, 3000, 0);
     int g0, k;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_st.fm.g = 256;
     while (ctl_st.fm.warm < warm) {         /* a start that is over, at the start's gain */
         ctl_step(&in);
         ctl_st.fm.g = 256;
     }
     g0 = ctl_st.fm.g;
-    for (k = 0; k < FM_WARM - 10 && ctl_st.fm.g == g0; k++) {
+    for (k = 0; k < FFMAP_WARM - 10 && ctl_st.fm.g == g0; k++) {
         int ph = k % (2 * half);
         in.flow_lpm_x100 = (int16_t)(3000 - amp + 2 * amp * (ph < half ? ph : 2 * half - ph) / half);
         ctl_step(&in);
@@ -522,28 +522,28 @@ static void test_ctl_ffmap_halves_a_start_gain_on_full_duty_swings(void **state)
     (void)state;
     assert_int_equal(swing_cut(1500, 8, 0), 128);       /* 4 periods at full duty, then turned */
     assert_int_equal(swing_cut(300, 3, 0), 192);        /* 1 period at full duty */
-    assert_int_equal(swing_cut(1500, 8, FM_WARM), 192); /* after the start */
+    assert_int_equal(swing_cut(1500, 8, FFMAP_WARM), 192); /* after the start */
 }
 
 /* ffmap: a gain cut in a start's first periods (a stiff valve's stick-slip looks like a fast
  * one's swings) comes back at once while the error stays one way, by 3/32 every 5 periods of a
- * big error (it waited for FM_WARM before); a gain where the start found it is not raised then
+ * big error (it waited for FFMAP_WARM before); a gain where the start found it is not raised then
  * (the line fills); and a refusal to close holds the raise only while the error asks to close. */
 static void test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once(void **state)
 {
     (void)state;
     ctl_in_t in = mk(3000, 2500, 0);
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     for (int k = 0; k < 40; k++)            /* the start's own gain: nothing raised while warm */
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
+    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
     ctl_st.fm.g = 64;                       /* cut by the start's swings */
     for (int k = 0; k < 20; k++)
         ctl_step(&in);
-    assert_true(ctl_st.fm.warm < FM_WARM);
+    assert_true(ctl_st.fm.warm < FFMAP_WARM);
     print_message("ffmap: a gain cut to 0.25 in the start, 2 s of a 17 %% error later %.3f\n", ctl_st.fm.g / 256.0);
     assert_int_equal(ctl_st.fm.g, 89);      /* 64 -> 70 -> 76 -> 82 -> 89 */
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_step(&in);
     ctl_st.fm.g = 64;
     in.valve_limit = CTL_NO_CLOSE;          /* the error asks to close: refused, no raise */
@@ -594,7 +594,7 @@ static void test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow(void **
     (void)state;
     double duty;
     int swing;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.cap, 255);
     cap_toy(1200, 16, 300, 1500, &duty, &swing);
     print_message("ffmap: a fast valve's duty cap %d/256, largest duty %.2f, the flow's swing %.2f L/min\n",
@@ -602,7 +602,7 @@ static void test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow(void **
     assert_true(ctl_st.fm.cap < 128);
     assert_true(duty < 0.6);
     assert_true(swing < 1500);
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     cap_toy(200, 40, 60, 1500, &duty, &swing);
     cap_toy(300, 40, 60, 2500, &duty, &swing);      /* a step of the target */
     assert_int_equal(ctl_st.fm.cap, 255);
@@ -618,7 +618,7 @@ static int fast_step(int g)
 {
     double pos = 0.3 + 30.0 / 60, flow = 30, seen[3] = {30, 30, 30};
     int target = 3000, over = 0;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_st.fm.g = (int16_t)g;
     for (int k = 0; k < 80; k++) {
         if (k == 20)
@@ -638,17 +638,17 @@ static int fast_step(int g)
     return over;
 }
 
-/* ffmap: a valve nothing was learnt of starts at 3/4 of the gain Valve time gives (FM_G_INIT):
+/* ffmap: a valve nothing was learnt of starts at 3/4 of the gain Valve time gives (FFMAP_G_INIT):
  * the family's valves run 1.5-12 s, and one much faster than told overshot its first changes
  * at the full gain (OVERPRESSURE at targets near P max: docs/CONTROLLERS.md, the fourteenth
- * round); a slower one's gain rises by 3/32 every FM_SLOW_N periods it lags. */
+ * round); a slower one's gain rises by 3/32 every FFMAP_SLOW_N periods it lags. */
 static void test_ctl_ffmap_starts_a_new_valve_under_the_full_gain(void **state)
 {
     (void)state;
-    int full = fast_step(256), start = fast_step(FM_G_INIT);
+    int full = fast_step(256), start = fast_step(FFMAP_G_INIT);
     print_message("ffmap: a valve twice as fast as told, a 10 %% step: overshoot %.2f L/min at the full "
                   "gain, %.2f at the start's\n", full / 100.0, start / 100.0);
-    assert_true(FM_G_INIT < 256);
+    assert_true(FFMAP_G_INIT < 256);
     assert_true(start < full * 3 / 4);
 }
 
@@ -658,16 +658,16 @@ static void test_ctl_ffmap_starts_a_new_valve_under_the_full_gain(void **state)
 static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
 {
     (void)state;
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     ctl_in_t in = mk(3000, 3000, 0);
     ctl_step(&in);
     for (int p = 0; p < 3; p++) {
-        ctl_st.fm.brk = FM_BRK_STEP;
+        ctl_st.fm.brk = FFMAP_BRK_STEP;
         ctl_st.fm.g = 128;
         ctl_st.fm.cap = 100;
         assert_int_equal(param_set(P_RATE, 140 + p), 1);
         ctl_step(&in);
-        assert_int_equal(ctl_st.fm.brk, FM_BRK_STEP);
+        assert_int_equal(ctl_st.fm.brk, FFMAP_BRK_STEP);
         assert_int_equal(ctl_st.fm.g, 128);
         assert_int_equal(ctl_st.fm.cap, 100);
         if (p == 0)
@@ -678,7 +678,7 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
             assert_int_equal(param_set(P_VALVE_TRAVEL, 60), 1);
         ctl_step(&in);
         assert_int_equal(ctl_st.fm.brk, 0);
-        assert_int_equal(ctl_st.fm.g, FM_G_INIT);
+        assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
         assert_int_equal(ctl_st.fm.cap, 255);
     }
     assert_int_equal(CTL_STICTION, Q15(0.3));
@@ -708,7 +708,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
     for (int c = 0; c < 4; c++) {
         assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)travels[c]), 1);
         assert_int_equal(param_set(P_VALVE_BRK, (uint16_t)brks[c]), 1);
-        ctl_select(CTL_BEST);
+        ctl_select(CTL_FFMAP);
         target_noz_q = noz_qs[c];       /* some sections shut: the gain's factor (target.c) */
         double pos = 0.5, flow = 30, target = 30, t_true = travels[c] * (c % 2 ? 0.5 : 1.5);
         double brk_true = (brks[c] + 8) / 100.0, run_true = brk_true * 0.6, v = 0, seen[3] = {30, 30, 30};
@@ -729,12 +729,12 @@ static void test_ctl_ffmap_matches_twin(void **state)
             }
             uint8_t lim = pos >= 1 ? CTL_AT_CLOSED : pos <= 0 ? CTL_AT_OPEN : 0;
             ctl_in_t in = mk((int)(target * 100), (int)((c == 3 ? seen[0] : flow) * 100 + rnd(-20, 20)), lim);
-            in.pressure_kpa = (uint16_t)(flow * flow / 4);  /* 56-506 kPa: both sides of FM_P_REF */
-            ctltw_fm_t tw;
-            ctltw_fm_load(&tw, &ctl_st.fm, first, ctl_carry_now());
-            ctltw_fm_in_t ti = {in.target_lpm_x100 / 100.0, in.flow_lpm_x100 / 100.0, travels[c], lim,
+            in.pressure_kpa = (uint16_t)(flow * flow / 4);  /* 56-506 kPa: both sides of FFMAP_P_REF */
+            ctltw_ffmap_t tw;
+            ctltw_ffmap_load(&tw, &ctl_st.fm, first, ctl_carry_now());
+            ctltw_ffmap_in_t ti = {in.target_lpm_x100 / 100.0, in.flow_lpm_x100 / 100.0, travels[c], lim,
                                 in.pressure_kpa, target_noz_q, target_noz_new};
-            ctltw_fm_out_t o = ctltw_fm_step(&tw, &ti);
+            ctltw_ffmap_out_t o = ctltw_ffmap_step(&tw, &ti);
             q15_t d = ctl_step(&in);
             first = 0;
             if (o.near) {
@@ -746,14 +746,14 @@ static void test_ctl_ffmap_matches_twin(void **state)
                 assert_true(err < 12.0 / 32768);
                 assert_int_equal(ctl_st.fm.rest, o.rest);
                 assert_true(fabs(tw.g - ctl_st.fm.g / 256.0) < 1e-9);     /* the gain's rules */
-                assert_int_equal(fm_rlim, tw.rlim);     /* the last reversal near the smallest */
-                assert_int_equal(fm_rl1, tw.rl1);
+                assert_int_equal(ffmap_rlim, tw.rlim);     /* the last reversal near the smallest */
+                assert_int_equal(ffmap_rl1, tw.rl1);
                 checked++;
             }
             pulses += d != 0;
             held += ctl_st.fm.hold != 0;
             rests += ctl_st.fm.rest;
-            g_moved |= ctl_st.fm.g != FM_G_INIT;
+            g_moved |= ctl_st.fm.g != FFMAP_G_INIT;
             brk_moved |= ctl_st.fm.brk != 0;
             capped += ctl_st.fm.cap != 255;
             /* the toy valve and line */

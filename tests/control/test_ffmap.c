@@ -1,4 +1,4 @@
-/* test_ffmap.c: the project's own controller (ffmap, `best`) on the simulated sprayer: an over-pressure start settles on the target, the valve rests at a steady target, a valve faster or stiffer than it was told is followed (a fast one started without over-pressure, a fast stiff one told the truth keeps its gain), the speed's feed-forward is learnt where the PTO is fixed, never pushes the flow past the target and near P max never closes over it. */
+/* test_ffmap.c: the project's own controller (ffmap) on the simulated sprayer: an over-pressure start settles on the target, the valve rests at a steady target, a valve faster or stiffer than it was told is followed (a fast one started without over-pressure, a fast stiff one told the truth keeps its gain), the speed's feed-forward is learnt where the PTO is fixed, never pushes the flow past the target and near P max never closes over it. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -31,7 +31,7 @@ static double p_max_on_seeds(int duration_s, int rate, const char *config, const
         char text[1024];
         metrics_result_t r;
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = %d\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = %d\n%s[plant]\n%s",
+                 "[run]\nduration_s = %d\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = %d\n%s[plant]\n%s",
                  duration_s, seed, rate, config, plant);
         ffmap_anew();
         *alarms += ffmap_run(text, &r);
@@ -102,7 +102,7 @@ static void test_ffmap_over_pressure_start_settles_on_the_target(void **state)
 {
     (void)state;
     static const char text[] =
-        "[run]\nduration_s = 60\nseed = 5\n[config]\ncontroller = best\nrate_l_ha = 150\ngiven_speed_kmh = 6\n"
+        "[run]\nduration_s = 60\nseed = 5\n[config]\ncontroller = ffmap\nrate_l_ha = 150\ngiven_speed_kmh = 6\n"
         "[plant]\npto_coupled = 0\nvalve_start_pos = 0\n[drive]\n0 0\n[events]\n30 given_speed_kmh 8\n";
     sim_t sim;
     ffmap_sim_from(&sim, text);
@@ -135,7 +135,7 @@ static void test_ffmap_holds_still_at_a_steady_target(void **state)
 {
     (void)state;
     static const char text[] =
-        "[run]\nduration_s = 120\nseed = 3\n[config]\ncontroller = best\nrate_l_ha = 150\n"
+        "[run]\nduration_s = 120\nseed = 3\n[config]\ncontroller = ffmap\nrate_l_ha = 150\n"
         "[plant]\nspeed_bounce_pct = 3\npump_pulsation_pct = 8\npressure_noise_lsb = 2\n"
         "[drive]\n0 0\n2 0\n2 6\n40 6\n40 9\n80 9\n80 5\n120 5\n";
     metrics_result_t r;
@@ -152,15 +152,15 @@ static void test_ffmap_holds_still_at_a_steady_target(void **state)
  * whose learnt gain fell 192 -> 25 and raised OFF_RATE). The boom's flow steps by itself a period
  * after the target does; the proportional and derivative terms read that as the valve's answer
  * and turned the valve with the error a fifth of the target, and the reversal rules cut the gain
- * by a quarter twice at each switch. With the step seeing no change of the error for FM_P_WAIT
- * periods after a switch (ffmap.c), the gain the valve needs is kept: at least FM_G_INIT at the
+ * by a quarter twice at each switch. With the step seeing no change of the error for FFMAP_P_WAIT
+ * periods after a switch (ffmap.c), the gain the valve needs is kept: at least FFMAP_G_INIT at the
  * end (30 without the hold, and CV 3.78 % against 0.95 %), and no alarm. */
 static void test_ffmap_a_section_switch_does_not_cut_the_gain(void **state)
 {
     (void)state;
     static char text[1536];
     int n = snprintf(text, sizeof text,
-                     "[run]\nduration_s = 200\nseed = 5\n[config]\ncontroller = best\nrate_l_ha = 133\n"
+                     "[run]\nduration_s = 200\nseed = 5\n[config]\ncontroller = ffmap\nrate_l_ha = 133\n"
                      "[plant]\nvalve_travel_s = 10.63\nvalve_stiction_duty = 0.171\nvalve_running_duty = 0.093\n"
                      "valve_backlash = 0.0185\nvalve_motor_tau_s = 0.028\npump_lpm_at_540 = 123.2\npto_coupled = 1\n"
                      "valve_cv_open = 262.1\n[drive]\n0 0\n2 0\n8 6.4\n200 6.4\n[events]\n");
@@ -171,7 +171,7 @@ static void test_ffmap_a_section_switch_does_not_cut_the_gain(void **state)
     print_message("ffmap, sections switched every 12 s on a 10.6 s valve told 4 s: gain %d (256: as told), "
                   "%d alarms, CV %.2f %%, %.1f reversals a minute\n", ctl_st.fm.g, alarms, r.cv_pct,
                   r.valve_reversals_per_min);
-    assert_true(ctl_st.fm.g >= FM_G_INIT);
+    assert_true(ctl_st.fm.g >= FFMAP_G_INIT);
     assert_int_equal(alarms, 0);
 }
 
@@ -188,7 +188,7 @@ static void test_ffmap_does_not_hunt_on_an_untold_valve(void **state)
     for (int i = 0; i < 2; i++) {
         char text[512];
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = 180\nseed = 7\n[config]\ncontroller = best\nrate_l_ha = 125\n[plant]\n%s"
+                 "[run]\nduration_s = 180\nseed = 7\n[config]\ncontroller = ffmap\nrate_l_ha = 125\n[plant]\n%s"
                  "[drive]\n0 0\n2 0\n2 7\n60 7\n60 10\n120 10\n120 5\n180 5\n", plants[i]);
         metrics_result_t r;
         ffmap_run(text, &r);
@@ -205,7 +205,7 @@ static void test_ffmap_does_not_hunt_on_an_untold_valve(void **state)
  * the stall rule raises the smallest pulse; a smallest pulse counts twice as much toward a stall
  * while the error is beyond target/16, so no stretch with the meter more than 10 % off the
  * target at working speed lasts longer than 1.5 s (with the count as for a small error, 3.1 s
- * on seed 1: OFF_RATE needs 5 s). 1.5 s from the start's 3/4 of the gain (FM_G_INIT), 0.9 s
+ * on seed 1: OFF_RATE needs 5 s). 1.5 s from the start's 3/4 of the gain (FFMAP_G_INIT), 0.9 s
  * from the full gain. */
 static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
 {
@@ -214,7 +214,7 @@ static void test_ffmap_a_stiff_valve_breaks_away_within_seconds(void **state)
     for (int seed = 1; seed <= 6; seed++) {
         char text[512];
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = 120\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 120\n"
+                 "[run]\nduration_s = 120\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 120\n"
                  "valve_travel_s = 1.6\n[plant]\nvalve_travel_s = 1.6\nvalve_stiction_duty = 0.33\n"
                  "valve_running_duty = 0.17\nvalve_backlash = 0.01\npto_coupled = 0\npto_rpm = 540\n"
                  "[drive]\n0 0\n2 0\n6 8\n40 8\n44 4.3\n80 4.3\n84 7\n120 7\n", seed);
@@ -247,8 +247,8 @@ static void test_ffmap_a_fast_valve_with_a_slow_motor_starts_without_over_pressu
 /* A valve of 1.77 s that the firmware believes 4 s, with a slow motor (0.12 s), at 145 L/ha on a
  * fixed PTO (plant 124 of `make family SEED=120`, untold, its first 25 s), seeds 1-8: in the
  * first seconds the flow swings from a fifth under the target to a sixth over it (the motor's
- * coast, the backlash), and a gain that learnt from such cycles only after FM_WARM let the
- * line reach 4.76 bar (5.04 bar and OVERPRESSURE on seed 14). Over FM_P_HI_F's 360 kPa, cycles
+ * coast, the backlash), and a gain that learnt from such cycles only after FFMAP_WARM let the
+ * line reach 4.76 bar (5.04 bar and OVERPRESSURE on seed 14). Over FFMAP_P_HI_F's 360 kPa, cycles
  * cut the gain in a start too: the line stays under 4.6 bar (4.33). */
 static void test_ffmap_a_fast_valve_near_p_max_learns_its_gain_in_the_start(void **state)
 {
@@ -269,7 +269,7 @@ static void test_ffmap_a_fast_valve_near_p_max_learns_its_gain_in_the_start(void
  * target, where the line is at 3 bar, the loop closed at full duty and the motor's coast carried
  * the flow a sixth past the target, the line to 4.91 and 4.99 bar with OVERPRESSURE on seeds 1
  * and 7. Closing toward a target that needs over 400 kPa on a valve learnt faster than a new one
- * starts is held to the smallest pulse + FM_P_T_DUTY: at most 4.59 bar (4.71 when that was 1/4),
+ * starts is held to the smallest pulse + FFMAP_P_T_DUTY: at most 4.59 bar (4.71 when that was 1/4),
  * nothing raised. */
 static void test_ffmap_a_fast_valve_closes_slowly_toward_a_target_near_p_max(void **state)
 {
@@ -289,7 +289,7 @@ static void test_ffmap_a_fast_valve_closes_slowly_toward_a_target_near_p_max(voi
  * 3 % under a target that needs 4.3 bar, the loop closed at 0.40 of full duty for five periods,
  * the motor took up the backlash in the first three and coasted on after the last; the flow went
  * 7 % over the target and the line to 4.96 bar, OVERPRESSURE on seed 6. With the closing there
- * held to the smallest pulse + FM_P_T_DUTY of 0.15 (from 1/4, which let 0.40 through) the line
+ * held to the smallest pulse + FFMAP_P_T_DUTY of 0.15 (from 1/4, which let 0.40 through) the line
  * stayed under 4.8 bar (4.74), nothing raised. With the speed tracked from the start (speed.c) the
  * start no longer cuts the loop gain, and at 0.15 the first cycles at the steady target took the
  * line to 4.81 bar (seed 2); at 0.10, 4.68 bar. */
@@ -311,7 +311,7 @@ static void test_ffmap_a_slow_motor_closes_gently_toward_a_target_near_p_max(voi
  * speed-up at 33 s teaches kff a closing with the speed and the start's swings take the loop
  * gain to a fifth; on the speed-up from 7.1 to 11 km/h the flow ran 2-4 % over the target for 1.5 s while
  * the feed-forward's closing outweighed the loop's opening (a reversal, owed until it is worth
- * FM_REV_MIN), and the line reached 4.88 bar, OVERPRESSURE on seed 8. Over 360 kPa the
+ * FFMAP_REV_MIN), and the line reached 4.88 bar, OVERPRESSURE on seed 8. Over 360 kPa the
  * feed-forward does not close while the flow, filtered over 4 periods, is over the target by
  * more than 1/128 of it: at most 4.76 bar, nothing raised. */
 static void test_ffmap_the_feed_forward_does_not_close_over_the_target_near_p_max(void **state)
@@ -330,7 +330,7 @@ static void test_ffmap_the_feed_forward_does_not_close_over_the_target_near_p_ma
 
 /* A valve of 2.01 s that the firmware is told (2.0 s), breaking away at 0.348 (told 0.2), on a
  * fixed PTO at 105 L/ha (plant 68 of `make family SEED=9`, told, its first 30 s), seeds 1-8. A
- * reversal waits for FM_REV_MIN, 0.6 of a period at full speed: on a 2 s valve 3 % of its
+ * reversal waits for FFMAP_REV_MIN, 0.6 of a period at full speed: on a 2 s valve 3 % of its
  * travel, which swings the flow by a tenth of the target however low the loop gain. Read as a
  * loop too fast for the valve, each swing cut the gain by a quarter, 192 -> 33 in 12 s; at the
  * slow-down from 6.7 to 4.5 km/h the flow stayed over the target for 4.3 s (seed 9 of the
@@ -340,7 +340,7 @@ static void test_ffmap_the_feed_forward_does_not_close_over_the_target_near_p_ma
  * against Min duty's 0.2) is not learnt yet and the first pulses there leave the flow over the
  * target until the stall rule grows them: at most 3.4 s (seeds 3, 4, 6, 7: 3.0-3.4 s; 0.4-1.9 s
  * before). Counting every pulse up to twice the smallest as a stall while the error is big took
- * it to 1.6 s but let a noisy wheel teach kff past FM_FF_LEAD on a pump on the wheels
+ * it to 1.6 s but let a noisy wheel teach kff past FFMAP_FF_LEAD on a pump on the wheels
  * (test_ffmap_ff.c: 44): not kept (docs/CONTROLLERS.md, the twenty-seventh round). The gain
  * is kept: no OFF_RATE. */
 static void test_ffmap_a_stiff_fast_valve_keeps_its_gain(void **state)
@@ -349,7 +349,7 @@ static void test_ffmap_a_stiff_fast_valve_keeps_its_gain(void **state)
     (void)state;
     double worst = worst_off_stretch_on_seeds(
         30,
-        "[config]\ncontroller = best\nrate_l_ha = 105\nvalve_travel_s = 2.0\n[plant]\n"
+        "[config]\ncontroller = ffmap\nrate_l_ha = 105\nvalve_travel_s = 2.0\n[plant]\n"
         "valve_travel_s = 2.01\nvalve_stiction_duty = 0.348\nvalve_running_duty = 0.214\n"
         "valve_backlash = 0.0081\nvalve_motor_tau_s = 0.041\npump_lpm_at_540 = 112.6\n"
         "pump_pulsation_pct = 2.56\npto_coupled = 0\npto_rpm = 561\nmeter_k_ppl = 380.98\n"
@@ -378,7 +378,7 @@ static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state
     for (int i = 0; i < 2; i++) {
         char text[512];
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = 240\nseed = 11\n[config]\ncontroller = best\nrate_l_ha = 125\n[plant]\n%s"
+                 "[run]\nduration_s = 240\nseed = 11\n[config]\ncontroller = ffmap\nrate_l_ha = 125\n[plant]\n%s"
                  "[drive]\n0 0\n2 0\n2 6\n30 6\n30 10\n50 10\n50 5\n70 5\n70 9\n90 9\n90 6\n110 6\n"
                  "110 10\n130 10\n130 5\n150 5\n150 9\n170 9\n170 6\n190 6\n190 10\n210 10\n210 5\n240 5\n",
                  pto[i]);
@@ -417,7 +417,7 @@ static void test_ffmap_the_feed_forward_does_not_follow_the_wheels_jitter(void *
         char text[1024];
         metrics_result_t r;
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = 240\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 147\n[plant]\n"
+                 "[run]\nduration_s = 240\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 147\n[plant]\n"
                  "valve_travel_s = 4.19\nvalve_stiction_duty = 0.311\nvalve_running_duty = 0.232\n"
                  "valve_backlash = 0.0117\nvalve_motor_tau_s = 0.028\npump_lpm_at_540 = 107.4\n"
                  "pump_pulsation_pct = 6.31\npto_coupled = 0\npto_rpm = 548\nmeter_k_ppl = 381.03\n"
@@ -454,7 +454,7 @@ static void test_ffmap_the_feed_forward_does_not_push_the_flow_past_the_target(v
     (void)state;
     double worst = worst_off_stretch_on_seeds(
         60,
-        "[config]\ncontroller = best\nrate_l_ha = 144\n[plant]\n"
+        "[config]\ncontroller = ffmap\nrate_l_ha = 144\n[plant]\n"
         "valve_travel_s = 6.25\nvalve_stiction_duty = 0.188\nvalve_running_duty = 0.119\n"
         "valve_backlash = 0.0325\nvalve_motor_tau_s = 0.027\npump_lpm_at_540 = 143.0\n"
         "pump_pulsation_pct = 7.3\npto_coupled = 1\npto_rpm = 540\nmeter_k_ppl = 381.97\n"

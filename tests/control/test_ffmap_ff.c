@@ -1,4 +1,4 @@
-/* test_ffmap_ff.c: the speed's feed-forward of the project's own controller (ffmap, `best`) is not taught by the wheel's noise: with the pump on the wheels it stays off. */
+/* test_ffmap_ff.c: the speed's feed-forward of the project's own controller (ffmap) is not taught by the wheel's noise: with the pump on the wheels it stays off. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -12,7 +12,7 @@
 #include "helper_ffmap.h"
 
 /* The pump on the wheels: the boom's flow follows the speed by itself, and kff stays under
- * FM_FF_LEAD (the feed-forward off, the speed without its lead). A wheel whose spacing errors
+ * FFMAP_FF_LEAD (the feed-forward off, the speed without its lead). A wheel whose spacing errors
  * (3.6 %) are not learnt yet, with 1 % bounce, steps the measured speed by a few percent at a
  * pulse; the flow never follows those steps, and each one read as the flow lagging a ramp. A
  * 1.54 s valve the firmware believes 4 s, its bypass twice the default (plant 42 of `make family
@@ -30,7 +30,7 @@ static void test_ffmap_ff_the_wheels_noise_does_not_teach_the_feed_forward(void 
         int16_t most = 0;
         sim_t sim;
         snprintf(text, sizeof text,
-                 "[run]\nduration_s = 60\nseed = %d\n[config]\ncontroller = best\nrate_l_ha = 146\n[plant]\n"
+                 "[run]\nduration_s = 60\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 146\n[plant]\n"
                  "valve_travel_s = 1.54\nvalve_stiction_duty = 0.258\nvalve_running_duty = 0.136\n"
                  "valve_backlash = 0.0352\nvalve_motor_tau_s = 0.042\npump_lpm_at_540 = 120.4\n"
                  "pump_pulsation_pct = 3.45\npto_coupled = 1\nmeter_k_ppl = 383.28\n"
@@ -50,7 +50,7 @@ static void test_ffmap_ff_the_wheels_noise_does_not_teach_the_feed_forward(void 
     }
     print_message("ffmap, the pump on the wheels, a noisy wheel: kff at most %d over 8 seeds, %d alarms\n",
                   worst, alarms);
-    assert_true(worst < FM_FF_LEAD);
+    assert_true(worst < FFMAP_FF_LEAD);
     assert_int_equal(alarms, 0);
 }
 

@@ -12,8 +12,8 @@ ok() { echo "ok - family: $1"; }
 nok() { echo "not ok - family: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
 
 make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1 || { nok "the simulator builds" "$(cat "$tmp/build.log")"; exit 0; }
-if $PY tools/family.py "$SIM" --n 6 --controllers best,pid --out "$tmp/a" > "$tmp/a.out" 2>&1 \
-   && $PY tools/family.py "$SIM" --n 6 --controllers best,pid --out "$tmp/b" > "$tmp/b.out" 2>&1; then
+if $PY tools/family.py "$SIM" --n 6 --controllers ffmap,pid --out "$tmp/a" > "$tmp/a.out" 2>&1 \
+   && $PY tools/family.py "$SIM" --n 6 --controllers ffmap,pid --out "$tmp/b" > "$tmp/b.out" 2>&1; then
     ok "6 plants x 2 controllers run"
 else
     nok "6 plants x 2 controllers run" "$(tail -3 "$tmp/a.out" "$tmp/b.out")"; exit 0
@@ -25,12 +25,12 @@ n=$(($(wc -l < "$tmp/a/runs.csv") - 1))
 # told and untold: the same sprayer, the firmware's stroke time the only difference
 d=$(diff "$tmp/a/scn/plant_003_told.scn" "$tmp/a/scn/plant_003_untold.scn" | grep '^[<>]' | grep -v '^[<>] # plant')
 if [ "$(echo "$d" | grep -c '^< valve_travel_s = ')" -eq 1 ] && [ "$(echo "$d" | wc -l)" -eq 1 ] \
-   && [ "$(awk -F, 'NR > 1 && $2 == "best" { c[$4]++ } END { print c[0] "/" c[1] }' "$tmp/a/runs.csv")" = "6/6" ]; then
+   && [ "$(awk -F, 'NR > 1 && $2 == "ffmap" { c[$4]++ } END { print c[0] "/" c[1] }' "$tmp/a/runs.csv")" = "6/6" ]; then
     ok "each plant runs told and untold, the scenarios differing only in the told stroke time"
 else
     nok "each plant runs told and untold, the scenarios differing only in the told stroke time" "$d"
 fi
-if $PY tools/family.py "$SIM" --n 6 --controllers best --told drawn --out "$tmp/d" > "$tmp/d.out" 2>&1 \
+if $PY tools/family.py "$SIM" --n 6 --controllers ffmap --told drawn --out "$tmp/d" > "$tmp/d.out" 2>&1 \
    && [ "$(($(wc -l < "$tmp/d/runs.csv") - 1))" -eq 6 ] && [ -f "$tmp/d/scn/plant_005.scn" ]; then
     ok "--told drawn runs each plant once, told by its draw"
 else
@@ -39,8 +39,8 @@ fi
 if $PY - "$tmp/a/summary.json" <<'PYEOF'
 import json, sys
 s = json.load(open(sys.argv[1]))
-assert s["told"] == "both" and s["controllers"]["best"]["cv_untold_over_told"] > 0
-for c in ("best", "pid"):
+assert s["told"] == "both" and s["controllers"]["ffmap"]["cv_untold_over_told"] > 0
+for c in ("ffmap", "pid"):
     for k in ("dose_abs_pct", "dose_ctl_abs_pct", "cv_pct", "zone_worst_pct", "reversals_per_min", "settle_mean_s"):
         assert s["controllers"][c][k]["median"] is not None, (c, k)
         assert s["controllers"][c][k]["p95"] >= s["controllers"][c][k]["median"], (c, k)
@@ -58,7 +58,7 @@ assert part > len(rows) // 2, (part, len(rows))
 PYEOF
 then ok "runs.csv splits the loop's share into the start's and the rest"; else nok "runs.csv splits the loop's share into the start's and the rest"; fi
 if $PY tools/ctl_tail.py "$tmp/a" "$tmp/b" > "$tmp/t.out" 2>&1 \
-   && grep -Eq "^best: 24 runs; 95th percentile of abs\(dose_ctl_pct\) [0-9.]+ %, past the start [0-9.]+ %$" "$tmp/t.out" \
+   && grep -Eq "^ffmap: 24 runs; 95th percentile of abs\(dose_ctl_pct\) [0-9.]+ %, past the start [0-9.]+ %$" "$tmp/t.out" \
    && grep -Eq "^the start over half of the run's share: [0-9]+ of 2 " "$tmp/t.out"; then
     ok "ctl_tail sorts the runs above the 95th percentile of the loop's share by their start"
 else

@@ -19,7 +19,7 @@ fi
 python3 tools/seed_spread.py "$SIM" --check tests/sim/seed_spread_ref.json
 # the step scenario's overshoot and settling move with the tick (the latency it adds to a loop
 # driving its valve at full duty; docs/PIL.md): printed only. So does the worst zone of the
-# fixed PTO's 100 L/ha run, a single zone's extreme: best's valve rests through most of that run,
+# fixed PTO's 100 L/ha run, a single zone's extreme: ffmap's valve rests through most of that run,
 # the plant then steps at the idle tick, and the worst zone lands lower on most seeds
 # (docs/PIL.md, the simulator's speed); the 1 ms check above holds it
 python3 tools/seed_spread.py "$SIM" --check tests/sim/seed_spread_ref.json --args --fast --rel 0.03 \

@@ -117,7 +117,7 @@ fi
 
 # tools/robust.py on issue 14's rough sprayer (8 % pump pulsation, 3 % wheel bounce, noisy pressure,
 # the paper's 125 L/ha run on a fixed PTO; then with a 1.5 s valve the firmware is told is 4 s),
-# where best once gave CV 4.6-5.2 % and 171-190 reversals a minute: best now under CV 1.5 % and 20
+# where ffmap once gave CV 4.6-5.2 % and 171-190 reversals a minute: ffmap now under CV 1.5 % and 20
 # reversals a minute, and under bp_pid's on both; an unknown scenario is refused
 out=$($PY tools/robust.py "$SIM" --seeds 1-4 --only issue14,issue14_fast --scenarios paper_dynamic_125_fixed_pto 2>&1)
 if echo "$out" | $PY -c '
@@ -128,7 +128,7 @@ for cb, cp, rb, rp in rows:
     cb, cp, rb, rp = map(float, (cb.rstrip(";"), cp.rstrip(";"), rb, rp))
     assert cb < 1.5 and rb < 20 and cb < cp and rb < rp, (cb, cp, rb, rp)
 '; then
-    ok "tools/robust.py: best holds the rate on issue 14's rough sprayer, told its valve or not"
+    ok "tools/robust.py: ffmap holds the rate on issue 14's rough sprayer, told its valve or not"
 else
     nok "tools/robust.py issue14" "$out"
 fi

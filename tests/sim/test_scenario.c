@@ -107,7 +107,7 @@ static void test_scenario_empty_file_is_the_defaults(void **state)
     assert_true(s.duration_s == 300.0);
     assert_true(s.seed == 7);
     assert_int_equal(s.param[P_RATE], 150);
-    assert_int_equal(s.param[P_CONTROLLER], CTL_BEST);
+    assert_int_equal(s.param[P_CONTROLLER], CTL_FFMAP);
     assert_true(s.plant.pump_lpm_at_540 == 120.0);
     assert_true(s.plant.valve_travel_s == 4.0);
     assert_true(s.plant.nozzle_lpm_at_3bar == 1.18);
@@ -241,10 +241,13 @@ static void test_scenario_event_rows(void **state)
         "bad.scn:4: key 'sections': 36 nozzles do not split evenly over 5 sections");
 }
 
-/* The controller by any name ctl_name() gives, or "best"; the override of the program. */
+/* The controller by any name ctl_name() gives, or an old name of the alias table; the override
+ * of the program. */
 static void test_scenario_controller_names(void **state)
 {
-    int id;
+    int id, alias_id;
+    size_t a;
+    const char *alias;
     char text[128];
     (void)state;
     for (id = 0; id < CTL_COUNT; id++) {
@@ -252,8 +255,14 @@ static void test_scenario_controller_names(void **state)
         assert_int_equal(scenario_parse(&s, text, "c.scn", err, sizeof err), 0);
         assert_int_equal(s.param[P_CONTROLLER], id);
     }
-    assert_int_equal(scenario_parse(&s, "[config]\ncontroller = best\n", "c.scn", err, sizeof err), 0);
-    assert_int_equal(s.param[P_CONTROLLER], CTL_BEST);
+    assert_string_equal(ctl_name(CTL_FFMAP), "ffmap");
+    assert_non_null(scenario_controller_alias(0, &alias_id));
+    for (a = 0; (alias = scenario_controller_alias(a, &alias_id)) != NULL; a++) {
+        snprintf(text, sizeof text, "[config]\ncontroller = %s\n", alias);
+        assert_int_equal(scenario_parse(&s, text, "c.scn", err, sizeof err), 0);
+        assert_int_equal(s.param[P_CONTROLLER], alias_id);
+        assert_int_equal(alias_id, CTL_FFMAP);
+    }
     assert_int_equal(scenario_set_controller(&s, "bp_pid", err, sizeof err), 0);
     assert_int_equal(s.param[P_CONTROLLER], CTL_BP_PID);
     assert_int_equal(scenario_set_controller(&s, "nope", err, sizeof err), -1);

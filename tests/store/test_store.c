@@ -35,7 +35,7 @@ static uint16_t twin_crc(const uint8_t *p, size_t n)
 /* lifetime totals the twin writes after the values (area m^2, volume ml, little endian) */
 static uint32_t twin_life_m2 = 0, twin_life_ml = 0;
 
-/* the learnt figures the twin writes after the totals in this version's layout (12 bytes: best's
+/* the learnt figures the twin writes after the totals in this version's layout (12 bytes: ffmap's
  * loop gain, break-away, reversal threshold and speed feed-forward, the nozzle model's check
  * valves and rated kPa); a version 6 record held the first 10 of such bytes (no feed-forward) */
 static uint8_t twin_learnt[12] = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
@@ -560,33 +560,33 @@ static void test_store_keeps_the_lifetime_totals(void **state)
     assert_int_equal(totals_get()->life_m2, 123456789UL);
 }
 
-/* The figures learnt from the sprayer ride in the record: best's valve (loop gain, break-away,
+/* The figures learnt from the sprayer ride in the record: ffmap's valve (loop gain, break-away,
  * reversal threshold), its speed feed-forward and the nozzle model come back after a power
- * cycle; told a new Valve time, best drops what it learnt before it is kept; a version 5 copy
+ * cycle; told a new Valve time, ffmap drops what it learnt before it is kept; a version 5 copy
  * (no learnt bytes) and a version 6 one (no feed-forward) load with nothing learnt. */
 static void test_store_keeps_the_learnt_figures(void **state)
 {
     uint16_t a[P_COUNT];
     (void)state;
     assert_int_equal(store_load(), STORE_DEFAULTS);
-    ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, FM_G_INIT);           /* nothing in the EEPROM: where a new valve starts */
+    ctl_select(CTL_FFMAP);
+    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);           /* nothing in the EEPROM: where a new valve starts */
     ctl_st.fm.g = 150;
-    ctl_st.fm.brk = FM_BRK_STEP;
-    ctl_st.fm.rmin = FM_REV_MIN - 1000;
+    ctl_st.fm.brk = FFMAP_BRK_STEP;
+    ctl_st.fm.rmin = FFMAP_REV_MIN - 1000;
     ctl_st.fm.kff = 120;
     assert_true(store_save());
     ctl_st.fm.g = ctl_st.fm.brk = ctl_st.fm.rmin = ctl_st.fm.kff = 0;   /* power cycle */
     assert_int_equal(store_load(), STORE_OK);
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.g, 150);
-    assert_int_equal(ctl_st.fm.brk, FM_BRK_STEP);
-    assert_int_equal(ctl_st.fm.rmin, FM_REV_MIN - 1000);
+    assert_int_equal(ctl_st.fm.brk, FFMAP_BRK_STEP);
+    assert_int_equal(ctl_st.fm.rmin, FFMAP_REV_MIN - 1000);
     assert_int_equal(ctl_st.fm.kff, 120);
-    /* another controller runs a while: the record keeps best's figures */
+    /* another controller runs a while: the record keeps ffmap's figures */
     ctl_select(CTL_BP_PID);
     assert_true(store_save());
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.g, 150);
     /* the nozzle model, written by hand as diag keeps it: 45 kPa check valves, 320 kPa rated */
     values_k(a, 4);
@@ -604,7 +604,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(diag_nozzle_learnt(), 2);
     assert_int_equal(diag_nozzle_pressure_kpa((int16_t)(10 * param_v[P_NOZZLE_Q3]), 10), 45 + 320);  /* rated flow: pc + kp */
     ctl_travel = 0;                                     /* as at power-up: nothing derived yet */
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.rmin, 0x4000);
     assert_int_equal(ctl_st.fm.kff, 320);
     /* relearnt from the menu: nothing kept at the next save */
@@ -613,12 +613,12 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(store_learnt(STORE_LEARN_CTL), 0xFF);
     diag_init();
     assert_int_equal(diag_nozzle_learnt(), 0);
-    /* the operator tells a new Valve time: the next record holds best as told */
+    /* the operator tells a new Valve time: the next record holds ffmap as told */
     assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)(param_v[P_VALVE_TRAVEL] + 10u)), 1);
     assert_true(store_save());
-    ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
-    assert_int_equal(ctl_st.fm.rmin, FM_REV_MIN);
+    ctl_select(CTL_FFMAP);
+    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
+    assert_int_equal(ctl_st.fm.rmin, FFMAP_REV_MIN);
     assert_int_equal(ctl_st.fm.kff, 0);
     /* a version 5 copy: its values, nothing learnt */
     hal_host_reset();
@@ -626,8 +626,8 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(store_load(), STORE_OK);
     assert_true(equals(a));
     assert_int_equal(store_learnt(0), 0xFF);
-    ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
+    ctl_select(CTL_FFMAP);
+    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
     /* a version 6 copy (10 learnt bytes, a gain among them): its values, nothing learnt */
     hal_host_reset();
     twin_learnt[0] = 150; twin_learnt[1] = 0;
@@ -636,11 +636,11 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(store_load(), STORE_OK);
     assert_true(equals(a));
     assert_int_equal(store_learnt(0), 0xFF);
-    ctl_select(CTL_BEST);
-    assert_int_equal(ctl_st.fm.g, FM_G_INIT);
+    ctl_select(CTL_FFMAP);
+    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
     assert_int_equal(ctl_st.fm.kff, 0);
     params_defaults();
-    ctl_select(CTL_BEST);
+    ctl_select(CTL_FFMAP);
 }
 
 static void test_store_a_failed_write_is_reported(void **state)

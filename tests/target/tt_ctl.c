@@ -33,7 +33,7 @@ static uint32_t cyc_max, cyc_sum;
 /* the step's inputs: on the chip the controllers read them at ctl_src's address (ctl.h) */
 #if defined(__SDCC)
 __xdata ctl_in_t ctl_src;
-__bit speed_plain;              /* speed.h's, which best sets: here without the wheel's module and its HAL */
+__bit speed_plain;              /* speed.h's, which ffmap sets: here without the wheel's module and its HAL */
 __bit speed_learnt;             /* ... and reads: 0, a wheel not learnt */
 #else
 static ctl_in_t ctl_src;
@@ -91,7 +91,7 @@ static uint16_t state_sum(uint8_t id)
         s ^= (uint16_t)ctl_st.ag.integ ^ (uint16_t)(ctl_st.ag.integ >> 16);
     if (id == CTL_RAVEN)
         s ^= (uint16_t)(uint8_t)ctl_st.rv.dir;
-    if (id == CTL_BEST)
+    if (id == CTL_FFMAP)
         s ^= (uint16_t)ctl_st.fm.brk ^ (uint16_t)ctl_st.fm.g ^ (uint16_t)ctl_st.fm.stall_y ^ (uint16_t)ctl_carry_now()
              ^ ((uint16_t)ctl_st.fm.rest << 8) ^ (uint16_t)(uint8_t)ctl_st.fm.dir;
     return s;

@@ -1,25 +1,25 @@
-/* fm_gain_tab.c: reciprocal tables of ffmap's gain schedule; written by tools/gen_fmgain.py, do not edit. */
+/* ffmap_gain_tab.c: reciprocal tables of ffmap's gain schedule; written by tools/gen_ffmap_gain.py, do not edit. */
 #include "ctl_int.h"
 
 /* 4096 / Cv(o), o = k / 16 (valve open 120 L/min/sqrt(bar), rangeability 30) */
-const FX_CODE int16_t fm_inv_cv[17] = {
+const FX_CODE int16_t ffmap_inv_cv[17] = {
     32767, 4179, 1868, 1110, 739, 522, 384, 289, 221, 171, 134,
     106, 84, 67, 53, 43, 34,
 };
 /* 4096 / sqrt(P), P = 64 k kPa */
-const FX_CODE int16_t fm_inv_sqp[26] = {
+const FX_CODE int16_t ffmap_inv_sqp[26] = {
     32767, 5120, 3620, 2956, 2560, 2290, 2090, 1935, 1810, 1707, 1619,
     1544, 1478, 1420, 1368, 1322, 1280, 1242, 1207, 1175, 1145, 1117,
     1092, 1068, 1045, 1024,
 };
 /* 32767 (1 - Pc / P), Pc = 30 kPa (the nozzles' check valves), P = 64 k kPa */
-const FX_CODE int16_t fm_pc_p[26] = {
+const FX_CODE int16_t ffmap_pc_p[26] = {
     0, 17407, 25087, 27647, 28927, 29695, 30207, 30573, 30847, 31060, 31231,
     31371, 31487, 31585, 31670, 31743, 31807, 31863, 31914, 31959, 31999, 32036,
     32069, 32099, 32127, 32153,
 };
 /* 65536 / Q, Q = 2.56 k L/min */
-const FX_CODE int16_t fm_inv_q[33] = {
+const FX_CODE int16_t ffmap_inv_q[33] = {
     32767, 25600, 12800, 8533, 6400, 5120, 4267, 3657, 3200, 2844, 2560,
     2327, 2133, 1969, 1829, 1707, 1600, 1506, 1422, 1347, 1280, 1219,
     1164, 1113, 1067, 1024, 985, 948, 914, 883, 853, 826, 800,

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes firmware/control/fm_gain_tab.c: the tables of ffmap's gain schedule.
+"""Writes firmware/control/ffmap_gain_tab.c: the tables of ffmap's gain schedule.
 
 How much boom flow one stroke of the bypass valve moves (the loop's gain) changes about
 threefold over a sprayer's range: with an equal-percentage valve, dQ_boom/dtheta =
@@ -10,10 +10,10 @@ g = K_GS (1 / Q_v + (1 - Pc / P) / Q_b), a gain of 1 at 80 L/min a stroke, clamp
 nodes), for the valve of docs/SCENARIOS.md (Cv 120 L/min/sqrt(bar) open, rangeability 30) and check
 valves at 0.3 bar.
 
-  fm_inv_cv[17]   4096 / Cv(o), o = opening 0 .. 1 in 16 steps (capped at 32767)
-  fm_inv_sqp[26]  4096 / sqrt(P), P = 0 .. 1600 kPa in 64 kPa steps (capped)
-  fm_pc_p[26]     32767 * (1 - Pc / P), same P nodes (0 below Pc)
-  fm_inv_q[33]    65536 / Q, Q = 0 .. 81.92 L/min in 2.56 L/min steps (capped)
+  ffmap_inv_cv[17]   4096 / Cv(o), o = opening 0 .. 1 in 16 steps (capped at 32767)
+  ffmap_inv_sqp[26]  4096 / sqrt(P), P = 0 .. 1600 kPa in 64 kPa steps (capped)
+  ffmap_pc_p[26]     32767 * (1 - Pc / P), same P nodes (0 below Pc)
+  ffmap_inv_q[33]    65536 / Q, Q = 0 .. 81.92 L/min in 2.56 L/min steps (capped)
 """
 import math
 import sys
@@ -40,17 +40,17 @@ def main(path):
         return "const FX_CODE int16_t %s[%d] = {\n%s\n};\n" % (name, len(vals), "\n".join(rows))
 
     with open(path, "w") as f:
-        f.write("/* fm_gain_tab.c: reciprocal tables of ffmap's gain schedule; written by tools/gen_fmgain.py, do not edit. */\n")
+        f.write("/* ffmap_gain_tab.c: reciprocal tables of ffmap's gain schedule; written by tools/gen_ffmap_gain.py, do not edit. */\n")
         f.write('#include "ctl_int.h"\n\n')
         f.write("/* 4096 / Cv(o), o = k / 16 (valve open 120 L/min/sqrt(bar), rangeability 30) */\n")
-        f.write(table("fm_inv_cv", inv_cv))
+        f.write(table("ffmap_inv_cv", inv_cv))
         f.write("/* 4096 / sqrt(P), P = 64 k kPa */\n")
-        f.write(table("fm_inv_sqp", inv_sqp))
+        f.write(table("ffmap_inv_sqp", inv_sqp))
         f.write("/* 32767 (1 - Pc / P), Pc = 30 kPa (the nozzles' check valves), P = 64 k kPa */\n")
-        f.write(table("fm_pc_p", pc_p))
+        f.write(table("ffmap_pc_p", pc_p))
         f.write("/* 65536 / Q, Q = 2.56 k L/min */\n")
-        f.write(table("fm_inv_q", inv_q))
+        f.write(table("ffmap_inv_q", inv_q))
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "firmware/control/fm_gain_tab.c")
+    main(sys.argv[1] if len(sys.argv) > 1 else "firmware/control/ffmap_gain_tab.c")
