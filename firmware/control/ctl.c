@@ -47,11 +47,11 @@ int16_t ctl_k[3];
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */
 ctl_state_t ctl_st;
 
-static const __code char nm_pid[] = "pid";
-static const __code char nm_fuzzy[] = "fuzzy_pid";
 static const __code char nm_bp[] = "bp_pid";
 static const __code char nm_ffmap[] = "ffmap";
-#if FW_PEERS                        /* (the field image's Control stops at ffmap: params.h) */
+#if FW_PEERS                        /* the field image: bp_pid and ffmap only (params.h) */
+static const __code char nm_pid[] = "pid";
+static const __code char nm_fuzzy[] = "fuzzy_pid";
 static const __code char nm_aog[] = "aog";
 static const __code char nm_raven[] = "raven";
 #endif
@@ -59,11 +59,11 @@ static const __code char nm_raven[] = "raven";
 const __code char *ctl_name(uint8_t id)
 {
     switch (id) {
-    case CTL_PID: return nm_pid;
-    case CTL_FUZZY_PID: return nm_fuzzy;
     case CTL_BP_PID: return nm_bp;
     case CTL_FFMAP: return nm_ffmap;
 #if FW_PEERS
+    case CTL_PID: return nm_pid;
+    case CTL_FUZZY_PID: return nm_fuzzy;
     case CTL_AOG: return nm_aog;
     case CTL_RAVEN: return nm_raven;
 #endif
@@ -145,20 +145,22 @@ uint8_t ctl_select(uint8_t id)
     if (id >= CTL_COUNT)
         return 0;
 #else
-    if (id >= CTL_AOG)
-        return 0;                   /* the field image has no peers (FW_PEERS) */
+    if (id >= CTL_AOG || id < CTL_BP_PID)
+        return 0;                   /* the field image: bp_pid and ffmap (FW_PEERS) */
 #endif
     ctl_id = id;
     speed_plain = 0;                /* (ffmap sets it from what it learnt, each step) */
     ctl_kf = 0;                     /* the reset below derives this controller's constants */
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {
+#if FW_PEERS
     case CTL_PID:
         ctl_st.pid.e1 = ctl_st.pid.e2 = 0;
         break;
     case CTL_FUZZY_PID:
         ctl_st.fz.e1 = ctl_st.fz.e2 = 0;
         break;
+#endif
     case CTL_BP_PID:
         bp_init();
         break;
@@ -210,13 +212,13 @@ q15_t ctl_step(const __xdata ctl_in_t *step_in)
     if (ctl_gen != param_generation || ctl_kf == 0)
         ctl_derive();
     switch (ctl_id) {
+    case CTL_BP_PID:
+        return bp_step();
+#if FW_PEERS
     case CTL_PID:
         return pid_step();
     case CTL_FUZZY_PID:
         return fz_step();
-    case CTL_BP_PID:
-        return bp_step();
-#if FW_PEERS
     case CTL_AOG:
         return ag_step();
     case CTL_RAVEN:

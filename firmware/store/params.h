@@ -10,6 +10,9 @@
  * link, the EEPROM store and the scenario reader all go through this table; nothing else
  * holds a setting.
  */
+/* Control: the field image carries bp_pid (2, the paper's) and ffmap (3, the default); the
+ * research image (FW_PEERS) all six of ctl.h */
+#define P_CTL_MIN (FW_PEERS ? 0 : 2)
 #define P_CTL_MAX (FW_PEERS ? 5 : 3)
 #define PARAM_TABLE(X)                                                              \
     X(P_RATE,        "Dose",       "L/ha",  0,    10,  1000,  150)  /* eq. (1) C */      \
@@ -20,7 +23,7 @@
     X(P_METER_K,     "Meter K",    "p/L",   1,   100, 60000, 3800)  /* flow meter pulses a litre */ \
     X(P_MINF_SPEED,  "MinQ speed", "km/h",  1,     0,   100,   40)  /* Table 1 rule below this */ \
     X(P_GIVEN_SPEED, "Given spd",  "km/h",  1,     0,   300,    0)  /* 0: wheel sensor */ \
-    X(P_CONTROLLER,  "Control",    "",      0,     0, P_CTL_MAX, 3)  /* ctl.h CTL_*: the peers only with FW_PEERS */ \
+    X(P_CONTROLLER,  "Control",    "",      0, P_CTL_MIN, P_CTL_MAX, 3)  /* ctl.h CTL_* */ \
     X(P_MODE,        "Mode",       "",      0,     0,     1,    0)  /* 0 auto, 1 manual */ \
     X(P_TANK_L,      "Tank size",  "L",     0,    10, 10000, 1000)                      \
     X(P_TANK_MIN,    "Tank min",   "L",     0,     0,  2000,   30)  /* below: stop spraying */ \
