@@ -33,6 +33,7 @@ void plant_init(plant_t *pl, const plant_params_t *p, uint64_t seed)
     pl->open_nozzles = p->nozzles;
     pl->tank_v = p->tank_start_l;
     pl->bounce_pct = p->speed_bounce_pct;
+    pl->wheel_mult = 1.0;
     pl->boom_m = -1;
     rng_seed(&pl->rng, seed);
     pl->pulse_phase = TWO_PI * rng_uniform(&pl->rng);
@@ -303,7 +304,7 @@ static void meter_step(plant_t *pl, double q_lpm, uint64_t t0, uint32_t dt_ns, d
 static void wheel_step(plant_t *pl, double v_mps, uint64_t t0, uint32_t dt_ns, double pulses_per_mps)
 {
     if (!pl->speed_fail && v_mps > 0.0) {
-        double n = v_mps * pulses_per_mps;
+        double n = v_mps * pulses_per_mps * pl->wheel_mult;
         if (n > 0.0)
             pl->wheel_pulses += plant_train_advance(pl, &pl->wheel_teeth, n, t0, dt_ns, pl->wheel_edge, pl->bounce_pct);
     }
@@ -442,13 +443,15 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
     wheel_step(pl, pl->v_mps, t0, dt_ns, k->wheel_per_mps);
     /* 4-20 mA loops into the 10-bit ADC */
     {
-        double ma = 4.0 + 16.0 * pl->p_bar / PLANT_PSENS_BAR;
-        if (ma > 21.0)
-            ma = 21.0;                  /* the transmitter's output saturates just above 20 mA */
+        double ma, lv;
+        pl->psens_offset_bar += pl->psens_drift_bar_per_min * k->dt_min;
+        ma = 4.0 + 16.0 * (pl->p_bar + pl->psens_offset_bar) / PLANT_PSENS_BAR;
+        ma = ma > PLANT_MA_MAX ? PLANT_MA_MAX : ma < PLANT_MA_MIN ? PLANT_MA_MIN : ma;
         if (pl->psens_open)
             ma = 0.0;
         pl->ma_pressure = ma;
-        pl->ma_level = 4.0 + pl->tank_v * k->level_ma_per_l;
+        lv = 4.0 + (pl->tank_v + pl->level_offset_l) * k->level_ma_per_l;
+        pl->ma_level = lv > PLANT_MA_MAX ? PLANT_MA_MAX : lv < PLANT_MA_MIN ? PLANT_MA_MIN : lv;
     }
 }
 

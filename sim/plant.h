@@ -67,6 +67,8 @@ typedef struct {
 #define PLANT_JITTER_MAX 0.4        /* spacing offsets are clipped to +-0.4 of a spacing, so pulses keep their order */
 #define PLANT_REST_FRAC 0.01        /* the valve motor is at rest below 1 % of its full speed */
 #define PLANT_SERIES_RAD 0.5        /* the pulsation's turn a tick up to which its series holds */
+#define PLANT_MA_MIN 3.8            /* a transmitter's output saturates at 3.8 mA below its range ... */
+#define PLANT_MA_MAX 21.0           /* ... and at 21 mA above it */
 
 /* A pulse train from a toothed rotor (meter blades, wheel elements): tooth i's pulse comes at
  * position k + e[i] (in pulses), e drawn once per run, mean removed, so the pattern repeats every
@@ -166,6 +168,10 @@ typedef struct {
     double bounce_pct;
     /* faults */
     int meter_fail, speed_fail, psens_open, valve_stuck;
+    double psens_offset_bar;        /* the pressure transmitter reads this much high (its zero off) */
+    double psens_drift_bar_per_min; /* ... and the offset grows this much a minute */
+    double level_offset_l;          /* the level transmitter reads this much high */
+    double wheel_mult;              /* wheel sensor edges a real one (1; 2 doubled, 0.5 every other lost) */
     /* where the edges go (NULL: only counted) */
     plant_edge_fn flow_edge, wheel_edge;
     rng_t rng;

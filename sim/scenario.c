@@ -300,6 +300,49 @@ static int event_row(const ctx_t *c, scenario_t *s, int line, char *row)
     return 0;
 }
 
+/* A key or serial row: `time_s key K` or `time_s serial TEXT`, the text running to the row's end
+ * ('#' is a key and a checksum's place there, not a comment). 1 when the row is one (rc says
+ * how it went), 0 when it is another event's (read as usual). */
+static int text_event_row(const ctx_t *c, scenario_t *s, int line, char *row, int *rc)
+{
+    char *w[4], copy[128], *text = row;
+    double t;
+    int k, n;
+    if (row[0] == '#')
+        return 0;
+    snprintf(copy, sizeof copy, "%s", row);
+    n = words(copy, w);
+    if (n < 2 || (strcmp(w[1], "key") != 0 && strcmp(w[1], "serial") != 0))
+        return 0;
+    k = strcmp(w[1], "key") == 0 ? EV_KEY : EV_SERIAL;
+    text += strcspn(text, " \t");          /* past the time */
+    text += strspn(text, " \t");
+    text += strcspn(text, " \t");          /* past the event's name */
+    text = trim(text);
+    {
+        char msg[200];
+        if (parse_num(w[0], &t) < 0)
+            *rc = fail(c, line, "events", "time '%s' is not a number", w[0]);
+        else if (t < 0)
+            *rc = fail(c, line, w[1], "time %g is negative", t);
+        else if (s->n_events > 0 && t < s->events[s->n_events - 1].t_s)
+            *rc = fail(c, line, w[1], "time goes backwards (%g after %g)", t, s->events[s->n_events - 1].t_s);
+        else if (scenario_event_text_check(k, text, msg, sizeof msg) < 0)
+            *rc = fail(c, line, w[1], "%s", msg);
+        else if (s->n_events >= SCN_MAX_EVENTS)
+            *rc = fail(c, line, w[1], "more than %d events", SCN_MAX_EVENTS);
+        else {
+            scn_event_t *e = &s->events[s->n_events++];
+            e->t_s = t;
+            e->kind = k;
+            e->value = 0;
+            e->line = line;
+            snprintf(e->text, sizeof e->text, "%s", text);
+        }
+    }
+    return 1;
+}
+
 /* Checks that need the whole file: the boom's sections, the tank, the events' values. */
 static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const char *nozzles_key, int tank_line,
                        int duty_line, const char *duty_key)
@@ -371,6 +414,8 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
         line++;
         s = p;
         p = nl ? nl + 1 : NULL;
+        if (sec == SEC_EVENTS && text_event_row(&c, &tmp, line, trim(s), &rc))
+            continue;
         hash = strchr(s, '#');
         if (hash)
             *hash = 0;

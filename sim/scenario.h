@@ -28,7 +28,15 @@
     X(EV_BOUNCE,             "speed_bounce_pct",        1)                         \
     X(EV_LEAK,               "leak_lpm",                1)  /* after the meter, at 3 bar */ \
     X(EV_CLOG,               "clog_nozzles",            1)                         \
-    X(EV_TANK,               "tank_l",                  1)  /* refill to X litres */
+    X(EV_TANK,               "tank_l",                  1)  /* refill to X litres */ \
+    X(EV_METER_K,            "meter_k_ppl",             1)  /* the meter's true K from now on */ \
+    X(EV_P_OFFSET,           "pressure_offset_bar",     1)  /* the pressure sensor reads X bar high */ \
+    X(EV_P_DRIFT,            "pressure_drift_bar_per_min", 1)  /* ... its offset grows X bar a minute */ \
+    X(EV_LEVEL_OFFSET,       "level_offset_l",          1)  /* the level sensor reads X L high */ \
+    X(EV_WHEEL_MULT,         "wheel_pulse_mult",        1)  /* the wheel sensor gives X edges a real one */ \
+    X(EV_POWER_CUT,          "power_cut",               1)  /* X s without power, then a boot */ \
+    X(EV_KEY,                "key",                     2)  /* a keypad key held (text: the key) */ \
+    X(EV_SERIAL,             "serial",                  2)  /* a line into the UART (text: the line) */
 
 #define SCN_EV_ENUM(id, name, arg) id,
 enum { SCN_EVENTS(SCN_EV_ENUM) EV_COUNT };
@@ -39,11 +47,14 @@ typedef struct {
     double kmh;                     /* commanded speed */
 } scn_drive_t;
 
+#define SCN_TEXT_MAX 72             /* a key or serial event's text, its end included (sim_input_t) */
+
 typedef struct {
     double t_s;
     int kind;                       /* EV_* */
     double value;                   /* 0 when the event takes none */
     int line;                       /* where it stands in the file */
+    char text[SCN_TEXT_MAX];        /* key and serial events: the key, the line ("" for the others) */
 } scn_event_t;
 
 typedef struct {
@@ -83,8 +94,12 @@ double scenario_drive_kmh(const scenario_t *s, double t_s);
 int scenario_event_check(const scenario_t *s, int kind, double value, char *msg, size_t n);
 /* The name of an event kind. */
 const char *scenario_event_name(int kind);
-/* 1 when the event takes a value (`rate_l_ha 125`), 0 when it stands alone (`meter_fail`). */
+/* 1 when the event takes a value (`rate_l_ha 125`), 0 when it stands alone (`meter_fail`), 2
+ * when it takes the rest of its row as text (`key #`, `serial SET 0 100*2E`: '#' included). */
 int scenario_event_takes_value(int kind);
+/* 0 when a key or serial event's text is valid (a key of 0-9 A-D * #; a line of 1..SCN_TEXT_MAX-1
+ * printable characters); -1 and why in msg otherwise. */
+int scenario_event_text_check(int kind, const char *text, char *msg, size_t n);
 /* Nozzles a section holds (param NOZZLES / SECTIONS; the reader checks it divides). */
 int scenario_nozzles_per_section(const scenario_t *s);
 

@@ -44,7 +44,27 @@ const char *scenario_event_name(int kind)
 
 int scenario_event_takes_value(int kind)
 {
-    return kind >= 0 && kind < EV_COUNT && ev_info[kind].arg;
+    return kind >= 0 && kind < EV_COUNT ? ev_info[kind].arg : 0;
+}
+
+int scenario_event_text_check(int kind, const char *text, char *msg, size_t n)
+{
+    size_t len = strlen(text), i;
+#define BAD(...) do { if (msg && n) snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
+    if (kind == EV_KEY) {
+        if (len != 1 || !strchr("0123456789ABCD*#", text[0]))
+            BAD("'%s' is not a key (one of 0-9 A-D * #)", text);
+        return 0;
+    }
+    if (kind != EV_SERIAL)
+        BAD("takes no text");
+    if (len == 0 || len >= SCN_TEXT_MAX)
+        BAD("a serial line is 1-%d characters (%zu here)", SCN_TEXT_MAX - 1, len);
+    for (i = 0; i < len; i++)
+        if ((unsigned char)text[i] < 32 || (unsigned char)text[i] > 126)
+            BAD("a serial line is printable ASCII (a byte 0x%02x at %zu)", (unsigned char)text[i], i + 1);
+#undef BAD
+    return 0;
 }
 
 int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, size_t n)
@@ -88,6 +108,35 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
     case EV_TANK:
         if (v < 0 || v > s->plant.tank_l)
             BAD("%g out of range 0..%g L (tank_l)", v, s->plant.tank_l);
+        break;
+    case EV_METER_K:
+        if (v < 1 || v > 10000)
+            BAD("%g out of range 1..10000 pulses/L", v);
+        break;
+    case EV_P_OFFSET:
+        if (v < -16 || v > 16)
+            BAD("%g out of range -16..16 bar", v);
+        break;
+    case EV_P_DRIFT:
+        if (v < -10 || v > 10)
+            BAD("%g out of range -10..10 bar a minute", v);
+        break;
+    case EV_LEVEL_OFFSET:
+        if (v < -s->plant.tank_l || v > s->plant.tank_l)
+            BAD("%g out of range -%g..%g L (tank_l)", v, s->plant.tank_l, s->plant.tank_l);
+        break;
+    case EV_WHEEL_MULT:
+        if (v < 0.1 || v > 16)
+            BAD("%g out of range 0.1..16 edges a real one", v);
+        break;
+    case EV_POWER_CUT:
+        if (v < 0.01 || v > 86400)
+            BAD("%g out of range 0.01..86400 s", v);
+        break;
+    case EV_KEY:
+    case EV_SERIAL:
+        if (v != 0)
+            BAD("takes text, not a number");
         break;
     default:
         if (v != 0)

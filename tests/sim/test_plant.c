@@ -565,6 +565,66 @@ static void test_plant_leak_and_clogged_nozzles(void **state)
     assert_within(plant_boom_flow(&pl, 4.398), 41.288, 0.005);
 }
 
+/* The transmitters' faults, by hand (4-20 mA over 0-16 bar, 51.15 counts a mA):
+ *   4 bar: 8 mA = 409.2 -> 409; 1 bar high: 9 mA = 460.35 -> 460;
+ *   a drift of 0.6 bar a minute for 10 s on top: 1.1 bar, 9.1 mA = 465.47 -> 465;
+ *   2 bar low at 1 bar: -1 bar, 3 mA, saturated at 3.8 mA = 194.37 -> 194;
+ *   the level at 500 of 1000 L: 12 mA = 613.8 -> 614; 100 L high: 13.6 mA = 695.64 -> 696;
+ *   1000 L low: -500 L, saturated at 3.8 mA -> 194. */
+static void test_plant_transmitter_offsets_and_drift(void **state)
+{
+    plant_in_t in = {0, 0};
+    (void)state;
+    setup(0.0, 0, 0);
+    pl.p_bar = 4.0;
+    pl.p.check_valve_bar = 5.0;                 /* nothing drains: the line keeps its 4 bar */
+    pl.tank_v = 500;
+    plant_step(&pl, &in, TICK);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 409);
+    assert_int_equal(plant_adc_ideal(&pl, 1), 614);
+    pl.psens_offset_bar = 1.0;
+    pl.level_offset_l = 100;
+    plant_step(&pl, &in, TICK);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 460);
+    assert_int_equal(plant_adc_ideal(&pl, 1), 696);
+    pl.psens_drift_bar_per_min = 0.6;
+    run(10.0, 0, 0);
+    assert_within(pl.psens_offset_bar, 1.1, 1e-9);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 465);
+    assert_within(pl.p_bar, 4.0, 1e-9);         /* the line itself is untouched */
+    pl.psens_drift_bar_per_min = 0;
+    pl.psens_offset_bar = -2.0;
+    pl.p_bar = 1.0;
+    pl.level_offset_l = -1000;
+    plant_step(&pl, &in, TICK);
+    assert_int_equal(plant_adc_ideal(&pl, 0), 194);
+    assert_int_equal(plant_adc_ideal(&pl, 1), 194);
+}
+
+/* wheel_pulse_mult: 100 s at 11 km/h give 778.1 pulses (test above); 2 edges a real one give
+ * 1556.2, 128.52 / 2 = 64.26 ms apart; 0.5 gives 389.05, 257.04 ms apart. */
+static void test_plant_wheel_pulse_mult_doubles_and_halves(void **state)
+{
+    plant_params_t p;
+    int i;
+    (void)state;
+    setup(0.5, 0, 540);
+    p = pl.p;
+    p.wheel_spacing_jitter_pct = 0;
+    plant_init(&pl, &p, 1);
+    pl.wheel_mult = 2.0;
+    wheel_run(100);
+    assert_within((double)pl.wheel_pulses, 1556.2, 1.0);
+    for (i = 2; i < 1500; i++)
+        assert_within((double)(edges[i] - edges[i - 1]), 64.26e6, 1.0e3);
+    plant_init(&pl, &p, 1);
+    pl.wheel_mult = 0.5;
+    wheel_run(100);
+    assert_within((double)pl.wheel_pulses, 389.05, 1.0);
+    for (i = 2; i < 380; i++)
+        assert_within((double)(edges[i] - edges[i - 1]), 257.04e6, 1.0e3);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -594,6 +654,8 @@ int main(void)
         cmocka_unit_test(test_plant_tank_drains_by_the_boom_flow),
         cmocka_unit_test(test_plant_empty_tank_stops_the_pump),
         cmocka_unit_test(test_plant_leak_and_clogged_nozzles),
+        cmocka_unit_test(test_plant_transmitter_offsets_and_drift),
+        cmocka_unit_test(test_plant_wheel_pulse_mult_doubles_and_halves),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

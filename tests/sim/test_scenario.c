@@ -341,6 +341,53 @@ static void test_scenario_project_files_load(void **state)
             fail_msg("%s", err);
 }
 
+/* Key and serial rows: the text runs to the row's end, '#' included (the key, a checksum's
+ * neighbour); a '#' row is still a comment; the new fault events take their values in range. */
+static void test_scenario_key_serial_and_fault_events(void **state)
+{
+    static const char text[] =
+        "[run]\nduration_s = 100\n[events]\n"
+        "# 5 key 1   (a comment, not a key)\n"
+        "5 key #\n"
+        "6   serial   SET 0 100*43   \n"
+        "7 meter_k_ppl 456 # the comment of a valued row\n"
+        "8 pressure_offset_bar -1.5\n"
+        "9 pressure_drift_bar_per_min 0.05\n"
+        "10 level_offset_l 100\n"
+        "11 wheel_pulse_mult 0.5\n"
+        "12 power_cut 3\n";
+    (void)state;
+    assert_int_equal(scenario_parse(&s, text, "t.scn", err, sizeof err), 0);
+    assert_int_equal(s.n_events, 8);
+    assert_int_equal(s.events[0].kind, EV_KEY);
+    assert_string_equal(s.events[0].text, "#");
+    assert_int_equal(s.events[0].line, 5);
+    assert_int_equal(s.events[1].kind, EV_SERIAL);
+    assert_string_equal(s.events[1].text, "SET 0 100*43");
+    assert_int_equal(s.events[2].kind, EV_METER_K);
+    assert_true(s.events[2].value == 456);
+    assert_string_equal(s.events[2].text, "");
+    assert_true(s.events[3].value == -1.5);
+    assert_int_equal(s.events[6].kind, EV_WHEEL_MULT);
+    assert_int_equal(s.events[7].kind, EV_POWER_CUT);
+    assert_true(s.events[7].value == 3);
+    bad("[events]\n5 key E\n", "bad.scn:2: key 'key': 'E' is not a key");
+    bad("[events]\n5 key\n", "bad.scn:2: key 'key': '' is not a key");
+    bad("[events]\n5 key 12\n", "bad.scn:2: key 'key': '12' is not a key");
+    bad("[events]\n5 serial\n", "bad.scn:2: key 'serial': a serial line is 1-71 characters");
+    bad("[events]\n5 serial 0123456789012345678901234567890123456789012345678901234567890123456789012\n",
+        "bad.scn:2: key 'serial': a serial line is 1-71 characters (73 here)");
+    bad("[events]\n5 serial GET 0\n4 key 1\n", "bad.scn:3: key 'key': time goes backwards");
+    bad("[events]\nx key 1\n", "bad.scn:2: key 'events': time 'x' is not a number");
+    bad("[run]\nduration_s = 10\n[events]\n11 key 1\n", "bad.scn:4: key 'key': at 11 s, after the end");
+    bad("[events]\n5 wheel_pulse_mult 0\n", "bad.scn:2: key 'wheel_pulse_mult': 0 out of range 0.1..16");
+    bad("[events]\n5 power_cut 0\n", "bad.scn:2: key 'power_cut': 0 out of range 0.01..86400 s");
+    bad("[events]\n5 power_cut\n", "bad.scn:2: key 'power_cut': needs a value");
+    bad("[events]\n5 meter_k_ppl 0.5\n", "bad.scn:2: key 'meter_k_ppl': 0.5 out of range 1..10000");
+    bad("[events]\n5 pressure_offset_bar 17\n", "bad.scn:2: key 'pressure_offset_bar': 17 out of range -16..16");
+    bad("[events]\n5 level_offset_l 1001\n", "bad.scn:2: key 'level_offset_l': 1001 out of range -1000..1000");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -356,6 +403,7 @@ int main(void)
         cmocka_unit_test(test_scenario_controller_names),
         cmocka_unit_test(test_scenario_peer_settings),
         cmocka_unit_test(test_scenario_files),
+        cmocka_unit_test(test_scenario_key_serial_and_fault_events),
         cmocka_unit_test(test_scenario_every_key_and_event_of_plant_md),
         cmocka_unit_test(test_scenario_project_files_load),
     };
