@@ -305,6 +305,10 @@ int main(int argc, char **argv)
             fprintf(stderr, "hil: %s:%d: event '%s' changes a setting during the run, which HIL frames do "
                     "not carry yet\n", scn_path, s->events[i].line, scenario_event_name(s->events[i].kind));
             return 1;
+        } else if (s->events[i].kind == EV_POWER_CUT || s->events[i].kind == EV_KEY || s->events[i].kind == EV_SERIAL) {
+            fprintf(stderr, "hil: %s:%d: event '%s' acts on the board itself, which HIL frames do not carry\n",
+                    scn_path, s->events[i].line, scenario_event_name(s->events[i].kind));
+            return 1;
         }
     h.fd = tty_open(port, err, sizeof err);
     if (h.fd < 0) {

@@ -164,6 +164,75 @@ void metrics_alarm(metrics_t *m, double t_s, const char *code)
 
 static void step_means(const metrics_step_t *st, int n, metrics_result_t *r);
 
+int metrics_dose_wrong(const metrics_watch_t *w)
+{
+    if (!w->sections_on)
+        return 0;
+    if (!w->spraying)
+        return w->v_kmh >= METRICS_SHUT_KMH;
+    if (w->v_kmh < METRICS_STAND_KMH)
+        return w->boom_lpm > 0.0;
+    if (w->width_m <= 0.0 || w->rate_l_ha <= 0.0)
+        return 1;
+    /* L/ha = L/min / (km/h x m) x 600 */
+    return fabs(w->boom_lpm * 600.0 / (w->v_kmh * w->width_m) / w->rate_l_ha - 1.0) > METRICS_WRONG_FRAC;
+}
+
+static void silent_end(metrics_t *m)
+{
+    if (m->silent_run_s >= METRICS_WRONG_MIN_S - 1e-9) {
+        m->silent_total_s += m->silent_run_s;
+        if (m->silent_run_s > m->silent_max_s)
+            m->silent_max_s = m->silent_run_s;
+    }
+    m->silent_run_s = 0.0;
+}
+
+void metrics_watch(metrics_t *m, double dt_s, const metrics_watch_t *w)
+{
+    if (!w->told && metrics_dose_wrong(w))
+        m->silent_run_s += dt_s;
+    else
+        silent_end(m);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+double metrics_ripple_p95(const metrics_series_t *s)
+{
+    int hold = (int)(METRICS_RIPPLE_HOLD_S / s->dt_s + 0.5), k, j, n = 0;
+    double *e, p95;
+    if (s->n <= hold)
+        return NAN;
+    e = malloc(sizeof *e * (size_t)s->n);
+    if (!e) {
+        fprintf(stderr, "metrics: out of memory\n");
+        abort();
+    }
+    for (k = hold; k < s->n; k++) {
+        double band = METRICS_RIPPLE_FRAC * s->ref[k];
+        if (!(s->target[k] > 0.0) || !(s->ref[k] > 0.0))
+            continue;
+        for (j = k; j >= k - hold; j--)
+            if (!s->work[j] || (s->spray && !s->spray[j]) || fabs(s->ref[j] - s->ref[k]) > band)
+                break;
+        if (j < k - hold)
+            e[n++] = fabs(s->flow[k] / s->target[k] - 1.0);
+    }
+    if (n == 0) {
+        free(e);
+        return NAN;
+    }
+    qsort(e, (size_t)n, sizeof *e, cmp_double);
+    p95 = e[(int)ceil(0.95 * n) - 1] * 100.0;
+    free(e);
+    return p95;
+}
+
 static void num(FILE *f, const char *key, double v, int comma)
 {
     if (isfinite(v))
@@ -251,7 +320,11 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
             metrics_find_steps(&ser, m->steps, r->n_steps);
         }
         metrics_start(&ser, &r->start_s, &r->start_max_s);
+        r->ripple_p95_pct = metrics_ripple_p95(&ser);
     }
+    silent_end(m);
+    r->silent_wrong_s = m->silent_max_s;
+    r->silent_wrong_total_s = m->silent_total_s;
     r->steps = m->steps;
     step_means(m->steps, r->n_steps, r);
 }
@@ -369,6 +442,9 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     fprintf(f, "\"steps_scored\":%d,", r->n_steps);
     num(f, "start_s", r->start_s, 1);
     num(f, "start_max_s", r->start_max_s, 1);
+    num(f, "silent_wrong_s", r->silent_wrong_s, 1);
+    num(f, "silent_wrong_total_s", r->silent_wrong_total_s, 1);
+    num(f, "ripple_p95_pct", r->ripple_p95_pct, 1);
     num(f, "pressure_min_bar", r->pressure_min_bar, 1);
     num(f, "pressure_max_bar", r->pressure_max_bar, 1);
     num(f, "volume_l", r->volume_l, 1);

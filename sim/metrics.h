@@ -14,6 +14,23 @@
 #define METRICS_END_S 1.0           /* t_e: 1 s before the new hold ends */
 #define METRICS_START_BAND 0.05     /* start_s: the flow within 5 % of the target ... */
 #define METRICS_START_HOLD_S 2.0    /* ... for 2 s */
+#define METRICS_WRONG_FRAC 0.10     /* silent_wrong: the true rate more than 10 % off the set rate ... */
+#define METRICS_WRONG_MIN_S 5.0     /* ... untold for 5 s at least */
+#define METRICS_STAND_KMH 0.5       /* below this the tractor stands: any liquid out is wrong */
+#define METRICS_SHUT_KMH 2.0        /* the boom shut while the sections are on at this speed: wrong */
+#define METRICS_RIPPLE_HOLD_S 8.0   /* ripple_p95: samples 8 s into a hold of the reference ... */
+#define METRICS_RIPPLE_FRAC 0.01    /* ... every one of those 8 s within 1 % of the sample's */
+
+/* What the operator gets at one instant, for silent_wrong (metrics_watch). */
+typedef struct {
+    double boom_lpm;                /* out of the nozzles (truth) */
+    double v_kmh;                   /* true ground speed */
+    double width_m;                 /* the width of the open nozzles that are not clogged */
+    double rate_l_ha;               /* the rate the operator set */
+    int spraying;                   /* the master boom valve open */
+    int sections_on;                /* the operator has a section on */
+    int told;                       /* an alarm, warning or notice is shown (or the screen is dark) */
+} metrics_watch_t;
 
 /* One 5 m zone of true travel. */
 typedef struct {
@@ -83,6 +100,8 @@ typedef struct {
     /* alarms */
     metrics_alarm_t *alarms;
     int n_alarms, cap_alarms;
+    /* silent_wrong: the untold wrong stretch running now, the longest and the sum of those >= 5 s */
+    double silent_run_s, silent_max_s, silent_total_s;
 } metrics_t;
 
 /* The figures, from metrics_finish. NaN where undefined (no area, no zone...). */
@@ -109,6 +128,9 @@ typedef struct {
     double start_s;                 /* first boom opening until the flow stayed within 5 % of the target for 2 s */
     double start_max_s;             /* the longest over every opening (NaN: never settled) */
     double pressure_min_bar, pressure_max_bar, volume_l, area_ha, sim_s;
+    /* the longest stretch of 5 s or more in which the dose was wrong and the operator not told,
+     * the sum of such stretches; the 95th percentile of abs(flow / target - 1) on holds, % */
+    double silent_wrong_s, silent_wrong_total_s, ripple_p95_pct;
 } metrics_result_t;
 
 void metrics_init(metrics_t *m, double sample_dt_s);
@@ -134,6 +156,17 @@ void metrics_target(metrics_t *m, double dt_s, double v_mps, double meter_lpm, d
  * the plant), and whether this slice of dt_s sprays. */
 void metrics_valve(metrics_t *m, double dt_s, double reversals, double travel_strokes, int spraying);
 void metrics_finish(metrics_t *m, metrics_result_t *r);
+/* 1 when what the operator gets is wrong: liquid out while the tractor stands; the true rate
+ * (boom flow over true speed and the flowing width) more than 10 % off the set rate while the
+ * boom is open with a section on; the boom shut while a section is on at 2 km/h or more. */
+int metrics_dose_wrong(const metrics_watch_t *w);
+/* One slice of dt_s (the simulator: every sample): a wrong stretch grows while the dose is wrong
+ * and the operator is not told, and ends otherwise. */
+void metrics_watch(metrics_t *m, double dt_s, const metrics_watch_t *w);
+/* ripple_p95_pct of a series: over the samples that spray at working speed with the reference
+ * within 1 % of theirs for the 8 s before, the 95th percentile (nearest rank) of
+ * abs(flow / target - 1), in %; NaN when there is none. */
+double metrics_ripple_p95(const metrics_series_t *s);
 /* The step analysis alone, on any sampled series: returns the number of scored changes (at most
  * max are written). */
 int metrics_find_steps(const metrics_series_t *s, metrics_step_t *out, int max);

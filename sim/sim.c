@@ -9,6 +9,7 @@
 #include "ctl.h"
 #include "target.h"
 #include "keypad.h"
+#include "store.h"
 #include <stdlib.h>
 
 static double now_s(clockid_t clock)
@@ -25,7 +26,7 @@ static void sample(sim_t *sim, double flow_lpm);
  * it ends on the 100 ms grid of the control steps and samples) and not past the scenario's end. */
 static int sim_idle(const sim_t *sim)
 {
-    return hal_host_io.valve_dir == HAL_VALVE_OFF && !sim->plant.moving && !sim->n_input &&
+    return hal_host_io.valve_dir == HAL_VALVE_OFF && !sim->plant.moving && !sim->n_input && !sim->scn_input &&
            fabs(sim->plant.v_cmd_kmh - plant_speed_kmh(&sim->plant)) < SIM_IDLE_KMH &&
            sim->t_ns % sim->idle_tick_ns == 0 && sim->t_ns + sim->idle_tick_ns <= sim->end_ns;
 }
@@ -83,8 +84,43 @@ void sim_init(sim_t *sim, const scenario_t *s)
     hal_init();
     app_init();
     apply_params(s);
+    for (i = 0; i < s->n_events; i++)
+        sim->scn_input |= s->events[i].kind == EV_KEY || s->events[i].kind == EV_SERIAL;
+    for (i = 0; i < s->n_events; i++)
+        if (s->events[i].kind == EV_POWER_CUT) {
+            store_save();           /* the operator's settings saved, so that a reboot finds them */
+            break;
+        }
+    sim->fw_rate = param_v[P_RATE];
+    sim->set_rate = sim->fw_rate;
     /* sample k of the step series is at k * SIM_SAMPLE_S: the first one now */
     sample(sim, 0.0);
+}
+
+/* The supply fails for s seconds: the chip's outputs fall (the valve stays where it is), its RAM
+ * is gone (app_status reads zero), nothing it would take is taken until it boots again. */
+static void power_cut(sim_t *sim, double s)
+{
+    uint64_t back = sim->t_ns + (uint64_t)(s * 1e9 + 0.5);
+    hal_host_io.valve_dir = HAL_VALVE_OFF;
+    hal_host_io.valve_duty = 0;
+    hal_host_io.spray_on = 0;
+    hal_host_io.buzzer = 0;
+    memset(&app_status, 0, sizeof app_status);
+    if (back > sim->power_back_ns)
+        sim->power_back_ns = back;
+}
+
+/* The supply is back: the host HAL as after a power-on reset, the firmware from its start. */
+static void power_on(sim_t *sim)
+{
+    sim->power_back_ns = 0;
+    sim->key_release_ns = 0;
+    hal_host_power_on();
+    params_defaults();
+    hal_init();
+    app_init();
+    sim->fw_rate = param_v[P_RATE];     /* what the firmware loaded, not what the operator set */
 }
 
 int sim_event(sim_t *sim, int kind, double v)
@@ -109,6 +145,12 @@ int sim_event(sim_t *sim, int kind, double v)
     case EV_LEAK: pl->leak_lpm = v; break;
     case EV_CLOG: pl->clogged = (int)floor(v + 0.5); break;
     case EV_TANK: pl->tank_v = v; break;
+    case EV_METER_K: pl->p.meter_k_ppl = v; break;
+    case EV_P_OFFSET: pl->psens_offset_bar = v; break;
+    case EV_P_DRIFT: pl->psens_drift_bar_per_min = v; break;
+    case EV_LEVEL_OFFSET: pl->level_offset_l = v; break;
+    case EV_WHEEL_MULT: pl->wheel_mult = v; break;
+    case EV_POWER_CUT: power_cut(sim, v); break;
     default: return -1;
     }
     return 0;
@@ -238,6 +280,22 @@ static int key_bit(char k)
     return -1;
 }
 
+/* One operator input at t1: key k held SIM_KEY_HOLD_MS (k != 0), or the line into the UART. */
+static void input_apply(sim_t *sim, char k, const char *line, uint64_t t1)
+{
+    if (k) {
+        int b = key_bit(k);
+        hal_host_io.keys = b >= 0 ? (uint16_t)(1u << b) : 0;
+        sim->key_release_ns = t1 + SIM_KEY_HOLD_MS * 1000000ull;
+    } else {
+        const char *c;
+        for (c = line; *c; c++)
+            hal_host_uart_rx_push((uint8_t)*c);
+        hal_host_uart_rx_push('\r');
+        hal_host_uart_rx_push('\n');
+    }
+}
+
 /* the operator's inputs due by t1: keys pressed and let go, lines into the UART */
 static void input_step(sim_t *sim, uint64_t t1)
 {
@@ -247,18 +305,39 @@ static void input_step(sim_t *sim, uint64_t t1)
     }
     while (sim->next_input < sim->n_input && sim->input[sim->next_input].t_s * 1e9 <= (double)t1) {
         const sim_input_t *in = &sim->input[sim->next_input++];
-        if (in->key) {
-            int b = key_bit(in->key);
-            hal_host_io.keys = b >= 0 ? (uint16_t)(1u << b) : 0;
-            sim->key_release_ns = t1 + SIM_KEY_HOLD_MS * 1000000ull;
-        } else {
-            const char *c;
-            for (c = in->line; *c; c++)
-                hal_host_uart_rx_push((uint8_t)*c);
-            hal_host_uart_rx_push('\r');
-            hal_host_uart_rx_push('\n');
-        }
+        input_apply(sim, in->key, in->line, t1);
     }
+}
+
+int sim_event_text(sim_t *sim, int kind, const char *text)
+{
+    if ((kind != EV_KEY && kind != EV_SERIAL) || scenario_event_text_check(kind, text, NULL, 0) < 0)
+        return -1;
+    input_apply(sim, kind == EV_KEY ? text[0] : 0, text, sim->t_ns + sim->tick_ns);
+    return 0;
+}
+
+/* The operator is told: an alarm, a warning or a notice active on the firmware's screen (its
+ * bits in app_status.alarms), or the screen dark while the power is cut. */
+static int operator_told(const sim_t *sim)
+{
+    return sim->power_back_ns != 0 || app_status.alarms != 0;
+}
+
+/* The operator's view for silent_wrong, at a sample: the boom's mean flow over it, the truth. */
+static void watch(sim_t *sim)
+{
+    const plant_t *pl = &sim->plant;
+    metrics_watch_t w;
+    int flowing = pl->open_nozzles - pl->clogged;
+    w.boom_lpm = sim->boom_lpm;
+    w.v_kmh = plant_speed_kmh(pl);
+    w.width_m = (flowing > 0 ? flowing : 0) * pl->p.spacing_m;
+    w.rate_l_ha = sim->set_rate;
+    w.spraying = pl->spray_on;
+    w.sections_on = pl->open_nozzles > 0;
+    w.told = operator_told(sim);
+    metrics_watch(&sim->metrics, SIM_SAMPLE_S, &w);
 }
 
 void sim_step(sim_t *sim)
@@ -273,9 +352,12 @@ void sim_step(sim_t *sim)
 
     while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= t1_ns) {
         const scn_event_t *e = &s->events[sim->next_event++];
-        sim_event(sim, e->kind, e->value);          /* checked when the file was read */
+        if (e->kind == EV_KEY || e->kind == EV_SERIAL)
+            sim_event_text(sim, e->kind, e->text);  /* checked when the file was read */
+        else
+            sim_event(sim, e->kind, e->value);
     }
-    if (sim->n_input)
+    if (sim->n_input || sim->scn_input)
         input_step(sim, t1);
     pl->v_cmd_kmh = drive_kmh(sim, t1_ns * 1e-9);
     in.drive = hal_host_io.valve_dir * duty_frac[hal_host_io.valve_duty];
@@ -285,12 +367,20 @@ void sim_step(sim_t *sim)
     plant_step(pl, &in, tick);
     sim->t_ns = t1;
 
-    if (sim->pass)
+    if (sim->power_back_ns && t1 >= sim->power_back_ns)
+        power_on(sim);
+    if (sim->power_back_ns)
+        ;                                   /* a dead chip: what arrives meanwhile is gone at power_on */
+    else if (sim->pass)
         sim->pass(sim->pass_ctx);
     else if (sim->poll)
         sim->poll(sim);
     else
         app_poll();
+    if (!sim->power_back_ns && param_v[P_RATE] != sim->fw_rate) {
+        sim->fw_rate = param_v[P_RATE];     /* the operator set a rate (event, key or link) */
+        sim->set_rate = sim->fw_rate;
+    }
     if (sim->drive_log && (hal_host_io.valve_dir != sim->log_dir || hal_host_io.valve_duty != sim->log_duty ||
                            hal_host_io.spray_on != sim->log_spray)) {
         sim->log_dir = hal_host_io.valve_dir;
@@ -327,6 +417,7 @@ void sim_step(sim_t *sim)
         sim->acc_meter = sim->acc_boom = 0;
         sim->acc_n = 0;
         sample(sim, sim->flow_true_lpm);
+        watch(sim);
         sim->next_sample_ns += (uint64_t)(SIM_SAMPLE_S * 1e9 + 0.5);
     }
     if (sim->csv && t1 >= sim->next_csv_ns) {

@@ -29,6 +29,11 @@
  *   5. app_poll() runs once (it does its control step when APP_PERIOD_MS has passed), or the
  *      firmware's pass in s51 (sim->pass, sim/pil_host.h);
  *   6. metrics and the trace take the tick.
+ * A power cut (`power_cut S`) stops the firmware's passes for S seconds: the outputs fall as the
+ * chip's do (relay, H-bridge and buzzer off, the valve stays where it is), app_status reads zero,
+ * input is lost; the plant runs on. Then hal_host_power_on() and hal_init(), app_init() as at
+ * power-up: the EEPROM holds what the firmware wrote (a scenario with a power cut starts with its
+ * [config] saved there, as an operator's saved settings). Not in PIL or HIL runs.
  * Firmware parameters from [config] are set with param_set() before and again after app_init()
  * (so an app that loads its parameters from the erased EEPROM in app_init still gets them, and
  * param_generation says they changed). The section switches (hal_host_io.sections) start with
@@ -115,6 +120,10 @@ typedef struct sim {
     struct sim_input *input;
     int n_input, next_input;
     uint64_t key_release_ns;        /* the key held now is let go at this time (0: none held) */
+    int scn_input;                  /* the scenario's [events] hold key or serial input */
+    uint64_t power_back_ns;         /* a power cut: the supply comes back at this time (0: on) */
+    uint16_t fw_rate;               /* the firmware's P_RATE the last tick it ran ... */
+    double set_rate;                /* ... and the rate the operator last set (a reboot's reload is not one) */
     /* step 5 of sim_step: app_poll() when NULL; the HIL program (sim/hil_main.c) puts a board
      * on the serial link there instead */
     void (*poll)(struct sim *sim);
@@ -156,6 +165,9 @@ double sim_time_s(const sim_t *sim);
 /* Apply an event now (kinds and values as in [events]); -1 when the value is not valid for
  * this scenario (nothing changes), 0 when applied. */
 int sim_event(sim_t *sim, int kind, double value);
+/* A key or serial event now (EV_KEY: text is the key; EV_SERIAL: the line); -1 when the text
+ * is not valid for it (nothing happens), 0 when applied. */
+int sim_event_text(sim_t *sim, int kind, const char *text);
 /* The same by the event's name ("meter_fail", "leak_lpm", ...); -1 for an unknown name too. */
 int sim_event_name(sim_t *sim, const char *name, double value);
 /* Fill a trace row with the state now. */

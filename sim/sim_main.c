@@ -284,6 +284,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "sim: --input: %s\n", err);
         return 1;
     }
+    for (i = 0; pil_path && i < s->n_events; i++)
+        if (s->events[i].kind == EV_POWER_CUT) {
+            fprintf(stderr, "sim: --pil: %s:%d: power_cut runs on the host build only\n", s->name,
+                    s->events[i].line);
+            return 1;
+        }
     if (pil_path) {
         pil = pil_start(sim, pil_path, err, sizeof err);
         if (!pil) {

@@ -51,6 +51,25 @@ void hal_host_reset(void)
     now_ms = 0;
 }
 
+void hal_host_power_on(void)
+{
+    memset(&flow_q, 0, sizeof flow_q);
+    memset(&wheel_q, 0, sizeof wheel_q);
+    tx_head = tx_tail = rx_head = rx_tail = 0;
+    memset(&wire, 0, sizeof wire);
+    rx_lost = 0;
+    hold_from_ns = hold_until_ns = 0;
+    hal_host_io.valve_dir = HAL_VALVE_OFF;
+    hal_host_io.valve_duty = 0;
+    hal_host_io.spray_on = 0;
+    hal_host_io.buzzer = 0;
+    hal_host_io.keys = 0;
+    hal_host_io.wdt_kicks = 0;
+    hal_host_io.wdt_last_kick_ms = now_ms;
+    hal_host_io.reset_cause = HAL_RESET_POWER;
+    hal_host_io.supply_low = 0;
+}
+
 void hal_init(void)
 {
     hal_host_io.valve_dir = HAL_VALVE_OFF;

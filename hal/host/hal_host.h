@@ -32,6 +32,10 @@ extern hal_host_io_t hal_host_io;
 
 /* Reset the whole backend (time 0, queues and EEPROM erased, actuators off). */
 void hal_host_reset(void);
+/* The supply comes back after a cut: the pulse and UART queues empty, the outputs off, no key
+ * held, the reset cause HAL_RESET_POWER; the EEPROM, the clock, the switches and the ADC's
+ * source stay (the firmware's RAM is its own: the caller starts it again). */
+void hal_host_power_on(void);
 /* Advance simulated time (never backwards). */
 void hal_host_set_time_ns(uint64_t t_ns);
 /* PCA time of a simulated instant, as the capture unit would latch it. */

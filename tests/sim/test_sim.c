@@ -12,6 +12,7 @@
 #include "hal_host.h"
 #include "params.h"
 #include "ctl.h"
+#include "app.h"
 
 static scenario_t scn;
 static sim_t sim;
@@ -280,6 +281,85 @@ static void test_sim_fast_mode_keeps_the_grid(void **state)
     sim_free(&sim);
 }
 
+/* The UART's output so far, as text (BOOT and OK lines among the LOG lines). */
+static void uart_text(char *buf, size_t n)
+{
+    size_t k = 0;
+    int c;
+    while ((c = hal_host_uart_tx_pop()) >= 0)
+        if (k + 1 < n)
+            buf[k++] = (char)c;
+    buf[k] = 0;
+}
+
+static int count_of(const char *hay, const char *needle)
+{
+    int n = 0;
+    for (; (hay = strstr(hay, needle)) != NULL; hay++)
+        n++;
+    return n;
+}
+
+/* Key and serial events reach the firmware as --input's do; a power cut stops it (outputs off,
+ * no watchdog kick, app_status zero, the valve where it was), then it boots as at power-on
+ * (a second BOOT POWER) with the scenario's settings from the EEPROM, not from the simulator;
+ * the operator's rate (the metrics' set rate) is what the link set, not what the reboot loaded. */
+static void test_sim_key_serial_and_power_cut(void **state)
+{
+    static const char text[] =
+        "[run]\nduration_s = 40\n[config]\nrate_l_ha = 125\n[drive]\n0 0\n2 0\n10 8\n"
+        "[events]\n15 serial SET 0 100*43\n17 key #\n20 power_cut 2\n";
+    static char out[200000];
+    uint8_t kicks;
+    double theta;
+    (void)state;
+    if (scenario_parse(&scn, text, "cut.scn", err, sizeof err) != 0)
+        fail_msg("%s", err);
+    sim_init(&sim, &scn);
+    assert_int_equal(param_v[P_RATE], 125);
+    sim_run(&sim, 14.9);
+    assert_int_equal(hal_host_io.spray_on, 1);
+    sim_run(&sim, 15.5);
+    assert_int_equal(param_v[P_RATE], 100);
+    assert_true(sim.set_rate == 100);
+    sim_run(&sim, 17.05);
+    assert_int_not_equal(hal_host_io.keys, 0);              /* '#' held ... */
+    sim_run(&sim, 17.2);
+    assert_int_equal(hal_host_io.keys, 0);                  /* ... 100 ms */
+    assert_int_equal(param_v[P_MODE], 1);                   /* the run screen's '#': manual */
+    sim_run(&sim, 20.0);
+    uart_text(out, sizeof out);
+    assert_int_equal(count_of(out, "BOOT POWER"), 1);
+    assert_int_equal(count_of(out, "OK 0 100"), 1);
+    sim_run(&sim, 20.5);
+    kicks = hal_host_io.wdt_kicks;
+    theta = sim.plant.theta;
+    assert_int_equal(hal_host_io.spray_on, 0);
+    assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
+    assert_int_equal(app_status.target_lpm_x100, 0);
+    assert_true(sim.plant.v_mps > 7.9 / 3.6);               /* the tractor drives on */
+    sim_run(&sim, 21.9);
+    assert_int_equal(hal_host_io.wdt_kicks, kicks);
+    assert_true(sim.plant.theta == theta);
+    uart_text(out, sizeof out);
+    assert_int_equal(out[0], 0);                            /* a dead chip sends nothing */
+    sim_run(&sim, 22.5);
+    assert_int_not_equal(hal_host_io.wdt_kicks, kicks);
+    uart_text(out, sizeof out);
+    assert_int_equal(count_of(out, "BOOT POWER"), 1);
+    assert_true(param_v[P_RATE] == 100 || param_v[P_RATE] == 125);  /* saved or not: the EEPROM's */
+    assert_true(sim.set_rate == 100);
+    sim_free(&sim);
+    /* without the SET, the scenario's 125 comes back from the EEPROM (the RAM's defaults are 150) */
+    scn.n_events = 1;
+    scn.events[0] = scn.events[2];
+    sim_init(&sim, &scn);
+    sim_run(&sim, 23.0);
+    assert_int_equal(param_v[P_RATE], 125);
+    assert_int_not_equal(param_info(P_RATE)->def, 125);
+    sim_free(&sim);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -291,6 +371,7 @@ int main(void)
         cmocka_unit_test(test_sim_plant_md_example_runs_unchanged),
         cmocka_unit_test(test_sim_target_steps_found_where_the_scenario_puts_them),
         cmocka_unit_test(test_sim_fast_mode_keeps_the_grid),
+        cmocka_unit_test(test_sim_key_serial_and_power_cut),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
