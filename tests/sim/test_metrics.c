@@ -383,6 +383,124 @@ static void test_metrics_valve_wear(void **state)
     metrics_free(&m);
 }
 
+/* What counts as a wrong dose, by hand at 150 L/ha over 18 m (36 nozzles at 50 cm):
+ * L/ha = L/min x 600 / (km/h x m): 36 L/min at 8 km/h is 150 (right); 28.5 is 118.75 (-20.8 %),
+ * 33 is 137.5 (-8.3 %), 39.7 is 165.42 (+10.3 %), 39.5 is 164.58 (+9.7 %). */
+static void test_metrics_what_is_a_wrong_dose(void **state)
+{
+    metrics_watch_t w = {36.0, 8.0, 18.0, 150.0, 1, 1, 0};
+    (void)state;
+    assert_int_equal(metrics_dose_wrong(&w), 0);
+    w.boom_lpm = 28.5;
+    assert_int_equal(metrics_dose_wrong(&w), 1);
+    w.boom_lpm = 33.0;
+    assert_int_equal(metrics_dose_wrong(&w), 0);
+    w.boom_lpm = 39.7;
+    assert_int_equal(metrics_dose_wrong(&w), 1);
+    w.boom_lpm = 39.5;
+    assert_int_equal(metrics_dose_wrong(&w), 0);
+    w.width_m = 13.0;                           /* 10 of 36 clogged: 39.5 over 13 m is +37.9 % */
+    assert_int_equal(metrics_dose_wrong(&w), 1);
+    w.width_m = 0.0;                            /* every open nozzle clogged */
+    assert_int_equal(metrics_dose_wrong(&w), 1);
+    w.width_m = 18.0;
+    w.v_kmh = 0.3;                              /* standing: any liquid out is wrong */
+    w.boom_lpm = 0.5;
+    assert_int_equal(metrics_dose_wrong(&w), 1);
+    w.boom_lpm = 0.0;
+    assert_int_equal(metrics_dose_wrong(&w), 0);
+    w.spraying = 0;                             /* boom shut, sections on: wrong from 2 km/h */
+    w.v_kmh = 2.5;
+    assert_int_equal(metrics_dose_wrong(&w), 1);
+    w.v_kmh = 1.5;
+    assert_int_equal(metrics_dose_wrong(&w), 0);
+    w.v_kmh = 8.0;
+    w.sections_on = 0;                          /* the operator switched them off */
+    assert_int_equal(metrics_dose_wrong(&w), 0);
+}
+
+/* A trace of 0.1 s slices: 3 s right, 7 s wrong untold, 1 s wrong but told (the 7 s end),
+ * 4 s wrong untold (under 5 s: not counted), 0.5 s right, 6 s wrong untold to the end (closed
+ * by metrics_finish). silent_wrong_s = 7, silent_wrong_total_s = 7 + 6 = 13. */
+static void test_metrics_silent_wrong_stretches(void **state)
+{
+    static const struct { int n; double boom; int told; } parts[] = {
+        {30, 36.0, 0}, {70, 28.5, 0}, {10, 28.5, 1}, {40, 28.5, 0}, {5, 36.0, 0}, {60, 0.0, 0},
+    };
+    metrics_t m;
+    metrics_result_t r;
+    size_t p;
+    int i;
+    (void)state;
+    metrics_init(&m, DT);
+    for (p = 0; p < sizeof parts / sizeof parts[0]; p++)
+        for (i = 0; i < parts[p].n; i++) {
+            metrics_watch_t w = {parts[p].boom, 8.0, 18.0, 150.0, 1, 1, parts[p].told};
+            metrics_watch(&m, DT, &w);
+        }
+    metrics_finish(&m, &r);
+    assert_within(r.silent_wrong_s, 7.0, 1e-9);
+    assert_within(r.silent_wrong_total_s, 13.0, 1e-9);
+    assert_true(isnan(r.ripple_p95_pct));       /* no samples: no holds */
+    metrics_free(&m);
+}
+
+#define RN 300
+static double RR[RN], RT[RN], RY[RN];
+static unsigned char RW[RN], RS[RN];
+
+/* A series of RN samples, reference = target = 10, flow 10 (1 + (k mod 20) / 1000). */
+static metrics_series_t ripple_series(void)
+{
+    metrics_series_t s;
+    int k;
+    for (k = 0; k < RN; k++) {
+        RR[k] = RT[k] = 10.0;
+        RY[k] = 10.0 * (1.0 + (k % 20) * 0.001);
+        RW[k] = RS[k] = 1;
+    }
+    s.ref = RR;
+    s.target = RT;
+    s.flow = RY;
+    s.work = RW;
+    s.spray = RS;
+    s.n = RN;
+    s.dt_s = DT;
+    return s;
+}
+
+/* ripple_p95 by hand. Samples 80..299 are 8 s into the hold: 220 of them, errors 0..19 per mille
+ * 11 times each; the nearest rank ceil(0.95 x 220) = 209 is the 209th smallest: 11 x 19 = 209
+ * reach 18 per mille: 1.8 %. Samples 80..90 at 30 % (11, 5 % of 220): they take the top 11
+ * ranks, the 209th is then 19 per mille (11 of them left): 1.9 %; with 80..91 (12) it is 30 %.
+ * A step of the reference at sample 150 (10 -> 12, the target and flow with it, the flow 50 %
+ * off for 150..229): 150..229 are within 8 s of it and not counted: 80..149 and 230..299, 140
+ * samples, 7 of each error, rank 133: 7 x 19 = 133 reach 18 per mille: 1.8 % again. No spraying:
+ * none. */
+static void test_metrics_ripple_p95(void **state)
+{
+    metrics_series_t s = ripple_series();
+    int k;
+    (void)state;
+    assert_within(metrics_ripple_p95(&s), 1.8, 1e-9);
+    for (k = 80; k <= 90; k++)
+        RY[k] = 13.0;
+    assert_within(metrics_ripple_p95(&s), 1.9, 1e-9);
+    RY[91] = 13.0;
+    assert_within(metrics_ripple_p95(&s), 30.0, 1e-9);
+    s = ripple_series();
+    for (k = 150; k < RN; k++) {
+        RR[k] = RT[k] = 12.0;
+        RY[k] = 12.0 * (1.0 + (k % 20) * 0.001);
+    }
+    for (k = 150; k < 230; k++)
+        RY[k] = 18.0;
+    assert_within(metrics_ripple_p95(&s), 1.8, 1e-9);
+    for (k = 0; k < RN; k++)
+        RS[k] = 0;
+    assert_true(isnan(metrics_ripple_p95(&s)));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -400,6 +518,9 @@ int main(void)
         cmocka_unit_test(test_metrics_zone_split_inside_a_slice),
         cmocka_unit_test(test_metrics_dose_split),
         cmocka_unit_test(test_metrics_valve_wear),
+        cmocka_unit_test(test_metrics_what_is_a_wrong_dose),
+        cmocka_unit_test(test_metrics_silent_wrong_stretches),
+        cmocka_unit_test(test_metrics_ripple_p95),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

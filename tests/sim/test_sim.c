@@ -146,7 +146,8 @@ static void test_sim_plant_md_example_runs_unchanged(void **state)
         "\"overshoot_max_pct\":", "\"settle_mean_s\":", "\"settle_max_s\":", "\"pressure_min_bar\":",
         "\"pressure_max_bar\":", "\"volume_l\":", "\"area_ha\":", "\"alarms\":[", "\"sim_s\":", "\"wall_s\":",
         "\"t_s\":", "\"from_lpm\":", "\"to_lpm\":", "\"rise_s\":", "\"overshoot_pct\":", "\"settle_5pct_s\":",
-        "\"settle_2pct_s\":", "\"sse_pct\":",
+        "\"settle_2pct_s\":", "\"sse_pct\":", "\"silent_wrong_s\":", "\"silent_wrong_total_s\":",
+        "\"ripple_p95_pct\":",
     };
     char *buf = NULL;
     size_t len = 0, i;
