@@ -22,6 +22,9 @@ controller.
 --events adds an operator's doings to every run (operator_events: sections switching down to 6
 of the 36 nozzles, a rate change, a PTO step, a refill, the bypass parked anywhere at the start):
 conditions the family's drives leave out, and where the meter runs below its range.
+Also per controller, for silent_wrong_s (the longest untold wrong dose) and ripple_p95_pct (how
+the flow hunts on a held target): median, 95th percentile, maximum with its plant, and the runs
+over 10 s and over 5 %.
 Prints per controller the median and 95th percentile of abs(dose error), abs(the controller's
 share of it), abs(that share past the start: from 5 s after the boom first opened), CV, worst
 zone error, valve reversals a minute and mean settling, and the count of
@@ -47,6 +50,12 @@ FIGURES = [  # (summary key, run column, label)
     ("zone_worst_pct", "zone_worst_pct", "worst zone %"),
     ("reversals_per_min", "reversals_per_min", "reversals/min"),
     ("settle_mean_s", "settle_mean_s", "settle s"),
+]
+# Told or not, and how the flow hunts (docs/SCENARIOS.md): (run column, the bound a run must
+# stay under, unit); the summary gives median, p95, max, the worst plant and the runs over it.
+JUDGE = [
+    ("silent_wrong_s", 10.0, "s"),
+    ("ripple_p95_pct", 5.0, "%"),
 ]
 
 
@@ -246,6 +255,20 @@ def pct(values, q):
     return v[lo] + (v[hi] - v[lo]) * (k - lo)
 
 
+def judge_cell(j, unit):
+    """silent_wrong_s or ripple_p95_pct of a controller, for the printed table."""
+    if j["median"] is None:
+        return "-"
+    return "%s: %.3g / %.3g / %.3g %s (%s), %d of %d over %g %s" % (
+        j["name"], j["median"], j["p95"], j["max"], unit, j["worst_plant"], j["over"], j["runs"], j["bound"], unit)
+
+
+def judge_md(j):
+    if j["median"] is None:
+        return "-"
+    return "%.3g / %.3g / %.3g, %d of %d" % (j["median"], j["p95"], j["max"], j["over"], j["runs"])
+
+
 def row_of(i, d, ctl, m):
     def get(k):
         x = m.get(k)
@@ -269,6 +292,9 @@ def row_of(i, d, ctl, m):
         "reversals_per_min": get("valve_reversals_per_min"),
         "settle_mean_s": get("settle_mean_s"),
         "start_s": get("start_s"),
+        "silent_wrong_s": get("silent_wrong_s"),
+        "silent_wrong_total_s": get("silent_wrong_total_s"),
+        "ripple_p95_pct": get("ripple_p95_pct"),
         "alarms": " ".join(alarms),
     }
 
@@ -336,6 +362,14 @@ def main():
             s["cv_median_%s" % ("told" if told else "untold")] = pct([r["cv_pct"] for r in rs if r["told"] == told], 0.5)
         s["cv_untold_over_told"] = (s["cv_median_untold"] / s["cv_median_told"]
                                     if s["cv_median_told"] and s["cv_median_untold"] is not None else None)
+        for col, bound, _ in JUDGE:
+            vals = [r[col] for r in rs if r[col] is not None]
+            worst = max((r for r in rs if r[col] is not None), key=lambda r: r[col], default=None)
+            s[col] = {"median": pct(vals, 0.5), "p95": pct(vals, 0.95),
+                      "max": None if worst is None else worst[col],
+                      "worst_plant": None if worst is None else "%d/%d/%s" % (
+                          a.seed, worst["plant"], "told" if worst["told"] else "untold"),
+                      "over": sum(1 for v in vals if v > bound), "bound": bound, "runs": len(vals), "name": col}
         summary["controllers"][c] = s
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
@@ -350,6 +384,10 @@ def main():
                                   else "-") for k, _, _ in FIGURES)
         print("%-12s%s  %d %s" % (c, cells, s["alarm_runs"],
                                   " ".join("%s:%d" % kv for kv in s["alarm_codes"].items())))
+    print("told or not, and the hunt: median / 95th percentile / max (its plant, SEED/NUMBER/told), runs over")
+    for c in ctls:
+        s = summary["controllers"][c]
+        print("%-12s%s" % (c, "   ".join(judge_cell(s[col], unit) for col, _, unit in JUDGE)))
     print("median CV untold / told: " + ", ".join(
         "%s %s" % (c, "-" if summary["controllers"][c]["cv_untold_over_told"] is None
                    else "%.3f" % summary["controllers"][c]["cv_untold_over_told"]) for c in ctls))
@@ -361,6 +399,13 @@ def main():
             f.write("| %s | " % c + " | ".join("%.3g / %.3g" % (s[k]["median"], s[k]["p95"])
                                               if s[k]["median"] is not None else "-" for k, _, _ in FIGURES)
                     + " | %d |\n" % s["alarm_runs"])
+        f.write("\n| controller | " + " | ".join("%s (median / p95 / max, runs over %g %s)" % (col, b, u)
+                                                for col, b, u in JUDGE) + " | worst plants |\n")
+        f.write("|---" * (len(JUDGE) + 2) + "|\n")
+        for c in ctls:
+            s = summary["controllers"][c]
+            f.write("| %s | " % c + " | ".join(judge_md(s[col]) for col, _, _ in JUDGE)
+                    + " | %s |\n" % ", ".join(str(s[col]["worst_plant"]) for col, _, _ in JUDGE))
     print("wrote %s, %s and %s" % (os.path.join(a.out, "runs.csv"), os.path.join(a.out, "summary.json"),
                                    os.path.join(a.out, "table.md")))
 

@@ -47,6 +47,23 @@ for c in ("ffmap", "pid"):
     assert isinstance(s["controllers"][c]["alarm_runs"], int)
 PYEOF
 then ok "summary.json has the median and 95th percentile of every figure"; else nok "summary.json has the median and 95th percentile of every figure"; fi
+# told or not and the hunt: the summary's max and counts over the bounds are runs.csv's, counted here
+if $PY - "$tmp/a/summary.json" "$tmp/a/runs.csv" <<'PYEOF'
+import csv, json, sys
+s = json.load(open(sys.argv[1]))
+rows = list(csv.DictReader(open(sys.argv[2])))
+for c in ("ffmap", "pid"):
+    for col, bound in (("silent_wrong_s", 10.0), ("ripple_p95_pct", 5.0)):
+        j = s["controllers"][c][col]
+        v = [float(r[col]) for r in rows if r["controller"] == c and r[col] != ""]
+        assert len(v) == j["runs"] and j["runs"] > 0, (c, col)
+        assert j["max"] == max(v) and j["over"] == sum(1 for x in v if x > bound), (c, col, j)
+        assert j["median"] <= j["p95"] <= j["max"], (c, col, j)
+        n = j["worst_plant"].split("/")
+        assert n[0] == "1" and any(int(r["plant"]) == int(n[1]) and float(r[col]) == j["max"] for r in rows)
+PYEOF
+then ok "summary.json has silent_wrong_s and ripple_p95_pct: median, p95, max, its plant, runs over 10 s / 5 %"
+else nok "summary.json has silent_wrong_s and ripple_p95_pct: median, p95, max, its plant, runs over 10 s / 5 %"; fi
 grep -q "plant family: 6 plants" "$tmp/a.out" && ok "the table is printed" || nok "the table is printed" "$(cat "$tmp/a.out")"
 # the loop's share in the start (the simulator's) is a part of it: in most runs neither none nor all
 if $PY - "$tmp/a/runs.csv" <<'PYEOF'
