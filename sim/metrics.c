@@ -154,11 +154,16 @@ void metrics_sample(metrics_t *m, double ref_lpm, double target_lpm, double flow
     m->n_samples++;
 }
 
-void metrics_alarm(metrics_t *m, double t_s, const char *code)
+void metrics_alarm(metrics_t *m, double t_s, const char *code, const char *text)
 {
+    char *t;
     m->alarms = grow(m->alarms, &m->cap_alarms, m->n_alarms + 1, sizeof *m->alarms);
     m->alarms[m->n_alarms].t_s = t_s;
     snprintf(m->alarms[m->n_alarms].code, sizeof m->alarms[0].code, "%s", code);
+    snprintf(m->alarms[m->n_alarms].text, sizeof m->alarms[0].text, "%s", text ? text : "");
+    for (t = m->alarms[m->n_alarms].text; *t; t++)
+        if (*t == '"' || *t == '\\' || (unsigned char)*t < 32)
+            *t = '\'';                /* the JSON string stays plain */
     m->n_alarms++;
 }
 
@@ -451,8 +456,8 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "area_ha", r->area_ha, 1);
     fputs("\"alarms\":[", f);
     for (i = 0; i < m->n_alarms; i++)
-        fprintf(f, "{\"t_s\":%.3f,\"code\":\"%s\"}%s", m->alarms[i].t_s, m->alarms[i].code,
-                i + 1 < m->n_alarms ? "," : "");
+        fprintf(f, "{\"t_s\":%.3f,\"code\":\"%s\",\"text\":\"%s\"}%s", m->alarms[i].t_s, m->alarms[i].code,
+                m->alarms[i].text, i + 1 < m->n_alarms ? "," : "");
     fputs("],", f);
     num(f, "sim_s", r->sim_s, 1);
     num(f, "wall_s", wall_s, 1);

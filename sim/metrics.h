@@ -67,6 +67,7 @@ typedef struct {
 typedef struct {
     double t_s;
     char code[24];
+    char text[24];                  /* what the LCD shows ("" when not known) */
 } metrics_alarm_t;
 
 typedef struct {
@@ -143,8 +144,8 @@ void metrics_add(metrics_t *m, double dt_s, double v_mps, double nozzle_lpm, dou
  * target, the true flow, the working speed the firmware uses (km/h) and whether it sprays. */
 void metrics_sample(metrics_t *m, double ref_lpm, double target_lpm, double flow_lpm, double work_kmh,
                     int spraying);
-/* An alarm raised at t. */
-void metrics_alarm(metrics_t *m, double t_s, const char *code);
+/* An alarm raised at t: its code and its LCD text (NULL: not known). */
+void metrics_alarm(metrics_t *m, double t_s, const char *code, const char *text);
 /* Work out the figures (steps are kept in m until metrics_free). */
 /* The same slice seen by the controller: the target flow it was given, what a meter true to
  * its calibration reads, whether the valve sat at an end stop or the run is in its start

@@ -303,7 +303,7 @@ int main(int argc, char **argv)
                     snprintf(code, sizeof code, "ALARM_%u", b);
                     c = code;
                 }
-                metrics_alarm(&m, rw->t, c);
+                metrics_alarm(&m, rw->t, c, app_alarm_text(b));
             }
         prev_alarms = rw->alarms;
     }

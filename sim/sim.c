@@ -396,7 +396,7 @@ void sim_step(sim_t *sim)
         char buf[16];
         for (b = 0; b < 16; b++)
             if (rise & (1u << b))
-                metrics_alarm(&sim->metrics, t1 * 1e-9, alarm_code(b, buf, sizeof buf));
+                metrics_alarm(&sim->metrics, t1 * 1e-9, alarm_code(b, buf, sizeof buf), app_alarm_text(b));
     }
     sim->prev_alarms = app_status.alarms;
 
