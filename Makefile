@@ -143,7 +143,7 @@ DEMO_DIR := $(BUILD)/demo
 .SECONDARY:
 .DELETE_ON_ERROR:
 .PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests bench sim pil pil-image \
-        sim-progs demo compare family redraw report \
+        sim-progs demo compare family redraw faults report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -158,6 +158,7 @@ help:
 	@echo "make compare   the six controllers on the same plant and seeds, beside the paper; ffmap against bp_pid, aog and raven over seeds 1-16"
 	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn]   the controllers over N sprayers of the plant family"
+	@echo "make faults [FAULTS_CONTROLLER=ffmap] [ONLY=leak_growing,..]   every fault of issue 51 at two sizes: told or not (build/faults/table.md)"
 	@echo "make redraw [PLANTS=\"28/35/untold ..\"] [SELECT=fast-high|fast-stiff] [SEEDS=1-140] [DRAWS=12]   family plants with more noise draws: runs with an alarm"
 	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
 	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run"
@@ -339,6 +340,12 @@ SEEDS ?= 1-140
 DRAWS ?= 12
 redraw: $(SIM_BIN) $(VENV)
 	$(Q)$(PYTHON) tools/redraw.py $(SIM_BIN) $(PLANTS) $(if $(SELECT),--select $(SELECT) --seeds $(SEEDS)) --draws $(DRAWS) --out $(BUILD)/redraw
+
+# every fault of issue 51's first table at two sizes: the alarm or warning, its delay, the dose
+# while untold and silent_wrong_s (tools/faults.py); the table in build/faults/table.md
+FAULTS_CONTROLLER ?= ffmap
+faults: $(SIM_BIN) $(VENV)
+	$(Q)$(PYTHON) tools/faults.py $(SIM_BIN) --controller $(FAULTS_CONTROLLER) $(if $(ONLY),--only $(ONLY)) --out $(BUILD)/faults
 
 # ==== the simulator, the demo and the virtual panel ========================================================
 # Programs from sim/*_main.c, linked with the -O2 library: build/host/bin/<name> (build/host/sim/

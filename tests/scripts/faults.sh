@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# faults.sh: tools/faults.py (make faults): the dose while silent on a hand-made trace, the faults' scenarios, a table that is the simulator's figures, one-line refusals.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+B=${BUILD:-build}
+SIM=$B/host/bin/sim
+PY=.venv/bin/python
+[ -x "$PY" ] || PY=python3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+ok() { echo "ok - faults: $1"; }
+nok() { echo "not ok - faults: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
+
+make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1 || { nok "the simulator builds" "$(cat "$tmp/build.log")"; exit 0; }
+# By hand, 150 L/ha over 36 nozzles at 50 cm (18 m) at 8 km/h asks 150 x 8 x 18 / 600 = 36 L/min:
+# 10 rows at 36 and 10 at 27 L/min, 5 rows with an alarm (not counted), 5 rows with the boom
+# shut at 8 km/h (nothing applied), 3 rows spraying 6 L/min at a standstill (0.03 L apart):
+# 630 of 900 asked, -30 %; with 6 nozzles clogged the width is 15 m, 750 asked: -16 %.
+if $PY - "$tmp/t.csv" > "$tmp/hand.out" 2>&1 <<'PYEOF'
+import sys
+sys.path.insert(0, "tools")
+import faults
+rows = [(36, 8, 1, 0)] * 10 + [(27, 8, 1, 0)] * 10 + [(0, 8, 1, 1)] * 5 + [(0, 8, 0, 0)] * 5 + [(6, 0, 1, 0)] * 3
+with open(sys.argv[1], "w") as f:
+    f.write("t_s,v_true_kmh,boom_lpm,spray_on,open_nozzles,alarms\n")
+    for k, (q, v, s, a) in enumerate(rows):
+        f.write("%.1f,%g,%g,%d,36,0x%04x\n" % (100 + 0.1 * k, v, q, s, a))
+d, still = faults.silent_dose(sys.argv[1], {"start": 100.0})
+assert abs(d + 30.0) < 1e-9 and abs(still - 0.03) < 1e-12, (d, still)
+d, _ = faults.silent_dose(sys.argv[1], {"start": 100.0, "clogs": [(0, 6)]})
+assert abs(d + 16.0) < 1e-9, d
+d, _ = faults.silent_dose(sys.argv[1], {"start": 100.0, "rate": [(0, 150), (100.95, 100)]})
+# from row 10 on the operator asks 100 L/ha (24 L/min): 360 + 270 of 360 + 15 x 24 = 720: -12.5 %
+assert abs(d + 12.5) < 1e-9, d
+sc = faults.leak_growing(10)["text"]
+leaks = [l.split() for l in sc.splitlines() if "leak_lpm" in l]
+assert [(float(t), int(v)) for t, _, v in leaks] == [(90 + 20 * k, k + 1) for k in range(10)], leaks
+assert faults.csum("SET 0 100") == "SET 0 100*43"          # 'S'^'E'^'T'^' '^'0'^' '^'1'^'0'^'0'
+assert all(len(s) == 2 for _, _, _, s in faults.FAULTS) and len(faults.FAULTS) == 17
+PYEOF
+then ok "the dose while silent of a hand-made trace: -30 %, -16 % with 6 clogged, -12.5 % at a SET rate; the leak's steps"
+else nok "the dose while silent of a hand-made trace: -30 %, -16 % with 6 clogged, -12.5 % at a SET rate; the leak's steps" "$(cat "$tmp/hand.out")"; fi
+
+if $PY tools/faults.py "$SIM" --only leak_growing,set_then_cut --out "$tmp/f" > "$tmp/f.out" 2>&1; then
+    ok "two faults at two sizes run"
+else
+    nok "two faults at two sizes run" "$(tail -3 "$tmp/f.out")"; exit 0
+fi
+[ "$(grep -c "^| " "$tmp/f/table.md")" -eq 5 ] && grep -q "^| a leak after the meter growing 1 L/min every 20 s | to 10 L/min | " "$tmp/f/table.md" \
+    && ok "table.md has a header and four rows" || nok "table.md has a header and four rows" "$(cat "$tmp/f/table.md")"
+# every row's figures are the simulator's own on the scenario the tool wrote
+if $PY - "$tmp/f/summary.json" "$SIM" <<'PYEOF'
+import json, subprocess, sys
+s = json.load(open(sys.argv[1]))
+assert len(s["rows"]) == 4
+for r in s["rows"]:
+    out = subprocess.run([sys.argv[2], "--scenario", r["scenario"], "--controller", "ffmap"], capture_output=True, text=True)
+    m = json.loads(out.stdout.strip().splitlines()[-1])
+    assert m["silent_wrong_s"] == r["silent_wrong_s"], (r["fault"], r["size"])
+    after = [a for a in m["alarms"] if a["t_s"] >= r["start_s"]]
+    assert (after[0]["code"] if after else None) == r["alarm"], (r["fault"], r["size"])
+    assert r["delay_s"] is None or abs(after[0]["t_s"] - r["start_s"] - r["delay_s"]) < 0.051
+    assert r["silent_dose_pct"] is not None
+PYEOF
+then ok "each row's alarm, delay and silent_wrong_s are the simulator's on the scenario written"
+else nok "each row's alarm, delay and silent_wrong_s are the simulator's on the scenario written"; fi
+$PY tools/faults.py "$SIM" --only no_such_fault --out "$tmp/g" > /dev/null 2> "$tmp/err" && nok "an unknown fault is refused" \
+    || { grep -q "^faults: unknown fault no_such_fault (one of: leak_growing" "$tmp/err" && ok "an unknown fault is refused in one line" \
+         || nok "an unknown fault is refused in one line" "$(cat "$tmp/err")"; }
+$PY tools/faults.py /nonexistent > /dev/null 2> "$tmp/err" && nok "a missing simulator is refused" \
+    || { grep -q "not an executable simulator" "$tmp/err" && ok "a missing simulator is refused in one line" \
+         || nok "a missing simulator is refused in one line" "$(cat "$tmp/err")"; }
