@@ -306,8 +306,10 @@ def main():
         print("%-14s %-26s %-34s %8s %10s %9s%s" % (r["fault"], r["size"], alarm, fmt(r["delay_s"]),
                                                      fmt(r["silent_dose_pct"]), fmt(r["silent_wrong_s"]),
                                                      "  " + r["note"] if r["note"] else ""))
+        later = sorted(set(r["later"]) - {r["alarm"]})
         md.append("| %s | %s | %s | %s | %s | %s | %s |" % (
-            what[r["fault"]], r["size"], "none" if r["alarm"] is None else "`%s`: %s" % (r["alarm"], r["alarm_text"]),
+            what[r["fault"]], r["size"], "none" if r["alarm"] is None else "`%s`: %s%s" % (
+                r["alarm"], r["alarm_text"], "; later %s" % ", ".join("`%s`" % c for c in later) if later else ""),
             fmt(r["delay_s"]), fmt(r["silent_dose_pct"]), fmt(r["silent_wrong_s"]), r["note"].replace("|", "/")))
     with open(os.path.join(a.out, "table.md"), "w") as f:
         f.write("\n".join(md) + "\n")
