@@ -394,7 +394,7 @@ void sim_step(sim_t *sim)
         unsigned rise = app_status.alarms & ~sim->prev_alarms;
         uint8_t b;
         char buf[16];
-        for (b = 0; b < 16; b++)
+        for (b = 0; b < 8 * sizeof app_status.alarms; b++)     /* every bit the firmware has */
             if (rise & (1u << b))
                 metrics_alarm(&sim->metrics, t1 * 1e-9, alarm_code(b, buf, sizeof buf), app_alarm_text(b));
     }

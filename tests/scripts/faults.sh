@@ -64,6 +64,47 @@ for r in s["rows"]:
 PYEOF
 then ok "each row's alarm, delay and silent_wrong_s are the simulator's on the scenario written"
 else nok "each row's alarm, delay and silent_wrong_s are the simulator's on the scenario written"; fi
+# silent_wrong_s again from the 0.1 s trace (the nozzles' mean flow, the true speed, the width less
+# the clogged nozzles, the boom valve, the alarms), apart from the simulator's metrics code
+if $PY - "$SIM" "$tmp" <<'PYEOF'
+import csv, json, subprocess, sys
+sys.path.insert(0, "tools")
+import faults
+sim, tmp = sys.argv[1:3]
+for size in (10, 5):
+    spec = faults.clog_growing(size)
+    path = "%s/clog%d.scn" % (tmp, size)
+    open(path, "w").write(spec["text"])
+    out = subprocess.run([sim, "--scenario", path, "--csv", path + ".csv"], capture_output=True, text=True)
+    m = json.loads(out.stdout.strip().splitlines()[-1])
+    run = longest = total = 0.0
+    n_wrong = 0
+    for r in csv.DictReader(open(path + ".csv")):
+        t, v, q = float(r["t_s"]), float(r["v_true_kmh"]), float(r["boom_lpm"])
+        width = (int(r["open_nozzles"]) - faults.step_value(spec["clogs"], t - 0.05, 0)) * 0.5
+        spray, told = int(r["spray_on"]), int(r["alarms"], 16) != 0
+        if not spray:
+            wrong = v >= 2.0
+        elif v < 0.5:
+            wrong = q > 0
+        else:
+            wrong = width <= 0 or abs(q * 600 / (v * width) / float(r["rate_l_ha"]) - 1) > 0.10
+        n_wrong += wrong
+        if wrong and not told:
+            run += 0.1
+        else:
+            if run >= 5 - 1e-9:
+                longest, total = max(longest, run), total + run
+            run = 0.0
+    if run >= 5 - 1e-9:
+        longest, total = max(longest, run), total + run
+    assert abs(longest - m["silent_wrong_s"]) < 0.01 and abs(total - m["silent_wrong_total_s"]) < 0.01, \
+        (size, longest, total, m["silent_wrong_s"], m["silent_wrong_total_s"])
+    # by hand: from the 4th clogged nozzle (150 s) the open strips get 36 / 32 = +12.5 % or more, to 300 s: 1500 samples
+    assert n_wrong > 1400, n_wrong
+PYEOF
+then ok "silent_wrong_s and its total counted again from the trace of a clogging boom: the simulator's"
+else nok "silent_wrong_s and its total counted again from the trace of a clogging boom: the simulator's"; fi
 $PY tools/faults.py "$SIM" --only no_such_fault --out "$tmp/g" > /dev/null 2> "$tmp/err" && nok "an unknown fault is refused" \
     || { grep -q "^faults: unknown fault no_such_fault (one of: leak_growing" "$tmp/err" && ok "an unknown fault is refused in one line" \
          || nok "an unknown fault is refused in one line" "$(cat "$tmp/err")"; }
