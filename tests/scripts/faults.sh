@@ -81,7 +81,7 @@ for size in (10, 5):
     n_wrong = 0
     for r in csv.DictReader(open(path + ".csv")):
         t, v, q = float(r["t_s"]), float(r["v_true_kmh"]), float(r["boom_lpm"])
-        width = (int(r["open_nozzles"]) - faults.step_value(spec["clogs"], t - 0.05, 0)) * 0.5
+        width = (int(r["open_nozzles"]) - faults.step_value(spec["clogs"], t, 0)) * 0.5
         spray, told = int(r["spray_on"]), int(r["alarms"], 16) != 0
         if not spray:
             wrong = v >= 2.0
