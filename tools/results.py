@@ -453,7 +453,7 @@ def section_faults(sim, jobs_n):
         sys.exit("results: %s failed:\n%s" % (" ".join(cmd), r.stderr))
     with open(os.path.join("build", "faults", "table.md")) as f:
         table_md = f.read()
-    return ("### Faults: told or not\n\n"
+    return ("\n### Faults: told or not\n\n"
             "`make faults` (`tools/faults.py`): every fault of issue 51's first table at its size and about "
             "half of it, on `ffmap` at 150 L/ha, 36 nozzles, 8 km/h unless the row says otherwise, the fault "
             "from 90 s (or from the start). The first alarm or warning at or after the fault's start and its "
