@@ -369,17 +369,17 @@ void sim_step(sim_t *sim)
 
     if (sim->power_back_ns && t1 >= sim->power_back_ns)
         power_on(sim);
-    if (sim->power_back_ns)
-        ;                                   /* a dead chip: what arrives meanwhile is gone at power_on */
-    else if (sim->pass)
-        sim->pass(sim->pass_ctx);
-    else if (sim->poll)
-        sim->poll(sim);
-    else
-        app_poll();
-    if (!sim->power_back_ns && param_v[P_RATE] != sim->fw_rate) {
-        sim->fw_rate = param_v[P_RATE];     /* the operator set a rate (event, key or link) */
-        sim->set_rate = sim->fw_rate;
+    if (!sim->power_back_ns) {              /* a dead chip runs nothing; what arrives is gone at power_on */
+        if (sim->pass)
+            sim->pass(sim->pass_ctx);
+        else if (sim->poll)
+            sim->poll(sim);
+        else
+            app_poll();
+        if (param_v[P_RATE] != sim->fw_rate) {
+            sim->fw_rate = param_v[P_RATE]; /* the operator set a rate (event, key or link) */
+            sim->set_rate = sim->fw_rate;
+        }
     }
     if (sim->drive_log && (hal_host_io.valve_dir != sim->log_dir || hal_host_io.valve_duty != sim->log_duty ||
                            hal_host_io.spray_on != sim->log_spray)) {
