@@ -346,7 +346,7 @@ static void test_scenario_project_files_load(void **state)
 static void test_scenario_key_serial_and_fault_events(void **state)
 {
     static const char text[] =
-        "[run]\nduration_s = 100\n[events]\n"
+        "[run]\nduration_s = 100\n[drive]\n0 8\n[events]\n"
         "# 5 key 1   (a comment, not a key)\n"
         "5 key #\n"
         "6   serial   SET 0 100*43   \n"
@@ -361,7 +361,7 @@ static void test_scenario_key_serial_and_fault_events(void **state)
     assert_int_equal(s.n_events, 8);
     assert_int_equal(s.events[0].kind, EV_KEY);
     assert_string_equal(s.events[0].text, "#");
-    assert_int_equal(s.events[0].line, 5);
+    assert_int_equal(s.events[0].line, 7);
     assert_int_equal(s.events[1].kind, EV_SERIAL);
     assert_string_equal(s.events[1].text, "SET 0 100*43");
     assert_int_equal(s.events[2].kind, EV_METER_K);
