@@ -67,8 +67,8 @@ SHARE_SKIP := $(addprefix firmware/control/,aog.c raven.c) \
               $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c moves_short.c \
                 moves_arith.c moves_more.c moves_late.c \
                 divulong.c)
-# the controllers' modules: not the tenth round's sequences (x_) nor the later round's (z_):
-# their steps' cycles as before
+# the controllers' modules: not the x_ nor the z_ sets of sequences, so that their steps keep
+# their cycles
 SHARE_OPTS_firmware/control/ffmap.c := --skip=x_ --skip=z_
 SHARE_OPTS_firmware/control/pid.c := --skip=x_ --skip=z_
 SHARE_OPTS_firmware/control/ctl_out.c := --skip=x_ --skip=z_

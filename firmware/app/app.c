@@ -194,7 +194,7 @@ static void app_spray(void)
      * until the pressure is under P max, the target over half the nozzle model's flow there, or
      * APP_P_WAIT. Under twice the target is no further from it than a shut boom, and the flow
      * falls as the bypass opens (a 10-12 s valve from closed needs 5-7 s to get under P max,
-     * and those metres got nothing: docs/CONTROLLERS.md, the seventeenth round) */
+     * and those metres got nothing) */
     app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp()
                            && (uint16_t)ap.q_model > ((uint16_t)app_status.target_lpm_x100 << 1);
     want &= !app_status.boom_wait;

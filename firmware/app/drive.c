@@ -204,7 +204,7 @@ void drive_step(void)
     /* Near P max a closing drive is held to twice Min duty (every controller's): a fast valve
      * told it is slower, turned after a rest by a pulse worth its backlash, carried the flow a
      * tenth and the pressure 0.7 bar past in 0.8 s with its motor's coast, over P max before
-     * the rule above could stop it (family plant 35 of SEED=28, its target at 4.5 bar). Min
+     * the rule above could stop it (a target at 4.5 bar). Min
      * duty, not a fixed duty: a valve stiffer than the cap would never close there. */
     if (!manual && !IO_ON && app_status.spraying && drive > 0 && analog_pressure_ok()
         && app_status.pressure_kpa > param_v[P_P_MAX] - (param_v[P_P_MAX] >> APP_NEAR_P_SHIFT)

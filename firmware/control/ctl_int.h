@@ -108,8 +108,7 @@ typedef struct {
 #define FFMAP_P_T_DUTY Q15(0.10)       /* ... a closing there at most the smallest pulse + this, on
                                      * a valve whose gain was learnt under FFMAP_G_INIT (ffmap_out); at
                                      * 1/4 and 0.15 a 0.15 s motor's coast still took a 1.9 s
-                                     * valve's line over P max (docs/CONTROLLERS.md, the
-                                     * twenty-sixth and twenty-seventh rounds) */
+                                     * valve's line over P max */
 #define FFMAP_WARM 100                 /* little gain learning in the first 10 s of a (re)start: the pump
                                      * spins up, the line primes, the flow overshoots from the parked
                                      * valve (ffmap_gain_adapt says what is learnt there) */

@@ -46,7 +46,7 @@ static void ffmap_cap_up(void);
  * cycle was a reversal under 1.5 times the smallest and at most one pulse more (ffmap_rlim): that
  * swing is the valve's resolution, which a lower gain only makes slower to answer a change (a
  * stiff 2 s valve: OFF_RATE at a slow-down); there, at a steady target, the reversals are made
- * smaller instead (docs/CONTROLLERS.md, the twenty-second round).
+ * smaller instead (test_ffmap.c pins both).
  * After a start-up closing (the loop starts with the meter reading a quarter of the target), for
  * FFMAP_WARM periods while the valve runs beyond FFMAP_LEAD_DRIVE, the integral acts on the flow
  * FFMAP_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
@@ -95,7 +95,7 @@ void ffmap_init(void)
  * fast one's overshoot): it comes back at once, or a fast stiff valve told the truth creeps at
  * drives near its break-away until OFF_RATE; unless the duty cap holds a valve that swung the
  * flow (ffmap_cap): there the cut is the cure. The raise stays 3/32 for a big error too: a target
- * step's error is big one way while the valve answers (docs/CONTROLLERS.md, the eleventh round). */
+ * step's error is big one way while the valve answers. */
 CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 {
     if (!ffmap_warm && ++M->warm >= FFMAP_WARM)
@@ -171,7 +171,7 @@ static void ffmap_ff(void)
      * is over 360 kPa (ffmap_hi_p, the last period's) and the error filtered over 4 periods says the
      * flow is over the target by more than target >> FFMAP_FF_ESH (ff_v): near P max the closing
      * held back the loop's opening, a reversal owed until FFMAP_REV_MIN, and the line went over P
-     * max (docs/CONTROLLERS.md, the fifteenth round). Filtered: the wheel's jitter moves the
+     * max. Filtered: the wheel's jitter moves the
      * target by about a percent a period. */
     if ((M->epk_now || (ffmap_hi_p && M->ef < -(int16_t)ff_v)) && (M->rf ^ ffmap_e) < 0)
         return;
@@ -182,8 +182,7 @@ static void ffmap_ff(void)
  * much faster than told, on a pump and bypass far bigger than the boom needs, moves the flow by
  * more in one period at full duty than the loop sees in time (the meter's lag, the motor's coast
  * and the backlash carry it past the target), and it swings at full duty from nothing to twice
- * the target (family plant 10 of SEED=62: a 1.64 s valve told 4 s, a 144 L/min pump, 14.7 L/min
- * at the boom); at full duty a smaller gain changes nothing, a lower top speed does. After
+ * the target (a 1.64 s valve told 4 s, a 144 L/min pump, 14.7 L/min at the boom); at full duty a smaller gain changes nothing, a lower top speed does. After
  * FFMAP_CAP_N periods in a row at the cap one way, a period whose flow moved that way by more than
  * target >> FFMAP_CAP_SH takes a quarter off the cap (down to FFMAP_CAP_MIN), one that moved by less
  * than half of that gives an eighth back, as does the gain's raise (the valve is slower than the
@@ -232,8 +231,7 @@ static void ffmap_capd(void)
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. Past the
  * target the way it last moved (ffmap_up) the valve rests only within target >> FFMAP_DB_PAST: a rest
- * there is the change's overshoot (0.3 % of the level, 2 % of a small change; docs/CONTROLLERS.md,
- * the twenty-seventh round). */
+ * there is the change's overshoot (0.3 % of the level, 2 % of a small change). */
 __bit ffmap_up;
 CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 {
@@ -380,7 +378,7 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
  * with the pump at two to three times the whole boom's flow that is (n / o + 1) / 2 times less
  * within about a fifth (6 of 36 nozzles: 3.3-4.2 against 3.5). A loop set in flow units on the
  * whole boom was that much slower with sections shut: with six of 36 nozzles open a halt's
- * restart took OFF_RATE (docs/CONTROLLERS.md, the eighteenth round). What is learnt stays the
+ * restart took OFF_RATE. What is learnt stays the
  * whole boom's. */
 static int16_t ffmap_gain_at_p(void)
 {

@@ -1,9 +1,9 @@
-/* moves_late.c: the shared copies of the later round of SDCC's moves (tools/share_moves.py, as moves.c). */
+/* moves_late.c: the shared copies of the z_ set of SDCC's moves (tools/share_moves.py, as moves.c). */
 #include "compiler.h"
 
 /*
  * As in moves.c: each routine _mv_NAME is exactly the instructions of share_moves.py's
- * MOVES["NAME"], then RET. The later round (z_): the sequences the modules outside the
+ * MOVES["NAME"], then RET. The z_ set: the sequences the modules outside the
  * controllers still wrote out most often once every set before had been shared (a second pass
  * of the tool, after those), each used often enough to pay for its routine (DPTR from a pair of
  * locals, frame offsets, 16-bit loads, stores and sums, compares, shifts). None sets _bp or SP.

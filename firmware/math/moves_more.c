@@ -3,7 +3,7 @@
 
 /*
  * As in moves.c: each routine _mv_NAME is exactly the instructions of share_moves.py's
- * MOVES["NAME"], then RET. Issue 14's tenth round: the sequences the modules outside the
+ * MOVES["NAME"], then RET. The x_ set: the sequences the modules outside the
  * controllers still wrote out most often, each used often enough to pay for its routine
  * (register triples to and from DPTR, frame offsets, 16-bit loads and stores). The host build has no such code.
  */

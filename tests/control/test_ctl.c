@@ -640,8 +640,7 @@ static int fast_step(int g)
 
 /* ffmap: a valve nothing was learnt of starts at 3/4 of the gain Valve time gives (FFMAP_G_INIT):
  * the family's valves run 1.5-12 s, and one much faster than told overshot its first changes
- * at the full gain (OVERPRESSURE at targets near P max: docs/CONTROLLERS.md, the fourteenth
- * round); a slower one's gain rises by 3/32 every FFMAP_SLOW_N periods it lags. */
+ * at the full gain (OVERPRESSURE at targets near P max); a slower one's gain rises by 3/32 every FFMAP_SLOW_N periods it lags. */
 static void test_ctl_ffmap_starts_a_new_valve_under_the_full_gain(void **state)
 {
     (void)state;

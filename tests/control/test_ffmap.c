@@ -341,7 +341,7 @@ static void test_ffmap_the_feed_forward_does_not_close_over_the_target_near_p_ma
  * target until the stall rule grows them: at most 3.4 s (seeds 3, 4, 6, 7: 3.0-3.4 s; 0.4-1.9 s
  * before). Counting every pulse up to twice the smallest as a stall while the error is big took
  * it to 1.6 s but let a noisy wheel teach kff past FFMAP_FF_LEAD on a pump on the wheels
- * (test_ffmap_ff.c: 44): not kept (docs/CONTROLLERS.md, the twenty-seventh round). The gain
+ * (test_ffmap_ff.c: 44): not kept. The gain
  * is kept: no OFF_RATE. */
 static void test_ffmap_a_stiff_fast_valve_keeps_its_gain(void **state)
 {
