@@ -87,9 +87,9 @@ typedef struct {
 #define FFMAP_P_WAIT 5                 /* periods after a (re)start without the proportional term */
 #define FFMAP_FF_RSH 2                 /* the speed's feed-forward: a ramp is its change of the target ... */
 #define FFMAP_FF_RAMP 40               /* ... filtered over about 2^FFMAP_FF_RSH periods beyond this (x100) */
-#define FFMAP_FF_ESH 7                 /* ... the error beyond target >> this: kff lags or leads */
-#define FFMAP_FF_MAX 2000              /* the largest kff (a 9.4 s valve of the family learnt 430) */
-#define FFMAP_FF_LEAD 32               /* kff under this: the flow follows the speed by itself (a pump
+#define FFMAP_FF_ESH 7                 /* ... the error beyond target >> this: ff_gain lags or leads */
+#define FFMAP_FF_MAX 2000              /* the largest ff_gain */
+#define FFMAP_FF_LEAD 32               /* ff_gain under this: the flow follows the speed by itself (a pump
                                      * on the wheels learns at most 20, one on a fixed PTO 56-404
                                      * after its first ramps): the speed without its lead (speed.h) */
 #define FFMAP_FF_OFF_SH 3              /* ... and, the wheel unlearnt, only a ramp 2^this past the band teaches it */
@@ -114,34 +114,34 @@ typedef struct {
                                      * valve (ffmap_gain_adapt says what is learnt there) */
 typedef struct {
     int16_t e1, e2;                 /* x100 L/min: e(k-1), e(k-2) */
-    int16_t ef;                     /* x100 the error filtered over 4 periods (the deadband's) */
-    int16_t t1;                     /* x100 last target */
+    int16_t err_filt;               /* x100 the error filtered over 4 periods (the deadband's) */
+    int16_t target_last;            /* x100 L/min: the last period's target */
     uint8_t rest;                   /* 1: inside the deadband, the valve rests */
     int8_t dir;                     /* +1 / -1: the direction of the last pulse */
     uint8_t stall_n;                /* smallest pulses one way in a row */
-    int16_t stall_y;                /* x100 the flow when the first of them was sent */
+    int16_t stall_flow;             /* x100 L/min: the flow when the first of them was sent */
     /* what is learnt of the valve, together (the EEPROM keeps these STORE_LEARN_CTL bytes): */
-    int16_t g;                      /* Q8: the loop gain learnt for this valve (256 = as told) */
-    int16_t brk;                    /* Q15 added to Min duty after stalls */
-    int16_t rmin;                   /* Q15: the motion owed the other way that makes a reversal */
-    int16_t kff;                    /* Q15 drive per x100 L/min the speed moves the target (ffmap_ff, even) */
+    int16_t gain;                   /* Q8: the loop gain learnt for this valve (256 = as told) */
+    int16_t brk_extra;              /* Q15 added to Min duty after stalls */
+    int16_t rev_min;                /* Q15: the motion owed the other way that makes a reversal */
+    int16_t ff_gain;                /* Q15 drive per x100 L/min the speed moves the target (ffmap_ff, even) */
     uint16_t brk_age;               /* periods since the last stall */
     uint8_t rev_age;                /* periods since the last reversal (saturates) */
     uint8_t moved;                  /* 1: the target moved since the last reversal */
     uint8_t slow_n;                 /* periods awake with the error one way and no reversal */
     uint8_t warm;                   /* periods since the loop (re)started, up to FFMAP_WARM */
-    int16_t epk;                    /* x100 the largest abs error since the last reversal */
+    int16_t err_peak;               /* x100 the largest abs error since the last reversal */
     uint8_t big;                    /* 1: the half cycle before the last reversal swung big */
-    uint8_t epk_now;                /* 1: this period's abs error beyond target >> FFMAP_BIG_SHIFT */
-    uint16_t v1;                    /* x100 km/h: the last period's speed */
-    int16_t rf;                     /* x100 L/min: the speed's change of the target, filtered */
-    int32_t ffd;                    /* Q15 this period's feed-forward drive */
+    uint8_t err_big;                /* 1: this period's abs error beyond target >> FFMAP_BIG_SHIFT */
+    uint16_t speed_last;            /* x100 km/h: the last period's speed */
+    int16_t ramp;                   /* x100 L/min: the speed's change of the target, filtered */
+    int32_t ff_drive;               /* Q15 this period's feed-forward drive */
     uint8_t lead;                   /* 1: this (re)start found the meter at a quarter of the target */
     uint8_t cap;                    /* the duty cap: (cap << 7) | 127, Q15 (255: full duty) */
-    uint8_t capn;                   /* periods in a row the valve was driven at the cap one way */
-    uint8_t capc;                   /* ... before this period */
-    int16_t f1;                     /* x100 L/min the last period's flow */
-    int16_t g0;                     /* Q8: the loop gain when the loop (re)started */
+    uint8_t cap_run;                /* periods in a row the valve was driven at the cap one way */
+    uint8_t cap_run_before;         /* ... before this period */
+    int16_t flow_last;              /* x100 L/min the last period's flow */
+    int16_t gain_start;             /* Q8: the loop gain when the loop (re)started */
     uint8_t hold;                   /* periods left without P and D after the sections changed */
 } ffmap_state_t;
 
@@ -212,7 +212,7 @@ extern const __code int8_t fz_tab[3][7][7];
 #else
 extern const ctl_in_t *ctl_in;
 #endif
-/* ffmap: the last reversal sent was under 1.5 times the smallest one (rmin) and at most one pulse
+/* ffmap: the last reversal sent was under 1.5 times the smallest one (rev_min) and at most one pulse
  * followed it the same way: what the half cycle swung is the valve's resolution, not the loop
  * gain (ffmap.c ffmap_out); ffmap_rl1: a pulse followed it */
 extern __bit ffmap_rlim, ffmap_rl1;

@@ -21,7 +21,7 @@ static void ffmap_cap_up(void);
  *   - break-away: from rest nothing moves below Min duty, so motions too small for one pulse are
  *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
  *   - a valve stiffer than Min duty says: FFMAP_STALL_N smallest pulses one way (ffmap_stall) without
- *     the flow moving that way are a stall, and the smallest pulse grows (brk, forgotten slowly);
+ *     the flow moving that way are a stall, and the smallest pulse grows (brk_extra, forgotten slowly);
  *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
  *     answers (quick reversals near the target lower it, a long error one way raises it), cut
  *     above FFMAP_P_REF, where the bypass holds the flow harder (ffmap_gain_at_p);
@@ -63,19 +63,19 @@ void ffmap_init(void)
 {
     uint8_t i;
     M->dir = 0;
-    M->stall_y = 0;
+    M->stall_flow = 0;
     M->brk_age = 0;
     M->rev_age = 255;
     M->moved = 0;
     /* what was learnt of this valve before: the EEPROM's record (CRC-checked, written by this
      * firmware) or, without one, 0xFF bytes */
     for (i = 0; i < STORE_LEARN_CTL; i++)
-        ((uint8_t *)&M->g)[i] = store_learnt(i);
-    if (M->g <= 0) {
-        M->g = FFMAP_G_INIT;
-        M->brk = 0;
-        M->rmin = FFMAP_REV_MIN;
-        M->kff = 0;
+        ((uint8_t *)&M->gain)[i] = store_learnt(i);
+    if (M->gain <= 0) {
+        M->gain = FFMAP_G_INIT;
+        M->brk_extra = 0;
+        M->rev_min = FFMAP_REV_MIN;
+        M->ff_gain = 0;
     }
     M->slow_n = 0;
     M->cap = 255;
@@ -100,13 +100,13 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 {
     if (!ffmap_warm && ++M->warm >= FFMAP_WARM)
         ffmap_warm = 1;
-    if (M->rest || (e > 0) != (M->e1 > 0) || (!ffmap_warm && (M->g >= M->g0 || M->cap != 255))
+    if (M->rest || (e > 0) != (M->e1 > 0) || (!ffmap_warm && (M->gain >= M->gain_start || M->cap != 255))
         || (ctl_in->valve_limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN))) {
         M->slow_n = 0;
-    } else if ((M->slow_n += M->epk_now ? 4 : 1) >= FFMAP_SLOW_N) {
+    } else if ((M->slow_n += M->err_big ? 4 : 1) >= FFMAP_SLOW_N) {
         M->slow_n = 0;
-        if (M->g < FFMAP_G_MAX)
-            M->g += (M->g >> 4) + (M->g >> 5);
+        if (M->gain < FFMAP_G_MAX)
+            M->gain += (M->gain >> 4) + (M->gain >> 5);
         ffmap_cap_up();
     }
     if (M->rev_age < 255)
@@ -117,14 +117,14 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
  * ground speed does, and a loop on the error alone lags through every change of speed; with the
  * pump on the wheels the boom's flow follows the speed by itself. Which of the two this sprayer
  * is, and how far its valve moves the flow, is learnt from the error a speed change leaves:
- * kff, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
+ * ff_gain, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
  * the flow lags a ramp of the target (its change filtered over about 2^FFMAP_FF_RSH periods beyond
  * FFMAP_FF_RAMP) by more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; nothing in
- * the first FFMAP_WARM periods (the start-up's own error), at rest or against a stop. While kff is
+ * the first FFMAP_WARM periods (the start-up's own error), at rest or against a stop. While ff_gain is
  * under FFMAP_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
  * wheel steps the target by a few percent a pulse, which the flow never follows (read as lag). Only a
  * change of the target that the speed made counts, the speed moving the same way (not the
- * minimum-flow rule, not a section, not the rate). The drive is kff times that change filtered
+ * minimum-flow rule, not a section, not the rate). The drive is ff_gain times that change filtered
  * over about 2^FFMAP_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
  * the target up and back by about a percent, which on a stiff valve would be two reversals
  * each. The working values the code uses most are in the direct RAM (the cheapest addressing;
@@ -133,49 +133,66 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 /* this period's error, the step's most used value: in the direct RAM (the cheapest addressing;
  * the step never runs inside itself; ffmap_ff reads it too) */
 static __data int16_t ffmap_e;
-static __data uint16_t ff_v;           /* the speed, then the error band */
-static __data int16_t ff_dq;            /* the target's change, then the error's size */
 static __bit ffmap_hi_p;                   /* the pressure over 360 kPa this period (FFMAP_P_HI_F) */
 static __bit ffmap_hi_t;                   /* the target's pressure over 400 kPa (FFMAP_P_T_F) */
-/* ffmap_gain_at_p's root and bit, in the same bytes (it runs after ffmap_ff, which is done with them) */
-#define gp_f ff_v
-#define gp_b ff_dq
-#define ff_d (M->ffd)
+/* The step's scratch in the direct RAM: 4 bytes that each phase of the step names for what it
+ * holds there (the phases run one after the other and keep nothing in them across the step). */
+static __data union {
+    struct {
+        uint16_t speed;             /* x100 km/h: this period's speed */
+        int16_t dq;                 /* x100 L/min: the target's change the speed made */
+    } ff;                           /* ffmap_ff, the feed-forward's input */
+    struct {
+        uint16_t band;              /* x100 L/min: target >> FFMAP_FF_ESH */
+        uint16_t abs_e;             /* x100 L/min: |error| */
+    } ffl;                          /* ffmap_ff, its learning */
+    uint16_t cap_next;              /* ffmap_cap_up: the cap raised by an eighth, before its limit */
+    struct {
+        uint16_t lim;               /* x100 L/min: target >> FFMAP_CAP_SH */
+        int16_t dq;                 /* x100 L/min: the flow's change the way the valve ran */
+    } cap;                          /* ffmap_cap */
+    uint16_t top;                   /* ffmap_out: the top duty, Q15 (the cap, at least the smallest pulse) */
+    struct {
+        uint16_t root;              /* Q8: floor(sqrt(FFMAP_P_REF / P)), built bit by bit */
+        int16_t bit;                /* the bit being tried */
+    } gp;                           /* ffmap_gain_at_p */
+} ffmap_w;
 
 static void ffmap_ff(void)
 {
-    speed_plain = M->kff < FFMAP_FF_LEAD;
-    ff_v = ctl_in->speed_kmh_x100;
-    ff_dq = ctl_in->target_lpm_x100 - M->t1;
-    if (!M->v1 || (ff_v > M->v1 ? ff_dq <= 0 : ff_v == M->v1 || ff_dq >= 0))
-        ff_dq = 0;
-    M->v1 = ff_v;
-    M->rf += ff_dq - (M->rf >> FFMAP_FF_RSH);
-    ff_d = 0;
+    speed_plain = M->ff_gain < FFMAP_FF_LEAD;
+    ffmap_w.ff.speed = ctl_in->speed_kmh_x100;
+    ffmap_w.ff.dq = ctl_in->target_lpm_x100 - M->target_last;
+    if (!M->speed_last || (ffmap_w.ff.speed > M->speed_last ? ffmap_w.ff.dq <= 0
+                   : ffmap_w.ff.speed == M->speed_last || ffmap_w.ff.dq >= 0))
+        ffmap_w.ff.dq = 0;
+    M->speed_last = ffmap_w.ff.speed;
+    M->ramp += ffmap_w.ff.dq - (M->ramp >> FFMAP_FF_RSH);
+    M->ff_drive = 0;
     if (M->rest)
         return;
-    ff_v = (uint16_t)(ctl_in->target_lpm_x100 >> FFMAP_FF_ESH);
-    ff_dq = ffmap_e < 0 ? -ffmap_e : ffmap_e;
-    if (ffmap_warm && !ctl_in->valve_limit && (uint16_t)ff_dq > ff_v
-        && (uint16_t)(M->rf < 0 ? -M->rf : M->rf)
-               > (speed_plain && !speed_learnt ? ff_v << FFMAP_FF_OFF_SH : FFMAP_FF_RAMP)) {
-        if ((M->rf ^ ffmap_e) >= 0) {          /* the same sign: the flow lags */
-            if (M->kff < FFMAP_FF_MAX)
-                M->kff += 2;
-        } else if (M->kff) {
-            M->kff -= 2;
+    ffmap_w.ffl.band = (uint16_t)(ctl_in->target_lpm_x100 >> FFMAP_FF_ESH);
+    ffmap_w.ffl.abs_e = ffmap_e < 0 ? -ffmap_e : ffmap_e;
+    if (ffmap_warm && !ctl_in->valve_limit && ffmap_w.ffl.abs_e > ffmap_w.ffl.band
+        && (uint16_t)(M->ramp < 0 ? -M->ramp : M->ramp)
+               > (speed_plain && !speed_learnt ? ffmap_w.ffl.band << FFMAP_FF_OFF_SH : FFMAP_FF_RAMP)) {
+        if ((M->ramp ^ ffmap_e) >= 0) {          /* the same sign: the flow lags */
+            if (M->ff_gain < FFMAP_FF_MAX)
+                M->ff_gain += 2;
+        } else if (M->ff_gain) {
+            M->ff_gain -= 2;
         }
     }
-    /* nothing while the flow is past the target the way it would push, by a big error (kff is
+    /* nothing while the flow is past the target the way it would push, by a big error (ff_gain is
      * learnt slowly, and a gain learnt low would not outweigh it); and no closing while the line
      * is over 360 kPa (ffmap_hi_p, the last period's) and the error filtered over 4 periods says the
-     * flow is over the target by more than target >> FFMAP_FF_ESH (ff_v): near P max the closing
+     * flow is over the target by more than target >> FFMAP_FF_ESH (the band): near P max the closing
      * held back the loop's opening, a reversal owed until FFMAP_REV_MIN, and the line went over P
      * max. Filtered: the wheel's jitter moves the
      * target by about a percent a period. */
-    if ((M->epk_now || (ffmap_hi_p && M->ef < -(int16_t)ff_v)) && (M->rf ^ ffmap_e) < 0)
+    if ((M->err_big || (ffmap_hi_p && M->err_filt < -(int16_t)ffmap_w.ffl.band)) && (M->ramp ^ ffmap_e) < 0)
         return;
-    ff_d = MUL(M->rf >> FFMAP_FF_RSH, M->kff);
+    M->ff_drive = MUL(M->ramp >> FFMAP_FF_RSH, M->ff_gain);
 }
 
 /* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve
@@ -190,43 +207,30 @@ static void ffmap_ff(void)
  * in its first swing). */
 static void ffmap_cap_up(void)
 {
-    ff_v = M->cap + (M->cap >> 3) + 1;
-    M->cap = ff_v > 255 ? 255 : (uint8_t)ff_v;
+    ffmap_w.cap_next = M->cap + (M->cap >> 3) + 1;
+    M->cap = ffmap_w.cap_next > 255 ? 255 : (uint8_t)ffmap_w.cap_next;
 }
 
-/* each period before the output stage: the flow's change, judged after FFMAP_CAP_N at the cap (ff_v, ff_dq) */
+/* each period before the output stage: the flow's change, judged after FFMAP_CAP_N at the cap */
 static void ffmap_cap(void)
 {
-    ff_dq = ctl_in->flow_lpm_x100 - M->f1;
-    M->f1 = ctl_in->flow_lpm_x100;
-    M->capc = M->capn;
-    M->capn = 0;
-    if (M->capc < FFMAP_CAP_N)
+    ffmap_w.cap.dq = ctl_in->flow_lpm_x100 - M->flow_last;
+    M->flow_last = ctl_in->flow_lpm_x100;
+    M->cap_run_before = M->cap_run;
+    M->cap_run = 0;
+    if (M->cap_run_before < FFMAP_CAP_N)
         return;
     if (M->dir < 0)
-        ff_dq = -ff_dq;
-    ff_v = ctl_in->target_lpm_x100 >> FFMAP_CAP_SH;
-    if (ff_dq > (int16_t)ff_v) {
+        ffmap_w.cap.dq = -ffmap_w.cap.dq;
+    ffmap_w.cap.lim = ctl_in->target_lpm_x100 >> FFMAP_CAP_SH;
+    if (ffmap_w.cap.dq > (int16_t)ffmap_w.cap.lim) {
         if (M->cap > FFMAP_CAP_MIN)
             M->cap -= M->cap >> 2;
-    } else if (ff_dq < (int16_t)(ff_v >> 1)) {
+    } else if (ffmap_w.cap.dq < (int16_t)(ffmap_w.cap.lim >> 1)) {
         ffmap_cap_up();
     }
-    if (M->capc == 255)
-        M->capc--;
-}
-
-/* the output stage's duty ff_dq at most the cap, which is at least the smallest pulse ff_v; a
- * duty within 1/256 of full duty under the cap counts as at the cap (capc 255: a reversal) */
-static void ffmap_capd(void)
-{
-    if ((uint8_t)(ff_v >> 7) < M->cap)
-        ff_v = ((uint16_t)M->cap << 7) | 0x7F;
-    if ((uint16_t)ff_dq >= (ff_v & 0xFF80u)) {
-        if ((uint16_t)ff_dq > ff_v)
-            ff_dq = ff_v;
-        M->capn = M->capc + 1;
-    }
+    if (M->cap_run_before == 255)
+        M->cap_run_before--;
 }
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. Past the
@@ -235,10 +239,10 @@ static void ffmap_capd(void)
 __bit ffmap_up;
 CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 {
-    int16_t c, dq = (int16_t)(q - M->t1);
+    int16_t c, dq = (int16_t)(q - M->target_last);
     uint8_t c2;
-    M->ef = (int16_t)(M->ef + ((e - M->ef + 2) >> 2));
-    c = M->ef < 0 ? (int16_t)-M->ef : M->ef;
+    M->err_filt = (int16_t)(M->err_filt + ((e - M->err_filt + 2) >> 2));
+    c = M->err_filt < 0 ? (int16_t)-M->err_filt : M->err_filt;
     c2 = (uint16_t)(dq < 0 ? -dq : dq) > (uint16_t)(q >> FFMAP_MOVE_SHIFT);  /* |dq| 2^6 > q (q >= 0) */
     M->moved |= c2;
     if (c2)
@@ -247,7 +251,7 @@ CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
         if (M->rest && (ctl_carry > 0) != (e > 0))
             ctl_carry = 0;          /* waking: what the slow integral owed the other way is stale */
         M->rest = 0;
-    } else if (!M->rest && c <= (q >> ((M->ef < 0) == ffmap_up ? FFMAP_DB_PAST : FFMAP_DB_IN)) && q > 0) {
+    } else if (!M->rest && c <= (q >> ((M->err_filt < 0) == ffmap_up ? FFMAP_DB_PAST : FFMAP_DB_IN)) && q > 0) {
         M->rest = 1;
         ctl_carry = 0;              /* entering the band: nothing owed */
         M->stall_n = 0;
@@ -257,23 +261,23 @@ CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 /* A stall: FFMAP_STALL_N smallest pulses one way (or twice as many up to twice the smallest) and
  * the flow has not moved that way by target >> FFMAP_STALL_MOVE (whatever the target did
  * meanwhile; the meter's lag after a motion is less), the error still asking for that way: the
- * smallest pulse grows. brk steps back after FFMAP_BRK_AGE periods without one. */
+ * smallest pulse grows. brk_extra steps back after FFMAP_BRK_AGE periods without one. */
 CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
 {
     int32_t k;
     if (M->stall_n >= 2 * FFMAP_STALL_N) {
-        k = (int32_t)ctl_in->flow_lpm_x100 - M->stall_y;
+        k = (int32_t)ctl_in->flow_lpm_x100 - M->stall_flow;
         if (M->dir <= 0)
             k = -k;
         if (k <= (q >> FFMAP_STALL_MOVE) && (M->dir > 0 ? e > 0 : e < 0)) {
-            if (M->brk <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
-                M->brk += FFMAP_BRK_STEP;
+            if (M->brk_extra <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
+                M->brk_extra += FFMAP_BRK_STEP;
             M->brk_age = 0;
         }
         M->stall_n = 0;
     }
-    if (M->brk > 0 && ++M->brk_age >= FFMAP_BRK_AGE) {
-        M->brk -= FFMAP_BRK_STEP;
+    if (M->brk_extra > 0 && ++M->brk_age >= FFMAP_BRK_AGE) {
+        M->brk_extra -= FFMAP_BRK_STEP;
         M->brk_age = 0;
     }
 }
@@ -299,13 +303,13 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
         return 0;
     }
     d = (uint16_t)(m > 0 ? m : -m);    /* (clipped to 15 bits) */
-    if (s != M->dir && M->dir != 0 && d < (uint16_t)M->rmin) {
+    if (s != M->dir && M->dir != 0 && d < (uint16_t)M->rev_min) {
         ctl_carry = (q15_t)m;       /* a reversal waits until it is worth more than the slack */
         return 0;
     }
-    lim = d - (uint16_t)M->rmin < ((uint16_t)M->rmin >> 1);    /* (a reversal: d >= rmin) */
+    lim = d - (uint16_t)M->rev_min < ((uint16_t)M->rev_min >> 1);    /* (a reversal: d >= rev_min) */
     d = (uint16_t)ctl_drun + (uint16_t)MUL_R15((int16_t)d, ctl_run_span);
-    k = (uint16_t)CTL_STICTION + (uint16_t)M->brk;
+    k = (uint16_t)CTL_STICTION + (uint16_t)M->brk_extra;
     if (d < k) {
         ctl_carry = (q15_t)m;       /* owed until it is worth a pulse */
         return 0;
@@ -313,33 +317,39 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
     ctl_carry = 0;
     if (d > 32767)
         d = 32767;
-    c = M->capc;                    /* periods in a row at the top duty before this one */
+    c = M->cap_run_before;                    /* periods in a row at the top duty before this one */
     if (s != M->dir)
-        M->capc = 255;
-    ff_v = k;
-    ff_dq = d;
-    ffmap_capd();
-    d = ff_dq;
+        M->cap_run_before = 255;
+    /* the duty at most the cap, which is at least the smallest pulse; a duty within 1/256 of
+     * full duty under the cap counts as at the cap (cap_run_before 255: a reversal) */
+    ffmap_w.top = k;
+    if ((uint8_t)(ffmap_w.top >> 7) < M->cap)
+        ffmap_w.top = ((uint16_t)M->cap << 7) | 0x7F;
+    if (d >= (ffmap_w.top & 0xFF80u)) {
+        if (d > ffmap_w.top)
+            d = ffmap_w.top;
+        M->cap_run = M->cap_run_before + 1;
+    }
     if (s != M->dir && M->dir != 0) {
         /* two half cycles in a row that swung big, soon after each other; the last at the top */
-        c = (uint8_t)((c >= FFMAP_TOP_N) << 1) | (M->epk > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
+        c = (uint8_t)((c >= FFMAP_TOP_N) << 1) | (M->err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
         if ((c & 1) && M->big && M->rev_age <= FFMAP_OSC_GAP) {
-            if (M->g > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
-                M->g -= !ffmap_warm && c == 3 ? M->g >> 1 : M->g >> 2;
+            if (M->gain > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
+                M->gain -= !ffmap_warm && c == 3 ? M->gain >> 1 : M->gain >> 2;
             else
                 fl = ffmap_rlim;
         } else if (M->rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p) && d > 2 * k
             && (e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
             /* (a pulse near the smallest: the valve's resolution, not the gain) */
-            if (M->g > FFMAP_G_MIN)
-                M->g -= M->g >> 3;
+            if (M->gain > FFMAP_G_MIN)
+                M->gain -= M->gain >> 3;
             fl = 1;
         }
-        if (fl && !M->moved && M->rmin > FFMAP_REV_LOW && ffmap_warm)
-            M->rmin -= M->rmin >> 3;        /* a cycle at a steady target: smaller reversals */
+        if (fl && !M->moved && M->rev_min > FFMAP_REV_LOW && ffmap_warm)
+            M->rev_min -= M->rev_min >> 3;        /* a cycle at a steady target: smaller reversals */
         ffmap_rlim = lim;
         M->big = c & 1;
-        M->epk = 0;
+        M->err_peak = 0;
         M->rev_age = 0;
         M->moved = 0;
         M->slow_n = 0;
@@ -350,9 +360,9 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
     }
     if (d <= 2 * k && s == M->dir) {    /* toward a stall */
         if (M->stall_n == 0)
-            M->stall_y = ctl_in->flow_lpm_x100;
+            M->stall_flow = ctl_in->flow_lpm_x100;
         if (M->stall_n < 250)
-            M->stall_n += d <= k + (k >> 3) ? (M->epk_now ? FFMAP_STALL_BIG : 2) : 1;
+            M->stall_n += d <= k + (k >> 3) ? (M->err_big ? FFMAP_STALL_BIG : 2) : 1;
     } else {
         M->stall_n = 0;
     }
@@ -380,21 +390,22 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
  * whole boom was that much slower with sections shut: with six of 36 nozzles open a halt's
  * restart took OFF_RATE. What is learnt stays the
  * whole boom's. */
-static int16_t ffmap_gain_at_p(void)
+static int16_t ffmap_gain_at_p(void) CTL_SHARED
 {
     ffmap_hi_p = 0;
     ffmap_hi_t = 0;
-    gp_f = 256;
+    ffmap_w.gp.root = 256;
     if (ctl_in->pressure_kpa > FFMAP_P_REF) {
         /* f = floor(sqrt(FFMAP_P_REF 2^16 / P)), Q8, bit by bit and without a divide: the largest f
          * with f^2 P <= FFMAP_P_REF 2^16 (below 256, as P > FFMAP_P_REF) */
-        gp_f = 0;
-        for (gp_b = 0x80; gp_b; gp_b >>= 1) {
-            gp_f |= gp_b;
-            if (UMUL((uint16_t)UMUL(gp_f, gp_f), ctl_in->pressure_kpa) > ((uint32_t)FFMAP_P_REF << 16))
-                gp_f ^= gp_b;
+        ffmap_w.gp.root = 0;
+        for (ffmap_w.gp.bit = 0x80; ffmap_w.gp.bit; ffmap_w.gp.bit >>= 1) {
+            ffmap_w.gp.root |= ffmap_w.gp.bit;
+            if (UMUL((uint16_t)UMUL(ffmap_w.gp.root, ffmap_w.gp.root), ctl_in->pressure_kpa)
+                > ((uint32_t)FFMAP_P_REF << 16))
+                ffmap_w.gp.root ^= ffmap_w.gp.bit;
         }
-        ffmap_hi_p = (uint8_t)gp_f < FFMAP_P_HI_F;
+        ffmap_hi_p = (uint8_t)ffmap_w.gp.root < FFMAP_P_HI_F;
         /* Closing toward a target that needs over 400 kPa, on a valve learnt faster than a new one
          * starts, ffmap_out gives at most the smallest pulse + FFMAP_P_T_DUTY. A motor that runs on after
          * its drive stops (its time constant) carries the flow past the target by what its speed
@@ -403,12 +414,12 @@ static int16_t ffmap_gain_at_p(void)
          * (120/124, 28/35, 72/107): closing at full duty from a fifth under the target, where the
          * line is at 3 bar, the motor's coast took it over. The target's pressure P (q / f)^2 over
          * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FFMAP_P_REF) / f_root. */
-        if (M->g < FFMAP_G_INIT && UMUL(ctl_in->target_lpm_x100, FFMAP_P_T_F) > UMUL(M->f1, gp_f))
-            ffmap_hi_t = 1;                    /* (f1: ffmap_cap took this period's flow) */
+        if (M->gain < FFMAP_G_INIT && UMUL(M->flow_last, ffmap_w.gp.root) < UMUL(ctl_in->target_lpm_x100, FFMAP_P_T_F))
+            ffmap_hi_t = 1;                    /* (flow_last: ffmap_cap took this period's flow) */
     }
     /* (the product first: on the 8051 MUL and UMUL share their operands' bytes, and a product
      * in MUL's second operand would overwrite its first) */
-    return (int16_t)(MUL((uint16_t)UMUL(gp_f, target_noz_q) >> 2, M->g) >> 8);
+    return (int16_t)(MUL((uint16_t)UMUL(ffmap_w.gp.root, target_noz_q) >> 2, M->gain) >> 8);
 }
 
 /* The hold. When the number of nozzles open changes (target.c target_noz_new), the target steps
@@ -427,19 +438,19 @@ q15_t ffmap_step(void) CTL_SHARED
 
     ffmap_e = ctl_clamp_e(q - ctl_in->flow_lpm_x100);
     if (ctl_first) {
-        M->e1 = M->e2 = M->ef = ffmap_e;
-        M->t1 = q;
+        M->e1 = M->e2 = M->err_filt = ffmap_e;
+        M->target_last = q;
         M->rest = 0;
         M->stall_n = 0;
         M->warm = 0;
         ffmap_warm = 0;
-        M->epk = 0;
+        M->err_peak = 0;
         M->big = 0;
-        M->v1 = ctl_in->speed_kmh_x100;
-        M->rf = 0;
+        M->speed_last = ctl_in->speed_kmh_x100;
+        M->ramp = 0;
         M->lead = ffmap_e <= q - (q >> 2);
-        M->capn = 0;
-        M->g0 = M->g;
+        M->cap_run = 0;
+        M->gain_start = M->gain;
         M->hold = 0;
         target_noz_new = 0;
         ctl_first = 0;
@@ -455,12 +466,12 @@ q15_t ffmap_step(void) CTL_SHARED
     ffmap_deadband(ffmap_e, q);
     ffmap_stall(ffmap_e, q);
     d2e = ffmap_e < 0 ? -ffmap_e : ffmap_e;
-    if (d2e > M->epk)
-        M->epk = d2e;
-    M->epk_now = d2e > (q >> FFMAP_BIG_SHIFT);    /* a big error this period */
+    if (d2e > M->err_peak)
+        M->err_peak = d2e;
+    M->err_big = d2e > (q >> FFMAP_BIG_SHIFT);    /* a big error this period */
     ffmap_ff();
     if (M->rest) {
-        du = MUL(FFMAP_REST_KI, M->ef);   /* a slow integral on the filtered error: no steady bias */
+        du = MUL(FFMAP_REST_KI, M->err_filt);   /* a slow integral on the filtered error: no steady bias */
     } else {
         d2e = fx_sat16((int32_t)ffmap_e - 2 * (int32_t)M->e1 + M->e2);
         /* (not while the line fills after the boom opens: the flow's rise is not the valve's) */
@@ -469,7 +480,7 @@ q15_t ffmap_step(void) CTL_SHARED
         du += MUL(FFMAP_KD, d2e);
         if (M->lead && !ffmap_warm && (ctl_last > FFMAP_LEAD_DRIVE || ctl_last < -FFMAP_LEAD_DRIVE)) {
             /* the flow's change this period (the error is clamped far beyond any target) */
-            d2e = fx_sat16((int32_t)(q - ffmap_e) - (M->t1 - M->e1));
+            d2e = fx_sat16((int32_t)(q - ffmap_e) - (M->target_last - M->e1));
             if ((d2e > 0) == (ffmap_e > 0))
                 du -= MUL(FFMAP_KI, fx_sat16((int32_t)FFMAP_LEAD * d2e));
         }
@@ -482,10 +493,10 @@ q15_t ffmap_step(void) CTL_SHARED
         d32 = 1048575L;
     else if (d32 < -1048575L)
         d32 = -1048575L;
-    d = ffmap_out(((d32 * ffmap_gain_at_p()) >> 8) + ff_d, ffmap_e);
+    d = ffmap_out(((d32 * ffmap_gain_at_p()) >> 8) + M->ff_drive, ffmap_e);
     M->e2 = M->e1;
     M->e1 = ffmap_e;
-    M->t1 = q;
+    M->target_last = q;
 #if FW_PROBES
     /* the gains for the probes (ctl_gain: the simulator, PIL, the s51 tests); the field image
      * reads ctl_k only in pid's and bp_pid's own steps */

@@ -43,23 +43,23 @@ void ctltw_bp_learn(double w[5][4], double v[3][5], const double dw0[5][4], cons
 /* The state a step starts from, as plain numbers (loaded from the firmware's: the twin is
  * compared one step at a time). */
 typedef struct {
-    double e1, e2, ef, t1;          /* L/min */
+    double e1, e2, err_filt, target_last;  /* L/min */
     int rest, dir, stall_n, warm, rev_age, slow_n, brk_age, moved;
     int up;                         /* the target last moved up (ffmap.c ffmap_up) */
-    double rmin;                    /* motion owed the other way that makes a reversal */
-    double stall_y;                 /* L/min: the flow when the stall count started */
-    double epk;                     /* L/min: the largest abs error since the last reversal */
+    double rev_min;                 /* motion owed the other way that makes a reversal */
+    double stall_flow;              /* L/min: the flow when the stall count started */
+    double err_peak;                /* L/min: the largest abs error since the last reversal */
     int big;                        /* the half cycle before the last reversal swung big */
     int rlim, rl1;                  /* the last reversal was under 1.5 rmin, with at most one pulse
                                      * after it; a pulse followed it (ffmap.c ffmap_rlim, ffmap_rl1) */
-    double brk;                     /* duty added to Min duty */
-    double g;                       /* loop gain (1 = as told) */
-    double g0;                      /* the loop gain when the loop (re)started */
+    double brk_extra;               /* duty added to Min duty */
+    double gain;                    /* loop gain (1 = as told) */
+    double gain_start;              /* the loop gain when the loop (re)started */
     double carry;                   /* motion owed, share of full speed for a period */
     double last;                    /* the last drive, fraction of full duty */
     int lead;                       /* the (re)start found the meter reading a quarter of the target */
-    int cap, capn;                  /* the duty cap (/256 of full duty, 255 none), periods at it */
-    double f1;                      /* L/min: the last period's flow */
+    int cap, cap_run;               /* the duty cap (/256 of full duty, 255 none), periods at it */
+    double flow_last;               /* L/min: the last period's flow */
     int hold;                       /* periods left without P and D after the nozzles changed */
     int first;
 } ctltw_ffmap_t;

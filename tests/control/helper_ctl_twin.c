@@ -92,10 +92,10 @@ void ctltw_ffmap_load(ctltw_ffmap_t *tw, const ffmap_state_t *fm, int first, q15
 {
     tw->e1 = fm->e1 / 100.0;
     tw->e2 = fm->e2 / 100.0;
-    tw->ef = fm->ef / 100.0;
-    tw->t1 = fm->t1 / 100.0;
+    tw->err_filt = fm->err_filt / 100.0;
+    tw->target_last = fm->target_last / 100.0;
     tw->moved = fm->moved;
-    tw->rmin = fm->rmin / 32768.0;
+    tw->rev_min = fm->rev_min / 32768.0;
     tw->rest = fm->rest;
     tw->dir = fm->dir;
     tw->stall_n = fm->stall_n;
@@ -103,21 +103,21 @@ void ctltw_ffmap_load(ctltw_ffmap_t *tw, const ffmap_state_t *fm, int first, q15
     tw->rev_age = fm->rev_age;
     tw->slow_n = fm->slow_n;
     tw->brk_age = fm->brk_age;
-    tw->stall_y = fm->stall_y / 100.0;
-    tw->epk = fm->epk / 100.0;
+    tw->stall_flow = fm->stall_flow / 100.0;
+    tw->err_peak = fm->err_peak / 100.0;
     tw->big = fm->big;
     tw->rlim = ffmap_rlim;
     tw->rl1 = ffmap_rl1;
     tw->up = ffmap_up;
-    tw->brk = fm->brk / 32768.0;
-    tw->g = fm->g / 256.0;
-    tw->g0 = fm->g0 / 256.0;
+    tw->brk_extra = fm->brk_extra / 32768.0;
+    tw->gain = fm->gain / 256.0;
+    tw->gain_start = fm->gain_start / 256.0;
     tw->carry = carry / 32768.0;
     tw->last = ctl_last / 32768.0;
     tw->lead = fm->lead;
     tw->cap = fm->cap;
-    tw->capn = fm->capn;
-    tw->f1 = fm->f1 / 100.0;
+    tw->cap_run = fm->cap_run;
+    tw->flow_last = fm->flow_last / 100.0;
     tw->hold = fm->hold;
     tw->first = first;
 }
@@ -166,18 +166,18 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     int s, capc, hi_t;
     unsigned long root = ctltw_root_at_p(in->pressure);   /* ffmap_gain_at_p's, once a step */
     if (m->first) {
-        m->e1 = m->e2 = m->ef = e;
-        m->t1 = q;
+        m->e1 = m->e2 = m->err_filt = e;
+        m->target_last = q;
         m->rest = 0;
         m->stall_n = 0;
         m->warm = 0;
-        m->epk = 0;
+        m->err_peak = 0;
         m->big = 0;
         /* (the firmware compares x100 L/min with half the target rounded down) */
         o.near |= ctltw_near(e, q / 2, 0.02);
         m->lead = e <= q - q / 4;
-        m->capn = 0;
-        m->g0 = m->g;
+        m->cap_run = 0;
+        m->gain_start = m->gain;
         m->hold = 0;
     }
     /* the nozzles open changed: FFMAP_P_WAIT periods in which the step sees no change of the error */
@@ -188,16 +188,16 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
         m->e1 = m->e2 = e;
     }
     /* deadband on the error filtered over 4 periods */
-    dq = q - m->t1;
+    dq = q - m->target_last;
     /* the filtered error in the firmware's own integer steps (x100 L/min, the rest integral's
      * input: at a long Valve time its rounding alone is worth more than the tolerance) */
-    m->ef = (round(m->ef * 100) + floor((round(e * 100) - round(m->ef * 100) + 2) / 4)) / 100;
-    c = fabs(m->ef);
+    m->err_filt = (round(m->err_filt * 100) + floor((round(e * 100) - round(m->err_filt * 100) + 2) / 4)) / 100;
+    c = fabs(m->err_filt);
     o.near |= ctltw_near(fabs(dq) * CTLTW_FFMAP_MOVE, q, 0.02 * CTLTW_FFMAP_MOVE);
     if (fabs(dq) * CTLTW_FFMAP_MOVE > q)
         m->moved = 1, m->up = dq > 0;
     /* past the target the way it last moved, the valve rests only nearer */
-    db = (m->ef < 0) == (m->up != 0) ? CTLTW_FFMAP_DB_PAST : CTLTW_FFMAP_DB_IN;
+    db = (m->err_filt < 0) == (m->up != 0) ? CTLTW_FFMAP_DB_PAST : CTLTW_FFMAP_DB_IN;
     o.near |= ctltw_near(c, q / (m->rest ? CTLTW_FFMAP_DB_OUT : db), 0.03);
     if (fabs(dq) * CTLTW_FFMAP_MOVE > q || (m->rest && c > q / CTLTW_FFMAP_DB_OUT)) {
         if (m->rest && (m->carry > 0) != (e > 0))
@@ -210,29 +210,29 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     }
     /* stall */
     if (m->stall_n >= 2 * FFMAP_STALL_N) {
-        k = m->dir > 0 ? in->flow - m->stall_y : m->stall_y - in->flow;
+        k = m->dir > 0 ? in->flow - m->stall_flow : m->stall_flow - in->flow;
         o.near |= ctltw_near(k, q / (1 << FFMAP_STALL_MOVE), 0.02);
-        if (k <= q / (1 << FFMAP_STALL_MOVE) && (m->dir > 0 ? e > 0 : e < 0) && m->brk <= (FFMAP_BRK_MAX - FFMAP_BRK_STEP) / 32768.0)
-            m->brk += FFMAP_BRK_STEP / 32768.0;
+        if (k <= q / (1 << FFMAP_STALL_MOVE) && (m->dir > 0 ? e > 0 : e < 0) && m->brk_extra <= (FFMAP_BRK_MAX - FFMAP_BRK_STEP) / 32768.0)
+            m->brk_extra += FFMAP_BRK_STEP / 32768.0;
         m->stall_n = 0;
     }
-    if (m->brk > 0 && ++m->brk_age >= (int)FFMAP_BRK_AGE) {
-        m->brk -= FFMAP_BRK_STEP / 32768.0;
+    if (m->brk_extra > 0 && ++m->brk_age >= (int)FFMAP_BRK_AGE) {
+        m->brk_extra -= FFMAP_BRK_STEP / 32768.0;
         m->brk_age = 0;
     }
-    if (fabs(e) > m->epk)
-        m->epk = fabs(e);
+    if (fabs(e) > m->err_peak)
+        m->err_peak = fabs(e);
     /* the law (the firmware's rest integral works on its own filtered error); no proportional
      * term in the first FFMAP_P_WAIT periods */
     if (m->rest)
-        du = CTLTW_FFMAP_REST_KI * m->ef;
+        du = CTLTW_FFMAP_REST_KI * m->err_filt;
     else
         du = (m->warm < FFMAP_P_WAIT ? 0 : CTLTW_FFMAP_KP * (e - m->e1)) + CTLTW_FFMAP_KI * e
              + CTLTW_FFMAP_KD * (e - 2 * m->e1 + m->e2);
     /* after a start-up closing, while the valve runs fast: the integral on the flow FFMAP_LEAD
      * periods ahead when it comes toward the target */
     if (!m->rest && m->lead && m->warm < FFMAP_WARM && fabs(m->last) > FFMAP_LEAD_DRIVE / 32768.0) {
-        double dy = (q - e) - (m->t1 - m->e1);
+        double dy = (q - e) - (m->target_last - m->e1);
         if ((dy > 0) == (e > 0))
             du -= CTLTW_FFMAP_KI * FFMAP_LEAD * dy;
     }
@@ -244,13 +244,13 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     o.near |= ctltw_near(fabs(e), q / (1 << FFMAP_BIG_SHIFT), 0.02);
     if (m->warm < FFMAP_WARM)
         m->warm++;
-    if (m->rest || (e > 0) != (m->e1 > 0) || (m->warm < FFMAP_WARM && (m->g >= m->g0 || m->cap != 255))
+    if (m->rest || (e > 0) != (m->e1 > 0) || (m->warm < FFMAP_WARM && (m->gain >= m->gain_start || m->cap != 255))
         || (in->limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN)))
         m->slow_n = 0;
     else if ((m->slow_n += fabs(e) > q / (1 << FFMAP_BIG_SHIFT) ? 4 : 1) >= FFMAP_SLOW_N) {
         m->slow_n = 0;
-        if (m->g < FFMAP_G_MAX / 256.0)
-            m->g += (floor(m->g * 256 / 16) + floor(m->g * 256 / 32)) / 256;
+        if (m->gain < FFMAP_G_MAX / 256.0)
+            m->gain += (floor(m->gain * 256 / 16) + floor(m->gain * 256 / 32)) / 256;
         m->cap = ctltw_cap_up(m->cap);
     }
     if (m->rev_age < 255)
@@ -258,10 +258,10 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     /* the duty cap: the flow's change (x100 L/min, as the firmware has it) after FFMAP_CAP_N periods
      * at the cap one way */
     {
-        long dq100 = lround(in->flow * 100) - lround(m->f1 * 100), th = lround(q * 100) >> FFMAP_CAP_SH;
-        capc = m->capn;
-        m->capn = 0;
-        m->f1 = in->flow;
+        long dq100 = lround(in->flow * 100) - lround(m->flow_last * 100), th = lround(q * 100) >> FFMAP_CAP_SH;
+        capc = m->cap_run;
+        m->cap_run = 0;
+        m->flow_last = in->flow;
         if (capc >= FFMAP_CAP_N) {
             if (m->dir < 0)
                 dq100 = -dq100;
@@ -280,26 +280,26 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
      * target x100 FFMAP_P_T_F against flow x100 times the root), on a gain learnt under FFMAP_G_INIT */
     {
         double lhs = (double)lround(q * 100) * FFMAP_P_T_F, rhs = (double)lround(in->flow * 100) * root;
-        hi_t = root < 256 && m->g < FFMAP_G_INIT / 256.0 && lhs > rhs;
+        hi_t = root < 256 && m->gain < FFMAP_G_INIT / 256.0 && lhs > rhs;
         o.near |= root < 256 && fabs(lhs - rhs) <= 2.0 * root;
     }
-    mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_root(m->g, root, in->noz_q) + m->carry;
+    mv = du / CTL_FLOW_SCALE_LPM * in->travel * ctltw_gain_at_root(m->gain, root, in->noz_q) + m->carry;
     mv = ctltw_clamp(mv, -32767.0 / 32768, 32767.0 / 32768);
     if ((mv > 0 && (in->limit & CTL_CLOSE_BLOCKED)) || (mv < 0 && (in->limit & CTL_AT_OPEN)))
         mv = 0;
     s = mv > 0 ? 1 : mv < 0 ? -1 : 0;
     if (s == 0) {
         m->carry = 0;
-    } else if (s != m->dir && m->dir != 0 && fabs(mv) < m->rmin) {
-        o.near |= ctltw_near(fabs(mv), m->rmin, 0.002);
+    } else if (s != m->dir && m->dir != 0 && fabs(mv) < m->rev_min) {
+        o.near |= ctltw_near(fabs(mv), m->rev_min, 0.002);
         m->carry = mv;              /* a reversal waits until it is worth more than the slack */
     } else {
-        o.near |= ctltw_near(fabs(mv), m->rmin, 0.002);
+        o.near |= ctltw_near(fabs(mv), m->rev_min, 0.002);
         /* (its integers: |m| - rmin < rmin >> 1) */
-        int lim = floor(fabs(mv) * 32768) - m->rmin * 32768 < floor(m->rmin * 32768 / 2);
-        o.near |= s != m->dir && m->dir != 0 && ctltw_near(fabs(mv), 1.5 * m->rmin, 0.002);
+        int lim = floor(fabs(mv) * 32768) - m->rev_min * 32768 < floor(m->rev_min * 32768 / 2);
+        o.near |= s != m->dir && m->dir != 0 && ctltw_near(fabs(mv), 1.5 * m->rev_min, 0.002);
         d = run + fabs(mv) * (1 - run);
-        k = CTLTW_STICTION + m->brk;
+        k = CTLTW_STICTION + m->brk_extra;
         o.near |= ctltw_near(d, k, 0.002);
         if (d < k) {
             m->carry = mv;
@@ -315,33 +315,33 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
             if (d >= floor(cap * 256) / 256) {
                 if (d > cap)
                     d = cap;
-                m->capn = (capc + 1) & 255;
+                m->cap_run = (capc + 1) & 255;
             }
             if (s != m->dir && m->dir != 0) {
-                int big = m->epk > q / (1 << FFMAP_BIG_SHIFT);
+                int big = m->err_peak > q / (1 << FFMAP_BIG_SHIFT);
                 o.near |= ctltw_near(d, 2 * k, 0.002);
-                o.near |= ctltw_near(m->epk, q / (1 << FFMAP_BIG_SHIFT), 0.02);
+                o.near |= ctltw_near(m->err_peak, q / (1 << FFMAP_BIG_SHIFT), 0.02);
                 int smaller = 0;        /* smaller reversals (at a steady target) */
                 if (big && m->big && m->rev_age <= FFMAP_OSC_GAP) {
                     /* after a reversal near the smallest, the gain is cut only down to half of
                      * where a new valve starts; below that the reversals are made smaller */
-                    if (m->g > (m->rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN) / 256.0)
-                        m->g -= floor(m->g * 256 / (m->warm < FFMAP_WARM && top ? 2 : 4)) / 256;
+                    if (m->gain > (m->rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN) / 256.0)
+                        m->gain -= floor(m->gain * 256 / (m->warm < FFMAP_WARM && top ? 2 : 4)) / 256;
                     else
                         smaller = m->rlim;
                 } else if (m->rev_age <= FFMAP_OSC_GAP && (m->warm >= FFMAP_WARM || root < FFMAP_P_HI_F)
                            && d > 2 * k && fabs(e) <= q) {
                     /* (cycles cut the gain in a start too over FFMAP_P_HI_F's pressure; smaller
                      * reversals are learnt only after it) */
-                    if (m->g > FFMAP_G_MIN / 256.0)
-                        m->g -= floor(m->g * 256 / 8) / 256;
+                    if (m->gain > FFMAP_G_MIN / 256.0)
+                        m->gain -= floor(m->gain * 256 / 8) / 256;
                     smaller = 1;
                 }
-                if (smaller && !m->moved && m->rmin > FFMAP_REV_LOW / 32768.0 && m->warm >= FFMAP_WARM)
-                    m->rmin -= floor(m->rmin * 32768 / 8) / 32768;
+                if (smaller && !m->moved && m->rev_min > FFMAP_REV_LOW / 32768.0 && m->warm >= FFMAP_WARM)
+                    m->rev_min -= floor(m->rev_min * 32768 / 8) / 32768;
                 m->rlim = lim;
                 m->big = big;
-                m->epk = 0;
+                m->err_peak = 0;
                 m->rev_age = 0;
                 m->moved = 0;
                 m->slow_n = 0;
@@ -354,7 +354,7 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
             o.near |= ctltw_near(d, 2 * k, 0.002) || ctltw_near(d, k * 9 / 8, 0.002);
             if (d <= 2 * k && s == m->dir) {
                 if (m->stall_n == 0)
-                    m->stall_y = in->flow;
+                    m->stall_flow = in->flow;
                 if (m->stall_n < 250)
                     m->stall_n += d <= k * 9 / 8 ? 2 : 1;
             } else {
@@ -372,7 +372,7 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     }
     m->e2 = m->e1;
     m->e1 = e;
-    m->t1 = q;
+    m->target_last = q;
     m->first = 0;
     o.rest = m->rest;
     return o;

@@ -327,14 +327,14 @@ static void test_ctl_learning_frozen_while_saturated(void **state)
     in = mk(3000, 2900, CTL_AT_CLOSED);     /* short of flow (under target >> FFMAP_BIG_SHIFT), closing refused */
     for (int k = 0; k < 3 * FFMAP_WARM; k++)
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
+    assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
     in.valve_limit = 0;
-    for (int k = 0; k < FFMAP_SLOW_N && ctl_st.fm.g == FFMAP_G_INIT; k++)
+    for (int k = 0; k < FFMAP_SLOW_N && ctl_st.fm.gain == FFMAP_G_INIT; k++)
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT + FFMAP_G_INIT * 3 / 32);     /* slower than told: it rises by 3/32 */
+    assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT + FFMAP_G_INIT * 3 / 32);     /* slower than told: it rises by 3/32 */
     for (int k = 0; k < 3 * FFMAP_SLOW_N; k++)
         ctl_step(&in);
-    assert_true(ctl_st.fm.g > FFMAP_G_INIT + FFMAP_G_INIT / 4);
+    assert_true(ctl_st.fm.gain > FFMAP_G_INIT + FFMAP_G_INIT / 4);
 }
 
 /* One hour (36000 periods) of noisy, saturating, sign-changing inputs: every weight stays
@@ -374,7 +374,7 @@ static void test_ctl_ffmap_output_knows_the_running_friction(void **state)
     (void)state;
     double run = CTLTW_RUN, m;
     ctl_select(CTL_FFMAP);
-    ctl_st.fm.g = 256;                      /* the gain Valve time gives (the twin's) */
+    ctl_st.fm.gain = 256;                      /* the gain Valve time gives (the twin's) */
     ctl_in_t in = mk(2000, 1985, 0);        /* 0.15 L/min short of 20 L/min: outside the band */
     q15_t d = ctl_step(&in);                /* from rest: the integral alone */
     m = ctltw_drive(ctltw_pid_du_stroke(0.15, 0.15, 0.15, CTLTW_FFMAP_KP, CTLTW_FFMAP_KI, CTLTW_FFMAP_KD), 40);
@@ -455,7 +455,7 @@ static void test_ctl_ffmap_learns_a_stiffer_break_away(void **state)
     ctl_in_t in = mk(2000, 1985, 0);        /* the valve never moves: the error stays */
     for (int k = 0; k < 1000; k++)
         ctl_step(&in);
-    assert_true(ctl_st.fm.brk >= 3 * FFMAP_BRK_STEP && ctl_st.fm.brk <= FFMAP_BRK_MAX);
+    assert_true(ctl_st.fm.brk_extra >= 3 * FFMAP_BRK_STEP && ctl_st.fm.brk_extra <= FFMAP_BRK_MAX);
     /* a valve that answers: the flow moves after each pulse (by less than the deadband, while
      * the target keeps running away from it), nothing is learnt */
     ctl_select(CTL_FFMAP);
@@ -466,7 +466,7 @@ static void test_ctl_ffmap_learns_a_stiffer_break_away(void **state)
         if (in.flow_lpm_x100 >= in.target_lpm_x100 - 5)
             in.target_lpm_x100 += 25;       /* the target ran away again */
     }
-    assert_int_equal(ctl_st.fm.brk, 0);
+    assert_int_equal(ctl_st.fm.brk_extra, 0);
 }
 
 /* ffmap: a valve faster than told hunts: reversals in quick succession near the target lower the
@@ -475,18 +475,18 @@ static void test_ctl_ffmap_learns_the_loop_gain(void **state)
 {
     (void)state;
     ctl_select(CTL_FFMAP);
-    ctl_st.fm.g = 256;                      /* the full gain (a new valve starts at 3/4 of it: */
+    ctl_st.fm.gain = 256;                      /* the full gain (a new valve starts at 3/4 of it: */
     ctl_in_t in = mk(3000, 3000, 0);        /* there this swing of the flow sends no reversals) */
     int g_warm = 0;
     for (int k = 0; k < 2000; k++) {        /* the flow swings +-5 % every 3 periods */
         in.flow_lpm_x100 = (int16_t)((k / 3) % 2 ? 3150 : 2850);
         ctl_step(&in);
         if (k == FFMAP_WARM - 2)
-            g_warm = ctl_st.fm.g;
+            g_warm = ctl_st.fm.gain;
     }
     assert_int_equal(g_warm, 256);
-    print_message("ffmap: gain after 200 s of hunting %.3f\n", ctl_st.fm.g / 256.0);
-    assert_true(ctl_st.fm.g < 128);
+    print_message("ffmap: gain after 200 s of hunting %.3f\n", ctl_st.fm.gain / 256.0);
+    assert_true(ctl_st.fm.gain < 128);
 }
 
 /* ffmap: swings of the flow beyond target >> FFMAP_BIG_SHIFT, two in a row, cut the loop gain. In
@@ -501,20 +501,20 @@ static int swing_cut(int amp, int half, int warm)
     ctl_in_t in = mk(3000, 3000, 0);
     int g0, k;
     ctl_select(CTL_FFMAP);
-    ctl_st.fm.g = 256;
+    ctl_st.fm.gain = 256;
     while (ctl_st.fm.warm < warm) {         /* a start that is over, at the start's gain */
         ctl_step(&in);
-        ctl_st.fm.g = 256;
+        ctl_st.fm.gain = 256;
     }
-    g0 = ctl_st.fm.g;
-    for (k = 0; k < FFMAP_WARM - 10 && ctl_st.fm.g == g0; k++) {
+    g0 = ctl_st.fm.gain;
+    for (k = 0; k < FFMAP_WARM - 10 && ctl_st.fm.gain == g0; k++) {
         int ph = k % (2 * half);
         in.flow_lpm_x100 = (int16_t)(3000 - amp + 2 * amp * (ph < half ? ph : 2 * half - ph) / half);
         ctl_step(&in);
     }
     print_message("ffmap: the flow +-%d %% every %d periods%s: gain %d -> %d after %d periods\n", amp / 30,
-                  half, warm ? ", after the start" : "", g0, ctl_st.fm.g, k);
-    return ctl_st.fm.g;
+                  half, warm ? ", after the start" : "", g0, ctl_st.fm.gain, k);
+    return ctl_st.fm.gain;
 }
 
 static void test_ctl_ffmap_halves_a_start_gain_on_full_duty_swings(void **state)
@@ -536,24 +536,24 @@ static void test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once(void **state)
     ctl_select(CTL_FFMAP);
     for (int k = 0; k < 40; k++)            /* the start's own gain: nothing raised while warm */
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
-    ctl_st.fm.g = 64;                       /* cut by the start's swings */
+    assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
+    ctl_st.fm.gain = 64;                       /* cut by the start's swings */
     for (int k = 0; k < 20; k++)
         ctl_step(&in);
     assert_true(ctl_st.fm.warm < FFMAP_WARM);
-    print_message("ffmap: a gain cut to 0.25 in the start, 2 s of a 17 %% error later %.3f\n", ctl_st.fm.g / 256.0);
-    assert_int_equal(ctl_st.fm.g, 89);      /* 64 -> 70 -> 76 -> 82 -> 89 */
+    print_message("ffmap: a gain cut to 0.25 in the start, 2 s of a 17 %% error later %.3f\n", ctl_st.fm.gain / 256.0);
+    assert_int_equal(ctl_st.fm.gain, 89);      /* 64 -> 70 -> 76 -> 82 -> 89 */
     ctl_select(CTL_FFMAP);
     ctl_step(&in);
-    ctl_st.fm.g = 64;
+    ctl_st.fm.gain = 64;
     in.valve_limit = CTL_NO_CLOSE;          /* the error asks to close: refused, no raise */
     for (int k = 0; k < 20; k++)
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, 64);
+    assert_int_equal(ctl_st.fm.gain, 64);
     in.flow_lpm_x100 = 3500;                /* ... it asks to open: raised */
     for (int k = 0; k < 21; k++)
         ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, 89);
+    assert_int_equal(ctl_st.fm.gain, 89);
 }
 
 /* A toy valve and line for the duty cap: the motor runs at (duty - 0.12) / 0.88 of full speed
@@ -619,7 +619,7 @@ static int fast_step(int g)
     double pos = 0.3 + 30.0 / 60, flow = 30, seen[3] = {30, 30, 30};
     int target = 3000, over = 0;
     ctl_select(CTL_FFMAP);
-    ctl_st.fm.g = (int16_t)g;
+    ctl_st.fm.gain = (int16_t)g;
     for (int k = 0; k < 80; k++) {
         if (k == 20)
             target = 3300;
@@ -661,13 +661,13 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
     ctl_in_t in = mk(3000, 3000, 0);
     ctl_step(&in);
     for (int p = 0; p < 3; p++) {
-        ctl_st.fm.brk = FFMAP_BRK_STEP;
-        ctl_st.fm.g = 128;
+        ctl_st.fm.brk_extra = FFMAP_BRK_STEP;
+        ctl_st.fm.gain = 128;
         ctl_st.fm.cap = 100;
         assert_int_equal(param_set(P_RATE, 140 + p), 1);
         ctl_step(&in);
-        assert_int_equal(ctl_st.fm.brk, FFMAP_BRK_STEP);
-        assert_int_equal(ctl_st.fm.g, 128);
+        assert_int_equal(ctl_st.fm.brk_extra, FFMAP_BRK_STEP);
+        assert_int_equal(ctl_st.fm.gain, 128);
         assert_int_equal(ctl_st.fm.cap, 100);
         if (p == 0)
             assert_int_equal(param_set(P_VALVE_SLACK, 15), 1);
@@ -676,8 +676,8 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
         else
             assert_int_equal(param_set(P_VALVE_TRAVEL, 60), 1);
         ctl_step(&in);
-        assert_int_equal(ctl_st.fm.brk, 0);
-        assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
+        assert_int_equal(ctl_st.fm.brk_extra, 0);
+        assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
         assert_int_equal(ctl_st.fm.cap, 255);
     }
     assert_int_equal(CTL_STICTION, Q15(0.3));
@@ -744,7 +744,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
                 worst = err > worst ? err : worst;
                 assert_true(err < 12.0 / 32768);
                 assert_int_equal(ctl_st.fm.rest, o.rest);
-                assert_true(fabs(tw.g - ctl_st.fm.g / 256.0) < 1e-9);     /* the gain's rules */
+                assert_true(fabs(tw.gain - ctl_st.fm.gain / 256.0) < 1e-9);     /* the gain's rules */
                 assert_int_equal(ffmap_rlim, tw.rlim);     /* the last reversal near the smallest */
                 assert_int_equal(ffmap_rl1, tw.rl1);
                 checked++;
@@ -752,8 +752,8 @@ static void test_ctl_ffmap_matches_twin(void **state)
             pulses += d != 0;
             held += ctl_st.fm.hold != 0;
             rests += ctl_st.fm.rest;
-            g_moved |= ctl_st.fm.g != FFMAP_G_INIT;
-            brk_moved |= ctl_st.fm.brk != 0;
+            g_moved |= ctl_st.fm.gain != FFMAP_G_INIT;
+            brk_moved |= ctl_st.fm.brk_extra != 0;
             capped += ctl_st.fm.cap != 255;
             /* the toy valve and line */
             double a = fabs(d / 32768.0);

@@ -169,9 +169,9 @@ static void test_ffmap_a_section_switch_does_not_cut_the_gain(void **state)
     metrics_result_t r;
     int alarms = ffmap_run(text, &r);
     print_message("ffmap, sections switched every 12 s on a 10.6 s valve told 4 s: gain %d (256: as told), "
-                  "%d alarms, CV %.2f %%, %.1f reversals a minute\n", ctl_st.fm.g, alarms, r.cv_pct,
+                  "%d alarms, CV %.2f %%, %.1f reversals a minute\n", ctl_st.fm.gain, alarms, r.cv_pct,
                   r.valve_reversals_per_min);
-    assert_true(ctl_st.fm.g >= FFMAP_G_INIT);
+    assert_true(ctl_st.fm.gain >= FFMAP_G_INIT);
     assert_int_equal(alarms, 0);
 }
 
@@ -384,7 +384,7 @@ static void test_ffmap_learns_the_speed_feed_forward_of_a_fixed_pto(void **state
                  pto[i]);
         metrics_result_t r;
         ffmap_run(text, &r);
-        kff[i] = ctl_st.fm.kff;
+        kff[i] = ctl_st.fm.ff_gain;
         plain[i] = speed_plain;
         cv[i] = r.cv_pct;
         print_message("ffmap, PTO %s: kff %d, CV %.2f %%, %.1f reversals a minute, dose (loop) %.3f %%\n",

@@ -42,7 +42,7 @@ static void test_ffmap_ff_the_wheels_noise_does_not_teach_the_feed_forward(void 
         ffmap_sim_from(&sim, text);
         while (!sim_done(&sim)) {
             sim_step(&sim);
-            most = ctl_st.fm.kff > most ? ctl_st.fm.kff : most;
+            most = ctl_st.fm.ff_gain > most ? ctl_st.fm.ff_gain : most;
         }
         alarms += sim.metrics.n_alarms;
         sim_free(&sim);

@@ -570,24 +570,24 @@ static void test_store_keeps_the_learnt_figures(void **state)
     (void)state;
     assert_int_equal(store_load(), STORE_DEFAULTS);
     ctl_select(CTL_FFMAP);
-    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);           /* nothing in the EEPROM: where a new valve starts */
-    ctl_st.fm.g = 150;
-    ctl_st.fm.brk = FFMAP_BRK_STEP;
-    ctl_st.fm.rmin = FFMAP_REV_MIN - 1000;
-    ctl_st.fm.kff = 120;
+    assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);           /* nothing in the EEPROM: where a new valve starts */
+    ctl_st.fm.gain = 150;
+    ctl_st.fm.brk_extra = FFMAP_BRK_STEP;
+    ctl_st.fm.rev_min = FFMAP_REV_MIN - 1000;
+    ctl_st.fm.ff_gain = 120;
     assert_true(store_save());
-    ctl_st.fm.g = ctl_st.fm.brk = ctl_st.fm.rmin = ctl_st.fm.kff = 0;   /* power cycle */
+    ctl_st.fm.gain = ctl_st.fm.brk_extra = ctl_st.fm.rev_min = ctl_st.fm.ff_gain = 0;   /* power cycle */
     assert_int_equal(store_load(), STORE_OK);
     ctl_select(CTL_FFMAP);
-    assert_int_equal(ctl_st.fm.g, 150);
-    assert_int_equal(ctl_st.fm.brk, FFMAP_BRK_STEP);
-    assert_int_equal(ctl_st.fm.rmin, FFMAP_REV_MIN - 1000);
-    assert_int_equal(ctl_st.fm.kff, 120);
+    assert_int_equal(ctl_st.fm.gain, 150);
+    assert_int_equal(ctl_st.fm.brk_extra, FFMAP_BRK_STEP);
+    assert_int_equal(ctl_st.fm.rev_min, FFMAP_REV_MIN - 1000);
+    assert_int_equal(ctl_st.fm.ff_gain, 120);
     /* another controller runs a while: the record keeps ffmap's figures */
     ctl_select(CTL_BP_PID);
     assert_true(store_save());
     ctl_select(CTL_FFMAP);
-    assert_int_equal(ctl_st.fm.g, 150);
+    assert_int_equal(ctl_st.fm.gain, 150);
     /* the nozzle model, written by hand as diag keeps it: 45 kPa check valves, 320 kPa rated */
     values_k(a, 4);
     twin_learnt[0] = 150; twin_learnt[1] = 0;           /* g 150 */
@@ -605,8 +605,8 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(diag_nozzle_pressure_kpa((int16_t)(10 * param_v[P_NOZZLE_Q3]), 10), 45 + 320);  /* rated flow: pc + kp */
     ctl_travel = 0;                                     /* as at power-up: nothing derived yet */
     ctl_select(CTL_FFMAP);
-    assert_int_equal(ctl_st.fm.rmin, 0x4000);
-    assert_int_equal(ctl_st.fm.kff, 320);
+    assert_int_equal(ctl_st.fm.rev_min, 0x4000);
+    assert_int_equal(ctl_st.fm.ff_gain, 320);
     /* relearnt from the menu: nothing kept at the next save */
     diag_nozzle_relearn();
     assert_true(store_save());
@@ -617,9 +617,9 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)(param_v[P_VALVE_TRAVEL] + 10u)), 1);
     assert_true(store_save());
     ctl_select(CTL_FFMAP);
-    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
-    assert_int_equal(ctl_st.fm.rmin, FFMAP_REV_MIN);
-    assert_int_equal(ctl_st.fm.kff, 0);
+    assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
+    assert_int_equal(ctl_st.fm.rev_min, FFMAP_REV_MIN);
+    assert_int_equal(ctl_st.fm.ff_gain, 0);
     /* a version 5 copy: its values, nothing learnt */
     hal_host_reset();
     twin_write_n(0, 9, a, 5, P_COUNT);
@@ -627,7 +627,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_true(equals(a));
     assert_int_equal(store_learnt(0), 0xFF);
     ctl_select(CTL_FFMAP);
-    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
+    assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
     /* a version 6 copy (10 learnt bytes, a gain among them): its values, nothing learnt */
     hal_host_reset();
     twin_learnt[0] = 150; twin_learnt[1] = 0;
@@ -637,8 +637,8 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_true(equals(a));
     assert_int_equal(store_learnt(0), 0xFF);
     ctl_select(CTL_FFMAP);
-    assert_int_equal(ctl_st.fm.g, FFMAP_G_INIT);
-    assert_int_equal(ctl_st.fm.kff, 0);
+    assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
+    assert_int_equal(ctl_st.fm.ff_gain, 0);
     params_defaults();
     ctl_select(CTL_FFMAP);
 }

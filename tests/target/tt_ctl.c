@@ -92,7 +92,7 @@ static uint16_t state_sum(uint8_t id)
     if (id == CTL_RAVEN)
         s ^= (uint16_t)(uint8_t)ctl_st.rv.dir;
     if (id == CTL_FFMAP)
-        s ^= (uint16_t)ctl_st.fm.brk ^ (uint16_t)ctl_st.fm.g ^ (uint16_t)ctl_st.fm.stall_y ^ (uint16_t)ctl_carry_now()
+        s ^= (uint16_t)ctl_st.fm.brk_extra ^ (uint16_t)ctl_st.fm.gain ^ (uint16_t)ctl_st.fm.stall_flow ^ (uint16_t)ctl_carry_now()
              ^ ((uint16_t)ctl_st.fm.rest << 8) ^ (uint16_t)(uint8_t)ctl_st.fm.dir;
     return s;
 }
