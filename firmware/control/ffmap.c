@@ -12,52 +12,14 @@ __bit ffmap_rlim, ffmap_rl1;                  /* the last reversal near the smal
 static void ffmap_cap_up(void);
 
 /*
- * The law is the incremental PID of eq. (7) on the pid normalisation (ctl.c), with gains near
- * where bp_pid's network settles on this plant, so what the valve is asked for is a motion: du
- * in flow units, drive = du * T_travel (the share of full speed for one period). What the valve
- * makes of a drive is where consoles go wrong, and what this file models:
- *   - running friction: a motor that turns runs at (duty - d_run) / (1 - d_run) of full speed,
- *     so a motion m needs the duty d_run + m (1 - d_run) (d_run from Min duty, ctl_int.h);
- *   - break-away: from rest nothing moves below Min duty, so motions too small for one pulse are
- *     owed (ctl_carry) until they add up (pulse accumulation, as bp_pid's output stage);
- *   - a valve stiffer than Min duty says: FFMAP_STALL_N smallest pulses one way (ffmap_stall) without
- *     the flow moving that way are a stall, and the smallest pulse grows (brk_extra, forgotten slowly);
- *   - a valve faster or slower than Valve time says: the loop gain g is learnt from how the flow
- *     answers (quick reversals near the target lower it, a long error one way raises it), cut
- *     above FFMAP_P_REF, where the bypass holds the flow harder (ffmap_gain_at_p);
- *   - a valve so fast that one period at full duty moves the flow by over a quarter of the
- *     target: its top duty is cut until it does not (ffmap_cap);
- *   - a valve learnt faster than a new one starts, closing toward a target that needs over
- *     400 kPa: at most the smallest pulse + FFMAP_P_T_DUTY (a slow motor's coast is its speed's);
- *   - backlash is not taken up: on a valve with less slack than it was told that overshoots;
- *   - a reversal is owed until the motion asked the other way is worth FFMAP_REV_MIN of a period
- *     at full speed (a small one is mostly lost in the backlash, and the next periods often ask
- *     the first way again); reversals that cycle at a steady target (within FFMAP_OSC_GAP) lower
- *     it by 1/8 down to FFMAP_REV_LOW: a fast valve's cycle is its smallest reversal, not noise.
- * The proportional term acts on the error, so a change of the target (the speed) moves the valve
- * at once, and a feed-forward learnt from this sprayer (ffmap_ff) moves it with the speed where
- * the pump does not follow the wheels (the wheel's pulses do not kick it: speed.c). It waits
- * FFMAP_P_WAIT periods after a (re)start (the line's filling is not the valve's doing), and for as
- * many after the nozzles open change it sees no change of the error (the boom's own step, ffmap_step).
- * A loop far too fast for the valve shows as half cycles that swing the flow by more than
- * target >> FFMAP_BIG_SHIFT: two in a row take a quarter off the gain, from the first period; half
- * in a start when the half cycle ended in FFMAP_TOP_N periods at the top duty (a valve much faster
- * than told swings at full duty from its first closing). Not below FFMAP_G_INIT / 2 when the half
- * cycle was a reversal under 1.5 times the smallest and at most one pulse more (ffmap_rlim): that
- * swing is the valve's resolution, which a lower gain only makes slower to answer a change (a
- * stiff 2 s valve: OFF_RATE at a slow-down); there, at a steady target, the reversals are made
- * smaller instead (test_ffmap.c pins both).
- * After a start-up closing (the loop starts with the meter reading a quarter of the target), for
- * FFMAP_WARM periods while the valve runs beyond FFMAP_LEAD_DRIVE, the integral acts on the flow
- * FFMAP_LEAD periods ahead when the flow comes toward the target: a valve that runs fast stops (and
- * turns) before the flow arrives, not after. The flow arrives late by the motor's coast, the
- * backlash of the turn, the line's filling and the meter's lag; on a valve faster than it was
- * told with a slow motor, a loop that turns only once the flow has arrived swings at full duty
- * between the pump's relief valve and half the target. Not after a start that held the bypass
- * (the flow refills the line from nothing) nor later in the run (it delays stiff valves' turns).
- * Reversals wear the valve: a deadband with hysteresis on the error filtered over 4 periods rests
- * the valve near the target (the meter's noise, the pump's pulsation and the target's jitter move
- * nothing); resting, a slow integral removes a steady bias.
+ * The incremental PID of eq. (7) on the common normalisation (ctl.c): what the valve is asked for
+ * is a motion, drive = du * T_travel. The output stage makes the valve do it: running friction,
+ * break-away (ffmap_stall), reversals worth the backlash, a duty cap for a valve far faster than
+ * told (ffmap_cap), a gentle closing near P max; the loop gain is learnt from how the flow
+ * answers (ffmap_gain_adapt, ffmap_out) and cut at high pressure (ffmap_gain_at_p); a deadband
+ * rests the valve near the target (ffmap_deadband); a feed-forward of the speed is learnt from
+ * the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives each rule, its constants
+ * and why; tests/control/test_ffmap.c and test_ctl.c pin them.
  */
 void ffmap_init(void)
 {
