@@ -113,7 +113,7 @@ static __data union {
         uint16_t lim;               /* x100 L/min: target >> FFMAP_CAP_SH */
         int16_t dq;                 /* x100 L/min: the flow's change the way the valve ran */
     } cap;                          /* ffmap_cap */
-    uint16_t top;                   /* ffmap_out: the top duty, Q15 (the cap, at least the smallest pulse) */
+    uint16_t top;                   /* ffmap_cap_limit: the top duty, Q15 (the cap, at least the smallest pulse) */
     struct {
         uint16_t root;              /* Q8: floor(sqrt(FFMAP_P_REF / P)), built bit by bit */
         int16_t bit;                /* the bit being tried */
@@ -193,6 +193,21 @@ static void ffmap_cap(void)
     }
     if (M->cap_run_before == 255)
         M->cap_run_before--;
+}
+
+/* The duty d at most the cap, which is at least the smallest pulse; a duty within 1/256 of full
+ * duty under the cap counts as at the cap (cap_run_before 255: a reversal). */
+static uint16_t ffmap_cap_limit(uint16_t d, uint16_t smallest) CTL_SHARED
+{
+    ffmap_w.top = smallest;
+    if ((uint8_t)(ffmap_w.top >> 7) < M->cap)
+        ffmap_w.top = ((uint16_t)M->cap << 7) | 0x7F;
+    if (d >= (ffmap_w.top & 0xFF80u)) {
+        if (d > ffmap_w.top)
+            d = ffmap_w.top;
+        M->cap_run = M->cap_run_before + 1;
+    }
+    return d;
 }
 
 /* Deadband with hysteresis on the filtered error; the target moving wakes the loop. Past the
@@ -282,16 +297,7 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
     c = M->cap_run_before;                    /* periods in a row at the top duty before this one */
     if (s != M->dir)
         M->cap_run_before = 255;
-    /* the duty at most the cap, which is at least the smallest pulse; a duty within 1/256 of
-     * full duty under the cap counts as at the cap (cap_run_before 255: a reversal) */
-    ffmap_w.top = k;
-    if ((uint8_t)(ffmap_w.top >> 7) < M->cap)
-        ffmap_w.top = ((uint16_t)M->cap << 7) | 0x7F;
-    if (d >= (ffmap_w.top & 0xFF80u)) {
-        if (d > ffmap_w.top)
-            d = ffmap_w.top;
-        M->cap_run = M->cap_run_before + 1;
-    }
+    d = ffmap_cap_limit(d, k);
     if (s != M->dir && M->dir != 0) {
         /* two half cycles in a row that swung big, soon after each other; the last at the top */
         c = (uint8_t)((c >= FFMAP_TOP_N) << 1) | (M->err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
