@@ -77,6 +77,9 @@ const char *scenario_controller_alias(size_t i, int *id);
 int scenario_controller_id(const char *name);
 /* Change the controller after loading (the program's --controller); -1 and err when unknown. */
 int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t errlen);
+/* The run cut at t_s seconds when that ends it sooner (the program's --duration): the events
+ * after t_s dropped. -1 and why in err when t_s is not a duration (0, 1000000] s. */
+int scenario_cut(scenario_t *s, double t_s, char *err, size_t errlen);
 /* The driver's commanded speed at time t (km/h). */
 double scenario_drive_kmh(const scenario_t *s, double t_s);
 /* 0 when an event's value is valid for this scenario; -1 and why in msg otherwise. */

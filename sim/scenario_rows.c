@@ -148,6 +148,21 @@ int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t e
     return 0;
 }
 
+/* ---- a shorter run ---------------------------------------------------------------------------- */
+int scenario_cut(scenario_t *s, double t_s, char *err, size_t errlen)
+{
+    if (!(t_s > 0 && t_s <= 1e6)) {
+        if (err && errlen)
+            snprintf(err, errlen, "%g is not a duration (0, 1000000] s", t_s);
+        return -1;
+    }
+    if (t_s < s->duration_s)
+        s->duration_s = t_s;
+    while (s->n_events > 0 && s->events[s->n_events - 1].t_s > s->duration_s)
+        s->n_events--;
+    return 0;
+}
+
 /* ---- the drive -------------------------------------------------------------------------------- */
 double scenario_drive_kmh(const scenario_t *s, double t)
 {

@@ -324,6 +324,25 @@ static void test_scenario_every_key_and_event_of_plant_md(void **state)
     assert_int_equal(s.events[15].kind, EV_GIVEN_SPEED);
 }
 
+/* A run cut short (the programs' --duration): the events after the cut dropped, the ones at it
+ * kept; a cut past the end changes nothing; a cut that is no duration is refused. */
+static void test_scenario_cut(void **state)
+{
+    (void)state;
+    assert_int_equal(scenario_parse(&s, good, "good.scn", err, sizeof err), 0);
+    assert_int_equal(scenario_cut(&s, 500, err, sizeof err), 0);
+    assert_true(s.duration_s == 120);
+    assert_int_equal(s.n_events, 4);
+    assert_int_equal(scenario_cut(&s, 50, err, sizeof err), 0);
+    assert_true(s.duration_s == 50);
+    assert_int_equal(s.n_events, 3);                /* 30, 40 and 50 s; not 60 */
+    assert_true(s.events[2].t_s == 50);
+    assert_int_equal(scenario_cut(&s, 0, err, sizeof err), -1);
+    assert_non_null(strstr(err, "0 is not a duration"));
+    assert_int_equal(scenario_cut(&s, 2e6, err, sizeof err), -1);
+    assert_true(s.duration_s == 50);
+}
+
 /* Every scenario the project ships loads. */
 static void test_scenario_project_files_load(void **state)
 {
@@ -358,6 +377,7 @@ int main(void)
         cmocka_unit_test(test_scenario_files),
         cmocka_unit_test(test_scenario_every_key_and_event_of_plant_md),
         cmocka_unit_test(test_scenario_project_files_load),
+        cmocka_unit_test(test_scenario_cut),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
