@@ -267,6 +267,22 @@ static void pc_poll(sim_t *sim)
     exchange(sim, h);
 }
 
+/* 1 for the events a HIL run carries: the plant's (on the PC, as in the simulator) and the
+ * settings' (in the frames). An event on the controller's own machine (its keypad, its serial
+ * link, its supply) is not, nor is a kind this list does not know yet: such a run is refused. */
+static int hil_carries(int kind)
+{
+    switch (kind) {
+    case EV_SECTIONS_OPEN: case EV_RATE: case EV_GIVEN_SPEED: case EV_PTO_RPM:
+    case EV_METER_FAIL: case EV_METER_RESTORE: case EV_SPEED_FAIL: case EV_SPEED_RESTORE:
+    case EV_PSENS_OPEN: case EV_PSENS_RESTORE: case EV_VALVE_STUCK: case EV_VALVE_FREE:
+    case EV_BOUNCE: case EV_LEAK: case EV_CLOG: case EV_TANK:
+        return 1;
+    default:
+        return 0;
+    }
+}
+
 static int num(const char *opt, const char *v, double lo, double hi, double *x)
 {
     char *end;
@@ -356,6 +372,13 @@ int main(int argc, char **argv)
     }
     if (cut_s > 0)
         scenario_cut(s, cut_s, NULL, 0);
+    for (i = 0; i < s->n_events; i++)
+        if (!hil_carries(s->events[i].kind)) {
+            fprintf(stderr, "hil: %s:%d: event '%s' is not one a HIL run carries (the plant's and the settings' "
+                    "are; a key, a serial line, a power cut act on the board itself): run it with sim\n", scn_path,
+                    s->events[i].line, scenario_event_name(s->events[i].kind));
+            return 1;
+        }
     h.fd = tty_open(port, err, sizeof err);
     if (h.fd < 0) {
         fprintf(stderr, "hil: %s\n", err);
