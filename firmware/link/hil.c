@@ -194,8 +194,8 @@ uint8_t hil_byte(uint8_t b)
     }
     hm.seq = seq;
     hm.on = HIL_RUN;
-    b = hm.rx.buf[24];
-    hm.verdict = b == HIL_NO_SETTING ? HIL_NO_SETTING : param_try(b, get16(hm.rx.buf + 25));
+    /* the frame's setting, before its step (as the keypad or SET would set it) */
+    hm.verdict = hm.rx.buf[24] == HIL_NO_SETTING ? HIL_NO_SETTING : param_try(hm.rx.buf[24], get16(hm.rx.buf + 25));
     return 1;
 }
 
