@@ -312,10 +312,11 @@ static int event_row(const ctx_t *c, scenario_t *s, int line, char *row)
     return 0;
 }
 
-/* The parameters each of the firmware's cross-checks (params.h) compares, PARAM_X_TANK on. */
+/* The parameters each of the firmware's cross-checks (params.h) compares, PARAM_X_TANK on
+ * (P_COUNT: no more). */
 static const uint8_t cross_params[][4] = {
-    {P_TANK_MIN, P_TANK_L, P_TANK_MIN, P_TANK_MIN},
-    {P_P_MIN, P_P_MAX, P_P_MIN, P_P_MIN},
+    {P_TANK_MIN, P_TANK_L, P_COUNT, P_COUNT},
+    {P_P_MIN, P_P_MAX, P_COUNT, P_COUNT},
     {P_METER_K, P_NOZZLES, P_NOZZLE_Q3, P_P_MAX},
 };
 
@@ -327,7 +328,7 @@ static int cross_fail(const ctx_t *c, const lines_t *at, uint8_t why)
     if (why >= PARAM_X_TANK && why - PARAM_X_TANK < (int)(sizeof cross_params / sizeof cross_params[0]))
         for (k = 0; k < 4; k++) {
             uint8_t p = cross_params[why - PARAM_X_TANK][k];
-            if (at->cfg[p] > line) {
+            if (p < P_COUNT && at->cfg[p] > line) {
                 line = at->cfg[p];
                 id = p;
             }
