@@ -15,6 +15,14 @@
 #include "ctl.h"
 #include "pty.h"
 
+/* The simulator's firmware passes its main loop once a millisecond. After a settings change
+ * its next step waits for the modules' constants, one a pass (app.c's app_prepare: 6 passes);
+ * its alarms come in the pass after its step. The PC keeps both instants, so that the figures
+ * are the simulator's: a frame after a change goes at the step's instant, and the answer's
+ * alarms count from the next millisecond. */
+#define HIL_PREP_MS 6
+#define HIL_DIAG_MS 1
+
 /*
  * The simulator's loop (sim.c) with the firmware replaced by a board on the serial link
  * (docs/HIL.md): the board is set up with the scenario's settings (SET, then HIL ON), then at
@@ -43,7 +51,14 @@ typedef struct {
     uint32_t pend_ms;
     hil_rx_t rx;
     double wall0;
-    int failed;                     /* the link went away */
+    int failed;                     /* the link went away, or the controller refused a setting */
+    uint16_t board_param[P_COUNT];  /* the settings the controller confirmed holding */
+    int set_id;                     /* the setting in the frame awaiting its answer; -1: none */
+    uint8_t param_gen;              /* param_generation when the last change was seen */
+    uint32_t ready_ms;              /* the controller's step after that change, at the earliest */
+    unsigned settings_sent, settings_waited;
+    uint16_t alarms;                /* the last answer's alarm bits ... */
+    uint32_t alarms_ms;             /* ... count from this millisecond */
 } hil_pc_t;
 
 static double wall_now(void)
@@ -56,12 +71,13 @@ static double wall_now(void)
 static void usage(FILE *f)
 {
     fputs("usage: hil --scenario FILE --port DEV [--controller NAME] [--pace X] [--timeout S]\n"
-          "           [--csv OUT.csv] [--drop-every N] [--corrupt-every N]\n"
+          "           [--csv OUT.csv] [--drop-every N] [--corrupt-every N] [--duration S]\n"
           "  runs FILE's plant against the controller on DEV (a flashed board on /dev/ttyUSB0, or the\n"
           "  host build's stand-in `hilboard --pty`) frame by frame and prints the metrics JSON last,\n"
           "  as `sim` does, with hil_frames and hil_lost. --pace 1 (default): real time, the board's\n"
           "  own clock; 0: as fast as it answers. --drop-every / --corrupt-every N: every Nth sensor\n"
-          "  frame is not sent / sent damaged (to see the loss counted). Exit 3 when frames were lost.\n", f);
+          "  frame is not sent / sent damaged (to see the loss counted). Exit 3 when frames were lost.\n"
+          "  --duration: the run ends at S seconds when FILE's ends later (as sim --duration).\n", f);
 }
 
 /* a command line with its checksum; the reply that starts with want (other lines skipped) */
@@ -98,6 +114,24 @@ static int command(hil_pc_t *h, const char *cmd, const char *want, char *reply, 
     return -1;
 }
 
+/* The frame's setting: the first the controller does not hold yet as the PC's firmware modules
+ * hold it (a scenario's event changed it); one a frame, so a second change waits for the next.
+ * Until an answer confirms it, each frame carries it again (setting it twice changes nothing). */
+static void pick_setting(hil_pc_t *h, hil_in_t *in)
+{
+    int i, n = 0;
+    h->set_id = -1;
+    in->set_id = HIL_NO_SETTING;
+    for (i = 0; i < P_COUNT; i++)
+        if (param_v[i] != h->board_param[i] && n++ == 0) {
+            h->set_id = i;
+            in->set_id = (uint8_t)i;
+            in->set_value = param_v[i];
+        }
+    if (n > 1)
+        h->settings_waited++;
+}
+
 /* One sensor frame out, its answer in (or a count of why not). */
 static void exchange(sim_t *sim, hil_pc_t *h)
 {
@@ -130,6 +164,7 @@ static void exchange(sim_t *sim, hil_pc_t *h)
     for (int i = 0; i < 4; i++)
         in.adc_level = (uint16_t)(in.adc_level + hal_adc_read(HAL_ADC_LEVEL));
     in.sections = hal_sections();
+    pick_setting(h, &in);
     hil_in_encode(&in, f);
     h->frames++;
     if (h->drop_every && h->frames % h->drop_every == 0) {
@@ -165,6 +200,14 @@ static void exchange(sim_t *sim, hil_pc_t *h)
     }
     h->answered++;
     h->board_lost = o.lost;
+    if (h->set_id >= 0 && o.set_verdict == PARAM_OK) {
+        h->board_param[h->set_id] = in.set_value;
+        h->settings_sent++;
+    } else if (h->set_id >= 0 && o.set_verdict != HIL_NO_SETTING) {
+        fprintf(stderr, "hil: at %.1f s the controller refused %s = %u (parameter %d): %s\n", sim_time_s(sim),
+                param_info((uint8_t)h->set_id)->name, in.set_value, h->set_id, param_why_text(o.set_verdict));
+        h->failed = 2;
+    }
     /* the outputs, as the firmware's HAL would have set them */
     h->pend = 0;
     if (o.valve_delay_ms == 0) {
@@ -185,9 +228,9 @@ static void exchange(sim_t *sim, hil_pc_t *h)
     app_status.target_lpm_x100 = o.target_lpm_x100;
     app_status.flow_lpm_x100 = o.flow_lpm_x100;
     app_status.pressure_kpa = o.pressure_kpa;
-    app_status.alarms = o.alarms;
+    h->alarms = o.alarms;
+    h->alarms_ms = hal_ms() + HIL_DIAG_MS;
     app_status.spraying = o.relays & 1u;
-    (void)sim;
 }
 
 /* sim_step's step 5: the board instead of app_poll() */
@@ -195,12 +238,20 @@ static void pc_poll(sim_t *sim)
 {
     hil_pc_t *h = sim->poll_ctx;
     uint32_t now = hal_ms();
+    if ((int32_t)(now - h->alarms_ms) >= 0)
+        app_status.alarms = h->alarms;
     if (h->pend && (int32_t)(now - h->pend_ms) >= 0) {
         hal_host_io.valve_dir = h->pend_dir;
         hal_host_io.valve_duty = h->pend_duty;
         h->pend = 0;
     }
-    if (h->failed || (int32_t)(now - h->next_ms) < 0)
+    /* a setting changed: the firmware derives its modules' constants in the passes that follow
+     * (one a millisecond in the simulator) and steps when done */
+    if (param_generation != h->param_gen) {
+        h->param_gen = param_generation;
+        h->ready_ms = now + HIL_PREP_MS;
+    }
+    if (h->failed || (int32_t)(now - h->next_ms) < 0 || (int32_t)(now - h->ready_ms) < 0)
         return;
     h->next_ms += APP_PERIOD_MS;
     /* the reference target of the metrics reads the firmware's target module: keep it on the
@@ -214,6 +265,23 @@ static void pc_poll(sim_t *sim)
         }
     }
     exchange(sim, h);
+}
+
+/* 1 for the events a HIL run carries: the plant's (on the PC, as in the simulator) and the
+ * settings' (in the frames). An event on the controller's own machine (its keypad, its serial
+ * link, its supply) is not, nor is a kind this list does not know yet: such a run is refused. */
+static int hil_carries(int kind)
+{
+    switch (kind) {
+    case EV_SECTIONS_OPEN: case EV_RATE: case EV_GIVEN_SPEED: case EV_PTO_RPM:
+    case EV_METER_FAIL: case EV_METER_RESTORE: case EV_SPEED_FAIL: case EV_SPEED_RESTORE:
+    case EV_PSENS_OPEN: case EV_PSENS_RESTORE: case EV_VALVE_STUCK: case EV_VALVE_FREE:
+    case EV_BOUNCE: case EV_LEAK: case EV_CLOG: case EV_TANK:
+    case EV_METER_K: case EV_P_OFFSET: case EV_P_DRIFT: case EV_LEVEL_OFFSET: case EV_WHEEL_MULT:
+        return 1;
+    default:
+        return 0;
+    }
 }
 
 static int num(const char *opt, const char *v, double lo, double hi, double *x)
@@ -236,7 +304,7 @@ int main(int argc, char **argv)
     hil_pc_t h;
     metrics_result_t r;
     FILE *csv = NULL;
-    double x;
+    double x, cut_s = 0;
     int i;
     unsigned lost;
 
@@ -266,6 +334,9 @@ int main(int argc, char **argv)
                 return 2;
         } else if (!strcmp(a, "--timeout")) {
             if (num(a, v, 0.001, 60, &h.timeout_s) < 0)
+                return 2;
+        } else if (!strcmp(a, "--duration")) {
+            if (num(a, v, 0.001, 1e6, &cut_s) < 0)
                 return 2;
         } else if (!strcmp(a, "--drop-every") || !strcmp(a, "--corrupt-every")) {
             if (num(a, v, 2, 1e6, &x) < 0)
@@ -300,14 +371,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "hil: --controller: %s\n", err);
         return 1;
     }
+    if (cut_s > 0)
+        scenario_cut(s, cut_s, NULL, 0);
     for (i = 0; i < s->n_events; i++)
-        if (s->events[i].kind == EV_RATE || s->events[i].kind == EV_GIVEN_SPEED) {
-            fprintf(stderr, "hil: %s:%d: event '%s' changes a setting during the run, which HIL frames do "
-                    "not carry yet\n", scn_path, s->events[i].line, scenario_event_name(s->events[i].kind));
-            return 1;
-        } else if (s->events[i].kind == EV_POWER_CUT || s->events[i].kind == EV_KEY || s->events[i].kind == EV_SERIAL) {
-            fprintf(stderr, "hil: %s:%d: event '%s' acts on the board itself, which HIL frames do not carry\n",
-                    scn_path, s->events[i].line, scenario_event_name(s->events[i].kind));
+        if (!hil_carries(s->events[i].kind)) {
+            fprintf(stderr, "hil: %s:%d: event '%s' is not one a HIL run carries (the plant's and the settings' "
+                    "are; a key, a serial line, a power cut act on the board itself): run it with sim\n", scn_path,
+                    s->events[i].line, scenario_event_name(s->events[i].kind));
             return 1;
         }
     h.fd = tty_open(port, err, sizeof err);
@@ -335,6 +405,9 @@ int main(int argc, char **argv)
         return 1;
     }
     sim_init(sim, s);
+    memcpy(h.board_param, s->param, sizeof h.board_param);    /* as set up above */
+    h.param_gen = param_generation;
+    h.ready_ms = 0;
     sim->poll = pc_poll;
     sim->poll_ctx = &h;
     h.next_ms = APP_PERIOD_MS;
@@ -344,6 +417,8 @@ int main(int argc, char **argv)
     h.wall0 = wall_now();
     while (!sim_done(sim) && !h.failed)
         sim_run(sim, sim_time_s(sim) + 1.0);
+    if (h.failed == 2)
+        return 1;
     if (h.failed) {
         fprintf(stderr, "hil: the link to %s went away at %.1f s\n", port, sim_time_s(sim));
         return 1;
@@ -355,8 +430,12 @@ int main(int argc, char **argv)
     }
     lost = h.no_answer;
     printf("hil: %s on %s: %u frames, %u answered, %u without a good answer (%u not sent, %u sent damaged), "
-           "%u damaged answers; the controller counted %u lost or damaged\n", s->name, port, h.frames, h.answered,
-           lost, h.dropped, h.corrupted, h.rx.damaged, h.board_lost);
+           "%u damaged answers; the controller counted %u lost or damaged; %u setting changes carried\n",
+           s->name, port, h.frames, h.answered, lost, h.dropped, h.corrupted, h.rx.damaged, h.board_lost,
+           h.settings_sent);
+    if (h.settings_waited)
+        printf("hil: SETTINGS LATE: %u frames had more than one setting change to carry (one a frame): the rest "
+               "came a period later than in the simulator\n", h.settings_waited);
     if (lost || h.board_lost)
         printf("hil: FRAMES LOST: the plant held the last outputs %u times; the figures below are not those "
                "of a clean run\n", lost);
@@ -369,9 +448,9 @@ int main(int argc, char **argv)
                 name[k] = '?';
         snprintf(extra, sizeof extra,
                  "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,\"hil_frames\":%u,\"hil_answered\":%u,"
-                 "\"hil_lost\":%u,\"hil_lost_controller\":%u,",
+                 "\"hil_lost\":%u,\"hil_lost_controller\":%u,\"hil_settings\":%u,",
                  name, ctl_name((uint8_t)s->param[P_CONTROLLER]), (unsigned long long)s->seed, h.frames,
-                 h.answered, lost, h.board_lost);
+                 h.answered, lost, h.board_lost, h.settings_sent);
         metrics_json(stdout, &sim->metrics, &r, extra, sim->wall_s, sim->cpu_s);
     }
     sim_free(sim);

@@ -31,6 +31,8 @@ void hil_in_encode(const hil_in_t *in, uint8_t *f)
     put16(f + 19, in->adc_pressure);
     put16(f + 21, in->adc_level);
     f[23] = in->sections;
+    f[24] = in->set_id;
+    put16(f + 25, in->set_value);
     hil_put_crc(f, HIL_IN_BYTES);
 }
 
@@ -48,5 +50,6 @@ void hil_out_decode(const uint8_t *f, hil_out_t *out)
     out->target_lpm_x100 = (int16_t)get16(f + 16);
     out->flow_lpm_x100 = (int16_t)get16(f + 18);
     out->pressure_kpa = get16(f + 20);
+    out->set_verdict = f[22];
 }
 

@@ -20,6 +20,9 @@
 
 static uint64_t t_ms;
 
+/* a sensor frame's time on the wire, whole milliseconds (10 bits a byte) */
+#define WIRE_MS ((HIL_IN_BYTES * 10u * 1000u + HAL_UART_BAUD - 1u) / HAL_UART_BAUD)
+
 static void poll_at(uint64_t ms)
 {
     while (t_ms < ms) {
@@ -99,15 +102,16 @@ int main(int argc, char **argv)
                     t_prev = t_ms;
                 }
             } else if (hil_rx_byte(&peek, buf[k])) {
-                /* a whole frame for the instant it stands for: put it on the wire 7 ms before
-                 * (26 bytes take 6.8 ms), so that its last byte arrives within that millisecond */
+                /* a whole frame for the instant it stands for: put it on the wire the whole
+                 * milliseconds its bytes take before (29 bytes: 7.6 ms, so 8), so that its
+                 * last byte arrives within that millisecond */
                 uint32_t pca = (uint32_t)peek.buf[2] | (uint32_t)peek.buf[3] << 8 | (uint32_t)peek.buf[4] << 16
                                | (uint32_t)peek.buf[5] << 24;
                 uint64_t t = t_prev + ((uint64_t)(uint32_t)(pca - pca_prev) * 1000u + HAL_PCA_HZ / 2) / HAL_PCA_HZ;
                 int i;
                 pca_prev = pca;
                 t_prev = t;
-                poll_at(t > t_ms + 7 ? t - 7 : t_ms);
+                poll_at(t > t_ms + WIRE_MS ? t - WIRE_MS : t_ms);
                 for (i = 0; i < HIL_IN_BYTES; i++)
                     hal_host_uart_rx_push(peek.buf[i]);
                 poll_at(t);

@@ -68,18 +68,21 @@ typedef struct {
     size_t errlen;
 } ctx_t;
 
+/* "file:line: key 'k': what is wrong" into c->err, every byte a file may hold that does not
+ * print (control codes, bytes past ASCII) written as \xHH, so no terminal shows it raw */
 static int fail(const ctx_t *c, int line, const char *key, const char *fmt, ...)
 {
-    char msg[256];
+    char msg[256], whole[512];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     if (c->err && c->errlen) {
         if (line > 0)
-            snprintf(c->err, c->errlen, "%s:%d: key '%s': %s", c->name, line, key, msg);
+            snprintf(whole, sizeof whole, "%s:%d: key '%s': %s", c->name, line, key, msg);
         else
-            snprintf(c->err, c->errlen, "%s: key '%s': %s", c->name, key, msg);
+            snprintf(whole, sizeof whole, "%s: key '%s': %s", c->name, key, msg);
+        scenario_printable(c->err, c->errlen, whole);
     }
     return -1;
 }
@@ -170,7 +173,15 @@ static int run_key(const ctx_t *c, scenario_t *s, int line, const char *key, con
     return fail(c, line, key, "unknown key in [run] (keys: duration_s, seed)");
 }
 
-static int config_key(const ctx_t *c, scenario_t *s, int line, const char *key, const char *val)
+/* where the whole-file checks find the keys they name: the line of each [config] value given,
+ * the later of two keys a check compares (and which it was), the [drive] header */
+typedef struct {
+    int cfg[P_COUNT];
+    int nozzles, tank, duty, drive;
+    const char *nozzles_key, *tank_key, *duty_key;
+} lines_t;
+
+static int config_key(const ctx_t *c, scenario_t *s, int line, const char *key, const char *val, lines_t *at)
 {
     size_t i;
     double v, scaled;
@@ -199,6 +210,7 @@ static int config_key(const ctx_t *c, scenario_t *s, int line, const char *key, 
         if (!param_in_range(cfg_keys[i].id, (uint16_t)floor(scaled + 0.5)))
             return fail(c, line, key, "%g refused by the firmware (a valve cal's last digit, the dead band, is 1-9)", v);
         s->param[cfg_keys[i].id] = (uint16_t)floor(scaled + 0.5);
+        at->cfg[cfg_keys[i].id] = line;
     }
     return 0;
 }
@@ -343,19 +355,46 @@ static int text_event_row(const ctx_t *c, scenario_t *s, int line, char *row, in
     return 1;
 }
 
-/* Checks that need the whole file: the boom's sections, the tank, the events' values. */
-static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const char *nozzles_key, int tank_line,
-                       int duty_line, const char *duty_key)
+/* The parameters each of the firmware's cross-checks (params.h) compares, PARAM_X_TANK on
+ * (P_COUNT: no more). */
+static const uint8_t cross_params[][4] = {
+    {P_TANK_MIN, P_TANK_L, P_COUNT, P_COUNT},
+    {P_P_MIN, P_P_MAX, P_COUNT, P_COUNT},
+    {P_METER_K, P_NOZZLES, P_NOZZLE_Q3, P_P_MAX},
+};
+
+/* A cross-check the set breaks, named by the latest line that gave one of its values. */
+static int cross_fail(const ctx_t *c, const lines_t *at, uint8_t why)
+{
+    int line = 0, k, id = -1;
+    size_t i;
+    if (why >= PARAM_X_TANK && why - PARAM_X_TANK < (int)(sizeof cross_params / sizeof cross_params[0]))
+        for (k = 0; k < 4; k++) {
+            uint8_t p = cross_params[why - PARAM_X_TANK][k];
+            if (p < P_COUNT && at->cfg[p] > line) {
+                line = at->cfg[p];
+                id = p;
+            }
+        }
+    for (i = 0; i < N_CFG; i++)
+        if (cfg_keys[i].id == id)
+            return fail(c, line, cfg_keys[i].key, "the firmware refuses this value with the others: %s",
+                        param_why_text(why));
+    return fail(c, 0, "[config]", "the firmware refuses this set of values: %s", param_why_text(why));
+}
+
+/* Checks that need the whole file: the boom's sections, the tank, the events' values, a drive. */
+static int check_whole(const ctx_t *c, scenario_t *s, const lines_t *at)
 {
     int noz = s->param[P_NOZZLES], sec = s->param[P_SECTIONS], i;
     if (noz % sec != 0)
-        return fail(c, nozzles_line, nozzles_key,
+        return fail(c, at->nozzles, at->nozzles_key,
                     "%d nozzles do not split evenly over %d sections", noz, sec);
     if (s->plant.tank_start_l > s->plant.tank_l)
-        return fail(c, tank_line, "tank_start_l", "%g L is more than the tank holds (tank_l %g)",
+        return fail(c, at->tank, at->tank_key, "tank_start_l %g L is more than the tank holds (tank_l %g)",
                     s->plant.tank_start_l, s->plant.tank_l);
     if (s->plant.valve_running_duty > s->plant.valve_stiction_duty)
-        return fail(c, duty_line, duty_key, "running duty %g is above the break-away duty %g "
+        return fail(c, at->duty, at->duty_key, "running duty %g is above the break-away duty %g "
                     "(valve_running_duty <= valve_stiction_duty)",
                     s->plant.valve_running_duty, s->plant.valve_stiction_duty);
     {
@@ -367,7 +406,7 @@ static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const ch
         why = params_cross();
         memcpy(param_v, live, sizeof live);
         if (why != PARAM_OK)
-            return fail(c, 0, "[config]", "the firmware refuses this set of values: %s", param_why_text(why));
+            return cross_fail(c, at, why);
     }
     for (i = 0; i < s->n_events; i++) {
         const scn_event_t *e = &s->events[i];
@@ -378,6 +417,10 @@ static int check_whole(const ctx_t *c, scenario_t *s, int nozzles_line, const ch
         if (scenario_event_check(s, e->kind, e->value, msg, sizeof msg) < 0)
             return fail(c, e->line, scenario_event_name(e->kind), "%s", msg);
     }
+    /* nothing to run without a driver: an empty file, or a [drive] without rows, is a mistake */
+    if (s->n_drive == 0)
+        return fail(c, at->drive, "[drive]", at->drive ? "no rows: a run needs at least one 'time_s speed_kmh'"
+                    : "missing: a run needs a [drive] section with at least one 'time_s speed_kmh' row");
     s->plant.nozzles = noz;
     s->plant.spacing_m = s->param[P_SPACING] / 100.0;
     return 0;
@@ -388,8 +431,8 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
     static scenario_t tmp;          /* large: built aside, copied to out only when all is well */
     ctx_t c;
     seen_t seen[MAX_KEYS];
-    int n_seen = 0, sec = SEC_NONE, line = 0, nozzles_line = 0, tank_line = 0, duty_line = 0, rc = 0;
-    const char *nozzles_key = "nozzles", *duty_key = "valve_running_duty";
+    int n_seen = 0, sec = SEC_NONE, line = 0, rc = 0;
+    lines_t at;
     size_t len = strlen(text);
     char *buf, *p;
     int sec_seen[6] = {0};
@@ -399,6 +442,10 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
     c.errlen = errlen;
     if (err && errlen)
         err[0] = 0;
+    memset(&at, 0, sizeof at);
+    at.nozzles_key = "nozzles";
+    at.tank_key = "tank_start_l";
+    at.duty_key = "valve_running_duty";
     scenario_default(&tmp, c.name);
     buf = malloc(len + 1);
     if (!buf)
@@ -437,6 +484,8 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
                 { rc = fail(&c, line, s + 1, "section given twice"); break; }
             sec_seen[k] = 1;
             sec = k;
+            if (sec == SEC_DRIVE)
+                at.drive = line;
             continue;
         }
         if (sec == SEC_NONE)
@@ -473,25 +522,27 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
             if (sec == SEC_RUN)
                 rc = run_key(&c, &tmp, line, key, val);
             else if (sec == SEC_CONFIG) {
-                rc = config_key(&c, &tmp, line, key, val);
+                rc = config_key(&c, &tmp, line, key, val, &at);
                 if (strcmp(key, "nozzles") == 0 || strcmp(key, "sections") == 0) {
-                    nozzles_line = line;        /* the later of the two is named */
-                    nozzles_key = strcmp(key, "nozzles") == 0 ? "nozzles" : "sections";
+                    at.nozzles = line;          /* the later of the two is named */
+                    at.nozzles_key = strcmp(key, "nozzles") == 0 ? "nozzles" : "sections";
                 }
             } else {
                 rc = plant_key(&c, &tmp, line, key, val);
-                if (strcmp(key, "tank_start_l") == 0 || strcmp(key, "tank_l") == 0)
-                    tank_line = line;
+                if (strcmp(key, "tank_start_l") == 0 || strcmp(key, "tank_l") == 0) {
+                    at.tank = line;             /* the later of the two is named */
+                    at.tank_key = strcmp(key, "tank_l") == 0 ? "tank_l" : "tank_start_l";
+                }
                 if (strcmp(key, "valve_running_duty") == 0 || strcmp(key, "valve_stiction_duty") == 0) {
-                    duty_line = line;           /* the later of the two is named */
-                    duty_key = strcmp(key, "valve_running_duty") == 0 ? "valve_running_duty" : "valve_stiction_duty";
+                    at.duty = line;             /* the later of the two is named */
+                    at.duty_key = strcmp(key, "valve_running_duty") == 0 ? "valve_running_duty" : "valve_stiction_duty";
                 }
             }
         }
     }
     free(buf);
     if (rc == 0)
-        rc = check_whole(&c, &tmp, nozzles_line, nozzles_key, tank_line, duty_line, duty_key);
+        rc = check_whole(&c, &tmp, &at);
     if (rc == 0)
         *out = tmp;
     return rc;
@@ -500,12 +551,13 @@ int scenario_parse(scenario_t *out, const char *text, const char *name, char *er
 int scenario_load(scenario_t *s, const char *path, char *err, size_t errlen)
 {
     FILE *f = fopen(path, "rb");
-    char *text;
+    char *text, msg[512];
     size_t n;
     int rc;
     if (!f) {
+        snprintf(msg, sizeof msg, "%s: cannot open: %s", path, strerror(errno));
         if (err && errlen)
-            snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+            scenario_printable(err, errlen, msg);
         return -1;
     }
     text = malloc(SCN_MAX_BYTES + 1);
@@ -519,16 +571,18 @@ int scenario_load(scenario_t *s, const char *path, char *err, size_t errlen)
     if (ferror(f) || n > SCN_MAX_BYTES) {
         fclose(f);
         free(text);
+        snprintf(msg, sizeof msg, "%s: %s", path, n > SCN_MAX_BYTES ? "larger than 1 MB" : "read error");
         if (err && errlen)
-            snprintf(err, errlen, "%s: %s", path, n > SCN_MAX_BYTES ? "larger than 1 MB" : "read error");
+            scenario_printable(err, errlen, msg);
         return -1;
     }
     fclose(f);
     text[n] = 0;
     if (memchr(text, 0, n)) {
         free(text);
+        snprintf(msg, sizeof msg, "%s: not a text file (NUL byte)", path);
         if (err && errlen)
-            snprintf(err, errlen, "%s: not a text file (NUL byte)", path);
+            scenario_printable(err, errlen, msg);
         return -1;
     }
     rc = scenario_parse(s, text, path, err, errlen);

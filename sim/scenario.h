@@ -76,11 +76,17 @@ typedef struct {
 
 /* Read a scenario file. 0 on success; -1 with "file:line: key 'k': what is wrong" in err (and
  * the scenario must not be run) on any error: unknown section or key, a key given twice, a
- * bad or missing number, a value out of range, time going backwards, an unknown event. */
+ * bad or missing number, a value out of range, values the firmware's cross-checks refuse
+ * together (the line of the latest named), time going backwards, an unknown event, no drive
+ * rows (an empty file too; without a line when there is no [drive]). Bytes that do not
+ * print are written \xHH in err. */
 int scenario_load(scenario_t *s, const char *path, char *err, size_t errlen);
 /* The same from text in memory; name stands for the file in messages. */
 int scenario_parse(scenario_t *s, const char *text, const char *name, char *err, size_t errlen);
-/* A scenario of defaults only (what an empty file gives). */
+/* src into dst (n bytes with the terminator, cut at a whole character) with every byte outside
+ * printable ASCII written as \xHH: the messages name what a file holds, which may be binary. */
+void scenario_printable(char *dst, size_t n, const char *src);
+/* A scenario of defaults only, no drive (what the reader starts from). */
 void scenario_default(scenario_t *s, const char *name);
 /* Controller by name: ctl_name(id) of any id, or an old name of the alias table in scenario_rows.c. -1 when unknown. */
 /* The i-th old name the alias table accepts and the id it stands for; NULL past the table's end. */
@@ -88,6 +94,9 @@ const char *scenario_controller_alias(size_t i, int *id);
 int scenario_controller_id(const char *name);
 /* Change the controller after loading (the program's --controller); -1 and err when unknown. */
 int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t errlen);
+/* The run cut at t_s seconds when that ends it sooner (the program's --duration): the events
+ * after t_s dropped. -1 and why in err when t_s is not a duration (0, 1000000] s. */
+int scenario_cut(scenario_t *s, double t_s, char *err, size_t errlen);
 /* The driver's commanded speed at time t (km/h). */
 double scenario_drive_kmh(const scenario_t *s, double t_s);
 /* 0 when an event's value is valid for this scenario; -1 and why in msg otherwise. */

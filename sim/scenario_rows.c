@@ -10,6 +10,31 @@ static int is_whole(double v)
     return fabs(v - floor(v + 0.5)) < 1e-9 * (fabs(v) > 1 ? fabs(v) : 1);
 }
 
+/* ---- messages --------------------------------------------------------------------------------- */
+void scenario_printable(char *dst, size_t n, const char *src)
+{
+    static const char hex[] = "0123456789ABCDEF";
+    size_t k = 0;
+    if (!n)
+        return;
+    for (; *src; src++) {
+        unsigned char b = (unsigned char)*src;
+        if (b >= 0x20 && b < 0x7F) {
+            if (k + 1 >= n)
+                break;
+            dst[k++] = (char)b;
+        } else {
+            if (k + 4 >= n)
+                break;              /* a whole escape or none */
+            dst[k++] = '\\';
+            dst[k++] = 'x';
+            dst[k++] = hex[b >> 4];
+            dst[k++] = hex[b & 15];
+        }
+    }
+    dst[k] = 0;
+}
+
 /* ---- defaults --------------------------------------------------------------------------------- */
 void scenario_default(scenario_t *s, const char *name)
 {
@@ -188,12 +213,29 @@ int scenario_set_controller(scenario_t *s, const char *name, char *err, size_t e
     int id = scenario_controller_id(name);
     char names[128];
     if (id < 0) {
+        char msg[512];
         controller_names(names, sizeof names);
+        snprintf(msg, sizeof msg, "unknown controller '%s' (one of: %s)", name, names);
         if (err && errlen)
-            snprintf(err, errlen, "unknown controller '%s' (one of: %s)", name, names);
+            scenario_printable(err, errlen, msg);
         return -1;
     }
     s->param[P_CONTROLLER] = (uint16_t)id;
+    return 0;
+}
+
+/* ---- a shorter run ---------------------------------------------------------------------------- */
+int scenario_cut(scenario_t *s, double t_s, char *err, size_t errlen)
+{
+    if (!(t_s > 0 && t_s <= 1e6)) {
+        if (err && errlen)
+            snprintf(err, errlen, "%g is not a duration (0, 1000000] s", t_s);
+        return -1;
+    }
+    if (t_s < s->duration_s)
+        s->duration_s = t_s;
+    while (s->n_events > 0 && s->events[s->n_events - 1].t_s > s->duration_s)
+        s->n_events--;
     return 0;
 }
 

@@ -15,10 +15,11 @@ static void usage(FILE *f)
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
           "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt]\n"
           "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt] [--pty [--pace X] [--wait S]]\n"
-          "           [--fast | --tick-ms N [--idle-tick-ms M]]\n"
+          "           [--fast | --tick-ms N [--idle-tick-ms M]] [--duration S]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
           "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, ffmap (the project's own), aog, raven. --seed replaces [run] seed.\n"
+          "  --duration: the run ends at S seconds when FILE's ends later (the events after S dropped).\n"
           "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
           "  build/host/bin/steps reads it back).\n"
           "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n"
@@ -144,7 +145,7 @@ int main(int argc, char **argv)
     pil_t *pil = NULL;
     unsigned long long seed = 0;
     int have_seed = 0, i, tick_ms = 1, idle_ms = 0;
-    double period = 0.1, pace = 1.0, wait_s = 60.0;
+    double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0;
     int use_pty = 0;
     char err[512];
     scenario_t *s;
@@ -213,6 +214,13 @@ int main(int argc, char **argv)
                 return 2;
             }
             *(a[2] == 't' ? &tick_ms : &idle_ms) = (int)ms;
+        } else if (!strcmp(a, "--duration")) {
+            char *end;
+            cut_s = strtod(v, &end);
+            if (*end || !*v || !(cut_s > 0 && cut_s <= 1e6)) {
+                fprintf(stderr, "sim: --duration '%s' is not a number of seconds (0, 1e6]\n", v);
+                return 2;
+            }
         } else if (!strcmp(a, "--trace-period")) {
             char *end;
             period = strtod(v, &end);
@@ -248,6 +256,8 @@ int main(int argc, char **argv)
     }
     if (have_seed)
         s->seed = seed;
+    if (cut_s > 0)
+        scenario_cut(s, cut_s, NULL, 0);        /* (checked above) */
     if (csv_path) {
         csv = fopen(csv_path, "w");
         if (!csv) {

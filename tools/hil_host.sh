@@ -8,7 +8,7 @@ tmp=$(mktemp -d)
 trap 'kill $board 2>/dev/null; rm -rf "$tmp"' EXIT
 "$bin/hilboard" --wait 30 2> "$tmp/board.err" &
 board=$!
-for _ in $(seq 100); do grep -q "serial link on" "$tmp/board.err" && break; sleep 0.05; done
+for _ in $(seq 100); do grep -qs "serial link on" "$tmp/board.err" && break; sleep 0.05; done
 port=$(sed -n 's/.*serial link on \([^ ]*\).*/\1/p' "$tmp/board.err")
 if [ -z "$port" ]; then
     echo "hil-host: the stand-in board did not start: $(cat "$tmp/board.err")" >&2

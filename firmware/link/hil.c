@@ -1,5 +1,6 @@
 /* hil.c: hardware-in-the-loop frames: CRC, a byte receiver that finds frames again after a damaged one, encode and decode (see hil.h). */
 #include "hil.h"
+#include "params.h"
 
 #if FW_HIL
 
@@ -116,6 +117,7 @@ void hil_out_encode(const hil_out_t *out, uint8_t *f) __reentrant
     put16(f + 16, (uint16_t)out->target_lpm_x100);
     put16(f + 18, (uint16_t)out->flow_lpm_x100);
     put16(f + 20, out->pressure_kpa);
+    f[22] = out->set_verdict;
     hil_put_crc(f, HIL_OUT_BYTES);
 }
 
@@ -130,6 +132,7 @@ static struct {
     uint8_t first;                  /* the frame just taken is the mode's first */
     uint8_t seq;                    /* the sequence number of the last frame taken */
     uint8_t due;                    /* a frame is in, its step not yet answered */
+    uint8_t verdict;                /* on the last frame's setting (hil_out_t.set_verdict) */
 } hm;
 
 #define HIL_OFF 0
@@ -148,6 +151,7 @@ void hil_begin(void)
     hm.lost = 0;
     hm.first = 0;
     hm.due = 0;
+    hm.verdict = HIL_NO_SETTING;
     hm.on = HIL_WAIT;
     hm.in.wheel.count = hm.in.meter.count = 0;
     hm.wheel_total = hm.meter_total = 0;
@@ -190,6 +194,8 @@ uint8_t hil_byte(uint8_t b)
     }
     hm.seq = seq;
     hm.on = HIL_RUN;
+    /* the frame's setting, before its step (as the keypad or SET would set it) */
+    hm.verdict = hm.rx.buf[24] == HIL_NO_SETTING ? HIL_NO_SETTING : param_try(hm.rx.buf[24], get16(hm.rx.buf + 25));
     return 1;
 }
 
@@ -212,6 +218,7 @@ void hil_answer(hil_out_t *o, uint8_t *f) __reentrant
     o->seq = hm.seq;
     o->lost = hm.lost;
     o->wheel_min = hm.in.wheel_min;
+    o->set_verdict = hm.verdict;
     hil_out_encode(o, f);
 }
 

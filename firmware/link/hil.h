@@ -28,7 +28,9 @@
  *   19..20 pressure ADC counts, the sum of the period's 4 conversions (0..4092: analog.c averages
  *          four; the HAL returns its quarters, which add up to it)   21..22 level, the same
  *   23     section switch bits
- *   24..25 CRC
+ *   24     a setting the operator changed (params.h id; HIL_NO_SETTING: none)   25..26 its value;
+ *          set before the frame's step, as the keypad or SET would (one a frame)
+ *   27..28 CRC
  * output frame, controller -> PC, HIL_OUT_BYTES:
  *   0      HIL_OUT_START (0x5A)
  *   1      the sequence number of the sensor frame it answers
@@ -41,12 +43,15 @@
  *   10..13 the wheel input's shortest pulse interval, PCA ticks (0: every edge counts)
  *   14..15 working speed km/h x100    16..17 target L/min x100 (int16)
  *   18..19 measured flow L/min x100 (int16)    20..21 pressure kPa
- *   22..23 CRC
+ *   22     the sensor frame's setting: HIL_NO_SETTING when it carried none, else param_try's
+ *          verdict (PARAM_OK: set; a refused one leaves the value as it was)
+ *   23..24 CRC
  */
 #define HIL_IN_START 0xA5
 #define HIL_OUT_START 0x5A
-#define HIL_IN_BYTES 26
-#define HIL_OUT_BYTES 24
+#define HIL_IN_BYTES 29
+#define HIL_OUT_BYTES 25
+#define HIL_NO_SETTING 0xFF
 
 typedef struct {
     uint8_t seq;
@@ -58,6 +63,8 @@ typedef struct {
     uint32_t meter_last;
     uint16_t adc_pressure, adc_level;
     uint8_t sections;
+    uint8_t set_id;                 /* HIL_NO_SETTING, or the parameter set_value is for */
+    uint16_t set_value;
 } hil_in_t;
 
 typedef struct {
@@ -73,6 +80,7 @@ typedef struct {
     int16_t target_lpm_x100;
     int16_t flow_lpm_x100;
     uint16_t pressure_kpa;
+    uint8_t set_verdict;            /* HIL_NO_SETTING, or PARAM_OK / why the setting was refused */
 } hil_out_t;
 
 /* The receiver of one direction's frames: bytes in, whole checked frames out. */
@@ -109,7 +117,7 @@ void hil_init(void);
 void hil_begin(void);
 uint8_t hil_active(void);
 /* A received byte in the mode; 1 when it completed a sensor frame: its inputs are what the
- * HAL reads now (hal_hil), and one control step is due. */
+ * HAL reads now (hal_hil), its setting is set, and one control step is due. */
 uint8_t hil_byte(uint8_t b);
 /* Read the serial link's bytes as frames until one is in (serial.c, in the mode); hil_due()
  * is 1 from then until its answer (one control step a frame). */
@@ -118,7 +126,8 @@ uint8_t hil_due(void);
 /* 1 at the first frame of the mode: the application starts afresh on it. */
 uint8_t hil_first(void);
 /* After the step: o (valve, relays, alarms, the status values, filled by the application)
- * with the mode's own fields (sequence, lost frames, the wheel filter) as a frame into f. */
+ * with the mode's own fields (sequence, lost frames, the wheel filter, the setting's verdict)
+ * as a frame into f. */
 void hil_answer(hil_out_t *o, uint8_t *f) __reentrant;
 
 #endif

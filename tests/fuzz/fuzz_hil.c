@@ -5,6 +5,7 @@
 #include "fuzz.h"
 #include "hil.h"
 #include "hal_host.h"
+#include "params.h"
 
 static void check_stream(const uint8_t *data, size_t size, uint8_t start)
 {
@@ -35,6 +36,8 @@ static void check_stream(const uint8_t *data, size_t size, uint8_t start)
                 in.adc_pressure = h.adc[HAL_ADC_PRESSURE];
                 in.adc_level = h.adc[HAL_ADC_LEVEL];
                 in.sections = h.sections;
+                in.set_id = rx.buf[24];         /* (hil_byte sets it; the bytes go through as they are) */
+                in.set_value = (uint16_t)(rx.buf[25] | rx.buf[26] << 8);
                 hil_in_encode(&in, f);
                 /* the ADC fields carry sums of 4 ten-bit conversions: 12 bits, at most 4092 */
                 for (int a = 19; a <= 21; a += 2) {
@@ -42,7 +45,8 @@ static void check_stream(const uint8_t *data, size_t size, uint8_t start)
                     FUZZ_CHECK((unsigned)(f[a] | f[a + 1] << 8) == (raw > 4092u ? 4092u : raw),
                                "ADC field %d: %u from %u", a, (unsigned)(f[a] | f[a + 1] << 8), raw);
                 }
-                FUZZ_CHECK(memcmp(f, rx.buf, 19) == 0 && f[23] == rx.buf[23], "sensor frame changed by decode/encode");
+                FUZZ_CHECK(memcmp(f, rx.buf, 19) == 0 && memcmp(f + 23, rx.buf + 23, 4) == 0,
+                           "sensor frame changed by decode/encode");
                 FUZZ_CHECK(h.adc[0] <= 4092 && h.adc[1] <= 4092, "ADC sum above 4 x 1023");
             } else {
                 hil_out_t out;
@@ -51,7 +55,7 @@ static void check_stream(const uint8_t *data, size_t size, uint8_t start)
                 FUZZ_CHECK(out.valve_dir >= -1 && out.valve_dir <= 1, "valve direction %d", out.valve_dir);
                 /* the direction and relay bytes keep only their defined values and bits */
                 FUZZ_CHECK(memcmp(f + 3, rx.buf + 3, 2) == 0 && f[5] == (rx.buf[5] & 3)
-                           && memcmp(f + 6, rx.buf + 6, 16) == 0, "output frame changed by decode/encode");
+                           && memcmp(f + 6, rx.buf + 6, 17) == 0, "output frame changed by decode/encode");
             }
         }
         FUZZ_CHECK(rx.n < rx.size, "receiver holds %u bytes", rx.n);
@@ -76,7 +80,8 @@ static void check_stream(const uint8_t *data, size_t size, uint8_t start)
 }
 
 /* The controller's mode on the same bytes: every frame taken is what the HAL reads, the lost
- * count never runs backwards, and a frame's step leaves no capture to be taken twice. */
+ * count never runs backwards, a frame's step leaves no capture to be taken twice, and whatever
+ * setting a frame carries, every value stays in its range and keeps the cross-checks. */
 static void check_mode(const uint8_t *data, size_t size)
 {
     hal_capture_t c;
@@ -85,6 +90,7 @@ static void check_mode(const uint8_t *data, size_t size)
     hil_out_t o;
     uint8_t f[HIL_OUT_BYTES];
     hal_host_reset();
+    params_defaults();
     hil_begin();
     FUZZ_CHECK(hil_active() && hal_hil_active(), "HIL mode not on after hil_begin");
     for (k = 0; k < size; k++) {
@@ -98,6 +104,10 @@ static void check_mode(const uint8_t *data, size_t size)
         hil_answer(&o, f);
         FUZZ_CHECK(o.lost >= lost, "lost count ran backwards");
         lost = o.lost;
+        FUZZ_CHECK(o.set_verdict == HIL_NO_SETTING || o.set_verdict <= PARAM_X_METER, "verdict %u", o.set_verdict);
+        for (uint8_t i = 0; i < P_COUNT; i++)
+            FUZZ_CHECK(param_in_range(i, param_v[i]), "parameter %u at %u, out of its range", i, param_v[i]);
+        FUZZ_CHECK(params_cross() == PARAM_OK, "a frame's setting broke cross-check %u", params_cross());
     }
     hal_hil(0);
 }

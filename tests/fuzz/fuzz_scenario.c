@@ -1,4 +1,4 @@
-/* fuzz_scenario.c: the scenario reader (sim/scenario.c) on any text: refused with a located message, or read whole and valid. */
+/* fuzz_scenario.c: the scenario reader (sim/scenario.c) on any text: refused with a located, printable message, or read whole and valid. */
 #include <string.h>
 #include "fuzz.h"
 #include "scenario.h"
@@ -26,8 +26,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(memchr(err, 0, sizeof err) != NULL, "message not terminated");
     if (rc < 0) {
         FUZZ_CHECK(strncmp(err, "fuzz.scn:", 9) == 0, "message without the file: '%s'", err);
+        for (i = 0; err[i]; i++)
+            FUZZ_CHECK((unsigned char)err[i] >= 0x20 && (unsigned char)err[i] < 0x7F,
+                       "message holds byte 0x%02X at %d", (unsigned char)err[i], i);
         return 0;
     }
+    FUZZ_CHECK(scn->n_drive >= 1, "read without a drive row");
     /* read: everything the simulator relies on holds */
     FUZZ_CHECK(scn->duration_s > 0 && scn->duration_s < 1e9, "duration %g", scn->duration_s);
     for (i = 0; i < P_COUNT; i++)

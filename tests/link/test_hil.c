@@ -64,12 +64,16 @@ static void hil_on(void)
     assert_non_null(strstr(buf, "OK HIL*"));
 }
 
-static void frame(uint8_t seq, uint32_t at_ms, uint16_t wheel_total, uint16_t meter_total, uint16_t adc_p)
+/* a sensor frame with a setting (set_id HIL_NO_SETTING: none) onto the controller's wire */
+static void frame_set(uint8_t seq, uint32_t at_ms, uint16_t wheel_total, uint16_t meter_total, uint16_t adc_p,
+                      uint8_t set_id, uint16_t set_value)
 {
     hil_in_t in;
     uint8_t f[HIL_IN_BYTES];
     memset(&in, 0, sizeof in);
     in.seq = seq;
+    in.set_id = set_id;
+    in.set_value = set_value;
     in.pca_now = hal_host_pca_of_ns(at_ms * 1000000ull);
     in.wheel_count = wheel_total;
     in.wheel_last = in.pca_now - 1000;
@@ -81,6 +85,11 @@ static void frame(uint8_t seq, uint32_t at_ms, uint16_t wheel_total, uint16_t me
     hil_in_encode(&in, f);
     for (size_t i = 0; i < sizeof f; i++)
         hal_host_uart_rx_push(f[i]);
+}
+
+static void frame(uint8_t seq, uint32_t at_ms, uint16_t wheel_total, uint16_t meter_total, uint16_t adc_p)
+{
+    frame_set(seq, at_ms, wheel_total, meter_total, adc_p, HIL_NO_SETTING, 0);
 }
 
 static void test_hil_is_entered_only_by_the_checksummed_command(void **state)
@@ -120,7 +129,7 @@ static void test_hil_steps_once_per_frame_on_its_inputs_and_never_without_one(vo
     assert_int_equal(hal_host_io.wdt_kicks, kicks);
     /* 3 bar on the frame's pressure ADC (16 bar sensor: 4 mA + 3/16 of 16 mA) */
     frame(1, link_t_ms + 8, 0, 0, MA(4.0 + 16.0 * 3.0 / 16.0));
-    link_run_ms(8);                          /* 26 bytes at 38400 baud: 6.8 ms on the wire */
+    link_run_ms(8);                          /* 29 bytes at 38400 baud: 7.6 ms on the wire */
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.seq, 1);
     assert_int_equal(o.lost, 0);
@@ -200,6 +209,59 @@ static void test_hil_holds_the_pins_off_and_reports_the_outputs(void **state)
     assert_in_range(o.flow_lpm_x100, 3000, 3300);
 }
 
+/* A frame's setting is set before its step, as the keypad would set it, and the answer says so;
+ * one out of range or against another setting is refused with its reason and changes nothing.
+ * 150 L/ha on 36 nozzles at 0.5 m (18 m) at 6 km/h: 150 x 18 x 6 / 600 = 27 L/min; 100 L/ha: 18. */
+static void test_hil_sets_a_frames_setting_before_its_step(void **state)
+{
+    hil_out_t o;
+    uint8_t seq = 0;
+    (void)state;
+    assert_int_equal(param_v[P_GIVEN_SPEED], 0);
+    assert_int_equal(param_v[P_RATE], 150);
+    hil_on();
+    frame(++seq, 100, 0, 0, MA(4.0));
+    link_run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.set_verdict, HIL_NO_SETTING);
+    assert_int_equal(o.target_lpm_x100, 0);         /* no wheel, no given speed: standing */
+    frame_set(++seq, 200, 0, 0, MA(4.0), P_GIVEN_SPEED, 60);
+    link_run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.set_verdict, PARAM_OK);
+    assert_int_equal(param_v[P_GIVEN_SPEED], 60);
+    assert_int_equal(o.speed_kmh_x100, 600);         /* this very step drove at it */
+    assert_int_equal(o.target_lpm_x100, 2700);
+    frame_set(++seq, 300, 0, 0, MA(4.0), P_RATE, 100);
+    link_run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.set_verdict, PARAM_OK);
+    assert_int_equal(o.target_lpm_x100, 1800);
+    /* out of the range 10..1000: refused, the rate stays */
+    frame_set(++seq, 400, 0, 0, MA(4.0), P_RATE, 5);
+    link_run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.set_verdict, PARAM_E_RANGE);
+    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(o.target_lpm_x100, 1800);
+    /* Tank min at the tank's size: against the cross-check, refused */
+    frame_set(++seq, 500, 0, 0, MA(4.0), P_TANK_MIN, param_v[P_TANK_L]);
+    link_run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.set_verdict, PARAM_X_TANK);
+    assert_true(param_v[P_TANK_MIN] < param_v[P_TANK_L]);
+    /* no such parameter */
+    frame_set(++seq, 600, 0, 0, MA(4.0), P_COUNT, 1);
+    link_run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.set_verdict, PARAM_E_RANGE);
+    frame(++seq, 700, 0, 0, MA(4.0));
+    link_run_ms(100);
+    assert_int_equal(take_frames(&o), 1);
+    assert_int_equal(o.set_verdict, HIL_NO_SETTING);
+    assert_int_equal(o.target_lpm_x100, 1800);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -207,6 +269,7 @@ int main(void)
         cmocka_unit_test_setup(test_hil_steps_once_per_frame_on_its_inputs_and_never_without_one, setup),
         cmocka_unit_test_setup(test_hil_counts_lost_frames_and_loses_no_edge_with_them, setup),
         cmocka_unit_test_setup(test_hil_holds_the_pins_off_and_reports_the_outputs, setup),
+        cmocka_unit_test_setup(test_hil_sets_a_frames_setting_before_its_step, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

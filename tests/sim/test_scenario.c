@@ -5,6 +5,8 @@
 #include <setjmp.h>
 #include <stdio.h>
 #include <string.h>
+#include <stdlib.h>
+#include <unistd.h>
 #include <cmocka.h>
 #include "scenario.h"
 #include "ctl.h"
@@ -99,11 +101,12 @@ static void test_scenario_crlf_and_bom(void **state)
     assert_true(s.drive[0].kmh == 5);
 }
 
-/* An empty file is all defaults: 300 s, seed 7, the firmware's parameter defaults, docs/SCENARIOS.md's plant. */
-static void test_scenario_empty_file_is_the_defaults(void **state)
+/* A file of one drive row is all defaults: 300 s, seed 7, the firmware's parameter defaults,
+ * docs/SCENARIOS.md's plant. */
+static void test_scenario_drive_alone_is_the_defaults(void **state)
 {
     (void)state;
-    assert_int_equal(scenario_parse(&s, "# nothing\n\n", "empty.scn", err, sizeof err), 0);
+    assert_int_equal(scenario_parse(&s, "# nothing else\n[drive]\n0 8\n", "one.scn", err, sizeof err), 0);
     assert_true(s.duration_s == 300.0);
     assert_true(s.seed == 7);
     assert_int_equal(s.param[P_RATE], 150);
@@ -111,8 +114,8 @@ static void test_scenario_empty_file_is_the_defaults(void **state)
     assert_true(s.plant.pump_lpm_at_540 == 120.0);
     assert_true(s.plant.valve_travel_s == 4.0);
     assert_true(s.plant.nozzle_lpm_at_3bar == 1.18);
-    assert_int_equal(s.n_drive, 0);
-    assert_true(scenario_drive_kmh(&s, 10) == 0.0);
+    assert_int_equal(s.n_drive, 1);
+    assert_true(scenario_drive_kmh(&s, 10) == 8.0);
 }
 
 /* One bad file: refused, the message names file, line and key, and the scenario is untouched. */
@@ -123,7 +126,64 @@ static void bad(const char *text, const char *where)
         fail_msg("accepted: %s", text);
     if (!strstr(err, where))
         fail_msg("message '%s' does not contain '%s'", err, where);
+    for (const char *p = err; *p; p++)
+        if ((unsigned char)*p < 0x20 || (unsigned char)*p >= 0x7F)
+            fail_msg("message '%s' holds byte 0x%02X", err, (unsigned char)*p);
     assert_true(s.duration_s == 12345);
+}
+
+/* Nothing to run: an empty file, one of comments and settings only, a [drive] without rows. The
+ * reader used to run these 300 s at 0 km/h and report null metrics. */
+static void test_scenario_refuses_a_file_without_drive_rows(void **state)
+{
+    (void)state;
+    bad("", "bad.scn: key '[drive]': missing: a run needs a [drive] section with at least one 'time_s speed_kmh' row");
+    bad("# nothing\n\n", "bad.scn: key '[drive]': missing");
+    bad("[run]\nduration_s = 60\n[config]\nrate_l_ha = 100\n", "bad.scn: key '[drive]': missing");
+    bad("[run]\nduration_s = 60\n\n[drive]\n# later\n\n[events]\n10 meter_fail\n",
+        "bad.scn:4: key '[drive]': no rows: a run needs at least one 'time_s speed_kmh'");
+    /* the errors of the rest of the file come first */
+    bad("[config]\nrate_l_ha = 5\n", "bad.scn:2: key 'rate_l_ha': 5 out of the firmware's range");
+}
+
+/* Bytes that do not print are written \xHH in the message: control codes, an escape sequence a
+ * terminal would obey, bytes past ASCII (binary input without NUL bytes). */
+static void test_scenario_messages_escape_what_does_not_print(void **state)
+{
+    (void)state;
+    bad("[plant]\n\x01\x7f\xff\xfe = 3\n", "bad.scn:2: key '\\x01\\x7F\\xFF\\xFE': unknown key in [plant]");
+    bad("[config]\nrate_l_ha = \x1b[2J150\n", "bad.scn:2: key 'rate_l_ha': '\\x1B[2J150' is not a number");
+    bad("[events]\n10 m\xc3\xa9ter_fail\n", "bad.scn:2: key 'm\\xC3\\xA9ter_fail': unknown event");
+    bad("\x7f\x45\x4c\x46\x02\x01\x01\x03\n", "bad.scn:1: key '\\x7FELF\\x02\\x01\\x01\\x03': comes before any [section]");
+    /* the name too, and a long message is cut at a whole escape */
+    char small[16];
+    assert_int_equal(scenario_parse(&s, "x", "a\x01" "b.scn", small, sizeof small), -1);
+    assert_string_equal(small, "a\\x01b.scn:1: k");    /* 15 characters and the end */
+    assert_int_equal(scenario_parse(&s, "x", "abcdefghijkl\x01", small, sizeof small), -1);
+    assert_string_equal(small, "abcdefghijkl");
+    assert_int_equal(scenario_set_controller(&s, "\x1b]0;pwned\x07", err, sizeof err), -1);
+    assert_non_null(strstr(err, "unknown controller '\\x1B]0;pwned\\x07'"));
+}
+
+/* A value the firmware's cross-checks refuse with the others is named by the latest line that
+ * gave one of the values compared. */
+static void test_scenario_cross_checks_name_their_line(void **state)
+{
+    (void)state;
+    /* Tank min at the firmware's tank size, 1000 L */
+    bad("[config]\nrate_l_ha = 100\ntank_min_l = 1000\n[drive]\n0 5\n",
+        "bad.scn:3: key 'tank_min_l': the firmware refuses this value with the others: Tank min>=size");
+    /* the meter's pulses with every nozzle open at P max (480 kPa): 2000 p/L x 96 x 2 L/min
+     * / 60 = 6400 Hz at 3 bar, over the 5 kHz budget; named by the last of its three lines */
+    bad("[config]\nmeter_cal_ppl = 2000\nnozzles = 96\nnozzle_lpm_at_3bar = 2\nrate_l_ha = 100\n[drive]\n0 5\n",
+        "bad.scn:4: key 'nozzle_lpm_at_3bar': the firmware refuses this value with the others: Meter K:too fast");
+    bad("[config]\nnozzle_lpm_at_3bar = 2\nnozzles = 96\nmeter_cal_ppl = 2000\n[drive]\n0 5\n",
+        "bad.scn:4: key 'meter_cal_ppl': the firmware refuses");
+    /* the plant's tank: the later of tank_l and tank_start_l, by its own name */
+    bad("[plant]\ntank_start_l = 800\ntank_l = 500\n[drive]\n0 5\n",
+        "bad.scn:3: key 'tank_l': tank_start_l 800 L is more than the tank holds (tank_l 500)");
+    bad("[plant]\ntank_l = 500\ntank_start_l = 800\n[drive]\n0 5\n",
+        "bad.scn:3: key 'tank_start_l': tank_start_l 800 L is more than the tank holds");
 }
 
 static void test_scenario_unknown_keys_and_sections(void **state)
@@ -168,7 +228,7 @@ static void test_scenario_values_out_of_range(void **state)
     bad("[run]\nduration_s = 0\n", "key 'duration_s': 0 out of range");
     bad("[config]\nrate_l_ha = 100\nrate_l_ha = 120\n", "bad.scn:3: key 'rate_l_ha': given twice in [config]");
     bad("[config]\nnozzles = 35\n", "bad.scn:2: key 'nozzles': 35 nozzles do not split evenly over 6 sections");
-    bad("[plant]\ntank_l = 500\n", "key 'tank_start_l': 1000 L is more than the tank holds");
+    bad("[plant]\ntank_l = 500\n", "bad.scn:2: key 'tank_l': tank_start_l 1000 L is more than the tank holds (tank_l 500)");
     bad("[plant]\nvalve_stiction_duty = 0.1\n", "bad.scn:2: key 'valve_stiction_duty': running duty 0.12 is above the break-away duty 0.1");
     bad("[plant]\nvalve_running_duty = 0.25\n", "bad.scn:2: key 'valve_running_duty': running duty 0.25 is above");
     bad("[plant]\nmeter_blades = 0\n", "key 'meter_blades': 0 out of range");
@@ -182,7 +242,7 @@ static void test_scenario_peer_settings(void **state)
 {
     (void)state;
     assert_int_equal(scenario_parse(&s, "[config]\ncontroller = aog\naog_kp = 12.5\naog_ki = 0.25\naog_kd = 1.5\n"
-                                    "aog_min_pwm = 70\naog_max_pwm = 200\nraven_valve_cal = 743\n",
+                                    "aog_min_pwm = 70\naog_max_pwm = 200\nraven_valve_cal = 743\n[drive]\n0 5\n",
                                     "p.scn", err, sizeof err), 0);
     assert_int_equal(s.param[P_CONTROLLER], CTL_AOG);
     assert_int_equal(s.param[P_AOG_KP], 125);
@@ -198,7 +258,7 @@ static void test_scenario_peer_settings(void **state)
 static void test_scenario_first_edition_file_gets_the_new_defaults(void **state)
 {
     (void)state;
-    if (scenario_parse(&s, "[plant]\nvalve_stiction_duty = 0.3\n", "old.scn", err, sizeof err) != 0)
+    if (scenario_parse(&s, "[plant]\nvalve_stiction_duty = 0.3\n[drive]\n0 5\n", "old.scn", err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_true(s.plant.valve_running_duty == 0.12);
     assert_true(s.plant.valve_motor_tau_s == 0.05);
@@ -251,14 +311,14 @@ static void test_scenario_controller_names(void **state)
     char text[128];
     (void)state;
     for (id = 0; id < CTL_COUNT; id++) {
-        snprintf(text, sizeof text, "[config]\ncontroller = %s\n", ctl_name((uint8_t)id));
+        snprintf(text, sizeof text, "[config]\ncontroller = %s\n[drive]\n0 5\n", ctl_name((uint8_t)id));
         assert_int_equal(scenario_parse(&s, text, "c.scn", err, sizeof err), 0);
         assert_int_equal(s.param[P_CONTROLLER], id);
     }
     assert_string_equal(ctl_name(CTL_FFMAP), "ffmap");
     assert_non_null(scenario_controller_alias(0, &alias_id));
     for (a = 0; (alias = scenario_controller_alias(a, &alias_id)) != NULL; a++) {
-        snprintf(text, sizeof text, "[config]\ncontroller = %s\n", alias);
+        snprintf(text, sizeof text, "[config]\ncontroller = %s\n[drive]\n0 5\n", alias);
         assert_int_equal(scenario_parse(&s, text, "c.scn", err, sizeof err), 0);
         assert_int_equal(s.param[P_CONTROLLER], alias_id);
         assert_int_equal(alias_id, CTL_FFMAP);
@@ -290,6 +350,28 @@ static void test_scenario_files(void **state)
     assert_int_equal(s.events[1].line, 21);
 }
 
+/* A file as the programs read it: empty (0 bytes) or binary without NUL bytes, refused with a
+ * message that prints. */
+static void test_scenario_load_refuses_empty_and_binary_files(void **state)
+{
+    char path[] = "/tmp/test_scenario_XXXXXX";
+    static const unsigned char elf[] = {0x7F, 'E', 'L', 'F', 2, 1, 1, 3, 0xEF, 0xFF, '\n', 0x1B, '[', '2', 'J'};
+    int fd = mkstemp(path);
+    FILE *f;
+    (void)state;
+    assert_true(fd >= 0);
+    close(fd);
+    assert_int_equal(scenario_load(&s, path, err, sizeof err), -1);
+    assert_non_null(strstr(err, ": key '[drive]': missing"));
+    f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(elf, 1, sizeof elf, f), sizeof elf);
+    fclose(f);
+    assert_int_equal(scenario_load(&s, path, err, sizeof err), -1);
+    assert_non_null(strstr(err, ":1: key '\\x7FELF\\x02\\x01\\x01\\x03\\xEF\\xFF': comes before any [section]"));
+    unlink(path);
+}
+
 /* Every [plant] key docs/SCENARIOS.md lists, at the default it states, and every event it lists. */
 static void test_scenario_every_key_and_event_of_plant_md(void **state)
 {
@@ -310,7 +392,8 @@ static void test_scenario_every_key_and_event_of_plant_md(void **state)
         "1 sections_open 24\n2 rate_l_ha 125\n3 pto_rpm 450\n4 meter_fail\n5 meter_restore\n"
         "6 speed_sensor_fail\n7 speed_sensor_restore\n8 pressure_sensor_open\n9 pressure_sensor_restore\n"
         "10 valve_stuck\n11 valve_free\n12 speed_bounce_pct 5\n13 leak_lpm 2\n14 clog_nozzles 3\n"
-        "15 tank_l 500\n16 given_speed_kmh 7\n";
+        "15 tank_l 500\n16 given_speed_kmh 7\n"
+        "[drive]\n0 5\n";
     plant_params_t def;
     (void)state;
     if (scenario_parse(&s, text, "all.scn", err, sizeof err) != 0)
@@ -322,6 +405,25 @@ static void test_scenario_every_key_and_event_of_plant_md(void **state)
 #undef SAME
     assert_int_equal(s.n_events, 16);
     assert_int_equal(s.events[15].kind, EV_GIVEN_SPEED);
+}
+
+/* A run cut short (the programs' --duration): the events after the cut dropped, the ones at it
+ * kept; a cut past the end changes nothing; a cut that is no duration is refused. */
+static void test_scenario_cut(void **state)
+{
+    (void)state;
+    assert_int_equal(scenario_parse(&s, good, "good.scn", err, sizeof err), 0);
+    assert_int_equal(scenario_cut(&s, 500, err, sizeof err), 0);
+    assert_true(s.duration_s == 120);
+    assert_int_equal(s.n_events, 4);
+    assert_int_equal(scenario_cut(&s, 50, err, sizeof err), 0);
+    assert_true(s.duration_s == 50);
+    assert_int_equal(s.n_events, 3);                /* 30, 40 and 50 s; not 60 */
+    assert_true(s.events[2].t_s == 50);
+    assert_int_equal(scenario_cut(&s, 0, err, sizeof err), -1);
+    assert_non_null(strstr(err, "0 is not a duration"));
+    assert_int_equal(scenario_cut(&s, 2e6, err, sizeof err), -1);
+    assert_true(s.duration_s == 50);
 }
 
 /* Every scenario the project ships loads. */
@@ -392,7 +494,10 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scenario_good_file),
-        cmocka_unit_test(test_scenario_empty_file_is_the_defaults),
+        cmocka_unit_test(test_scenario_drive_alone_is_the_defaults),
+        cmocka_unit_test(test_scenario_refuses_a_file_without_drive_rows),
+        cmocka_unit_test(test_scenario_messages_escape_what_does_not_print),
+        cmocka_unit_test(test_scenario_cross_checks_name_their_line),
         cmocka_unit_test(test_scenario_crlf_and_bom),
         cmocka_unit_test(test_scenario_unknown_keys_and_sections),
         cmocka_unit_test(test_scenario_missing_and_bad_numbers),
@@ -404,8 +509,10 @@ int main(void)
         cmocka_unit_test(test_scenario_peer_settings),
         cmocka_unit_test(test_scenario_files),
         cmocka_unit_test(test_scenario_key_serial_and_fault_events),
+        cmocka_unit_test(test_scenario_load_refuses_empty_and_binary_files),
         cmocka_unit_test(test_scenario_every_key_and_event_of_plant_md),
         cmocka_unit_test(test_scenario_project_files_load),
+        cmocka_unit_test(test_scenario_cut),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
