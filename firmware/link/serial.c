@@ -29,10 +29,31 @@ static __data uint8_t se_log_due;   /* log lines asked for and not yet sent */
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
 #define S_RX_LOST 4                 /* bytes of the line were lost (hal_uart_get): skip to its end */
+#define S_RX_HELD 5                 /* a whole line waits for a pass that takes it (serial_poll) */
 static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
+static __bit ee_due;                /* the EE line (settings not the newest saved) not yet sent */
 static __bit csum_seen;             /* the line being answered carried its checksum */
 
 static const __code char hexd[] = "0123456789ABCDEF";
+
+/* The line's check, both ways: CRC-8, polynomial 0x65 (x^8+x^6+x^5+x^2+1), initial 0, most
+ * significant bit first, a nibble at a time. With the check in hex after '*' it catches every
+ * error of one or two bits in a line of up to SERIAL_CRC_BYTES bytes, the hex digits' own
+ * included, and every error within one byte (docs/PC.md: why this polynomial). */
+static const __code uint8_t crc8_nibble[16] = {
+    0x00, 0x65, 0xCA, 0xAF, 0xF1, 0x94, 0x3B, 0x5E, 0x87, 0xE2, 0x4D, 0x28, 0x76, 0x13, 0xBC, 0xD9
+};
+
+static uint8_t crc8_of(uint8_t n) __reentrant
+{
+    uint8_t i, c = 0, b;
+    for (i = 0; i < n; i++) {
+        b = (uint8_t)se.buf[i];
+        c = (uint8_t)(c << 4) ^ crc8_nibble[(c >> 4) ^ (b >> 4)];
+        c = (uint8_t)(c << 4) ^ crc8_nibble[(c >> 4) ^ (b & 15u)];
+    }
+    return c;
+}
 
 void serial_init(void)
 {
@@ -40,6 +61,7 @@ void serial_init(void)
     se_state = S_RX;
     se.reported = 0;
     boot_due = 1;
+    ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
 
 void serial_log_request(void)
@@ -114,9 +136,7 @@ static void tx_crlf(void) __reentrant
 
 static void tx_end(void) __reentrant
 {
-    uint8_t i, x = 0;
-    for (i = 0; i < se_n; i++)
-        x ^= (uint8_t)se.buf[i];
+    uint8_t x = crc8_of(se_n);
     put_raw('*');
     put_raw(hexd[x >> 4]);
     put_raw(hexd[x & 15]);
@@ -189,9 +209,10 @@ static const __code command_t commands[] = {
 #endif
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
-/* The commands that change something: refused without their checksum, so that a damaged
- * line ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
-#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV) | (1u << C_HIL))
+/* The commands that change something: refused without their check, so that a damaged line
+ * ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
+#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_ACK) | (1u << C_RST) | (1u << C_SAV) \
+                 | (1u << C_HIL))
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
@@ -273,16 +294,17 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     }
 }
 
-/* The checksum ("*HH": csum_seen says whether it came) and layout (words, single spaces) of
+/* The check ("*HH", crc8_of: csum_seen says whether it came) and layout (words, single spaces) of
  * the line in se.buf; 0 and an error sent when it is not right, else the line's length
  * without the checksum. */
 static uint8_t line_ok(uint8_t n) __reentrant
 {
-    uint8_t i, x = 0;
+    uint8_t i, x;
     int8_t h1, h2;
     csum_seen = 0;
     for (i = 0; i < n && se.buf[i] != '*'; i++)
-        x ^= (uint8_t)se.buf[i];
+        ;
+    x = crc8_of(i);
     if (i < n) {
         h1 = i + 3 == n ? hexval(se.buf[i + 1]) : -1;
         h2 = i + 3 == n ? hexval(se.buf[i + 2]) : -1;
@@ -378,11 +400,16 @@ static void compose_next(void) __reentrant
     uint8_t bit;
 
     if (store_done(STORE_BY_SERIAL)) {  /* a SAV's save has ended */
-        store_status() == STORE_OK ? ok("SAV") : reply_err("SAVE");
+        store_result() == STORE_OK ? ok("SAV") : reply_err("SAVE");
     } else if (boot_due) {                 /* first of all: why the controller started */
         boot_due = 0;
         tx_s("BOOT ");
         tx_s(diag_reset_code());
+    } else if (ee_due) {                   /* then: the settings are not the newest saved */
+        ee_due = 0;
+        tx_s("EE ");
+        bit = store_status();
+        tx_s(bit == STORE_OLDER ? "OLDER" : bit < STORE_CROSS ? "DEFAULTS" : why_word[bit - STORE_CROSS + PARAM_X_TANK]);
     } else if (diff) {
         for (bit = 0; !(diff & 1u); bit++)
             diff >>= 1;
@@ -444,7 +471,19 @@ void serial_hil_send(hil_out_t *o) __reentrant
     drain();
 }
 #endif
-uint8_t serial_poll(void) __reentrant
+/* The line in se.buf, answered: 1 when a reply of ours went out (at most one line a pass) */
+static uint8_t take(void) __reentrant
+{
+    se_state = S_RX;
+    if (answer()) {
+        send();
+        return 1;
+    }
+    se_n = 0;                       /* taken, answers queued (Raven) */
+    return 0;
+}
+
+uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
 
@@ -456,6 +495,8 @@ uint8_t serial_poll(void) __reentrant
         return 0;
     }
 #endif
+    if (se_state == S_RX_HELD)      /* the bytes after it wait in the HAL's queue meanwhile */
+        return may_take ? take() : 0;
     while ((b = hal_uart_get()) != -1) {
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
@@ -466,11 +507,11 @@ uint8_t serial_poll(void) __reentrant
                 return 1;
             }
             if (se_n) {
-                if (answer()) {
-                    send();
-                    return 1;
+                if (!may_take) {
+                    se_state = S_RX_HELD;
+                    return 0;
                 }
-                se_n = 0;           /* taken, answers queued (Raven) */
+                return take();
             }
         } else if (se_state == S_RX) {
             if (b < 0x20 || b > 0x7E)
@@ -484,7 +525,7 @@ uint8_t serial_poll(void) __reentrant
     if (se_n || se_state != S_RX) {
         /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
          * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
-        if (se_log_due < 3)
+        if (se_log_due < SERIAL_STALL_S)
             return 0;
         if (se_state == S_RX_LOST) {
             reply_err("LOST");
