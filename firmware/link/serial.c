@@ -10,6 +10,7 @@
 #include "hil.h"
 #include "remote.h"
 #include "linebuf.h"
+#include "linecheck.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -17,6 +18,7 @@
 static struct {
     char buf[SERIAL_TX_MAX];
     uint16_t reported;              /* alarm bits the PC has been told about */
+    uint8_t quiet;                  /* log periods (seconds) since a byte last came in */
 } se;
 /* the most used bytes here, in the direct RAM */
 static __data uint8_t se_n;         /* bytes in se.buf */
@@ -32,34 +34,16 @@ static __data uint8_t se_log_due;   /* log lines asked for and not yet sent */
 #define S_RX_HELD 5                 /* a whole line waits for a pass that takes it (serial_poll) */
 static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
 static __bit ee_due;                /* the EE line (settings not the newest saved) not yet sent */
-static __bit csum_seen;             /* the line being answered carried its checksum */
+static __bit csum_seen;             /* the line being answered carried its check */
 
 static const __code char hexd[] = "0123456789ABCDEF";
-
-/* The line's check, both ways: CRC-8, polynomial 0x65 (x^8+x^6+x^5+x^2+1), initial 0, most
- * significant bit first, a nibble at a time. With the check in hex after '*' it catches every
- * error of one or two bits in a line of up to SERIAL_CRC_BYTES bytes, the hex digits' own
- * included, and every error within one byte (docs/PC.md: why this polynomial). */
-static const __code uint8_t crc8_nibble[16] = {
-    0x00, 0x65, 0xCA, 0xAF, 0xF1, 0x94, 0x3B, 0x5E, 0x87, 0xE2, 0x4D, 0x28, 0x76, 0x13, 0xBC, 0xD9
-};
-
-static uint8_t crc8_of(uint8_t n) __reentrant
-{
-    uint8_t i, c = 0, b;
-    for (i = 0; i < n; i++) {
-        b = (uint8_t)se.buf[i];
-        c = (uint8_t)(c << 4) ^ crc8_nibble[(c >> 4) ^ (b >> 4)];
-        c = (uint8_t)(c << 4) ^ crc8_nibble[(c >> 4) ^ (b & 15u)];
-    }
-    return c;
-}
 
 void serial_init(void)
 {
     se_n = se_tx_i = se_log_due = 0;
     se_state = S_RX;
     se.reported = 0;
+    se.quiet = 0;
     boot_due = 1;
     ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
@@ -68,6 +52,8 @@ void serial_log_request(void)
 {
     if (se_log_due < 255)
         se_log_due++;
+    if (se.quiet < 255)
+        se.quiet++;
     remote_tick();
 }
 
@@ -136,7 +122,7 @@ static void tx_crlf(void) __reentrant
 
 static void tx_end(void) __reentrant
 {
-    uint8_t x = crc8_of(se_n);
+    uint8_t x = line_crc8(se.buf, se_n);
     put_raw('*');
     put_raw(hexd[x >> 4]);
     put_raw(hexd[x & 15]);
@@ -144,16 +130,6 @@ static void tx_end(void) __reentrant
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
-static int8_t hexval(char c) __reentrant
-{
-    int8_t i;
-    if (c >= 'a' && c <= 'f')
-        c -= 'a' - 'A';
-    for (i = 15; i >= 0 && hexd[i] != c; i--)
-        ;
-    return i;
-}
-
 /* A plain decimal 0..65535 from p up to a space or the end; returns the next position or 0.
  * p points into the line buffer, v to answer()'s locals (on the stack). */
 static const __xdata char *number(const __xdata char *p, __idata uint16_t *v) __reentrant
@@ -294,39 +270,6 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     }
 }
 
-/* The check ("*HH", crc8_of: csum_seen says whether it came) and layout (words, single spaces) of
- * the line in se.buf; 0 and an error sent when it is not right, else the line's length
- * without the checksum. */
-static uint8_t line_ok(uint8_t n) __reentrant
-{
-    uint8_t i, x;
-    int8_t h1, h2;
-    csum_seen = 0;
-    for (i = 0; i < n && se.buf[i] != '*'; i++)
-        ;
-    x = crc8_of(i);
-    if (i < n) {
-        h1 = i + 3 == n ? hexval(se.buf[i + 1]) : -1;
-        h2 = i + 3 == n ? hexval(se.buf[i + 2]) : -1;
-        if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {
-            reply_err("CSUM");
-            return 0;
-        }
-        n = i;
-        csum_seen = 1;
-    }
-    se.buf[n] = 0;
-    if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ')
-        goto bad;
-    for (i = 1; i < n; i++)
-        if (se.buf[i] == ' ' && se.buf[i - 1] == ' ')
-            goto bad;
-    return n;
-bad:                                /* (one copy of the refusal) */
-    reply_err(link_e_arg);
-    return 0;
-}
-
 /* The command in se.buf: look its word up, parse its arguments, run its handler; a line
  * starting with '$' goes to Raven's strings (remote.c). 1 when a reply of ours is to be sent. */
 static uint8_t answer(void) __reentrant
@@ -338,8 +281,12 @@ static uint8_t answer(void) __reentrant
     uint16_t a = 0, b = 0;
 
     se_n = 0;                       /* the reply is written over the line once it is parsed */
-    if (!line_ok(n))
+    c = line_check(se.buf, n);      /* (linecheck.h) */
+    if (c >= LINE_E_ARG) {
+        reply_err(c == LINE_E_CSUM ? "CSUM" : link_e_arg);
         return 1;
+    }
+    csum_seen = (c & LINE_CHECKED) != 0;
     if (se.buf[0] == '$') {         /* Raven's: their answers are queued, a refusal is ours */
         why = remote_command(se.buf);
         if (!why)
@@ -498,6 +445,7 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
     if (se_state == S_RX_HELD)      /* the bytes after it wait in the HAL's queue meanwhile */
         return may_take ? take() : 0;
     while ((b = hal_uart_get()) != -1) {
+        se.quiet = 0;
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
         } else if (b == '\r' || b == '\n') {
@@ -523,9 +471,9 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
         }
     }
     if (se_n || se_state != S_RX) {
-        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
-         * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
-        if (se_log_due < SERIAL_STALL_S)
+        /* a line is coming in; one whose bytes stop for 3 s is dropped so the log goes on
+         * (one that lost bytes, its end perhaps among them, is answered ERR LOST then) */
+        if (se.quiet < SERIAL_STALL_S)
             return 0;
         if (se_state == S_RX_LOST) {
             reply_err("LOST");
