@@ -216,8 +216,8 @@ uint8_t store_load(void) __reentrant
     for (s = 0; s < n; s++)
         param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (hal_eeprom_read(base + 1u) == PARAMS_VERSION)
-        totals_set_job(read32(base + HDR_JOB), read32(base + HDR_JOB + 4u));
+    q = hal_eeprom_read(base + 1u) == PARAMS_VERSION;    /* an older copy: the job at zero */
+    totals_set_job(q ? read32(base + HDR_JOB) : 0, q ? read32(base + HDR_JOB + 4u) : 0);
     n = params_cross();
     if (n != PARAM_OK) {
         /* written by a firmware without the cross-checks: its set cannot run (a tank minimum
