@@ -86,9 +86,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* the bytes at the wire's pace (3 a millisecond), a poll every millisecond, as on the chip;
      * a line is answered within a poll or two, but one whose bytes were lost (the receive queue
      * overflowed) and whose end went with them is answered ERR LOST only when it has stalled
-     * for 3 s (serial.h): the harness waits that long when a reply is missing */
+     * for 3 s (serial.h): the harness waits that long when a reply is missing and no ERR LOST
+     * has come (after one, lines run together have fewer replies than lines) */
     polls = (unsigned)size * 2u + 100u + (SERIAL_STALL_S + 1u) * 1000u;
-    for (i = 0, k = 0; i < polls && (hil ? i < (unsigned)size * 2u + 100u : k < size || replies < lines); i++) {
+    for (i = 0, k = 0; i < polls && (hil ? i < (unsigned)size * 2u + 100u : k < size || (replies < lines && !lost));
+         i++) {
         unsigned j;
         for (j = 0; j < 3 && k < size; j++)
             hal_host_uart_rx_push(data[k++]);
