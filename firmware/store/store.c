@@ -216,8 +216,10 @@ uint8_t store_load(void) __reentrant
     for (s = 0; s < n; s++)
         param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    q = hal_eeprom_read(base + 1u) == PARAMS_VERSION;    /* an older copy: the job at zero */
-    totals_set_job(q ? read32(base + HDR_JOB) : 0, q ? read32(base + HDR_JOB + 4u) : 0);
+    if (hal_eeprom_read(base + 1u) == PARAMS_VERSION)
+        totals_set_job(read32(base + HDR_JOB), read32(base + HDR_JOB + 4u));
+    else
+        totals_set_job(0, 0);       /* an older copy has none */
     n = params_cross();
     if (n != PARAM_OK) {
         /* written by a firmware without the cross-checks: its set cannot run (a tank minimum
@@ -476,10 +478,6 @@ uint8_t store_generation(void)
     return saved_gen;
 }
 
-uint8_t store_erase_tokens(void)
-{
-    return eb.tokens;
-}
 
 uint8_t store_status(void)
 {

@@ -106,8 +106,6 @@ uint8_t store_result(void);
 /* The param_generation (params.h) of the values loaded, or of those the last save that ended
  * well wrote: a different one means settings changed and not yet saved. */
 uint8_t store_generation(void);
-/* Erases the budget allows now (tests, the PC's figures). */
-uint8_t store_erase_tokens(void);
 /* One line (at most 16 characters) explaining a status, "" for STORE_OK (the cross-check's
  * reason for STORE_CROSS + n). */
 const __code char *store_status_text(uint8_t st);
