@@ -9,6 +9,7 @@
 #include "sim.h"
 #include "hal_host.h"
 #include "hil.h"
+#include "link_crc.h"
 #include "params.h"
 #include "app.h"
 #include "target.h"
@@ -84,12 +85,9 @@ static void usage(FILE *f)
 static int command(hil_pc_t *h, const char *cmd, const char *want, char *reply, size_t n)
 {
     char line[96];
-    unsigned x = 0;
-    size_t i, k = 0;
+    size_t k = 0;
     double end = wall_now() + 3.0;
-    for (i = 0; cmd[i]; i++)
-        x ^= (unsigned char)cmd[i];
-    snprintf(line, sizeof line, "%s*%02X\r\n", cmd, x);
+    snprintf(line, sizeof line, "%s*%02X\r\n", cmd, link_crc8(cmd, strlen(cmd)));
     if (pty_write(h->fd, line, strlen(line)) < 0)
         return -1;
     while (wall_now() < end) {

@@ -17,11 +17,18 @@
 #include "ctl_int.h"
 
 /* What a pass did, from the HAL calls it made (the names of pil_report's worst pass). */
-enum { K_ADC, K_LCD, K_TX, K_RX, K_EE_READ, K_EE_WRITE, K_EE_ERASE, K_VALVE, K_COUNT };
+enum { K_ADC, K_LCD, K_TX, K_RX, K_EE_READ, K_EE_WRITE, K_EE_ERASE, K_VALVE, K_WDT, K_COUNT };
 static const char *const k_name[K_COUNT] = {
     "ADC conversions", "LCD bytes", "UART bytes sent", "UART bytes received", "EEPROM reads",
-    "EEPROM writes", "EEPROM erases", "valve outputs"
+    "EEPROM writes", "EEPROM erases", "valve outputs", "watchdog kicks"
 };
+#define PIL_STEP_ADC 8              /* a control step converts pressure and level 4 times each */
+
+/* When something happened a pass at a time: how often, and the longest time between two */
+typedef struct {
+    size_t n;
+    uint64_t last, gap_max, gap_at;  /* ticks (ms) */
+} pil_every_t;
 
 #define PIL_TOP 5                   /* the worst passes pil_report lists */
 typedef struct {
@@ -46,7 +53,18 @@ struct pil {
     uint16_t keys_prev;
     int stack_hwm, stack_start;
     int failed;
+    pil_every_t steps, kicks;       /* control steps, watchdog kicks */
 };
+
+static void every(pil_every_t *e, uint64_t tick)
+{
+    if (e->n && tick - e->last > e->gap_max) {
+        e->gap_max = tick - e->last;
+        e->gap_at = tick;
+    }
+    e->last = tick;
+    e->n++;
+}
 
 static int rd(pil_t *p)
 {
@@ -136,7 +154,10 @@ static int serve(pil_t *p, int until)
             break;
         case PIL_SPRAY: hal_spray_enable((uint8_t)rd(p)); break;
         case PIL_BUZZER: hal_buzzer((uint8_t)rd(p)); break;
-        case PIL_WDT: hal_wdt_kick(); break;
+        case PIL_WDT:
+            hal_wdt_kick();
+            p->k[K_WDT]++;
+            break;
         case PIL_LCD:
             a = (unsigned)rd(p);
             v = (unsigned)rd(p);
@@ -264,6 +285,10 @@ timing:
         }
     }
     p->cycles[p->n_pass++] = cyc;
+    if (p->k[K_ADC] >= PIL_STEP_ADC)
+        every(&p->steps, p->sim->t_ns / SIM_TICK_NS);
+    if (p->k[K_WDT])
+        every(&p->kicks, p->sim->t_ns / SIM_TICK_NS);
     if (cyc > p->top[PIL_TOP - 1].cycles) {
         int i = PIL_TOP - 1;
         while (i > 0 && cyc > p->top[i - 1].cycles) {
@@ -452,6 +477,10 @@ void pil_report(const pil_t *p, FILE *f)
                    "1T estimate mean %.1f %%, max %.1f %%\n",
                 per, 100 * share_sum / periods, 100 * share_max, 100 * share_sum / periods / PIL_1T_FACTOR,
                 100 * share_max / PIL_1T_FACTOR);
+    fprintf(f, "pil: %zu control steps, the longest time between two %llu ms (at %.3f s); %zu watchdog kicks, "
+               "the longest time between two %llu ms (at %.3f s)\n",
+            p->steps.n, (unsigned long long)p->steps.gap_max, p->steps.gap_at * 1e-3, p->kicks.n,
+            (unsigned long long)p->kicks.gap_max, p->kicks.gap_at * 1e-3);
     if (p->stack_hwm)
         fprintf(f, "pil: stack from 0x%02x, high-water mark 0x%02x: %d B used, %d B below the top (0xff)\n",
                 p->stack_start, p->stack_hwm, p->stack_hwm - p->stack_start, 0xFF - p->stack_hwm);

@@ -104,7 +104,7 @@ int scenario_event_check(const scenario_t *s, int kind, double value, char *msg,
 /* The name of an event kind. */
 const char *scenario_event_name(int kind);
 /* 1 when the event takes a value (`rate_l_ha 125`), 0 when it stands alone (`meter_fail`), 2
- * when it takes the rest of its row as text (`key #`, `serial SET 0 100*2E`: '#' included). */
+ * when it takes the rest of its row as text (`key #`, `serial SET 0 100*EA`: '#' included). */
 int scenario_event_takes_value(int kind);
 /* 0 when a key or serial event's text is valid (a key of 0-9 A-D * #; a line of 1..SCN_TEXT_MAX-1
  * printable characters); -1 and why in msg otherwise. */

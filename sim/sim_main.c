@@ -9,6 +9,7 @@
 #include "hal_host.h"
 #include "pil_host.h"
 #include "pty.h"
+#include "link_crc.h"
 
 static void usage(FILE *f)
 {
@@ -47,11 +48,7 @@ static int sim_line(char *buf, size_t n, const sim_row_t *r)
                        r->t_s, r->v_true_kmh, r->v_meas_kmh, r->target_lpm, r->ref_lpm, r->flow_meas_lpm,
                        r->flow_true_lpm, r->boom_lpm, r->p_bar, r->p_meas_kpa, r->valve_drive, r->spray_on,
                        r->width_m, r->rate_l_ha, r->alarms);
-    unsigned x = 0;
-    int i;
-    for (i = 0; i < len; i++)
-        x ^= (unsigned char)buf[i];
-    return len + snprintf(buf + len, n - (size_t)len, "*%02X\r\n", x);
+    return len + snprintf(buf + len, n - (size_t)len, "*%02X\r\n", link_crc8(buf, (size_t)len));
 }
 
 static double wall_now(void)

@@ -4,10 +4,11 @@
     serial_log.py --port /dev/ttyUSB0 [--baud 38400] [--csv run.csv] [--seconds N] [--send "GET 0" ...]
     serial_log.py --replay captured.txt [--csv run.csv]        (lines captured earlier, or from the simulator)
 
-Every line the controller sends ends in "*HH" (XOR of the bytes before '*', see firmware/link/serial.h);
-a line whose checksum is wrong is counted and dropped, never logged. LOG lines (one a second,
-like the paper's PC monitor) become CSV rows; BOOT (the reset cause) / ALM / CLR / OK / ERR lines are
-printed.
+Every line the controller sends ends in "*HH", the CRC-8 of the bytes before '*' (polynomial 0x65,
+initial 0, most significant bit first: firmware/link/serial.h, docs/PC.md); a line whose check is
+wrong is counted and dropped, never logged. Commands go out with the same check. LOG lines (one a
+second, like the paper's PC monitor) become CSV rows; BOOT (the reset cause) / EE (settings that are
+not the newest saved) / ALM / CLR / OK / ERR lines are printed.
 """
 import argparse
 import csv
@@ -18,10 +19,13 @@ CSV_HEADER = ["t_s", "speed_kmh", "pressure_mpa", "target_lpm", "flow_lpm", "ala
 
 
 def checksum(body):
-    x = 0
+    """CRC-8 of a line's body: polynomial 0x65, initial 0, MSB first, bit by bit."""
+    c = 0
     for ch in body.encode("ascii", "replace"):
-        x ^= ch
-    return x
+        c ^= ch
+        for _ in range(8):
+            c = ((c << 1) ^ 0x65) & 0xFF if c & 0x80 else (c << 1) & 0xFF
+    return c
 
 
 def with_checksum(body):
@@ -51,7 +55,7 @@ def parse_line(line):
             return None, "LOG with a bad number"
         return "LOG", [t_ms / 1000.0, speed / 100.0, p_kpa / 1000.0, target / 100.0, flow / 100.0,
                        "%04X" % alarms]
-    if kind in ("ALM", "CLR", "OK", "ERR", "BOOT"):
+    if kind in ("ALM", "CLR", "OK", "ERR", "BOOT", "EE"):
         return kind, words[1:]
     return None, "unknown line " + kind
 

@@ -42,6 +42,11 @@
 /* The totals are saved this long after the boom shuts: not in the step that switches the
  * relay off, when its coil's energy and the supply's dip meet the IAP erase's current. */
 #define APP_SAVE_WAIT_PERIODS (1000u / APP_PERIOD_MS)
+/* A changed setting is saved this long after the change was first seen (the changes made
+ * meanwhile go with it); the totals every minute of spraying. The EEPROM's erase budget
+ * (store.h) bounds what any sequence of changes can cost. */
+#define APP_SET_SAVE_PERIODS (2000u / APP_PERIOD_MS)
+#define APP_TOTALS_SAVE_PERIODS (60000u / APP_PERIOD_MS)
 #define IO_ON (ops_io & OPS_IO_ON)
 
 static struct {
@@ -52,7 +57,9 @@ static struct {
     uint8_t log_div;
     uint8_t internal;
     uint8_t p_watch;                /* APP_P_WAIT: the pressure was under P max once spraying or parked since power-up, or APP_P_WAIT passed */
-    uint8_t save_wait;              /* periods until the totals are saved (0: none due) */
+    uint8_t save_wait;              /* periods until the totals are saved after a shut (0: none due) */
+    uint8_t set_wait;               /* periods until changed settings are saved (0: none counting) */
+    uint16_t sprayed;               /* periods sprayed since the app last asked for a save */
     uint8_t save;                   /* the save is due: app_poll runs it in a pass of its own */
     uint8_t prep;                   /* next module app_prepare derives for ... */
     uint8_t prep_gen;               /* ... this param_generation (all done when it is current) */
@@ -86,6 +93,8 @@ static void app_start(void)
     ap.internal = 0;
     ap.p_watch = 0;
     ap.save_wait = 0;
+    ap.set_wait = 0;
+    ap.sprayed = 0;
     ap.save = 0;
     ap.prep = 0;
     ap.prep_gen = param_generation;
@@ -216,25 +225,36 @@ static void app_spray(void)
     }
 }
 
-/* The totals after the boom shut: APP_SAVE_WAIT_PERIODS later, and not while the supply is
- * low (store_save refuses then; tried again a wait later). Spraying again cancels it: the
- * next shut saves. */
+/* The saves (each in a pass of its own, app_poll: app_save): the totals APP_SAVE_WAIT_PERIODS
+ * after the boom shut (spraying again cancels it: the next shut saves) and every
+ * APP_TOTALS_SAVE_PERIODS of spraying; settings that differ from the newest record's
+ * APP_SET_SAVE_PERIODS after the difference was first seen. */
 static void app_save_when_due(void)
 {
     if (app_status.spraying) {
         ap.save_wait = 0;
-        ap.save = 0;
-        return;
+        if (++ap.sprayed >= APP_TOTALS_SAVE_PERIODS)
+            ap.save = 1;
+    } else if (ap.save_wait && --ap.save_wait == 0) {
+        ap.save = 1;
     }
-    if (ap.save_wait && --ap.save_wait == 0)
-        ap.save = 1;                /* in a pass of its own (app_poll: app_save) */
+    if (store_generation() == param_generation)
+        ap.set_wait = 0;
+    else if (!ap.set_wait)
+        ap.set_wait = APP_SET_SAVE_PERIODS;
+    else if (--ap.set_wait == 0)
+        ap.save = 1;                /* (still unsaved a wait later: counted again) */
 }
 
-/* The save app_save_when_due asked for (store_poll carries it out over the next passes); a
- * low supply refuses it: tried again a wait later. */
+/* The save app_save_when_due asked for (store_poll carries it out over the next passes); one
+ * already running writes the values and totals of its time; a low supply refuses it: the
+ * shut's tried again a wait later, the others when next due. */
 static void app_save(void)
 {
     ap.save = 0;
+    if (store_busy())
+        return;
+    ap.sprayed = 0;
     if (!store_save_start(0))
         ap.save_wait = APP_SAVE_WAIT_PERIODS;
 }
@@ -353,10 +373,10 @@ static void app_step(void)
 void app_poll(void)
 {
     uint32_t now = hal_ms();
-    uint8_t late, diag = ap.diag;
+    uint8_t late, due, diag = ap.diag;
 
     if (diag) {
-        serial_poll();              /* before the alarms: only the step's pass goes without it */
+        serial_poll(1);             /* before the alarms: only the step's pass goes without it */
         app_diag();
     }
     valve_poll(now);
@@ -365,7 +385,7 @@ void app_poll(void)
         /* one step a sensor frame, on its inputs; none without one (never on stale inputs:
          * when the frames stop, so do the steps, and the watchdog resets the chip); the PC
          * waits for the answer, so the step takes its constants, save and log with it */
-        serial_poll();
+        serial_poll(1);
         console_poll();
         while (store_poll())
             ;                       /* a save they asked for, whole */
@@ -390,19 +410,22 @@ void app_poll(void)
     }
 #endif
     /* One heavy job a pass: after a settings change the modules' constants, one a pass (a due
-     * step waits for them); the control step alone; a save it asked for, then the once-a-second
-     * work; else the console unless the serial link composed a line, or in odd ms a save's part
-     * while one runs. The serial link runs in every pass but the step's (the UART's queue). */
-    if (diag && (int32_t)(now - ap.next_ms) < 0)
+     * step waits for them, and meanwhile the serial link takes no command, which could change
+     * a setting and start them over: a flood of changes never holds the step); the control
+     * step alone; a save it asked for, then the once-a-second work; else the console unless the
+     * serial link composed a line, or in odd ms a save's part while one runs. The serial link
+     * runs in every pass but the step's (the UART's queue), one command line at most. */
+    due = (int32_t)(now - ap.next_ms) >= 0;
+    if (diag && !due)
         return;                     /* (a late step, due at once, goes on in this pass) */
     if (app_prepare()) {
-        serial_poll();
+        serial_poll(!due);
         return;
     }
-    if ((int32_t)(now - ap.next_ms) < 0) {
+    if (!due) {
         if (app_after_step())
-            serial_poll();
-        else if (!serial_poll() && !((now & 1u) && store_poll()))
+            serial_poll(1);
+        else if (!serial_poll(1) && !((now & 1u) && store_poll()))
             console_poll();
         return;
     }

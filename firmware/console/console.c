@@ -343,7 +343,7 @@ void console_poll(void)
     uint16_t now = (uint16_t)hal_ms();
     con.k = keypad_poll();
     if (store_done(STORE_BY_CONSOLE)) {     /* the save of a value set here has ended */
-        con_say(store_status() == STORE_OK ? "Saved" : store_status_text(store_status()));
+        con_say(store_result() == STORE_OK ? "Saved" : store_status_text(store_result()));
         con.next_draw_ms = now;
     }
     if (con.rc_seen != target_remote_refusals()) {  /* a field computer's rate refused */

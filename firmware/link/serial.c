@@ -10,6 +10,7 @@
 #include "hil.h"
 #include "remote.h"
 #include "linebuf.h"
+#include "linecheck.h"
 
 /* One buffer: it collects a command line, then holds the line being sent (the reply is
  * composed over the parsed command). While a line goes out, received bytes wait in the
@@ -17,6 +18,7 @@
 static struct {
     char buf[SERIAL_TX_MAX];
     uint16_t reported;              /* alarm bits the PC has been told about */
+    uint8_t quiet;                  /* log periods (seconds) since a byte last came in */
 } se;
 /* the most used bytes here, in the direct RAM */
 static __data uint8_t se_n;         /* bytes in se.buf */
@@ -29,8 +31,10 @@ static __data uint8_t se_log_due;   /* log lines asked for and not yet sent */
 #define S_RX_CHAR 2                 /* a byte that is not printable ASCII: skip to the end */
 #define S_TX 3                      /* sending buf */
 #define S_RX_LOST 4                 /* bytes of the line were lost (hal_uart_get): skip to its end */
+#define S_RX_HELD 5                 /* a whole line waits for a pass that takes it (serial_poll) */
 static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
-static __bit csum_seen;             /* the line being answered carried its checksum */
+static __bit ee_due;                /* the EE line (settings not the newest saved) not yet sent */
+static __bit csum_seen;             /* the line being answered carried its check */
 
 static const __code char hexd[] = "0123456789ABCDEF";
 
@@ -39,13 +43,17 @@ void serial_init(void)
     se_n = se_tx_i = se_log_due = 0;
     se_state = S_RX;
     se.reported = 0;
+    se.quiet = 0;
     boot_due = 1;
+    ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
 
 void serial_log_request(void)
 {
     if (se_log_due < 255)
         se_log_due++;
+    if (se.quiet < 255)
+        se.quiet++;
     remote_tick();
 }
 
@@ -114,9 +122,7 @@ static void tx_crlf(void) __reentrant
 
 static void tx_end(void) __reentrant
 {
-    uint8_t i, x = 0;
-    for (i = 0; i < se_n; i++)
-        x ^= (uint8_t)se.buf[i];
+    uint8_t x = line_crc8(se.buf, se_n);
     put_raw('*');
     put_raw(hexd[x >> 4]);
     put_raw(hexd[x & 15]);
@@ -124,16 +130,6 @@ static void tx_end(void) __reentrant
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
-static int8_t hexval(char c) __reentrant
-{
-    int8_t i;
-    if (c >= 'a' && c <= 'f')
-        c -= 'a' - 'A';
-    for (i = 15; i >= 0 && hexd[i] != c; i--)
-        ;
-    return i;
-}
-
 /* A plain decimal 0..65535 from p up to a space or the end; returns the next position or 0.
  * p points into the line buffer, v to answer()'s locals (on the stack). */
 static const __xdata char *number(const __xdata char *p, __idata uint16_t *v) __reentrant
@@ -189,9 +185,10 @@ static const __code command_t commands[] = {
 #endif
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
-/* The commands that change something: refused without their checksum, so that a damaged
- * line ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
-#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_RST) | (1u << C_SAV) | (1u << C_HIL))
+/* The commands that change something: refused without their check, so that a damaged line
+ * ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
+#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_ACK) | (1u << C_RST) | (1u << C_SAV) \
+                 | (1u << C_HIL))
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
 
@@ -273,38 +270,6 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     }
 }
 
-/* The checksum ("*HH": csum_seen says whether it came) and layout (words, single spaces) of
- * the line in se.buf; 0 and an error sent when it is not right, else the line's length
- * without the checksum. */
-static uint8_t line_ok(uint8_t n) __reentrant
-{
-    uint8_t i, x = 0;
-    int8_t h1, h2;
-    csum_seen = 0;
-    for (i = 0; i < n && se.buf[i] != '*'; i++)
-        x ^= (uint8_t)se.buf[i];
-    if (i < n) {
-        h1 = i + 3 == n ? hexval(se.buf[i + 1]) : -1;
-        h2 = i + 3 == n ? hexval(se.buf[i + 2]) : -1;
-        if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {
-            reply_err("CSUM");
-            return 0;
-        }
-        n = i;
-        csum_seen = 1;
-    }
-    se.buf[n] = 0;
-    if (n == 0 || se.buf[0] == ' ' || se.buf[n - 1] == ' ')
-        goto bad;
-    for (i = 1; i < n; i++)
-        if (se.buf[i] == ' ' && se.buf[i - 1] == ' ')
-            goto bad;
-    return n;
-bad:                                /* (one copy of the refusal) */
-    reply_err(link_e_arg);
-    return 0;
-}
-
 /* The command in se.buf: look its word up, parse its arguments, run its handler; a line
  * starting with '$' goes to Raven's strings (remote.c). 1 when a reply of ours is to be sent. */
 static uint8_t answer(void) __reentrant
@@ -316,8 +281,12 @@ static uint8_t answer(void) __reentrant
     uint16_t a = 0, b = 0;
 
     se_n = 0;                       /* the reply is written over the line once it is parsed */
-    if (!line_ok(n))
+    c = line_check(se.buf, n);      /* (linecheck.h) */
+    if (c >= LINE_E_ARG) {
+        reply_err(c == LINE_E_CSUM ? "CSUM" : link_e_arg);
         return 1;
+    }
+    csum_seen = (c & LINE_CHECKED) != 0;
     if (se.buf[0] == '$') {         /* Raven's: their answers are queued, a refusal is ours */
         why = remote_command(se.buf);
         if (!why)
@@ -378,11 +347,16 @@ static void compose_next(void) __reentrant
     uint8_t bit;
 
     if (store_done(STORE_BY_SERIAL)) {  /* a SAV's save has ended */
-        store_status() == STORE_OK ? ok("SAV") : reply_err("SAVE");
+        store_result() == STORE_OK ? ok("SAV") : reply_err("SAVE");
     } else if (boot_due) {                 /* first of all: why the controller started */
         boot_due = 0;
         tx_s("BOOT ");
         tx_s(diag_reset_code());
+    } else if (ee_due) {                   /* then: the settings are not the newest saved */
+        ee_due = 0;
+        tx_s("EE ");
+        bit = store_status();
+        tx_s(bit == STORE_OLDER ? "OLDER" : bit < STORE_CROSS ? "DEFAULTS" : why_word[bit - STORE_CROSS + PARAM_X_TANK]);
     } else if (diff) {
         for (bit = 0; !(diff & 1u); bit++)
             diff >>= 1;
@@ -444,7 +418,19 @@ void serial_hil_send(hil_out_t *o) __reentrant
     drain();
 }
 #endif
-uint8_t serial_poll(void) __reentrant
+/* The line in se.buf, answered: 1 when a reply of ours went out (at most one line a pass) */
+static uint8_t take(void) __reentrant
+{
+    se_state = S_RX;
+    if (answer()) {
+        send();
+        return 1;
+    }
+    se_n = 0;                       /* taken, answers queued (Raven) */
+    return 0;
+}
+
+uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
 
@@ -456,7 +442,10 @@ uint8_t serial_poll(void) __reentrant
         return 0;
     }
 #endif
+    if (se_state == S_RX_HELD)      /* the bytes after it wait in the HAL's queue meanwhile */
+        return may_take ? take() : 0;
     while ((b = hal_uart_get()) != -1) {
+        se.quiet = 0;
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
         } else if (b == '\r' || b == '\n') {
@@ -466,11 +455,11 @@ uint8_t serial_poll(void) __reentrant
                 return 1;
             }
             if (se_n) {
-                if (answer()) {
-                    send();
-                    return 1;
+                if (!may_take) {
+                    se_state = S_RX_HELD;
+                    return 0;
                 }
-                se_n = 0;           /* taken, answers queued (Raven) */
+                return take();
             }
         } else if (se_state == S_RX) {
             if (b < 0x20 || b > 0x7E)
@@ -482,9 +471,9 @@ uint8_t serial_poll(void) __reentrant
         }
     }
     if (se_n || se_state != S_RX) {
-        /* a line is coming in; one that stalls for 3 s is dropped so the log goes on (one
-         * that lost bytes, its end perhaps among them, is answered ERR LOST then) */
-        if (se_log_due < 3)
+        /* a line is coming in; one whose bytes stop for 3 s is dropped so the log goes on
+         * (one that lost bytes, its end perhaps among them, is answered ERR LOST then) */
+        if (se.quiet < SERIAL_STALL_S)
             return 0;
         if (se_state == S_RX_LOST) {
             reply_err("LOST");

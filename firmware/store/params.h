@@ -52,11 +52,12 @@
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 7            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+#define PARAMS_VERSION 8            /* bump when the table or the EEPROM record changes (2: lifetime totals,
                                      * 3: Min duty and Backlash appended, 4: Wheel p/rev appended, 5: the peers'
                                      * settings and Remote appended, 6: the learnt figures after the totals,
-                                     * 7: ffmap's speed feed-forward among them; a copy of version 2, 3, 4, 5
-                                     * or 6 still loads, the values appended since at their defaults) */
+                                     * 7: ffmap's speed feed-forward among them, 8: the job totals after them;
+                                     * a copy of version 2 to 7 still loads, the values appended since at
+                                     * their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
 #define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 #define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */

@@ -13,13 +13,20 @@
 #define HDR_VALUES 5u
 #define HDR_LIFE (HDR_VALUES + 2u * P_COUNT)
 #define HDR_LEARN (HDR_LIFE + 8u)
-#define CRC_AT (HDR_LEARN + STORE_LEARN_BYTES)
+#define HDR_JOB (HDR_LEARN + STORE_LEARN_BYTES)
+#define CRC_AT (HDR_JOB + STORE_JOB_BYTES)
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
-static uint8_t status;              /* STORE_* */
+static uint8_t status;              /* STORE_*: the operator's notice (store_status) */
+static uint8_t result;              /* how the last save ended (store_result) */
+static uint8_t saved_gen;           /* param_generation of the newest record's values */
+static struct {
+    uint32_t next_ms;               /* when the bucket gains its next token */
+    uint8_t tokens;                 /* erases allowed now, at most STORE_ERASE_BURST */
+} eb;
 #define newest store_newest         /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT (learnt.c) */
 static uint16_t seq;                /* its sequence number */
 #define NO_SLOT STORE_NO_SLOT
@@ -68,8 +75,9 @@ static uint32_t read32(uint16_t a)
 /* the learnt figures start a pass's bytes of their own: read from their owners at one time */
 typedef char store_learnt_in_one_pass[(STORE_LEARN_BYTES <= STORE_BYTES_PER_POLL) ? 1 : -1];
 typedef char store_totals_in_one_chunk[(HDR_LIFE / STORE_BYTES_PER_POLL == (HDR_LIFE + 7u) / STORE_BYTES_PER_POLL) ? 1 : -1];
-/* record_byte reads the two lifetime totals as one run of 8 bytes */
+/* record_byte reads the two lifetime totals as one run of 8 bytes, and the job's so */
 typedef char store_life_adjacent[(offsetof(totals_t, life_ml) == offsetof(totals_t, life_m2) + 4u) ? 1 : -1];
+typedef char store_job_adjacent[(offsetof(totals_t, job_ml) == offsetof(totals_t, job_dm2) + 4u) ? 1 : -1];
 enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
 /* sv.flags: who asked for the save running (STORE_BY_*), who asked for the next one (SV_NEXT),
  * whose save has ended (SV_DONE, store_done), SV_AGAIN: a save was asked for while this one's
@@ -82,8 +90,8 @@ enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
 #define CK_MORE 0xFFu               /* ck_more: not done yet */
 static struct {
     uint8_t flags;                  /* below */
-    uint8_t n;                      /* the values of the record being checked; while one is
-                                     * written, the param_generation its values come from */
+    uint8_t n;                      /* the values of the record being checked */
+    uint8_t gen;                    /* the param_generation the record being written comes from */
     uint8_t end;                    /* where the CRC of the record being checked is */
     uint16_t crc;                   /* of the bytes written or checked so far */
 } sv;
@@ -121,10 +129,12 @@ static uint8_t ck_more(uint8_t budget) __reentrant
                 return 0;
             sv.n = b;
             sv.end = (uint8_t)CRC_N(b);
-            if (sv_lo == PARAMS_VERSION)
+            if (sv_lo >= 7u)
                 sv.end += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
             else if (sv_lo == 6u)
                 sv.end += STORE_LEARN_V6;
+            if (sv_lo == PARAMS_VERSION)
+                sv.end += STORE_JOB_BYTES;      /* the job totals (version 8) */
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
             if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
                 return 0;
@@ -154,12 +164,34 @@ static uint8_t record_valid(uint8_t slot) __reentrant
     return r;
 }
 
+/* 1 when the slot after `slot` (the newest) begins as the next save writes a record: the
+ * magic, then this version, its count and the sequence after seq, each byte as written or
+ * still erased (a cut leaves the rest unprogrammed) */
+static uint8_t started_after(uint8_t slot) __reentrant
+{
+    uint16_t base = slot_base((uint8_t)((slot + 1u) % STORE_SLOTS));
+    uint16_t next = (uint16_t)(seq + 1u);
+    uint8_t i, b, want;
+    if (hal_eeprom_read(base) != STORE_MAGIC)
+        return 0;
+    for (i = 1; i < HDR_VALUES; i++) {
+        b = hal_eeprom_read(base + i);
+        want = i == 1 ? PARAMS_VERSION : i == 2 ? P_COUNT : i == HDR_SEQ ? (uint8_t)next : (uint8_t)(next >> 8);
+        if (b != want && b != 0xFFu)
+            return 0;
+    }
+    return 1;
+}
+
 uint8_t store_load(void) __reentrant
 {
     uint8_t s, newest_slot = NO_SLOT, n;
     uint16_t q, newest_q = 0, base;
     sv_state = SV_IDLE;             /* no save runs from before */
     sv.flags = 0;
+    result = STORE_OK;
+    eb.tokens = 0;                  /* none at power-up: a power cycle buys no erase */
+    eb.next_ms = hal_ms() + STORE_ERASE_MS;
     for (s = 0; s < STORE_SLOTS; s++) {
         if (!record_valid(s))
             continue;
@@ -174,6 +206,7 @@ uint8_t store_load(void) __reentrant
     if (newest_slot == NO_SLOT) {
         params_defaults();
         status = STORE_DEFAULTS;
+        saved_gen = param_generation;   /* nothing changed since: no save until something does */
         return status;
     }
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
@@ -183,22 +216,27 @@ uint8_t store_load(void) __reentrant
     for (s = 0; s < n; s++)
         param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
+    if (hal_eeprom_read(base + 1u) == PARAMS_VERSION)
+        totals_set_job(read32(base + HDR_JOB), read32(base + HDR_JOB + 4u));
+    else
+        totals_set_job(0, 0);       /* an older copy has none */
     n = params_cross();
     if (n != PARAM_OK) {
         /* written by a firmware without the cross-checks: its set cannot run (a tank minimum
          * above the tank stops the boom for good); the defaults, and the reason shown */
         params_defaults();
         totals_set_life(0, 0);
+        totals_set_job(0, 0);
         status = (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
+        saved_gen = param_generation;
         return status;
     }
     status = STORE_OK;
-    /* a started write after it (magic there, its sequence seq + 1 or not yet programmed):
-     * a cut save, the previous values are loaded and the operator is told */
+    saved_gen = param_generation;
+    /* a started write after it that did not end: a cut save, the previous values are loaded
+     * and the operator is told */
     s = (uint8_t)((newest_slot + 1u) % STORE_SLOTS);
-    q = read16(slot_base(s) + HDR_SEQ);
-    if (hal_eeprom_read(slot_base(s)) == STORE_MAGIC && !record_valid(s)
-        && (q == (uint16_t)(seq + 1u) || q == 0xFFFFu))
+    if (started_after(newest_slot) && !record_valid(s))
         status = STORE_OLDER;
     return status;
 }
@@ -226,7 +264,10 @@ static void sv_start(void)
 static void sv_end(uint8_t st)
 {
     uint8_t f = sv.flags;
-    status = st;
+    result = st;
+    /* the operator is told of a failed save; a good one clears that, never what the load found */
+    if (st != STORE_OK || status == STORE_WRITE_ERR || status == STORE_LOW_SUPPLY)
+        status = st;
     sv_state = SV_IDLE;
     sv.flags = (uint8_t)((f & SV_ENDED) | SV_DONE(f & STORE_BY_ALL));
     if (f & SV_AGAIN) {
@@ -249,6 +290,8 @@ static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
         return (uint8_t)next;
     if (i == HDR_SEQ + 1u)
         return (uint8_t)(next >> 8);
+    if (i >= HDR_JOB)               /* job_dm2, then job_ml (totals_t) */
+        return ((const __xdata uint8_t *)&totals.job_dm2)[i - HDR_JOB];
     if (i >= HDR_LEARN)
         return store_learnt_byte((uint8_t)(i - HDR_LEARN));
     if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
@@ -269,7 +312,7 @@ static void sv_find_more(void) __reentrant
             sv_state = SV_WRITE;    /* erased: the record goes here */
             sv_at = 0;
             sv.crc = 0xFFFFu;
-            sv.n = param_generation;
+            sv.gen = param_generation;
             return;
         }
         if (hal_eeprom_read(base + sv_at) == 0xFFu)
@@ -293,7 +336,7 @@ static void sv_write_more(void) __reentrant
     uint16_t next = (uint16_t)(seq + 1u);
     uint8_t k, b;
     if (sv_at == CRC_AT) {
-        if (sv.n != param_generation) {
+        if (sv.gen != param_generation) {
             /* a mixed set: left without its CRC, the values again in the next slot */
             if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
                 sv_end(STORE_WRITE_ERR);
@@ -308,7 +351,8 @@ static void sv_write_more(void) __reentrant
         ck_begin(sv_slot);
         return;
     }
-    for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && sv_at == HDR_LEARN); k++, sv_at++) {
+    for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && (sv_at == HDR_LEARN || sv_at == HDR_JOB));
+         k++, sv_at++) {
         b = record_byte(sv_at, next);
         sv.crc = crc_byte(sv.crc, b);
         if (!hal_eeprom_write(base + sv_at, b)) {
@@ -321,7 +365,7 @@ static void sv_write_more(void) __reentrant
 uint8_t store_save_start(uint8_t who)
 {
     if (hal_supply_low()) {
-        status = STORE_LOW_SUPPLY;  /* a write that the supply may cut: not started */
+        status = result = STORE_LOW_SUPPLY;     /* a write that the supply may cut: not started */
         sv.flags |= SV_DONE(who);
         return 0;
     }
@@ -340,9 +384,23 @@ uint8_t store_save_start(uint8_t who)
     return 1;
 }
 
+/* The erase budget's bucket: a token every STORE_ERASE_MS up to STORE_ERASE_BURST (a full
+ * bucket gains none: its clock restarts) */
+static void eb_fill(void)
+{
+    uint32_t now = hal_ms();
+    if (eb.tokens >= STORE_ERASE_BURST)
+        eb.next_ms = now + STORE_ERASE_MS;
+    else if ((int32_t)(now - eb.next_ms) >= 0) {
+        eb.tokens++;
+        eb.next_ms += STORE_ERASE_MS;
+    }
+}
+
 uint8_t store_poll(void) __reentrant
 {
     uint8_t r;
+    eb_fill();
     switch (sv_state) {
     case SV_IDLE:
         return 0;
@@ -350,6 +408,9 @@ uint8_t store_poll(void) __reentrant
         sv_find_more();
         break;
     case SV_ERASE:
+        if (!eb.tokens)
+            return 0;               /* the budget: waiting for a token */
+        eb.tokens--;
         hal_eeprom_erase(slot_base(sv_slot));
         sv_state = SV_FIND;
         sv_at = 0;
@@ -363,6 +424,12 @@ uint8_t store_poll(void) __reentrant
         if (r == P_COUNT) {
             newest = sv_slot;
             seq = (uint16_t)(seq + 1u);
+            saved_gen = sv.gen;
+            /* a header in the next slot that reads as this save's successor is stale (this
+             * save has ended, none started since): its magic cleared, the next load would
+             * take it for a cut save */
+            if (started_after(newest))
+                hal_eeprom_write(slot_base((uint8_t)((newest + 1u) % STORE_SLOTS)), 0);
             sv_end(STORE_OK);
         } else if (r != CK_MORE) {
             sv_end(STORE_WRITE_ERR);
@@ -375,6 +442,11 @@ uint8_t store_poll(void) __reentrant
 uint8_t store_asked(uint8_t who)
 {
     return (sv.flags & (who | SV_NEXT(who) | SV_DONE(who))) != 0;
+}
+
+uint8_t store_busy(void)
+{
+    return sv_state != SV_IDLE;
 }
 
 uint8_t store_done(uint8_t who)
@@ -392,9 +464,20 @@ uint8_t store_save(void) __reentrant
         return 0;
     while (store_poll())
         ;
-    return status == STORE_OK;
+    return sv_state == SV_IDLE && result == STORE_OK;   /* (not when it waits for the budget) */
 }
 #endif
+
+uint8_t store_result(void)
+{
+    return result;
+}
+
+uint8_t store_generation(void)
+{
+    return saved_gen;
+}
+
 
 uint8_t store_status(void)
 {

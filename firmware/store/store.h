@@ -20,6 +20,8 @@
  *          and the nozzle model (diag_learnt_byte), 0xFF where none is learnt; a version 5 copy
  *          (no such bytes) or a version 6 one (STORE_LEARN_V6 of them, without the feed-forward)
  *          still loads, and nothing learnt is restored from it
+ *   then   (version 8) the job totals: area dm^2 x100 and volume ml, uint32 little endian each
+ *          (an older copy loads with the job at zero)
  *   then   CRC-16/CCITT (poly 0x1021, init 0xFFFF) of all the bytes before it, high byte first
  * A save appends a record to the first erased slot after the newest one, CRC last; only when
  * a sector is full does the next save erase the other sector (which holds only older
@@ -31,18 +33,34 @@
  * cross-check (params_cross: written by a firmware without them) gives the defaults and the
  * reason (STORE_CROSS).
  * No save starts while the supply is low (hal_supply_low): STORE_LOW_SUPPLY.
+ *
+ * The erase budget: the chip's EEPROM is rated STORE_ERASE_LIFE erases a sector; over ten
+ * seasons a season may spend a tenth. An erase takes a token of a bucket that holds at most
+ * STORE_ERASE_BURST and gains one every STORE_ERASE_MS, empty at power-up (so that power
+ * cycles buy none): whatever asks for saves, a day costs at most 86400000 / STORE_ERASE_MS +
+ * STORE_ERASE_BURST = 1448 erases, 724 a sector, 7.2 % of a season's share (10,000). Normal
+ * work needs a quarter of the rate: a save a minute of spraying, 4 to an erase. A save that
+ * needs an erase while the bucket is empty waits for its token (store_poll returns 0
+ * meanwhile): after power-up, one save in four may wait up to STORE_ERASE_MS.
  */
+#define STORE_ERASE_LIFE 100000UL
+#define STORE_ERASE_MS 60000UL
+#define STORE_ERASE_BURST 8u
 #define STORE_LEARN_CTL 8u          /* learnt bytes: ffmap's valve and speed feed-forward ... */
 #define STORE_LEARN_BYTES (STORE_LEARN_CTL + 4u)   /* ... and the nozzle model */
 #define STORE_LEARN_V6 10u          /* a version 6 record's learnt bytes */
-#define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + 2u)
-#define STORE_SLOT_BYTES 128u         /* a record of 32 values and the learnt figures is 91 bytes (64 held 24) */
+#define STORE_LEARN_VERSION 7u      /* the first version whose learnt bytes are this layout's */
+#define STORE_JOB_BYTES 8u          /* the job totals (version 8) */
+#define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + STORE_JOB_BYTES + 2u)
+#define STORE_SLOT_BYTES 128u         /* a record of 32 values, the learnt figures and the job is 99 bytes */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
 #define STORE_NO_SLOT 0xFFu
 #define STORE_AT_LEARNT (5u + 2u * P_COUNT + 8u)  /* where the learnt bytes start in a record */
 
-/* What store_load() or the last store_save() found (store_status()). */
+/* What store_load() found, or a save that failed since (store_status(), the operator's notice
+ * until store_status_clear()); a save's own result (store_result()): STORE_OK, _WRITE_ERR or
+ * _LOW_SUPPLY. */
 #define STORE_OK 0          /* the newest record is good */
 #define STORE_OLDER 1       /* the newest record was bad (a cut write): the previous one is loaded */
 #define STORE_DEFAULTS 2    /* no valid record (first boot, all corrupt, other version): defaults */
@@ -68,6 +86,7 @@ uint8_t store_save_start(uint8_t who);
 uint8_t store_poll(void) __reentrant;
 uint8_t store_done(uint8_t who);
 uint8_t store_asked(uint8_t who);  /* 1 from store_save_start(who) until store_done(who) */
+uint8_t store_busy(void);           /* 1 while a save runs (or waits for the erase budget) */
 /* A whole save at once (its passes in one call); 1 when it reads back. */
 uint8_t store_save(void) __reentrant;
 /* Byte i of the learnt figures in the record loaded or saved last; 0xFF when it has none
@@ -78,9 +97,15 @@ uint16_t store_slot_base(uint8_t slot);
 /* Byte i of the learnt figures a save writes: provided by the layer that owns them (ops/diag.c:
  * ffmap's valve through ctl.h, then the nozzle model), as the HAL's functions are by the HAL. */
 uint8_t store_learnt_byte(uint8_t i);
-/* Status of the last load or save; store_status_clear() once the operator has seen it. */
+/* The notice of the last load, or of a save that failed since; store_status_clear() once the
+ * operator has seen it (a save that succeeds does not clear it). */
 uint8_t store_status(void);
 void store_status_clear(void);
+/* How the last save ended (store_done says when): STORE_OK, STORE_WRITE_ERR, STORE_LOW_SUPPLY. */
+uint8_t store_result(void);
+/* The param_generation (params.h) of the values loaded, or of those the last save that ended
+ * well wrote: a different one means settings changed and not yet saved. */
+uint8_t store_generation(void);
 /* One line (at most 16 characters) explaining a status, "" for STORE_OK (the cross-check's
  * reason for STORE_CROSS + n). */
 const __code char *store_status_text(uint8_t st);

@@ -60,6 +60,12 @@ void totals_set_life(uint32_t m2, uint32_t ml)
     totals.life_ml = ml;
 }
 
+void totals_set_job(uint32_t dm2, uint32_t ml)
+{
+    totals.job_dm2 = dm2;
+    totals.job_ml = ml;
+}
+
 uint32_t totals_job_m2(void)
 {
     return totals.job_dm2 / 100u;

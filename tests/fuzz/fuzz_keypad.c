@@ -44,7 +44,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         for (i = 0; i < P_COUNT; i++)
             FUZZ_CHECK(param_in_range((uint8_t)i, param_v[i]), "param %d = %u after key %zu", i, param_v[i], k);
     }
-    /* what the console accepted it saved: a fresh load gives the same settings */
+    /* what the console accepted is saved: at once, or by the loop a while later (app.c), the
+     * save that needs an erase when the budget allows (store.h); then a fresh load gives the
+     * same settings */
+    if (store_generation() != param_generation)
+        run_ms(2100);
+    for (i = 0; i < 2 * (int)(STORE_ERASE_MS / 10) && store_busy(); i++)
+        run_ms(10);
     memcpy(now, param_v, sizeof now);
     params_defaults();
     totals_init();

@@ -29,6 +29,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(before, param_v, sizeof before);
     life_m2 = totals_get()->life_m2;
     life_ml = totals_get()->life_ml;
+    hal_host_set_time_ns(STORE_ERASE_MS * 1000000ull);     /* a token of the erase budget (store.h) */
     FUZZ_CHECK(store_save() == 1, "save after load failed");
     params_defaults();
     totals_init();

@@ -1,4 +1,5 @@
 /* helper_link.c: see helper_link.h. */
+#include <string.h>
 #include "helper_link.h"
 #include "hal_host.h"
 #include "app.h"
@@ -19,6 +20,21 @@ void link_start_at(double pressure_ma)
 void link_start(void)
 {
     link_start_at(4.0);
+}
+
+void link_power_cycle(void)
+{
+    static uint8_t kept[HAL_EEPROM_SIZE];
+    uint16_t pressure = hal_host_io.adc[HAL_ADC_PRESSURE];
+    memcpy(kept, hal_host_eeprom(), sizeof kept);
+    hal_host_reset();
+    memcpy(hal_host_eeprom(), kept, sizeof kept);
+    hal_init();
+    link_t_ms = 0;
+    hal_host_io.adc[HAL_ADC_PRESSURE] = pressure;
+    hal_host_io.adc[HAL_ADC_LEVEL] = LINK_MA(20.0);
+    hal_host_io.sections = 0x3F;
+    app_init();
 }
 
 void link_run_ms(uint32_t ms)

@@ -16,6 +16,9 @@ extern uint64_t link_t_ms;     /* the host HAL's clock, in ms */
 void link_start_at(double pressure_ma);
 /* the same with no pressure (4 mA) */
 void link_start(void);
+/* a power cut and a power-up: the chip restarts (hal_init, app_init) at time 0 with the EEPROM
+ * as it was and the bench inputs again, nothing else kept */
+void link_power_cycle(void);
 /* ms passes of the main loop, one a millisecond */
 void link_run_ms(uint32_t ms);
 /* the bytes of s into the UART's receive side */

@@ -8,6 +8,7 @@
 #include <cmocka.h>
 #include "hal_host.h"
 #include "helper_link.h"
+#include "link_crc.h"
 #include "params.h"
 #include "app.h"
 #include "hil.h"
@@ -52,11 +53,8 @@ static int take_frames(hil_out_t *o)
 static void hil_on(void)
 {
     char buf[256];
-    unsigned x = 0;
     const char *c = "HIL ON";
-    for (const char *p = c; *p; p++)
-        x ^= (uint8_t)*p;
-    snprintf(buf, sizeof buf, "%s*%02X\r\n", c, x);
+    snprintf(buf, sizeof buf, "%s*%02X\r\n", c, link_crc8(c, strlen(c)));
     take_text(buf + 64, sizeof buf - 64);
     link_send(buf);
     link_run_ms(20);                     /* the loop serves the link in its idle passes */

@@ -10,18 +10,21 @@ mkdir -p "$out"
 ok() { echo "ok - serial_log: $1"; }
 nok() { echo "not ok - serial_log: $1"; }
 
-# checksums worked out by hand: "OK ACK" = 0x4F^0x4B^0x20^0x41^0x43^0x4B = 0x6D; the second LOG
-# differs from the first by '2'^'1' = 0x03, so 0x4C^0x03 = 0x4F is right and 0x4E (sent) is wrong
+# the CRC-8 of each body worked out a second way, as the remainder of the body's bits times x^8
+# divided by x^8+x^6+x^5+x^2+1 (long division, not the tool's shift register): the first LOG
+# 0x95, OK ACK 0xA9, the second LOG 0x10 (sent: 0x95, its first line's, wrong), the ALM 0x28
+# (sent: 0x00, wrong); the second LOG also carries the XOR of its bytes, 0x4F, as before
 cat > "$out/lines.txt" <<'L'
-LOG 1000 700 250 3150 3148 0000*4C
-OK ACK*6D
-LOG 2000 700 250 3150 3148 0000*4E
+LOG 1000 700 250 3150 3148 0000*95
+OK ACK*A9
+LOG 2000 700 250 3150 3148 0000*95
 ALM TANK_LOW Tank low*00
+LOG 2000 700 250 3150 3148 0000*4F
 L
 $PY tools/serial_log.py --replay "$out/lines.txt" --csv "$out/lines.csv" > "$out/lines.out"; rc=$?
 rows=$(($(wc -l < "$out/lines.csv") - 1))
-if [ $rc -eq 2 ] && [ "$rows" -eq 1 ] && grep -q "1 log rows, 2 lines dropped" "$out/lines.out"; then
-    ok "a line with a wrong checksum is dropped, never logged (1 row kept, 2 dropped)"
+if [ $rc -eq 2 ] && [ "$rows" -eq 1 ] && grep -q "1 log rows, 3 lines dropped" "$out/lines.out"; then
+    ok "a line with a wrong checksum is dropped, never logged (1 row kept, 3 dropped, the XOR's too)"
 else
     nok "checksum check: rc $rc, $rows rows: $(tail -1 "$out/lines.out")"
 fi

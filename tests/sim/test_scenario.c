@@ -451,7 +451,7 @@ static void test_scenario_key_serial_and_fault_events(void **state)
         "[run]\nduration_s = 100\n[drive]\n0 8\n[events]\n"
         "# 5 key 1   (a comment, not a key)\n"
         "5 key #\n"
-        "6   serial   SET 0 100*43   \n"
+        "6   serial   SET 0 100*EA   \n"
         "7 meter_k_ppl 456 # the comment of a valued row\n"
         "8 pressure_offset_bar -1.5\n"
         "9 pressure_drift_bar_per_min 0.05\n"
@@ -465,7 +465,7 @@ static void test_scenario_key_serial_and_fault_events(void **state)
     assert_string_equal(s.events[0].text, "#");
     assert_int_equal(s.events[0].line, 7);
     assert_int_equal(s.events[1].kind, EV_SERIAL);
-    assert_string_equal(s.events[1].text, "SET 0 100*43");
+    assert_string_equal(s.events[1].text, "SET 0 100*EA");
     assert_int_equal(s.events[2].kind, EV_METER_K);
     assert_true(s.events[2].value == 456);
     assert_string_equal(s.events[2].text, "");

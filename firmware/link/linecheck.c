@@ -1,0 +1,50 @@
+/* linecheck.c: the serial link's CRC-8 and a command line's check and layout (linecheck.h). */
+#include "linecheck.h"
+
+/* the CRC a nibble at a time: the same bits as bit by bit at a fraction of the cycles */
+static const __code uint8_t crc8_nibble[16] = {
+    0x00, 0x65, 0xCA, 0xAF, 0xF1, 0x94, 0x3B, 0x5E, 0x87, 0xE2, 0x4D, 0x28, 0x76, 0x13, 0xBC, 0xD9
+};
+
+uint8_t line_crc8(const __xdata char *p, uint8_t n) __reentrant
+{
+    uint8_t c = 0, b;
+    while (n--) {
+        b = (uint8_t)*p++;
+        c = (uint8_t)(c << 4) ^ crc8_nibble[(c >> 4) ^ (b >> 4)];
+        c = (uint8_t)(c << 4) ^ crc8_nibble[(c >> 4) ^ (b & 15u)];
+    }
+    return c;
+}
+
+/* a hex digit's value, either case; -1 for any other byte */
+static int8_t hexval(char c) __reentrant
+{
+    if (c >= '0' && c <= '9')
+        return (int8_t)(c - '0');
+    c |= 0x20;
+    return c >= 'a' && c <= 'f' ? (int8_t)(c - 'a' + 10) : -1;
+}
+
+uint8_t line_check(__xdata char *p, uint8_t n) __reentrant
+{
+    uint8_t i, checked = 0;
+    int8_t h1, h2;
+    for (i = 0; i < n && p[i] != '*'; i++)
+        ;
+    if (i < n) {
+        h1 = i + 3 == n ? hexval(p[i + 1]) : -1;
+        h2 = i + 3 == n ? hexval(p[i + 2]) : -1;
+        if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != line_crc8(p, i))
+            return LINE_E_CSUM;
+        n = i;
+        checked = LINE_CHECKED;
+    }
+    p[n] = 0;
+    if (n == 0 || p[0] == ' ' || p[n - 1] == ' ')
+        return LINE_E_ARG;
+    for (i = 1; i < n; i++)
+        if (p[i] == ' ' && p[i - 1] == ' ')
+            return LINE_E_ARG;
+    return (uint8_t)(n | checked);
+}
