@@ -15,7 +15,7 @@
 static const char __code *const __code codes[AL_COUNT] = {
     "TANK_LOW", "PUMP_DRY", "LEAK", "CLOG", "METER_LOST", "SPEED_LOST", "PSENS_FAULT",
     "LSENS_FAULT", "OVERPRESSURE", "OFF_RATE", "VALVE_STOP", "METER_NOISE", "WHEEL_NOISE",
-    "INTERNAL"
+    "INTERNAL", "METER_CAL", "NOZZLE_WEAR"
 };
 /* LCD texts: at most 16 characters */
 static const char __code *const __code texts[AL_COUNT] = {
@@ -32,7 +32,9 @@ static const char __code *const __code texts[AL_COUNT] = {
     "Valve at stop",
     "Flowmeter noise",
     "Wheel noise",
-    "Internal fault"
+    "Internal fault",
+    "Meter cal. wrong",
+    "Nozzles worn"
 };
 
 static struct {
@@ -57,6 +59,24 @@ static struct {
     uint8_t ldiv;                               /* clean periods since the last sample */
     uint16_t pc_kpa, kp_kpa;                    /* the model: check valves, kPa at the rated flow */
     int16_t t1;                                 /* the target a period ago (diag_model) */
+    uint8_t session;                            /* 1: a calibration is open: clean spraying teaches the model */
+    uint16_t q3;                                /* P_NOZZLE_Q3 the model was learnt for */
+    /* pump dry judged on the line (diag_supply) */
+    uint8_t dry_cnt;                            /* periods the line said dry */
+    uint8_t dry_line;                           /* 1: it did for DIAG_DRY_PERIODS (held until liquid, a refill or an ack) */
+    uint16_t dry_l;                             /* the level then */
+    /* the pressure sensor's zero (diag_zero) */
+    uint16_t p_spray;                           /* kPa the boom sprayed at, at working speed (0: none) */
+    uint16_t z_lo, z_hi;                        /* the readings' range over the rest window */
+    uint8_t z_n;                                /* periods of that window */
+    uint8_t zero_off;                           /* 1: read over DIAG_ZERO_KPA at rest (until it reads 0 at rest) */
+    /* the tank balance (diag_balance) */
+    uint16_t bal_v10;                           /* metered volume, 0.1 L */
+    uint16_t bal_acc;                           /* ... its remainder, in L/min x100 periods (6000 a 0.1 L) */
+    uint16_t bal_dl;                            /* the level's fall, L */
+    uint16_t bal_l0;                            /* the lowest level of the open stretch */
+    uint8_t bal_on;                             /* a stretch is open */
+    uint16_t bal_k, bal_t;                      /* Meter K and Tank size the sums were made under */
 } dg;
 
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
@@ -80,23 +100,41 @@ void diag_init(void)
     dg.wheel_glitches = speed_glitches();
     dg.wheel_pulses = (uint16_t)speed_pulses();
     dg.nozzles = 0;
+    dg.dry_cnt = dg.dry_line = 0;
+    dg.p_spray = 0;
+    dg.z_n = dg.zero_off = 0;
+    dg.bal_t = 0;                   /* (the balance starts anew: diag_balance) */
     diag_nozzle_relearn();
-    /* the model learnt before: the EEPROM's record (CRC-checked, written by this firmware) or,
-     * without one, 0xFF bytes */
-    for (i = 0; i < 4u; i++)
-        ((uint8_t *)&dg.pc_kpa)[i] = store_learnt(STORE_LEARN_CTL + i);
-    if (dg.kp_kpa != 0xFFFFu)
-        dg.learnt = 2;
-    else
+    /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the
+     * bytes of store_learnt_byte) or, without one, 0xFF bytes: then a calibration is open */
+    dg.kp_kpa = store_learnt(STORE_LEARN_CTL + 2u) | (uint16_t)store_learnt(STORE_LEARN_CTL + 3u) << 8;
+    if (dg.kp_kpa != 0xFFFFu) {
+        dg.pc_kpa = store_learnt(STORE_LEARN_CTL);
+        i = store_learnt(STORE_LEARN_CTL + 1u);
+        dg.xm = (uint16_t)i << 1;
+        dg.learnt = i ? 1 : 2;
+        dg.session = 0;
+    } else
         model_told();
+    dg.q3 = param_v[P_NOZZLE_Q3];
     dg.gen = (uint8_t)(param_generation - 1u);
 }
 
+/* The held model's bytes: check valves (kPa, at most 150), then xm / 2 with its lowest bit set
+ * for a model learnt near one flow (0 for one learnt over the range), then kp little endian;
+ * 0xFF each without a model. */
 uint8_t store_learnt_byte(uint8_t i) __reentrant
 {
     if (i < STORE_LEARN_CTL)
         return ctl_learnt_byte(i);
-    return dg.learnt == 2 ? ((const uint8_t *)&dg.pc_kpa)[i - STORE_LEARN_CTL] : 0xFFu;
+    if (!dg.learnt)
+        return 0xFFu;
+    i -= STORE_LEARN_CTL;
+    if (i == 0)
+        return (uint8_t)dg.pc_kpa;
+    if (i == 1)
+        return dg.learnt == 1 ? (uint8_t)((dg.xm >> 1) | 1u) : 0;
+    return (uint8_t)(i == 2 ? dg.kp_kpa : dg.kp_kpa >> 8);
 }
 
 void diag_nozzle_relearn(void)
@@ -106,6 +144,7 @@ void diag_nozzle_relearn(void)
     dg.ldiv = 0;
     dg.learnt = 0;
     dg.xm = 0;
+    dg.session = 1;
     model_told();
     dg.gen = (uint8_t)(param_generation - 1u);
     diag_set_nozzles(dg.nozzles);
@@ -141,7 +180,8 @@ static uint16_t x_of(int16_t meter) __reentrant
  * plant 20 of SEED=173 had them at 91 kPa for 61 from flows within a tenth of each other, and a
  * false LEAK), else the rated curve scaled through their mean (check valves as the default),
  * trusted near that flow only (learnt 1: the sums are halved and learning goes on); clamped to
- * sane nozzles. */
+ * sane nozzles. A fit ends the calibration: the model is held from then on (a leak that grows or
+ * nozzles that clog slowly never move it). */
 static void learn_fit(void) __reentrant
 {
     uint32_t n = (uint32_t)DIAG_LEARN_N * dg.sxx, a = UMUL(dg.sx, dg.sx);    /* sx, sy < 2^15 */
@@ -155,6 +195,7 @@ static void learn_fit(void) __reentrant
             dg.kp_kpa = (uint16_t)k;
             dg.pc_kpa = (uint16_t)c;
             dg.learnt = 2;
+            dg.session = 0;
             dg.ln = 0;
             return;
         }
@@ -168,7 +209,11 @@ static void learn_fit(void) __reentrant
         dg.pc_kpa = DIAG_P_CHECK_KPA;
         dg.xm = (uint16_t)(dg.sx / DIAG_LEARN_N);
         dg.learnt = 1;
+        dg.session = 0;
+        dg.ln = 0;
+        return;
     }
+    /* (no pressure above the check valves in the samples: the calibration goes on) */
     dg.sx >>= 1;
     dg.sy >>= 1;
     dg.sxx >>= 1;
@@ -180,7 +225,7 @@ static void learn_fit(void) __reentrant
  * 1 when DIAG_LEARN_N are summed (the caller fits them). */
 static uint8_t learn(uint16_t r, uint16_t p) __reentrant
 {
-    if (dg.learnt == 2 || ++dg.ldiv < DIAG_LEARN_EVERY)
+    if (!dg.session || ++dg.ldiv < DIAG_LEARN_EVERY)
         return 0;
     dg.ldiv = 0;
     if (r == 0xFFFFu)
@@ -242,7 +287,8 @@ void diag_internal_fault(void)
  * only clears it, diag_offrate counts P_OFFRATE_S to raise it; AL_INTERNAL has no rule) */
 static const __code uint8_t need_periods[AL_COUNT] = {
     DIAG_TANK_PERIODS, DIAG_TANK_PERIODS, DIAG_PDEV_PERIODS, DIAG_PDEV_PERIODS,
-    DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0
+    DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0,
+    DIAG_BAL_PERIODS, 1
 };
 
 /* One timed rule: `set` for need_periods[bit] periods raises the alarm, `clr` for
@@ -265,9 +311,117 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
     }
 }
 
-/* Tank and pump, the sensors (debounced by analog.c), over-pressure with 5 % hysteresis: while
- * `p_watch` (spraying or the bypass parked open; at power-up the pump may push against a bypass
- * left closed until the parking opens it: the relief valve's job, not a fault). */
+/* Pump dry from the line, whatever the level says (a level sensor reading high): spraying at
+ * working speed, the pressure under P start (the check valves shut) and under a quarter of the
+ * target metered, for DIAG_DRY_PERIODS. Held until the pump pushes liquid again (P start or
+ * more with the boom shut), the level rises by Tank size / 64 (a refill), or the operator
+ * switches the sections off (to open them again after refilling): the boom is shut meanwhile,
+ * so nothing else can tell. */
+static void diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    uint16_t p = in->pressure_kpa, pmin = param_v[P_P_MIN];
+    int16_t meter = flow_lpm_x100();
+    uint8_t psens = analog_pressure_ok();
+    if (settled && psens && p < pmin && target_working_speed(in->speed_kmh_x100)
+        && UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->target_lpm_x100) {
+        if (++dg.dry_cnt >= DIAG_DRY_PERIODS && !dg.dry_line) {
+            dg.dry_line = 1;
+            dg.dry_l = in->tank_l;
+        }
+    } else
+        dg.dry_cnt = 0;
+    if (dg.dry_line && (!in->open_nozzles || (!in->spraying && psens && p >= pmin)
+                        || (analog_level_ok() && in->tank_l > dg.dry_l + (param_v[P_TANK_L] >> 6))))
+        dg.dry_line = 0;
+}
+
+/* The pressure sensor's zero: with the boom shut at a standstill in auto and the reading steady
+ * (within DIAG_ZERO_STEADY_KPA for DIAG_ZERO_PERIODS) under half the pressure the boom sprayed
+ * at, the pump pushes nothing (one that runs against the bypass, held at the spraying pressure
+ * or opened further, keeps the line near that pressure or above): the line is at rest, and a
+ * reading over DIAG_ZERO_KPA is a sensor off its zero, until it reads 0 at rest again. */
+static void diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    uint16_t p = in->pressure_kpa;
+    if (in->manual || !analog_pressure_ok())
+        dg.p_spray = 0;             /* the valve moved by hand: no spraying pressure to go by */
+    else if (settled && target_working_speed(in->speed_kmh_x100))
+        dg.p_spray = p;
+    if (in->spraying || in->speed_kmh_x100 || !dg.p_spray) {
+        dg.z_n = 0;
+        return;
+    }
+    if (!dg.z_n || p < dg.z_lo)
+        dg.z_lo = p;
+    if (!dg.z_n || p > dg.z_hi)
+        dg.z_hi = p;
+    dg.z_n++;
+    if ((uint16_t)(dg.z_hi - dg.z_lo) > DIAG_ZERO_STEADY_KPA || (uint16_t)(dg.z_hi << 1) >= dg.p_spray) {
+        dg.z_n = 0;                 /* not at rest: the window starts again */
+        return;
+    }
+    if (dg.z_n >= DIAG_ZERO_PERIODS) {
+        dg.zero_off = dg.z_hi > DIAG_ZERO_KPA;
+        dg.z_n = 0;
+    }
+}
+
+/* The tank balance: the metered volume against the level's fall over the periods the boom
+ * sprays with the meter in its full range (DIAG_BAL_MIN_X100). The level's resolution: its
+ * 4-20 mA span is 819 counts of the 10-bit ADC, Tank size / 819 a count; m = Tank size / 256
+ * + 1 L (three counts and a litre) is what the level's two ends may be off by. A meter off the
+ * fall by more than DIAG_BAL_PCT % of it and m is METER_CAL, judged once the level fell by 8 m
+ * (the sums halved beyond 64 m: the balance follows the last quarter of a tank). A level that
+ * rises by m (a refill, the sensor's step) starts it anew; a new Meter K or Tank size too, and
+ * clears the alarm. */
+static void diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    uint16_t l = in->tank_l, m = (param_v[P_TANK_L] >> 8) + 1u;
+    int16_t q = flow_lpm_x100();
+    uint32_t a, b;
+    if (dg.bal_k != param_v[P_METER_K] || dg.bal_t != param_v[P_TANK_L] || (dg.bal_on && l > dg.bal_l0 + m)) {
+        if (dg.bal_k != param_v[P_METER_K] || dg.bal_t != param_v[P_TANK_L])
+            dg.alarms &= ~(1u << AL_METER_CAL);
+        dg.bal_k = param_v[P_METER_K];
+        dg.bal_t = param_v[P_TANK_L];
+        dg.bal_v10 = dg.bal_acc = dg.bal_dl = 0;
+        dg.bal_on = 0;
+    }
+    if (!(settled && analog_level_ok() && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0))
+        dg.bal_on = 0;
+    else if (!dg.bal_on) {
+        dg.bal_on = 1;              /* a stretch opens at the level now */
+        dg.bal_l0 = l;
+    } else {
+        if (l < dg.bal_l0) {
+            dg.bal_dl += dg.bal_l0 - l;
+            dg.bal_l0 = l;
+        }
+        dg.bal_acc += (uint16_t)q;
+        while (dg.bal_acc >= 6000u) {
+            dg.bal_acc -= 6000u;
+            dg.bal_v10++;
+        }
+        if (dg.bal_dl >= (m << 6)) {
+            dg.bal_dl >>= 1;
+            dg.bal_v10 >>= 1;
+        }
+    }
+    if (dg.bal_dl < (m << 3)) {
+        rule(AL_METER_CAL, 0, 0);
+        return;
+    }
+    a = UMUL(dg.bal_dl, 10u);
+    a = dg.bal_v10 > a ? dg.bal_v10 - a : a - dg.bal_v10;
+    b = UMUL(dg.bal_dl, DIAG_BAL_PCT) + UMUL(m, 100u);
+    a = UMUL(a, 10u) > b;           /* (a < 2^16: the sums are halved first) */
+    rule(AL_METER_CAL, (uint8_t)a, !(uint8_t)a);
+}
+
+/* Tank and pump, the sensors (debounced by analog.c; the pressure's zero by diag_zero),
+ * over-pressure with 5 % hysteresis: while `p_watch` (spraying or the bypass parked open; at
+ * power-up the pump may push against a bypass left closed until the parking opens it: the
+ * relief valve's job, not a fault). */
 static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
@@ -276,10 +430,10 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
-    uint8_t dry = x <= param_v[P_TANK_L];          /* (the 32-bit compare once) */
+    uint8_t dry = lsens && x <= param_v[P_TANK_L];  /* (the 32-bit compare once) */
     rule(AL_TANK_LOW, lsens && tank < tmin, refill);
-    rule(AL_PUMP_DRY, lsens && dry, refill && !dry);
-    rule(AL_PSENS, !psens, psens);
+    rule(AL_PUMP_DRY, dry || dg.dry_line, !dg.dry_line && !dry && (refill || !lsens));
+    rule(AL_PSENS, !psens || dg.zero_off, psens && !dg.zero_off);
     rule(AL_LSENS, !lsens, lsens);
     x = UMUL(param_v[P_P_MAX], 19u);
     rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX], !psens || UMUL(p, 20u) < x);
@@ -384,8 +538,20 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
 {
     uint8_t g;
     uint16_t n, x;
+    if (dg.q3 != param_v[P_NOZZLE_Q3]) {
+        dg.q3 = param_v[P_NOZZLE_Q3];
+        diag_nozzle_relearn();      /* other nozzles told: the model is learnt for them */
+    }
+    diag_dry_line(in, settled);
+    diag_zero(in, settled);
     diag_supply(in, p_watch);
     diag_model(in, settled);
+    diag_balance(in, settled);
+    /* the held model against the catalog (Q3 at 3 bar above the check valves, the square-root
+     * law): nozzles that pass over 10 % more are worn, a notice; not while the tank balance
+     * says the meter, by which the model was learnt, is off */
+    g = dg.learnt && dg.kp_kpa < DIAG_WEAR_KP_KPA && !(dg.alarms & (1u << AL_METER_CAL));
+    rule(AL_NOZZLE_WEAR, g, !g);
     if (dg.ln >= DIAG_LEARN_N) {    /* the samples are in: the nozzle model */
         learn_fit();
         dg.gen = (uint8_t)(param_generation - 1u);
