@@ -44,7 +44,7 @@ enum {
 #define DIAG_PDEV_FAR_KPA 120u      /* ... elsewhere a deviation of P_PDEV % and at least this */
 #define DIAG_PDEV_MIN_KPA 50u       /* leak/clog judged where the nozzles need this above their check valves */
 #define DIAG_MOVE_SHIFT 7u          /* ... and not while the target moves by more than 1/128 a period */
-#define DIAG_DRY_PERIODS 20u        /* pump dry from the line: 2 s under P start with under a quarter of the target metered */
+#define DIAG_DRY_PERIODS 10u        /* pump dry from the line: under P start, under a quarter of the target metered (then PUMP_DRY's own periods: 1.9 s) */
 #define DIAG_ZERO_PERIODS 50u       /* pressure zero: 5 s shut and standing with the reading steady ... */
 #define DIAG_ZERO_STEADY_KPA 12u    /* ... within this (the ADC's noise, a few LSB of a 16 bar sensor) */
 #define DIAG_ZERO_KPA 25u           /* ... and the line at rest: a reading above this is off its zero */
