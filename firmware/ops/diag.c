@@ -8,6 +8,7 @@
 #include "target.h"
 #include "valve.h"
 #include "diag.h"
+#include "diag_line.h"
 #include "mul.h"
 #include "store.h"
 #include "ctl.h"
@@ -61,22 +62,6 @@ static struct {
     int16_t t1;                                 /* the target a period ago (diag_model) */
     uint8_t session;                            /* 1: a calibration is open: clean spraying teaches the model */
     uint16_t q3;                                /* P_NOZZLE_Q3 the model was learnt for */
-    /* pump dry judged on the line (diag_supply) */
-    uint8_t dry_cnt;                            /* periods the line said dry */
-    uint8_t dry_line;                           /* 1: it did for DIAG_DRY_PERIODS (held until liquid, a refill or an ack) */
-    uint16_t dry_l;                             /* the level then */
-    /* the pressure sensor's zero (diag_zero) */
-    uint16_t p_spray;                           /* kPa the boom sprayed at, at working speed (0: none) */
-    uint16_t z_lo, z_hi;                        /* the readings' range over the rest window */
-    uint8_t z_n;                                /* periods of that window */
-    uint8_t zero_off;                           /* 1: read over DIAG_ZERO_KPA at rest (until it reads 0 at rest) */
-    /* the tank balance (diag_balance) */
-    uint16_t bal_v10;                           /* metered volume, 0.1 L */
-    uint16_t bal_acc;                           /* ... its remainder, in L/min x100 periods (6000 a 0.1 L) */
-    uint16_t bal_dl;                            /* the level's fall, L */
-    uint16_t bal_l0;                            /* the lowest level of the open stretch */
-    uint8_t bal_on;                             /* a stretch is open */
-    uint16_t bal_k, bal_t;                      /* Meter K and Tank size the sums were made under */
 } dg;
 
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
@@ -100,10 +85,7 @@ void diag_init(void)
     dg.wheel_glitches = speed_glitches();
     dg.wheel_pulses = (uint16_t)speed_pulses();
     dg.nozzles = 0;
-    dg.dry_cnt = dg.dry_line = 0;
-    dg.p_spray = 0;
-    dg.z_n = dg.zero_off = 0;
-    dg.bal_t = 0;                   /* (the balance starts anew: diag_balance) */
+    diag_line_init();
     diag_nozzle_relearn();
     /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the
      * bytes of store_learnt_byte) or, without one, 0xFF bytes: then a calibration is open */
@@ -311,118 +293,11 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
     }
 }
 
-/* Pump dry from the line, whatever the level says (a level sensor reading high): spraying at
- * working speed, the pressure under P start (the check valves shut) and under a quarter of the
- * target metered, for DIAG_DRY_PERIODS. Held until the pump pushes liquid again (P start or
- * more with the boom shut), the level rises by Tank size / 64 (a refill), or the operator
- * switches the sections off (to open them again after refilling): the boom is shut meanwhile,
- * so nothing else can tell. */
-static void diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentrant
-{
-    uint16_t p = in->pressure_kpa, pmin = param_v[P_P_MIN];
-    int16_t meter = flow_lpm_x100();
-    uint8_t psens = analog_pressure_ok();
-    if (settled && psens && p < pmin && target_working_speed(in->speed_kmh_x100)
-        && UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->target_lpm_x100) {
-        if (++dg.dry_cnt >= DIAG_DRY_PERIODS && !dg.dry_line) {
-            dg.dry_line = 1;
-            dg.dry_l = in->tank_l;
-        }
-    } else
-        dg.dry_cnt = 0;
-    if (dg.dry_line && (!in->open_nozzles || (!in->spraying && psens && p >= pmin)
-                        || (analog_level_ok() && in->tank_l > dg.dry_l + (param_v[P_TANK_L] >> 6))))
-        dg.dry_line = 0;
-}
-
-/* The pressure sensor's zero: with the boom shut at a standstill in auto and the reading steady
- * (within DIAG_ZERO_STEADY_KPA for DIAG_ZERO_PERIODS) under half the pressure the boom sprayed
- * at, the pump pushes nothing (one that runs against the bypass, held at the spraying pressure
- * or opened further, keeps the line near that pressure or above): the line is at rest, and a
- * reading over DIAG_ZERO_KPA is a sensor off its zero, until it reads 0 at rest again. */
-static void diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
-{
-    uint16_t p = in->pressure_kpa;
-    if (in->manual || !analog_pressure_ok())
-        dg.p_spray = 0;             /* the valve moved by hand: no spraying pressure to go by */
-    else if (settled && target_working_speed(in->speed_kmh_x100))
-        dg.p_spray = p;
-    if (in->spraying || in->speed_kmh_x100 || !dg.p_spray) {
-        dg.z_n = 0;
-        return;
-    }
-    if (!dg.z_n || p < dg.z_lo)
-        dg.z_lo = p;
-    if (!dg.z_n || p > dg.z_hi)
-        dg.z_hi = p;
-    dg.z_n++;
-    if ((uint16_t)(dg.z_hi - dg.z_lo) > DIAG_ZERO_STEADY_KPA || (uint16_t)(dg.z_hi << 1) >= dg.p_spray) {
-        dg.z_n = 0;                 /* not at rest: the window starts again */
-        return;
-    }
-    if (dg.z_n >= DIAG_ZERO_PERIODS) {
-        dg.zero_off = dg.z_hi > DIAG_ZERO_KPA;
-        dg.z_n = 0;
-    }
-}
-
-/* The tank balance: the metered volume against the level's fall over the periods the boom
- * sprays with the meter in its full range (DIAG_BAL_MIN_X100). The level's resolution: its
- * 4-20 mA span is 819 counts of the 10-bit ADC, Tank size / 819 a count; m = Tank size / 256
- * + 1 L (three counts and a litre) is what the level's two ends may be off by. A meter off the
- * fall by more than DIAG_BAL_PCT % of it and m is METER_CAL, judged once the level fell by 8 m
- * (the sums halved beyond 64 m: the balance follows the last quarter of a tank). A level that
- * rises by m (a refill, the sensor's step) starts it anew; a new Meter K or Tank size too, and
- * clears the alarm. */
-static void diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant
-{
-    uint16_t l = in->tank_l, m = (param_v[P_TANK_L] >> 8) + 1u;
-    int16_t q = flow_lpm_x100();
-    uint32_t a, b;
-    if (dg.bal_k != param_v[P_METER_K] || dg.bal_t != param_v[P_TANK_L] || (dg.bal_on && l > dg.bal_l0 + m)) {
-        if (dg.bal_k != param_v[P_METER_K] || dg.bal_t != param_v[P_TANK_L])
-            dg.alarms &= ~(1u << AL_METER_CAL);
-        dg.bal_k = param_v[P_METER_K];
-        dg.bal_t = param_v[P_TANK_L];
-        dg.bal_v10 = dg.bal_acc = dg.bal_dl = 0;
-        dg.bal_on = 0;
-    }
-    if (!(settled && analog_level_ok() && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0))
-        dg.bal_on = 0;
-    else if (!dg.bal_on) {
-        dg.bal_on = 1;              /* a stretch opens at the level now */
-        dg.bal_l0 = l;
-    } else {
-        if (l < dg.bal_l0) {
-            dg.bal_dl += dg.bal_l0 - l;
-            dg.bal_l0 = l;
-        }
-        dg.bal_acc += (uint16_t)q;
-        while (dg.bal_acc >= 6000u) {
-            dg.bal_acc -= 6000u;
-            dg.bal_v10++;
-        }
-        if (dg.bal_dl >= (m << 6)) {
-            dg.bal_dl >>= 1;
-            dg.bal_v10 >>= 1;
-        }
-    }
-    if (dg.bal_dl < (m << 3)) {
-        rule(AL_METER_CAL, 0, 0);
-        return;
-    }
-    a = UMUL(dg.bal_dl, 10u);
-    a = dg.bal_v10 > a ? dg.bal_v10 - a : a - dg.bal_v10;
-    b = UMUL(dg.bal_dl, DIAG_BAL_PCT) + UMUL(m, 100u);
-    a = UMUL(a, 10u) > b;           /* (a < 2^16: the sums are halved first) */
-    rule(AL_METER_CAL, (uint8_t)a, !(uint8_t)a);
-}
-
 /* Tank and pump, the sensors (debounced by analog.c; the pressure's zero by diag_zero),
  * over-pressure with 5 % hysteresis: while `p_watch` (spraying or the bypass parked open; at
  * power-up the pump may push against a bypass left closed until the parking opens it: the
  * relief valve's job, not a fault). */
-static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reentrant
+static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t p_watch) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
     uint16_t tank = in->tank_l;
@@ -432,8 +307,9 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
     uint32_t x = UMUL(tank, 100u);
     uint8_t dry = lsens && x <= param_v[P_TANK_L];  /* (the 32-bit compare once) */
     rule(AL_TANK_LOW, lsens && tank < tmin, refill);
-    rule(AL_PUMP_DRY, dry || dg.dry_line, !dg.dry_line && !dry && (refill || !lsens));
-    rule(AL_PSENS, !psens || dg.zero_off, psens && !dg.zero_off);
+    uint8_t line = diag_dry_line(in, settled), zero = diag_zero(in, settled);
+    rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));
+    rule(AL_PSENS, !psens || zero, psens && !zero);
     rule(AL_LSENS, !lsens, lsens);
     x = UMUL(param_v[P_P_MAX], 19u);
     rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX], !psens || UMUL(p, 20u) < x);
@@ -542,11 +418,12 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
         dg.q3 = param_v[P_NOZZLE_Q3];
         diag_nozzle_relearn();      /* other nozzles told: the model is learnt for them */
     }
-    diag_dry_line(in, settled);
-    diag_zero(in, settled);
-    diag_supply(in, p_watch);
+    diag_supply(in, settled, p_watch);
     diag_model(in, settled);
-    diag_balance(in, settled);
+    g = diag_balance(in, settled);
+    if (g == DIAG_BAL_ANEW)
+        dg.alarms &= ~(1u << AL_METER_CAL);
+    rule(AL_METER_CAL, g == DIAG_BAL_OFF, g == DIAG_BAL_ON);
     /* the held model against the catalog (Q3 at 3 bar above the check valves, the square-root
      * law): nozzles that pass over 10 % more are worn, a notice; not while the tank balance
      * says the meter, by which the model was learnt, is off */
@@ -609,24 +486,6 @@ const __code char *diag_code(uint8_t bit) __reentrant
 const __code char *diag_text(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? texts[bit] : "";
-}
-
-/* the reset cause (hal.h HAL_RESET_*): a word for the serial link, a line for the LCD */
-static const char __code *const __code reset_codes[] = {"POWER", "WATCHDOG", "BROWNOUT", "PIN"};
-static const char __code *const __code reset_texts[] = {
-    "Reset: power-on", "Reset: watchdog", "Reset:brown-out", "Reset: reset pin"
-};
-
-const __code char *diag_reset_code(void)
-{
-    uint8_t c = hal_reset_cause();
-    return c <= HAL_RESET_OTHER ? reset_codes[c] : "?";
-}
-
-const __code char *diag_reset_text(void)
-{
-    uint8_t c = hal_reset_cause();
-    return c <= HAL_RESET_OTHER ? reset_texts[c] : "Reset: ?";
 }
 
 uint8_t diag_meter_suspect(void)

@@ -44,14 +44,8 @@ enum {
 #define DIAG_PDEV_FAR_KPA 120u      /* ... elsewhere a deviation of P_PDEV % and at least this */
 #define DIAG_PDEV_MIN_KPA 50u       /* leak/clog judged where the nozzles need this above their check valves */
 #define DIAG_MOVE_SHIFT 7u          /* ... and not while the target moves by more than 1/128 a period */
-#define DIAG_DRY_PERIODS 10u        /* pump dry from the line: under P start, under a quarter of the target metered (then PUMP_DRY's own periods: 1.9 s) */
-#define DIAG_ZERO_PERIODS 50u       /* pressure zero: 5 s shut and standing with the reading steady ... */
-#define DIAG_ZERO_STEADY_KPA 12u    /* ... within this (the ADC's noise, a few LSB of a 16 bar sensor) */
-#define DIAG_ZERO_KPA 25u           /* ... and the line at rest: a reading above this is off its zero */
 #define DIAG_WEAR_KP_KPA 248u       /* the model under this kPa at the catalog flow (300 / 1.1^2 = 247.9): worn over 10 % */
-#define DIAG_BAL_MIN_X100 1500      /* tank balance: metered flow in the turbine's full range only */
-#define DIAG_BAL_PCT 6u             /* ... a meter off the level's fall by more than this % ... */
-#define DIAG_BAL_PERIODS 10u        /* ... and the level's resolution (diag_balance), for 1 s */
+#define DIAG_BAL_PERIODS 10u        /* METER_CAL: the tank balance off (diag_line.h) for 1 s */
 /* The nozzle model learnt from the sprayer at a calibration only (no model yet, the tank test,
  * "Nozzles relearn"): DIAG_LEARN_N samples, one every DIAG_LEARN_EVERY clean periods (steady
  * flow within 5 % of its target, no flow alarm): the first half minute of clean spraying after

@@ -16,6 +16,7 @@
 #include "target.h"
 #include "ops.h"
 #include "diag.h"
+#include "diag_line.h"
 
 #define PERIOD_NS 100000000ull
 #define ADC_PER_MA 51.15            /* 250 ohm into a 10-bit ADC at 5 V */
