@@ -44,7 +44,7 @@ enum {
 #define DIAG_PDEV_FAR_KPA 120u      /* ... elsewhere a deviation of P_PDEV % and at least this */
 #define DIAG_PDEV_MIN_KPA 50u       /* leak/clog judged where the nozzles need this above their check valves */
 #define DIAG_MOVE_SHIFT 7u          /* ... and not while the target moves by more than 1/128 a period */
-#define DIAG_WEAR_KP_KPA 248u       /* the model under this kPa at the catalog flow (300 / 1.1^2 = 247.9): worn over 10 % */
+#define DIAG_WEAR_KP_KPA 242u       /* the model under this kPa at the catalog flow (300 / 1.115^2 = 241.3): worn over 11.5 %, 10 % and the meter's 1 % */
 #define DIAG_BAL_PERIODS 10u        /* METER_CAL: the tank balance off (diag_line.h) for 1 s */
 /* The nozzle model learnt from the sprayer at a calibration only (no model yet, the tank test,
  * "Nozzles relearn"): DIAG_LEARN_N samples, one every DIAG_LEARN_EVERY clean periods (steady

@@ -149,9 +149,9 @@ static void test_diag_model_is_held_and_a_slow_leak_is_told(void **state)
 }
 
 /* The catalog: 36 nozzles of 1.18 L/min at 3 bar above their check valves pass 36 L/min at
- * 300 x (36 / 42.48)^2 = 215.5 kPa above them; worn 10 %, at 215.5 / 1.21 = 178.1. Learnt at
- * 30 + 165 kPa (worn 14 %): the notice, and it does not sound (DIAG_QUIET_BITS); learnt at
- * 30 + 200 kPa (worn 4 %): none. */
+ * 300 x (36 / 42.48)^2 = 215.5 kPa above them; worn 11.5 % (DIAG_WEAR_KP_KPA: 10 % and the
+ * meter's 1 %), at 215.5 / 1.115^2 = 173.3. Learnt at 30 + 165 kPa (worn 14 %): the notice,
+ * and it does not sound (DIAG_QUIET_BITS); learnt at 30 + 200 kPa (worn 4 %): none. */
 static void test_diag_worn_nozzles_are_a_notice(void **state)
 {
     (void)state;
