@@ -5,6 +5,8 @@
 #include "analog.h"
 #include "flow.h"
 #include "target.h"
+#include "valve.h"
+#include "ctl.h"
 #include "mul.h"
 #include "diag_line.h"
 
@@ -14,7 +16,7 @@ static struct {
     uint8_t dry_line;                           /* 1: it did for DIAG_DRY_PERIODS (held: diag_dry_line) */
     uint16_t dry_l;                             /* the level then */
     /* the pressure sensor's zero (diag_zero) */
-    uint16_t p_spray;                           /* kPa the boom sprayed at, at working speed (0: none) */
+    uint16_t p_spray;                           /* kPa the boom sprays at, at working speed, filtered (0: none) */
     uint16_t z_lo, z_hi;                        /* the readings' range over the rest window */
     uint8_t z_n;                                /* periods of that window */
     uint8_t zero_off;                           /* 1: read over DIAG_ZERO_KPA at rest (until it reads 0 at rest) */
@@ -60,19 +62,24 @@ uint8_t diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentra
     return dl.dry_line;
 }
 
-/* The pressure sensor's zero: with the boom shut at a standstill in auto and the reading steady
- * (within DIAG_ZERO_STEADY_KPA for DIAG_ZERO_PERIODS) under half the pressure the boom sprayed
- * at, the pump pushes nothing (one that runs against the bypass, held at the spraying pressure
- * or opened further, keeps the line near that pressure or above): the line is at rest, and a
- * reading over DIAG_ZERO_KPA is a sensor off its zero, until it reads 0 at rest again. */
+/* The pressure sensor's zero: with the boom shut at a standstill in auto, the bypass open by
+ * DIAG_ZERO_OPEN_Q15 or more as far as valve.c knows (a closed one traps the line's pressure
+ * when the pump stops; before a stop was found valve.c does not know where it is) and
+ * the reading steady (within DIAG_ZERO_STEADY_KPA for DIAG_ZERO_PERIODS) under half the
+ * pressure the boom sprays at, the pump pushes nothing (one that runs against the bypass, held
+ * at the spraying pressure or opened further, keeps the line near that pressure or above): the
+ * line is at rest, and a reading over DIAG_ZERO_KPA is a sensor off its zero, until it reads 0
+ * at rest again. */
 uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
     uint16_t p = in->pressure_kpa;
     if (in->manual || !analog_pressure_ok())
         dl.p_spray = 0;             /* the valve moved by hand: no spraying pressure to go by */
     else if (settled && target_working_speed(in->speed_kmh_x100))
-        dl.p_spray = p;
-    if (in->spraying || in->speed_kmh_x100 || !dl.p_spray) {
+        dl.p_spray = dl.p_spray ? dl.p_spray + ((int16_t)(p - dl.p_spray + 32) >> 6) : p;  /* over 6.4 s: not a slow-down's */
+    uint16_t pos = valve_position();
+    if (in->spraying || in->speed_kmh_x100 || !dl.p_spray
+        || !((valve_limit() & CTL_AT_OPEN) || (pos != VALVE_POS_UNKNOWN && pos >= DIAG_ZERO_OPEN_Q15))) {
         dl.z_n = 0;
         return dl.zero_off;
     }

@@ -9,6 +9,7 @@
 #define DIAG_ZERO_PERIODS 50u       /* pressure zero: 5 s shut and standing with the reading steady ... */
 #define DIAG_ZERO_STEADY_KPA 12u    /* ... within this (the ADC's noise, a few LSB of a 16 bar sensor) */
 #define DIAG_ZERO_KPA 25u           /* ... and the line at rest: a reading above this is off its zero */
+#define DIAG_ZERO_OPEN_Q15 3277u    /* ... with the bypass open by a tenth of its stroke or more */
 #define DIAG_BAL_MIN_X100 1500      /* tank balance: metered flow in the turbine's full range only */
 #define DIAG_BAL_PCT 6u             /* ... a meter off the level's fall by more than this % ... */
 

@@ -14,6 +14,8 @@
 #include "flow.h"
 #include "analog.h"
 #include "target.h"
+#include "valve.h"
+#include "ctl.h"
 #include "ops.h"
 #include "diag.h"
 #include "diag_line.h"
@@ -50,6 +52,7 @@ static int setup(void **state)
     flow_init();
     analog_init();
     target_init();
+    valve_init();
     diag_init();
     w.p_kpa = 0;
     w.level_l = 800;
@@ -206,6 +209,21 @@ static void test_diag_low_pressure_with_flow_is_no_dry_pump(void **state)
         assert_false(on(period(1, 36.0, 1.0), AL_PUMP_DRY));
 }
 
+/* The bypass driven to a stop (dir -1 open, +1 closed) until valve.c believes it: 3.6 strokes
+ * of the told 4 s. */
+static void bypass_to_stop(int dir)
+{
+    for (int n = 0; n < 160; n++) {
+        w.now_ns += PERIOD_NS;
+        hal_host_set_time_ns(w.now_ns);
+        valve_poll(hal_ms());
+        valve_set((q15_t)(dir * 32767));
+        valve_poll(hal_ms());
+    }
+    valve_set(0);
+    assert_true(valve_limit() & (dir < 0 ? CTL_AT_OPEN : CTL_AT_CLOSED));
+}
+
 /* The pressure's zero: sprayed at 245 kPa, then shut at a standstill; the line at rest reads
  * 100 kPa (the sensor 1 bar off): PSENS_FAULT after DIAG_ZERO_PERIODS standing with a steady reading;
  * cleared once it reads 0 at rest again (DIAG_ZERO_PERIODS, then DIAG_CLEAR_PERIODS, the
@@ -217,6 +235,7 @@ static void test_diag_pressure_off_its_zero_at_rest(void **state)
     w.meter_lpm = 36.0;
     w.p_kpa = 245;
     spray(50);
+    bypass_to_stop(-1);
     w.meter_lpm = 0;
     w.p_kpa = 100;
     for (n = 0; n < 20; n++)        /* shut, still rolling: the reading settles */
@@ -230,9 +249,9 @@ static void test_diag_pressure_off_its_zero_at_rest(void **state)
     assert_false(on(period(0, 0, 0.0), AL_PSENS));
 }
 
-/* Not at rest, no check: a running pump against the bypass held near the spraying pressure
- * (240 kPa, a fixed PTO at a standstill), a reading still falling, the tractor moving, or a
- * sensor within DIAG_ZERO_KPA. */
+/* Not at rest, no check: the bypass closed (the pump stopped traps the line's pressure: 60 kPa),
+ * a running pump against the bypass held near the spraying pressure (240 kPa, a fixed PTO at a
+ * standstill), a reading still falling, the tractor moving, or a sensor within DIAG_ZERO_KPA. */
 static void test_diag_pressure_zero_judged_only_at_rest(void **state)
 {
     int n;
@@ -240,6 +259,12 @@ static void test_diag_pressure_zero_judged_only_at_rest(void **state)
     w.meter_lpm = 36.0;
     w.p_kpa = 245;
     spray(50);
+    bypass_to_stop(1);
+    w.meter_lpm = 0;
+    w.p_kpa = 60;
+    for (n = 0; n < 200; n++)
+        assert_false(on(period(0, 0, 0.0), AL_PSENS));
+    bypass_to_stop(-1);
     w.meter_lpm = 0;
     w.p_kpa = 240;
     for (n = 0; n < 200; n++)
