@@ -105,7 +105,8 @@ uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
  * + 1 L (three counts and a litre) is what the level's two ends may be off by. A meter off the
  * fall by more than DIAG_BAL_PCT % of it and m is METER_CAL, judged once the level fell by 8 m
  * (the sums halved beyond 64 m: the balance follows the last quarter of a tank). A level that
- * rises by m (a refill, the sensor's step) starts it anew; a new Meter K or Tank size too
+ * rises by m, or falls by m in a period (a refill, the sensor's step: no boom drains that fast
+ * by a tank whose m is 4 L a 1000), starts it anew; a new Meter K or Tank size too
  * (DIAG_BAL_ANEW: the alarm is cleared). */
 uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
@@ -113,7 +114,8 @@ uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentran
     int16_t q = flow_lpm_x100();
     uint32_t a, b;
     uint8_t r = DIAG_BAL_NONE;
-    if (dl.bal_k != param_v[P_METER_K] || dl.bal_t != param_v[P_TANK_L] || (dl.bal_on && l > dl.bal_l0 + m)) {
+    if (dl.bal_k != param_v[P_METER_K] || dl.bal_t != param_v[P_TANK_L]
+        || (dl.bal_on && (l > dl.bal_l0 + m || l + m < dl.bal_l0))) {
         if (dl.bal_k != param_v[P_METER_K] || dl.bal_t != param_v[P_TANK_L])
             r = DIAG_BAL_ANEW;
         dl.bal_k = param_v[P_METER_K];

@@ -317,6 +317,20 @@ static void test_diag_tank_balance_tells_a_wrong_meter(void **state)
     assert_true(balance_run(36.0 / 1.03) < 0);
 }
 
+/* A level that falls by 200 L at once (the sensor's step, a tank emptied by hand) is no meter
+ * error: the balance starts anew, and a true meter raises nothing. */
+static void test_diag_tank_balance_skips_a_level_step(void **state)
+{
+    (void)state;
+    w.meter_lpm = 36.0;
+    w.p_kpa = 245;
+    w.level_l = 900;
+    for (int n = 0; n < 6000; n++) {
+        w.level_l -= 36.0 / 600 + (n == 1000 ? 200 : 0);
+        assert_false(on(spray(1), AL_METER_CAL));
+    }
+}
+
 /* A new Meter K (the tank test) clears METER_CAL and starts the balance anew. */
 static void test_diag_tank_balance_starts_anew_with_a_new_k(void **state)
 {
@@ -336,6 +350,7 @@ int main(void)
         cmocka_unit_test_setup(test_diag_pressure_off_its_zero_at_rest, setup),
         cmocka_unit_test_setup(test_diag_pressure_zero_judged_only_at_rest, setup),
         cmocka_unit_test_setup(test_diag_tank_balance_tells_a_wrong_meter, setup),
+        cmocka_unit_test_setup(test_diag_tank_balance_skips_a_level_step, setup),
         cmocka_unit_test_setup(test_diag_tank_balance_starts_anew_with_a_new_k, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
