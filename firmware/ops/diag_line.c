@@ -20,12 +20,15 @@ static struct {
     uint16_t z_lo, z_hi;                        /* the readings' range over the rest window */
     uint8_t z_n;                                /* periods of that window */
     uint8_t zero_off;                           /* 1: read over DIAG_ZERO_KPA at rest (until it reads 0 at rest) */
-    /* the tank balance (diag_balance) */
+    /* the tank balance (diag_balance): the sums of the closed stretches, the open one */
     uint16_t bal_v10;                           /* metered volume, 0.1 L */
-    uint16_t bal_acc;                           /* ... its remainder, in L/min x100 periods (6000 a 0.1 L) */
     uint16_t bal_dl;                            /* the level's fall, L */
-    uint16_t bal_l0;                            /* the lowest level of the open stretch */
-    uint8_t bal_on;                             /* a stretch is open */
+    uint16_t bal_sv10;                          /* the open stretch's metered volume, 0.1 L */
+    uint16_t bal_acc;                           /* ... its remainder, in L/min x100 periods (6000 a 0.1 L) */
+    uint16_t bal_s0, bal_smin;                  /* ... the level at its start, its lowest */
+    uint8_t bal_n;                              /* ... its periods (0: none open), at most 255 */
+    uint16_t bal_l1;                            /* the level a period ago */
+    uint8_t bal_wait;                           /* periods before a stretch may open (after a step) */
     uint16_t bal_k, bal_t;                      /* Meter K and Tank size the sums were made under */
 } dl;
 
@@ -99,55 +102,75 @@ uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
     return dl.zero_off;
 }
 
-/* The tank balance: the metered volume against the level's fall over the periods the boom
- * sprays with the meter in its full range (DIAG_BAL_MIN_X100). The level's resolution: its
- * 4-20 mA span is 819 counts of the 10-bit ADC, Tank size / 819 a count; m = Tank size / 256
- * + 1 L (three counts and a litre) is what the level's two ends may be off by. A meter off the
+/* The tank balance: the metered volume against the level's fall over the stretches of at least
+ * DIAG_BAL_STRETCH periods in which the boom sprays with the meter in its full range
+ * (DIAG_BAL_MIN_X100); shorter ones are dropped (a stretch's two ends carry the level's
+ * rounding, and a flow about the range's edge makes many short ones). The level's resolution:
+ * its 4-20 mA span is 819 counts of the 10-bit ADC, Tank size / 819 a count; m = Tank size /
+ * 256 + 1 L (three counts and a litre) is what a fall's two ends may be off by. A meter off the
  * fall by more than DIAG_BAL_PCT % of it and m is METER_CAL, judged once the level fell by 8 m
- * (the sums halved beyond 64 m: the balance follows the last quarter of a tank). A level that
- * rises by m, or falls by m in a period (a refill, the sensor's step: no boom drains that fast
- * by a tank whose m is 4 L a 1000), starts it anew; a new Meter K or Tank size too
- * (DIAG_BAL_ANEW: the alarm is cleared). */
+ * (a stretch is summed every 32 m, the sums halved beyond 64 m: the balance follows the last
+ * quarter of a tank). A level that
+ * moves by m in a period or rises by m in a stretch (a refill, the sensor's step: no boom
+ * drains 4 L of a 1000 L tank in 0.1 s, nor does a spraying tank fill) starts it anew
+ * DIAG_BAL_WAIT later, when analog.c's filter has followed the step; a
+ * new Meter K or Tank size at once (DIAG_BAL_ANEW: the alarm is cleared). */
 uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
-    uint16_t l = in->tank_l, m = (param_v[P_TANK_L] >> 8) + 1u;
+    uint16_t l = in->tank_l, m = (param_v[P_TANK_L] >> 8) + 1u, v, f;
     int16_t q = flow_lpm_x100();
-    uint32_t a, b;
-    uint8_t r = DIAG_BAL_NONE;
-    if (dl.bal_k != param_v[P_METER_K] || dl.bal_t != param_v[P_TANK_L]
-        || (dl.bal_on && (l > dl.bal_l0 + m || l + m < dl.bal_l0))) {
-        if (dl.bal_k != param_v[P_METER_K] || dl.bal_t != param_v[P_TANK_L])
-            r = DIAG_BAL_ANEW;
+    uint32_t a;
+    uint8_t r = DIAG_BAL_NONE, run;
+    if (dl.bal_k != param_v[P_METER_K] || dl.bal_t != param_v[P_TANK_L]) {
+        r = DIAG_BAL_ANEW;
         dl.bal_k = param_v[P_METER_K];
         dl.bal_t = param_v[P_TANK_L];
-        dl.bal_v10 = dl.bal_acc = dl.bal_dl = 0;
-        dl.bal_on = 0;
+        dl.bal_wait = 0;
+        dl.bal_l1 = l;
+        dl.bal_n = 0;
+        dl.bal_v10 = dl.bal_dl = 0;
     }
-    if (!(settled && analog_level_ok() && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0))
-        dl.bal_on = 0;
-    else if (!dl.bal_on) {
-        dl.bal_on = 1;              /* a stretch opens at the level now */
-        dl.bal_l0 = l;
-    } else {
-        if (l < dl.bal_l0) {
-            dl.bal_dl += dl.bal_l0 - l;
-            dl.bal_l0 = l;
+    if (l > dl.bal_l1 + m || l + m < dl.bal_l1 || (dl.bal_n && l > dl.bal_smin + m)) {
+        dl.bal_wait = DIAG_BAL_WAIT;
+        dl.bal_n = 0;
+        dl.bal_v10 = dl.bal_dl = 0;
+    }
+    dl.bal_l1 = l;
+    if (dl.bal_wait)
+        dl.bal_wait--;              /* the level's filter settles after a step */
+    run = !dl.bal_wait && settled && analog_level_ok() && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0;
+    f = dl.bal_n >= DIAG_BAL_STRETCH && dl.bal_s0 > l ? dl.bal_s0 - l : 0;   /* the stretch's fall */
+    if ((!run || f >= (m << 5)) && dl.bal_n) {     /* closed, or long: into the sums, and anew */
+        if (dl.bal_n >= DIAG_BAL_STRETCH) {
+            dl.bal_dl += f;         /* a stretch long enough: into the sums */
+            dl.bal_v10 += dl.bal_sv10;
+            if (dl.bal_dl >= (m << 6)) {
+                dl.bal_dl >>= 1;
+                dl.bal_v10 >>= 1;
+            }
         }
+        dl.bal_n = f = 0;
+    }
+    if (run) {
+        if (!dl.bal_n) {
+            dl.bal_s0 = dl.bal_smin = l;    /* a stretch opens at the level now */
+            dl.bal_sv10 = dl.bal_acc = 0;
+        }
+        if (l < dl.bal_smin)
+            dl.bal_smin = l;
+        if (dl.bal_n < 255u)
+            dl.bal_n++;
         dl.bal_acc += (uint16_t)q;
         while (dl.bal_acc >= 6000u) {
             dl.bal_acc -= 6000u;
-            dl.bal_v10++;
-        }
-        if (dl.bal_dl >= (m << 6)) {
-            dl.bal_dl >>= 1;
-            dl.bal_v10 >>= 1;
+            dl.bal_sv10++;
         }
     }
-    if (dl.bal_dl < (m << 3))
+    v = dl.bal_v10 + (f ? dl.bal_sv10 : 0);
+    f += dl.bal_dl;
+    if (f < (m << 3))
         return r;
-    a = UMUL(dl.bal_dl, 10u);
-    a = dl.bal_v10 > a ? dl.bal_v10 - a : a - dl.bal_v10;
-    b = UMUL(dl.bal_dl, DIAG_BAL_PCT) + UMUL(m, 100u);
-    return UMUL(a, 10u) > b ? DIAG_BAL_OFF : DIAG_BAL_ON;  /* (a < 2^16: the sums are halved first) */
+    a = UMUL(f, 10u);
+    a = v > a ? v - a : a - v;
+    return UMUL(a, 10u) > UMUL(f, DIAG_BAL_PCT) + UMUL(m, 100u) ? DIAG_BAL_OFF : DIAG_BAL_ON;  /* (a < 2^16) */
 }
-

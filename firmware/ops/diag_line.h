@@ -12,6 +12,8 @@
 #define DIAG_ZERO_OPEN_Q15 3277u    /* ... with the bypass open by a tenth of its stroke or more */
 #define DIAG_BAL_MIN_X100 1500      /* tank balance: metered flow in the turbine's full range only */
 #define DIAG_BAL_PCT 6u             /* ... a meter off the level's fall by more than this % ... */
+#define DIAG_BAL_WAIT 30u           /* ... not for 3 s after a step of the level (its 0.4 s filter) */
+#define DIAG_BAL_STRETCH 100u       /* ... over stretches of 10 s or more in range */
 
 void diag_line_init(void);
 /* 1 while the line says the pump ran dry (held as diag_line.c says). */
