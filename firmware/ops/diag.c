@@ -88,10 +88,11 @@ void diag_init(void)
     diag_line_init();
     diag_nozzle_relearn();
     /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the
-     * bytes of store_learnt_byte) or, without one, 0xFF bytes: then a calibration is open */
+     * bytes of store_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a
+     * calibration opens */
     dg.kp_kpa = store_learnt(STORE_LEARN_CTL + 2u) | (uint16_t)store_learnt(STORE_LEARN_CTL + 3u) << 8;
-    if (dg.kp_kpa != 0xFFFFu) {
-        dg.pc_kpa = store_learnt(STORE_LEARN_CTL);
+    dg.pc_kpa = store_learnt(STORE_LEARN_CTL);
+    if (dg.kp_kpa >= 100u && dg.kp_kpa <= 1000u && dg.pc_kpa <= 150u) {   /* what learn_fit gives */
         i = store_learnt(STORE_LEARN_CTL + 1u);
         dg.xm = (uint16_t)i << 1;
         dg.learnt = i ? 1 : 2;
