@@ -185,6 +185,28 @@ static void test_slow_a_wrong_meter_calibration_is_told_by_the_tank(void **state
     wrong_meter(342);               /* 10 % low */
 }
 
+/* The meter's K drifting off after the model was learnt (K 456, reading 20 % high, from 60 s):
+ * the held model sees a pressure low for the metered flow at once (LEAK: a leak after the meter
+ * and a meter reading high look alike to it), then the tank balance names the meter. */
+static void test_slow_a_meter_going_off_is_told_at_once(void **state)
+{
+    obs_t o;
+    (void)state;
+    load("pto_coupled = 0", "0 0\n5 8\n900 8", "");
+    obs_init(&o);
+    run_to(&o, 60);
+    assert_int_equal(app_status.alarms, 0);
+    sim.plant.p.meter_k_ppl = 456;
+    double fallen = sim.plant.p.tank_start_l - sim.plant.tank_v;
+    run_to(&o, 300);
+    printf("# meter K 380 -> 456 at 60 s: LEAK at %.1f s, METER_CAL at %.1f s (%.1f L after the change); "
+           "silent wrong %.1f s\n", o.first[AL_LEAK], o.first[AL_METER_CAL], o.fallen_at[AL_METER_CAL] - fallen,
+           o.silent_max_s);
+    assert_true(o.first[AL_LEAK] >= 60 && o.first[AL_LEAK] <= 60 + 5);
+    assert_true(o.first[AL_METER_CAL] > 60 && o.fallen_at[AL_METER_CAL] - fallen < 150);
+    assert_true(o.silent_max_s <= 10.0);
+}
+
 /* A level sensor reading `off_l` high, 60 L in the tank at 36 L/min: TANK_LOW never comes (the
  * level says 30 L or more), the pump runs dry at 2 L: PUMP_DRY from the line within 10 s of it,
  * and the boom shut from then on. */
@@ -249,6 +271,7 @@ int main(void)
         cmocka_unit_test_teardown(test_slow_a_growing_leak_is_told, teardown),
         cmocka_unit_test_teardown(test_slow_nozzles_clogging_one_by_one_are_told, teardown),
         cmocka_unit_test_teardown(test_slow_a_wrong_meter_calibration_is_told_by_the_tank, teardown),
+        cmocka_unit_test_teardown(test_slow_a_meter_going_off_is_told_at_once, teardown),
         cmocka_unit_test_teardown(test_slow_a_level_reading_high_does_not_hide_a_dry_pump, teardown),
         cmocka_unit_test_teardown(test_slow_a_pressure_sensor_off_its_zero_is_told_at_rest, teardown),
     };
