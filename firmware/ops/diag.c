@@ -34,7 +34,7 @@ static const char __code *const __code texts[AL_COUNT] = {
     "Flowmeter noise",
     "Wheel noise",
     "Internal fault",
-    "Meter cal. wrong",
+    "Meter/tank cal.",
     "Nozzles worn"
 };
 

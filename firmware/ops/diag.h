@@ -21,7 +21,7 @@ enum {
     AL_METER_NOISE,     /* flow meter pulses faster than the meter can make */
     AL_WHEEL_NOISE,     /* wheel pulses faster than 60 km/h */
     AL_INTERNAL,        /* a parameter out of its range in RAM: latched, the watchdog resets */
-    AL_METER_CAL,       /* the metered volume off the tank level's fall: Meter K is wrong */
+    AL_METER_CAL,       /* the metered volume off the tank level's fall: Meter K (or Tank size) is wrong */
     AL_NOZZLE_WEAR,     /* notice: the held nozzle model passes over 10 % more than the catalog */
     AL_COUNT
 };

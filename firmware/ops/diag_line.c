@@ -114,7 +114,9 @@ uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
  * moves by m in a period or rises by m in a stretch (a refill, the sensor's step: no boom
  * drains 4 L of a 1000 L tank in 0.1 s, nor does a spraying tank fill) starts it anew
  * DIAG_BAL_WAIT later, when analog.c's filter has followed the step; a
- * new Meter K or Tank size at once (DIAG_BAL_ANEW: the alarm is cleared). */
+ * new Meter K or Tank size at once (DIAG_BAL_ANEW: the alarm is cleared). Nothing is summed
+ * while the level reads within m of Tank size: a tank over the sensor's span (or a Tank size
+ * told too small) pins it at the top, where no fall shows. */
 uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
     uint16_t l = in->tank_l, m = (param_v[P_TANK_L] >> 8) + 1u, v, f;
@@ -138,7 +140,8 @@ uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentran
     dl.bal_l1 = l;
     if (dl.bal_wait)
         dl.bal_wait--;              /* the level's filter settles after a step */
-    run = !dl.bal_wait && settled && analog_level_ok() && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0;
+    run = !dl.bal_wait && settled && analog_level_ok() && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0
+          && l + m < dl.bal_t;      /* (at the span's top the level cannot show a fall) */
     f = dl.bal_n >= DIAG_BAL_STRETCH && dl.bal_s0 > l ? dl.bal_s0 - l : 0;   /* the stretch's fall */
     if ((!run || f >= (m << 5)) && dl.bal_n) {     /* closed, or long: into the sums, and anew */
         if (dl.bal_n >= DIAG_BAL_STRETCH) {
