@@ -8,29 +8,12 @@
 #include <string.h>
 #include <cmocka.h>
 #include "sim.h"
-#include "plant.h"
 #include "helper_sim.h"
-#include "hal_host.h"
 #include "app.h"
 #include "diag.h"
 
 static sim_t sim;
 static int sim_live;
-
-/* Sensor offsets the ADC adds to the plant's readings (a level sensor reading high, a pressure
- * sensor off its zero), in the loop's counts: 16 mA over the span, ADC_PER_MA counts a mA. */
-#define ADC_PER_MA 51.15
-static double level_off_l, p_off_bar;
-
-static uint16_t adc_offset(uint8_t ch)
-{
-    double a = plant_adc_sample(&sim.plant, ch);
-    if (ch == HAL_ADC_PRESSURE && sim.plant.ma_pressure > 3.0)
-        a += p_off_bar * 16.0 / PLANT_PSENS_BAR * ADC_PER_MA;
-    if (ch == HAL_ADC_LEVEL)
-        a += level_off_l * 16.0 / sim.plant.p.tank_l * ADC_PER_MA;
-    return (uint16_t)(a > 1023 ? 1023 : a);
-}
 
 /* What a run showed: the first time of each alarm, the longest stretch of 5 s or more in which
  * the nozzles' true rate over the unclogged width was more than 10 % off the set rate at the
@@ -49,8 +32,6 @@ static void load(const char *plant, const char *drive, const char *events)
              "[run]\nduration_s = 900\nseed = 5\n[config]\ncontroller = ffmap\n[plant]\n%s\n[drive]\n%s\n"
              "[events]\n%s\n", plant, drive, events);
     helper_sim_load(&sim, &sim_live, text, "test_slow_faults");
-    level_off_l = p_off_bar = 0;
-    hal_host_adc_source(adc_offset);
 }
 
 static int teardown(void **state)
@@ -192,11 +173,10 @@ static void test_slow_a_meter_going_off_is_told_at_once(void **state)
 {
     obs_t o;
     (void)state;
-    load("pto_coupled = 0", "0 0\n5 8\n900 8", "");
+    load("pto_coupled = 0", "0 0\n5 8\n900 8", "60 meter_k_ppl 456");
     obs_init(&o);
     run_to(&o, 60);
     assert_int_equal(app_status.alarms, 0);
-    sim.plant.p.meter_k_ppl = 456;
     double fallen = sim.plant.p.tank_start_l - sim.plant.tank_v;
     run_to(&o, 300);
     printf("# meter K 380 -> 456 at 60 s: LEAK at %.1f s, METER_CAL at %.1f s (%.1f L after the change); "
@@ -213,8 +193,9 @@ static void test_slow_a_meter_going_off_is_told_at_once(void **state)
 static void level_high(double off_l)
 {
     obs_t o;
-    load("pto_coupled = 0\ntank_start_l = 60", "0 0\n5 8\n900 8", "");
-    level_off_l = off_l;
+    char ev[64];
+    snprintf(ev, sizeof ev, "0 level_offset_l %g", off_l);
+    load("pto_coupled = 0\ntank_start_l = 60", "0 0\n5 8\n900 8", ev);
     obs_init(&o);
     run_to(&o, 200);
     printf("# level reading %.0f L high: PUMP_DRY at %.1f s, %.1f L out of the tank; silent wrong %.1f s\n",
@@ -244,12 +225,12 @@ static void test_slow_a_level_reading_high_does_not_hide_a_dry_pump(void **state
 static void pressure_off(double off_bar)
 {
     obs_t o;
-    load("pto_coupled = 1", "0 0\n20 0\n25 8\n150 8\n155 0\n175 0\n180 8\n240 8",
-         "148 sections_open 0\n176 sections_open 36");
+    char ev[128];
+    snprintf(ev, sizeof ev, "60 pressure_offset_bar %g\n148 sections_open 0\n176 sections_open 36", off_bar);
+    load("pto_coupled = 1", "0 0\n20 0\n25 8\n150 8\n155 0\n175 0\n180 8\n240 8", ev);
     obs_init(&o);
     run_to(&o, 60);
     assert_int_equal(app_status.alarms, 0);
-    p_off_bar = off_bar;
     run_to(&o, 240);
     printf("# pressure sensor +%.1f bar at 60 s: CLOG at %.1f s, PSENS_FAULT at %.1f s (stopped at 155 s); "
            "silent wrong %.1f s\n", off_bar, o.first[AL_CLOG], o.first[AL_PSENS], o.silent_max_s);
