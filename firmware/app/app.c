@@ -300,7 +300,7 @@ static void app_diag(void)
 {
     uint16_t g = diag_step(&app_status, (ap.diag & APP_DIAG_SETTLED) != 0, (ap.diag & APP_DIAG_P_WATCH) != 0);
     ap.diag = 0;
-    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms;
+    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms & (uint16_t)~DIAG_QUIET_BITS;
     app_status.alarms = g;
     hal_buzzer(IO_ON ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
 }

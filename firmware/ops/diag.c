@@ -8,6 +8,7 @@
 #include "target.h"
 #include "valve.h"
 #include "diag.h"
+#include "diag_line.h"
 #include "mul.h"
 #include "store.h"
 #include "ctl.h"
@@ -15,7 +16,7 @@
 static const char __code *const __code codes[AL_COUNT] = {
     "TANK_LOW", "PUMP_DRY", "LEAK", "CLOG", "METER_LOST", "SPEED_LOST", "PSENS_FAULT",
     "LSENS_FAULT", "OVERPRESSURE", "OFF_RATE", "VALVE_STOP", "METER_NOISE", "WHEEL_NOISE",
-    "INTERNAL"
+    "INTERNAL", "METER_CAL", "NOZZLE_WEAR"
 };
 /* LCD texts: at most 16 characters */
 static const char __code *const __code texts[AL_COUNT] = {
@@ -32,7 +33,9 @@ static const char __code *const __code texts[AL_COUNT] = {
     "Valve at stop",
     "Flowmeter noise",
     "Wheel noise",
-    "Internal fault"
+    "Internal fault",
+    "Meter/tank cal.",
+    "Nozzles worn"
 };
 
 static struct {
@@ -57,6 +60,8 @@ static struct {
     uint8_t ldiv;                               /* clean periods since the last sample */
     uint16_t pc_kpa, kp_kpa;                    /* the model: check valves, kPa at the rated flow */
     int16_t t1;                                 /* the target a period ago (diag_model) */
+    uint8_t session;                            /* 1: a calibration is open: clean spraying teaches the model */
+    uint16_t q3;                                /* P_NOZZLE_Q3 the model was learnt for */
 } dg;
 
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
@@ -80,23 +85,39 @@ void diag_init(void)
     dg.wheel_glitches = speed_glitches();
     dg.wheel_pulses = (uint16_t)speed_pulses();
     dg.nozzles = 0;
+    diag_line_init();
     diag_nozzle_relearn();
-    /* the model learnt before: the EEPROM's record (CRC-checked, written by this firmware) or,
-     * without one, 0xFF bytes */
-    for (i = 0; i < 4u; i++)
-        ((uint8_t *)&dg.pc_kpa)[i] = store_learnt(STORE_LEARN_CTL + i);
-    if (dg.kp_kpa != 0xFFFFu)
-        dg.learnt = 2;
-    else
+    /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the
+     * bytes of store_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a
+     * calibration opens */
+    dg.kp_kpa = store_learnt(STORE_LEARN_CTL + 2u) | (uint16_t)store_learnt(STORE_LEARN_CTL + 3u) << 8;
+    dg.pc_kpa = store_learnt(STORE_LEARN_CTL);
+    if (dg.kp_kpa >= 100u && dg.kp_kpa <= 1000u && dg.pc_kpa <= 150u) {   /* what learn_fit gives */
+        i = store_learnt(STORE_LEARN_CTL + 1u);
+        dg.xm = (uint16_t)i << 1;
+        dg.learnt = i ? 1 : 2;
+        dg.session = 0;
+    } else
         model_told();
+    dg.q3 = param_v[P_NOZZLE_Q3];
     dg.gen = (uint8_t)(param_generation - 1u);
 }
 
+/* The held model's bytes: check valves (kPa, at most 150), then xm / 2 with its lowest bit set
+ * for a model learnt near one flow (0 for one learnt over the range), then kp little endian;
+ * 0xFF each without a model. */
 uint8_t store_learnt_byte(uint8_t i) __reentrant
 {
     if (i < STORE_LEARN_CTL)
         return ctl_learnt_byte(i);
-    return dg.learnt == 2 ? ((const uint8_t *)&dg.pc_kpa)[i - STORE_LEARN_CTL] : 0xFFu;
+    if (!dg.learnt)
+        return 0xFFu;
+    i -= STORE_LEARN_CTL;
+    if (i == 0)
+        return (uint8_t)dg.pc_kpa;
+    if (i == 1)
+        return dg.learnt == 1 ? (uint8_t)((dg.xm >> 1) | 1u) : 0;
+    return (uint8_t)(i == 2 ? dg.kp_kpa : dg.kp_kpa >> 8);
 }
 
 void diag_nozzle_relearn(void)
@@ -106,6 +127,7 @@ void diag_nozzle_relearn(void)
     dg.ldiv = 0;
     dg.learnt = 0;
     dg.xm = 0;
+    dg.session = 1;
     model_told();
     dg.gen = (uint8_t)(param_generation - 1u);
     diag_set_nozzles(dg.nozzles);
@@ -141,7 +163,8 @@ static uint16_t x_of(int16_t meter) __reentrant
  * plant 20 of SEED=173 had them at 91 kPa for 61 from flows within a tenth of each other, and a
  * false LEAK), else the rated curve scaled through their mean (check valves as the default),
  * trusted near that flow only (learnt 1: the sums are halved and learning goes on); clamped to
- * sane nozzles. */
+ * sane nozzles. A fit ends the calibration: the model is held from then on (a leak that grows or
+ * nozzles that clog slowly never move it). */
 static void learn_fit(void) __reentrant
 {
     uint32_t n = (uint32_t)DIAG_LEARN_N * dg.sxx, a = UMUL(dg.sx, dg.sx);    /* sx, sy < 2^15 */
@@ -155,6 +178,7 @@ static void learn_fit(void) __reentrant
             dg.kp_kpa = (uint16_t)k;
             dg.pc_kpa = (uint16_t)c;
             dg.learnt = 2;
+            dg.session = 0;
             dg.ln = 0;
             return;
         }
@@ -168,7 +192,11 @@ static void learn_fit(void) __reentrant
         dg.pc_kpa = DIAG_P_CHECK_KPA;
         dg.xm = (uint16_t)(dg.sx / DIAG_LEARN_N);
         dg.learnt = 1;
+        dg.session = 0;
+        dg.ln = 0;
+        return;
     }
+    /* (no pressure above the check valves in the samples: the calibration goes on) */
     dg.sx >>= 1;
     dg.sy >>= 1;
     dg.sxx >>= 1;
@@ -180,7 +208,7 @@ static void learn_fit(void) __reentrant
  * 1 when DIAG_LEARN_N are summed (the caller fits them). */
 static uint8_t learn(uint16_t r, uint16_t p) __reentrant
 {
-    if (dg.learnt == 2 || ++dg.ldiv < DIAG_LEARN_EVERY)
+    if (!dg.session || ++dg.ldiv < DIAG_LEARN_EVERY)
         return 0;
     dg.ldiv = 0;
     if (r == 0xFFFFu)
@@ -242,7 +270,8 @@ void diag_internal_fault(void)
  * only clears it, diag_offrate counts P_OFFRATE_S to raise it; AL_INTERNAL has no rule) */
 static const __code uint8_t need_periods[AL_COUNT] = {
     DIAG_TANK_PERIODS, DIAG_TANK_PERIODS, DIAG_PDEV_PERIODS, DIAG_PDEV_PERIODS,
-    DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0
+    DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0,
+    DIAG_BAL_PERIODS, 1
 };
 
 /* One timed rule: `set` for need_periods[bit] periods raises the alarm, `clr` for
@@ -265,10 +294,11 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
     }
 }
 
-/* Tank and pump, the sensors (debounced by analog.c), over-pressure with 5 % hysteresis: while
- * `p_watch` (spraying or the bypass parked open; at power-up the pump may push against a bypass
- * left closed until the parking opens it: the relief valve's job, not a fault). */
-static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reentrant
+/* Tank and pump, the sensors (debounced by analog.c; the pressure's zero by diag_zero),
+ * over-pressure with 5 % hysteresis: while `p_watch` (spraying or the bypass parked open; at
+ * power-up the pump may push against a bypass left closed until the parking opens it: the
+ * relief valve's job, not a fault). */
+static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t p_watch) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
     uint16_t tank = in->tank_l;
@@ -276,10 +306,11 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t p_watch) __reent
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
-    uint8_t dry = x <= param_v[P_TANK_L];          /* (the 32-bit compare once) */
+    uint8_t dry = lsens && x <= param_v[P_TANK_L];  /* (the 32-bit compare once) */
     rule(AL_TANK_LOW, lsens && tank < tmin, refill);
-    rule(AL_PUMP_DRY, lsens && dry, refill && !dry);
-    rule(AL_PSENS, !psens, psens);
+    uint8_t line = diag_dry_line(in, settled), zero = diag_zero(in, settled);
+    rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));
+    rule(AL_PSENS, !psens || zero, psens && !zero);
     rule(AL_LSENS, !lsens, lsens);
     x = UMUL(param_v[P_P_MAX], 19u);
     rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX], !psens || UMUL(p, 20u) < x);
@@ -384,8 +415,21 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
 {
     uint8_t g;
     uint16_t n, x;
-    diag_supply(in, p_watch);
+    if (dg.q3 != param_v[P_NOZZLE_Q3]) {
+        dg.q3 = param_v[P_NOZZLE_Q3];
+        diag_nozzle_relearn();      /* other nozzles told: the model is learnt for them */
+    }
+    diag_supply(in, settled, p_watch);
     diag_model(in, settled);
+    g = diag_balance(in, settled);
+    if (g == DIAG_BAL_ANEW)
+        dg.alarms &= ~(1u << AL_METER_CAL);
+    rule(AL_METER_CAL, g == DIAG_BAL_OFF, g == DIAG_BAL_ON);
+    /* the held model against the catalog (Q3 at 3 bar above the check valves, the square-root
+     * law): nozzles that pass over 10 % more are worn, a notice; not while the tank balance
+     * says the meter, by which the model was learnt, is off */
+    g = dg.learnt && dg.kp_kpa < DIAG_WEAR_KP_KPA && !(dg.alarms & (1u << AL_METER_CAL));
+    rule(AL_NOZZLE_WEAR, g, !g);
     if (dg.ln >= DIAG_LEARN_N) {    /* the samples are in: the nozzle model */
         learn_fit();
         dg.gen = (uint8_t)(param_generation - 1u);
@@ -443,24 +487,6 @@ const __code char *diag_code(uint8_t bit) __reentrant
 const __code char *diag_text(uint8_t bit) __reentrant
 {
     return bit < AL_COUNT ? texts[bit] : "";
-}
-
-/* the reset cause (hal.h HAL_RESET_*): a word for the serial link, a line for the LCD */
-static const char __code *const __code reset_codes[] = {"POWER", "WATCHDOG", "BROWNOUT", "PIN"};
-static const char __code *const __code reset_texts[] = {
-    "Reset: power-on", "Reset: watchdog", "Reset:brown-out", "Reset: reset pin"
-};
-
-const __code char *diag_reset_code(void)
-{
-    uint8_t c = hal_reset_cause();
-    return c <= HAL_RESET_OTHER ? reset_codes[c] : "?";
-}
-
-const __code char *diag_reset_text(void)
-{
-    uint8_t c = hal_reset_cause();
-    return c <= HAL_RESET_OTHER ? reset_texts[c] : "Reset: ?";
 }
 
 uint8_t diag_meter_suspect(void)

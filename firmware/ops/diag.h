@@ -13,7 +13,7 @@ enum {
     AL_CLOG,            /* pressure high for the measured flow (clogged nozzles) */
     AL_METER_LOST,      /* no meter pulses while the pressure says liquid flows: pressure fallback */
     AL_SPEED_LOST,      /* wheel pulses stopped at working speed: set a given speed */
-    AL_PSENS,           /* pressure sensor open or short */
+    AL_PSENS,           /* pressure sensor open or short, or off its zero with the line at rest */
     AL_LSENS,           /* level sensor open */
     AL_OVERPRESSURE,    /* pressure above P_P_MAX: the valve is opened */
     AL_OFFRATE,         /* flow off the target by more than P_OFFRATE % for P_OFFRATE_S */
@@ -21,8 +21,12 @@ enum {
     AL_METER_NOISE,     /* flow meter pulses faster than the meter can make */
     AL_WHEEL_NOISE,     /* wheel pulses faster than 60 km/h */
     AL_INTERNAL,        /* a parameter out of its range in RAM: latched, the watchdog resets */
+    AL_METER_CAL,       /* the metered volume off the tank level's fall: Meter K (or Tank size) is wrong */
+    AL_NOZZLE_WEAR,     /* notice: the held nozzle model passes over 10 % more than the catalog */
     AL_COUNT
 };
+/* Bits that show on the LCD and the link but do not sound the buzzer (notices). */
+#define DIAG_QUIET_BITS (1u << AL_NOZZLE_WEAR)
 
 /* Persistence and hysteresis, in control periods (100 ms). */
 #define DIAG_TANK_PERIODS 10u       /* 1 s below the minimum */
@@ -40,9 +44,12 @@ enum {
 #define DIAG_PDEV_FAR_KPA 120u      /* ... elsewhere a deviation of P_PDEV % and at least this */
 #define DIAG_PDEV_MIN_KPA 50u       /* leak/clog judged where the nozzles need this above their check valves */
 #define DIAG_MOVE_SHIFT 7u          /* ... and not while the target moves by more than 1/128 a period */
-/* The nozzle model learnt from the sprayer: DIAG_LEARN_N samples, one every DIAG_LEARN_EVERY
- * clean periods (steady flow within 5 % of its target, no flow alarm): the first half minute
- * of clean spraying. A fit needs the flows' squares to spread (N^2 var(x), x in Q8), and by at
+#define DIAG_WEAR_KP_KPA 242u       /* the model under this kPa at the catalog flow (300 / 1.115^2 = 241.3): worn over 11.5 %, 10 % and the meter's 1 % */
+#define DIAG_BAL_PERIODS 10u        /* METER_CAL: the tank balance off (diag_line.h) for 1 s */
+/* The nozzle model learnt from the sprayer at a calibration only (no model yet, the tank test,
+ * "Nozzles relearn"): DIAG_LEARN_N samples, one every DIAG_LEARN_EVERY clean periods (steady
+ * flow within 5 % of its target, no flow alarm): the first half minute of clean spraying after
+ * it, then held until the next calibration. A fit needs the flows' squares to spread (N^2 var(x), x in Q8), and by at
  * least 1/2^DIAG_LEARN_REL of their mean's square (a standard deviation of a quarter of it). */
 #define DIAG_LEARN_N 64u
 #define DIAG_LEARN_EVERY 4u
@@ -57,7 +64,8 @@ void diag_init(void);
  * the active alarm bits. */
 uint16_t diag_step(const __xdata app_status_t *st, uint8_t settled, uint8_t p_watch) __reentrant;
 uint16_t diag_alarms(void);
-/* Forget the learnt nozzle model (new nozzles, a meter calibration, the menu): learn it again. */
+/* Forget the held nozzle model (new nozzles, a meter calibration, the menu): learn it again
+ * from the next clean spraying, then hold it. */
 void diag_nozzle_relearn(void);
 uint8_t diag_nozzle_learnt(void);
 /* The EEPROM's learnt figures (store_learnt_byte, store.h) are given from here: ffmap's valve, then

@@ -326,7 +326,8 @@ static void test_faults_few_nozzles_below_the_meters_range_are_no_clog(void **st
 }
 
 /* Nozzles worn 15 % and check valves opening at 1.0 bar: learnt, not alarmed, over a drive
- * through the working speeds. */
+ * through the working speeds (the wear is a caused NOZZLE_WEAR notice where it is seen: learnt at
+ * one speed, the told check valves hide part of it). */
 static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void **state)
 {
     run_t r;
@@ -335,23 +336,30 @@ static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void *
                 "0 0\n5 6\n60 6\n62 9\n120 9\n122 4.5\n180 4.5\n182 8\n240 8");
     run_init(&r, 0);
     run_to(&r, 240);
-    printf("# worn nozzles, stiff check valves: model learnt %d\n", diag_nozzle_learnt());
+    printf("# worn nozzles, stiff check valves: model learnt %d, NOZZLE_WEAR %s\n", diag_nozzle_learnt(),
+           detect_s(&r, AL_NOZZLE_WEAR) > 1000 ? "not raised" : "raised");
     assert_true(diag_nozzle_learnt() > 0);
     for (int b = 0; b < AL_COUNT; b++)
-        assert_true(detect_s(&r, b) > 1000);
+        assert_true(b == AL_NOZZLE_WEAR || detect_s(&r, b) > 1000);
 }
 
-/* A family plant's scenario `text` run to `t_end` s: the nozzle model it learnt, and no alarm. */
-static void run_plant_raising_nothing(const char *text, double t_end, const char *what)
+/* A family plant's scenario `text` run to `t_end` s: the nozzle model it learnt, and no alarm;
+ * its nozzles worn by `wear_pct` over 10 % are a caused NOZZLE_WEAR notice, raised where the
+ * model was learnt over the range (its check valves learnt: the wear then seen within a few %). */
+static void run_plant_raising_nothing(const char *text, double t_end, const char *what, double wear_pct)
 {
     run_t r;
     helper_sim_load(&sim, &sim_live, text, "test_faults");
     run_init(&r, 0);
     run_to(&r, t_end);
-    printf("# %s: model learnt %d, LEAK %s\n", what, diag_nozzle_learnt(),
-           detect_s(&r, AL_LEAK) > 1000 ? "not raised" : "raised");
+    printf("# %s: model learnt %d, LEAK %s, NOZZLE_WEAR %s (worn %.1f %%)\n", what, diag_nozzle_learnt(),
+           detect_s(&r, AL_LEAK) > 1000 ? "not raised" : "raised",
+           detect_s(&r, AL_NOZZLE_WEAR) > 1000 ? "not raised" : "raised", wear_pct);
     for (int b = 0; b < AL_COUNT; b++)
-        assert_true(detect_s(&r, b) > 1000);
+        if (b != AL_NOZZLE_WEAR || wear_pct <= 10)
+            assert_true(detect_s(&r, b) > 1000);
+    if (wear_pct >= 13 && diag_nozzle_learnt() == 2)
+        assert_true(detect_s(&r, AL_NOZZLE_WEAR) < 1000);
 }
 
 /* Family plant 26 of SEED=23 (check valves at 0.64 bar, its meter 0.7 % fast, the pump on the
@@ -373,7 +381,7 @@ static void test_faults_a_slow_down_is_no_leak(void **state)
              "check_valve_bar = 0.638\nvalve_cv_open = 186.5\n[drive]\n0 0\n2 0\n8 9.6\n68 9.6\n"
              "73 2.1\n80 2.1\n86 8.9\n120 8.9\n125 2.6\n132 2.6\n138 6.4\n170 6.4\n175 2.6\n190 2.6\n",
              fault_ctl);
-    run_plant_raising_nothing(text, 190, "a slow-down at 0.64 bar check valves");
+    run_plant_raising_nothing(text, 190, "a slow-down at 0.64 bar check valves", 3.65);
 }
 
 /* Check valves at 1.0 bar (told 0.3), the pump on the wheels, 114 L/ha: 7.5, then 5.1, then 4.1
@@ -391,7 +399,7 @@ static void test_faults_stiff_check_valves_at_a_nearby_flow_raise_nothing(void *
              "[run]\nduration_s = 90\nseed = 2\n[config]\ncontroller = %s\nrate_l_ha = 114\n[plant]\n"
              "pto_coupled = 1\ncheck_valve_bar = 1.0\n[drive]\n0 0\n2 0\n2 7.5\n12.3 7.5\n12.3 5.1\n"
              "32.1 5.1\n32.1 4.1\n90 4.1\n", fault_ctl);
-    run_plant_raising_nothing(text, 90, "check valves at 1.0 bar, 5.1 then 4.1 km/h");
+    run_plant_raising_nothing(text, 90, "check valves at 1.0 bar, 5.1 then 4.1 km/h", 0);
 }
 
 /* Family plant 20 of SEED=173 (clean nozzles, check valves at 0.607 bar, a 1.67 s valve told
@@ -415,7 +423,7 @@ static void test_faults_a_model_fitted_over_one_speed_makes_no_leak(void **state
              "[drive]\n0 0\n2 0\n8 9.7\n70.02 9.7\n75.02 0\n80.19 0\n86.19 8.8\n179.21 8.8\n184.21 0\n"
              "187.48 0\n193.48 6\n330.25 6\n335.25 2.2\n342.52 2.2\n348.52 9\n432.87 9\n437.87 0\n442 0\n",
              fault_ctl);
-    run_plant_raising_nothing(text, 442, "a model fitted over one speed");
+    run_plant_raising_nothing(text, 442, "a model fitted over one speed", 1.61);
 }
 
 /* Family plant 32 of SEED=47, told the truth: a 2.0 s valve breaking away at 0.341 (Min duty
@@ -443,7 +451,7 @@ static void test_faults_a_stiff_fast_valve_told_the_truth_keeps_the_rate(void **
              "29.7 9.7\n29.7 6.3\n41.2 6.3\n41.2 10\n45 10\n",
              fault_ctl);
     if (!strcmp(fault_ctl, "ffmap")) {
-        run_plant_raising_nothing(text, 45, "a stiff fast valve told the truth");
+        run_plant_raising_nothing(text, 45, "a stiff fast valve told the truth", 14.34);
         return;
     }
     run_t r;

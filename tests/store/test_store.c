@@ -730,6 +730,26 @@ static void test_store_keeps_the_learnt_figures(void **state)
     ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.rev_min, 0x4000);
     assert_int_equal(ctl_st.fm.ff_gain, 320);
+    /* a model learnt near one flow: its mean squared flow in the second byte (odd), kept so */
+    twin_learnt[8] = 30; twin_learnt[9] = 0x5B;         /* xm / 2 = 0x5B: xm 182 */
+    twin_learnt[10] = 0x40; twin_learnt[11] = 0x01;     /* 320 */
+    hal_host_reset();
+    twin_write(0, 3, a, PARAMS_VERSION);
+    assert_int_equal(store_load(), STORE_OK);
+    diag_init();
+    assert_int_equal(diag_nozzle_learnt(), 1);
+    assert_true(store_save());
+    assert_int_equal(store_learnt(STORE_LEARN_CTL + 1u), 0x5B);
+    assert_int_equal(store_learnt(STORE_LEARN_CTL + 2u), 0x40);
+    /* a model no fit gives (kp 20 kPa): none, a calibration opens */
+    twin_learnt[9] = 0;
+    twin_learnt[10] = 20; twin_learnt[11] = 0;
+    hal_host_reset();
+    twin_write(0, 3, a, PARAMS_VERSION);
+    assert_int_equal(store_load(), STORE_OK);
+    diag_init();
+    assert_int_equal(diag_nozzle_learnt(), 0);
+    memset(twin_learnt, 0xFF, sizeof twin_learnt);
     /* relearnt from the menu: nothing kept at the next save */
     diag_nozzle_relearn();
     assert_true(save());

@@ -1,0 +1,30 @@
+/* diag_line.h: the rules judged on the line and the tank (diag_line.c), each a period, for diag_step. */
+#ifndef DIAG_LINE_H
+#define DIAG_LINE_H
+
+#include "compiler.h"
+#include "ops.h"
+
+#define DIAG_DRY_PERIODS 10u        /* pump dry from the line: under P start, under a quarter of the target metered (then PUMP_DRY's own periods: 1.9 s) */
+#define DIAG_ZERO_PERIODS 50u       /* pressure zero: 5 s shut and standing with the reading steady ... */
+#define DIAG_ZERO_STEADY_KPA 12u    /* ... within this (the ADC's noise, a few LSB of a 16 bar sensor) */
+#define DIAG_ZERO_KPA 25u           /* ... and the line at rest: a reading above this is off its zero */
+#define DIAG_ZERO_OPEN_Q15 3277u    /* ... with the bypass open by a tenth of its stroke or more */
+#define DIAG_BAL_MIN_X100 1500      /* tank balance: metered flow in the turbine's full range only */
+#define DIAG_BAL_PCT 6u             /* ... a meter off the level's fall by more than this % ... */
+#define DIAG_BAL_WAIT 30u           /* ... not for 3 s after a step of the level (its 0.4 s filter) */
+#define DIAG_BAL_STRETCH 100u       /* ... over stretches of 10 s or more in range */
+
+void diag_line_init(void);
+/* 1 while the line says the pump ran dry (held as diag_line.c says). */
+uint8_t diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentrant;
+/* 1 while the pressure sensor read off its zero at the last rest. */
+uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant;
+/* The tank balance this period: */
+#define DIAG_BAL_NONE 0u            /* not judged (too little fallen yet) */
+#define DIAG_BAL_ON 1u              /* the meter agrees with the level */
+#define DIAG_BAL_OFF 2u             /* it does not: Meter K is wrong */
+#define DIAG_BAL_ANEW 3u            /* a new Meter K or Tank size: started anew */
+uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant;
+
+#endif
