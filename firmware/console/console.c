@@ -15,6 +15,7 @@
 #include "keypad.h"
 #include "console.h"
 #include "console_int.h"
+#include "totals.h"
 
 console_t con;
 __data uint8_t con_state, con_item, con_step, con_at;
@@ -301,16 +302,35 @@ static void key_iotest(void)
     }
 }
 
+/* `*` acknowledges what the bottom line shows, and only that: an alarm not yet acknowledged,
+ * or the EEPROM's notice. Something to acknowledge that is not shown is shown first. */
+static void key_ack(void)
+{
+    uint8_t s = con.shown, b;
+    if (s < OPS_ALARM_BITS && (app_status.alarms_unacked & (1u << s))) {
+        ops_alarm_ack_bits(1u << s);
+        con_say(0);
+        con.msg_range = CON_MSG_ACKED | s;
+    } else if (s == CON_SHOWN_EE) {
+        store_status_clear();
+        con_say("EE: seen");
+    } else if (app_status.alarms_unacked) {
+        for (b = 0; !(app_status.alarms_unacked & (1u << b)); b++)
+            ;
+        con_say(0);
+        con.msg_range = CON_MSG_PEEK | b;
+    } else if (store_status() != STORE_OK) {
+        con_say(0);
+        con.msg_range = CON_MSG_PEEK | CON_SHOWN_EE;
+    } else {
+        con_say("No new alarms");
+    }
+}
+
 static void key(void)
 {
     if (con.k == '*') {
-        if (store_status() != STORE_OK) {
-            store_status_clear();
-            con_say("EE: seen");
-        } else {
-            con_say(app_status.alarms_unacked ? "Alarms acked" : "No new alarms");
-        }
-        ops_alarm_ack();
+        key_ack();
         return;
     }
     switch (con_state) {
@@ -322,6 +342,31 @@ static void key(void)
     case S_IOTEST: key_iotest(); break;
     default: key_cal(); break;
     }
+}
+
+/* Once a second: the applied rate over the last CON_RATE_N seconds, from the job totals the
+ * control step adds (measured flow; measured speed times the open width), then the oldest
+ * snapshot replaced by now's. Over a job reset the window starts at the reset. */
+static void rate_second(void)
+{
+    __xdata uint32_t *snap = &con.rate_snap[con.rate_at].ml;
+    uint32_t ml = totals.job_ml, dm2 = totals.job_dm2;
+    uint16_t r = CON_RATE_NONE;
+    if (snap[0] <= ml && snap[1] <= dm2) {
+        ml -= snap[0];
+        dm2 -= snap[1];
+    }
+    if (dm2 >= CON_RATE_MIN_DM2) {
+        /* L/ha = ml / 1000 / (dm^2 / 1e6) = ml * 1000 / dm^2 (ml under 2^22 in 3 s) */
+        ml = (ml * 1000u + dm2 / 2u) / dm2;
+        r = ml < CON_RATE_OVER ? (uint16_t)ml : CON_RATE_OVER;
+    } else if (ml) {
+        r = CON_RATE_OVER;
+    }
+    con.rate_l_ha = r;
+    snap[0] = totals.job_ml;
+    snap[1] = totals.job_dm2;
+    con.rate_at = (uint8_t)(con.rate_at + 1u < CON_RATE_N ? con.rate_at + 1u : 0);
 }
 
 void console_init(void)
@@ -336,12 +381,19 @@ void console_init(void)
     con_say(diag_reset_text());     /* why the controller (re)started */
     con.rc_seen = target_remote_refusals();
     con.next_draw_ms = (uint16_t)hal_ms();
+    con.rate_ms = con.next_draw_ms;
+    con.rate_l_ha = CON_RATE_NONE;
+    con.rate_at = 0;
 }
 
 void console_poll(void)
 {
     uint16_t now = (uint16_t)hal_ms();
     con.k = keypad_poll();
+    if ((uint16_t)(now - con.rate_ms) >= 1000u) {
+        con.rate_ms += 1000u;
+        rate_second();
+    }
     if (store_done(STORE_BY_CONSOLE)) {     /* the save of a value set here has ended */
         con_say(store_result() == STORE_OK ? "Saved" : store_status_text(store_result()));
         con.next_draw_ms = now;

@@ -10,6 +10,18 @@ enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK, S_IOT
 #define ENTRY_MAX 7                 /* characters of a number being typed */
 #define ENTRY_TOO_BIG 0xFFFFu       /* above every parameter's maximum (60000 at most) */
 #define NO_RANGE 0xFF
+/* con.msg_range beyond the parameters: an alarm's message, the alarm bit in the low bits */
+#define CON_MSG_PEEK 0x40           /* "!" and the alarm's text (or the EEPROM's, CON_SHOWN_EE) */
+#define CON_MSG_ACKED 0x80          /* "Acknowledged:" over the alarm's text */
+#define CON_MSG_BIT 0x3F
+/* con.shown: what the bottom line showed at the last redraw, for `*` */
+#define CON_SHOWN_EE 0x3F           /* the EEPROM's notice */
+#define CON_SHOWN_NONE 0xFF         /* neither an unacknowledged alarm nor the notice */
+/* The run screen's applied rate: the job's volume over its area, the last CON_RATE_N seconds */
+#define CON_RATE_N 3
+#define CON_RATE_MIN_DM2 100u       /* under 1 m^2 in the window: no rate */
+#define CON_RATE_NONE 0xFFFFu       /* no area covered ("--") */
+#define CON_RATE_OVER 0xFFFEu       /* volume with no area: over any figure the line holds */
 
 /* the console's most used bytes, in the direct RAM */
 extern __data uint8_t con_state;    /* S_* */
@@ -42,6 +54,13 @@ typedef struct {
     uint16_t cal_value;             /* the new calibration value, in the parameter's units;
                                      * I/O test: hal_ms() low 16 bits at the window's start */
     uint8_t rc_seen;                /* target_remote_refusals() last shown */
+    uint8_t shown;                  /* CON_SHOWN_* or the unacknowledged alarm bit shown */
+    uint8_t rate_at;                /* the oldest of the job totals' snapshots */
+    uint16_t rate_ms;               /* hal_ms() low 16 bits of the newest snapshot */
+    uint16_t rate_l_ha;             /* applied rate over the snapshots' window, CON_RATE_* */
+    struct {
+        uint32_t ml, dm2;           /* the job's volume and area, a second apart */
+    } rate_snap[CON_RATE_N];
 } console_t;
 extern console_t con;
 #define con_io (con.u.io)

@@ -147,19 +147,30 @@ void con_say_range(uint8_t id)
     con.msg_range = id;
 }
 
-/* The message on the bottom line. */
+/* The message on the bottom line (an acknowledgement: on the two bottom lines). */
 void con_draw_msg(void)
 {
     const __code param_info_t *pi;
-    if (con.msg_range == NO_RANGE) {
+    uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT);
+    if (m == NO_RANGE) {
         screen_line(con.msg, 3);
         return;
     }
-    pi = param_info(con.msg_range);
-    con_start("Range ");
-    con_cat_num(pi->min, 0, pi->decimals | CON_TRIM);
-    con_cat("..");
-    con_cat_num(pi->max, 0, pi->decimals | CON_TRIM);
+    if (m & CON_MSG_ACKED) {
+        screen_line("Acknowledged:", 2);
+        con_start(" ");
+        con_cat(diag_text(b));
+    } else if (m & CON_MSG_PEEK) {
+        con.shown = b;
+        con_start("!");
+        con_cat(b == CON_SHOWN_EE ? store_status_text(store_status()) : diag_text(b));
+    } else {
+        pi = param_info(m);
+        con_start("Range ");
+        con_cat_num(pi->min, 0, pi->decimals | CON_TRIM);
+        con_cat("..");
+        con_cat_num(pi->max, 0, pi->decimals | CON_TRIM);
+    }
     con_show(3);
 }
 
@@ -190,18 +201,23 @@ static void draw_bottom(const __code char *otherwise)
         screen_line(otherwise, 3);
 }
 
-/* The alarm to show: unacknowledged ones first, several take turns every 2 s; -1 for none. */
+/* The alarm to show: the first not yet acknowledged, held until `*` (the line never turns
+ * under the key); with all acknowledged, the active ones take turns every 2 s; -1 for none. */
 static int8_t alarm_shown(void)
 {
-    uint16_t set = app_status.alarms_unacked ? app_status.alarms_unacked : app_status.alarms, m;
-    uint8_t n = 0, b, turn;
+    uint16_t set = app_status.alarms, m;
+    uint8_t n = 0, b, turn = 0;
     uint32_t t;
-    for (m = set; m; m >>= 1)       /* the bits set (OPS_ALARM_BITS: all 16) */
-        n += (uint8_t)(m & 1u);
-    if (!n)
-        return -1;
-    t = hal_ms() / 2000u;
-    turn = (uint8_t)(t - t / n * n);    /* t % n (no remainder routine in the image) */
+    if (app_status.alarms_unacked)
+        set = app_status.alarms_unacked;
+    else {
+        for (m = set; m; m >>= 1)   /* the bits set (OPS_ALARM_BITS: all 16) */
+            n += (uint8_t)(m & 1u);
+        if (!n)
+            return -1;
+        t = hal_ms() / 2000u;
+        turn = (uint8_t)(t - t / n * n);    /* t % n (no remainder routine in the image) */
+    }
     for (b = 0, m = set; b < OPS_ALARM_BITS; b++, m >>= 1)
         if (m & 1u) {
             if (!turn)
@@ -211,48 +227,28 @@ static int8_t alarm_shown(void)
     return -1;
 }
 
-static void draw_run(void)
+/* The run screen's bottom line: an alarm's message (its acknowledgement, or one shown by `*`),
+ * else an alarm not yet acknowledged, a message, an acknowledged alarm, the EEPROM's notice,
+ * and with none of them the tank and the controller (or the field computer's rate). */
+static void draw_run_bottom(void)
 {
     const __xdata app_status_t *st = &app_status;
-    uint8_t at;
-    int8_t a;
-    int16_t q;
-    /* " 7.2km/h    AUTO": ground speed, mode (HIL: the inputs come from the PC's plant) */
-    con_at = 0;
-    con_cat_num(st->speed_kmh_x100, 4, 1 | CON_DROP(1));
-    con_cat("km/h ");
-    at = con_at;
-    con_cat(hal_hil_active() ? (st->manual ? "HIL MAN" : "HIL") : st->manual ? "MANUAL"
-            : st->boom_wait ? "WAIT P" : "AUTO");
-    con_right_align(at);
-    con_show(0);
-    /* "Q 49.5> 49.3L/mn": target flow > measured flow */
-    con_start("Q");
-    q = st->target_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
-    con_cat(">");
-    q = st->flow_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
-    con_cat("L/mn");
-    con_show(1);
-    /* " 150L/ha 4.40bar": dose applied so far, boom pressure */
-    con_at = 0;
-    con_cat_num(st->applied_l_ha_x10, 4, CON_DROP(1));
-    con_cat("L/ha");
-    con_cat_num(st->pressure_kpa, 5, 2);
-    con_cat("bar");
-    con_show(2);
-    /* bottom: a message, EEPROM trouble, an alarm ("!" not yet acknowledged), or tank and controller */
-    a = alarm_shown();
-    if (con_msg_on()) {
+    int8_t a = alarm_shown();
+    uint8_t at, alarm_msg = con.msg_range != NO_RANGE && con.msg_range >= CON_MSG_PEEK;
+    if (!alarm_msg && a >= 0 && ((st->alarms_unacked & (1u << a)) || !con_msg_on())) {
+        if (st->alarms_unacked & (1u << a)) {
+            con.shown = (uint8_t)a;
+            con_start("!");
+        } else
+            con_start(" ");
+        con_cat(diag_text((uint8_t)a));
+        con_show(3);
+    } else if (con_msg_on()) {
         con_draw_msg();
     } else if (store_status() != STORE_OK) {
+        con.shown = CON_SHOWN_EE;
         con_start("!");
         con_cat(store_status_text(store_status()));
-        con_show(3);
-    } else if (a >= 0) {
-        con_start((st->alarms_unacked & (1u << a)) ? "!" : " ");
-        con_cat(diag_text((uint8_t)a));
         con_show(3);
     } else {
         con_start("T");
@@ -269,6 +265,44 @@ static void draw_run(void)
     }
 }
 
+static void draw_run(void)
+{
+    const __xdata app_status_t *st = &app_status;
+    uint8_t at;
+    int16_t q;
+    /* " 7.2km/h 4.40bar": ground speed, boom pressure */
+    con_at = 0;
+    con_cat_num(st->speed_kmh_x100, 4, 1 | CON_DROP(1));
+    con_cat("km/h");
+    con_cat_num(st->pressure_kpa, 5, 2);
+    con_cat("bar");
+    con_show(0);
+    /* "Q 49.5> 49.3L/mn": target flow > measured flow */
+    con_start("Q");
+    q = st->target_lpm_x100;
+    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
+    con_cat(">");
+    q = st->flow_lpm_x100;
+    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
+    con_cat("L/mn");
+    con_show(1);
+    /* "Now 150L/ha AUTO": the rate applied over the last seconds, the mode (HIL: the inputs
+     * come from the PC's plant) */
+    con_start("Now");
+    if (con.rate_l_ha == CON_RATE_NONE)
+        con_cat("  --");
+    else
+        con_cat_num(con.rate_l_ha, 4, 0);
+    con_cat("L/ha ");
+    at = con_at;
+    con_cat(hal_hil_active() ? (st->manual ? "HILM" : "HIL") : st->manual ? "MAN"
+            : st->boom_wait ? "WAIT" : "AUTO");
+    con_right_align(at);
+    con_show(2);
+    draw_run_bottom();
+}
+
+/* The job's area, volume and average rate; the lifetime's area and volume take turns. */
 static void draw_totals(void)
 {
     con_start("Job ");
@@ -279,9 +313,9 @@ static void draw_totals(void)
     con_cat_num(totals.job_ml, 10, 1 | CON_DROP(2));
     con_cat(" L");
     con_show(1);
-    con_start("Life");
-    con_cat_num(totals.life_m2, 9, 2 | CON_DROP(2));
-    con_cat(" ha");
+    con_start("Job avg");
+    con_cat_num(app_status.applied_l_ha_x10, 5, CON_DROP(1));
+    con_cat("L/ha");
     con_show(2);
     if (con_step) {
         draw_bottom("Reset job? D=yes");
@@ -289,8 +323,13 @@ static void draw_totals(void)
         con_draw_msg();
     } else {
         con_start("Life");
-        con_cat_num(totals.life_ml, 10, CON_DROP(3));
-        con_cat(" L");
+        if ((hal_ms() / 2000u) & 1u) {
+            con_cat_num(totals.life_ml, 10, CON_DROP(3));
+            con_cat(" L");
+        } else {
+            con_cat_num(totals.life_m2, 9, 2 | CON_DROP(2));
+            con_cat(" ha");
+        }
         con_show(3);
     }
 }
@@ -468,6 +507,7 @@ void con_draw(void)
     con_line = (__idata char *)line;
     if (con_msg_on() && (int16_t)((uint16_t)hal_ms() - con.msg_until_ms) >= 0)
         con_say_none();
+    con.shown = CON_SHOWN_NONE;     /* the screen drawn says what it shows */
     switch (con_state) {
     case S_RUN: draw_run(); break;
     case S_TOTALS: draw_totals(); break;

@@ -13,30 +13,12 @@
 #include "store.h"
 #include "ctl.h"
 
-static const char __code *const __code codes[AL_COUNT] = {
-    "TANK_LOW", "PUMP_DRY", "LEAK", "CLOG", "METER_LOST", "SPEED_LOST", "PSENS_FAULT",
-    "LSENS_FAULT", "OVERPRESSURE", "OFF_RATE", "VALVE_STOP", "METER_NOISE", "WHEEL_NOISE",
-    "INTERNAL", "METER_CAL", "NOZZLE_WEAR"
-};
-/* LCD texts: at most 16 characters */
-static const char __code *const __code texts[AL_COUNT] = {
-    "Tank low: stop",
-    "Pump dry:PTO off",
-    "Leak after meter",
-    "Nozzles clogged",
-    "Flowmeter lost",
-    "Speed sens lost",
-    "P sensor fault",
-    "Level sens fault",
-    "Over-pressure",
-    "Rate off target",
-    "Valve at stop",
-    "Flowmeter noise",
-    "Wheel noise",
-    "Internal fault",
-    "Meter/tank cal.",
-    "Nozzles worn"
-};
+#define DIAG_AL_CODE(bit, code, text) code,
+#define DIAG_AL_TEXT(bit, code, text) text,
+static const char __code *const __code codes[AL_COUNT] = { DIAG_ALARMS(DIAG_AL_CODE) };
+static const char __code *const __code texts[AL_COUNT] = { DIAG_ALARMS(DIAG_AL_TEXT) };
+#undef DIAG_AL_CODE
+#undef DIAG_AL_TEXT
 
 static struct {
     uint32_t knoz;                  /* Q16: L/min x100 per 256 sqrt(kPa): n Q3 / sqrt(300) / 256 */

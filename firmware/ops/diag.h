@@ -5,26 +5,32 @@
 #include "compiler.h"
 #include "ops.h"
 
+/* The alarms, one row each: bit name, serial code, LCD text. The text fits the LCD line after
+ * its mark ("!" not yet acknowledged): at most DIAG_TEXT_MAX characters (test_console checks
+ * every row). A new alarm is one more row here and its rule in diag.c. */
+#define DIAG_TEXT_MAX 15
+#define DIAG_ALARMS(X)                                                                          \
+    X(AL_TANK_LOW,     "TANK_LOW",     "Tank low: stop")   /* tank below P_TANK_MIN: spraying stops */ \
+    X(AL_PUMP_DRY,     "PUMP_DRY",     "PumpDry:PTO off")  /* tank empty (<= 1 % of P_TANK_L): disengage the PTO */ \
+    X(AL_LEAK,         "LEAK",         "Leak past meter")  /* pressure low for the measured flow */ \
+    X(AL_CLOG,         "CLOG",         "Nozzles clogged")  /* pressure high for the measured flow */ \
+    X(AL_METER_LOST,   "METER_LOST",   "Flowmeter lost")   /* no meter pulses while the pressure says flow */ \
+    X(AL_SPEED_LOST,   "SPEED_LOST",   "Speed sens lost")  /* wheel pulses stopped at working speed */ \
+    X(AL_PSENS,        "PSENS_FAULT",  "P sensor fault")   /* pressure sensor open or short, or off its zero with the line at rest */ \
+    X(AL_LSENS,        "LSENS_FAULT",  "Tank sens fault")  /* level sensor open */ \
+    X(AL_OVERPRESSURE, "OVERPRESSURE", "Over-pressure")    /* pressure above P_P_MAX: the valve is opened */ \
+    X(AL_OFFRATE,      "OFF_RATE",     "Rate off target")  /* flow off the target by P_OFFRATE % for P_OFFRATE_S */ \
+    X(AL_VALVE_STOP,   "VALVE_STOP",   "Valve at stop")    /* at an end stop and the controller wants more */ \
+    X(AL_METER_NOISE,  "METER_NOISE",  "Flowmeter noise")  /* meter pulses faster than the meter can make */ \
+    X(AL_WHEEL_NOISE,  "WHEEL_NOISE",  "Wheel noise")      /* wheel pulses faster than 60 km/h */ \
+    X(AL_INTERNAL,     "INTERNAL",     "Internal fault")   /* a parameter out of range in RAM: latched, the watchdog resets */ \
+    X(AL_METER_CAL,    "METER_CAL",    "Meter/tank cal.")  /* the metered volume off the tank level's fall: Meter K (or Tank size) is wrong */ \
+    X(AL_NOZZLE_WEAR,  "NOZZLE_WEAR",  "Nozzles worn")     /* notice: the held nozzle model passes over 10 % more than the catalog */
+
 /* Alarm bits (app_status.alarms, ops.h). */
-enum {
-    AL_TANK_LOW = 0,    /* tank below P_TANK_MIN: spraying stops */
-    AL_PUMP_DRY,        /* tank empty (<= 1 % of P_TANK_L): the PTO pump runs dry, disengage it */
-    AL_LEAK,            /* pressure low for the measured flow (leak after the meter) */
-    AL_CLOG,            /* pressure high for the measured flow (clogged nozzles) */
-    AL_METER_LOST,      /* no meter pulses while the pressure says liquid flows: pressure fallback */
-    AL_SPEED_LOST,      /* wheel pulses stopped at working speed: set a given speed */
-    AL_PSENS,           /* pressure sensor open or short, or off its zero with the line at rest */
-    AL_LSENS,           /* level sensor open */
-    AL_OVERPRESSURE,    /* pressure above P_P_MAX: the valve is opened */
-    AL_OFFRATE,         /* flow off the target by more than P_OFFRATE % for P_OFFRATE_S */
-    AL_VALVE_STOP,      /* the valve sits at an end stop and the controller wants more */
-    AL_METER_NOISE,     /* flow meter pulses faster than the meter can make */
-    AL_WHEEL_NOISE,     /* wheel pulses faster than 60 km/h */
-    AL_INTERNAL,        /* a parameter out of its range in RAM: latched, the watchdog resets */
-    AL_METER_CAL,       /* the metered volume off the tank level's fall: Meter K (or Tank size) is wrong */
-    AL_NOZZLE_WEAR,     /* notice: the held nozzle model passes over 10 % more than the catalog */
-    AL_COUNT
-};
+#define DIAG_AL_ENUM(bit, code, text) bit,
+enum { DIAG_ALARMS(DIAG_AL_ENUM) AL_COUNT };
+#undef DIAG_AL_ENUM
 /* Bits that show on the LCD and the link but do not sound the buzzer (notices). */
 #define DIAG_QUIET_BITS (1u << AL_NOZZLE_WEAR)
 

@@ -44,10 +44,10 @@ void ops_jog(int8_t dir) __reentrant
     ops_jog_req.periods = OPS_JOG_PERIODS;
 }
 
-void ops_alarm_ack(void)
+void ops_alarm_ack_bits(uint16_t bits) __reentrant
 {
-    app_status.alarms_unacked = 0;
-    hal_buzzer(0);
+    app_status.alarms_unacked &= (uint16_t)~bits;
+    hal_buzzer(app_status.alarms_unacked != 0);
 }
 
 void ops_totals_reset(void)

@@ -52,8 +52,10 @@ void ops_init(void);
 /* Manual mode or the I/O test: drive the valve for one jog (+1 more boom flow, -1 less);
  * ignored otherwise. */
 void ops_jog(int8_t dir);
-/* Acknowledge the alarms now shown (they stay active while their cause lasts). */
-void ops_alarm_ack(void);
+/* Acknowledge these alarm bits (they stay active while their cause lasts); the buzzer sounds
+ * on while any other is unacknowledged. ops_alarm_ack(): all of them (the serial link's ACK). */
+void ops_alarm_ack_bits(uint16_t bits) __reentrant;
+#define ops_alarm_ack() ops_alarm_ack_bits(0xFFFFu)
 /* Zero the job totals. */
 void ops_totals_reset(void);
 /* Running pulse totals since start, for the calibration procedures (100 m, tank method). */

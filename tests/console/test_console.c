@@ -174,11 +174,11 @@ static void test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_con
     run_ms(3000);
     const char *l0 = lcd(0);
     assert_non_null(strstr(l0, "km/h"));
-    assert_non_null(strstr(l0, "AUTO"));
+    assert_non_null(strstr(l0, "bar"));
     assert_non_null(strstr(lcd(1), "L/mn"));
     assert_int_equal(lcd(1)[0], 'Q');
-    assert_non_null(strstr(lcd(2), "L/ha"));
-    assert_non_null(strstr(lcd(2), "bar"));
+    /* standing: no area covered, no rate */
+    assert_string_equal(lcd(2), "Now  --L/ha AUTO");
     const char *l3 = lcd(3);
     if (!app_status.alarms) {
         assert_int_equal(l3[0], 'T');
@@ -189,9 +189,19 @@ static void test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_con
     assert_int_equal(st7920_emu_stats()->unsupported, 0);
 }
 
-static void test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged(void **state)
+/* Sensors that read a live 4-20 mA loop: no sensor alarm. */
+static void sensors_good(void)
+{
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 300;    /* 5.87 mA: 187 kPa, below P max */
+    hal_host_io.adc[HAL_ADC_LEVEL] = 700;       /* 13.7 mA: above Tank min */
+}
+
+static void test_console_first_boot_shows_the_eeprom_notice_until_acknowledged(void **state)
 {
     (void)state;
+    sensors_good();
+    run_ms(1500);
+    assert_int_equal(app_status.alarms, 0);
     assert_int_equal(store_status(), STORE_DEFAULTS);
     /* first the reset cause, for a message's time, then the EEPROM's state */
     assert_string_equal(lcd(3), "Reset: power-on ");
@@ -200,6 +210,72 @@ static void test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged(vo
     press('*');
     assert_int_equal(store_status(), STORE_OK);
     assert_string_equal(lcd(3), "EE: seen        ");
+}
+
+/* An alarm takes the line from the notice; `*` acknowledges the alarm shown, says which, and
+ * leaves the notice for a press of its own, after it has been shown. */
+static void test_console_an_alarm_wins_the_line_over_the_notice(void **state)
+{
+    char want[17];
+    (void)state;
+    sensors_good();
+    run_ms(CONSOLE_MSG_MS + 1500);
+    assert_string_equal(lcd(3), "!EE: defaults   ");
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 0;      /* the pressure loop opens */
+    run_ms(1500);
+    assert_int_equal(app_status.alarms, 1u << AL_PSENS);
+    snprintf(want, sizeof want, "!%-15s", "P sensor fault");
+    assert_string_equal(lcd(3), want);
+    press('*');
+    assert_int_equal(app_status.alarms_unacked, 0);
+    assert_int_equal(store_status(), STORE_DEFAULTS);       /* not seen yet: kept */
+    assert_string_equal(lcd(2), "Acknowledged:   ");
+    snprintf(want, sizeof want, " %-15s", "P sensor fault");
+    assert_string_equal(lcd(3), want);
+    run_ms(CONSOLE_MSG_MS);
+    assert_non_null(strstr(lcd(2), "L/ha"));
+    assert_string_equal(lcd(3), want);      /* active, acknowledged: still over the notice */
+    press('*');                             /* the notice is shown first ... */
+    assert_int_equal(store_status(), STORE_DEFAULTS);
+    assert_string_equal(lcd(3), "!EE: defaults   ");
+    press('*');                             /* ... then acknowledged */
+    assert_int_equal(store_status(), STORE_OK);
+    assert_string_equal(lcd(3), "EE: seen        ");
+}
+
+/* Two alarms not yet acknowledged: one `*` acknowledges the one shown, not the other. */
+static void test_console_one_star_acknowledges_only_the_alarm_shown(void **state)
+{
+    (void)state;
+    store_status_clear();
+    run_ms(1500);                           /* both 4-20 mA loops read open */
+    assert_int_equal(app_status.alarms_unacked, (1u << AL_PSENS) | (1u << AL_LSENS));
+    const char *l3 = lcd(3);
+    uint16_t shown = strstr(l3, diag_text(AL_PSENS)) ? 1u << AL_PSENS : 1u << AL_LSENS;
+    assert_int_equal(l3[0], '!');
+    assert_non_null(strstr(l3, diag_text(shown == (1u << AL_PSENS) ? AL_PSENS : AL_LSENS)));
+    press('*');
+    assert_int_equal(app_status.alarms_unacked, ((1u << AL_PSENS) | (1u << AL_LSENS)) & ~shown);
+    run_ms(CONSOLE_MSG_MS);
+    l3 = lcd(3);
+    assert_int_equal(l3[0], '!');           /* the other one, not yet acknowledged */
+    press('*');
+    assert_int_equal(app_status.alarms_unacked, 0);
+    press('*');
+    assert_string_equal(lcd(3), "No new alarms   ");
+}
+
+/* Every alarm's text fits the line after its mark, whole (a new row is checked too). */
+static void test_console_every_alarm_text_fits_the_line(void **state)
+{
+    (void)state;
+    for (uint8_t b = 0; b < AL_COUNT; b++) {
+        size_t n = strlen(diag_text(b));
+        assert_true(n >= 5 && n <= DIAG_TEXT_MAX);
+        assert_true(1 + DIAG_TEXT_MAX <= SCREEN_COLS);
+        for (uint8_t c = 0; c < b; c++)
+            assert_string_not_equal(diag_text(b), diag_text(c));
+    }
 }
 
 static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range(void **state)
@@ -442,11 +518,11 @@ static void test_console_controller_and_mode_are_chosen_by_name(void **state)
     assert_int_equal(param_v[P_MODE], 0);
     assert_int_equal(stored(P_MODE), 0);
     run_ms(300);
-    assert_non_null(strstr(lcd(0), "AUTO"));
+    assert_non_null(strstr(lcd(2), " AUTO"));
     press('#');
     run_ms(300);
     assert_int_equal(param_v[P_MODE], 1);
-    assert_non_null(strstr(lcd(0), "MANUAL"));
+    assert_non_null(strstr(lcd(2), "  MAN"));
     /* Remote: off / Raven */
     to_item(P_REMOTE);
     assert_string_equal(lcd(2), "             off");
@@ -554,6 +630,50 @@ static void test_console_nozzles_relearn_from_the_menu(void **state)
     assert_int_equal(diag_nozzle_learnt(), 0);
 }
 
+/* The run screen's "Now" rate: the plant's true applied rate over the last seconds (boom flow
+ * over true speed times the open width), within 3 %; "--" while the boom covers no area. */
+static void test_console_run_screen_rate_is_the_applied_rate_now(void **state)
+{
+    char err[256];
+    (void)state;
+    scenario_t *s = malloc(sizeof *s);
+    sim_t *sim = malloc(sizeof *sim);
+    assert_non_null(s);
+    assert_non_null(sim);
+    assert_int_equal(scenario_parse(s, "[run]\nduration_s = 600\n[drive]\n0 8\n60 8\n64 11\n600 11\n"
+                                       "[events]\n100 sections_open 0\n", "rate", err, sizeof err), 0);
+    sim_init(sim, s);
+    st7920_emu_reset();
+    hal_host_lcd_sink(st7920_emu_write);
+    sim_active = sim;
+    const double at[2] = {50.0, 90.0};      /* 8 km/h, then 11 km/h */
+    for (int k = 0; k < 2; k++) {
+        while (sim_time_s(sim) < at[k] - 3.0)
+            run_ms(100);
+        double vol = 0, area = 0;
+        sim_row_t r;
+        for (int i = 0; i < 30; i++) {      /* the truth over the 3 s before the reading */
+            run_ms(100);
+            sim_row(sim, &r);
+            vol += r.boom_lpm / 60.0 * 0.1;                 /* L */
+            area += r.v_true_kmh / 3.6 * 0.1 * r.width_m;   /* m^2 */
+        }
+        double truth = vol / area * 10000.0;
+        st7920_emu_line(2, err);            /* the line drawn last, without running on */
+        assert_memory_equal(err, "Now", 3);
+        double now = atof(err + 3);
+        assert_true(fabs(now / truth - 1.0) < 0.03);
+        assert_true(fabs(truth / 150.0 - 1.0) < 0.05);   /* (on target: not a start's figure) */
+    }
+    while (sim_time_s(sim) < 106.0)          /* the boom shut: no area */
+        run_ms(100);
+    assert_string_equal(lcd(2), "Now  --L/ha AUTO");
+    sim_active = NULL;
+    sim_free(sim);
+    free(sim);
+    free(s);
+}
+
 static void test_console_totals_show_and_reset_the_job(void **state)
 {
     char err[256];
@@ -577,7 +697,24 @@ static void test_console_totals_show_and_reset_the_job(void **state)
     assert_true(fabs(number_after(l0, "Job") - app_status.job_area_m2 / 10000.0) < 0.011);
     assert_non_null(strstr(l0, " ha"));
     assert_true(fabs(number_after(lcd(1), "Job") - totals_get()->job_ml / 1000.0) < 2.0);
-    assert_true(fabs(number_after(lcd(2), "Life") - totals_get()->life_m2 / 10000.0) < 0.011);
+    /* the job's average, labelled: about the set rate after a minute at 8 km/h */
+    double avg = number_after(lcd(2), "Job avg");
+    assert_true(fabs(avg - app_status.applied_l_ha_x10 / 10.0) <= 0.6);
+    assert_true(avg > 150 * 0.9 && avg < 150 * 1.1);
+    assert_non_null(strstr(lcd(2), "L/ha"));
+    /* the lifetime's area and volume take turns on the last line */
+    int seen_ha = 0, seen_l = 0;
+    for (int i = 0; i < 16; i++) {
+        const char *l3 = lcd(3);
+        if (strstr(l3, " ha")) {
+            seen_ha = 1;
+            assert_true(fabs(number_after(l3, "Life") - totals_get()->life_m2 / 10000.0) < 0.011);
+        } else if (strstr(l3, " L")) {
+            seen_l = 1;
+            assert_true(fabs(number_after(l3, "Life") - totals_get()->life_ml / 1000.0) < 1.0);
+        }
+    }
+    assert_true(seen_ha && seen_l);
     uint32_t life_ml = totals_get()->life_ml;
     press('D');
     assert_string_equal(lcd(3), "Reset job? D=yes");
@@ -603,21 +740,12 @@ static void test_console_totals_show_and_reset_the_job(void **state)
     free(s);
 }
 
-static void test_console_star_acknowledges_alarms(void **state)
-{
-    (void)state;
-    store_status_clear();
-    run_ms(3000);
-    app_status.alarms_unacked = app_status.alarms ? app_status.alarms : 1;
-    press('*');
-    run_ms(APP_PERIOD_MS * 2);
-    assert_int_equal(app_status.alarms_unacked, 0);
-}
-
 static void test_console_jog_only_in_manual_mode(void **state)
 {
     (void)state;
     store_status_clear();
+    sensors_good();
+    run_ms(1500);
     press('2');
     assert_string_equal(lcd(3), "Jog: manual only");
     press('#');
@@ -653,7 +781,10 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_controller, setup),
-        cmocka_unit_test_setup(test_console_first_boot_shows_the_eeprom_alarm_until_acknowledged, setup),
+        cmocka_unit_test_setup(test_console_first_boot_shows_the_eeprom_notice_until_acknowledged, setup),
+        cmocka_unit_test_setup(test_console_an_alarm_wins_the_line_over_the_notice, setup),
+        cmocka_unit_test_setup(test_console_one_star_acknowledges_only_the_alarm_shown, setup),
+        cmocka_unit_test_setup(test_console_every_alarm_text_fits_the_line, setup),
         cmocka_unit_test_setup(test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range, setup),
         cmocka_unit_test_setup(test_console_entry_takes_the_parameter_decimals_only, setup),
         cmocka_unit_test_setup(test_console_cross_checks_refuse_with_the_reason, setup),
@@ -662,8 +793,8 @@ int main(void)
         cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),
         cmocka_unit_test_setup(test_console_totals_show_and_reset_the_job, setup),
+        cmocka_unit_test_setup(test_console_run_screen_rate_is_the_applied_rate_now, setup),
         cmocka_unit_test_setup(test_console_nozzles_relearn_from_the_menu, setup),
-        cmocka_unit_test_setup(test_console_star_acknowledges_alarms, setup),
         cmocka_unit_test_setup(test_console_jog_only_in_manual_mode, setup),
         cmocka_unit_test_setup(test_console_a_reboot_keeps_every_setting, setup),
     };
