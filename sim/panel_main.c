@@ -14,6 +14,7 @@
 #include "st7920_emu.h"
 #include "keypad.h"
 #include "app.h"
+#include "params.h"
 
 /* Without --scenario: a field at a constant 8 km/h for an hour, the defaults of docs/SCENARIOS.md. */
 static const char default_scn[] =
@@ -29,12 +30,43 @@ static void usage(FILE *f)
           "  the controller's LCD and keypad in the terminal, the simulated sprayer behind them.\n"
           "  keys: 0-9 A B C D * # as on the keypad (a-d too); arrows up/down = A/B, Enter = D,\n"
           "        Backspace = C; q quits.\n"
+          "  switches (the console's, beside the keypad, as the scenario event sections_open):\n"
+          "        m  the master boom switch: off, every section reads off (the boom shuts); on again\n"
+          "        sN the switch of section N (1-8): off / on\n"
           "  --speed X     simulated seconds per wall second (1)\n"
           "  --time S      run S simulated seconds at full speed first\n"
-          "  --keys SEQ    press these keys first ('.' waits 0.5 s)\n"
+          "  --keys SEQ    press these keys first ('.' waits 0.5 s; m and sN work the switches)\n"
           "  --screenshot  after --time and --keys: write the LCD as PNG, print its text, exit\n"
           "  --text        draw only the 4 text lines (no pixel image)\n"
           "  without --scenario: 8 km/h for an hour with the defaults\n", f);
+}
+
+/* ---- the switches: the master boom switch in series with the section switches ------------- */
+#define SW_BOOM 'm'                 /* in the key queue: the master switch flipped */
+#define SW_SECTION 1                /* in the key queue: 1..8, that section's switch flipped */
+static int boom_on = 1;             /* the master switch */
+static uint8_t section_sw;          /* the section switches, bit n = section n+1 on */
+static uint8_t sections_given;      /* what the firmware's inputs got last (hal_host_io.sections) */
+
+/* The inputs the switches give, and the plant's open nozzles with them. */
+static void switches_apply(sim_t *sim)
+{
+    int nps = scenario_nozzles_per_section(sim->scn), n = 0;
+    uint8_t on = boom_on ? section_sw : 0;
+    on &= (uint8_t)((1u << sim->scn->param[P_SECTIONS]) - 1u);
+    for (int b = 0; b < HAL_SECTIONS_MAX; b++)
+        n += (on >> b) & 1;
+    hal_host_io.sections = sections_given = on;
+    sim->plant.open_nozzles = n * nps;
+}
+
+/* A scenario's sections_open event sets the switches as a hand would. */
+static void switches_follow(sim_t *sim)
+{
+    if (hal_host_io.sections != sections_given) {
+        section_sw = hal_host_io.sections;
+        switches_apply(sim);
+    }
 }
 
 /* ---- keys: a queue of keypad presses, each held KEY_HOLD_MS of simulated time --------------- */
@@ -49,6 +81,17 @@ static void key_push(char k)
         keyq[keyq_n++] = k;
 }
 
+/* A --keys sequence: keypad keys, '.', m and sN. */
+static void keys_push(const char *k)
+{
+    for (; k && *k; k++) {
+        if (*k == 's' && k[1] >= '1' && k[1] <= '8')
+            key_push((char)(SW_SECTION + *++k - '1'));
+        else if (*k != 's')
+            key_push(*k);
+    }
+}
+
 static int key_bit(char k)
 {
     for (int r = 0; r < 4; r++)
@@ -58,8 +101,10 @@ static int key_bit(char k)
     return -1;
 }
 
-static void keys_tick(uint64_t t_ns)
+static void keys_tick(sim_t *sim)
 {
+    uint64_t t_ns = sim->t_ns;
+    switches_follow(sim);
     if (key_phase && t_ns < key_until_ns)
         return;
     if (key_phase == 1) {
@@ -76,6 +121,16 @@ static void keys_tick(uint64_t t_ns)
     if (k == '.') {
         key_phase = 2;
         key_until_ns = t_ns + 500000000ull;
+        return;
+    }
+    if (k == SW_BOOM || (k >= SW_SECTION && k < SW_SECTION + HAL_SECTIONS_MAX)) {
+        if (k == SW_BOOM)
+            boom_on = !boom_on;
+        else
+            section_sw ^= (uint8_t)(1u << (k - SW_SECTION));
+        switches_apply(sim);
+        key_phase = 2;              /* a gap, as after a key */
+        key_until_ns = t_ns + KEY_GAP_MS * 1000000ull;
         return;
     }
     int b = key_bit(k);
@@ -132,6 +187,8 @@ static int raw_start(void)
 }
 
 /* Terminal bytes to keypad keys; 1 when the user asked to quit. */
+static int section_prefix;          /* 's' typed: the next digit names a section */
+
 static int read_keys(void)
 {
     unsigned char buf[64];
@@ -140,7 +197,17 @@ static int read_keys(void)
         unsigned char c = buf[i];
         if (c == 'q' || c == 'Q' || c == 3)
             return 1;
-        if (c == 27 && i + 2 < n && buf[i + 1] == '[') {
+        if (section_prefix) {
+            section_prefix = 0;
+            if (c >= '1' && c <= '8')
+                key_push((char)(SW_SECTION + c - '1'));
+            continue;
+        }
+        if (c == 'm' || c == 'M') {
+            key_push(SW_BOOM);
+        } else if (c == 's' || c == 'S') {
+            section_prefix = 1;
+        } else if (c == 27 && i + 2 < n && buf[i + 1] == '[') {
             if (buf[i + 2] == 'A')
                 key_push('A');
             else if (buf[i + 2] == 'B')
@@ -222,10 +289,14 @@ static void draw(const sim_t *sim, int text_only)
     }
     printf("    +----------------+\033[K\n");
     sim_row(sim, &r);
-    printf("t %7.1f s  truth: %5.1f km/h  boom %5.1f L/min  %4.2f bar  valve %3.0f %%  tank %4.0f L\033[K\n",
-           r.t_s, r.v_true_kmh, r.boom_lpm, r.p_bar, 100.0 * r.valve_pos, r.tank_l);
-    printf("keys: 0-9 A(up/menu) B(down) C(back) D(enter) *(ack) #(point, manual/auto)  q quit%s\033[K\n",
-           sim_done(sim) ? "  [scenario over]" : "");
+    printf("t %7.1f s  truth: %5.2f km/h  boom %6.2f L/min  width %5.2f m  %4.2f bar  valve %3.0f %%  tank %4.0f L\033[K\n",
+           r.t_s, r.v_true_kmh, r.boom_lpm, r.width_m, r.p_bar, 100.0 * r.valve_pos, r.tank_l);
+    printf("switches: boom %s  sections ", boom_on ? "ON " : "OFF");
+    for (x = 0; x < sim->scn->param[P_SECTIONS]; x++)
+        putchar((section_sw >> x) & 1 ? '1' + x : '-');
+    printf("  relay %s%s\033[K\n", hal_host_io.spray_on ? "on " : "off", section_prefix ? "  section? 1-8" : "");
+    printf("keys: 0-9 A(up/menu) B(down) C(back) D(enter) *(ack) #(point, manual/auto)  m boom switch  "
+           "s1-s8 section switch  q quit%s\033[K\n", sim_done(sim) ? "  [scenario over]" : "");
     fflush(stdout);
 }
 
@@ -241,7 +312,7 @@ static int tick(sim_t *sim)
 {
     if (sim_done(sim))
         return 0;
-    keys_tick(sim->t_ns);
+    keys_tick(sim);
     sim_step(sim);
     return 1;
 }
@@ -312,12 +383,12 @@ int main(int argc, char **argv)
     /* sim_init reset the HAL: connect the display now and start the firmware's LCD afresh */
     st7920_emu_reset();
     hal_host_lcd_sink(st7920_emu_write);
+    section_sw = sections_given = hal_host_io.sections;     /* the scenario's: all on */
     if (shot) {                     /* batch: time, keys, settle, PNG, text */
         char line[17];
         while (sim_time_s(sim) < pre_s && tick(sim))
             ;
-        for (const char *k = keys; k && *k; k++)
-            key_push(*k);
+        keys_push(keys);
         while (keys_busy() && tick(sim))
             ;
         for (int i = 0; i < 600 && tick(sim); i++)
@@ -335,8 +406,7 @@ int main(int argc, char **argv)
 
     while (sim_time_s(sim) < pre_s && tick(sim))
         ;
-    for (const char *k = keys; k && *k; k++)
-        key_push(*k);
+    keys_push(keys);
     if (!isatty(0) || raw_start() < 0) {
         fprintf(stderr, "panel: stdin is not a terminal (use --screenshot for batch runs)\n");
         return 1;
@@ -350,7 +420,7 @@ int main(int argc, char **argv)
         while (sim_time_s(sim) - t0 < w * speed && steps < 200000 && tick(sim))
             steps++;
         if (sim_done(sim))
-            keys_tick(sim->t_ns);
+            keys_tick(sim);
         if (w >= next_draw) {
             draw(sim, text_only);
             next_draw = w + 0.1;

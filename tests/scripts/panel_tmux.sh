@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# panel_tmux.sh: `make panel` under tmux: change the dose through the keypad menus, see the flow target follow; the PNG screenshot decodes.
+# panel_tmux.sh: `make panel` under tmux: the run screen's rate against the plant's truth, the boom and section switches, the dose through the menus, an alarm over the notice; the PNG screenshot decodes.
 set -u
 cd "$(dirname "$0")/../.."
 B=${BUILD:-build}
@@ -58,13 +58,52 @@ if wait_for 'km/h' 30; then ok "runs under tmux and shows the run screen"; else
 # the pixel image is drawn too (braille or half blocks above the text box)
 if $T capture-pane -p -t panel | LC_ALL=C grep -q $'\xe2[\xa0-\xa3\x96]'; then ok "draws the 128x64 pixels"; else nok "draws the 128x64 pixels"; fi
 
-keys '*'                              # acknowledge the first-boot EEPROM message
+# the first-boot notice stays on the bottom line until * (acknowledged in the alarm part below)
+if until_ok 10 line_is 4 "!EE: defaults   "; then ok "the first-boot notice shows"; else nok "the first-boot notice shows" "$(lcd_line 4)"; fi
 sleep 20                              # 40 s simulated: up to speed, the wheel learnt, flow settled
+
+# the applied rate now against the plant's truth: boom flow over true speed times the open width
+truth_rate() { $T capture-pane -p -t panel | sed -nE 's/.*truth: *([0-9.]+) km\/h +boom +([0-9.]+) L\/min +width +([0-9.]+) m.*/\1 \2 \3/p' | head -1 |
+               awk '$1 > 0 && $3 > 0 {printf "%.1f", $2 * 600 / ($1 * $3)}'; }
+shown_rate() { lcd_line 3 | sed -nE 's/^Now *([0-9]+)L\/ha.*/\1/p'; }
+rate_close() { local a b; b=$(truth_rate); a=$(shown_rate); [ -n "$a" ] && [ -n "$b" ] && awk "BEGIN{e = ($a - $b) / $b; exit !(e > -0.05 && e < 0.05)}"; }
+if until_ok 10 rate_close; then ok "the run screen's rate now, $(shown_rate) L/ha, within 5 % of the truth, $(truth_rate) L/ha"; else
+    nok "the run screen's rate now within 5 % of the truth ('$(shown_rate)' for '$(truth_rate)')" "$($T capture-pane -p -t panel | tail -12)"; fi
+
 before=$(target)
 if [ -n "$before" ] && awk "BEGIN{exit !($before > 30 && $before < 42)}"; then
     ok "target flow at 150 L/ha and 8 km/h is $before L/min (36 expected)"
 else
     nok "target flow at 150 L/ha and 8 km/h (got '$before', 36 expected)" "$($T capture-pane -p -t panel)"
+fi
+
+# a section switch: section 3 of 6 off takes its 6 of the 36 nozzles' share off the target
+switches() { $T capture-pane -p -t panel | sed -nE 's/^switches: boom (ON|OFF) +sections ([-0-9]+) +relay (on|off).*/\1 \2 \3/p' | head -1; }
+keys s 3
+share=$(awk 'BEGIN{print (36 - 36 / 6) / 36}')
+if until_ok 10 ratio_in "$before" "$(awk "BEGIN{print $share * 0.98}")" "$(awk "BEGIN{print $share * 1.02}")" &&
+   [ "$(switches)" = "ON 12-456 on" ]; then
+    ok "s3 closes section 3: target $before -> $(target) L/min ($share of it)"
+else
+    nok "s3 closes section 3 (target $before -> '$(target)', $share of it; switches '$(switches)')" "$($T capture-pane -p -t panel | tail -12)"
+fi
+keys s 3
+if until_ok 10 ratio_in "$before" 0.98 1.02 && [ "$(switches)" = "ON 123456 on" ]; then ok "s3 opens it again"; else nok "s3 opens it again" "$(switches) $(target)"; fi
+
+# the master boom switch: the relay drops, the target goes to nothing, the nozzles stop
+boom_flow() { $T capture-pane -p -t panel | sed -nE 's/.*boom +([0-9.]+) L\/min.*/\1/p' | head -1; }
+boom_dry() { local f; f=$(boom_flow); [ -n "$f" ] && awk "BEGIN{exit !($f < 0.2)}"; }
+keys m
+if until_ok 10 boom_dry && [ "$(target)" = "0.0" ] && [ "$(switches)" = "OFF 123456 off" ]; then
+    ok "m closes the boom: relay off, target 0, the nozzles' flow $(boom_flow) L/min"
+else
+    nok "m closes the boom (switches '$(switches)', target '$(target)', flow '$(boom_flow)')" "$($T capture-pane -p -t panel | tail -12)"
+fi
+keys m
+if until_ok 20 follows && ratio_in "$before" 0.98 1.02 && [ "$(switches)" = "ON 123456 on" ]; then
+    ok "m opens it again: target $(target), measured $(measured) L/min"
+else
+    nok "m opens the boom again (switches '$(switches)', target '$(target)', measured '$(measured)')" "$($T capture-pane -p -t panel | tail -12)"
 fi
 
 keys A                                # menu, entry 1: Dose
@@ -91,6 +130,10 @@ else
     nok "the measured flow follows within 10 % ('$m' for '$a2')" "$($T capture-pane -p -t panel | tail -12)"
 fi
 
+# the rate now follows the new dose (the job's average, still near 150, would not)
+if until_ok 10 rate_close && [ "$(shown_rate)" -gt 185 ]; then ok "the rate now follows: $(shown_rate) L/ha for the truth's $(truth_rate) L/ha"; else
+    nok "the rate now follows the new dose within 5 % ('$(shown_rate)' for '$(truth_rate)')" "$($T capture-pane -p -t panel | tail -12)"; fi
+
 keys q
 sleep 1
 if $T capture-pane -p -t panel | grep -q 'km/h' && ! pgrep -f "$B/host/bin/panel --scenario $tmp" >/dev/null; then
@@ -98,6 +141,35 @@ if $T capture-pane -p -t panel | grep -q 'km/h' && ! pgrep -f "$B/host/bin/panel
 else
     nok "q quits"
 fi
+
+# an alarm raised while the first-boot notice shows takes the line; * acknowledges the alarm
+# shown and says so; the notice is shown, then acknowledged, by presses of its own
+cat > "$tmp/psens.scn" <<'EOF2'
+[run]
+duration_s = 600
+[drive]
+0   8
+600 8
+[events]
+30  pressure_sensor_open
+EOF2
+$T new-session -d -s alarm -x 160 -y 50 \
+    "$B/host/bin/panel --scenario $tmp/psens.scn --time 15 --speed 2; sleep 30"
+$T kill-session -t panel 2>/dev/null    # (the new session first: the server stays up)
+$T rename-session -t alarm panel
+if until_ok 20 line_is 4 "!EE: defaults   "; then ok "the notice shows before the alarm"; else nok "the notice shows before the alarm" "$(lcd_line 4)"; fi
+if until_ok 30 line_is 4 "!P sensor fault "; then ok "the alarm takes the line from the notice"; else
+    nok "the alarm takes the line from the notice" "$($T capture-pane -p -t panel | tail -12)"; fi
+keys '*'
+if until_ok 5 line_is 3 "Acknowledged:   " && line_is 4 " P sensor fault "; then ok "* acknowledges the alarm shown and says which"; else
+    nok "* acknowledges the alarm shown and says which" "$(lcd_line 3)/$(lcd_line 4)"; fi
+sleep 3
+if line_is 4 " P sensor fault "; then ok "the acknowledged alarm keeps the line over the notice"; else nok "the acknowledged alarm keeps the line" "$(lcd_line 4)"; fi
+keys '*'
+if until_ok 5 line_is 4 "!EE: defaults   "; then ok "* shows the notice before acknowledging it"; else nok "* shows the notice first" "$(lcd_line 4)"; fi
+keys '*'
+if until_ok 5 line_is 4 "EE: seen        "; then ok "* then acknowledges the notice"; else nok "* then acknowledges the notice" "$(lcd_line 4)"; fi
+keys q
 
 # the screenshot for the README: a PNG that decodes to the LCD image
 if out=$("$B/host/bin/panel" --scenario "$tmp/const8.scn" --time 5 --keys 'A' --screenshot "$tmp/menu.png" 2>&1) &&
