@@ -393,7 +393,7 @@ screenshots: $(PANEL_BIN) $(VENV)
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......" --screenshot docs/panel_run.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......ABBBB" --screenshot docs/panel_menu.png
 	$(Q)$(PANEL_BIN) --time 40 --keys "*......AD1500D" --screenshot docs/panel_refused.png
-	$(Q)$(PANEL_BIN) --time 40 --keys "*......AAD1......" --screenshot docs/panel_iotest.png
+	$(Q)$(PANEL_BIN) --time 40 --keys "*......AAAD1......" --screenshot docs/panel_iotest.png
 	$(Q)$(PYTHON) -c "import sys; from PIL import Image; [Image.open(f).save(f, optimize=True) for f in sys.argv[1:]]" docs/panel_run.png docs/panel_menu.png docs/panel_refused.png docs/panel_iotest.png
 
 # ==== hardware in the loop (docs/HIL.md): the plant on the PC, the controller on the serial link ===========

@@ -7,8 +7,10 @@
 
 /*
  * Keys (keypad.h has the matrix):
- *   run screen   A menu, B totals page, # manual <-> auto, * acknowledge alarms,
- *                2 / 8 jog the valve in manual mode (more / less flow; held: repeats)
+ *   run screen   A menu, B totals page, # manual <-> auto, 2 / 8 jog the valve in manual
+ *                mode (more / less flow; held: repeats)
+ *   any screen   * acknowledges the alarm or the EEPROM notice the bottom line shows, only that;
+ *                when it shows neither, * shows the first waiting (a second * acknowledges it)
  *   menu         A previous item, B next item, D open the item, C back to the run screen
  *   number entry 0-9 digits, # decimal point, D accept (refused with "Range lo..hi" when out
  *                of range: the old value stays), C clear the entry, C again back to the menu

@@ -185,3 +185,20 @@ dark = colours.get((0x1E, 0x2A, 0x14), 0)
 assert dark > 500, dark
 EOF
 then ok "--screenshot writes a PNG of the LCD that decodes"; else nok "--screenshot writes a PNG of the LCD that decodes" "$out"; fi
+
+# `make screenshots`: each picture shows what the README's caption says (run in a scratch folder)
+shots=$(make -n --no-print-directory screenshots 2>/dev/null | grep -- '--screenshot docs/panel_' | sed "s|docs/|$tmp/|")
+want_run='^ *[0-9.]+km/h.*bar$|^Q .*L/mn$|^Now +[0-9]+L/ha AUTO$|^T +[0-9]+L +ffmap$'
+want_menu='^Menu +[0-9]+/[0-9]+$|^Wheel cal *$'
+want_refused='^Dose *$|^Range 10\.\.1000 *$'
+want_iotest='^P *[0-9]+ +[0-9.]+mA R1$|^L *[0-9]+ +[0-9.]+mA B0$|^W *[0-9]+ +[0-9]+Hz V.$|^M *[0-9]+ +[1-9][0-9]*Hz *$'
+for name in run menu refused iotest; do
+    cmd=$(echo "$shots" | grep -- "$tmp/panel_$name.png")
+    eval "want=\$want_$name"
+    n_want=$(echo "$want" | tr '|' '\n' | wc -l)
+    if [ -n "$cmd" ] && text=$(cd . && eval "$cmd" 2>&1) && [ "$(echo "$text" | grep -cE "$want")" -ge "$n_want" ]; then
+        ok "make screenshots: panel_$name.png shows its caption's screen"
+    else
+        nok "make screenshots: panel_$name.png shows its caption's screen" "$cmd"$'\n'"$text"
+    fi
+done
