@@ -265,6 +265,66 @@ static void test_console_one_star_acknowledges_only_the_alarm_shown(void **state
     assert_string_equal(lcd(3), "No new alarms   ");
 }
 
+/* Off the run screen `*` first shows the alarm waiting, then acknowledges it. */
+static void test_console_star_off_the_run_screen_shows_before_it_acknowledges(void **state)
+{
+    char want[17];
+    (void)state;
+    store_status_clear();
+    sensors_good();
+    run_ms(1500);
+    assert_int_equal(app_status.alarms_unacked, 0);
+    press('A');                             /* the menu */
+    hal_host_io.adc[HAL_ADC_LEVEL] = 0;     /* the level loop opens */
+    run_ms(1500);
+    assert_int_equal(app_status.alarms_unacked, 1u << AL_LSENS);
+    assert_string_equal(lcd(3), "A^ Bv D:ok C:run");
+    press('*');
+    assert_int_equal(app_status.alarms_unacked, 1u << AL_LSENS);   /* not seen: kept */
+    snprintf(want, sizeof want, "!%-15s", diag_text(AL_LSENS));
+    assert_string_equal(lcd(3), want);
+    press('*');
+    assert_int_equal(app_status.alarms_unacked, 0);
+    assert_string_equal(lcd(2), "Acknowledged:   ");
+    assert_memory_equal(lcd(0), "Menu ", 5);                     /* still in the menu */
+}
+
+/* The rate now is the window's volume over its area: totals moved by hand, figures by hand. */
+static void test_console_rate_now_is_the_window_volume_over_its_area(void **state)
+{
+    (void)state;
+    store_status_clear();
+    sensors_good();
+    run_ms(4000);                           /* standing: nothing moves */
+    assert_string_equal(lcd(2), "Now  --L/ha AUTO");
+    /* 600 ml and 40 m^2 a second: 600 ml / 40 m^2 = 150 L/ha */
+    for (int i = 0; i < 5; i++) {
+        totals.job_ml += 600;
+        totals.job_dm2 += 4000;
+        run_ms(1000);
+    }
+    assert_string_equal(lcd(2), "Now 150L/ha AUTO");
+    /* then 400 ml a second on the same area: 100 L/ha once the window holds only those */
+    for (int i = 0; i < 4; i++) {
+        totals.job_ml += 400;
+        totals.job_dm2 += 4000;
+        run_ms(1000);
+    }
+    assert_string_equal(lcd(2), "Now 100L/ha AUTO");
+    /* volume with no area (spraying standing): over any figure */
+    for (int i = 0; i < 4; i++) {
+        totals.job_ml += 400;
+        run_ms(1000);
+    }
+    assert_string_equal(lcd(2), "Now####L/ha AUTO");
+    /* the job reset: the window starts there, no leftover of the job before */
+    ops_totals_reset();
+    totals.job_ml += 250;
+    totals.job_dm2 += 10000;
+    run_ms(1100);
+    assert_string_equal(lcd(2), "Now  25L/ha AUTO");       /* 250 ml / 100 m^2 */
+}
+
 /* Every alarm's text fits the line after its mark, whole (a new row is checked too). */
 static void test_console_every_alarm_text_fits_the_line(void **state)
 {
@@ -785,6 +845,8 @@ int main(void)
         cmocka_unit_test_setup(test_console_an_alarm_wins_the_line_over_the_notice, setup),
         cmocka_unit_test_setup(test_console_one_star_acknowledges_only_the_alarm_shown, setup),
         cmocka_unit_test_setup(test_console_every_alarm_text_fits_the_line, setup),
+        cmocka_unit_test_setup(test_console_star_off_the_run_screen_shows_before_it_acknowledges, setup),
+        cmocka_unit_test_setup(test_console_rate_now_is_the_window_volume_over_its_area, setup),
         cmocka_unit_test_setup(test_console_every_parameter_menu_stores_in_range_and_refuses_out_of_range, setup),
         cmocka_unit_test_setup(test_console_entry_takes_the_parameter_decimals_only, setup),
         cmocka_unit_test_setup(test_console_cross_checks_refuse_with_the_reason, setup),
