@@ -73,6 +73,7 @@ uint8_t con_msg_on(void) __reentrant;
 void con_cat_ram(const char *s) __reentrant;
 void con_cat(const __code char *s) __reentrant;
 void con_start(const __code char *s) __reentrant;
+void con_show(uint8_t row) __reentrant;     /* the line put together, on the screen's row */
 /* form: the decimals shown (0..3), or'ed with CON_TRIM (no trailing zeros after the point) or
  * CON_DROP(k): v / 10^k rounded, without a divide (v + 10^k / 2 formatted with k more decimals,
  * those digits cut off again). One byte, not three: a push less at each of the many calls. */
@@ -93,5 +94,6 @@ uint16_t con_entry_value(uint8_t decimals) __reentrant;
 uint32_t con_cal_now(void) __reentrant;
 void con_draw(void) __reentrant;
 void con_iotest_start(void) __reentrant;
+void con_draw_iotest(void) __reentrant;     /* console_io.c */
 
 #endif
