@@ -54,8 +54,8 @@ TT_PROGS := $(filter-out tests/target/tt_common.c tests/target/tt_host.c,$(wildc
 # there by default (movx, slower) and the few hot ones are placed in __data by hand.
 # -MMD: each object's header dependencies in a .d beside it (included at the end).
 SDCC_MODEL := --model-large
-# HIL=1: hardware in the loop built into the chip's image (docs/HIL.md): it fits the chip, not the
-# code and XRAM headroom floors, which are not applied to it
+# HIL=1: hardware in the loop built into the chip's image (docs/HIL.md): held to the chip's size and
+# the stack margin floor, not to the code and XRAM headroom floors (a bench image, not the field's)
 HIL ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
