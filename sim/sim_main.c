@@ -144,7 +144,7 @@ int main(int argc, char **argv)
     pil_t *pil = NULL;
     unsigned long long seed = 0;
     int have_seed = 0, i, tick_ms = 1, idle_ms = 0;
-    double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0;
+    double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0, speed;
     int use_pty = 0;
     char err[512];
     scenario_t *s;
@@ -348,8 +348,9 @@ int main(int argc, char **argv)
         || (samples_path && write_out(samples_path, metrics_samples_csv, &sim->metrics) < 0))
         return 1;
     sim_summary(sim, &r, stdout);
-    printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.0fx real time)\n", s->name, r.sim_s,
-           sim->wall_s, sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0);
+    speed = sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0;
+    printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.*fx real time)\n", s->name, r.sim_s,
+           sim->wall_s, speed < 10 ? 2 : 0, speed);
     if (pil) {
         pil_report(pil, stdout);
         pil_free(pil);
