@@ -14,9 +14,10 @@ msg = $(if $(Q),@printf '  %-6s %s\n' "$(1)" "$(2)",@true)
 BUILD ?= build
 # one Python for every script: the project's .venv. Every rule that runs $(PYTHON) depends on
 # $(VENV), whose rule (tools/deps.sh) installs the toolchain and makes the .venv first, so that a
-# fresh clone's first `make <anything>` works (the choice is not made when make starts).
+# fresh clone's first `make <anything>` works (the choice is not made when make starts). A PYTHON
+# in the environment does not replace it (its packages may be missing); `make PYTHON=..` does.
 VENV := .venv/.requirements
-PYTHON ?= .venv/bin/python
+PYTHON := .venv/bin/python
 CC ?= cc
 
 # the chip: SDCC 4.2 for the STC12C5A60S2 (sizes in bytes)
@@ -53,7 +54,8 @@ TT_PROGS := $(filter-out tests/target/tt_common.c tests/target/tt_host.c,$(wildc
 # there by default (movx, slower) and the few hot ones are placed in __data by hand.
 # -MMD: each object's header dependencies in a .d beside it (included at the end).
 SDCC_MODEL := --model-large
-# HIL=1: hardware in the loop built into the chip's image (docs/HIL.md; it does not fit yet)
+# HIL=1: hardware in the loop built into the chip's image (docs/HIL.md): held to the chip's size and
+# the stack margin floor, not to the code and XRAM headroom floors (a bench image, not the field's)
 HIL ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
@@ -147,27 +149,31 @@ DEMO_DIR := $(BUILD)/demo
         bench-sim panel screenshots clean help FORCE
 
 help:
-	@echo "make demo      the main job: firmware image + the paper's run in the simulator, metrics and plot"
-	@echo "make test      every test: host unit tests, s51 target tests, firmware build"
-	@echo "make firmware  (default) the STC12C5A60S2 image in $(STC_DIR), with its memory use and headroom floors"
+	@echo "make demo      the main job: firmware image + the paper's run in the simulator, its figures beside the paper's, plots"
+	@echo "make test      every test (host unit tests, s51 target tests, firmware build, fuzz corpus, scripts): \"N passed, N failed\" last"
+	@echo "make firmware  (default) the STC12C5A60S2 image in $(STC_DIR), with its memory use and headroom floors;"
+	@echo "               FW_PEERS=1 the research image with the peers, HIL=1 with hardware in the loop"
 	@echo "make memory    the 20 largest users of each memory region of the image, the deepest call chain"
-	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev; .venv)"
+	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev tmux, clang for fuzz; the .venv)"
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
-	@echo "make bench     machine cycles in s51 of the building blocks and of each controller's step (budget 30,000)"
-	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator (JSON metrics last)"
+	@echo "make bench     machine cycles in s51: the building blocks, each controller's step (budget 30,000), the interrupt"
+	@echo "               handlers, the whole firmware's passes over pil_bench"
+	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator: a summary, the metrics JSON last"
+	@echo "make pil SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make compare   the six controllers on the same plant and seeds, beside the paper; ffmap against bp_pid, aog and raven over seeds 1-16"
-	@echo "make pil SCENARIO=f [CONTROLLER=n]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
-	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn]   the controllers over N sprayers of the plant family"
+	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1]"
+	@echo "               the controllers over N sprayers of the plant family: median and 95th percentile"
 	@echo "make faults [FAULTS_CONTROLLER=ffmap] [ONLY=leak_growing,..]   every fault of issue 51 at two sizes: told or not (build/faults/table.md)"
 	@echo "make redraw [PLANTS=\"28/35/untold ..\"] [SELECT=fast-high|fast-stiff] [SEEDS=1-140] [DRAWS=12]   family plants with more noise draws: runs with an alarm"
-	@echo "make report    docs/RESULTS.md and its plots: the paper's experiments reproduced, the family, the cost"
-	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run"
+	@echo "make report    docs/RESULTS.md and its plots, the README's headline: the paper's experiments reproduced, the family, the cost (minutes)"
+	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run, with the machine it ran on"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
 	@echo "make screenshots  the run screen, a menu, a refused entry and the I/O test as PNG in docs/"
 	@echo "make hil PORT=/dev/ttyUSB0 SCENARIO=f   the scenario's plant against a flashed board over RS232 (metrics JSON)"
 	@echo "make hil-host SCENARIO=f   the same with the host build standing in for the board (a pseudo-terminal)"
 	@echo "make fuzz [FUZZ_S=60]  libFuzzer (ASan+UBSan) on every parser, FUZZ_S seconds each; fuzz-merge keeps new coverage"
 	@echo "make clean     remove build/"
+	@echo "parts: host-tests, target-tests, sim-progs (build/host/bin/*), pil-image; V=1 shows full commands"
 
 # ==== the firmware image ==============================================================================
 $(VENV): tools/requirements.txt tools/deps.sh
@@ -307,9 +313,10 @@ bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
 bench-sim: $(SIM_BIN)
 	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn
 
-# pid, fuzzy_pid, bp_pid and ffmap on the same plant and seed (target steps, the paper's dynamic run
-# coupled and with a fixed PTO, the field run), beside the paper's Table 2 and section 5.1; then
-# ffmap against bp_pid figure by figure, means over seeds 1-16 of every scenario family
+# the six controllers (the paper's pid, fuzzy_pid, bp_pid, the project's ffmap, the peers aog and
+# raven) on the same plant and seed (target steps, the paper's dynamic run coupled and with a fixed
+# PTO, the field run), beside the paper's Table 2 and section 5.1; then ffmap against bp_pid, aog
+# and raven figure by figure, means over seeds 1-16 of every scenario family
 compare: $(SIM_BIN) $(VENV)
 	$(Q)$(PYTHON) tools/compare.py $(SIM_BIN)
 	$(Q)echo
@@ -361,19 +368,21 @@ $(SIM_PROGS): $(OPT_DIR)/bin/%: $(OPT_DIR)/sim/%_main.o $(OPT_LIB)
 
 sim-progs: $(SIM_PROGS)
 
-# make sim SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: the metrics as JSON on the last line
+# make sim SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: a summary of the run's figures, then the
+# metrics as JSON on the last line
 sim: $(SIM_BIN)
 	$(Q)$(SIM_BIN) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
 
-# the paper's run with the default controller: figures beside the paper's, trace and plots
+# the paper's run with the default controller: the simulator's summary beside the paper's figures,
+# trace and plots (the simulator's whole output in build/demo/sim.out)
 demo:
 	$(Q)tools/deps.sh --quiet
 	$(Q)$(MAKE) --no-print-directory firmware
 	$(Q)$(MAKE) --no-print-directory $(SIM_BIN)
 	@mkdir -p $(DEMO_DIR)
 	$(Q)$(SIM_BIN) --scenario scenarios/paper_dynamic_150.scn --csv $(DEMO_DIR)/trace.csv --zones $(DEMO_DIR)/zones.csv > $(DEMO_DIR)/sim.out
-	$(Q)head -n -1 $(DEMO_DIR)/sim.out; tail -n 1 $(DEMO_DIR)/sim.out > $(DEMO_DIR)/metrics.json
-	$(Q)$(PYTHON) tools/demo_report.py $(DEMO_DIR)/metrics.json
+	$(Q)tail -n 1 $(DEMO_DIR)/sim.out > $(DEMO_DIR)/metrics.json
+	$(Q)$(PYTHON) tools/demo_report.py $(DEMO_DIR)/sim.out
 	$(Q)$(PYTHON) tools/plot.py flow $(DEMO_DIR)/trace.csv $(DEMO_DIR)/flow.png --title "paper_dynamic_150: flow following (cf. paper Fig. 9)"
 	$(Q)$(PYTHON) tools/plot.py zones $(DEMO_DIR)/zones.csv $(DEMO_DIR)/zones.png --rate 150 --title "paper_dynamic_150: volume per 5 m zone (cf. paper Table 4)"
 	@echo "demo: wrote $(DEMO_DIR)/trace.csv $(DEMO_DIR)/zones.csv $(DEMO_DIR)/metrics.json $(DEMO_DIR)/flow.png $(DEMO_DIR)/zones.png"
@@ -450,7 +459,8 @@ clean:
 # ==== the results report ==================================================================================
 # make report: docs/RESULTS.md and its plots from a clean build (tools/results.py): the paper's
 # Tables 2-4 and section 5.1 beside this project's figures, ISO 5682-3 style changes, the plant family,
-# single-factor sweeps, and the cost on the chip; also the README's headline table.
+# single-factor sweeps, and the cost on the chip; also the README's headline table. Last, the
+# simulator's speed with the machine it ran on: a measurement of that machine, not a result.
 REPORT_DIR := $(BUILD)/report
 report: $(VENV) firmware $(SIM_PROGS) $(TT_IHX) $(TT_HOST)
 	@mkdir -p $(REPORT_DIR)
@@ -459,3 +469,4 @@ report: $(VENV) firmware $(SIM_PROGS) $(TT_IHX) $(TT_HOST)
 	$(Q)tools/bench_sim.sh $(SIM_BIN) scenarios/paper_dynamic_150.scn > $(REPORT_DIR)/bench_sim.txt 2>&1 || true
 	$(Q)$(PYTHON) tools/results.py --sim $(SIM_BIN) --bench $(REPORT_DIR)/bench.txt \
 	    --memory $(REPORT_DIR)/memory.txt --bench-sim $(REPORT_DIR)/bench_sim.txt
+	$(Q)tail -n 1 $(REPORT_DIR)/bench_sim.txt

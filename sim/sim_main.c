@@ -1,4 +1,4 @@
-/* sim_main.c: the simulator program: run a scenario, write the trace, print the metrics as one JSON line last. */
+/* sim_main.c: the simulator program: run a scenario, write the trace, print a summary and the metrics as one JSON line last. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +10,7 @@
 #include "pil_host.h"
 #include "pty.h"
 #include "link_crc.h"
+#include "summary.h"
 
 static void usage(FILE *f)
 {
@@ -18,7 +19,8 @@ static void usage(FILE *f)
           "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt] [--pty [--pace X] [--wait S]]\n"
           "           [--fast | --tick-ms N [--idle-tick-ms M]] [--duration S]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
-          "  prints the metrics of docs/SCENARIOS.md as one JSON object on the last line.\n"
+          "  prints a summary of the run's figures, then the metrics of docs/SCENARIOS.md as one JSON\n"
+          "  object on the last line.\n"
           "  NAME: pid, fuzzy_pid, bp_pid, ffmap (the project's own), aog, raven. --seed replaces [run] seed.\n"
           "  --duration: the run ends at S seconds when FILE's ends later (the events after S dropped).\n"
           "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
@@ -142,7 +144,7 @@ int main(int argc, char **argv)
     pil_t *pil = NULL;
     unsigned long long seed = 0;
     int have_seed = 0, i, tick_ms = 1, idle_ms = 0;
-    double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0;
+    double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0, speed;
     int use_pty = 0;
     char err[512];
     scenario_t *s;
@@ -345,8 +347,10 @@ int main(int argc, char **argv)
     if ((zones_path && write_out(zones_path, metrics_zones_csv, &sim->metrics) < 0)
         || (samples_path && write_out(samples_path, metrics_samples_csv, &sim->metrics) < 0))
         return 1;
-    printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.0fx real time)\n", s->name, r.sim_s,
-           sim->wall_s, sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0);
+    sim_summary(sim, &r, stdout);
+    speed = sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0;
+    printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.*fx real time)\n", s->name, r.sim_s,
+           sim->wall_s, speed < 10 ? 2 : 0, speed);
     if (pil) {
         pil_report(pil, stdout);
         pil_free(pil);

@@ -1,54 +1,61 @@
 #!/usr/bin/env python3
-"""demo_report.py: the simulator's metrics (the JSON line of `sim`) beside the paper's figures (PAPER.md 5.1, Table 4)."""
+"""demo_report.py: the simulator's summary (what `sim` prints before its JSON line) with the paper's figures
+(PAPER.md 5.1, Table 4) beside its table.
+
+  demo_report.py SIM_OUTPUT     SIM_OUTPUT: the whole standard output of one `sim` run
+"""
 import json
 import sys
 
+# the paper's figures by the start of the summary's row label: (BP-PID, fuzzy PID)
 PAPER = [
-    # (label, metric key or function, BP-PID, fuzzy PID)
-    ("mean overshoot, %", "overshoot_mean_pct", "2.1", "17.6"),
-    ("mean settling time, s", "settle_mean_s", "0.72", "2.54"),
-    ("applied dose, L/ha (set 150)", "applied_l_ha", "151.9", "142.1"),
-    ("dose error, % (v >= 4 km/h)", "dose_error_pct", "1.3", "5.9"),
-    ("dose error, % (whole run)", "dose_error_all_pct", "-", "-"),
-    ("CV of 5 m zones, % (v >= 4 km/h)", "cv_pct", "4.2-5.9", "6.9-9.2"),
-    ("CV of 5 m zones, % (whole run)", "cv_all_pct", "5.1-7.4", "-"),
-    ("zone error min, %", "zone_error_min_pct", "-5", "-9.9"),
-    ("zone error max, %", "zone_error_max_pct", "+5", "+9.8"),
+    ("mean overshoot, %", "2.1", "17.6"),
+    ("mean settling time, s", "0.72", "2.54"),
+    ("applied dose, L/ha", "151.9", "142.1"),
+    ("dose error, % (v >= 4 km/h)", "1.3", "5.9"),
+    ("dose error, % (whole run)", "-", "-"),
+    ("CV of 5 m zones, % (v >= 4 km/h)", "4.2-5.9", "6.9-9.2"),
+    ("CV of 5 m zones, % (whole run)", "5.1-7.4", "-"),
+    ("zone error min, %", "-5", "-9.9"),
+    ("zone error max, %", "+5", "+9.8"),
 ]
+COLS = "%13s %12s"
 
 
-def fmt(v):
-    if v is None:
-        return "n/a"
-    if isinstance(v, float):
-        return "%.2f" % v
-    return str(v)
+def beside(lines):
+    """The summary's lines, its table's rows with the paper's columns; exits naming a missing row."""
+    out, found, rules = [], set(), 0
+    for ln in lines:
+        if ln.startswith("figure ") and ln.rstrip().endswith("this run"):
+            ln = ln + COLS % ("paper BP-PID", "paper fuzzy")
+        elif ln and set(ln) == {"-"} and rules < 2:
+            rules += 1
+            ln = ln + "-" * 26
+        else:
+            for label, bp, fz in PAPER:
+                if ln.startswith(label) and label not in found:
+                    found.add(label)
+                    ln = ln + COLS % (bp, fz)
+                    break
+        out.append(ln)
+    missing = [label for label, _, _ in PAPER if label not in found]
+    if missing:
+        sys.exit("demo_report.py: the simulator's summary has no row '%s'" % missing[0])
+    return out
 
 
 def main():
     if len(sys.argv) != 2:
-        sys.exit("usage: demo_report.py METRICS.json")
+        sys.exit("usage: demo_report.py SIM_OUTPUT")
     try:
         with open(sys.argv[1]) as f:
-            m = json.loads(f.read().strip().splitlines()[-1])
+            lines = f.read().rstrip("\n").splitlines()
+        json.loads(lines[-1])
     except (OSError, ValueError, IndexError) as e:
-        sys.exit("demo_report.py: %s: no metrics JSON line (%s)" % (sys.argv[1], e))
+        sys.exit("demo_report.py: %s: no metrics JSON line last (%s)" % (sys.argv[1], e))
+    table = beside(lines[:-1])
     print()
-    print("%s, controller %s, seed %s" % (m.get("scenario"), m.get("controller"), m.get("seed")))
-    print("%-36s %12s %12s %12s" % ("figure", "this run", "paper BP-PID", "paper fuzzy"))
-    print("-" * 75)
-    for label, key, bp, fz in PAPER:
-        print("%-36s %12s %12s %12s" % (label, fmt(m.get(key)), bp, fz))
-    print("-" * 75)
-    steps = m.get("steps", [])
-    print("changes of the target found: %d (max overshoot %s %%, max settling %s s)"
-          % (len(steps), fmt(m.get("overshoot_max_pct")), fmt(m.get("settle_max_s"))))
-    print("pressure at v >= 4 km/h: %s .. %s bar; volume %s L over %s ha"
-          % (fmt(m.get("pressure_min_bar")), fmt(m.get("pressure_max_bar")), fmt(m.get("volume_l")),
-             fmt(m.get("area_ha"))))
-    alarms = m.get("alarms", [])
-    print("alarms: %s" % (", ".join("%s at %.1f s" % (a["code"], a["t_s"]) for a in alarms) or "none"))
-    print("simulated %s s in %s s of wall time" % (fmt(m.get("sim_s")), fmt(m.get("wall_s"))))
+    print("\n".join(table))
     print("paper: field test of section 5.1 (150 L/ha, 4-11 km/h, throttle) and Table 4 (3220 m run);")
     print("here the sprayer is the model of docs/SCENARIOS.md, so the figures compare control, not the field.")
 

@@ -221,13 +221,17 @@ def section_dynamic(R, ctls, out):
     t0 = traces[ctls[0]]
     axes[0].plot(t0["t_s"], t0["v_true_kmh"], "k-", lw=0.8, label="true speed")
     axes[0].set_ylabel("km/h")
-    axes[0].legend(loc="upper right", fontsize=7)
+    axes[0].set_ylim(bottom=0)
     for ax, c in zip(axes[1:], ctls):
         t = traces[c]
-        ax.plot(t["t_s"], t["target_lpm"], "b-", lw=0.8, label="target")
-        ax.plot(t["t_s"], t["flow_true_lpm"], "r-", lw=0.6, label="actual")
+        # the target a pale band under the flow, so that a flow on it stays visible
+        ax.plot(t["t_s"], t["target_lpm"], color="tab:blue", lw=3.5, alpha=0.3, label="target flow (firmware)")
+        ax.plot(t["t_s"], t["flow_true_lpm"], color="tab:red", lw=0.6, label="actual flow (plant)")
         ax.set_ylabel("%s\nL/min" % c, fontsize=8)
-        ax.legend(loc="upper right", fontsize=7)
+        ax.set_ylim(bottom=0)
+    h0, l0 = axes[0].get_legend_handles_labels()
+    h1, l1 = axes[1].get_legend_handles_labels()
+    axes[0].legend(h0 + h1, l0 + l1, loc="lower left", bbox_to_anchor=(0, 1.0), ncol=3, fontsize=7, frameon=False)
     axes[-1].set_xlabel("s")
     fig.suptitle("paper_dynamic_150 (PTO coupled, seed 1): target and actual flow (cf. paper Figs. 8-9)", fontsize=9)
     fig.tight_layout()
@@ -317,16 +321,24 @@ def section_field(R, ctls, out):
             "PID %s.\n\n" % (SEEDS, PAPER_T4["bp_pid"], PAPER_T4["fuzzy_pid"]))
     text += table(["L/ha", "controller", "CV whole run %", "CV v>=4 km/h %", "zone errors %", "start zone %",
                    "stop zone %", "dose error %", "reversals/min"], rows) + "\n\n"
-    fig, ax = plt.subplots(figsize=(10, 3))
+    fig, ax = plt.subplots(2, 1, figsize=(10, 5), sharex=True)
+    lim = 2.0
     for c in ctls:
         if c in ("ffmap", "bp_pid", "fuzzy_pid"):
             z = read_csv(os.path.join(zdir, "field150_%s_1.csv" % c))
-            ax.plot(z["start_m"], z["vol_l"], lw=0.7, label=c)
-    ax.axhline(1.35, color="k", lw=0.6, ls="--", label="expected 1.35 L")
-    ax.set_xlabel("m travelled")
-    ax.set_ylabel("L per 5 m zone")
-    ax.legend(fontsize=7)
-    ax.set_title("field_3220m_150, seed 1: volume per 5 m zone (cf. paper Table 4)", fontsize=9)
+            ax[0].plot(z["start_m"], z["vol_l"], lw=0.7, label=c)
+            ax[1].plot(z["start_m"], z["error_pct"], lw=0.7)
+            fast = [abs(e) for e, v in zip(z["error_pct"], z["mean_kmh"]) if v >= 4 and not math.isnan(e)]
+            lim = max([lim] + [1.2 * x for x in fast])
+    ax[0].axhline(1.35, color="k", lw=0.6, ls="--", label="expected 1.35 L")
+    ax[0].set_ylim(bottom=0)
+    ax[0].set_ylabel("L per 5 m zone")
+    ax[0].legend(loc="lower left", bbox_to_anchor=(0, 1.0), ncol=4, fontsize=7, frameon=False)
+    ax[1].axhline(0, color="k", lw=0.6)
+    ax[1].set_ylim(-lim, lim)       # the zones at 4 km/h and more; a headland's slower zones leave the frame
+    ax[1].set_ylabel("zone error %")
+    ax[1].set_xlabel("m travelled")
+    fig.suptitle("field_3220m_150, seed 1: volume per 5 m zone and its error (cf. paper Table 4)", fontsize=9)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "results_zones150.png"), dpi=90)
     plt.close(fig)
@@ -493,9 +505,11 @@ def section_sweeps(R, ctls, out):
                         lw=0.8, label=c)
             ax.set_xlabel(label, fontsize=8)
             ax.set_ylabel("CV %" if col == 0 else "reversals/min", fontsize=8)
+            ax.set_ylim(bottom=0)
             ax.tick_params(labelsize=7)
-        axes[row][0].legend(fontsize=6)
-    fig.tight_layout()
+    h, lb = axes[0][0].get_legend_handles_labels()
+    fig.legend(h, lb, loc="upper center", ncol=len(ctls), fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
     fig.savefig(os.path.join(out, "results_sweeps.png"), dpi=80)
     plt.close(fig)
     rows = []

@@ -89,6 +89,76 @@ printf 'a,b\n1,2\n' > "$tmp/x.csv"
 out=$($PY tools/plot.py flow "$tmp/x.csv" "$tmp/x.png" 2>&1); rc=$?
 if [ $rc -ne 0 ] && echo "$out" | grep -q "lacks the column" && [ ! -e "$tmp/x.png" ]; then ok "plot.py refuses a CSV without its columns"; else nok "plot.py refuses bad CSV" "$out"; fi
 
+# the summary before the JSON: each row of its table is the JSON's figure (the rows' keys are
+# this test's own map), and tools/demo_report.py sets the paper's figures beside exactly those rows
+"$SIM" --scenario scenarios/faults_150.scn --csv "$tmp/f.csv" > "$tmp/f.out" 2>&1
+if tail -n 1 "$tmp/f.out" | grep -q '^{' && $PY - "$tmp/f.out" > "$tmp/sum.log" 2>&1 <<'EOF2'
+import json, re, sys
+lines = open(sys.argv[1]).read().splitlines()
+m = json.loads(lines[-1])
+keys = {"mean overshoot, %": "overshoot_mean_pct", "mean settling time, s": "settle_mean_s",
+        "applied dose, L/ha (set 150 at first)": "applied_l_ha", "dose error, % (v >= 4 km/h)": "dose_error_pct",
+        "dose error, % (whole run)": "dose_error_all_pct", "CV of 5 m zones, % (v >= 4 km/h)": "cv_pct",
+        "CV of 5 m zones, % (whole run)": "cv_all_pct", "zone error min, %": "zone_error_min_pct",
+        "zone error max, %": "zone_error_max_pct"}
+seen = {}
+for ln in lines[:-1]:
+    r = re.match(r"^(.*?)\s{2,}(\S+)$", ln)
+    if r and r.group(1) in keys:
+        seen[r.group(1)] = r.group(2)
+assert set(seen) == set(keys), sorted(set(keys) - set(seen))
+for label, key in keys.items():
+    want = "n/a" if m[key] is None else "%.2f" % m[key]
+    assert seen[label] == want, (label, seen[label], want)
+al = [ln for ln in lines if ln.startswith("alarms: ")]
+assert al == ["alarms: " + ", ".join("%s at %.1f s" % (a["code"], a["t_s"]) for a in m["alarms"])], al
+assert len(m["alarms"]) >= 5
+EOF2
+then
+    ok "the summary before the JSON line shows the JSON's figures and alarms"
+else
+    nok "the summary before the JSON line shows the JSON's figures and alarms" "$(cat "$tmp/sum.log")"
+fi
+out=$($PY tools/demo_report.py "$tmp/f.out" 2>&1)
+if echo "$out" | grep -Eq '^applied dose, L/ha \(set 150 at first\) +[0-9.]+ +151\.9 +142\.1$' \
+   && [ "$(echo "$out" | grep -Ec ' (2\.1|0\.72|151\.9|1\.3|-|4\.2-5\.9|5\.1-7\.4|-5|\+5) +(17\.6|2\.54|142\.1|5\.9|-|6\.9-9\.2|-9\.9|\+9\.8)$')" -eq 9 ]; then
+    ok "demo_report.py sets the paper's figures beside the summary's rows"
+else
+    nok "demo_report.py sets the paper's figures beside the summary's rows" "$out"
+fi
+grep -v '^CV of 5 m zones, % (whole run)' "$tmp/f.out" > "$tmp/f_cut.out"
+out=$($PY tools/demo_report.py "$tmp/f_cut.out" 2>&1); rc=$?
+if [ $rc -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "no row 'CV of 5 m zones, % (whole run)'"; then
+    ok "demo_report.py refuses a summary without one of its rows in one line"
+else
+    nok "demo_report.py refuses a summary without one of its rows in one line" "rc $rc: $out"
+fi
+
+# the flow plot marks every alarm the run raised (the JSON's, in order, from the trace's alarm bits
+# at 0.1 s: within one row after) and a section switch: plant_md_example opens 24 of its 36 nozzles
+# at 100 s, 6 sections of 6: sections 1-4
+out=$($PY tools/plot.py flow "$tmp/f.csv" "$tmp/f.png" 2>&1)
+if echo "$out" | $PY -c '
+import json, re, sys
+m = json.loads(open(sys.argv[1]).read().splitlines()[-1])
+line = [l for l in sys.stdin.read().splitlines() if l.startswith("plot.py: marks: ")][0]
+marks = re.findall(r"(\S+) at ([0-9.]+) s", line[len("plot.py: marks: "):])
+assert [c for c, _ in marks] == [a["code"] for a in m["alarms"]], (marks, m["alarms"])
+for (c, t), a in zip(marks, m["alarms"]):
+    assert 0 <= float(t) - a["t_s"] <= 0.1 + 1e-9, (c, t, a)
+' "$tmp/f.out"; then
+    ok "plot.py flow marks every alarm of the run at its time"
+else
+    nok "plot.py flow marks every alarm of the run at its time" "$out"
+fi
+"$SIM" --scenario scenarios/plant_md_example.scn --csv "$tmp/md.csv" > /dev/null 2>&1
+out=$($PY tools/plot.py flow "$tmp/md.csv" "$tmp/md.png" 2>&1)
+if echo "$out" | grep -q "^plot.py: marks: sections 1-4 (24 nozzles) at 100.0 s;"; then
+    ok "plot.py flow marks the section switches changed"
+else
+    nok "plot.py flow marks the section switches changed" "$out"
+fi
+
 # tools/bound.py: the step scorer on the trace reproduces the sim's figures (start_s too), and the ideal
 # follower gets worse as it sees the pump later (0, 0.1, 0.2, 0.3 s), never better than flow = target;
 # its start from parked open takes longer once it sees the pump 0.3 s late
