@@ -21,7 +21,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-DIAG_C = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "firmware", "ops", "diag.c")
+DIAG_H = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "firmware", "ops", "diag.h")
 
 
 def read_csv(path, need):
@@ -54,13 +54,14 @@ def read_csv(path, need):
 
 
 def alarm_names():
-    """The alarm codes by bit, from the firmware's table (firmware/ops/diag.c); [] when not found."""
+    """The alarm codes by bit, from the firmware's one table (DIAG_ALARMS in firmware/ops/diag.h,
+    a row X(bit, code, text) an alarm, in bit order); [] when not found."""
     try:
-        with open(DIAG_C) as f:
-            m = re.search(r"\bcodes\[AL_COUNT\]\s*=\s*\{(.*?)\};", f.read(), re.S)
+        with open(DIAG_H) as f:
+            m = re.search(r"#define DIAG_ALARMS\(X\)(.*?)\n\n", f.read(), re.S)
     except OSError:
         return []
-    return re.findall(r'"([^"]*)"', m.group(1)) if m else []
+    return re.findall(r'X\(\s*AL_\w+\s*,\s*"([^"]*)"', m.group(1)) if m else []
 
 
 def section_list(bits):
