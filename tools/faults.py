@@ -251,6 +251,14 @@ def run_one(job):
     cmd = [sim, "--scenario", base + ".scn", "--controller", ctl, "--csv", base + ".csv",
            "--serial", base + ".serial"]
     p = subprocess.run(cmd, capture_output=True, text=True)
+    refused = re.search(r"the firmware refuses this set of values: (.*)", p.stderr or "")
+    if p.returncode != 0 and refused:
+        # the settings' cross-checks refuse the machine, naming why: nothing is sprayed wrong
+        return {"fault": name, "size": label, "start_s": spec["start"], "alarm": "REFUSED",
+                "alarm_text": refused.group(1).strip(), "delay_s": 0.0, "later": [],
+                "silent_dose_pct": None, "standstill_untold_l": 0.0, "silent_wrong_s": 0.0,
+                "silent_wrong_total_s": 0.0, "dose_error_all_pct": None,
+                "note": "the settings refuse this machine", "scenario": base + ".scn"}
     if p.returncode != 0:
         return {"fault": name, "size": label, "error": (p.stderr or p.stdout).strip()[-300:]}
     m = json.loads(p.stdout.strip().splitlines()[-1])

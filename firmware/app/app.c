@@ -83,6 +83,9 @@ static void app_start(void)
     target_init();
     valve_init();
     diag_init();
+    /* manual mode never survives a power-up: the valve left where a jog put it would spray a
+     * dose nobody follows (the record keeps it until the next save) */
+    param_put(P_MODE, 0);
     ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
     ctl_select(ap.ctl_id);
     ap.overruns = 0;
@@ -189,15 +192,16 @@ static void app_measure(void)
     app_status.open_nozzles = open;
 }
 
-/* Spray or not: sections on, the tank above its minimum, (auto) the machine moving, no
- * internal fault. Opening starts the start-up closing; shutting saves the lifetime totals.
+/* Spray or not: sections on, the tank above its minimum, the machine moving (in manual mode
+ * too: a boom open at a standstill floods one spot), no internal fault. Opening starts the
+ * start-up closing; shutting saves the lifetime totals.
  * Back to auto: bumpless from the drive now. */
 static void app_spray(void)
 {
     uint8_t manual = app_status.manual;
     uint8_t want = app_status.open_nozzles
                    && !(diag_alarms() & ((1u << AL_TANK_LOW) | (1u << AL_PUMP_DRY)))
-                   && (manual || app_status.speed_kmh_x100 > 0) && !ap.internal && !IO_ON;
+                   && app_status.speed_kmh_x100 > 0 && !ap.internal && !IO_ON;
     /* after power-up the boom does not open into a line over P max (a fixed PTO's pump against a
      * bypass still opening) where the nozzles would spray over twice the target: it waits, shown,
      * until the pressure is under P max, the target over half the nozzle model's flow there, or
@@ -293,16 +297,26 @@ static void app_account(void)
         ap.log_div = APP_LOG_PERIODS;
 }
 
-/* The alarms of the step just run (diag.c, with its figures): the step's longest part, in the
- * pass after it, before anything else of that pass (the valve's poll included), so that they
- * read what the step left. Then the buzzer while alarms are unacked. */
-static void app_diag(void)
+/* The alarms diag_step left into the status: the newly raised ones unacknowledged but the quiet
+ * bits (DIAG_QUIET_BITS, and OFF_RATE in manual mode, where the operator sets the valve), which
+ * show without the buzzer; the buzzer while any is unacked. A function of its own: its figures
+ * stay off the alarms' deep call chain. */
+static void app_alarms(void)
 {
-    uint16_t g = diag_step(&app_status, (ap.diag & APP_DIAG_SETTLED) != 0, (ap.diag & APP_DIAG_P_WATCH) != 0);
-    ap.diag = 0;
-    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms & (uint16_t)~DIAG_QUIET_BITS;
+    uint16_t g = diag_alarms(), quiet = DIAG_QUIET_BITS | (app_status.manual ? 1u << AL_OFFRATE : 0u);
+    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms & (uint16_t)~quiet;
     app_status.alarms = g;
     hal_buzzer(IO_ON ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
+}
+
+/* The alarms of the step just run (diag.c, with its figures): the step's longest part, in the
+ * pass after it, before anything else of that pass (the valve's poll included), so that they
+ * read what the step left. */
+static void app_diag(void)
+{
+    diag_step(&app_status, (ap.diag & APP_DIAG_SETTLED) != 0, (ap.diag & APP_DIAG_P_WATCH) != 0);
+    ap.diag = 0;
+    app_alarms();
 }
 
 /* After a settings change every module derives its constants again (divides, some thousands

@@ -22,7 +22,6 @@ static struct {
     uint8_t want_duty;
     uint8_t limit;                  /* CTL_AT_* */
     uint8_t blocked;                /* periods a stop has been believed */
-    uint8_t refused;                /* this period's demand was refused */
     int8_t mv_dir;                  /* direction of the last moving drive: + closes */
     uint8_t gen;
 } va;
@@ -86,7 +85,6 @@ void valve_init(void)
     va.want_duty = 0;
     va.limit = 0;
     va.blocked = 0;
-    va.refused = 0;
     va.mv_dir = 0;
     hal_valve_out(HAL_VALVE_OFF, 0);
     valve_derive();
@@ -164,13 +162,10 @@ void valve_set(q15_t drive) __reentrant
     } else {
         va.blocked = 0;
     }
-    va.refused = 0;
     if (drive != 0) {
         bit = drive > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;
-        if (va.limit & bit) {
+        if (va.limit & bit)
             drive = 0;
-            va.refused = 1;
-        }
     }
     va.applied = drive;
     if (drive == 0) {
@@ -207,9 +202,9 @@ uint16_t valve_position(void)
     return va.pos;
 }
 
-uint8_t valve_refused(void)
+uint8_t valve_opened_by(uint16_t q15)
 {
-    return va.refused;
+    return va.mv_dir < 0 && va.oneway >= q15;
 }
 
 #if FW_HIL

@@ -44,8 +44,8 @@ uint8_t valve_limit(void);
 q15_t valve_applied(void);
 /* Estimated position, Q15 of the stroke, 0 = closed; VALVE_POS_UNKNOWN before a stop was found. */
 uint16_t valve_position(void);
-/* 1 when this period's demand was refused (the valve is at that stop). */
-uint8_t valve_refused(void);
+/* 1 when the valve was driven open by q15 strokes (Q15) or more since it last moved toward closed. */
+uint8_t valve_opened_by(uint16_t q15);
 /* What the bridge is to drive (dir, duty) and in how many ms: the rest of a reversal's dead
  * time, 0 when it drives it now (hardware in the loop tells the PC's plant). */
 #if FW_HIL

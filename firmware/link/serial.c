@@ -190,7 +190,7 @@ static const __code command_t commands[] = {
 #define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_ACK) | (1u << C_RST) | (1u << C_SAV) \
                  | (1u << C_HIL))
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
-static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ"};
+static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ", "FLOWMAX"};
 
 /* "OK <word>", the numbers (tx_sp_u32) to follow */
 static void ok(const __code char *word) __reentrant

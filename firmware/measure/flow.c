@@ -4,6 +4,9 @@
 #include "umath.h"
 #include "flow.h"
 
+/* the cross-check that keeps every boom within the meter's range (params.c) checks this ceiling */
+typedef char flow_max_is_the_cross_checks[(FLOW_MAX_X100 == PARAM_FLOW_MAX_X100) ? 1 : -1];
+
 static struct {
     uint32_t k;             /* L/min x100 * PCA ticks a pulse: 5.5296e10 / P_METER_K */
     uint32_t last_pca;

@@ -18,6 +18,10 @@ static struct {
     uint16_t quiet;         /* periods since the last pulse */
     uint16_t glitches;
     uint8_t since;          /* periods since the estimate was last measured (slew allowance) */
+    uint16_t v_base;        /* the estimate before the current run of rises (speed_judge_rise) */
+    uint8_t base_age;       /* periods since v_base was taken */
+    uint8_t rises;          /* measured periods in a row that rose as no tractor can from v_base */
+    uint8_t jumped;         /* 1: a rise a tractor cannot make (SPEED_JUMP_PERIODS), until standstill */
     uint8_t gen;
     uint8_t n;              /* elements a turn (P_WHEEL_PPR) */
     uint8_t idx;            /* element of the newest edge */
@@ -102,6 +106,10 @@ void speed_init(void)
     sp.glitches = 0;
     have_edge = 0;
     sp.since = 0;
+    sp.rises = 0;
+    sp.v_base = 0;
+    sp.base_age = 0;
+    sp.jumped = 0;
     sp.n = 0;
     speed_derive();
 }
@@ -313,6 +321,46 @@ static void speed_ahead(void) __reentrant
 #undef d
 }
 
+/* The wheel's plausibility (speed.h SPEED_JUMP_PERIODS): this span's speed v against the estimate
+ * before a run of rises (v_base, measured base_age periods ago): a quarter over it, and over the
+ * rise SPEED_SLEW_X100 a period allows since. */
+static void speed_judge_rise(void) __reentrant
+{
+    if (sp.v_base && v >= sp.v_base + (sp.v_base >> 2)
+        && v > sp.v_base + UMUL(SPEED_SLEW_X100, sp.base_age)) {
+        if (++sp.rises >= SPEED_JUMP_PERIODS)
+            sp.jumped = 1;
+    } else {
+        sp.rises = 0;
+    }
+}
+
+/* The span's speed v judged (speed_judge_rise), then taken as the estimate with its rise
+ * limited to SPEED_SLEW_X100 for each period since the last measurement; out of a run of rises,
+ * the next base. */
+static void speed_slew(void) __reentrant
+{
+    uint32_t lim = (uint32_t)sp.v_x100 + UMUL(SPEED_SLEW_X100, sp.since);
+    speed_judge_rise();
+    if (v > lim)
+        v = lim;
+    sp.v_x100 = (uint16_t)v;
+    sp.since = 0;
+    if (!sp.rises) {
+        sp.v_base = sp.v_x100;
+        sp.base_age = 0;
+    }
+}
+
+/* A period more since the estimate was measured (the slew's allowance) and since v_base. */
+static void speed_age(void) __reentrant
+{
+    if (sp.since < 255)
+        sp.since++;
+    if (sp.base_age < 255)
+        sp.base_age++;
+}
+
 /* Each period after the edges: offsets unlearnt, the tracker's speed, carried on from the newest
  * edge at the acceleration, under the bound v when no edge came (the speed at which the next one
  * would have come, a spacing of SPEED_TK_NEXT; tk_r; tk_w is v). The acceleration decays. */
@@ -340,8 +388,7 @@ uint16_t speed_step(void) __reentrant
     speed_learnt = sp.shift && !(sp.drift & SPEED_FIRST_TURN);
     if (c.rejected)
         sp.glitches += c.rejected;
-    if (sp.since < 255)
-        sp.since++;
+    speed_age();
     if (c.count) {
         uint8_t old = sp.idx, nw;
         uint16_t w = sp.idx + c.count;
@@ -365,12 +412,7 @@ uint16_t speed_step(void) __reentrant
             } else {
                 sp.idx = nw;
                 speed_ahead();
-                /* the rise allowed since the last measurement, period by period */
-                uint32_t lim = (uint32_t)sp.v_x100 + UMUL(SPEED_SLEW_X100, sp.since);
-                if (v > lim)
-                    v = lim;
-                sp.v_x100 = (uint16_t)v;
-                sp.since = 0;
+                speed_slew();
                 if (sp.n > 1)
                     speed_track();      /* (the last use of v in this period's edge) */
             }
@@ -403,8 +445,10 @@ uint16_t speed_step(void) __reentrant
         }
     }
     speed_track_out();
-    if (sp.v_x100 < SPEED_ZERO_X100)
+    if (sp.v_x100 < SPEED_ZERO_X100) {
         sp.v_x100 = 0;
+        sp.jumped = 0;              /* a stop ends the suspicion: the wheel starts again from rest */
+    }
     /* a pulse sooner than a quarter of the period at 1.5 times this speed is not a pulse */
     hal_wheel_min_interval(um_muldiv(sp.k, 1, sp.v_x100 ? UMUL(sp.v_x100, 6u) : SPEED_MAX_X100 * 4ul));
     return sp.v_x100;
@@ -430,6 +474,11 @@ uint16_t speed_glitches(void)
 uint16_t speed_quiet_periods(void)
 {
     return sp.quiet;
+}
+
+uint8_t speed_jumped(void)
+{
+    return sp.jumped;
 }
 
 uint16_t speed_at_last_pulse_x100(void)

@@ -39,6 +39,13 @@
 #define SPEED_ZERO_X100 50u         /* 0.5 km/h: below this, standstill */
 #define SPEED_MAX_X100 6000u        /* 60 km/h: faster pulses are glitches */
 #define SPEED_SLEW_X100 108u        /* 3 m/s^2 over 100 ms = 1.08 km/h */
+/* This many measured periods in a row, each a quarter over the estimate before them and over the
+ * rise SPEED_SLEW_X100 a period allows since (8 -> 12 km/h held 0.3 s, a doubling 8 -> 16), are
+ * a wheel sending pulses a tractor cannot make: a second magnet or sensor, a loose one doubling
+ * the edges (speed_jumped). 3 m/s^2 is 0.3 g: beyond what a tractor drawing a sprayer reaches in
+ * a field (the plant's tractor: 0.5 m/s^2); a bounce doubles one period's span, a spacing error
+ * moves one by a quarter at most. Not from rest (the first spans of a start). */
+#define SPEED_JUMP_PERIODS 3u
 #define SPEED_STALE_PERIODS 100u    /* 10 s without a pulse: the old edge is forgotten */
 #define SPEED_LOST_X100 200u        /* pulses that stop above 2 km/h: a lost sensor, not a stop */
 #define SPEED_TK_ALPHA 166          /* the tracker (speed.c, offsets unlearnt): position gain 0.65, /256 */
@@ -88,6 +95,8 @@ uint32_t speed_pulses(void);
 uint16_t speed_glitches(void);
 /* Control periods since the last wheel pulse (saturates at 65535). */
 uint16_t speed_quiet_periods(void);
+/* 1 from a jump a tractor cannot make (SPEED_JUMP_PERIODS) until the speed is zero again. */
+uint8_t speed_jumped(void);
 /* The speed measured when the last pulse came (for the speed-sensor-lost rule). */
 uint16_t speed_at_last_pulse_x100(void);
 

@@ -12,6 +12,7 @@
 #include "mul.h"
 #include "store.h"
 #include "ctl.h"
+#include "diag_wheel.h"
 
 #define DIAG_AL_CODE(bit, code, text) code,
 #define DIAG_AL_TEXT(bit, code, text) text,
@@ -63,6 +64,7 @@ void diag_init(void)
     dg.offrate_cnt = 0;
     dg.meter_noise = dg.wheel_noise = 0;
     dg.meter_suspect = 0;
+    diag_wheel_init();
     dg.meter_glitches = flow_glitches();
     dg.wheel_glitches = speed_glitches();
     dg.wheel_pulses = (uint16_t)speed_pulses();
@@ -252,8 +254,8 @@ void diag_internal_fault(void)
  * only clears it, diag_offrate counts P_OFFRATE_S to raise it; AL_INTERNAL has no rule) */
 static const __code uint8_t need_periods[AL_COUNT] = {
     DIAG_TANK_PERIODS, DIAG_TANK_PERIODS, DIAG_PDEV_PERIODS, DIAG_PDEV_PERIODS,
-    DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0,
-    DIAG_BAL_PERIODS, 1
+    DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, 1, 1, 0,
+    DIAG_BAL_PERIODS, 1, DIAG_MIN_FLOW_PERIODS
 };
 
 /* One timed rule: `set` for need_periods[bit] periods raises the alarm, `clr` for
@@ -374,23 +376,41 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
     rule(AL_CLOG, judge && g, judge && !g);
 }
 
-/* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S, in auto with the boom settled, at
- * working speed (below it the minimum-flow rule sets the target, and a coupled pump slowing to
- * a headland stop cannot give it). */
+/* Off-rate: |q - q1| > P_OFFRATE % of q1 for P_OFFRATE_S with the boom settled, at working
+ * speed (below it the minimum-flow rule sets the target, and a coupled pump slowing to a
+ * headland stop cannot give it); in manual mode at any speed and after DIAG_MANUAL_PERIODS, a
+ * warning there (app.c: the flow stays where the operator set it as the speed moves). The valve
+ * at an end stop (a pump too small for the rate, a seized valve) is this
+ * rule's too: the rate off target is what the operator must hear, whatever holds it there. */
 static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
     int16_t target = in->target_lpm_x100;
     int16_t qp = in->flow_lpm_x100 - target;
-    uint8_t off = !in->manual && settled && target > 0 && target_working_speed(in->speed_kmh_x100)
-                  && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);    /* |qp| <= 32768 */
+    uint8_t off = settled && target > 0 && (in->manual || target_working_speed(in->speed_kmh_x100))
+                  && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);
     if (dg.alarms & (1u << AL_OFFRATE))
         rule(AL_OFFRATE, 0, !off);
     else if (!off)
         dg.offrate_cnt = 0;
-    else if (++dg.offrate_cnt >= param_v[P_OFFRATE_S] * 10u) {
+    else if (++dg.offrate_cnt >= (in->manual ? DIAG_MANUAL_PERIODS : param_v[P_OFFRATE_S] * 10u)) {
         dg.alarms |= 1u << AL_OFFRATE;
         dg.offrate_cnt = 0;
     }
+}
+
+/* Speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows down
+ * keeps making pulses; one that stops dead from working speed inside one pulse distance is the
+ * false alarm this rule accepts), or the pump says the wheels turn (diag_wheel.c). Minimum flow
+ * (diag_wheel.c). */
+static void diag_speed(const __xdata app_status_t *in) __reentrant
+{
+    uint8_t g = target_speed_given(), pump = diag_pump(in);
+    uint16_t x = speed_quiet_periods();
+    rule(AL_SPEED_LOST, !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()))),
+         g || x < DIAG_SPEED_PERIODS / 2u);
+    x = in->speed_kmh_x100;
+    g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
+    rule(AL_MIN_FLOW, g, !g);
 }
 
 uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_watch) __reentrant
@@ -417,17 +437,8 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
         dg.gen = (uint8_t)(param_generation - 1u);
         diag_set_nozzles(dg.nozzles);
     }
-    /* speed sensor lost: pulses stopped for 2 s after working speed (a tractor that slows
-     * down keeps making pulses; one that stops dead from working speed inside one pulse
-     * distance is the false alarm this rule accepts) */
-    g = target_speed_given();
-    x = speed_quiet_periods();
-    rule(AL_SPEED_LOST, !g && x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()),
-         g || x < DIAG_SPEED_PERIODS / 2u);
+    diag_speed(in);
     diag_offrate(in, settled);
-    /* the valve refused at a stop */
-    g = valve_refused();
-    rule(AL_VALVE_STOP, g, !g);
     /* pulse noise */
     x = flow_glitches();            /* (each count read once: the steps before set them) */
     g = x != dg.meter_glitches;
@@ -452,7 +463,8 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     dg.wheel_pulses += n;           /* (speed_pulses()'s low 16 bits) */
     x = x > n ? x - n : 0;
     dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
-    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60, dg.wheel_noise == 0);
+    /* ... or a rise a tractor cannot make (speed.h SPEED_JUMP_PERIODS), held until a standstill */
+    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || speed_jumped(), dg.wheel_noise == 0 && !speed_jumped());
     return dg.alarms;
 }
 

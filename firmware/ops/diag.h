@@ -20,19 +20,20 @@
     X(AL_LSENS,        "LSENS_FAULT",  "Tank sens fault")  /* level sensor open */ \
     X(AL_OVERPRESSURE, "OVERPRESSURE", "Over-pressure")    /* pressure above P_P_MAX: the valve is opened */ \
     X(AL_OFFRATE,      "OFF_RATE",     "Rate off target")  /* flow off the target by P_OFFRATE % for P_OFFRATE_S */ \
-    X(AL_VALVE_STOP,   "VALVE_STOP",   "Valve at stop")    /* at an end stop and the controller wants more */ \
     X(AL_METER_NOISE,  "METER_NOISE",  "Flowmeter noise")  /* meter pulses faster than the meter can make */ \
     X(AL_WHEEL_NOISE,  "WHEEL_NOISE",  "Wheel noise")      /* wheel pulses faster than 60 km/h */ \
     X(AL_INTERNAL,     "INTERNAL",     "Internal fault")   /* a parameter out of range in RAM: latched, the watchdog resets */ \
     X(AL_METER_CAL,    "METER_CAL",    "Meter/tank cal.")  /* the metered volume off the tank level's fall: Meter K (or Tank size) is wrong */ \
-    X(AL_NOZZLE_WEAR,  "NOZZLE_WEAR",  "Nozzles worn")     /* notice: the held nozzle model passes over 10 % more than the catalog */
+    X(AL_NOZZLE_WEAR,  "NOZZLE_WEAR",  "Nozzles worn")     /* notice: the held nozzle model passes over 10 % more than the catalog */ \
+    X(AL_MIN_FLOW,     "MIN_FLOW",     "MinQ: dose high")  /* warning: the minimum-flow rule holds the dose over Dose by more than 10 % */
 
-/* Alarm bits (app_status.alarms, ops.h). */
+/* Alarm bits (app_status.alarms, ops.h: 16 bits, all used). */
 #define DIAG_AL_ENUM(bit, code, text) bit,
 enum { DIAG_ALARMS(DIAG_AL_ENUM) AL_COUNT };
 #undef DIAG_AL_ENUM
-/* Bits that show on the LCD and the link but do not sound the buzzer (notices). */
-#define DIAG_QUIET_BITS (1u << AL_NOZZLE_WEAR)
+/* Bits that show on the LCD and the link but do not sound the buzzer (notices and warnings);
+ * OFF_RATE is one in manual mode, where the operator sets the valve (app.c). */
+#define DIAG_QUIET_BITS ((1u << AL_NOZZLE_WEAR) | (1u << AL_MIN_FLOW))
 
 /* Persistence and hysteresis, in control periods (100 ms). */
 #define DIAG_TANK_PERIODS 10u       /* 1 s below the minimum */
@@ -40,8 +41,9 @@ enum { DIAG_ALARMS(DIAG_AL_ENUM) AL_COUNT };
 #define DIAG_METER_PERIODS 10u      /* 1 s without meter flow while the pressure says flow */
 #define DIAG_SPEED_PERIODS 20u      /* 2 s without a wheel pulse after working speed */
 #define DIAG_OVERP_PERIODS 3u       /* 0.3 s above P_P_MAX */
-#define DIAG_VALVE_PERIODS 30u      /* 3 s refused at a stop */
 #define DIAG_CLEAR_PERIODS 10u      /* 1 s without the cause clears an alarm */
+#define DIAG_MIN_FLOW_PERIODS 30u   /* 3 s under MinQ speed / 1.1 (a start from rest passes it) */
+#define DIAG_MANUAL_PERIODS 20u     /* manual mode: 2 s off the rate is OFF_RATE (a warning there) */
 #define DIAG_P_CHECK_KPA 30u        /* anti-drip check valves open at 0.3 bar (nozzle model) */
 #define DIAG_MODEL_MIN_X100 500     /* leak/clog/meter rules need 5 L/min or more */
 #define DIAG_METER_RANGE_X100 750   /* ... learning and the fine band 7.5 L/min (the meter's K within 3 %) */

@@ -53,7 +53,9 @@ uint8_t param_put(uint8_t id, uint16_t v)
 
 /* The meter's pulse rate with every nozzle open is f3 = K[0.1 p/L] n Q3[L/min x100] / 60000 Hz
  * at 3 bar, f3 sqrt(P / 300 kPa) at P max: within the budget when f3 <= HZ and
- * f3^2 P / 2048 <= HZ^2 300 / 2048 (the square then fits 32 bits). */
+ * f3^2 P / 2048 <= HZ^2 300 / 2048 (the square then fits 32 bits). The flow itself, n Q3 at 3 bar
+ * and n Q3 sqrt(P / 300 kPa) at P max, in eighths (n Q3 / 8 < 2^15: its square fits 32 bits):
+ * (n Q3 / 8)^2 P / 2048 <= (MAX / 8)^2 300 / 2048. */
 uint8_t params_cross(void)
 {
     uint32_t f3;
@@ -66,6 +68,10 @@ uint8_t params_cross(void)
         || um_mul32x16_shr16(f3 * f3, (uint16_t)(param_v[P_P_MAX] << 5))
            > PARAM_METER_HZ_MAX * PARAM_METER_HZ_MAX * 300u / 2048u)
         return PARAM_X_METER;
+    f3 = UMUL(param_v[P_NOZZLES], param_v[P_NOZZLE_Q3]) >> 3;
+    if (um_mul32x16_shr16(f3 * f3, (uint16_t)(param_v[P_P_MAX] << 5))
+        > (PARAM_FLOW_MAX_X100 / 8u) * (PARAM_FLOW_MAX_X100 / 8u) * 300u / 2048u)
+        return PARAM_X_FLOW;
     return PARAM_OK;
 }
 
@@ -93,12 +99,12 @@ uint8_t param_set(uint8_t id, uint16_t v)
 #endif
 
 static const char __code *const __code why_texts[] = {
-    "", "Out of range", "Tank min>=size", "P start>=P max", "Meter K:too fast"
+    "", "Out of range", "Tank min>=size", "P start>=P max", "Meter K:too fast", "Boom Q>300L/min"
 };
 
 const __code char *param_why_text(uint8_t why)
 {
-    return why <= PARAM_X_METER ? why_texts[why] : "";
+    return why <= PARAM_X_FLOW ? why_texts[why] : "";
 }
 
 const __code param_info_t *param_info(uint8_t id)

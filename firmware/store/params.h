@@ -82,13 +82,19 @@ void params_defaults(void);
  *   PARAM_X_METER     the meter's pulse rate at the largest flow (every nozzle at P max)
  *                     within PARAM_METER_HZ_MAX: each pulse is a PCA interrupt, and a rate
  *                     beyond the budget starves the main loop into a watchdog reset loop
+ *   PARAM_X_FLOW      the largest flow (every nozzle at P max) within PARAM_FLOW_MAX_X100:
+ *                     the meter's range (flow.h FLOW_MAX_X100) and under the target's
+ *                     (327.67 L/min, L/min x100 in 16 bits), so no flow the boom can pass
+ *                     is read as a glitch or held at a clipped target
  */
 #define PARAM_OK 0
 #define PARAM_E_RANGE 1
 #define PARAM_X_TANK 2
 #define PARAM_X_PRESSURE 3
 #define PARAM_X_METER 4
+#define PARAM_X_FLOW 5
 #define PARAM_METER_HZ_MAX 5000UL
+#define PARAM_FLOW_MAX_X100 30000UL
 /* The rule param_v as it is breaks; PARAM_OK. */
 uint8_t params_cross(void) __reentrant;
 /* Set one value if it is in range and keeps every cross-check: PARAM_OK, or why not (nothing changes). */

@@ -345,7 +345,8 @@ static void test_faults_worn_nozzles_and_stiff_check_valves_raise_nothing(void *
 
 /* A family plant's scenario `text` run to `t_end` s: the nozzle model it learnt, and no alarm;
  * its nozzles worn by `wear_pct` over 10 % are a caused NOZZLE_WEAR notice, raised where the
- * model was learnt over the range (its check valves learnt: the wear then seen within a few %). */
+ * model was learnt over the range (its check valves learnt: the wear then seen within a few %).
+ * A MIN_FLOW warning may come: its field drive slows under the minimum-flow speed. */
 static void run_plant_raising_nothing(const char *text, double t_end, const char *what, double wear_pct)
 {
     run_t r;
@@ -356,7 +357,7 @@ static void run_plant_raising_nothing(const char *text, double t_end, const char
            detect_s(&r, AL_LEAK) > 1000 ? "not raised" : "raised",
            detect_s(&r, AL_NOZZLE_WEAR) > 1000 ? "not raised" : "raised", wear_pct);
     for (int b = 0; b < AL_COUNT; b++)
-        if (b != AL_NOZZLE_WEAR || wear_pct <= 10)
+        if ((b != AL_NOZZLE_WEAR || wear_pct <= 10) && b != AL_MIN_FLOW)
             assert_true(detect_s(&r, b) > 1000);
     if (wear_pct >= 13 && diag_nozzle_learnt() == 2)
         assert_true(detect_s(&r, AL_NOZZLE_WEAR) < 1000);

@@ -94,7 +94,7 @@ static void test_valve_stops_driving_into_its_end_stop(void **state)
     assert_true(n >= 46 && n <= 48);         /* 40 for the stroke, 6 past it, 1 to integrate */
     period(-Q15_MAX);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
-    assert_true(valve_refused());
+    assert_true(valve_limit() & CTL_AT_OPEN);
     /* a demand that goes on gets a 0.1-stroke retry every 2 s: 5 periods (4 of travel, 1 to
      * integrate) of every 25 */
     driven = 0;

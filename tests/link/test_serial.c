@@ -376,14 +376,18 @@ static void test_serial_alarm_messages_and_the_buzzer(void **state)
     }
 }
 
-/* manual mode: the operator jogs the valve; auto again starts the controller bumplessly */
+/* manual mode: the boom stays shut at a standstill; the operator jogs the valve; auto again
+ * starts the controller bumplessly */
 static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
 {
     (void)state;
     assert_true(param_set(P_MODE, 1));
     link_run_ms(200);
     assert_true(app_status.manual);
-    assert_true(app_status.spraying);                            /* sections on, tank full */
+    assert_false(app_status.spraying);                           /* standing: never sprays */
+    assert_true(param_set(P_GIVEN_SPEED, 70));
+    link_run_ms(200);
+    assert_true(app_status.spraying);                            /* moving, sections on, tank full */
     assert_string_equal(scmd("JOG +"), "OK JOG");
     link_run_ms(100);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);

@@ -99,6 +99,8 @@ static void values_k(uint16_t *v, int k)
     memcpy(param_v, v, sizeof keep);
     if (params_cross() == PARAM_X_METER)
         v[P_METER_K] = param_v[P_METER_K] = param_info(P_METER_K)->min;   /* 10 p/L */
+    if (params_cross() == PARAM_X_FLOW)
+        v[P_NOZZLE_Q3] = param_v[P_NOZZLE_Q3] = param_info(P_NOZZLE_Q3)->min;   /* 0.10 L/min */
     assert_int_equal(params_cross(), PARAM_OK);
     memcpy(param_v, keep, sizeof keep);
 }

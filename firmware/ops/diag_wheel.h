@@ -1,0 +1,19 @@
+/* diag_wheel.h: the wheel against the pump and the minimum-flow warning (diag_wheel.c), each a period, for diag_step. */
+#ifndef DIAG_WHEEL_H
+#define DIAG_WHEEL_H
+
+#include "compiler.h"
+#include "ops.h"
+
+#define DIAG_PUMP_PERIODS 30u       /* 3 s of line pressure at a wheel standstill on a sprayer
+                                     * whose pump stops with the wheels: SPEED_LOST */
+#define DIAG_PUMP_RUN_KPA 50u       /* ... the pump turns: the line holds this or more */
+#define DIAG_PUMP_STOP_KPA 10u      /* ... the pump stands: the line under this at a standstill */
+#define DIAG_PUMP_OPEN_Q15 16384u   /* ... through the bypass opened half a stroke (a line trapped
+                                     * by the check valves holds with the pump standing) */
+
+void diag_wheel_init(void);
+/* 1 while the pump says the wheels turn at a standstill the wheel reports (SPEED_LOST). */
+uint8_t diag_pump(const __xdata app_status_t *in) __reentrant;
+
+#endif
