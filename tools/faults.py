@@ -41,11 +41,22 @@ def param_id(name):
 
 
 def csum(line):
-    """The serial link's line with its checksum, as the firmware's parser checks it today."""
+    """The serial link's line with its check, as the firmware's parser checks it: the CRC-8 of the
+    body (polynomial 0x65, initial 0, MSB first; docs/PC.md)."""
+    c = 0
+    for ch in line.encode("ascii"):
+        c ^= ch
+        for _ in range(8):
+            c = ((c << 1) ^ 0x65) & 0xFF if c & 0x80 else (c << 1) & 0xFF
+    return "%s*%02X" % (line, c)
+
+
+def xor_check(line):
+    """The link's former check, the XOR of the body's bytes: the attack of the xor_collision row."""
     x = 0
-    for c in line:
-        x ^= ord(c)
-    return "%s*%02X" % (line, x)
+    for ch in line:
+        x ^= ord(ch)
+    return "%02X" % x
 
 
 def drive_rows(*rows):
@@ -130,7 +141,7 @@ def set_then_cut(rate):
 def xor_collision(line):
     # the checksum of the line the operator sent, on a line two bytes away from it
     sent, got = line
-    return dict(text=scenario("%s for %s" % (got, sent), ["%g serial %s*%s" % (T0, got, csum(sent)[-2:])]),
+    return dict(text=scenario("%s for %s" % (got, sent), ["%g serial %s*%s" % (T0, got, xor_check(sent))]),
                 start=T0)
 
 
