@@ -11,7 +11,7 @@
 #include "target.h"
 
 /*
- * Columns are found by name in the header; what a row does not carry is taken from the best
+ * Columns are found by name in the header; what a row does not carry is taken from the closest
  * stand-in, and the JSON's "score_source" says which was used:
  *   time          t_s (required)
  *   ground speed  v_true_kmh (simulator), else the firmware's speed_kmh / v_meas_kmh

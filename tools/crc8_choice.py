@@ -6,7 +6,7 @@ is missed when two flips in the body cancel in the CRC (the syndromes of two bit
 equal), or one flip in the body is cancelled by one flip in a hex digit (the syndrome equals the
 change of the digit's value: a flip that keeps a byte a hex digit changes its value by one of a
 few amounts, 1-8 in a nibble and 3, 6, 7 among them). For each of the 128 CRC-8 polynomials this
-prints how long a body may be with every 1- and 2-bit error caught, best first, and for the
+prints how long a body may be with every 1- and 2-bit error caught, strongest first, and for the
 chosen one the share of two-byte substitutions (any printable bytes at any two places of a
 command) it misses: no 8-bit check catches them all (65,025 changes a pair of places, 256
 check values).
