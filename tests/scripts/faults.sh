@@ -35,7 +35,8 @@ assert abs(d + 12.5) < 1e-9, d
 sc = faults.leak_growing(10)["text"]
 leaks = [l.split() for l in sc.splitlines() if "leak_lpm" in l]
 assert [(float(t), int(v)) for t, _, v in leaks] == [(90 + 20 * k, k + 1) for k in range(10)], leaks
-assert faults.csum("SET 0 100") == "SET 0 100*43"          # 'S'^'E'^'T'^' '^'0'^' '^'1'^'0'^'0'
+assert faults.csum("SET 0 100") == "SET 0 100*EA"          # the CRC-8 (poly 0x65) of docs/SCENARIOS.md's example line
+assert faults.xor_check("SET 0 150") == "46"                # the collision: 'SET 4 110*46'
 assert all(len(s) == 2 for _, _, _, s in faults.FAULTS) and len(faults.FAULTS) == 17
 PYEOF
 then ok "the dose while silent of a hand-made trace: -30 %, -16 % with 6 clogged, -12.5 % at a SET rate; the leak's steps"
