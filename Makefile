@@ -146,7 +146,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests bench sim pil pil-image \
+.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate bench sim pil pil-image \
         sim-progs demo compare family redraw faults report \
         bench-sim panel screenshots clean help FORCE
 
@@ -174,6 +174,7 @@ help:
 	@echo "make hil PORT=/dev/ttyUSB0 SCENARIO=f   the scenario's plant against a flashed board over RS232 (metrics JSON)"
 	@echo "make hil-host SCENARIO=f   the same with the host build standing in for the board (a pseudo-terminal)"
 	@echo "make fuzz [FUZZ_S=60]  libFuzzer (ASan+UBSan) on every parser, FUZZ_S seconds each; fuzz-merge keeps new coverage"
+	@echo "make mutate    the safety rules' mutants against the host tests that cover them; survivors reported (docs/TESTING.md)"
 	@echo "make clean     remove build/"
 	@echo "parts: host-tests, target-tests, sim-progs (build/host/bin/*), pil-image; V=1 shows full commands"
 
@@ -247,6 +248,14 @@ $(TEST_DIR)/fuzz/replay_%: $(TEST_DIR)/tests/fuzz/fuzz_%.o $(TEST_DIR)/tests/fuz
 	@mkdir -p $(dir $@)
 	$(call msg,LD,$@)
 	$(Q)$(CC) $(TEST_LDFLAGS) $^ -lm -o $@
+
+# make mutate [MUTATE_ARGS="--only firmware/ops/diag.c:rule" | "--sample 5 --seed N" | "--list"]: the
+# safety rules' mutants (tools/mutate.py: comparisons flipped, constants off by one, conditions
+# dropped), each built with the host test flags and run against the host tests that cover its file;
+# the survivors reported (docs/TESTING.md)
+MUTATE_ARGS ?=
+mutate: $(UNIT_TESTS) $(TEST_HELPERS) $(TEST_LIB) $(VENV)
+	$(Q)$(PYTHON) tools/mutate.py --cc="$(CC)" --cflags="$(TEST_CFLAGS)" --ldflags="$(TEST_LDFLAGS)" --build $(BUILD) $(MUTATE_ARGS)
 
 # ==== target tests: the SDCC build run in s51 against the same program built for the host ================
 $(UC_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)

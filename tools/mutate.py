@@ -1,0 +1,464 @@
+#!/usr/bin/env python3
+"""mutate.py: mutation testing of the firmware's safety and integrity rules (make mutate).
+
+No C mutation tool is packaged where this project installs from (Debian's apt and PyPI through
+tools/requirements.txt: neither carries mull, dextool or universalmutator's C front end), so this
+is a small harness of the project's own. It takes the functions named in SITES below, makes one
+mutant a change:
+
+  cmp     a comparison flipped (< into >=, == into !=, ...) or moved by its boundary (< into <=)
+  const   an integer constant off by one (a literal, or a #defined constant written in the body)
+  cond    a condition dropped: one operand of && taken as 1, of || as 0; an if's condition as 0
+
+compiles the one mutated file with the host test flags, links it ahead of the host test
+library (so that library's own object of that file is never pulled), runs the host tests that
+cover the file (TESTS below, fastest first) and reports the mutants no test kills. A survivor
+gets a test that kills it, or a line in EQUIVALENT below with the reason.
+
+  tools/mutate.py                    every mutant (make mutate)
+  tools/mutate.py --sample 5 --seed N   five of them drawn with seed N (make test)
+  tools/mutate.py --list [--only FILE[:FUNC]]   the mutants, not run
+  tools/mutate.py --only firmware/ops/diag.c:rule   the mutants of one function (or file)
+
+Sites are keyed on function names, not lines: a rule added to a listed function joins at once;
+a new function joins by a line in SITES. An EQUIVALENT line names the function, the mutated
+line's text and the change, so it follows the line when the file moves around it; one that
+matches no mutant any more is reported as stale.
+"""
+import argparse
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+# ---- what is mutated: file -> the functions whose bodies hold its rules ------------------------
+SITES = {
+    # alarms and their timing
+    "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_step", "x_of"],
+    # the link's checksum, layout and refusals; Raven's strings and their refusals
+    "firmware/link/serial.c": ["hexval", "number", "line_ok", "answer", "run", "serial_poll"],
+    "firmware/link/remote.c": ["remote_command"],
+    # the EEPROM record checks; the settings' ranges and cross-checks
+    "firmware/store/store.c": ["ck_more", "store_load"],
+    "firmware/store/params.c": ["param_in_range", "param_put", "params_cross", "param_try"],
+    # the valve's stops, dead time and reversals
+    "firmware/control/valve.c": ["apply", "integrate", "valve_set"],
+    # the remote window, the minimum-flow rule, working speed
+    "firmware/control/target.c": ["target_rate_window", "target_remote_rate", "target_working_speed",
+                                  "target_flow_x100"],
+    # plausibility: the meter's impossible periods, the sensors' loop currents
+    "firmware/measure/flow.c": ["flow_step"],
+    "firmware/measure/analog.c": ["judge", "analog_step"],
+}
+
+# ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
+TESTS = {
+    "firmware/ops/diag.c": ["test_diag", "test_faults", "test_drive"],
+    "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
+    "firmware/link/remote.c": ["test_raven", "test_serial"],
+    "firmware/store/store.c": ["test_store"],
+    "firmware/store/params.c": ["test_store", "test_serial", "test_console"],
+    "firmware/control/valve.c": ["test_valve", "test_drive", "test_faults"],
+    "firmware/control/target.c": ["test_target", "test_raven", "test_diag"],
+    "firmware/measure/flow.c": ["test_measure", "test_diag"],
+    "firmware/measure/analog.c": ["test_measure", "test_diag"],
+}
+
+# ---- equivalent mutants: (file, function, the line's text, change, reason) --------------------
+EQUIVALENT = [
+]
+
+# a test run longer than this many times its own unmutated time (and TIMEOUT_MIN_S) is a kill
+TIMEOUT_FACTOR = 10
+TIMEOUT_MIN_S = 10
+
+CMP_FLIP = {"<": ">=", ">=": "<", ">": "<=", "<=": ">", "==": "!=", "!=": "=="}
+CMP_EDGE = {"<": "<=", "<=": "<", ">": ">=", ">=": ">"}
+OPS3 = ("<<=", ">>=")
+OPS2 = ("<=", ">=", "==", "!=", "&&", "||", "<<", ">>", "->", "++", "--", "+=", "-=", "*=", "/=",
+        "%=", "&=", "|=", "^=")
+ASSIGN = {"=", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "<<=", ">>="}
+INT_RE = re.compile(r"(0[xX][0-9a-fA-F]+|[0-9]+)([uUlL]*)$")
+
+
+def tokens(text, start, end):
+    """(kind, text, offset) of text[start:end]: comments, strings and characters skipped."""
+    out, i = [], start
+    while i < end:
+        c = text[i]
+        if c.isspace():
+            i += 1
+        elif text.startswith("/*", i):
+            i = text.index("*/", i) + 2
+        elif text.startswith("//", i) or (c == "#" and (i == 0 or text[i - 1] == "\n")):
+            while i < end and text[i] != "\n":     # a comment, or a preprocessor line
+                i += 2 if text[i] == "\\" else 1
+        elif c in "\"'":
+            j = i + 1
+            while text[j] != c:
+                j += 2 if text[j] == "\\" else 1
+            out.append(("str", text[i:j + 1], i))
+            i = j + 1
+        elif c.isalpha() or c == "_":
+            j = i
+            while j < end and (text[j].isalnum() or text[j] == "_"):
+                j += 1
+            out.append(("id", text[i:j], i))
+            i = j
+        elif c.isdigit():
+            j = i
+            while j < end and (text[j].isalnum() or text[j] in "._"):
+                j += 1
+            out.append(("num", text[i:j], i))
+            i = j
+        else:
+            for op in OPS3 + OPS2 + (c,):
+                if text.startswith(op, i):
+                    out.append(("op", op, i))
+                    i += len(op)
+                    break
+    return out
+
+
+def function_body(text, name):
+    """(start, end) offsets of the body's braces of function `name`, or None."""
+    for m in re.finditer(r"^[A-Za-z_][^;{}()]*\b%s\s*\(" % re.escape(name), text, re.M):
+        toks = tokens(text, m.end() - 1, len(text))
+        depth = 0
+        for k, (kind, t, off) in enumerate(toks):
+            if t == "(":
+                depth += 1
+            elif t == ")":
+                depth -= 1
+                if depth == 0:
+                    rest = toks[k + 1:]
+                    # after the parameters: attributes (__reentrant ...) then a body, or ; (a prototype)
+                    j = 0
+                    while j < len(rest) and rest[j][0] == "id":
+                        j += 1
+                    if j < len(rest) and rest[j][1] == "{":
+                        return brace_span(text, rest[j][2])
+                    break
+    return None
+
+
+def table_body(text, name):
+    """(start, end) of the initializer's braces of the array `name` (a table of periods, limits)."""
+    m = re.search(r"\b%s\s*\[[^\]]*\]\s*=\s*\{" % re.escape(name), text)
+    return brace_span(text, m.end() - 1) if m else None
+
+
+def brace_span(text, open_at):
+    depth = 0
+    for kind, t, off in tokens(text, open_at, len(text)):
+        if t == "{":
+            depth += 1
+        elif t == "}":
+            depth -= 1
+            if depth == 0:
+                return open_at, off + 1
+    raise ValueError("unbalanced braces")
+
+
+def numeric_defines(paths):
+    """Names #defined as an integer constant in these files: the constants a body may move by one."""
+    names = set()
+    for p in paths:
+        with open(p) as f:
+            for line in f:
+                m = re.match(r"\s*#\s*define\s+([A-Z][A-Z0-9_]*)\s+\(?\s*-?(0[xX][0-9a-fA-F]+|[0-9]+)[uUlL]*\s*\)?\s*(/[*/].*)?$", line)
+                if m:
+                    names.add(m.group(1))
+    return names
+
+
+def operand_span(toks, i, step, op):
+    """The operand of the && or || at toks[i] on one side (step +1 right, -1 left): (first, last)
+    token indices, and the token that ended it (None at the end)."""
+    stops = {"||", "?", ":", ";", ",", "{", "}", "return"} | ASSIGN
+    if op == "&&":
+        stops |= {"&&"}
+    depth, j = 0, i + step
+    while 0 <= j < len(toks):
+        t = toks[j][1]
+        if t in "([" and len(t) == 1:
+            if step < 0 and depth == 0:
+                break
+            depth += step
+        elif t in ")]" and len(t) == 1:
+            if step > 0 and depth == 0:
+                break
+            depth -= step
+        elif depth == 0 and t in stops:
+            break
+        j += step
+    first, last = sorted((i + step, j - step))
+    return first, last, (toks[j][1] if 0 <= j < len(toks) else None)
+
+
+def in_comparisons(toks):
+    """Indices of the tokens inside a comparison's operands: the constants moved by one are the
+    ones a rule compares against (a threshold, a count, a bound), not every 0 a reset writes."""
+    stops = {"&&", "||", "?", ":", ";", ",", "{", "}", "return"} | ASSIGN | set(CMP_FLIP)
+    marked = set()
+    for i, (kind, t, off) in enumerate(toks):
+        if kind != "op" or t not in CMP_FLIP:
+            continue
+        for step in (1, -1):
+            depth, j = 0, i + step
+            while 0 <= j < len(toks):
+                u = toks[j][1]
+                if u in ("(", "["):
+                    if step < 0 and depth == 0:
+                        break
+                    depth += step
+                elif u in (")", "]"):
+                    if step > 0 and depth == 0:
+                        break
+                    depth -= step
+                elif depth == 0 and u in stops:
+                    break
+                marked.add(j)
+                j += step
+    return marked
+
+
+class Mutant:
+    def __init__(self, path, func, kind, start, end, orig, repl, line_no, line_text):
+        self.path, self.func, self.kind = path, func, kind
+        self.start, self.end, self.orig, self.repl = start, end, orig, repl
+        self.line_no, self.line_text = line_no, line_text
+        self.equivalent = None
+        self.nth = 1
+
+    def change(self):
+        """The change as EQUIVALENT names it; "#2" and on: the same change again on the same line."""
+        return "%s -> %s%s" % (" ".join(self.orig.split()), self.repl, " #%d" % self.nth if self.nth > 1 else "")
+
+    def name(self):
+        return "%s:%d %s() %s: %s" % (self.path, self.line_no, self.func, self.kind, self.change())
+
+
+def mutants_of(path, funcs, consts):
+    with open(path) as f:
+        text = f.read()
+    out = []
+
+    def add(func, kind, start, end, repl):
+        line_no = text.count("\n", 0, start) + 1
+        line_text = text.splitlines()[line_no - 1].strip()
+        out.append(Mutant(path, func, kind, start, end, text[start:end], repl, line_no, line_text))
+
+    for func in funcs:
+        span = function_body(text, func) or table_body(text, func)
+        if span is None:
+            sys.exit("mutate.py: %s has no function %s (SITES is out of date)" % (path, func))
+        toks = tokens(text, span[0], span[1])
+        table = toks and toks[0][1] == "{" and text[span[0] - 1:span[0]] != ")" and func in text[:span[0]].rsplit("\n", 1)[-1]
+        compared = set(range(len(toks))) if table else in_comparisons(toks)
+        for i, (kind, t, off) in enumerate(toks):
+            if kind == "op" and t in CMP_FLIP:
+                add(func, "cmp", off, off + len(t), CMP_FLIP[t])
+                if t in CMP_EDGE:
+                    add(func, "cmp", off, off + len(t), CMP_EDGE[t])
+            elif kind == "num" and i in compared:
+                m = INT_RE.match(t)
+                if not m or (i > 0 and toks[i - 1][1] == "case"):
+                    continue                # a float, or a case label (a duplicate case, no mutant)
+                v = int(m.group(1), 0)
+                hexa = m.group(1)[:2].lower() == "0x"
+                for w in (v + 1, v - 1):
+                    if w >= 0:
+                        add(func, "const", off, off + len(t), (hex(w) if hexa else str(w)) + m.group(2))
+            elif kind == "id" and t in consts and i in compared and not (i > 0 and toks[i - 1][1] == "case"):
+                add(func, "const", off, off + len(t), "(%s + 1)" % t)
+                add(func, "const", off, off + len(t), "(%s - 1)" % t)
+            elif kind == "op" and t in ("&&", "||"):
+                neutral = "1" if t == "&&" else "0"
+                f, l, _ = operand_span(toks, i, +1, t)
+                add(func, "cond", toks[f][2], toks[l][2] + len(toks[l][1]), neutral)
+                f, l, stop = operand_span(toks, i, -1, t)
+                if stop != t:               # the chain's first operand (the others are right ones)
+                    add(func, "cond", toks[f][2], toks[l][2] + len(toks[l][1]), neutral)
+            elif kind == "id" and t == "if" and i + 1 < len(toks) and toks[i + 1][1] == "(":
+                depth, j = 0, i + 1
+                while True:
+                    depth += {"(": 1, ")": -1}.get(toks[j][1], 0)
+                    if depth == 0:
+                        break
+                    j += 1
+                add(func, "cond", toks[i + 2][2], toks[j - 1][2] + len(toks[j - 1][1]), "0")
+    seen = {}
+    for m in out:
+        k = (m.func, m.line_text, m.change())
+        seen[k] = seen.get(k, 0) + 1
+        m.nth = seen[k]
+    return out, text
+
+
+def mark_equivalents(muts):
+    """Each EQUIVALENT line on its mutants; the lines that match none (stale) returned."""
+    used = set()
+    for m in muts:
+        for k, (path, func, line, change, why) in enumerate(EQUIVALENT):
+            if m.path == path and m.func == func and m.line_text == line and m.change() == change:
+                m.equivalent = why
+                used.add(k)
+    return [e for k, e in enumerate(EQUIVALENT) if k not in used]
+
+
+# ---- building and running ----------------------------------------------------------------------
+class Runner:
+    def __init__(self, args, texts):
+        self.cc = args.cc
+        self.cflags = args.cflags.split()
+        self.ldflags = args.ldflags.split()
+        self.build = args.build
+        self.texts = texts
+        self.work = os.path.join(self.build, "mutate")
+        os.makedirs(self.work, exist_ok=True)
+        self.lib = os.path.join(self.build, "host-test", "libsprayer.a")
+        self.helpers = sorted(
+            os.path.join(self.build, "host-test", p[:-2] + ".o")
+            for p in subprocess.run(["sh", "-c", "ls tests/*/helper_*.c"], capture_output=True,
+                                    text=True).stdout.split())
+        self.base_s = {}
+
+    def test_obj(self, name):
+        for layer in sorted(os.listdir("tests")):
+            p = os.path.join("tests", layer, name + ".c")
+            if os.path.exists(p):
+                return os.path.join(self.build, "host-test", "tests", layer, name + ".o")
+        return None
+
+    def tests_for(self, path):
+        return [t for t in TESTS.get(path, []) if self.test_obj(t) and os.path.exists(self.test_obj(t))]
+
+    def baseline(self, names):
+        """The unmutated tests must pass; their times set the timeouts."""
+        for t in names:
+            if t in self.base_s:
+                continue
+            exe = os.path.join(self.build, "host-test", t)
+            t0 = time.time()
+            r = subprocess.run([exe], capture_output=True)
+            if r.returncode != 0:
+                sys.exit("mutate.py: %s fails without a mutant: fix it first" % exe)
+            self.base_s[t] = time.time() - t0
+
+    def run(self, m, idx):
+        """'killed by T', 'survived', or 'not built' (the compiler refused the mutant: a kill too)."""
+        d = tempfile.mkdtemp(prefix="m%d-" % idx, dir=self.work)
+        try:
+            src = os.path.join(d, os.path.basename(m.path))
+            text = self.texts[m.path]
+            with open(src, "w") as f:
+                f.write(text[:m.start] + m.repl + text[m.end:])
+            obj = src[:-2] + ".o"
+            # the mutated copy compiles as the file itself would: its own folder first on the path
+            inc = ["-I" + os.path.dirname(m.path)]
+            r = subprocess.run([self.cc] + self.cflags + inc + ["-c", src, "-o", obj], capture_output=True)
+            if r.returncode != 0:
+                return "not built"
+            for t in self.tests_for(m.path):
+                exe = os.path.join(d, t)
+                r = subprocess.run([self.cc] + self.ldflags + [self.test_obj(t)] + self.helpers
+                                   + [obj, self.lib, "-lcmocka", "-lm", "-o", exe], capture_output=True)
+                if r.returncode != 0:
+                    return "killed by link (%s)" % t
+                lim = max(TIMEOUT_MIN_S, TIMEOUT_FACTOR * self.base_s[t])
+                try:
+                    r = subprocess.run([exe], capture_output=True, timeout=lim)
+                except subprocess.TimeoutExpired:
+                    return "killed by %s (over %.0f s)" % (t, lim)
+                if r.returncode != 0:
+                    return "killed by %s" % t
+            return "survived"
+        finally:
+            shutil.rmtree(d, ignore_errors=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cc", default=os.environ.get("CC", "cc"))
+    ap.add_argument("--cflags", default="")
+    ap.add_argument("--ldflags", default="-fsanitize=address,undefined")
+    ap.add_argument("--build", default=os.environ.get("BUILD", "build"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--sample", type=int, default=0, help="run this many mutants drawn at random")
+    ap.add_argument("--seed", type=int, default=None)
+    ap.add_argument("--only", action="append", default=[], help="FILE or FILE:FUNCTION")
+    ap.add_argument("--list", action="store_true")
+    args = ap.parse_args()
+
+    t0 = time.time()
+    headers = [os.path.join(dp, f) for dp, _, fs in os.walk("firmware") for f in fs if f.endswith(".h")]
+    muts, texts = [], {}
+    for path, funcs in SITES.items():
+        consts = numeric_defines(headers + [path])
+        if args.only:
+            keep = [o.split(":", 1) for o in args.only if o.split(":", 1)[0] == path]
+            if not keep:
+                continue
+            if all(len(k) == 2 for k in keep):
+                funcs = [f for f in funcs if f in {k[1] for k in keep}]
+        ms, texts[path] = mutants_of(path, funcs, consts)
+        muts += ms
+    stale = mark_equivalents(muts)
+    live = [m for m in muts if not m.equivalent]
+    for path, func, line, change, why in stale:
+        print("stale equivalent (matches no mutant): %s %s() '%s' %s" % (path, func, line, change))
+    if args.list:
+        for m in muts:
+            print(m.name() + ("   [equivalent: %s]" % m.equivalent if m.equivalent else ""))
+        print("%d mutants, %d listed as equivalent" % (len(muts), len(muts) - len(live)))
+        return 0
+    if args.sample:
+        seed = args.seed if args.seed is not None else random.randrange(1 << 16)
+        print("mutate: sample of %d, seed %d (tools/mutate.py --sample %d --seed %d repeats it)"
+              % (args.sample, seed, args.sample, seed))
+        live = random.Random(seed).sample(live, min(args.sample, len(live)))
+
+    runner = Runner(args, texts)
+    runner.baseline(sorted({t for m in live for t in runner.tests_for(m.path)}))
+    results = [None] * len(live)
+
+    def one(k):
+        results[k] = runner.run(live[k], k)
+        return k
+
+    done = 0
+    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        for k in pool.map(one, range(len(live))):
+            done += 1
+            if args.sample or results[k] == "survived":
+                print("%-9s %s" % ("SURVIVED" if results[k] == "survived" else "killed", live[k].name()),
+                      flush=True)
+            elif done % 25 == 0:
+                print("  %d of %d mutants run, %.0f s" % (done, len(live), time.time() - t0), flush=True)
+
+    surv = [m for m, r in zip(live, results) if r == "survived"]
+    by = {}
+    for m, r in zip(live, results):
+        k = by.setdefault(m.path, [0, 0, 0])
+        k[0] += 1
+        k[1] += r == "survived"
+    for m in muts:
+        if m.equivalent and m.path in by:
+            by[m.path][2] += 1
+    print("mutate: per file: mutants run, survivors, listed equivalent")
+    for p, (n, s, e) in by.items():
+        print("  %-28s %4d %4d %4d" % (p, n, s, e))
+    print("mutate: %d mutants run, %d killed, %d survived, %d listed as equivalent (not run); %.0f s on %d jobs"
+          % (len(live), len(live) - len(surv), len(surv), sum(1 for m in muts if m.equivalent),
+             time.time() - t0, args.jobs))
+    return 1 if surv else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
