@@ -328,6 +328,7 @@ class Runner:
             for p in subprocess.run(["sh", "-c", "ls tests/*/helper_*.c"], capture_output=True,
                                     text=True).stdout.split())
         self.base_s = {}
+        self.tests = {}
 
     def test_obj(self, name):
         for layer in sorted(os.listdir("tests")):
@@ -337,7 +338,11 @@ class Runner:
         return None
 
     def tests_for(self, path):
-        return [t for t in TESTS.get(path, []) if self.test_obj(t) and os.path.exists(self.test_obj(t))]
+        """The tests of TESTS built now (taken once: a test built during the run does not join)."""
+        if path not in self.tests:
+            self.tests[path] = [t for t in TESTS.get(path, [])
+                                if self.test_obj(t) and os.path.exists(self.test_obj(t))]
+        return self.tests[path]
 
     def baseline(self, names):
         """The unmutated tests must pass; their times set the timeouts."""

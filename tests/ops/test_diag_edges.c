@@ -1,0 +1,452 @@
+/* test_diag.c: each alarm rule driven with synthetic inputs, period by period: one period before its stated count silent, on the count raised, and its clearing edge. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+#include "hal_host.h"
+#include "params.h"
+#include "ops.h"
+#include "diag.h"
+#include "flow.h"
+#include "speed.h"
+#include "valve.h"
+#include "target.h"
+#include "ctl.h"
+#include "analog.h"
+
+#define PERIOD_NS 100000000ull
+#define NOZZLES 36u                 /* params' default: every section open */
+
+/* The synthetic sprayer: pulse trains for the wheel and the meter, the status diag_step reads,
+ * the valve's demand. */
+static struct {
+    uint64_t now_ns;
+    double wheel_next, wheel_ns;    /* 0 ns: no pulses */
+    double meter_next, meter_ns;
+    uint64_t meter_last;            /* the newest meter edge pushed */
+    app_status_t st;
+    uint8_t settled, p_watch;
+    q15_t drive;
+} sy;
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_host_reset();
+    params_defaults();
+    speed_init();
+    flow_init();
+    analog_init();
+    valve_init();
+    target_init();
+    diag_init();
+    memset(&sy, 0, sizeof sy);
+    sy.st.tank_l = 500;
+    sy.settled = 1;
+    sy.p_watch = 1;
+    return 0;
+}
+
+static double meter_ns_of(double lpm)
+{
+    return 60.0 / (param_v[P_METER_K] / 10.0 * lpm) * 1e9;
+}
+
+static double wheel_ns_of(double kmh)
+{
+    return param_v[P_WHEEL] / 10000.0 / (kmh / 3.6) * 1e9;
+}
+
+static void meter(double lpm)
+{
+    sy.meter_ns = lpm > 0 ? meter_ns_of(lpm) : 0;
+    if (sy.meter_next < (double)sy.now_ns)
+        sy.meter_next = (double)sy.now_ns + 1e6;
+}
+
+static void wheel(double kmh)
+{
+    sy.wheel_ns = kmh > 0 ? wheel_ns_of(kmh) : 0;
+    if (sy.wheel_next < (double)sy.now_ns)
+        sy.wheel_next = (double)sy.now_ns + 1e6;
+}
+
+/* One control period as app.c runs it: the pulses up to its end measured, the valve driven, the
+ * rules judged. Returns the alarm bits. */
+static uint16_t period(void)
+{
+    sy.now_ns += PERIOD_NS;
+    hal_host_set_time_ns(sy.now_ns);
+    while (sy.wheel_ns > 0 && sy.wheel_next <= (double)sy.now_ns) {
+        hal_host_wheel_edge((uint64_t)sy.wheel_next);
+        sy.wheel_next += sy.wheel_ns;
+    }
+    while (sy.meter_ns > 0 && sy.meter_next <= (double)sy.now_ns) {
+        sy.meter_last = (uint64_t)sy.meter_next;
+        hal_host_flow_edge(sy.meter_last);
+        sy.meter_next += sy.meter_ns;
+    }
+    speed_step();
+    sy.st.flow_lpm_x100 = flow_step();
+    diag_set_nozzles(NOZZLES);
+    valve_set(sy.drive);
+    return diag_step(&sy.st, sy.settled, sy.p_watch);
+}
+
+static int on(uint16_t alarms, int bit)
+{
+    return (alarms >> bit) & 1u;
+}
+
+/* Periods until `bit` is raised (or cleared, `want` 0), at most `max`; max + 1 when it never is. */
+static int periods_until(int bit, int want, int max)
+{
+    for (int n = 1; n <= max; n++)
+        if (on(period(), bit) == want)
+            return n;
+    return max + 1;
+}
+
+/* the nozzles' pressure for q L/min by the told model (3 bar at the rated flow, 0.3 bar check
+ * valves), worked by hand: P = 30 + 300 (q / (n Q3))^2 kPa */
+static uint16_t told_kpa(double lpm)
+{
+    double r = lpm / (NOZZLES * param_v[P_NOZZLE_Q3] / 100.0);
+    return (uint16_t)lround(30.0 + 300.0 * r * r);
+}
+
+/* Working speed and the meter steady at q with the pressure the told model gives it. */
+static void spraying(double kmh, double lpm, int periods)
+{
+    wheel(kmh);
+    meter(lpm);
+    sy.st.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
+    sy.st.target_lpm_x100 = (int16_t)lround(lpm * 100);
+    sy.st.pressure_kpa = told_kpa(lpm);
+    for (int i = 0; i < periods; i++)
+        assert_int_equal(period(), 0);
+}
+
+/* ---- tank, pump, sensors, pressure ----------------------------------------------------------- */
+static void test_tank_low_after_10_periods_cleared_after_10_refilled(void **state)
+{
+    (void)state;
+    setup(NULL);
+    sy.st.tank_l = (uint16_t)(param_v[P_TANK_MIN] - 1u);
+    assert_int_equal(periods_until(AL_TANK_LOW, 1, 20), 10);
+    /* the refill must clear the minimum by Tank size / 64 + 1 L: 30 + 15 + 1 = 46 L */
+    sy.st.tank_l = (uint16_t)(param_v[P_TANK_MIN] + param_v[P_TANK_L] / 64u);
+    assert_int_equal(periods_until(AL_TANK_LOW, 0, 30), 31);
+    sy.st.tank_l++;
+    assert_int_equal(periods_until(AL_TANK_LOW, 0, 20), 10);
+    /* at the minimum itself the tank is not low */
+    setup(NULL);
+    sy.st.tank_l = param_v[P_TANK_MIN];
+    assert_int_equal(periods_until(AL_TANK_LOW, 1, 30), 31);
+}
+
+static void test_pump_dry_at_1_percent_after_10_periods(void **state)
+{
+    (void)state;
+    setup(NULL);
+    sy.st.tank_l = (uint16_t)(param_v[P_TANK_L] / 100u + 1u);     /* 11 L of 1000: not dry */
+    assert_int_equal(periods_until(AL_PUMP_DRY, 1, 30), 31);
+    sy.st.tank_l--;                                                 /* 10 L: 1 %, dry */
+    assert_int_equal(periods_until(AL_PUMP_DRY, 1, 20), 10);
+    sy.st.tank_l = 500;
+    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 20), 10);
+}
+
+static void test_overpressure_after_3_periods_over_p_max_cleared_under_95_percent(void **state)
+{
+    (void)state;
+    setup(NULL);
+    sy.st.pressure_kpa = param_v[P_P_MAX];                          /* at P max: not over */
+    assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 20), 21);
+    sy.st.pressure_kpa++;
+    assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 3);  /* 0.3 s */
+    /* 5 % hysteresis: 456 kPa is 95 % of 480, not under it; 455 is */
+    sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MAX] * 95u / 100u);
+    assert_int_equal(periods_until(AL_OVERPRESSURE, 0, 20), 21);
+    sy.st.pressure_kpa--;
+    assert_int_equal(periods_until(AL_OVERPRESSURE, 0, 20), 10);
+    /* not watched (the bypass not parked, nothing sprayed): no alarm */
+    sy.p_watch = 0;
+    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 11);
+}
+
+/* ---- speed sensor ---------------------------------------------------------------------------- */
+static void test_speed_lost_20_periods_after_the_last_pulse_at_working_speed(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    for (int i = 0; i < 40; i++)
+        assert_false(on(period(), AL_SPEED_LOST));
+    wheel(0);
+    /* the quiet periods count from the first period without a pulse: the 20th raises */
+    int n = 0;
+    while (speed_quiet_periods() == 0 && n < 5) {
+        assert_false(on(period(), AL_SPEED_LOST));
+        n++;
+    }
+    assert_int_equal(speed_quiet_periods(), 1);
+    assert_int_equal(periods_until(AL_SPEED_LOST, 1, 40), 20 - 1);
+    assert_int_equal(speed_quiet_periods(), 20);
+    /* pulses again: cleared once fewer than 10 periods are quiet, for 10 periods */
+    wheel(8.0);
+    assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+}
+
+static void test_speed_lost_not_below_working_speed_nor_with_a_given_speed(void **state)
+{
+    (void)state;
+    setup(NULL);
+    /* 3.9 km/h, under MinQ speed's 4.0: a slow tractor's stop is no fault */
+    wheel(3.9);
+    for (int i = 0; i < 60; i++)
+        period();
+    wheel(0);
+    assert_int_equal(periods_until(AL_SPEED_LOST, 1, 60), 61);
+    setup(NULL);
+    wheel(4.1);
+    for (int i = 0; i < 60; i++)
+        period();
+    wheel(0);
+    assert_true(periods_until(AL_SPEED_LOST, 1, 60) <= 21);
+    setup(NULL);
+    assert_true(param_set(P_GIVEN_SPEED, 80));
+    wheel(8.0);
+    for (int i = 0; i < 40; i++)
+        period();
+    wheel(0);
+    assert_int_equal(periods_until(AL_SPEED_LOST, 1, 60), 61);
+}
+
+/* ---- the flow meter against the nozzle model ------------------------------------------------- */
+static void test_meter_lost_after_10_suspect_periods(void **state)
+{
+    (void)state;
+    setup(NULL);
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    /* suspect from the 3rd period without a pulse (DIAG_METER_QUIET) */
+    int quiet = 0;
+    while (!diag_meter_suspect() && quiet < 10) {
+        assert_false(on(period(), AL_METER_LOST));
+        quiet++;
+    }
+    assert_int_equal(quiet, 3);
+    /* that was the first suspect period: the 10th raises, the 9th is silent */
+    assert_int_equal(periods_until(AL_METER_LOST, 1, 30), 10 - 1);
+    /* pulses again: cleared after 10 periods with a reading */
+    meter(30.0);
+    int n = periods_until(AL_METER_LOST, 0, 30);
+    assert_in_range(n, 10, 11);   /* the first pulse's period may read no rate */
+}
+
+static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void **state)
+{
+    (void)state;
+    /* under P start (100 kPa) the check valves may be shut: a silent meter is no fault */
+    setup(NULL);
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - 1u);
+    assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
+    sy.st.pressure_kpa = param_v[P_P_MIN];
+    assert_true(periods_until(AL_METER_LOST, 1, 40) <= 10);
+    /* below working speed */
+    setup(NULL);
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    sy.st.speed_kmh_x100 = (uint16_t)(param_v[P_MINF_SPEED] * 10u - 1u);
+    assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
+    /* the boom not settled (starting up) */
+    setup(NULL);
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    sy.settled = 0;
+    assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
+    /* the model's flow at the pressure under 5 L/min (DIAG_MODEL_MIN_X100), P start 0: 34 kPa
+     * is 4.9 L/min on the told model, 35 kPa 5.5 L/min */
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_P_MIN, 0));
+        spraying(8.0, 30.0, 30);
+        meter(0);
+        sy.st.pressure_kpa = told_kpa(k ? 5.6 : 4.9);
+        assert_int_equal(diag_nozzle_flow_x100(sy.st.pressure_kpa, NOZZLES) < 500, !k);
+        assert_int_equal(periods_until(AL_METER_LOST, 1, 40) <= 40, k);
+    }
+}
+
+/* ---- off-rate -------------------------------------------------------------------------------- */
+static void test_off_rate_at_its_set_time_and_percentage(void **state)
+{
+    (void)state;
+    setup(NULL);
+    spraying(8.0, 30.0, 20);
+    /* the flow the diag reads is the status's: 10 % off exactly is not off, 10.01 % is */
+    sy.st.target_lpm_x100 = 3000;
+    meter(0);
+    sy.meter_ns = 0;
+    for (int k = 0; k < 2; k++) {
+        uint16_t need = param_v[P_OFFRATE_S] * 10u;     /* 5 s: 50 periods */
+        int n;
+        for (n = 1; n <= 100; n++) {
+            sy.st.flow_lpm_x100 = k ? 3301 : 3300;
+            uint16_t a = diag_step(&sy.st, 1, 1);
+            if (on(a, AL_OFFRATE))
+                break;
+        }
+        assert_int_equal(n, k ? need : 101);
+    }
+    /* cleared after 10 periods back on target */
+    int n;
+    for (n = 1; n <= 30; n++) {
+        sy.st.flow_lpm_x100 = 3000;
+        if (!on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
+            break;
+    }
+    assert_int_equal(n, 10);
+    /* low by as much counts too; one period on target starts the count again */
+    for (n = 1; n <= 100; n++) {
+        sy.st.flow_lpm_x100 = n == 30 ? 3000 : 2699;
+        if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
+            break;
+    }
+    assert_int_equal(n, 30 + param_v[P_OFFRATE_S] * 10);
+    /* a set time of 2 s: 20 periods */
+    setup(NULL);
+    assert_true(param_set(P_OFFRATE_S, 2));
+    for (n = 1; n <= 100; n++) {
+        sy.st.target_lpm_x100 = 3000;
+        sy.st.flow_lpm_x100 = 2000;
+        sy.st.speed_kmh_x100 = 800;
+        if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
+            break;
+    }
+    assert_int_equal(n, 20);
+}
+
+static void test_off_rate_not_in_manual_unsettled_nor_below_working_speed(void **state)
+{
+    (void)state;
+    for (int c = 0; c < 4; c++) {
+        setup(NULL);
+        sy.st.target_lpm_x100 = 3000;
+        sy.st.flow_lpm_x100 = 1500;
+        sy.st.speed_kmh_x100 = c == 2 ? param_v[P_MINF_SPEED] * 10u - 1u : param_v[P_MINF_SPEED] * 10u;
+        sy.st.manual = c == 1;
+        int n;
+        for (n = 1; n <= 100; n++)
+            if (on(diag_step(&sy.st, c != 3, 1), AL_OFFRATE))
+                break;
+        printf("# off-rate case %d: %d periods\n", c, n);
+        assert_int_equal(n, c == 0 ? 50 : 101);
+    }
+}
+
+/* ---- leak and clog ---------------------------------------------------------------------------- */
+/* the nozzle model learnt from clean spraying at two flows (its fit needs their squares spread) */
+static void learn_model(void)
+{
+    for (int i = 0; i < 600 && diag_nozzle_learnt() != 2; i++) {
+        double q = (i / 100) % 2 ? 20.0 : 40.0;
+        spraying(8.0, q, 1);
+    }
+    assert_int_equal(diag_nozzle_learnt(), 2);
+}
+
+static void test_leak_and_clog_after_20_periods_off_the_learnt_model(void **state)
+{
+    (void)state;
+    setup(NULL);
+    learn_model();
+    spraying(8.0, 30.0, 10);
+    uint16_t p = told_kpa(30.0);
+    /* the fine band: P_PDEV / 2 = 15 % of the pressure above the check valves */
+    uint16_t lo = (uint16_t)(30 + (p - 30) * 0.85 - 3), hi = (uint16_t)(30 + (p - 30) * 1.15 + 3);
+    sy.st.pressure_kpa = lo;
+    assert_int_equal(periods_until(AL_LEAK, 1, 40), 20);
+    sy.st.pressure_kpa = p;
+    assert_int_equal(periods_until(AL_LEAK, 0, 30), 10);
+    sy.st.pressure_kpa = hi;
+    assert_int_equal(periods_until(AL_CLOG, 1, 40), 20);
+    sy.st.pressure_kpa = p;
+    assert_int_equal(periods_until(AL_CLOG, 0, 30), 10);
+    /* inside the band: nothing */
+    sy.st.pressure_kpa = (uint16_t)(lo + 6);
+    assert_int_equal(periods_until(AL_LEAK, 1, 40), 41);
+    sy.st.pressure_kpa = (uint16_t)(hi - 6);
+    assert_int_equal(periods_until(AL_CLOG, 1, 40), 41);
+}
+
+/* While the target moves by more than 1/128 of itself a period the meter lags the pressure: no
+ * leak or clog is judged then, and a steady target is judged again. */
+static void test_leak_not_judged_while_the_target_moves(void **state)
+{
+    (void)state;
+    setup(NULL);
+    learn_model();
+    spraying(8.0, 30.0, 10);
+    sy.st.pressure_kpa = (uint16_t)(told_kpa(30.0) * 0.6);
+    /* the target ramps by 1/100 of itself a period, down and up */
+    for (int i = 0; i <= 60; i++) {
+        sy.st.target_lpm_x100 = (int16_t)(3000 + ((i / 10) % 2 ? 30 : -30) * (i % 10));
+        assert_false(on(period(), AL_LEAK));
+    }
+    /* by 1/200 a period: judged */
+    int n;
+    for (n = 1; n <= 40; n++) {
+        sy.st.target_lpm_x100 = (int16_t)(3000 + 15 * n);
+        if (on(period(), AL_LEAK))
+            break;
+    }
+    assert_int_equal(n, 20);
+}
+
+/* ---- pulse noise ------------------------------------------------------------------------------- */
+static void test_meter_noise_on_the_fourth_glitching_period(void **state)
+{
+    (void)state;
+    setup(NULL);
+    spraying(8.0, 30.0, 10);
+    /* a glitch: an edge at the same PCA count as the one before (the meter's train stopped).
+     * Score +20 a glitching period, -1 a quiet one: 20, 40, 60 (not above 60), 80 raises */
+    sy.meter_ns = 0;
+    for (int g = 1; g <= 4; g++) {
+        hal_host_flow_edge(sy.meter_last);
+        uint16_t a = period();
+        assert_int_equal(flow_glitches(), g);
+        assert_int_equal(on(a, AL_METER_NOISE), g == 4);
+    }
+    /* the score falls by 1 a period from 80: at 0 after 80 periods, then 10 more clear it */
+    int n = periods_until(AL_METER_NOISE, 0, 200);
+    assert_int_equal(n, 80 + 10);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tank_low_after_10_periods_cleared_after_10_refilled),
+        cmocka_unit_test(test_pump_dry_at_1_percent_after_10_periods),
+        cmocka_unit_test(test_overpressure_after_3_periods_over_p_max_cleared_under_95_percent),
+        cmocka_unit_test(test_speed_lost_20_periods_after_the_last_pulse_at_working_speed),
+        cmocka_unit_test(test_speed_lost_not_below_working_speed_nor_with_a_given_speed),
+        cmocka_unit_test(test_meter_lost_after_10_suspect_periods),
+        cmocka_unit_test(test_meter_lost_needs_p_start_working_speed_and_a_settled_boom),
+        cmocka_unit_test(test_off_rate_at_its_set_time_and_percentage),
+        cmocka_unit_test(test_off_rate_not_in_manual_unsettled_nor_below_working_speed),
+        cmocka_unit_test(test_leak_and_clog_after_20_periods_off_the_learnt_model),
+        cmocka_unit_test(test_leak_not_judged_while_the_target_moves),
+        cmocka_unit_test(test_meter_noise_on_the_fourth_glitching_period),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
