@@ -128,6 +128,46 @@ static void test_target_eq1_matches_the_formula_over_the_range(void **state)
         }
 }
 
+/* A field computer's rate: within Remote win % of Dose and never under 10 L/ha, Dose's least.
+ * Dose 10 L/ha, window 50 %: 5.0 .. 15.0 L/ha by the window, 10.0 .. 15.0 taken; Remote off:
+ * nothing taken; every refusal counted. */
+static void test_target_remote_rate_window_and_its_10_l_ha_floor(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_REMOTE, 1));
+    assert_true(param_set(P_RATE, 10));
+    assert_true(param_set(P_REMOTE_WIN, 50));
+    uint8_t r0 = target_remote_refusals();
+    assert_int_equal(target_remote_rate(99), 0);       /* 9.9 L/ha: inside the window, under the floor */
+    assert_int_equal(target_remote_rate(100), 1);
+    assert_int_equal(target_rate_x10(), 100);
+    assert_int_equal(target_remote_rate(150), 1);      /* the window's top: 10 + 50 % */
+    assert_int_equal(target_remote_rate(151), 0);
+    assert_int_equal(target_rate_x10(), 150);
+    assert_int_equal(target_remote_refusals(), (uint8_t)(r0 + 2));
+    /* Dose 150, window 10 %: 135.0 .. 165.0 */
+    assert_true(param_set(P_RATE, 150));
+    assert_true(param_set(P_REMOTE_WIN, 10));
+    assert_int_equal(target_remote_rate(1349), 0);
+    assert_int_equal(target_remote_rate(1350), 1);
+    assert_int_equal(target_remote_rate(1650), 1);
+    assert_int_equal(target_remote_rate(1651), 0);
+    assert_true(param_set(P_REMOTE, 0));
+    assert_int_equal(target_remote_rate(1500), 0);     /* Remote off */
+    assert_int_equal(target_remote_refusals(), (uint8_t)(r0 + 5));
+}
+
+/* Working speed is MinQ speed and up (4.0 km/h by default), the minimum-flow rule under it. */
+static void test_target_working_speed_from_minq_speed_up(void **state)
+{
+    (void)state;
+    assert_int_equal(target_working_speed(399), 0);
+    assert_int_equal(target_working_speed(400), 1);
+    assert_true(param_set(P_MINF_SPEED, 55));
+    assert_int_equal(target_working_speed(549), 0);
+    assert_int_equal(target_working_speed(550), 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -136,6 +176,8 @@ int main(void)
         cmocka_unit_test_setup(test_target_counts_the_nozzles_of_the_switched_on_sections, setup),
         cmocka_unit_test_setup(test_target_eq1_matches_the_formula_over_the_range, setup),
         cmocka_unit_test_setup(test_target_gain_factor_for_the_nozzles_open, setup),
+        cmocka_unit_test_setup(test_target_remote_rate_window_and_its_10_l_ha_floor, setup),
+        cmocka_unit_test_setup(test_target_working_speed_from_minq_speed_up, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

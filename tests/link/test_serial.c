@@ -168,6 +168,32 @@ static void test_serial_commands_read_and_set_parameters_strictly(void **state)
     assert_string_equal(cmd("TOT\n"), "OK TOT 0 0 0");
 }
 
+/* Every wrong checksum of a changing line is refused, those that share a digit with the right
+ * one too (a corruption that moves only the high digit's bits, or only the low's); the right one
+ * is taken in either case of its hex letters. */
+static void test_serial_every_wrong_checksum_is_refused(void **state)
+{
+    (void)state;
+    link_run_ms(200);
+    const char *c = "SET 0 130";
+    unsigned x = 0;
+    for (const char *p = c; *p; p++)
+        x ^= (uint8_t)*p;
+    char l[32];
+    for (unsigned k = 0; k < 256; k++) {
+        if (k == x)
+            continue;
+        snprintf(l, sizeof l, "%s*%02X\r\n", c, k);
+        assert_string_equal(cmd(l), "ERR CSUM");
+        assert_int_equal(param_v[P_RATE], 150);
+    }
+    snprintf(l, sizeof l, "%s*%02x\r\n", c, x);
+    assert_string_equal(cmd(l), "OK 0 130");
+    assert_string_equal(scmd("SET 0 120"), "OK 0 120");
+    snprintf(l, sizeof l, "%s*%02X\r\n", c, x);
+    assert_string_equal(cmd(l), "OK 0 130");
+}
+
 /* Commands that change something are refused without their checksum: a line that lost a
  * digit ("SET 0 150" arriving as "SET 0 10") would otherwise be a valid command. Those that
  * only read need none. Cross-checks between parameters answer with their reason. */
@@ -421,6 +447,7 @@ int main(void)
         cmocka_unit_test_setup(test_serial_alarm_messages_and_the_buzzer, setup),
         cmocka_unit_test_setup(test_serial_manual_jog_drives_the_valve_for_a_jog, setup),
         cmocka_unit_test_setup(test_serial_changing_commands_require_their_checksum, setup),
+        cmocka_unit_test_setup(test_serial_every_wrong_checksum_is_refused, setup),
         cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
         cmocka_unit_test_setup(test_serial_sav_answers_when_its_save_has_ended, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),

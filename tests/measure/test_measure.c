@@ -174,6 +174,41 @@ static void test_speed_rejects_a_burst_of_impossible_pulses(void **state)
     assert_true(v <= 701);
 }
 
+/* 60 km/h is the fastest a wheel pulse train may mean (SPEED_MAX_X100): a train at 62 km/h from
+ * rest is glitches, every period's, and the speed stays 0; one at 57 km/h is read as a speed
+ * with no glitch once it has risen to it. */
+static void test_speed_above_60_kmh_is_a_glitch(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        train_t w = {0};
+        setup(NULL);
+        now_ns = 0;
+        hal_host_set_time_ns(0);
+        w.on = 1;
+        w.next_ns = 10e6;
+        w.period_ns = wheel_period_ns(k ? 57.0 : 62.0);
+        uint16_t v = 0, g = 0, vmin = 0xFFFF;
+        for (int i = 0; i < 150; i++) {
+            advance(&w, NULL);
+            v = speed_step();
+            if (i == 99)
+                g = speed_glitches();
+            if (i >= 100 && v < vmin)
+                vmin = v;
+        }
+        printf("# %s km/h: %u glitches in the last 50 periods, speed at least %u\n", k ? "57" : "62",
+               speed_glitches() - g, vmin);
+        if (k) {
+            assert_int_equal(speed_glitches(), g);
+            assert_true(vmin >= 5000);
+        } else {
+            assert_true(speed_glitches() >= g + 50);
+            assert_int_equal(v, 0);
+        }
+    }
+}
+
 /* A wheel of 12 elements whose positions are off by a fixed pattern (+-3 % of a spacing, summing
  * to zero over a turn), at a steady 7 km/h: a single period would read the pattern as speed, up
  * to 5 % off; until the offsets are learnt the tracker's filter on the edges' positions takes
@@ -682,6 +717,7 @@ int main(void)
         cmocka_unit_test_setup(test_speed_falls_as_the_missing_pulse_allows_and_is_zero_at_standstill, setup),
         cmocka_unit_test_setup(test_speed_tracker_follows_a_step_and_settles, setup),
         cmocka_unit_test_setup(test_speed_rejects_a_burst_of_impossible_pulses, setup),
+        cmocka_unit_test_setup(test_speed_above_60_kmh_is_a_glitch, setup),
         cmocka_unit_test_setup(test_speed_learns_the_element_spacing_and_drops_bounce, setup),
         cmocka_unit_test_setup(test_speed_learns_a_wheel_whose_spans_differ_by_a_quarter, setup),
         cmocka_unit_test_setup(test_speed_does_not_learn_a_change_of_speed_as_spacing, setup),
