@@ -26,12 +26,21 @@
 static struct {
     uint64_t now_ns;
     double wheel_next, wheel_ns;    /* 0 ns: no pulses */
+    uint8_t bounce;                 /* a second edge 0.1 ms after each wheel pulse */
     double meter_next, meter_ns;
     uint64_t meter_last;            /* the newest meter edge pushed */
     app_status_t st;
     uint8_t settled, p_watch;
     q15_t drive;
 } sy;
+
+/* the 4-20 mA inputs, ADC counts (1023 at 5 V, 250 ohm): 12 mA each until a test opens one */
+static uint16_t adc_counts[2];
+
+static uint16_t adc(uint8_t ch)
+{
+    return ch < 2 ? adc_counts[ch] : 0;
+}
 
 static int setup(void **state)
 {
@@ -44,6 +53,8 @@ static int setup(void **state)
     valve_init();
     target_init();
     diag_init();
+    adc_counts[0] = adc_counts[1] = 614;
+    hal_host_adc_source(adc);
     memset(&sy, 0, sizeof sy);
     sy.st.tank_l = 500;
     sy.settled = 1;
@@ -83,6 +94,8 @@ static uint16_t period(void)
     hal_host_set_time_ns(sy.now_ns);
     while (sy.wheel_ns > 0 && sy.wheel_next <= (double)sy.now_ns) {
         hal_host_wheel_edge((uint64_t)sy.wheel_next);
+        if (sy.bounce)
+            hal_host_wheel_edge((uint64_t)sy.wheel_next + 100000u);
         sy.wheel_next += sy.wheel_ns;
     }
     while (sy.meter_ns > 0 && sy.meter_next <= (double)sy.now_ns) {
@@ -92,6 +105,7 @@ static uint16_t period(void)
     }
     speed_step();
     sy.st.flow_lpm_x100 = flow_step();
+    analog_step();
     diag_set_nozzles(NOZZLES);
     valve_set(sy.drive);
     return diag_step(&sy.st, sy.settled, sy.p_watch);
@@ -226,6 +240,36 @@ static void test_speed_lost_not_below_working_speed_nor_with_a_given_speed(void 
         period();
     wheel(0);
     assert_int_equal(periods_until(AL_SPEED_LOST, 1, 60), 61);
+}
+
+/* ---- the 4-20 mA sensors ------------------------------------------------------------------------ */
+/* analog.c debounces an open loop (under 3.6 mA) over 3 periods; the alarm follows in the same
+ * period the sensor is judged faulty, and clears 10 periods after it is judged good again. */
+static void test_sensor_faults_in_the_period_the_input_is_judged_faulty(void **state)
+{
+    (void)state;
+    static const int bit[2] = {AL_PSENS, AL_LSENS};
+    for (int ch = 0; ch < 2; ch++) {
+        setup(NULL);
+        for (int i = 0; i < 5; i++)
+            assert_int_equal(period(), 0);
+        adc_counts[ch] = 179;                   /* 3.5 mA */
+        int n;
+        for (n = 1; n <= 10; n++) {
+            uint16_t a = period();
+            uint8_t ok = ch ? analog_level_ok() : analog_pressure_ok();
+            assert_int_equal(on(a, bit[ch]), !ok);
+            if (!ok)
+                break;
+        }
+        assert_int_equal(n, 3);
+        adc_counts[ch] = 614;
+        /* judged good after 10 periods, the alarm cleared 10 after that */
+        for (n = 1; n <= 40; n++)
+            if (!on(period(), bit[ch]))
+                break;
+        assert_int_equal(n, 10 + 10 - 1);
+    }
 }
 
 /* ---- the flow meter against the nozzle model ------------------------------------------------- */
@@ -432,6 +476,51 @@ static void test_meter_noise_on_the_fourth_glitching_period(void **state)
     assert_int_equal(n, 80 + 10);
 }
 
+/* The wheel's score: +8 a rejected pulse, -1 a good one, never under 0; above 60 the alarm, in
+ * the period the score passes 60; a score back at 0 for 10 periods clears it. A bounce 0.1 ms
+ * after every pulse at 8 km/h (the input drops those it can tell; the score counts them). */
+static void test_wheel_noise_in_the_period_its_score_passes_60(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    for (int i = 0; i < 30; i++)
+        assert_int_equal(period(), 0);
+    int score = 0, n;
+    uint16_t g = speed_glitches();
+    uint32_t p = speed_pulses();
+    for (n = 1; n <= 20; n++) {
+        sy.bounce = 1;
+        uint16_t a = period();
+        int rej = (uint16_t)(speed_glitches() - g), good = (int)(speed_pulses() - p);
+        g = speed_glitches();
+        p = speed_pulses();
+        score += 8 * rej - good;
+        if (score < 0)
+            score = 0;
+        assert_int_equal(on(a, AL_WHEEL_NOISE), score > 60);
+        if (score > 60)
+            break;
+    }
+    assert_true(n <= 20);
+    /* clean pulses again: the score falls by one a pulse */
+    sy.bounce = 0;
+    int k;
+    for (k = 1; k <= 200; k++) {
+        uint32_t p0 = speed_pulses();
+        uint16_t a = period();
+        score -= (int)(speed_pulses() - p0);
+        if (score < 0)
+            score = 0;
+        assert_int_equal(on(a, AL_WHEEL_NOISE), 1);
+        if (score == 0)
+            break;
+    }
+    assert_int_equal(periods_until(AL_WHEEL_NOISE, 0, 20), 10 - 1);   /* the period at 0 is the first of 10 */
+    printf("# wheel noise cleared %d periods after the bounce stopped\n", k);
+    assert_int_equal(score, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -447,6 +536,8 @@ int main(void)
         cmocka_unit_test(test_leak_and_clog_after_20_periods_off_the_learnt_model),
         cmocka_unit_test(test_leak_not_judged_while_the_target_moves),
         cmocka_unit_test(test_meter_noise_on_the_fourth_glitching_period),
+        cmocka_unit_test(test_sensor_faults_in_the_period_the_input_is_judged_faulty),
+        cmocka_unit_test(test_wheel_noise_in_the_period_its_score_passes_60),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
