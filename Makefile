@@ -146,7 +146,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate bench sim pil pil-image \
+.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate sabotage bench sim pil pil-image \
         sim-progs demo compare family redraw faults report \
         bench-sim panel screenshots clean help FORCE
 
@@ -276,6 +276,16 @@ $(TEST_DIR)/target/tt_%: $(TEST_DIR)/tests/target/tt_%.o $(TEST_DIR)/tests/targe
 	$(Q)$(CC) $^ $(TEST_LDFLAGS) -lm -o $@
 
 target-tests: $(TT_IHX) $(TT_HOST)
+
+# make sabotage SAB=n: tt_ops for s51 with routine n of mul.h's FX_SABOTAGE list built wrong (its
+# file alone compiled with the switch, linked ahead of the s51 library) in $(UC_DIR)/sabotage-n/;
+# tools/run_tests.sh shows the s51 comparison catching each of them
+SAB_FILES := mul mul mul mul mul_round mul_round mul_round mul_round mul_round fixed fixed umath umath umath
+SAB ?= 1
+sabotage: $(UC_DIR)/fw.lib $(UC_TT_REL) $(UC_DIR)/tests/target/tt_ops.rel
+	@mkdir -p $(UC_DIR)/sabotage-$(SAB)
+	$(Q)$(SDCC) $(UC_CFLAGS) -DFX_SABOTAGE=$(SAB) -c firmware/math/$(word $(SAB),$(SAB_FILES)).c -o $(UC_DIR)/sabotage-$(SAB)/sab.rel
+	$(Q)$(SDCC) $(UC_CFLAGS) $(SDCC_LDFLAGS) $(UC_DIR)/tests/target/tt_ops.rel $(UC_DIR)/sabotage-$(SAB)/sab.rel $(UC_TT_REL) -L $(UC_DIR) -l fw.lib -o $(UC_DIR)/sabotage-$(SAB)/tt_ops.ihx > $(UC_DIR)/sabotage-$(SAB)/link.log 2>&1 || { cat $(UC_DIR)/sabotage-$(SAB)/link.log; exit 1; }
 
 # ==== processor in the loop: the whole firmware in s51, the plant on the host (hal/pil, sim/pil_host.c) ====
 $(PIL_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)

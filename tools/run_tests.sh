@@ -96,11 +96,22 @@ callcheck_catches() {  # a caller pushing the second argument of a callee that r
     ! python3 tools/callcheck.py "$d"
 }
 check callcheck-catches-a-pushed-argument-read-from-xram callcheck_catches
-sabotage_is_caught() {  # the controllers' multiply (mul_ab) wrong on the target only must break the comparison
-    make $B/ucsim-variant/tt_fixed.ihx SDCC_EXTRA=-DFX_SABOTAGE || return 1
-    ! tools/run_target.sh $B/ucsim-variant/tt_fixed.ihx $B/host-test/target/tt_fixed $B/ucsim-variant
+sabotage_is_caught() {  # sabotage_is_caught N: routine N of mul.h's FX_SABOTAGE list wrong on the target only must break the comparison
+    make sabotage SAB="$1" || return 1
+    ! tools/run_target.sh $B/ucsim/sabotage-$1/tt_ops.ihx $B/host-test/target/tt_ops $B/ucsim/sabotage-$1
 }
-check target-comparison-catches-a-different-bit sabotage_is_caught
+n=0
+for r in mul_ab mac_ab dot_ab upd_ab umul_ab mul_r15 mul_r12 acc_shr15 acc_shr12 fx_sat16 fx_tanh \
+         um_mul32x16_shr16 um_muldiv um_scaled_div; do
+    n=$((n + 1))
+    check "target-comparison-catches-$r-wrong" sabotage_is_caught $n
+done
+
+echo "# mutation sample: 5 mutants of the safety rules (tools/mutate.py; make mutate runs them all)"
+mutate_seed=${MUTATE_SEED:-$((RANDOM % 10000))}
+echo "# mutation sample seed $mutate_seed (MUTATE_SEED=$mutate_seed repeats it)"
+check "mutation-sample-seed-$mutate_seed-no-survivor" make mutate MUTATE_ARGS="--sample 5 --seed $mutate_seed"
+grep -E '^(killed|SURVIVED)' "$log/mutation-sample-seed-$mutate_seed-no-survivor.log" | sed 's/^/# /'
 
 for s in tests/scripts/*.sh; do
     [ -x "$s" ] || continue

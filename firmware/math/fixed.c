@@ -15,6 +15,9 @@ int16_t fx_sat16(int32_t x) __naked
         jnz 00011$              ; >= 65536: above the top
         mov a,dph
         jb acc.7,00011$         ; 32768 .. 65535: above the top
+#if FX_SABOTAGE == 10
+        orl dpl,#1              ; in range, made odd (wrong bits on purpose, mul.h)
+#endif
         ret
 00011$:
         mov dptr,#0x7fff
@@ -69,5 +72,8 @@ q15_t fx_tanh(q12_t x) __reentrant
         f = (uint8_t)(ax & 63u);
         y += (int16_t)(((uint16_t)((uint8_t)d * f) + ((uint16_t)((uint8_t)((uint16_t)d >> 8) * f) << 8) + 32u) >> 6);
     }
+#if defined(__SDCC) && FX_SABOTAGE == 11
+    y |= 1;                 /* wrong bits on purpose (mul.h) */
+#endif
     return x < 0 ? (q15_t)-y : (q15_t)y;
 }

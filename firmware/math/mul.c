@@ -8,8 +8,8 @@ __data int32_t mul_acc;
 __data int16_t upd_eg, upd_lim;
 __data uint16_t upd_dw;
 
-/* mul_r = mul_a * mul_b, also returned (dpl, dph, b, a); -DFX_SABOTAGE: deliberately wrong bits,
- * only for the test that proves the s51 comparison can fail, never in a real build */
+/* mul_r = mul_a * mul_b, also returned (dpl, dph, b, a); FX_SABOTAGE (mul.h): wrong bits on
+ * purpose, only for the test that proves the s51 comparison can fail */
 int32_t mul_ab(void) __naked
 {
     __asm
@@ -34,7 +34,7 @@ int32_t mul_ab(void) __naked
         subb a,(_mul_a + 1)
         mov (_mul_r + 3),a
 00002$:
-#ifdef FX_SABOTAGE
+#if FX_SABOTAGE == 1
         orl _mul_r,#1           ; the product made odd (wrong bits on purpose)
 #endif
         mov dpl,_mul_r
@@ -61,6 +61,9 @@ void mac_ab(void) __naked
         mov a,(_mul_acc + 3)
         addc a,(_mul_r + 3)
         mov (_mul_acc + 3),a
+#if FX_SABOTAGE == 2
+        xrl (_mul_acc + 2),#1   ; the sum 2^16 off (wrong bits on purpose)
+#endif
         ret
     __endasm;
 }
@@ -171,6 +174,9 @@ void dot_ab(uint8_t n) __naked
         addc a,(_mul_acc + 3)
         mov (_mul_acc + 3),a
         djnz _mul_r,00010$
+#if FX_SABOTAGE == 3
+        xrl (_mul_acc + 2),#1   ; the sum 2^16 off (wrong bits on purpose)
+#endif
         pop ar7
         pop ar6
         pop ar5
@@ -190,6 +196,9 @@ void upd_ab(uint16_t n_s) __naked
 {
     (void)n_s;
     __asm
+#if FX_SABOTAGE == 4
+        xrl (_upd_eg + 1),#1    ; the error 256 off (wrong bits on purpose)
+#endif
         push ar0
         push ar1
         push ar2

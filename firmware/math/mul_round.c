@@ -13,6 +13,9 @@ uint32_t umul_ab(void) __naked
         mov dpl,_mul_r
         mov dph,(_mul_r + 1)
         mov b,(_mul_r + 2)
+#if FX_SABOTAGE == 5
+        orl dpl,#1              ; the product made odd (wrong bits on purpose)
+#endif
         ret
 _mul_u::
         mov a,_mul_a
@@ -76,6 +79,9 @@ int32_t mul_r15(void) __naked
         mov dph,a               ; bits 23..30, C = the sign
         subb a,acc              ; 0x00 or 0xff
         mov b,a
+#if FX_SABOTAGE == 6
+        orl dpl,#1              ; the result made odd (wrong bits on purpose)
+#endif
         ret
     __endasm;
 }
@@ -93,6 +99,9 @@ int32_t acc_shr15(void) __naked
         mov dph,a
         subb a,acc
         mov b,a
+#if FX_SABOTAGE == 8
+        orl dpl,#1              ; the result made odd (wrong bits on purpose)
+#endif
         ret
     __endasm;
 }
@@ -135,6 +144,9 @@ int32_t mul_r12(void) __naked
         mov b,a
         rlc a
         subb a,acc
+#if FX_SABOTAGE == 7
+        orl dpl,#1              ; the result made odd (wrong bits on purpose)
+#endif
         ret
     __endasm;
 }
@@ -167,6 +179,9 @@ int32_t acc_shr12(void) __naked
         mov b,a
         rlc a
         subb a,acc
+#if FX_SABOTAGE == 9
+        orl dpl,#1              ; the result made odd (wrong bits on purpose)
+#endif
         ret
     __endasm;
 }

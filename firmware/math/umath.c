@@ -46,6 +46,9 @@ uint32_t um_mul32x16_shr16(uint32_t a, uint16_t b) __reentrant
     uint32_t hi = UMUL(a >> 16, b);             /* both factors fit 16 bits: < 2^32 */
     uint32_t lo = UMUL(a, b);                   /* (the low 16 bits of a) */
     uint32_t r = hi + ((lo + 0x8000u) >> 16);
+#if defined(__SDCC) && FX_SABOTAGE == 12
+    r |= 1;                                     /* wrong bits on purpose (mul.h) */
+#endif
     return r < hi ? 0xFFFFFFFFUL : r;
 }
 
@@ -60,6 +63,9 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant
         return 0;
     if (d == 0)
         return 0xFFFFFFFFUL;
+#if defined(__SDCC) && FX_SABOTAGE == 13
+    a += a >> 8;                                /* wrong bits on purpose (mul.h) */
+#endif
     p = a;
     e = -(int8_t)norm32((__idata uint32_t *)&p);    /* a = (p >> 16) * 2^(16 + e) */
     p = UMUL(p >> 16, n);                       /* < 2^32, not 0 */
@@ -91,7 +97,11 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant
 uint32_t um_scaled_div(uint32_t num, uint16_t m, uint32_t d) __reentrant
 {
     uint32_t q = num / d;                       /* (the remainder without a remainder routine) */
+#if defined(__SDCC) && FX_SABOTAGE == 14
+    return (q * m + ((num - q * d) * m + d / 2u) / d) | 1u;     /* wrong bits on purpose (mul.h) */
+#else
     return q * m + ((num - q * d) * m + d / 2u) / d;
+#endif
 }
 
 uint16_t um_sqrt32(uint32_t x) __reentrant
