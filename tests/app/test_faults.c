@@ -127,8 +127,9 @@ static double follow_error_pct(double seconds)
 
 #define RELIEF_BAR 5.0
 
-/* meter lost: detected within 2 s, the pressure fallback holds the dose within 5 %,
- * back on the meter within 3 s of its return */
+/* meter lost: detected within 1.5 s (the rule: 1 s of suspicion, which starts 0.3 s after the
+ * last pulse), the pressure fallback holds the dose within 0.75 % (+0.34 % pid, -0.12 % ffmap
+ * measured), back on the meter within 3 s of its return, following within 1 % (0.42 %, 0.13 %) */
 static void test_faults_meter_lost_falls_back_to_pressure_and_holds_the_dose(void **state)
 {
     run_t r;
@@ -144,8 +145,8 @@ static void test_faults_meter_lost_falls_back_to_pressure_and_holds_the_dose(voi
     printf("# meter lost: detected after %.2f s, dose with the pressure fallback %+.2f %% "
            "(40-140 s window 50-140 s), p max %.2f bar, %.2f s driven into a stop\n",
            detect_s(&r, AL_METER_LOST), dose_err, r.p_max_bar, r.stop_drive_s);
-    assert_true(detect_s(&r, AL_METER_LOST) <= 2.0);
-    assert_true(fabs(dose_err) <= 5.0);
+    assert_true(detect_s(&r, AL_METER_LOST) <= 1.5);
+    assert_true(fabs(dose_err) <= 0.75);
     assert_true(r.p_max_bar < RELIEF_BAR);
     assert_true(r.stop_drive_s <= 0.5);
     assert_true(active(AL_METER_LOST));
@@ -154,7 +155,7 @@ static void test_faults_meter_lost_falls_back_to_pressure_and_holds_the_dose(voi
     assert_false(active(AL_METER_LOST));
     double e = follow_error_pct(20);
     printf("# meter back: mean flow error %.2f %% over 20 s\n", e);
-    assert_true(e <= 3.0);
+    assert_true(e <= 1.0);
 }
 
 /* speed sensor lost at 7 km/h: alarm within 2.5 s, the boom shuts as the speed estimate
@@ -185,7 +186,7 @@ static void test_faults_speed_sensor_lost_alarms_and_spraying_resumes(void **sta
     assert_false(active(AL_SPEED_LOST));
     double e = follow_error_pct(20);
     printf("# speed back: mean flow error %.2f %% over 20 s\n", e);
-    assert_true(e <= 3.0);
+    assert_true(e <= 1.3);                      /* 0.64 % pid, 0.27 % ffmap */
 }
 
 /* pressure sensor open: fault within 0.5 s, the flow loop goes on on the meter */
@@ -201,8 +202,8 @@ static void test_faults_pressure_sensor_open_is_a_fault_and_control_goes_on(void
     double e = follow_error_pct(30);
     printf("# pressure sensor open: fault after %.2f s, flow error meanwhile %.2f %%\n",
            detect_s(&r, AL_PSENS), e);
-    assert_true(detect_s(&r, AL_PSENS) <= 0.5);
-    assert_true(e <= 3.0);
+    assert_true(detect_s(&r, AL_PSENS) <= 0.5);  /* 3 periods of debounce */
+    assert_true(e <= 1.0);                      /* 0.31 % pid, 0.43 % ffmap */
     run_to(&r, 80);
     run_init(&r, 80);
     run_to(&r, 82.5);
@@ -270,7 +271,7 @@ static void test_faults_most_nozzles_clogged_is_a_clog_not_a_lost_meter(void **s
 }
 
 /* A leak of a tenth of the flow, and 3 of 36 nozzles clogged, on the nozzle model learnt from
- * the sprayer: each seen within 10 s. (7 km/h, 150 L/ha: 31.5 L/min at about 1.95 bar, where a
+ * the sprayer: each seen within 5 s (2.3 s and 2.0 s measured: the rule's 2 s). (7 km/h, 150 L/ha: 31.5 L/min at about 1.95 bar, where a
  * leak of 3.9 L/min at 3 bar passes 3.1 L/min.) */
 static void test_faults_small_leak_and_few_clogs_are_seen(void **state)
 {
@@ -283,7 +284,7 @@ static void test_faults_small_leak_and_few_clogs_are_seen(void **state)
     run_init(&r, 40);
     run_to(&r, 80);
     printf("# leak 10 %% of the flow: LEAK after %.2f s\n", detect_s(&r, AL_LEAK));
-    assert_true(detect_s(&r, AL_LEAK) <= 10.0);
+    assert_true(detect_s(&r, AL_LEAK) <= 5.0);   /* 2.31 s measured, the rule's 2 s and a period */
     assert_true(detect_s(&r, AL_CLOG) > 100);
     start("40 clog_nozzles 3\n80 clog_nozzles 0", "", "pto_coupled = 0", 7);
     run_init(&r, 0);
@@ -292,7 +293,7 @@ static void test_faults_small_leak_and_few_clogs_are_seen(void **state)
     run_init(&r, 40);
     run_to(&r, 80);
     printf("# 3 of 36 nozzles clogged: CLOG after %.2f s\n", detect_s(&r, AL_CLOG));
-    assert_true(detect_s(&r, AL_CLOG) <= 10.0);
+    assert_true(detect_s(&r, AL_CLOG) <= 5.0);   /* 2.01 s */
     assert_true(detect_s(&r, AL_LEAK) > 100);
 }
 
@@ -532,7 +533,7 @@ static void test_faults_empty_tank_sprays_nothing_and_the_dry_pump_alarms(void *
     assert_false(active(AL_TANK_LOW) || active(AL_PUMP_DRY));
     double e = follow_error_pct(20);
     printf("# refilled: mean flow error %.2f %% over 20 s\n", e);
-    assert_true(e <= 3.0);
+    assert_true(e <= 0.6);                      /* 0.09 % pid, 0.26 % ffmap */
 }
 
 /* the valve stuck at 11 km/h, then a third of the boom shut: the line pressure rises past
@@ -567,11 +568,11 @@ static void test_faults_over_pressure_with_a_stuck_valve(void **state)
     assert_true(r.p_max_bar < 4.8);
     double e = follow_error_pct(20);
     printf("# valve freed: mean flow error %.2f %% over 20 s\n", e);
-    assert_true(e <= 3.0);
+    assert_true(e <= 1.0);                      /* 0.06 % pid, 0.42 % ffmap */
 }
 
 /* the valve stuck, then the tractor slows from 11 to 6 km/h: the flow stays, the target
- * falls; OFF_RATE within P_OFFRATE_S (5 s) + 0.5 s of the error passing P_OFFRATE (10 %) */
+ * falls; OFF_RATE P_OFFRATE_S (5 s) after the error passes P_OFFRATE (10 %), -0.2 .. +0.1 s */
 static void test_faults_off_rate_when_the_flow_cannot_follow(void **state)
 {
     run_t r;
@@ -592,7 +593,9 @@ static void test_faults_off_rate_when_the_flow_cannot_follow(void **state)
     printf("# stuck valve, 11 -> 6 km/h: error above 10 %% at %.2f s, OFF_RATE at %.2f s\n", t_cross,
            r.first[AL_OFFRATE]);
     assert_true(t_cross > 0);
-    assert_true(r.first[AL_OFFRATE] - t_cross >= 4.5 && r.first[AL_OFFRATE] - t_cross <= 5.5);
+    /* Off-rate t 5 s: 50 periods from the firmware's first period off, which the trace's 10 ms
+     * crossing leads by up to a period (4.91 s measured with both controllers) */
+    assert_true(r.first[AL_OFFRATE] - t_cross >= 4.8 && r.first[AL_OFFRATE] - t_cross <= 5.1);
     run_init(&r, 70);
     run_to(&r, 100);
     printf("# valve freed at 70 s: OFF_RATE %s at 100 s\n", active(AL_OFFRATE) ? "still on" : "cleared");
@@ -666,8 +669,12 @@ static void test_faults_lifetime_totals_are_saved_when_the_boom_shuts(void **sta
     ml = totals_get()->life_ml;
     m2 = totals_get()->life_m2;
     printf("# boom shut at the stop: %u ml over %u m^2 sprayed and saved\n", (unsigned)ml, (unsigned)m2);
-    /* 7 km/h for about 35 s at 31.5 L/min: more than 15 L, 400 m^2 (at least) */
-    assert_true(ml > 15000u && m2 > 400u);
+    /* by hand from the drive: 0 -> 7 km/h over 5 s, 35 s at 7, to 0 in 1 s: 2.5 + 35 + 0.5 s at
+     * 7 km/h, 73.9 m of an 18 m boom (36 nozzles at 50 cm): 1,330 m^2 (measured 1,352, the
+     * wheel's count; within 3.5 %); at 150 L/ha 15 ml/m^2, and the minimum-flow rule's excess
+     * in the ramps under 4 km/h (+6 % pid, +4.9 % ffmap measured): within 0 .. 12 % above */
+    assert_true(fabs((double)m2 - 1330.0) <= 0.035 * 1330.0);
+    assert_true(ml >= 15u * m2 && ml <= 15u * m2 * 112u / 100u);
     totals_init();
     assert_int_equal(totals_get()->life_ml, 0);
     assert_int_equal(store_load(), STORE_OK);
