@@ -647,8 +647,16 @@ static void test_ctl_ffmap_starts_a_new_valve_under_the_full_gain(void **state)
     int full = fast_step(256), start = fast_step(FFMAP_G_INIT);
     print_message("ffmap: a valve twice as fast as told, a 10 %% step: overshoot %.2f L/min at the full "
                   "gain, %.2f at the start's\n", full / 100.0, start / 100.0);
-    assert_true(FFMAP_G_INIT < 256);
     assert_true(start < full * 3 / 4);
+    /* a newly told valve (Valve time) starts there: 3/4 of the full gain's 256 */
+    ctl_select(CTL_FFMAP);
+    ctl_st.fm.g = 256;
+    assert_int_equal(param_set(P_VALVE_TRAVEL, 50), 1);
+    ctl_in_t in = mk(3000, 3000, 0);
+    ctl_step(&in);
+    assert_int_equal(ctl_st.fm.g, 256 * 3 / 4);
+    params_defaults();
+    ctl_reset(0);                   /* the defaults derived again for the tests after this one */
 }
 
 /* ffmap: what it learnt of the valve (break-away, loop gain) stays through other settings'

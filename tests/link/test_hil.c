@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 #include <cmocka.h>
+#include "speed.h"
+#include "flow.h"
 #include "hal_host.h"
 #include "helper_link.h"
 #include "link_crc.h"
@@ -147,15 +149,21 @@ static void test_hil_counts_lost_frames_and_loses_no_edge_with_them(void **state
     hil_out_t o;
     (void)state;
     hil_on();
-    frame(1, 100, 0, 0, MA(4.0));
+    uint32_t w0 = speed_pulses(), m0 = flow_pulses();
+    frame(1, 100, 3, 40, MA(4.0));
     link_run_ms(100);
     assert_int_equal(take_frames(&o), 1);
-    /* frames 2 and 3 never come; 4 carries the running totals */
-    frame(4, 400, 0, 0, MA(4.0));
+    assert_int_equal(speed_pulses() - w0, 3);
+    assert_int_equal(flow_pulses() - m0, 40);
+    /* frames 2 and 3 never come; 4 carries the running totals: the edges of the lost frames
+     * are counted with it, none lost */
+    frame(4, 400, 12, 160, MA(4.0));
     link_run_ms(300);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.seq, 4);
     assert_int_equal(o.lost, 2);
+    assert_int_equal(speed_pulses() - w0, 12);
+    assert_int_equal(flow_pulses() - m0, 160);
     /* a damaged frame: dropped, counted at the next good one */
     hil_in_t in;
     uint8_t f[HIL_IN_BYTES];
@@ -167,15 +175,17 @@ static void test_hil_counts_lost_frames_and_loses_no_edge_with_them(void **state
         hal_host_uart_rx_push(f[i]);
     link_run_ms(100);
     assert_int_equal(take_frames(&o), 0);
-    frame(6, 600, 0, 0, MA(4.0));
+    frame(6, 600, 20, 240, MA(4.0));
     link_run_ms(100);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.lost, 3);
+    assert_int_equal(speed_pulses() - w0, 20);      /* the damaged frame's edges too */
+    assert_int_equal(flow_pulses() - m0, 240);
     /* the count stops at 65535: frames whose sequence byte steps back by one (254 lost each) */
     uint8_t seq = 6;
     for (uint32_t i = 0; i < 260; i++) {
         seq = (uint8_t)(seq - 1u);
-        frame(seq, 700 + 100 * i, 0, 0, MA(4.0));
+        frame(seq, 700 + 100 * i, 20, 240, MA(4.0));
         link_run_ms(100);
         assert_int_equal(take_frames(&o), 1);
         assert_int_equal(o.lost, i < 257 ? 3 + 254 * (i + 1) : 0xFFFF);
