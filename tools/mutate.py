@@ -316,7 +316,7 @@ def mark_equivalents(muts):
 class Runner:
     def __init__(self, args, texts):
         self.cc = args.cc
-        self.cflags = args.cflags.split()
+        self.cflags = [f for f in args.cflags.split() if f != "-g"]    # (no debug info: faster)
         self.ldflags = args.ldflags.split()
         self.build = args.build
         self.texts = texts

@@ -187,6 +187,18 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
         assert_string_equal(cmd(l), "ERR CSUM");
         assert_int_equal(param_v[P_RATE], 150);
     }
+    /* the hex digits: a letter in either case ("FOC" XORs to 0x4A, "FOF" to 0x4F; a line whose
+     * checksum passes is refused for its word, ERR CMD), no other character ("FOAA": 0x09) */
+    assert_string_equal(cmd("FOC*4A\r\n"), "ERR CMD");
+    assert_string_equal(cmd("FOC*4a\r\n"), "ERR CMD");
+    assert_string_equal(cmd("FOF*4F\r\n"), "ERR CMD");
+    assert_string_equal(cmd("FOF*4f\r\n"), "ERR CMD");
+    assert_string_equal(cmd("FOF*4g\r\n"), "ERR CSUM");
+    assert_string_equal(cmd("FOAA*09\r\n"), "ERR CMD");
+    assert_string_equal(cmd("FOAA*G9\r\n"), "ERR CSUM");
+    assert_string_equal(cmd("FOAA*/9\r\n"), "ERR CSUM");
+    assert_string_equal(cmd("FOAA*9\r\n"), "ERR CSUM");
+    assert_string_equal(cmd("FOAA*009\r\n"), "ERR CSUM");
     snprintf(l, sizeof l, "%s*%02x\r\n", c, x);
     assert_string_equal(cmd(l), "OK 0 130");
     assert_string_equal(scmd("SET 0 120"), "OK 0 120");
