@@ -206,6 +206,30 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
     assert_string_equal(cmd(l), "OK 0 130");
 }
 
+/* A number is 0..65535 in at most 5 digits: the edges of the overflow check, each digit
+ * position (GET parses its id and refuses one past the table: ERR ID; ERR NUM is the parse's). */
+static void test_serial_numbers_up_to_65535_in_five_digits(void **state)
+{
+    (void)state;
+    link_run_ms(200);
+    static const char *const id[] = {"GET 65535", "GET 65530", "GET 65529", "GET 65499", "GET 59999",
+                                     "GET 6553", "GET 6554", "GET 9999", "GET 99"};
+    static const char *const num[] = {"GET 65536", "GET 65539", "GET 65540", "GET 65600", "GET 66000",
+                                      "GET 70000", "GET 99999", "GET 100000", "GET 000001", "GET 1x",
+                                      "GET x"};
+    char l[32];
+    for (size_t i = 0; i < sizeof id / sizeof id[0]; i++) {
+        snprintf(l, sizeof l, "%s\r\n", id[i]);
+        assert_string_equal(cmd(l), "ERR ID");
+    }
+    for (size_t i = 0; i < sizeof num / sizeof num[0]; i++) {
+        snprintf(l, sizeof l, "%s\r\n", num[i]);
+        assert_string_equal(cmd(l), "ERR NUM");
+    }
+    assert_string_equal(cmd("GET 00000\r\n"), "OK 0 150");
+    assert_string_equal(cmd("GET 00001\r\n"), "OK 1 36");
+}
+
 /* Commands that change something are refused without their checksum: a line that lost a
  * digit ("SET 0 150" arriving as "SET 0 10") would otherwise be a valid command. Those that
  * only read need none. Cross-checks between parameters answer with their reason. */
@@ -460,6 +484,7 @@ int main(void)
         cmocka_unit_test_setup(test_serial_manual_jog_drives_the_valve_for_a_jog, setup),
         cmocka_unit_test_setup(test_serial_changing_commands_require_their_checksum, setup),
         cmocka_unit_test_setup(test_serial_every_wrong_checksum_is_refused, setup),
+        cmocka_unit_test_setup(test_serial_numbers_up_to_65535_in_five_digits, setup),
         cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
         cmocka_unit_test_setup(test_serial_sav_answers_when_its_save_has_ended, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
