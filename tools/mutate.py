@@ -94,6 +94,8 @@ EQUIVALENT = [
      "so it is neither a space nor the end, and the second test refuses it"),
     ("firmware/link/serial.c", "line_ok", "for (i = 0; i < n && se.buf[i] != '*'; i++)", "< -> <=",
      "without a '*' the sum is not used; se.buf[n] is inside the buffer (n <= SERIAL_LINE_MAX)"),
+    ("firmware/link/serial.c", "line_ok", "for (i = 1; i < n; i++)", "< -> <=",
+     "se.buf[n] is the line's end, 0 just written: never a space"),
     ("firmware/link/serial.c", "line_ok", "if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {",
      "h2 < 0 -> 0", "h2 = -1 makes h1 << 4 | h2 0xFF, and x, a sum of printable ASCII, is under 0x80"),
 ]

@@ -124,6 +124,44 @@ static void test_raven_rate_change_within_the_window_sets_the_rate(void **state)
     assert_int_equal(app_status.target_lpm_x100, 3600);     /* 150 L/ha: 36.0 L/min */
 }
 
+/* The strings' letters and numbers exactly: any other letter at any place is ERR CMD, a rate
+ * beyond 65535 or with a character that is no digit ERR NUM (one past '9' too), and one parsed
+ * but outside the window ERR WINDOW; nothing changes the rate. */
+static void test_raven_strings_letter_by_letter_and_rates_to_65535(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_REMOTE, 1));
+    static const char *const bad_cmd[] = {"$RXRC,1500", "$R,XC,1500", "$R,RX,1500", "$R,RC.1500", "$R,CX",
+                                          "$R,XR", "$R,DX", "$X,RC,1500"};
+    static const char *const bad_num[] = {"$R,RC,15:0", "$R,RC,15/0", "$R,RC,65536", "$R,RC,65539",
+                                          "$R,RC,65540", "$R,RC,65600", "$R,RC,100000", "$R,RC,"};
+    static const char *const window[] = {"$R,RC,65535", "$R,RC,65529", "$R,RC,65499", "$R,RC,6553"};
+    char l[32];
+    for (size_t i = 0; i < sizeof bad_cmd / sizeof bad_cmd[0]; i++) {
+        snprintf(l, sizeof l, "%s\r\n", bad_cmd[i]);
+        assert_string_equal(req(l), "ERR CMD");
+    }
+    for (size_t i = 0; i < sizeof bad_num / sizeof bad_num[0]; i++) {
+        snprintf(l, sizeof l, "%s\r\n", bad_num[i]);
+        assert_string_equal(req(l), "ERR NUM");
+    }
+    for (size_t i = 0; i < sizeof window / sizeof window[0]; i++) {
+        snprintf(l, sizeof l, "%s\r\n", window[i]);
+        assert_string_equal(req(l), "ERR WINDOW");
+    }
+    assert_int_equal(target_rate_x10(), 1500);
+    assert_false(target_rate_remote());
+    const char *r = req("$R,CR\r\n");
+    while (!strncmp(r, "LOG ", 4) || !strncmp(r, "$R100A,AR", 9))
+        r = next_line();                            /* a second's lines meanwhile */
+    assert_memory_equal(r, "$R100A,C1,", 10);
+    r = req("$R,DR\r\n");
+    while (!strncmp(r, "LOG ", 4) || !strncmp(r, "$R100A,AR", 9))
+        r = next_line();
+    assert_memory_equal(r, "$R100A,D1,", 10);
+    assert_string_equal(req("$R,CR,1\r\n"), "ERR ARG");
+}
+
 static void test_raven_rate_outside_the_window_is_refused_and_shown(void **state)
 {
     (void)state;
@@ -229,6 +267,7 @@ int main(void)
         cmocka_unit_test_setup(test_raven_strings_are_refused_while_remote_is_off, setup),
         cmocka_unit_test_setup(test_raven_rate_change_within_the_window_sets_the_rate, setup),
         cmocka_unit_test_setup(test_raven_rate_outside_the_window_is_refused_and_shown, setup),
+        cmocka_unit_test_setup(test_raven_strings_letter_by_letter_and_rates_to_65535, setup),
         cmocka_unit_test_setup(test_raven_malformed_strings_get_an_error_and_change_nothing, setup),
         cmocka_unit_test_setup(test_raven_calibration_and_data_requests_answer_in_raven_strings, setup),
         cmocka_unit_test_setup(test_raven_actual_rate_once_a_second_after_the_log_line, setup),

@@ -230,6 +230,26 @@ static void test_serial_numbers_up_to_65535_in_five_digits(void **state)
     assert_string_equal(cmd("GET 00001\r\n"), "OK 1 36");
 }
 
+/* The layout: words parted by single spaces, none first or last, and the word exact letter by
+ * letter. (A Raven line with a space at its end is refused for the layout, before Raven's own
+ * parsing: with Remote off that would say ERR REMOTE.) */
+static void test_serial_layout_and_words_letter_by_letter(void **state)
+{
+    (void)state;
+    link_run_ms(200);
+    assert_string_equal(cmd(" GET 0\r\n"), "ERR ARG");
+    assert_string_equal(cmd("GET 0 \r\n"), "ERR ARG");
+    assert_string_equal(cmd("$R,RC,1500 \r\n"), "ERR ARG");
+    assert_string_equal(cmd("$R,RC,1500\r\n"), "ERR REMOTE");
+    assert_string_equal(cmd("*00\r\n"), "ERR ARG");
+    assert_string_equal(cmd("G ET 0\r\n"), "ERR CMD");
+    assert_string_equal(cmd("XET 0\r\n"), "ERR CMD");
+    assert_string_equal(cmd("GXT 0\r\n"), "ERR CMD");
+    assert_string_equal(cmd("GEX 0\r\n"), "ERR CMD");
+    assert_string_equal(cmd("GETX 0\r\n"), "ERR CMD");
+    assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
+}
+
 /* Commands that change something are refused without their checksum: a line that lost a
  * digit ("SET 0 150" arriving as "SET 0 10") would otherwise be a valid command. Those that
  * only read need none. Cross-checks between parameters answer with their reason. */
@@ -485,6 +505,7 @@ int main(void)
         cmocka_unit_test_setup(test_serial_changing_commands_require_their_checksum, setup),
         cmocka_unit_test_setup(test_serial_every_wrong_checksum_is_refused, setup),
         cmocka_unit_test_setup(test_serial_numbers_up_to_65535_in_five_digits, setup),
+        cmocka_unit_test_setup(test_serial_layout_and_words_letter_by_letter, setup),
         cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
         cmocka_unit_test_setup(test_serial_sav_answers_when_its_save_has_ended, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
