@@ -869,6 +869,69 @@ static void test_store_a_change_during_a_save_never_gives_a_mixed_record(void **
     assert_true(crc_out > 0);
 }
 
+/* Every setting's range, both edges, from params.h's table (the menu's and the link's ranges):
+ * min and max taken, one past each refused, and a refused value changes nothing. Valve cal's
+ * dead band (its last digit) 1-9. */
+static void test_params_every_range_edge_and_the_dead_band_digit(void **state)
+{
+    (void)state;
+    assert_false(param_in_range(P_COUNT, 0));
+    for (uint8_t id = 0; id < P_COUNT; id++) {
+        const param_info_t *pi = param_info(id);
+        uint16_t lo = pi->min, hi = pi->max;
+        if (id == P_RAVEN_CAL) {
+            assert_int_equal(lo, 11);
+            assert_int_equal(hi, 9999);
+            continue;
+        }
+        assert_true(param_in_range(id, lo));
+        assert_true(param_in_range(id, hi));
+        if (lo > 0)
+            assert_false(param_in_range(id, (uint16_t)(lo - 1u)));
+        assert_false(param_in_range(id, (uint16_t)(hi + 1u)));
+        uint16_t before = param_v[id];
+        assert_false(param_put(id, (uint16_t)(hi + 1u)));
+        assert_int_equal(param_v[id], before);
+    }
+    static const uint16_t cal_ok[] = {11, 19, 99, 101, 999, 1001, 1009, 2123, 9991, 9999};
+    static const uint16_t cal_bad[] = {10, 20, 90, 100, 110, 990, 1000, 1010, 2120, 9990, 10000};
+    for (size_t i = 0; i < sizeof cal_ok / sizeof cal_ok[0]; i++)
+        assert_true(param_in_range(P_RAVEN_CAL, cal_ok[i]));
+    for (size_t i = 0; i < sizeof cal_bad / sizeof cal_bad[0]; i++)
+        assert_false(param_in_range(P_RAVEN_CAL, cal_bad[i]));
+}
+
+/* The meter's pulse rate with every nozzle open within 5 kHz, at P max too (worked by hand):
+ * 30 nozzles of 20 L/min at 3 bar and K in 0.1 p/L give f3 = K Hz at 3 bar; at P max 2 bar the
+ * 3 bar rate governs: K 5000 taken, 5001 refused; at P max 3 bar both edges meet there; at P
+ * max 4.8 bar the rate there, K sqrt(480 / 300), is 5 kHz at K = 3952.8: 3952 taken, 3953
+ * refused. A refused K leaves the old one. */
+static void test_params_meter_rate_within_5_khz_at_its_edges(void **state)
+{
+    (void)state;
+    assert_int_equal(param_try(P_METER_K, 100), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 2000), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLES, 30), PARAM_OK);
+    static const struct { uint16_t p_max, k_ok; } e[] = {{200, 5000}, {300, 5000}, {480, 3952}};
+    for (size_t i = 0; i < 3; i++) {
+        assert_int_equal(param_try(P_METER_K, 100), PARAM_OK);
+        assert_int_equal(param_try(P_P_MAX, e[i].p_max), PARAM_OK);
+        assert_int_equal(param_try(P_METER_K, e[i].k_ok), PARAM_OK);
+        uint8_t gen = param_generation;
+        assert_int_equal(param_try(P_METER_K, (uint16_t)(e[i].k_ok + 1u)), PARAM_X_METER);
+        assert_int_equal(param_v[P_METER_K], e[i].k_ok);
+        assert_int_equal(param_generation, gen);            /* nothing changed */
+        assert_int_equal(param_try(P_METER_K, e[i].k_ok), PARAM_OK);
+        assert_int_equal(param_generation, gen);            /* the same value: no change */
+    }
+    /* the cross-checks' own edges: Tank min below Tank size, P start below P max */
+    assert_int_equal(param_try(P_TANK_MIN, (uint16_t)(param_v[P_TANK_L] - 1u)), PARAM_OK);
+    assert_int_equal(param_try(P_TANK_MIN, param_v[P_TANK_L]), PARAM_X_TANK);
+    assert_int_equal(param_try(P_P_MIN, (uint16_t)(param_v[P_P_MAX] - 1u)), PARAM_OK);
+    assert_int_equal(param_try(P_P_MIN, param_v[P_P_MAX]), PARAM_X_PRESSURE);
+    params_defaults();
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -896,6 +959,8 @@ int main(void)
         cmocka_unit_test_setup(test_store_a_good_save_leaves_the_load_s_notice, setup),
         cmocka_unit_test_setup(test_store_a_stale_header_after_a_good_save_is_no_cut, setup),
         cmocka_unit_test_setup(test_store_a_day_of_saves_stays_within_the_erase_budget, setup),
+        cmocka_unit_test_setup(test_params_every_range_edge_and_the_dead_band_digit, setup),
+        cmocka_unit_test_setup(test_params_meter_rate_within_5_khz_at_its_edges, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
