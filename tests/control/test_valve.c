@@ -43,8 +43,18 @@ static void test_valve_positive_drive_closes_the_bypass_with_its_duty(void **sta
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
     assert_int_equal(hal_host_io.valve_duty, 128);
     valve_set(Q15(0.5));
+    assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);  /* driven on, not off and on */
+    assert_int_equal(hal_host_io.valve_duty, 128);
     valve_set(0);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
+    /* the same way again: no dead time (no reversal) */
+    valve_set(Q15(0.5));
+    assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
+    /* the least drive is duty 1 of 255, not off */
+    valve_set(0);
+    valve_set(1);
+    assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_CLOSE);
+    assert_int_equal(hal_host_io.valve_duty, 1);
 }
 
 static void test_valve_reversal_waits_the_dead_time_with_the_bridge_off(void **state)
