@@ -869,6 +869,41 @@ static void test_store_a_change_during_a_save_never_gives_a_mixed_record(void **
     assert_true(crc_out > 0);
 }
 
+/* A record whose CRC is right but whose header is not one this firmware writes or reads: another
+ * magic, a version beyond this one's, a count that is not its version's. Each boots to defaults;
+ * each version this firmware reads, with its count, loads. */
+static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **state)
+{
+    (void)state;
+    uint16_t v[P_COUNT];
+    values_k(v, 3);
+    static const struct { uint8_t magic, version; int count; int loads; } h[] = {
+        {0x5B, PARAMS_VERSION, P_COUNT, 0}, {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
+        {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, P_COUNT - 1, 0},
+        {0x5A, 4, P_COUNT, 0}, {0x5A, 4, PARAMS_V4_COUNT + 1, 0}, {0x5A, 3, PARAMS_V4_COUNT, 0},
+        {0x5A, 2, PARAMS_V3_COUNT, 0}, {0x5A, 1, PARAMS_V2_COUNT, 0}, {0x5A, 0, P_COUNT, 0},
+        {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 6, P_COUNT, 1}, {0x5A, 5, P_COUNT, 1},
+        {0x5A, 4, PARAMS_V4_COUNT, 1}, {0x5A, 3, PARAMS_V3_COUNT, 1}, {0x5A, 2, PARAMS_V2_COUNT, 1},
+    };
+    for (size_t i = 0; i < sizeof h / sizeof h[0]; i++) {
+        hal_host_reset();
+        params_defaults();
+        int count = h[i].count;
+        twin_write_n(0, 7, v, h[i].version, count);
+        uint8_t *e = hal_host_eeprom();
+        size_t n = 5 + 2 * (size_t)count + 8 + TWIN_LEARNT(h[i].version);
+        e[0] = h[i].magic;
+        uint16_t crc = twin_crc(e, n);
+        e[n] = (uint8_t)(crc >> 8);
+        e[n + 1] = (uint8_t)crc;
+        uint8_t st = store_load();
+        printf("# magic %02X version %u count %d: %s\n", h[i].magic, h[i].version, count,
+               st == STORE_OK ? "loaded" : "defaults");
+        assert_int_equal(st == STORE_OK, h[i].loads);
+        assert_int_equal(param_v[0] == v[0], h[i].loads);
+    }
+}
+
 /* Every setting's range, both edges, from params.h's table (the menu's and the link's ranges):
  * min and max taken, one past each refused, and a refused value changes nothing. Valve cal's
  * dead band (its last digit) 1-9. */
@@ -959,6 +994,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_a_good_save_leaves_the_load_s_notice, setup),
         cmocka_unit_test_setup(test_store_a_stale_header_after_a_good_save_is_no_cut, setup),
         cmocka_unit_test_setup(test_store_a_day_of_saves_stays_within_the_erase_budget, setup),
+        cmocka_unit_test_setup(test_store_a_right_crc_over_a_wrong_header_is_not_loaded, setup),
         cmocka_unit_test_setup(test_params_every_range_edge_and_the_dead_band_digit, setup),
         cmocka_unit_test_setup(test_params_meter_rate_within_5_khz_at_its_edges, setup),
     };
