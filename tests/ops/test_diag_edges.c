@@ -194,6 +194,51 @@ static void test_overpressure_after_3_periods_over_p_max_cleared_under_95_percen
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 11);
 }
 
+/* Tank and pump judged on a working level sensor only; PUMP_DRY clears only on a refill past
+ * Tank min by Tank size / 64 + 1 L (46 L), not as the level leaves 1 %. */
+static void test_tank_rules_need_the_level_sensor_and_a_real_refill(void **state)
+{
+    (void)state;
+    setup(NULL);
+    adc_counts[1] = 179;                        /* 3.5 mA: the level loop open */
+    sy.st.tank_l = 5;                           /* (the last good value: low and dry) */
+    for (int n = 1; n <= 30; n++) {
+        uint16_t a = period();
+        assert_false(on(a, AL_TANK_LOW));
+        assert_false(on(a, AL_PUMP_DRY));
+    }
+    setup(NULL);
+    sy.st.tank_l = 10;
+    assert_int_equal(periods_until(AL_PUMP_DRY, 1, 20), 10);
+    sy.st.tank_l = 45;                          /* out of the 1 %, not refilled */
+    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 30), 31);
+    adc_counts[1] = 179;                        /* the sensor fails with the tank full */
+    sy.st.tank_l = 900;
+    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 30), 31);
+    adc_counts[1] = 614;                        /* back: judged good after 10, refilled 10 later */
+    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 40), 10 + 10 - 1);
+}
+
+/* OVERPRESSURE on a working pressure sensor only; a sensor that fails while it is raised clears
+ * it (PSENS_FAULT says so instead) after 10 periods. */
+static void test_overpressure_needs_the_pressure_sensor(void **state)
+{
+    (void)state;
+    setup(NULL);
+    adc_counts[0] = 179;
+    for (int i = 0; i < 3; i++)
+        period();
+    assert_false(analog_pressure_ok());
+    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 20), 21);
+    setup(NULL);
+    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 3);
+    adc_counts[0] = 179;
+    int n = periods_until(AL_OVERPRESSURE, 0, 30);
+    assert_int_equal(n, 3 + 10 - 1);            /* judged faulty on the 3rd, 10 periods from there */
+}
+
 /* ---- speed sensor ---------------------------------------------------------------------------- */
 static void test_speed_lost_20_periods_after_the_last_pulse_at_working_speed(void **state)
 {
@@ -527,6 +572,8 @@ int main(void)
         cmocka_unit_test(test_tank_low_after_10_periods_cleared_after_10_refilled),
         cmocka_unit_test(test_pump_dry_at_1_percent_after_10_periods),
         cmocka_unit_test(test_overpressure_after_3_periods_over_p_max_cleared_under_95_percent),
+        cmocka_unit_test(test_tank_rules_need_the_level_sensor_and_a_real_refill),
+        cmocka_unit_test(test_overpressure_needs_the_pressure_sensor),
         cmocka_unit_test(test_speed_lost_20_periods_after_the_last_pulse_at_working_speed),
         cmocka_unit_test(test_speed_lost_not_below_working_speed_nor_with_a_given_speed),
         cmocka_unit_test(test_meter_lost_after_10_suspect_periods),
