@@ -335,8 +335,15 @@ static void test_meter_lost_after_10_suspect_periods(void **state)
     assert_int_equal(periods_until(AL_METER_LOST, 1, 30), 10 - 1);
     /* pulses again: cleared after 10 periods with a reading */
     meter(30.0);
-    int n = periods_until(AL_METER_LOST, 0, 30);
-    assert_in_range(n, 10, 11);   /* the first pulse's period may read no rate */
+    assert_int_equal(periods_until(AL_METER_LOST, 0, 30), 10);
+    /* after 10 s of silence the meter's last edge is forgotten: the first pulse's period reads
+     * no rate yet (no span) and does not count */
+    meter(0);
+    assert_true(periods_until(AL_METER_LOST, 1, 30) <= 30);
+    for (int i = 0; i < 100; i++)
+        period();
+    meter(30.0);
+    assert_int_equal(periods_until(AL_METER_LOST, 0, 30), 11);
 }
 
 static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void **state)
@@ -373,6 +380,18 @@ static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void 
         assert_int_equal(diag_nozzle_flow_x100(sy.st.pressure_kpa, NOZZLES) < 500, !k);
         assert_int_equal(periods_until(AL_METER_LOST, 1, 40) <= 40, k);
     }
+}
+
+/* A failed pressure sensor judges no meter: its last good value says nothing of the flow now. */
+static void test_meter_lost_not_judged_on_a_failed_pressure_sensor(void **state)
+{
+    (void)state;
+    setup(NULL);
+    spraying(8.0, 30.0, 30);
+    adc_counts[0] = 179;
+    meter(0);
+    assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
+    assert_true(on(period(), AL_PSENS));
 }
 
 /* ---- off-rate -------------------------------------------------------------------------------- */
@@ -486,15 +505,18 @@ static void test_leak_not_judged_while_the_target_moves(void **state)
     learn_model();
     spraying(8.0, 30.0, 10);
     sy.st.pressure_kpa = (uint16_t)(told_kpa(30.0) * 0.6);
-    /* the target ramps by 1/100 of itself a period, down and up */
-    for (int i = 0; i <= 60; i++) {
-        sy.st.target_lpm_x100 = (int16_t)(3000 + ((i / 10) % 2 ? 30 : -30) * (i % 10));
+    /* the target falls by 1/100 of itself a period (over 1/128, under twice that) */
+    double t = 3000;
+    for (int i = 0; i < 60; i++) {
+        t *= 0.99;
+        sy.st.target_lpm_x100 = (int16_t)lround(t);
         assert_false(on(period(), AL_LEAK));
     }
     /* by 1/200 a period: judged */
     int n;
     for (n = 1; n <= 40; n++) {
-        sy.st.target_lpm_x100 = (int16_t)(3000 + 15 * n);
+        t *= 1.005;
+        sy.st.target_lpm_x100 = (int16_t)lround(t);
         if (on(period(), AL_LEAK))
             break;
     }
@@ -578,6 +600,7 @@ int main(void)
         cmocka_unit_test(test_speed_lost_not_below_working_speed_nor_with_a_given_speed),
         cmocka_unit_test(test_meter_lost_after_10_suspect_periods),
         cmocka_unit_test(test_meter_lost_needs_p_start_working_speed_and_a_settled_boom),
+        cmocka_unit_test(test_meter_lost_not_judged_on_a_failed_pressure_sensor),
         cmocka_unit_test(test_off_rate_at_its_set_time_and_percentage),
         cmocka_unit_test(test_off_rate_not_in_manual_unsettled_nor_below_working_speed),
         cmocka_unit_test(test_leak_and_clog_after_20_periods_off_the_learnt_model),
