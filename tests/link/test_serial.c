@@ -226,6 +226,14 @@ static void test_serial_numbers_up_to_65535_in_five_digits(void **state)
         snprintf(l, sizeof l, "%s\r\n", num[i]);
         assert_string_equal(cmd(l), "ERR NUM");
     }
+    char past[24];
+    snprintf(past, sizeof past, "GET %d\r\n", P_COUNT);          /* one past the table */
+    assert_string_equal(cmd(past), "ERR ID");
+    snprintf(past, sizeof past, "GET %d\r\n", P_COUNT - 1);
+    assert_memory_equal(cmd(past), "OK ", 3);
+    assert_string_equal(cmd("GET\r\n"), "ERR NUM");
+    assert_string_equal(scmd("SET 0"), "ERR NUM");
+    assert_string_equal(scmd("SET 0 "), "ERR ARG");
     assert_string_equal(cmd("GET 00000\r\n"), "OK 0 150");
     assert_string_equal(cmd("GET 00001\r\n"), "OK 1 36");
 }
@@ -248,6 +256,13 @@ static void test_serial_layout_and_words_letter_by_letter(void **state)
     assert_string_equal(cmd("GEX 0\r\n"), "ERR CMD");
     assert_string_equal(cmd("GETX 0\r\n"), "ERR CMD");
     assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
+    /* printable ASCII only: 0x1F and 0x7F refused, ' ' and '~' taken */
+    assert_string_equal(cmd("GET 0\x1f\r\n"), "ERR CHAR");
+    assert_string_equal(cmd("GET 0\x7f\r\n"), "ERR CHAR");
+    assert_string_equal(cmd("~\r\n"), "ERR CMD");
+    /* SERIAL_LINE_MAX (31) characters taken, 32 too long */
+    assert_string_equal(cmd("FOO 012345678901234567890123456\r\n"), "ERR CMD");
+    assert_string_equal(cmd("FOO 0123456789012345678901234567\r\n"), "ERR LONG");
 }
 
 /* Commands that change something are refused without their checksum: a line that lost a
@@ -488,6 +503,14 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
     }
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OPEN);
     assert_true(off_ms >= 20);
+    /* JOG - through the link: the bypass opens; anything but a lone + or - is refused */
+    link_run_ms(600);
+    assert_string_equal(scmd("JOG -"), "OK JOG");
+    link_run_ms(100);
+    assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OPEN);
+    static const char *const bad[] = {"JOG", "JOG x", "JOG ++", "JOG +-", "JOG -0", "JOG +x", "JOGX+"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        assert_string_equal(scmd(bad[i]), i == 6 ? "ERR CMD" : "ERR ARG");
     /* back to auto: the controller takes over from rest */
     assert_true(param_set(P_MODE, 0));
     link_run_ms(500);
