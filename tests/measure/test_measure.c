@@ -592,6 +592,57 @@ static void test_flow_is_measured_from_periods_at_12_30_50_lpm(void **state)
     }
 }
 
+/* A new meter K is taken at the next step: the same pulses at 380 p/L read 30.0 L/min, at 760
+ * p/L 15.0 (half, by hand). */
+static void test_flow_takes_a_new_k_at_the_next_step(void **state)
+{
+    train_t m = {0};
+    (void)state;
+    now_ns = 0;
+    hal_host_set_time_ns(0);
+    m.on = 1;
+    m.next_ns = 3e6;
+    m.period_ns = meter_period_ns(30.0);
+    int16_t q = 0;
+    for (int i = 0; i < 10; i++) {
+        advance(NULL, &m);
+        q = flow_step();
+    }
+    assert_true(abs(q - 3000) <= 3);
+    assert_true(param_set(P_METER_K, 7600));
+    advance(NULL, &m);
+    q = flow_step();
+    assert_true(abs(q - 1500) <= 2);
+}
+
+/* 300 L/min is the fastest the meter may read (FLOW_MAX_X100): at K 384.0 p/L a pulse 480 PCA
+ * ticks after the one before is 5.5296e10 / 3840 / 480 = 30000 x 0.01 L/min exactly, taken; 479
+ * ticks is 300.63 L/min, a glitch. */
+static void test_flow_300_lpm_is_the_meters_top(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 3840));
+        hal_host_set_time_ns(0);
+        hal_host_flow_edge(99500000u);
+        hal_host_set_time_ns(100000000u);
+        flow_step();
+        uint32_t want = hal_host_pca_of_ns(99500000u) + (k ? 479u : 480u);
+        uint64_t t = 100000000u;
+        while (hal_host_pca_of_ns(t) < want)
+            t++;
+        hal_host_flow_edge(t);
+        hal_host_set_time_ns(200000000u);
+        int16_t q = flow_step();
+        printf("# a pulse %u ticks after the last: %d x 0.01 L/min, %u glitches\n", k ? 479u : 480u, q,
+               flow_glitches());
+        assert_int_equal(flow_glitches(), k);
+        if (!k)
+            assert_int_equal(q, 30000);
+    }
+}
+
 static void test_flow_rejects_glitches_and_reads_zero_when_pulses_stop(void **state)
 {
     train_t m = {0};
@@ -729,6 +780,8 @@ int main(void)
         cmocka_unit_test_setup(test_speed_takes_the_lag_out_of_an_acceleration, setup),
         cmocka_unit_test_setup(test_speed_plain_takes_no_lead, setup),
         cmocka_unit_test_setup(test_flow_is_measured_from_periods_at_12_30_50_lpm, setup),
+        cmocka_unit_test_setup(test_flow_takes_a_new_k_at_the_next_step, setup),
+        cmocka_unit_test_setup(test_flow_300_lpm_is_the_meters_top, setup),
         cmocka_unit_test_setup(test_flow_rejects_glitches_and_reads_zero_when_pulses_stop, setup),
         cmocka_unit_test_setup(test_analog_4ma_reads_0_mpa_and_the_span_is_linear, setup),
         cmocka_unit_test_setup(test_analog_3_5ma_is_an_open_sensor_fault, setup),
