@@ -59,7 +59,7 @@ SITES = {
 
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
-    "firmware/ops/diag.c": ["test_diag", "test_faults", "test_drive"],
+    "firmware/ops/diag.c": ["test_diag", "test_faults"],
     "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
     "firmware/store/store.c": ["test_store"],
