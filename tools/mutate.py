@@ -117,6 +117,11 @@ EQUIVALENT = [
      "32767u -> 32766u", "at q == 32767 both ways give 32767"),
     ("firmware/measure/flow.c", "flow_step", "if (c.last == fl.last_pca || q > FLOW_MAX_X100)",
      "c.last == fl.last_pca -> 0", "um_muldiv over a span of 0 gives 0xFFFFFFFF: above FLOW_MAX_X100 too"),
+    ("firmware/measure/flow.c", "flow_step", "if (fl.have_edge && fl.quiet < FLOW_ZERO_PERIODS) {",
+     "fl.have_edge -> 1", "no edge is held only at the start (quiet 0xFFFF) or after FLOW_STALE_PERIODS: "
+     "quiet is past FLOW_ZERO_PERIODS both times"),
+    ("firmware/measure/flow.c", "flow_step", "if (fl.quiet < 0xFFFF)", "0xFFFF -> 0xfffe",
+     "quiet is only compared with small counts (3, 10, 100): 65534 and 65535 alike"),
     ("firmware/link/serial.c", "hexval", "if (c >= 'a' && c <= 'f')", "c <= 'f' -> 1",
      "a lower-case letter past f made upper case is no hex digit either: -1 both ways"),
     ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",

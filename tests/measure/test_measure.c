@@ -643,6 +643,40 @@ static void test_flow_300_lpm_is_the_meters_top(void **state)
     }
 }
 
+/* When the pulses stop the rate falls as a pulse not yet come allows (one pulse over the time
+ * since the last), every period lower, until 1 s without a pulse (10 periods): then 0. */
+static void test_flow_falls_between_pulses_and_is_zero_after_10_quiet_periods(void **state)
+{
+    train_t m = {0};
+    (void)state;
+    now_ns = 0;
+    hal_host_set_time_ns(0);
+    m.on = 1;
+    m.next_ns = 3e6;
+    m.period_ns = meter_period_ns(2.0);         /* 12.7 pulses a second */
+    int16_t q = 0;
+    for (int i = 0; i < 20; i++) {
+        advance(NULL, &m);
+        q = flow_step();
+    }
+    m.on = 0;
+    double last = m.next_ns - m.period_ns;      /* the last edge's time */
+    for (int n = 1; n <= 12; n++) {
+        advance(NULL, &m);
+        int16_t q1 = flow_step();
+        /* one pulse (1/380 L) over the time since the last, L/min x100, when lower than before */
+        double allow = 60.0 / 380.0 / (((double)now_ns - last) * 1e-9) * 100;
+        if (n < 10) {
+            assert_true(q1 > 0);
+            assert_true(q1 <= q);
+            assert_true(fabs(q1 - (allow < q ? allow : q)) <= 1.0);
+        } else {
+            assert_int_equal(q1, 0);
+        }
+        q = q1;
+    }
+}
+
 static void test_flow_rejects_glitches_and_reads_zero_when_pulses_stop(void **state)
 {
     train_t m = {0};
@@ -782,6 +816,7 @@ int main(void)
         cmocka_unit_test_setup(test_flow_is_measured_from_periods_at_12_30_50_lpm, setup),
         cmocka_unit_test_setup(test_flow_takes_a_new_k_at_the_next_step, setup),
         cmocka_unit_test_setup(test_flow_300_lpm_is_the_meters_top, setup),
+        cmocka_unit_test_setup(test_flow_falls_between_pulses_and_is_zero_after_10_quiet_periods, setup),
         cmocka_unit_test_setup(test_flow_rejects_glitches_and_reads_zero_when_pulses_stop, setup),
         cmocka_unit_test_setup(test_analog_4ma_reads_0_mpa_and_the_span_is_linear, setup),
         cmocka_unit_test_setup(test_analog_3_5ma_is_an_open_sensor_fault, setup),
