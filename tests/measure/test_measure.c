@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <cmocka.h>
 #include "hal_host.h"
 #include "params.h"
@@ -780,6 +781,46 @@ static void test_analog_3_5ma_is_an_open_sensor_fault(void **state)
     assert_int_equal(analog_pressure_kpa(), 0);
 }
 
+/* The edges in counts: a period's four conversions summing 735 (3.59 mA) are an open loop, 736
+ * (3.60 mA) are not; one conversion of the four at 1023 is a short, 1022 is not. Each fault
+ * after 3 periods in a row, each recovery after 10. */
+static uint16_t conv[4];
+static unsigned conv_i;
+static uint16_t conv_source(uint8_t ch)
+{
+    return ch == 0 ? conv[conv_i++ & 3u] : 614;
+}
+
+static void test_analog_open_and_short_at_their_counts(void **state)
+{
+    (void)state;
+    hal_host_adc_source(conv_source);
+    static const struct { uint16_t c[4]; int fault; } e[] = {
+        {{183, 184, 184, 184}, ANALOG_FAULT_OPEN}, {{184, 184, 184, 184}, 0},
+        {{600, 600, 600, 1023}, ANALOG_FAULT_SHORT}, {{1022, 1022, 1022, 1022}, 0},
+    };
+    for (size_t i = 0; i < 4; i++) {
+        setup(NULL);
+        hal_host_adc_source(conv_source);
+        memcpy(conv, e[i].c, sizeof conv);
+        conv_i = 0;
+        steps(2);
+        assert_true(analog_pressure_ok());
+        steps(1);
+        assert_int_equal(analog_pressure_ok(), e[i].fault == 0);
+        assert_int_equal(analog_pressure_fault(), e[i].fault);
+        if (e[i].fault) {
+            static const uint16_t good[4] = {400, 400, 400, 400};
+            memcpy(conv, good, sizeof conv);
+            steps(9);
+            assert_false(analog_pressure_ok());
+            steps(1);
+            assert_true(analog_pressure_ok());
+        }
+    }
+    hal_host_adc_source(NULL);
+}
+
 static void test_analog_a_saturated_pressure_input_is_a_short(void **state)
 {
     (void)state;
@@ -821,6 +862,7 @@ int main(void)
         cmocka_unit_test_setup(test_analog_4ma_reads_0_mpa_and_the_span_is_linear, setup),
         cmocka_unit_test_setup(test_analog_3_5ma_is_an_open_sensor_fault, setup),
         cmocka_unit_test_setup(test_analog_a_saturated_pressure_input_is_a_short, setup),
+        cmocka_unit_test_setup(test_analog_open_and_short_at_their_counts, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
