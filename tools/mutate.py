@@ -478,6 +478,8 @@ def main():
     ap.add_argument("--only", action="append", default=[], help="FILE or FILE:FUNCTION")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--record", action="store_true", help="write the survivors to mutate_awaiting.txt")
+    ap.add_argument("--prune", action="store_true",
+                    help="drop the awaiting lines that are equivalent now or match no mutant")
     args = ap.parse_args()
 
     t0 = time.time()
@@ -497,6 +499,16 @@ def main():
     live = [m for m in muts if not m.equivalent]
     for path, func, line, change, why in ([] if args.only else stale):
         print("stale equivalent (matches no mutant): %s %s() '%s' %s" % (path, func, line, change))
+    if args.prune:
+        keep = {key(m) for m in live}
+        known = awaiting()
+        with open(AWAITING_FILE) as f:
+            head = [l for l in f if l.startswith("#")]
+        with open(AWAITING_FILE, "w") as f:
+            f.write("".join(head) + "".join(k + "\n" for k in sorted(known & keep)))
+        print("mutate: %d awaiting kept, %d gone (equivalent now, or their line changed)"
+              % (len(known & keep), len(known - keep)))
+        return 0
     if args.list:
         for m in muts:
             print(m.name() + ("   [equivalent: %s]" % m.equivalent if m.equivalent else ""))
