@@ -175,6 +175,7 @@ help:
 	@echo "make hil-host SCENARIO=f   the same with the host build standing in for the board (a pseudo-terminal)"
 	@echo "make fuzz [FUZZ_S=60]  libFuzzer (ASan+UBSan) on every parser, FUZZ_S seconds each; fuzz-merge keeps new coverage"
 	@echo "make mutate    the safety rules' mutants against the host tests that cover them; survivors reported (docs/TESTING.md)"
+	@echo "make sabotage SAB=n  tt_ops for s51 with routine n of mul.h's FX_SABOTAGE list wrong (make test shows each caught)"
 	@echo "make clean     remove build/"
 	@echo "parts: host-tests, target-tests, sim-progs (build/host/bin/*), pil-image; V=1 shows full commands"
 
