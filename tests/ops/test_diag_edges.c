@@ -382,6 +382,20 @@ static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void 
     }
 }
 
+/* METER_LOST clears on periods with pulses only: a lone pulse, whose reading decays over the
+ * silent periods after it, does not clear it. */
+static void test_meter_lost_not_cleared_by_a_lone_pulse(void **state)
+{
+    (void)state;
+    setup(NULL);
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    assert_true(periods_until(AL_METER_LOST, 1, 20) <= 20);
+    hal_host_flow_edge(sy.now_ns + PERIOD_NS / 2);
+    for (int i = 0; i < 30; i++)
+        assert_true(on(period(), AL_METER_LOST));
+}
+
 /* A failed pressure sensor judges no meter: its last good value says nothing of the flow now. */
 static void test_meter_lost_not_judged_on_a_failed_pressure_sensor(void **state)
 {
@@ -601,6 +615,7 @@ int main(void)
         cmocka_unit_test(test_meter_lost_after_10_suspect_periods),
         cmocka_unit_test(test_meter_lost_needs_p_start_working_speed_and_a_settled_boom),
         cmocka_unit_test(test_meter_lost_not_judged_on_a_failed_pressure_sensor),
+        cmocka_unit_test(test_meter_lost_not_cleared_by_a_lone_pulse),
         cmocka_unit_test(test_off_rate_at_its_set_time_and_percentage),
         cmocka_unit_test(test_off_rate_not_in_manual_unsettled_nor_below_working_speed),
         cmocka_unit_test(test_leak_and_clog_after_20_periods_off_the_learnt_model),
