@@ -519,18 +519,21 @@ static void test_leak_not_judged_while_the_target_moves(void **state)
     learn_model();
     spraying(8.0, 30.0, 10);
     sy.st.pressure_kpa = (uint16_t)(told_kpa(30.0) * 0.6);
-    /* the target falls by 1/100 of itself a period (over 1/128, under twice that) */
+    /* the target falls, then rises, by 1/100 of itself a period (over 1/128, under twice that) */
     double t = 3000;
-    for (int i = 0; i < 60; i++) {
-        t *= 0.99;
+    for (int i = 0; i < 80; i++) {
+        t *= i < 40 ? 0.99 : 1.01;
         sy.st.target_lpm_x100 = (int16_t)lround(t);
         assert_false(on(period(), AL_LEAK));
     }
-    /* by 1/200 a period: judged */
-    int n;
+    /* rising by exactly 1/128 of the new target (its >> 7) a period: judged */
+    int n, ti = (int)lround(t);
     for (n = 1; n <= 40; n++) {
-        t *= 1.005;
-        sy.st.target_lpm_x100 = (int16_t)lround(t);
+        int d = ti >> 7;
+        while (((ti + d) >> 7) != d)
+            d++;
+        ti += d;
+        sy.st.target_lpm_x100 = (int16_t)ti;
         if (on(period(), AL_LEAK))
             break;
     }
