@@ -408,6 +408,39 @@ static void test_meter_lost_not_judged_on_a_failed_pressure_sensor(void **state)
     assert_true(on(period(), AL_PSENS));
 }
 
+/* Leak and clog are judged from 5.00 L/min of metered flow (DIAG_MODEL_MIN_X100) and not while
+ * METER_LOST stands. At K 384.0 p/L a pulse every 31.25 ms (28800 PCA ticks) reads 5.00 L/min
+ * exactly; every 31.31 ms 4.99. On the told model 5 L/min needs 34 kPa: 200 kPa is a clog by
+ * the gross band (120 kPa). */
+static void test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 3840));
+        assert_true(param_set(P_P_MIN, 0));
+        spraying(8.0, 5.0, 1);
+        sy.meter_ns = k ? 31312934.0 : 31250000.0;
+        sy.st.target_lpm_x100 = 500;
+        sy.st.pressure_kpa = 200;
+        int n = periods_until(AL_CLOG, 1, 40);
+        printf("# meter %d x 0.01 L/min at 200 kPa: CLOG after %d periods\n", flow_lpm_x100(), n);
+        assert_int_equal(flow_lpm_x100(), k ? 499 : 500);
+        assert_int_equal(n, k ? 41 : 20);
+    }
+    /* METER_LOST, then the meter back with the line at a clog's pressure: judged only once
+     * METER_LOST has cleared (its 10th period) */
+    setup(NULL);
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    assert_true(periods_until(AL_METER_LOST, 1, 20) <= 20);
+    meter(30.0);
+    sy.st.pressure_kpa = 330;                   /* the told model's 180 kPa and 120 more */
+    int n = periods_until(AL_CLOG, 1, 60);
+    printf("# the meter back at a clog's pressure: CLOG after %d periods\n", n);
+    assert_int_equal(n, 10 + 20 - 1);
+}
+
 /* ---- off-rate -------------------------------------------------------------------------------- */
 static void test_off_rate_at_its_set_time_and_percentage(void **state)
 {
@@ -619,6 +652,7 @@ int main(void)
         cmocka_unit_test(test_meter_lost_needs_p_start_working_speed_and_a_settled_boom),
         cmocka_unit_test(test_meter_lost_not_judged_on_a_failed_pressure_sensor),
         cmocka_unit_test(test_meter_lost_not_cleared_by_a_lone_pulse),
+        cmocka_unit_test(test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost),
         cmocka_unit_test(test_off_rate_at_its_set_time_and_percentage),
         cmocka_unit_test(test_off_rate_not_in_manual_unsettled_nor_below_working_speed),
         cmocka_unit_test(test_leak_and_clog_after_20_periods_off_the_learnt_model),
