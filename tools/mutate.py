@@ -478,6 +478,8 @@ def main():
     ap.add_argument("--only", action="append", default=[], help="FILE or FILE:FUNCTION")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--record", action="store_true", help="write the survivors to mutate_awaiting.txt")
+    ap.add_argument("--recheck", action="store_true",
+                    help="run the awaiting mutants only; those killed now leave mutate_awaiting.txt")
     ap.add_argument("--prune", action="store_true",
                     help="drop the awaiting lines that are equivalent now or match no mutant")
     args = ap.parse_args()
@@ -515,6 +517,9 @@ def main():
         print("%d mutants, %d listed as equivalent" % (len(muts), len(muts) - len(live)))
         return 0
     known = awaiting()
+    if args.recheck:                # the awaiting ones only: those killed now leave the file
+        live = [m for m in live if key(m) in known]
+        args.record = True
     if args.sample:
         live = [m for m in live if key(m) not in known]
         seed = args.seed if args.seed is not None else random.randrange(1 << 16)
