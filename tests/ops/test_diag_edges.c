@@ -441,6 +441,27 @@ static void test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost(void **s
     assert_int_equal(n, 10 + 20 - 1);
 }
 
+/* The nozzle model learns from clean periods only: the meter within 5 % of the target. At K
+ * 384.0 p/L a pulse every 5 ms (4608 PCA ticks) reads 31.25 L/min exactly; |q - t| x 20 <= t
+ * holds for targets 29.77 .. 32.89 L/min (2977 and 3289 learn, 2976 and 3290 do not, within
+ * the 64 samples of 4 periods a fit needs). */
+static void test_nozzle_model_learns_within_5_percent_of_the_target_only(void **state)
+{
+    (void)state;
+    static const struct { int16_t t; int learns; } e[] = {{3289, 1}, {3290, 0}, {2977, 1}, {2976, 0}};
+    for (int i = 0; i < 4; i++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 3840));
+        spraying(8.0, 31.25, 1);
+        sy.meter_ns = 5000000.0;
+        sy.st.target_lpm_x100 = e[i].t;
+        for (int n = 0; n < 64 * 4 + 20; n++)
+            period();
+        assert_int_equal(flow_lpm_x100(), 3125);
+        assert_int_equal(diag_nozzle_learnt() != 0, e[i].learns);
+    }
+}
+
 /* ---- off-rate -------------------------------------------------------------------------------- */
 static void test_off_rate_at_its_set_time_and_percentage(void **state)
 {
@@ -653,6 +674,7 @@ int main(void)
         cmocka_unit_test(test_meter_lost_not_judged_on_a_failed_pressure_sensor),
         cmocka_unit_test(test_meter_lost_not_cleared_by_a_lone_pulse),
         cmocka_unit_test(test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost),
+        cmocka_unit_test(test_nozzle_model_learns_within_5_percent_of_the_target_only),
         cmocka_unit_test(test_off_rate_at_its_set_time_and_percentage),
         cmocka_unit_test(test_off_rate_not_in_manual_unsettled_nor_below_working_speed),
         cmocka_unit_test(test_leak_and_clog_after_20_periods_off_the_learnt_model),
