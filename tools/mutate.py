@@ -72,6 +72,8 @@ TESTS = {
 
 # ---- equivalent mutants: (file, function, the line's text, change, reason) --------------------
 NP = "DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0"
+DIGIT = ("Valve cal's dead-band digit: the subtractions only take the digits apart; a bound moved by "
+         "one leaves a value ending in 0 at 0 and one ending in 1-9 (or wrapped past 0) not at 0")
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
 EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
@@ -130,6 +132,13 @@ EQUIVALENT = [
      "at sv_at == LIFE_N(n) = HDR_VALUES + 2n the parity test is 0: no check either way"),
     ("firmware/store/store.c", "ck_more", "} else if (sv_at > sv.end) {", "> -> >=",
      "sv_at == sv.end is taken by the branch before"),
+    ("firmware/store/params.c", "param_in_range", "while (v >= 1000u)", ">= -> >", DIGIT),
+    ("firmware/store/params.c", "param_in_range", "while (v >= 1000u)", "1000u -> 1001u", DIGIT),
+    ("firmware/store/params.c", "param_in_range", "while (v >= 1000u)", "1000u -> 999u", DIGIT),
+    ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", ">= -> >", DIGIT),
+    ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 101u", DIGIT),
+    ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 99u", DIGIT),
+    ("firmware/store/params.c", "param_in_range", "while (v >= 10u)", "10u -> 9u", DIGIT),
     ("firmware/link/serial.c", "hexval", "if (c >= 'a' && c <= 'f')", "c <= 'f' -> 1",
      "a lower-case letter past f made upper case is no hex digit either: -1 both ways"),
     ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",

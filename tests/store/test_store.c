@@ -904,6 +904,35 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
     }
 }
 
+/* A save cut short leaves the slot after the newest record with the magic and the next sequence
+ * (or its sequence not yet written): the previous values load and the operator is told (STORE_OLDER).
+ * A damaged record there from long before (an older sequence) is no cut save: STORE_OK. */
+static void test_store_older_only_for_a_save_cut_after_the_newest(void **state)
+{
+    (void)state;
+    uint16_t v[P_COUNT];
+    values_k(v, 4);
+    static const struct { uint16_t seq; uint8_t want; } e[] = {
+        {11, STORE_OLDER}, {0xFFFF, STORE_OLDER}, {7, STORE_OK}, {12, STORE_OK}, {10, STORE_OK}};
+    uint8_t after[SLOT_BYTES];
+    for (size_t i = 0; i < sizeof e / sizeof e[0]; i++) {
+        hal_host_reset();
+        params_defaults();
+        twin_write(0, e[i].seq, v, PARAMS_VERSION);     /* the record in the slot after, first */
+        memcpy(after, hal_host_eeprom(), SLOT_BYTES);
+        twin_write(0, 10, v, PARAMS_VERSION);           /* the newest in slot 0, sequence 10 */
+        uint8_t *slot1 = hal_host_eeprom() + SLOT_BYTES;
+        memcpy(slot1, after, SLOT_BYTES);
+        if (e[i].seq == 0xFFFF)
+            memset(slot1 + 5, 0xFF, SLOT_BYTES - 5);    /* cut after the header */
+        else
+            slot1[20] ^= 0x01;                          /* damaged */
+        uint8_t st = store_load();
+        assert_int_equal(st, e[i].want);
+        assert_true(equals(v));
+    }
+}
+
 /* Every setting's range, both edges, from params.h's table (the menu's and the link's ranges):
  * min and max taken, one past each refused, and a refused value changes nothing. Valve cal's
  * dead band (its last digit) 1-9. */
@@ -951,7 +980,9 @@ static void test_params_meter_rate_within_5_khz_at_its_edges(void **state)
     for (size_t i = 0; i < 3; i++) {
         assert_int_equal(param_try(P_METER_K, 100), PARAM_OK);
         assert_int_equal(param_try(P_P_MAX, e[i].p_max), PARAM_OK);
+        uint8_t gen0 = param_generation;
         assert_int_equal(param_try(P_METER_K, e[i].k_ok), PARAM_OK);
+        assert_int_equal(param_generation, (uint8_t)(gen0 + 1u));   /* a change: derived again */
         uint8_t gen = param_generation;
         assert_int_equal(param_try(P_METER_K, (uint16_t)(e[i].k_ok + 1u)), PARAM_X_METER);
         assert_int_equal(param_v[P_METER_K], e[i].k_ok);
@@ -995,6 +1026,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_a_stale_header_after_a_good_save_is_no_cut, setup),
         cmocka_unit_test_setup(test_store_a_day_of_saves_stays_within_the_erase_budget, setup),
         cmocka_unit_test_setup(test_store_a_right_crc_over_a_wrong_header_is_not_loaded, setup),
+        cmocka_unit_test_setup(test_store_older_only_for_a_save_cut_after_the_newest, setup),
         cmocka_unit_test_setup(test_params_every_range_edge_and_the_dead_band_digit, setup),
         cmocka_unit_test_setup(test_params_meter_rate_within_5_khz_at_its_edges, setup),
     };
