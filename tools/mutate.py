@@ -142,6 +142,8 @@ EQUIVALENT = [
     ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 101u", DIGIT),
     ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 99u", DIGIT),
     ("firmware/store/params.c", "param_in_range", "while (v >= 10u)", "10u -> 9u", DIGIT),
+    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
+     "p[2] == 0 -> 1", "p moves past the sign and the next test, if (*p), refuses what follows it"),
     ("firmware/link/serial.c", "hexval", "if (c >= 'a' && c <= 'f')", "c <= 'f' -> 1",
      "a lower-case letter past f made upper case is no hex digit either: -1 both ways"),
     ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",

@@ -106,6 +106,20 @@ static void test_hil_is_entered_only_by_the_checksummed_command(void **state)
     take_text(buf, sizeof buf);
     assert_non_null(strstr(buf, "ERR"));
     assert_false(hal_hil_active());
+    /* with their checksums: the word ON exactly, nothing else */
+    static const char *const bad[] = {"HIL OX", "HIL XN", "HIL NO", "HIL ONN", "HIL O", "HIL on"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        unsigned x = 0;
+        for (const char *p = bad[i]; *p; p++)
+            x ^= (uint8_t)*p;
+        char l[32];
+        snprintf(l, sizeof l, "%s*%02X\r\n", bad[i], x);
+        link_send(l);
+        link_run_ms(5);
+        take_text(buf, sizeof buf);
+        assert_non_null(strstr(buf, "ERR ARG"));
+        assert_false(hal_hil_active());
+    }
     hil_on();
     assert_true(hal_hil_active());
     /* the run screen says so */

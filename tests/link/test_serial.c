@@ -265,6 +265,33 @@ static void test_serial_layout_and_words_letter_by_letter(void **state)
     assert_string_equal(cmd("FOO 0123456789012345678901234567\r\n"), "ERR LONG");
 }
 
+/* A line that stops coming holds the link 3 s (the log's lines wait), then it is dropped and the
+ * log goes on; one that lost bytes is answered ERR LOST then. */
+static void test_serial_a_stalled_line_is_dropped_after_3_s(void **state)
+{
+    (void)state;
+    /* just after a log line (the stall is counted in the log's seconds) */
+    int i;
+    for (i = 0; i < 1500 && strncmp(next_line(), "LOG ", 4); i++)
+        link_run_ms(1);
+    assert_true(i < 1500);
+    link_send("GET 0");                             /* no line end */
+    link_run_ms(2500);
+    assert_string_equal(next_line(), "");           /* held: no log line for 2.5 s */
+    link_run_ms(1000);
+    assert_memory_equal(next_line(), "LOG ", 4);    /* dropped at 3 s, the log goes on */
+    while (next_line()[0])
+        ;
+    /* 20 bytes while the loop is not polled (the 16-byte queue overflows), no line end: the
+     * first line out, once it is dropped, says so */
+    link_send("GET 0123456789012345");
+    link_t_ms += 10;
+    hal_host_set_time_ns(link_t_ms * 1000000ull);
+    link_run_ms(3500);
+    assert_string_equal(next_line(), "ERR LOST");
+    assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
+}
+
 /* Commands that change something are refused without their checksum: a line that lost a
  * digit ("SET 0 150" arriving as "SET 0 10") would otherwise be a valid command. Those that
  * only read need none. Cross-checks between parameters answer with their reason. */
@@ -529,6 +556,7 @@ int main(void)
         cmocka_unit_test_setup(test_serial_every_wrong_checksum_is_refused, setup),
         cmocka_unit_test_setup(test_serial_numbers_up_to_65535_in_five_digits, setup),
         cmocka_unit_test_setup(test_serial_layout_and_words_letter_by_letter, setup),
+        cmocka_unit_test_setup(test_serial_a_stalled_line_is_dropped_after_3_s, setup),
         cmocka_unit_test_setup(test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost, setup),
         cmocka_unit_test_setup(test_serial_sav_answers_when_its_save_has_ended, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
