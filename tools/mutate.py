@@ -144,6 +144,14 @@ EQUIVALENT = [
     ("firmware/store/params.c", "param_in_range", "while (v >= 10u)", "10u -> 9u", DIGIT),
     ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
      "p[2] == 0 -> 1", "p moves past the sign and the next test, if (*p), refuses what follows it"),
+    ("firmware/measure/analog.c", "judge", "if (c->bad < 255)", "255 -> 254",
+     "the count is compared with ANALOG_FAULT_PERIODS (3) only"),
+    ("firmware/measure/analog.c", "judge", "if (c->good < 255)", "255 -> 254",
+     "the count is compared with ANALOG_OK_PERIODS (10) only"),
+    ("firmware/measure/analog.c", "judge", "if (!c->ok && c->good >= ANALOG_OK_PERIODS)", "!c->ok -> 1",
+     "setting ok when it is already 1 changes nothing"),
+    ("firmware/measure/flow.c", "flow_step", "if (q < fl.q_x100)", "< -> <=",
+     "at q == q_x100 both ways leave the same value"),
     ("firmware/link/serial.c", "hexval", "if (c >= 'a' && c <= 'f')", "c <= 'f' -> 1",
      "a lower-case letter past f made upper case is no hex digit either: -1 both ways"),
     ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",
@@ -539,9 +547,11 @@ def main():
         print("%d mutants, %d listed as equivalent" % (len(muts), len(muts) - len(live)))
         return 0
     known = awaiting()
-    if args.recheck:                # the awaiting ones only: those killed now leave the file
+    if args.recheck:                # the awaiting ones only (of --only's files): the killed leave the file
         live = [m for m in live if key(m) in known]
         args.record = True
+    elif args.record and args.only:
+        sys.exit("mutate.py: --record takes a whole run (no --only)")
     if args.sample:
         live = [m for m in live if key(m) not in known]
         seed = args.seed if args.seed is not None else random.randrange(1 << 16)
@@ -573,8 +583,13 @@ def main():
     if args.record:
         head = ("# tools/mutate.py --record: survivors of the last whole run awaiting a test (not\n"
                 "# equivalent: each needs a test that kills it, then its line goes)\n")
+        if args.recheck:            # only the ones run and killed now leave
+            killed = {key(m) for m, r in zip(live, results) if r != "survived"}
+            lines = [k for k in sorted(known) if k not in killed]
+        else:
+            lines = [key(m) for m in surv]
         with open(AWAITING_FILE, "w") as f:
-            f.write(head + "".join(key(m) + "\n" for m in surv))
+            f.write(head + "".join(k + "\n" for k in lines))
     new_surv = [m for m in surv if key(m) not in known]
     gone = sorted(known - {key(m) for m in surv} & {key(m) for m in live})
     by = {}

@@ -678,6 +678,33 @@ static void test_flow_falls_between_pulses_and_is_zero_after_10_quiet_periods(vo
     }
 }
 
+/* After 10 s without a pulse (FLOW_STALE_PERIODS) the last edge is forgotten: the next pulse
+ * starts a span and reads nothing yet; after 9.9 s it still reads one pulse over the gap. */
+static void test_flow_forgets_its_last_edge_after_100_quiet_periods(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        now_ns = 0;
+        hal_host_set_time_ns(0);
+        hal_host_flow_edge(50000000u);
+        now_ns += PERIOD_NS;
+        hal_host_set_time_ns(now_ns);
+        flow_step();
+        for (int i = 0; i < (k ? 100 : 99); i++) {
+            now_ns += PERIOD_NS;
+            hal_host_set_time_ns(now_ns);
+            flow_step();
+        }
+        hal_host_flow_edge(now_ns + 50000000u);
+        now_ns += PERIOD_NS;
+        hal_host_set_time_ns(now_ns);
+        int16_t q = flow_step();
+        printf("# a pulse after %d quiet periods reads %d x 0.01 L/min\n", k ? 100 : 99, q);
+        assert_int_equal(q > 0, !k);
+    }
+}
+
 static void test_flow_rejects_glitches_and_reads_zero_when_pulses_stop(void **state)
 {
     train_t m = {0};
@@ -786,9 +813,10 @@ static void test_analog_3_5ma_is_an_open_sensor_fault(void **state)
  * after 3 periods in a row, each recovery after 10. */
 static uint16_t conv[4];
 static unsigned conv_i;
+static uint8_t conv_ch;
 static uint16_t conv_source(uint8_t ch)
 {
-    return ch == 0 ? conv[conv_i++ & 3u] : 614;
+    return ch == conv_ch ? conv[conv_i++ & 3u] : 614;
 }
 
 static void test_analog_open_and_short_at_their_counts(void **state)
@@ -798,17 +826,32 @@ static void test_analog_open_and_short_at_their_counts(void **state)
     static const struct { uint16_t c[4]; int fault; } e[] = {
         {{183, 184, 184, 184}, ANALOG_FAULT_OPEN}, {{184, 184, 184, 184}, 0},
         {{600, 600, 600, 1023}, ANALOG_FAULT_SHORT}, {{1022, 1022, 1022, 1022}, 0},
+        {{183, 184, 184, 184}, ANALOG_FAULT_OPEN}, {{184, 184, 184, 184}, 0},
     };
-    for (size_t i = 0; i < 4; i++) {
+    /* a new sensor range is taken at the next step: 12 mA is half of it */
+    setup(NULL);
+    conv_ch = 0;
+    hal_host_adc_source(conv_source);
+    static const uint16_t mid[4] = {614, 614, 614, 614};
+    memcpy(conv, mid, sizeof conv);
+    steps(2);
+    uint16_t p1 = analog_pressure_kpa();
+    assert_true(param_set(P_PSENS_MAX, (uint16_t)(param_v[P_PSENS_MAX] * 2u)));
+    steps(1);
+    assert_true(abs((int)analog_pressure_kpa() - 2 * (int)p1) <= 2);
+    for (size_t i = 0; i < 6; i++) {
         setup(NULL);
+        conv_ch = i < 4 ? 0 : 1;                    /* the level loop's open edge too */
         hal_host_adc_source(conv_source);
         memcpy(conv, e[i].c, sizeof conv);
         conv_i = 0;
         steps(2);
-        assert_true(analog_pressure_ok());
+        assert_true(conv_ch ? analog_level_ok() : analog_pressure_ok());
         steps(1);
-        assert_int_equal(analog_pressure_ok(), e[i].fault == 0);
-        assert_int_equal(analog_pressure_fault(), e[i].fault);
+        assert_int_equal(conv_ch ? analog_level_ok() : analog_pressure_ok(), e[i].fault == 0);
+        assert_int_equal(conv_ch ? analog_level_fault() : analog_pressure_fault(), e[i].fault);
+        if (conv_ch)
+            continue;
         if (e[i].fault) {
             static const uint16_t good[4] = {400, 400, 400, 400};
             memcpy(conv, good, sizeof conv);
@@ -857,6 +900,7 @@ int main(void)
         cmocka_unit_test_setup(test_flow_is_measured_from_periods_at_12_30_50_lpm, setup),
         cmocka_unit_test_setup(test_flow_takes_a_new_k_at_the_next_step, setup),
         cmocka_unit_test_setup(test_flow_300_lpm_is_the_meters_top, setup),
+        cmocka_unit_test_setup(test_flow_forgets_its_last_edge_after_100_quiet_periods, setup),
         cmocka_unit_test_setup(test_flow_falls_between_pulses_and_is_zero_after_10_quiet_periods, setup),
         cmocka_unit_test_setup(test_flow_rejects_glitches_and_reads_zero_when_pulses_stop, setup),
         cmocka_unit_test_setup(test_analog_4ma_reads_0_mpa_and_the_span_is_linear, setup),
