@@ -612,6 +612,13 @@ static void test_meter_noise_on_the_fourth_glitching_period(void **state)
     /* the score falls by 1 a period from 80: at 0 after 80 periods, then 10 more clear it */
     int n = periods_until(AL_METER_NOISE, 0, 200);
     assert_int_equal(n, 80 + 10);
+    /* 61 raises: two glitching periods (40), 19 quiet ones (21), two more (61) */
+    static const char seq[] = "gg...................gg";
+    for (size_t i = 0; i < sizeof seq - 1; i++) {
+        if (seq[i] == 'g')
+            hal_host_flow_edge(sy.meter_last);
+        assert_int_equal(on(period(), AL_METER_NOISE), i == sizeof seq - 2);
+    }
 }
 
 /* The wheel's score: +8 a rejected pulse, -1 a good one, never under 0; above 60 the alarm, in
