@@ -42,7 +42,8 @@ SITES = {
     # alarms and their timing
     "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_step", "x_of"],
     # the link's checksum, layout and refusals; Raven's strings and their refusals
-    "firmware/link/serial.c": ["hexval", "number", "line_ok", "answer", "run", "serial_poll"],
+    "firmware/link/linecheck.c": ["line_crc8", "hexval", "line_check"],
+    "firmware/link/serial.c": ["number", "answer", "run", "take", "serial_poll"],
     "firmware/link/remote.c": ["remote_command"],
     # the EEPROM record checks; the settings' ranges and cross-checks
     "firmware/store/store.c": ["ck_more", "store_load"],
@@ -60,6 +61,7 @@ SITES = {
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
     "firmware/ops/diag.c": ["test_diag", "test_faults"],
+    "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
     "firmware/store/store.c": ["test_store"],
@@ -152,17 +154,13 @@ EQUIVALENT = [
      "setting ok when it is already 1 changes nothing"),
     ("firmware/measure/flow.c", "flow_step", "if (q < fl.q_x100)", "< -> <=",
      "at q == q_x100 both ways leave the same value"),
-    ("firmware/link/serial.c", "hexval", "if (c >= 'a' && c <= 'f')", "c <= 'f' -> 1",
-     "a lower-case letter past f made upper case is no hex digit either: -1 both ways"),
+    ("firmware/link/linecheck.c", "line_check", "for (i = 0; i < n && p[i] != '*'; i++)", "< -> <=",
+     "p[n] is inside the buffer (n <= SERIAL_LINE_MAX); a '*' found at n fails the i < n after"),
+    ("firmware/link/linecheck.c", "line_check", "for (i = 1; i < n; i++)", "< -> <=",
+     "p[n] is the line's end, 0 just written: never a space"),
     ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",
      "with no digit *p is the character after a space: line_ok refuses a double or trailing space, "
      "so it is neither a space nor the end, and the second test refuses it"),
-    ("firmware/link/serial.c", "line_ok", "for (i = 0; i < n && se.buf[i] != '*'; i++)", "< -> <=",
-     "without a '*' the sum is not used; se.buf[n] is inside the buffer (n <= SERIAL_LINE_MAX)"),
-    ("firmware/link/serial.c", "line_ok", "for (i = 1; i < n; i++)", "< -> <=",
-     "se.buf[n] is the line's end, 0 just written: never a space"),
-    ("firmware/link/serial.c", "line_ok", "if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != x) {",
-     "h2 < 0 -> 0", "h2 = -1 makes h1 << 4 | h2 0xFF, and x, a sum of printable ASCII, is under 0x80"),
 ]
 
 # survivors recorded by the last whole run that still await a test (not equivalent): one a line,

@@ -650,11 +650,11 @@ static void test_ctl_ffmap_starts_a_new_valve_under_the_full_gain(void **state)
     assert_true(start < full * 3 / 4);
     /* a newly told valve (Valve time) starts there: 3/4 of the full gain's 256 */
     ctl_select(CTL_FFMAP);
-    ctl_st.fm.g = 256;
+    ctl_st.fm.gain = 256;
     assert_int_equal(param_set(P_VALVE_TRAVEL, 50), 1);
     ctl_in_t in = mk(3000, 3000, 0);
     ctl_step(&in);
-    assert_int_equal(ctl_st.fm.g, 256 * 3 / 4);
+    assert_int_equal(ctl_st.fm.gain, 256 * 3 / 4);
     params_defaults();
     ctl_reset(0);                   /* the defaults derived again for the tests after this one */
 }

@@ -176,9 +176,7 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
     (void)state;
     link_run_ms(200);
     const char *c = "SET 0 130";
-    unsigned x = 0;
-    for (const char *p = c; *p; p++)
-        x ^= (uint8_t)*p;
+    unsigned x = link_crc8(c, strlen(c));
     char l[32];
     for (unsigned k = 0; k < 256; k++) {
         if (k == x)
@@ -187,18 +185,40 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
         assert_string_equal(cmd(l), "ERR CSUM");
         assert_int_equal(param_v[P_RATE], 150);
     }
-    /* the hex digits: a letter in either case ("FOC" XORs to 0x4A, "FOF" to 0x4F; a line whose
-     * checksum passes is refused for its word, ERR CMD), no other character ("FOAA": 0x09) */
-    assert_string_equal(cmd("FOC*4A\r\n"), "ERR CMD");
-    assert_string_equal(cmd("FOC*4a\r\n"), "ERR CMD");
-    assert_string_equal(cmd("FOF*4F\r\n"), "ERR CMD");
-    assert_string_equal(cmd("FOF*4f\r\n"), "ERR CMD");
-    assert_string_equal(cmd("FOF*4g\r\n"), "ERR CSUM");
-    assert_string_equal(cmd("FOAA*09\r\n"), "ERR CMD");
-    assert_string_equal(cmd("FOAA*G9\r\n"), "ERR CSUM");
-    assert_string_equal(cmd("FOAA*/9\r\n"), "ERR CSUM");
-    assert_string_equal(cmd("FOAA*9\r\n"), "ERR CSUM");
-    assert_string_equal(cmd("FOAA*009\r\n"), "ERR CSUM");
+    /* the hex digits: a letter in either case, 'a' and 'f' too, and no other character. Lines
+     * "FO" and two letters: a checksum that passes gets ERR CMD for the word, one refused ERR
+     * CSUM. */
+    int seen_a = 0, seen_f = 0, seen_0 = 0;
+    for (char c1 = 'A'; c1 <= 'Z'; c1++) {
+        for (char c2 = 'A'; c2 <= 'Z'; c2++) {
+            char w[8];
+            snprintf(w, sizeof w, "FO%c%c", c1, c2);
+            unsigned y = link_crc8(w, 4), hi = y >> 4, lo = y & 15;
+            int a = hi == 10 || lo == 10, f = hi == 15 || lo == 15;
+            if ((a && !seen_a) || (f && !seen_f)) {
+                snprintf(l, sizeof l, "%s*%02x\r\n", w, y);
+                assert_string_equal(cmd(l), "ERR CMD");
+                snprintf(l, sizeof l, "%s*%02X\r\n", w, y);
+                assert_string_equal(cmd(l), "ERR CMD");
+                seen_a |= a;
+                seen_f |= f;
+            }
+            if (hi == 0 && !seen_0) {       /* a non-hex character where the 0 goes */
+                snprintf(l, sizeof l, "%s*G%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                snprintf(l, sizeof l, "%s*/%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                snprintf(l, sizeof l, "%s*g%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                snprintf(l, sizeof l, "%s*%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                snprintf(l, sizeof l, "%s*00%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                seen_0 = 1;
+            }
+        }
+    }
+    assert_true(seen_a && seen_f && seen_0);
     snprintf(l, sizeof l, "%s*%02x\r\n", c, x);
     assert_string_equal(cmd(l), "OK 0 130");
     assert_string_equal(scmd("SET 0 120"), "OK 0 120");

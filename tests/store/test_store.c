@@ -891,7 +891,7 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         int count = h[i].count;
         twin_write_n(0, 7, v, h[i].version, count);
         uint8_t *e = hal_host_eeprom();
-        size_t n = 5 + 2 * (size_t)count + 8 + TWIN_LEARNT(h[i].version);
+        size_t n = 5 + 2 * (size_t)count + 8 + TWIN_LEARNT(h[i].version) + TWIN_JOB(h[i].version);
         e[0] = h[i].magic;
         uint16_t crc = twin_crc(e, n);
         e[n] = (uint8_t)(crc >> 8);
