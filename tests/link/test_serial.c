@@ -188,7 +188,7 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
     /* the hex digits: a letter in either case, 'a' and 'f' too, and no other character. Lines
      * "FO" and two letters: a checksum that passes gets ERR CMD for the word, one refused ERR
      * CSUM. */
-    int seen_a = 0, seen_f = 0, seen_0 = 0;
+    int seen_a = 0, seen_f = 0, seen_0 = 0, seen_hf = 0, seen_ff = 0, seen_9 = 0;
     for (char c1 = 'A'; c1 <= 'Z'; c1++) {
         for (char c2 = 'A'; c2 <= 'Z'; c2++) {
             char w[8];
@@ -202,6 +202,25 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
                 assert_string_equal(cmd(l), "ERR CMD");
                 seen_a |= a;
                 seen_f |= f;
+            }
+            if (hi == 15 && !seen_hf) {     /* a non-hex high digit, where 0xF0 would pass */
+                snprintf(l, sizeof l, "%s*G%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                seen_hf = 1;
+            }
+            if (y == 0xFF && !seen_ff) {    /* a non-hex low digit, where 0xFF would pass */
+                snprintf(l, sizeof l, "%s*FG\r\n", w);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                seen_ff = 1;
+            }
+            if (hi == 9 && !seen_9) {       /* '@' and '`' are no 9 (the case fold takes them near) */
+                snprintf(l, sizeof l, "%s*@%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                snprintf(l, sizeof l, "%s*`%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CSUM");
+                snprintf(l, sizeof l, "%s*9%X\r\n", w, lo);
+                assert_string_equal(cmd(l), "ERR CMD");
+                seen_9 = 1;
             }
             if (hi == 0 && !seen_0) {       /* a non-hex character where the 0 goes */
                 snprintf(l, sizeof l, "%s*G%X\r\n", w, lo);
@@ -218,7 +237,7 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
             }
         }
     }
-    assert_true(seen_a && seen_f && seen_0);
+    assert_true(seen_a && seen_f && seen_0 && seen_hf && seen_ff && seen_9);
     snprintf(l, sizeof l, "%s*%02x\r\n", c, x);
     assert_string_equal(cmd(l), "OK 0 130");
     assert_string_equal(scmd("SET 0 120"), "OK 0 120");
