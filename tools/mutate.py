@@ -158,6 +158,8 @@ EQUIVALENT = [
      "p[n] is inside the buffer (n <= SERIAL_LINE_MAX); a '*' found at n fails the i < n after"),
     ("firmware/link/linecheck.c", "line_check", "for (i = 1; i < n; i++)", "< -> <=",
      "p[n] is the line's end, 0 just written: never a space"),
+    ("firmware/link/serial.c", "answer", "if (c >= LINE_E_ARG) {", "LINE_E_ARG -> (LINE_E_ARG - 1)",
+     "a good line's value is its length (SERIAL_LINE_MAX at most) with LINE_CHECKED: 0x9F at most"),
     ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",
      "with no digit *p is the character after a space: line_ok refuses a double or trailing space, "
      "so it is neither a space nor the end, and the second test refuses it"),
