@@ -158,6 +158,8 @@ EQUIVALENT = [
      "p[n] is inside the buffer (n <= SERIAL_LINE_MAX); a '*' found at n fails the i < n after"),
     ("firmware/link/linecheck.c", "line_check", "for (i = 1; i < n; i++)", "< -> <=",
      "p[n] is the line's end, 0 just written: never a space"),
+    ("firmware/link/linecheck.c", "hexval", "if (c >= '0' && c <= '9')", "c >= '0' -> 1",
+     "a byte under '0' gives c - '0' under 0: the -1 of a refusal's test either way"),
     ("firmware/link/serial.c", "answer", "if (c >= LINE_E_ARG) {", "LINE_E_ARG -> (LINE_E_ARG - 1)",
      "a good line's value is its length (SERIAL_LINE_MAX at most) with LINE_CHECKED: 0x9F at most"),
     ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",
