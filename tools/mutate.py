@@ -41,6 +41,7 @@ from concurrent.futures import ThreadPoolExecutor
 SITES = {
     # alarms and their timing
     "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_step", "x_of"],
+    "firmware/ops/diag_line.c": ["diag_dry_line", "diag_zero", "diag_balance"],
     # the link's checksum, layout and refusals; Raven's strings and their refusals
     "firmware/link/linecheck.c": ["line_crc8", "hexval", "line_check"],
     "firmware/link/serial.c": ["number", "answer", "run", "take", "serial_poll"],
@@ -60,20 +61,22 @@ SITES = {
 
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
-    "firmware/ops/diag.c": ["test_diag", "test_faults"],
+    "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_faults"],
+    "firmware/ops/diag_line.c": ["test_diag", "test_diag_edges", "test_slow_faults"],
     "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
     "firmware/store/store.c": ["test_store"],
     "firmware/store/params.c": ["test_store", "test_serial", "test_console"],
     "firmware/control/valve.c": ["test_valve", "test_drive", "test_faults"],
-    "firmware/control/target.c": ["test_target", "test_raven", "test_diag"],
-    "firmware/measure/flow.c": ["test_measure", "test_diag"],
-    "firmware/measure/analog.c": ["test_measure", "test_diag"],
+    "firmware/control/target.c": ["test_target", "test_raven", "test_diag_edges"],
+    "firmware/measure/flow.c": ["test_measure", "test_diag_edges"],
+    "firmware/measure/analog.c": ["test_measure", "test_diag_edges"],
 }
 
 # ---- equivalent mutants: (file, function, the line's text, change, reason) --------------------
-NP = "DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0"
+NP = "DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0,"
+NP2 = "DIAG_BAL_PERIODS, 1"
 DIGIT = ("Valve cal's dead-band digit: the subtractions only take the digits apart; a bound moved by "
          "one leaves a value ending in 0 at 0 and one ending in 1-9 (or wrapped past 0) not at 0")
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
@@ -87,8 +90,7 @@ EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 2 #4",
      "AL_OFFRATE's rule() call only clears it (diag_offrate counts its own raising): never read"),
     ("firmware/ops/diag.c", "need_periods", NP, "0 -> 1", "AL_INTERNAL has no rule(): never read"),
-    ("firmware/ops/diag.c", "diag_supply", "rule(AL_PUMP_DRY, lsens && dry, refill && !dry);", "!dry -> 1",
-     "a refill (Tank min + Tank size / 64 + 1 L and up) is never dry (1 % of Tank size and under)"),
+    ("firmware/ops/diag.c", "need_periods", NP2, "1 -> 0", COUNTED),
     ("firmware/ops/diag.c", "diag_offrate",
      "&& UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);    /* |qp| <= 32768 */",
      "0 -> 1", "at qp == 0, -qp and qp are both 0"),

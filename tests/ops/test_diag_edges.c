@@ -1,4 +1,4 @@
-/* test_diag.c: each alarm rule driven with synthetic inputs, period by period: one period before its stated count silent, on the count raised, and its clearing edge. */
+/* test_diag_edges.c: each alarm rule driven with synthetic inputs, period by period: one period before its stated count silent, on the count raised, and its clearing edge. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -194,8 +194,9 @@ static void test_overpressure_after_3_periods_over_p_max_cleared_under_95_percen
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 11);
 }
 
-/* Tank and pump judged on a working level sensor only; PUMP_DRY clears only on a refill past
- * Tank min by Tank size / 64 + 1 L (46 L), not as the level leaves 1 %. */
+/* Tank and pump judged on a working level sensor only; PUMP_DRY clears on a refill past Tank
+ * min by Tank size / 64 + 1 L (46 L), not as the level leaves 1 %, or once the level sensor is
+ * judged open (the dry line's rule is the pump's judge then). */
 static void test_tank_rules_need_the_level_sensor_and_a_real_refill(void **state)
 {
     (void)state;
@@ -212,11 +213,14 @@ static void test_tank_rules_need_the_level_sensor_and_a_real_refill(void **state
     assert_int_equal(periods_until(AL_PUMP_DRY, 1, 20), 10);
     sy.st.tank_l = 45;                          /* out of the 1 %, not refilled */
     assert_int_equal(periods_until(AL_PUMP_DRY, 0, 30), 31);
-    adc_counts[1] = 179;                        /* the sensor fails with the tank full */
-    sy.st.tank_l = 900;
-    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 30), 31);
-    adc_counts[1] = 614;                        /* back: judged good after 10, refilled 10 later */
-    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 40), 10 + 10 - 1);
+    sy.st.tank_l = 900;                         /* refilled: cleared after 10 */
+    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 30), 10);
+    /* dry again, then the level sensor fails: the level no longer says dry (the line's own
+     * rule judges the pump then), cleared 10 periods after the 3rd that judges it open */
+    sy.st.tank_l = 10;
+    assert_int_equal(periods_until(AL_PUMP_DRY, 1, 20), 10);
+    adc_counts[1] = 179;
+    assert_int_equal(periods_until(AL_PUMP_DRY, 0, 30), 3 + 10 - 1);
 }
 
 /* OVERPRESSURE on a working pressure sensor only; a sensor that fails while it is raised clears
