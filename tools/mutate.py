@@ -42,6 +42,7 @@ SITES = {
     # alarms and their timing
     "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_step", "x_of"],
     "firmware/ops/diag_line.c": ["diag_dry_line", "diag_zero", "diag_balance"],
+    "firmware/ops/diag_wheel.c": ["diag_pump"],
     # the link's checksum, layout and refusals; Raven's strings and their refusals
     "firmware/link/linecheck.c": ["line_crc8", "hexval", "line_check"],
     "firmware/link/serial.c": ["number", "answer", "run", "take", "serial_poll"],
@@ -61,22 +62,23 @@ SITES = {
 
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
-    "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_faults"],
+    "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_plaus", "test_faults"],
     "firmware/ops/diag_line.c": ["test_diag", "test_diag_edges", "test_slow_faults"],
+    "firmware/ops/diag_wheel.c": ["test_plaus", "test_diag", "test_faults"],
     "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
     "firmware/store/store.c": ["test_store"],
     "firmware/store/params.c": ["test_store", "test_serial", "test_console"],
-    "firmware/control/valve.c": ["test_valve", "test_drive", "test_faults"],
-    "firmware/control/target.c": ["test_target", "test_raven", "test_diag_edges"],
-    "firmware/measure/flow.c": ["test_measure", "test_diag_edges"],
+    "firmware/control/valve.c": ["test_valve", "test_plaus", "test_drive", "test_faults"],
+    "firmware/control/target.c": ["test_target", "test_raven", "test_plaus", "test_diag_edges"],
+    "firmware/measure/flow.c": ["test_measure", "test_plaus", "test_diag_edges"],
     "firmware/measure/analog.c": ["test_measure", "test_diag_edges"],
 }
 
 # ---- equivalent mutants: (file, function, the line's text, change, reason) --------------------
-NP = "DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, DIAG_VALVE_PERIODS, 1, 1, 0,"
-NP2 = "DIAG_BAL_PERIODS, 1"
+NP = "DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, 1, 1, 0,"
+NP2 = "DIAG_BAL_PERIODS, 1, DIAG_MIN_FLOW_PERIODS"
 DIGIT = ("Valve cal's dead-band digit: the subtractions only take the digits apart; a bound moved by "
          "one leaves a value ending in 0 at 0 and one ending in 1-9 (or wrapped past 0) not at 0")
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
@@ -92,7 +94,7 @@ EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "0 -> 1", "AL_INTERNAL has no rule(): never read"),
     ("firmware/ops/diag.c", "need_periods", NP2, "1 -> 0", COUNTED),
     ("firmware/ops/diag.c", "diag_offrate",
-     "&& UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);    /* |qp| <= 32768 */",
+     "&& UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);",
      "0 -> 1", "at qp == 0, -qp and qp are both 0"),
     ("firmware/ops/diag.c", "rule", "if (*cnt < 255)", "255 -> 254",
      "a count is reset when it reaches its need (30 at most): it never nears 254"),

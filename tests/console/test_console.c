@@ -176,11 +176,12 @@ static void test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_con
 {
     (void)state;
     store_status_clear();
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 205;    /* 4.0 mA: the line at rest reads 0 */
+    hal_host_io.adc[HAL_ADC_LEVEL] = 614;
     run_ms(3000);
     /* standing: no area covered, no rate */
     assert_string_equal(lcd(2), "Now  --L/ha AUTO");
     hal_host_io.adc[HAL_ADC_PRESSURE] = 305;
-    hal_host_io.adc[HAL_ADC_LEVEL] = 614;
     hal_host_io.sections = 0x3F;
     wheel_every_ms = 200;
     flow_every_ms = 5;

@@ -970,17 +970,18 @@ static void test_params_every_range_edge_and_the_dead_band_digit(void **state)
 }
 
 /* The meter's pulse rate with every nozzle open within 5 kHz, at P max too (worked by hand):
- * 30 nozzles of 20 L/min at 3 bar and K in 0.1 p/L give f3 = K Hz at 3 bar; at P max 2 bar the
- * 3 bar rate governs: K 5000 taken, 5001 refused; at P max 3 bar both edges meet there; at P
- * max 4.8 bar the rate there, K sqrt(480 / 300), is 5 kHz at K = 3952.8: 3952 taken, 3953
- * refused. A refused K leaves the old one. */
+ * 10 nozzles of 20 L/min at 3 bar (200 L/min, 253 at 4.8 bar: within the meter's 300) and K in
+ * 0.1 p/L give f3 = K / 3 Hz at 3 bar; at P max 2 bar the 3 bar rate governs: K 15000 (5000 Hz)
+ * taken, 15003 refused; at P max 3 bar both edges meet there; at P max 4.8 bar the rate there,
+ * f3 sqrt(480 / 300), is 5 kHz at f3 = 3952.8: K 11856 taken, 11859 refused. A refused K leaves
+ * the old one. */
 static void test_params_meter_rate_within_5_khz_at_its_edges(void **state)
 {
     (void)state;
     assert_int_equal(param_try(P_METER_K, 100), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLES, 10), PARAM_OK);
     assert_int_equal(param_try(P_NOZZLE_Q3, 2000), PARAM_OK);
-    assert_int_equal(param_try(P_NOZZLES, 30), PARAM_OK);
-    static const struct { uint16_t p_max, k_ok; } e[] = {{200, 5000}, {300, 5000}, {480, 3952}};
+    static const struct { uint16_t p_max, k_ok; } e[] = {{200, 15000}, {300, 15000}, {480, 11856}};
     for (size_t i = 0; i < 3; i++) {
         assert_int_equal(param_try(P_METER_K, 100), PARAM_OK);
         assert_int_equal(param_try(P_P_MAX, e[i].p_max), PARAM_OK);
@@ -988,7 +989,7 @@ static void test_params_meter_rate_within_5_khz_at_its_edges(void **state)
         assert_int_equal(param_try(P_METER_K, e[i].k_ok), PARAM_OK);
         assert_int_equal(param_generation, (uint8_t)(gen0 + 1u));   /* a change: derived again */
         uint8_t gen = param_generation;
-        assert_int_equal(param_try(P_METER_K, (uint16_t)(e[i].k_ok + 1u)), PARAM_X_METER);
+        assert_int_equal(param_try(P_METER_K, (uint16_t)(e[i].k_ok + 3u)), PARAM_X_METER);
         assert_int_equal(param_v[P_METER_K], e[i].k_ok);
         assert_int_equal(param_generation, gen);            /* nothing changed */
         assert_int_equal(param_try(P_METER_K, e[i].k_ok), PARAM_OK);
