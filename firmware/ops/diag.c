@@ -143,9 +143,8 @@ static uint16_t x_of(int16_t meter) __reentrant
 
 /* The fit of the summed samples: a least-squares line when their flows spread enough (the whole
  * range: learnt 2; the squares' spread at least a quarter of their mean, since the meter's noise
- * flattens a line fitted over less, and the check valves it gives come out too high: family
- * plant 20 of SEED=173 had them at 91 kPa for 61 from flows within a tenth of each other, and a
- * false LEAK), else the rated curve scaled through their mean (check valves as the default),
+ * flattens a line fitted over less, and the check valves it gives come out too high: flows
+ * within a tenth of each other fitted them at 91 kPa for 61, and a false LEAK), else the rated curve scaled through their mean (check valves as the default),
  * trusted near that flow only (learnt 1: the sums are halved and learning goes on); clamped to
  * sane nozzles. A fit ends the calibration: the model is held from then on (a leak that grows or
  * nozzles that clog slowly never move it). */
