@@ -116,7 +116,13 @@ grep -E '^(killed|SURVIVED)' "$log/mutation-sample-seed-$mutate_seed-no-survivor
 for s in tests/scripts/*.sh; do
     [ -x "$s" ] || continue
     echo "# $(basename "$s")"
-    tap < <(timeout 1800 "$s" 2>&1 | tee "$log/$(basename "$s").log")
+    tap < <(timeout 1800 "$s" 2>&1 | tee "$log/$(basename "$s").log"; echo "# rc ${PIPESTATUS[0]}" > "$log/$(basename "$s").rc")
+    # a script that breaks itself (a shell error, a crash) has skipped its later checks: a failure
+    if grep -qE '^[^ ]+\.sh: line [0-9]+: |unbound variable|syntax error' "$log/$(basename "$s").log" \
+       || { ! grep -q '^# rc 0$' "$log/$(basename "$s").rc" && ! grep -q '^not ok' "$log/$(basename "$s").log"; }; then
+        fail=$((fail + 1)); echo "not ok - $(basename "$s") broke off: $(cat "$log/$(basename "$s").rc") (see $log/$(basename "$s").log)"
+        grep -E '\.sh: line [0-9]+: ' "$log/$(basename "$s").log" | head -3 | sed 's/^/#   /'
+    fi
 done
 
 echo "$pass passed, $fail failed"

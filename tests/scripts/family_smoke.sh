@@ -1,15 +1,6 @@
 #!/usr/bin/env bash
 # family_smoke.sh: tools/family.py (and tools/redraw.py) on a few plants: the same seed gives the same table, every run scored, the files written.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-SIM=$B/host/bin/sim
-PY=.venv/bin/python
-[ -x "$PY" ] || PY=python3
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { echo "ok - family: $1"; }
-nok() { echo "not ok - family: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
+. "$(dirname "$0")/tap.sh" family
 
 make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1 || { nok "the simulator builds" "$(cat "$tmp/build.log")"; exit 0; }
 if $PY tools/family.py "$SIM" --n 6 --controllers ffmap,pid --out "$tmp/a" > "$tmp/a.out" 2>&1 \

@@ -1,15 +1,6 @@
 #!/usr/bin/env bash
 # faults.sh: tools/faults.py (make faults): the dose while silent on a hand-made trace, the faults' scenarios, a table that is the simulator's figures, one-line refusals.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-SIM=$B/host/bin/sim
-PY=.venv/bin/python
-[ -x "$PY" ] || PY=python3
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { echo "ok - faults: $1"; }
-nok() { echo "not ok - faults: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
+. "$(dirname "$0")/tap.sh" faults
 
 make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1 || { nok "the simulator builds" "$(cat "$tmp/build.log")"; exit 0; }
 # By hand, 150 L/ha over 36 nozzles at 50 cm (18 m) at 8 km/h asks 150 x 8 x 18 / 600 = 36 L/min:

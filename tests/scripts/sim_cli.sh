@@ -1,15 +1,6 @@
 #!/usr/bin/env bash
 # sim_cli.sh: the simulator program and its tools from the outside: JSON last line, seeds, refusals, make sim, plots.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-SIM=$B/host/bin/sim
-PY=.venv/bin/python
-[ -x "$PY" ] || PY=python3
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { echo "ok - sim_cli: $1"; }
-nok() { echo "not ok - sim_cli: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
+. "$(dirname "$0")/tap.sh" sim_cli
 
 if ! make -s --no-print-directory "$SIM" "$B/host/bin/steps" BUILD="$B" > "$tmp/build.log" 2>&1; then
     nok "the simulator builds" "$(cat "$tmp/build.log")"

@@ -1,16 +1,7 @@
 #!/usr/bin/env bash
 # steps_zero.sh: on every scenario in scenarios/, a flow equal to the firmware's target scores 0 % overshoot and 0 s settling, and a late flow scores worse the later it is.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-SIM=$B/host/bin/sim
+. "$(dirname "$0")/tap.sh" steps_zero
 STEPS=$B/host/bin/steps
-PY=.venv/bin/python
-[ -x "$PY" ] || PY=python3
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { echo "ok - steps_zero: $1"; }
-nok() { echo "not ok - steps_zero: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
 
 if ! make -s --no-print-directory "$SIM" "$STEPS" BUILD="$B" > "$tmp/build.log" 2>&1; then
     nok "the simulator and steps build" "$(cat "$tmp/build.log")"
