@@ -102,6 +102,8 @@ void speed_init(void)
     sp.pulses = 0;
     sp.v_x100 = 0;
     sp.v_pulse_x100 = 0;
+    sp.v_meas = 0;
+    tk.n = 0;
     sp.quiet = 0xFFFF;
     sp.glitches = 0;
     have_edge = 0;
@@ -220,6 +222,8 @@ static uint32_t r12(uint32_t x) __reentrant
  * over it; and `v`, the step's, once the step is done with it. */
 static __data uint16_t tk_t;
 static __data int16_t tk_r, tk_x;
+/* 1: the last edge tracked was a whole pulse off its place */
+static __bit tk_slipped;
 #define tk_w (*(__data int32_t *)&v)
 
 /* tk_w clipped to the rate's range */
@@ -260,30 +264,43 @@ static int16_t speed_tk_16(void) __reentrant
  * rest at this edge. */
 static void speed_track(void) __reentrant
 {
-    if (sl_dt >= ((uint32_t)SPEED_TK_T_MAX << 8) || sl_dt <= 0x10000ul) {
-        tk.n = 0;
+    if (sl_dt >= ((uint32_t)SPEED_TK_T_MAX << 8) || sl_dt < 0x10080ul) {
+        tk.n = 0;               /* (0x10080: tk_t over 256, tk_r within 16 bits) */
         return;
     }
-    tk_t = (uint16_t)(sl_dt >> 8);
+    tk_t = (uint16_t)((sl_dt + 128u) >> 8);
+    if (tk.n != 0) {
+        /* the edge's position less the one predicted from the last edge, (v + dv / 2) t, within 16 bits */
+        speed_tk_dv();
+        tk_w = (int32_t)tk.v + (tk_x >> 1);
+        tk_w = ((int32_t)c.count << 12) - tk.e - (int32_t)(UMUL(speed_tk_clip(), tk_t) >> 9);
+        tk_w = speed_tk_16();
+        /* on the steady gains (the first edges fitted), an edge over half a spacing from its place
+         * is a pulse missed or extra (bounce the HAL let through), not the wheel: only what is left
+         * of a whole pulse counts. Two such edges in a row are the rate off by a whole pulse a span
+         * (a change no tractor makes): the tracker starts again from this span. */
+        if (tk.n == SPEED_TK_FILL_N) {
+            tk_r = (int16_t)((uint16_t)tk_w << 4) >> 4;
+            if (tk_r != (int16_t)tk_w) {
+                if (tk_slipped)
+                    tk.n = 0;
+                tk_slipped = 1;
+            } else {
+                tk_slipped = 0;
+            }
+            tk_w = tk_r;
+        }
+    }
     if (tk.n == 0) {
         /* the second edge: the span's rate, no acceleration yet (exact on two edges) */
         tk_w = ((uint32_t)c.count << 21) / tk_t;
         tk.v = speed_tk_clip();
         tk.a = tk.e = 0;
         tk.n = 1;
+        tk_slipped = 0;
         return;
     }
     tk_r = (int16_t)(0x800000ul / tk_t);
-    /* the edge's position less the one predicted from the last edge, (v + dv / 2) t, within 16 bits */
-    speed_tk_dv();
-    tk_w = (int32_t)tk.v + (tk_x >> 1);
-    tk_w = ((int32_t)c.count << 12) - tk.e - (int32_t)(UMUL(speed_tk_clip(), tk_t) >> 9);
-    tk_w = speed_tk_16();
-    /* on the steady gains (the first edges fitted), an edge over half a spacing from its place is
-     * a pulse missed or extra (bounce the HAL let through), not the wheel: only what is left of a
-     * whole pulse counts */
-    if (tk.n == SPEED_TK_FILL_N)
-        tk_w = (int16_t)((uint16_t)tk_w << 4) >> 4;
     tk.e = (int16_t)-(MUL((int16_t)tk_w, 256 - speed_tk_gain(0)) >> 8);
     /* the residual as a rate over the span (r 2^9 / t; tk_t is done with), then the rate and
      * the acceleration */
@@ -449,8 +466,11 @@ uint16_t speed_step(void) __reentrant
         sp.v_x100 = 0;
         sp.jumped = 0;              /* a stop ends the suspicion: the wheel starts again from rest */
     }
-    /* a pulse sooner than a quarter of the period at 1.5 times this speed is not a pulse */
-    hal_wheel_min_interval(um_muldiv(sp.k, 1, sp.v_x100 ? UMUL(sp.v_x100, 6u) : SPEED_MAX_X100 * 4ul));
+    /* a pulse sooner than a quarter of the period at 1.5 times this speed is not a pulse; the
+     * speed: the last span's where it is faster than the estimate, whose rise is slewed (from
+     * rest the estimate would refuse the wheel's own pulses) */
+    v = sp.v_x100 > sp.v_meas ? sp.v_x100 : sp.v_meas;
+    hal_wheel_min_interval(um_muldiv(sp.k, 1, v ? UMUL(v, 6u) : SPEED_MAX_X100 * 4ul));
     return sp.v_x100;
 }
 
