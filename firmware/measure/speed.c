@@ -394,10 +394,11 @@ static void speed_track_out(void) __reentrant
 
 /* The HAL's bounce filter: a pulse sooner than a quarter of the period at 1.5 times the speed is
  * not a pulse; the speed: the last span's where it is faster than the estimate, whose rise is
- * slewed (from rest the estimate alone would refuse the wheel's own pulses). */
+ * slewed (from rest the estimate alone would refuse the wheel's own pulses); at standstill none
+ * (60 km/h: the last span's may be a crawl's, long before). */
 static void speed_bounce_filter(void) __reentrant
 {
-    uint16_t v = sp.v_x100 > sp.v_meas ? sp.v_x100 : sp.v_meas;
+    uint16_t v = sp.v_x100 && sp.v_meas > sp.v_x100 ? sp.v_meas : sp.v_x100;
     hal_wheel_min_interval(um_muldiv(sp.k, 1, v ? UMUL(v, 6u) : SPEED_MAX_X100 * 4ul));
 }
 

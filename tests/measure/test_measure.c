@@ -351,6 +351,47 @@ static void tractor_to_now(double aim, double *v, double *x, double *t, uint64_t
     }
 }
 
+/* The drive of a headland turn (m/s at t s): 7 km/h, down to rest over 5 s, 5.3 s at rest, up to
+ * 9.4 km/h over 6 s */
+static double headland_aim(double t)
+{
+    return (t < 30.0 ? 7.0 : t < 35.0 ? 7.0 * (35.0 - t) / 5.0 : t < 40.3 ? 0.0
+            : t < 46.3 ? 9.4 * (t - 40.3) / 6.0 : 9.4) / 3.6;
+}
+
+/* The spacing test's wheel learnt at 7 km/h, then a headland turn (headland_aim; the tractor's 1 s
+ * lag: the last spans before the stop and the first after it a crawl), the wheel stopping at 8
+ * places between two edges: not one of the wheel's pulses is refused as a glitch (a bounce filter
+ * set from the crawl's span would refuse the start's next pulses, and the learnt offsets would
+ * then sit on the wrong elements), and from 10 s after the start every period is within 0.5 %
+ * (+1 LSB) of the truth. */
+static void test_speed_after_a_stop_keeps_every_pulse_of_the_start(void **state)
+{
+    double worst = 0.0;
+    unsigned glitches = 0;
+    (void)state;
+    for (int phase = 0; phase < 8; phase++) {
+        double v = 0.0, x = phase * 0.3927 / 8, t = 0.0;
+        uint64_t k = 1;
+        setup(NULL);
+        now_ns = 0;
+        hal_host_set_time_ns(0);
+        for (int p = 0; p < 660; p++) {
+            now_ns += PERIOD_NS;
+            tractor_to_now(headland_aim(p * 0.1), &v, &x, &t, &k);
+            hal_host_set_time_ns(now_ns);
+            uint16_t m = speed_step();
+            if (p >= 563)
+                worst = fmax(worst, (fabs(m - v * 360.0) - 1.0) / (v * 360.0));
+        }
+        glitches += speed_glitches();
+    }
+    printf("# a headland turn at 8 wheel phases: %u glitches, worst period error %.2f %% past the LSB from "
+           "10 s after the start\n", glitches, 100 * worst);
+    assert_int_equal(glitches, 0);
+    assert_true(worst <= 0.005);
+}
+
 static void test_speed_learns_the_element_spacing_and_drops_bounce(void **state)
 {
     const double T = wheel_period_ns(7.0);
@@ -1001,6 +1042,7 @@ int main(void)
         cmocka_unit_test_setup(test_speed_from_rest_reads_the_spacing_from_0_5_to_60_kmh, setup),
         cmocka_unit_test_setup(test_speed_through_steps_reads_the_spacing, setup),
         cmocka_unit_test_setup(test_speed_learns_the_element_spacing_and_drops_bounce, setup),
+        cmocka_unit_test_setup(test_speed_after_a_stop_keeps_every_pulse_of_the_start, setup),
         cmocka_unit_test_setup(test_speed_learns_a_wheel_whose_spans_differ_by_a_quarter, setup),
         cmocka_unit_test_setup(test_speed_does_not_learn_a_change_of_speed_as_spacing, setup),
         cmocka_unit_test_setup(test_speed_learns_no_speed_change_begun_inside_a_turn, setup),
