@@ -211,8 +211,6 @@ static __data struct {
                              * (speed_ahead) and slewed (speed_slew) */
     uint16_t ceil_x100;     /* the tracker's speed may not pass it (speed_track_out): where no edge
                              * came, the speed at which the next would have come; 0x7FFF: one came */
-    uint16_t tk_span;       /* the tracker's newest span, PCA/256 ticks */
-    int16_t tk_span_inv;    /* 2^23 / tk_span */
 } wk;
 /* 1: the offsets are learnt and judged (a first turn's are judged at the edge that ends it,
  * after this step's speed: until then they may hold a speed change, not the wheel); speed.h */
@@ -259,10 +257,11 @@ static int16_t speed_tk_16(int32_t x) __reentrant
     return x > 32767 ? 32767 : x < -32767 ? -32767 : (int16_t)x;
 }
 
-/* The tracker from this edge: the span's rate, no acceleration yet (exact on two edges). */
-static void speed_tk_start(void) __reentrant
+/* The tracker from this edge, `span` (PCA/256 ticks) after the last: the span's rate, no
+ * acceleration yet (exact on two edges). */
+static void speed_tk_start(uint16_t span) __reentrant
 {
-    tk.v = speed_tk_clip((int32_t)(((uint32_t)wk.edges.count << 21) / wk.tk_span));
+    tk.v = speed_tk_clip((int32_t)(((uint32_t)wk.edges.count << 21) / span));
     tk.a = tk.e = 0;
     tk.n = 1;
     tk_slipped = 0;
@@ -273,21 +272,22 @@ static void speed_tk_start(void) __reentrant
  * rest at this edge. */
 static void speed_track(void) __reentrant
 {
-    int16_t dv, resid, part;
+    uint16_t span;          /* the newest span, PCA/256 ticks */
+    int16_t dv, resid, part, inv;
     if (sl_dt >= ((uint32_t)SPEED_TK_T_MAX << 8) || sl_dt < 0x10080ul) {
-        tk.n = 0;               /* (0x10080: tk_span over 256, tk_span_inv within 16 bits) */
+        tk.n = 0;               /* (0x10080: span over 256, inv within 16 bits) */
         return;
     }
-    wk.tk_span = (uint16_t)((sl_dt + 128u) >> 8);
+    span = (uint16_t)((sl_dt + 128u) >> 8);
     if (tk.n == 0) {
-        speed_tk_start();
+        speed_tk_start(span);
         return;
     }
     /* the edge's position less the one predicted from the last edge, (v + dv / 2) t, within 16
      * bits (1/4096 pulse) */
-    dv = speed_tk_dv(wk.tk_span);
+    dv = speed_tk_dv(span);
     resid = speed_tk_16(((int32_t)wk.edges.count << 12) - tk.e
-                        - (int32_t)(UMUL(speed_tk_clip((int32_t)tk.v + (dv >> 1)), wk.tk_span) >> 9));
+                        - (int32_t)(UMUL(speed_tk_clip((int32_t)tk.v + (dv >> 1)), span) >> 9));
     /* on the steady gains (the first edges fitted), an edge over half a spacing from its place is
      * a pulse missed or extra (bounce the HAL let through), not the wheel: only what is left of a
      * whole pulse counts. Two such edges in a row are the rate off by a whole pulse a span (a
@@ -296,7 +296,7 @@ static void speed_track(void) __reentrant
         part = (int16_t)((uint16_t)resid << 4) >> 4;
         if (part != resid) {
             if (tk_slipped) {
-                speed_tk_start();
+                speed_tk_start(span);
                 return;
             }
             tk_slipped = 1;
@@ -305,12 +305,12 @@ static void speed_track(void) __reentrant
         }
         resid = part;
     }
-    wk.tk_span_inv = (int16_t)(0x800000ul / wk.tk_span);
+    inv = (int16_t)(0x800000ul / span);         /* 2^23 / span */
     tk.e = (int16_t)-(MUL(resid, 256 - speed_tk_gain(0)) >> 8);
     /* the residual as a rate over the span (resid 2^9 / t), then the rate and the acceleration */
-    part = (int16_t)(MUL(resid, wk.tk_span_inv) >> 14);
+    part = (int16_t)(MUL(resid, inv) >> 14);
     tk.v = speed_tk_clip((int32_t)tk.v + dv + (MUL(part, speed_tk_gain(1)) >> 8));
-    tk.a = speed_tk_16((int32_t)tk.a + (MUL((int16_t)(MUL(part, wk.tk_span_inv) >> 14), speed_tk_gain(2)) >> 9));
+    tk.a = speed_tk_16((int32_t)tk.a + (MUL((int16_t)(MUL(part, inv) >> 14), speed_tk_gain(2)) >> 9));
     if (tk.n < SPEED_TK_FILL_N)
         tk.n++;
 }
