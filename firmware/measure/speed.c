@@ -203,20 +203,17 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         sp.off[old] -= e;
 }
 
-/* The step's working values in the direct RAM: the cheapest addressing the 8051 has, and no
- * stack frame to reach (the step runs once a period, never inside itself). */
+/* The step's working values in the direct RAM (the cheapest addressing; the step never nests) */
 static __data struct {
     hal_capture_t edges;    /* the period's wheel edges */
-    uint32_t v_x100;        /* the newest span's speed, km/h x100: as measured, then led
-                             * (speed_ahead) and slewed (speed_slew) */
+    uint32_t v_x100;        /* the newest span's speed, km/h x100: measured, led, slewed */
     uint16_t ceil_x100;     /* the tracker's speed may not pass it (speed_track_out): where no edge
                              * came, the speed at which the next would have come; 0x7FFF: one came */
 } wk;
 /* 1: the offsets are learnt and judged (a first turn's are judged at the edge that ends it,
  * after this step's speed: until then they may hold a speed change, not the wheel); speed.h */
 __bit speed_learnt;
-/* 1: the tracker's last edge was a whole pulse off its place */
-static __bit tk_slipped;
+static __bit tk_slipped;    /* 1: the tracker's last edge was a whole pulse off its place */
 
 /* x / 4096, rounded */
 static uint32_t r12(uint32_t x) __reentrant
@@ -224,16 +221,16 @@ static uint32_t r12(uint32_t x) __reentrant
     return (x + 2048u) >> 12;
 }
 
-/* a rate clipped to the tracker's range */
-static uint16_t speed_tk_clip(int32_t rate) __reentrant
-{
-    return rate < 0 ? 0 : rate > (int32_t)SPEED_TK_V_MAX ? SPEED_TK_V_MAX : (uint16_t)rate;
-}
-
 /* the rate's change over t (PCA/256 ticks) at the tracker's acceleration */
 static int16_t speed_tk_dv(uint16_t t) __reentrant
 {
     return (int16_t)(MUL(tk.a, t) >> 13);
+}
+
+/* a rate clipped to the tracker's range */
+static uint16_t speed_tk_clip(int32_t rate) __reentrant
+{
+    return rate < 0 ? 0 : rate > (int32_t)SPEED_TK_V_MAX ? SPEED_TK_V_MAX : (uint16_t)rate;
 }
 
 /* The tracker's gains by the edges it has tracked (tk.n, 1 .. SPEED_TK_FILL_N): for its first
@@ -257,8 +254,7 @@ static int16_t speed_tk_16(int32_t x) __reentrant
     return x > 32767 ? 32767 : x < -32767 ? -32767 : (int16_t)x;
 }
 
-/* The tracker from this edge, `span` (PCA/256 ticks) after the last: the span's rate, no
- * acceleration yet (exact on two edges). */
+/* The tracker from this edge, `span` PCA/256 ticks after the last: its rate, no acceleration. */
 static void speed_tk_start(uint16_t span) __reentrant
 {
     tk.v = speed_tk_clip((int32_t)(((uint32_t)wk.edges.count << 21) / span));
@@ -273,7 +269,7 @@ static void speed_tk_start(uint16_t span) __reentrant
 static void speed_track(void) __reentrant
 {
     uint16_t span;          /* the newest span, PCA/256 ticks */
-    int16_t dv, resid, part, inv;
+    int16_t dv, resid, part, inv, rate;
     if (sl_dt >= ((uint32_t)SPEED_TK_T_MAX << 8) || sl_dt < 0x10080ul) {
         tk.n = 0;               /* (0x10080: span over 256, inv within 16 bits) */
         return;
@@ -288,29 +284,24 @@ static void speed_track(void) __reentrant
     dv = speed_tk_dv(span);
     resid = speed_tk_16(((int32_t)wk.edges.count << 12) - tk.e
                         - (int32_t)(UMUL(speed_tk_clip((int32_t)tk.v + (dv >> 1)), span) >> 9));
-    /* on the steady gains (the first edges fitted), an edge over half a spacing from its place is
-     * a pulse missed or extra (bounce the HAL let through), not the wheel: only what is left of a
-     * whole pulse counts. Two such edges in a row are the rate off by a whole pulse a span (a
-     * change no tractor makes): the tracker starts again from this span. */
+    /* on the steady gains an edge over half a spacing from its place is a pulse missed or extra
+     * (bounce the HAL let through): only what is left of a whole pulse counts; two in a row are
+     * the rate off by a whole pulse a span, and the tracker starts again from this span */
     if (tk.n == SPEED_TK_FILL_N) {
         part = (int16_t)((uint16_t)resid << 4) >> 4;
-        if (part != resid) {
-            if (tk_slipped) {
-                speed_tk_start(span);
-                return;
-            }
-            tk_slipped = 1;
-        } else {
-            tk_slipped = 0;
+        if (part != resid && tk_slipped) {
+            speed_tk_start(span);
+            return;
         }
+        tk_slipped = part != resid;
         resid = part;
     }
     inv = (int16_t)(0x800000ul / span);         /* 2^23 / span */
     tk.e = (int16_t)-(MUL(resid, 256 - speed_tk_gain(0)) >> 8);
     /* the residual as a rate over the span (resid 2^9 / t), then the rate and the acceleration */
-    part = (int16_t)(MUL(resid, inv) >> 14);
-    tk.v = speed_tk_clip((int32_t)tk.v + dv + (MUL(part, speed_tk_gain(1)) >> 8));
-    tk.a = speed_tk_16((int32_t)tk.a + (MUL((int16_t)(MUL(part, inv) >> 14), speed_tk_gain(2)) >> 9));
+    rate = (int16_t)(MUL(resid, inv) >> 14);
+    tk.v = speed_tk_clip((int32_t)tk.v + dv + (MUL(rate, speed_tk_gain(1)) >> 8));
+    tk.a = speed_tk_16((int32_t)tk.a + (MUL((int16_t)(MUL(rate, inv) >> 14), speed_tk_gain(2)) >> 9));
     if (tk.n < SPEED_TK_FILL_N)
         tk.n++;
 }
@@ -392,10 +383,9 @@ static void speed_track_out(void) __reentrant
     }
 }
 
-/* The HAL's bounce filter: a pulse sooner than a quarter of the period at 1.5 times the speed is
- * not a pulse; the speed: the last span's where it is faster than the estimate, whose rise is
- * slewed (from rest the estimate alone would refuse the wheel's own pulses); at standstill none
- * (60 km/h: the last span's may be a crawl's, long before). */
+/* The HAL's bounce filter: no pulse sooner than a quarter of the period at 1.5 times the speed,
+ * the last span's where faster than the estimate (slewed: from rest it would refuse the wheel's
+ * own pulses); at standstill 60 km/h (the last span may be a crawl's, long before). */
 static void speed_bounce_filter(void) __reentrant
 {
     uint16_t v = sp.v_x100 && sp.v_meas > sp.v_x100 ? sp.v_meas : sp.v_x100;
@@ -404,7 +394,6 @@ static void speed_bounce_filter(void) __reentrant
 
 uint16_t speed_step(void) __reentrant
 {
-
     if (sp.gen != param_generation)
         speed_derive();
     hal_wheel_capture_take(&wk.edges);
@@ -452,8 +441,7 @@ uint16_t speed_step(void) __reentrant
             sp.quiet++;
         if (have_edge) {
             /* the next element is (1 + its offset - this one's) spacings away, once the
-             * offsets are learnt (a turn's being learnt may hold a speed change): the speed at
-             * which it would have come, the estimate's bound */
+             * offsets are learnt (a turn's being learnt may hold a speed change) */
             uint8_t nx = sp.idx + 1u == sp.n ? 0 : sp.idx + 1u;
             uint16_t w = speed_learnt ? (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]) : SPEED_TK_NEXT;
             uint32_t next = r12(um_muldiv(sp.k, w, hal_pca_now() - sp.last_pca));
