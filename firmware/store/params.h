@@ -10,9 +10,9 @@
  * link, the EEPROM store and the scenario reader all go through this table; nothing else
  * holds a setting.
  */
-/* Control: the field image carries bp_pid (2, the paper's) and ffmap (3, the default); the
- * research image (FW_PEERS) all six of ctl.h */
-#define P_CTL_MIN (FW_PEERS ? 0 : 2)
+/* Control: the field image carries ffmap (3) only; the research image (FW_PEERS) all six of
+ * ctl.h, the paper's bp_pid among them */
+#define P_CTL_MIN (FW_PEERS ? 0 : 3)
 #define P_CTL_MAX (FW_PEERS ? 5 : 3)
 #define PARAM_TABLE(X)                                                              \
     X(P_RATE,        "Dose",       "L/ha",  0,    10,  1000,  150)  /* eq. (1) C */      \
