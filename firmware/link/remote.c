@@ -155,7 +155,7 @@ void remote_tick(void) __reentrant
     }
     /* the bits of the switch bytes that change: booms 1-6, rates 1 and 2 */
     sw = (uint8_t)((value(V_SW1) & 0x3Fu) | (value(V_SW2) & 0x18u) << 3);
-    n = (uint8_t)((param_v[P_LOG_UNIT] ? hal_ms() / 1000u : metres()) / every);
+    n = (uint8_t)((param_v[P_LOG_UNIT] ? hal_ms() / 1000u : metres()) / every);   /* trigger periods */
     if (rv_primed) {
         if (sw != rv.sw)
             rv.due |= RV_D | RV_C;
