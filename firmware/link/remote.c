@@ -59,21 +59,26 @@ uint8_t remote_command(const __xdata char *line) __reentrant
 }
 
 /* ---- the lines and their values ----------------------------------------------------------- */
-/* Each line: its two letters and its fields: V_PARAM | a parameter's id, V_TOTAL | a field of
- * totals_t (0 job_dm2, 1 job_ml, 2 life_m2, 3 life_ml), or one of the others */
-#define V_PARAM 0x80
-#define V_TOTAL 0x40
-enum { V_END, V_AR, V_SW1, V_SW2, V_RATE, V_TANK, V_DIST, V_ZERO, V_TD, V_B1 };
+/* Each line: its two letters and its fields, each a source (S_*, its value: value()) and how it
+ * is written (F_*: the value's decimals and the decimals sent, rv_dec) */
+enum { S_END, S_AR, S_SW1, S_SW2, S_RATE, S_TANK, S_DIST, S_ZERO, S_TD, S_WHEEL, S_METER, S_VALVE,
+       S_JOB_A, S_JOB_V, S_LIFE_A, S_LIFE_V, S_B1 };      /* S_JOB_A..S_LIFE_V: totals_t's order */
+#define F_WHOLE 0x00
+#define F_TENTH 0x20                /* x10 values with their decimal point: 150.0 */
+#define F_HA_M2 0x40                /* m^2 as ha, one decimal */
+#define F_HA_DM2 0x60               /* dm^2 as ha, one decimal */
+#define F_L_ML 0x80                 /* ml as whole litres */
+static const __code uint8_t rv_dec[5] = {0, 1, 4, 6, 3};
 #define RV_FIELDS 9
 static const __code uint8_t rv_lines[8][2 + RV_FIELDS] = {
-    {'A', 'R', V_AR},
-    {'D', '1', V_TOTAL | 2, V_TOTAL | 0},
-    {'D', '2', V_TOTAL | 3, V_TOTAL | 1},
-    {'D', '3', V_TANK, V_DIST},
-    {'T', 'D', V_TD},
-    {'C', '1', V_SW1, V_SW2, V_B1, V_B1 + 1, V_B1 + 2, V_B1 + 3, V_B1 + 4, V_B1 + 5, V_PARAM | P_WHEEL},
-    {'C', '2', V_PARAM | P_METER_K, V_ZERO},
-    {'C', '3', V_PARAM | P_RAVEN_CAL, V_RATE, V_ZERO},
+    {'A', 'R', F_TENTH | S_AR},
+    {'D', '1', F_HA_M2 | S_LIFE_A, F_HA_DM2 | S_JOB_A},
+    {'D', '2', F_L_ML | S_LIFE_V, F_L_ML | S_JOB_V},
+    {'D', '3', S_TANK, S_DIST},
+    {'T', 'D', S_TD},
+    {'C', '1', S_SW1, S_SW2, S_B1, S_B1 + 1, S_B1 + 2, S_B1 + 3, S_B1 + 4, S_B1 + 5, F_TENTH | S_WHEEL},
+    {'C', '2', F_TENTH | S_METER, S_ZERO},
+    {'C', '3', S_VALVE, F_TENTH | S_RATE, S_ZERO},
 };
 
 /* the actual rate, L/ha x10: flow x 6000 / (speed x width / 100), 0 when not spraying */
@@ -94,48 +99,45 @@ static uint32_t metres(void) __reentrant
 
 static uint32_t value(uint8_t k) __reentrant
 {
-    if (k & V_PARAM)
-        return param_v[k & 0x7Fu];
-    if (k & V_TOTAL)
-        return (&totals.job_dm2)[k & 3u];
     switch (k) {
-    case V_AR:
+    case S_AR:
         return actual_x10();
-    case V_SW1:                     /* booms 1-6 on (bit 0 = boom 1), bit 7 set */
+    case S_SW1:                     /* booms 1-6 on (bit 0 = boom 1), bit 7 set */
         return 0x80u | (hal_sections() & 0x3Fu & ((1u << param_v[P_SECTIONS]) - 1u));
-    case V_SW2:                     /* bit 7 set; in auto the rate in use: rate 1 (REMOTE_SW2_*) */
+    case S_SW2:                     /* bit 7 set; in auto the rate in use: rate 1 (REMOTE_SW2_*) */
         return app_status.manual ? 0x80u : 0x80u | REMOTE_SW2_RATE1;
-    case V_RATE:
+    case S_RATE:
         return target_rate_x10();
-    case V_TANK:
+    case S_TANK:
         return app_status.tank_l;
-    case V_DIST:
+    case S_DIST:
         return metres();
-    case V_B1: case V_B1 + 1: case V_B1 + 2: case V_B1 + 3: case V_B1 + 4: case V_B1 + 5:
-        return UMUL(target_section_nozzles(k - V_B1), param_v[P_SPACING]);     /* cm */
-    default:                        /* V_ZERO, V_TD */
+    case S_WHEEL:
+        return param_v[P_WHEEL];
+    case S_METER:
+        return param_v[P_METER_K];
+    case S_VALVE:
+        return param_v[P_RAVEN_CAL];
+    case S_ZERO:
+    case S_TD:
         return 0;
+    default:
+        if (k < S_B1)               /* the totals */
+            return (&totals.job_dm2)[k - S_JOB_A];
+        return UMUL(target_section_nozzles(k - S_B1), param_v[P_SPACING]);     /* cm */
     }
 }
 
-/* How a field is written: its value's decimals, and the decimals sent (rates, areas and the
- * cal numbers with one, as the Hiniker 8605's emulation of a Raven 450 documents) */
+/* A field as it is written (rates, areas and the cal numbers with one decimal, as the Hiniker
+ * 8605's emulation of a Raven 450 documents) */
 static void put_field(uint8_t k) __reentrant
 {
-    uint8_t dec = 0, keep = 0;
-    if (k == V_TD) {                /* no clock and no field reference (docs/REMOTE.md) */
+    uint8_t f = k >> 5;
+    k &= 0x1Fu;
+    if (k == S_TD)                  /* no clock and no field reference (docs/REMOTE.md) */
         serial_put_s("00:00,00/00/00,0");
-        return;
-    }
-    if (k == V_AR || k == V_RATE || k == (V_PARAM | P_WHEEL) || k == (V_PARAM | P_METER_K))
-        dec = keep = 1;
-    else if (k == (V_TOTAL | 2))    /* lifetime m^2 as ha */
-        dec = 4, keep = 1;
-    else if (k == (V_TOTAL | 0))    /* job dm^2 as ha */
-        dec = 6, keep = 1;
-    else if (k & V_TOTAL)           /* ml as whole litres */
-        dec = 3;
-    serial_put_num(value(k), dec, keep);
+    else
+        serial_put_num(value(k), rv_dec[f], f && f < 4u);
 }
 
 /* ---- the data logger ------------------------------------------------------------------------ */
@@ -154,7 +156,7 @@ void remote_tick(void) __reentrant
         return;
     }
     /* the bits of the switch bytes that change: booms 1-6, rates 1 and 2 */
-    sw = (uint8_t)((value(V_SW1) & 0x3Fu) | (value(V_SW2) & 0x18u) << 3);
+    sw = (uint8_t)((value(S_SW1) & 0x3Fu) | (value(S_SW2) & 0x18u) << 3);
     n = (uint8_t)((param_v[P_LOG_UNIT] ? hal_ms() / 1000u : metres()) / every);   /* trigger periods */
     if (rv_primed) {
         if (sw != rv.sw)
@@ -183,7 +185,7 @@ uint8_t remote_next(void) __reentrant
     serial_put_s(RAVEN_ID);
     serial_put_c(rv_lines[line][0]);
     serial_put_c(rv_lines[line][1]);
-    for (i = 2; i < 2 + RV_FIELDS && (k = rv_lines[line][i]) != V_END; i++) {
+    for (i = 2; i < 2 + RV_FIELDS && (k = rv_lines[line][i]) != S_END; i++) {
         serial_put_c(',');
         put_field(k);
     }

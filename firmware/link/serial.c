@@ -19,14 +19,14 @@ static struct {
     char buf[SERIAL_TX_MAX];
     uint16_t reported;              /* alarm bits the PC has been told about */
     uint8_t quiet;                  /* log periods (seconds) since a byte last came in */
-    uint8_t framing;                /* the UART's (HAL_UART_*): Remote's value once switched; not
-                                     * HAL_UART_38400_8N1: the link is a Raven console's (remote.h) */
 } se;
 /* the most used bytes here, in the direct RAM */
 static __data uint8_t se_n;         /* bytes in se.buf */
 static __data uint8_t se_tx_i;      /* next byte to send */
 static __data uint8_t se_state;     /* S_* */
 static __data uint8_t se_log_due;   /* log lines asked for and not yet sent */
+static __data uint8_t se_framing;   /* the UART's once switched (HAL_UART_*: Remote's value); not
+                                     * HAL_UART_38400_8N1: the link is a Raven console's (remote.h) */
 
 #define S_RX 0                      /* collecting a line */
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
@@ -38,6 +38,7 @@ static __bit boot_due;              /* the BOOT line (the reset cause) not yet s
 static __bit ee_due;                /* the EE line (settings not the newest saved) not yet sent */
 static __bit csum_seen;             /* the line being answered carried its check */
 
+
 static const __code char hexd[] = "0123456789ABCDEF";
 
 void serial_init(void)
@@ -46,7 +47,7 @@ void serial_init(void)
     se_state = S_RX;
     se.reported = 0;
     se.quiet = 0;
-    se.framing = HAL_UART_38400_8N1;    /* hal_init's */
+    se_framing = HAL_UART_38400_8N1;    /* hal_init's */
     boot_due = 1;
     ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
@@ -71,7 +72,7 @@ static void put_raw(char c) __reentrant
 
 void serial_put_c(char c) __reentrant
 {
-    if (se_n < SERIAL_TX_MAX - (se.framing ? 2 : 5))    /* room for "\r\n", ours "*HH\r\n" */
+    if (se_n < SERIAL_TX_MAX - (se_framing ? 2 : 5))    /* room for "\r\n", ours "*HH\r\n" */
         put_raw(c);
 }
 
@@ -270,7 +271,7 @@ static uint8_t answer(void) __reentrant
 
     se_n = 0;                       /* the reply is written over the line once it is parsed */
     c = line_check(se.buf, n);      /* (linecheck.h) */
-    if (se.framing) {               /* a Raven console: its answers are queued, nothing else */
+    if (se_framing) {               /* a Raven console: its answers are queued, nothing else */
         if (c < LINE_E_ARG && se.buf[0] == '$')
             remote_command(se.buf);
         return 0;
@@ -336,7 +337,7 @@ static void compose_next(void) __reentrant
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
-    if (se.framing) {               /* a Raven console sends its own lines only */
+    if (se_framing) {               /* a Raven console sends its own lines only */
         boot_due = ee_due = 0;
         se_log_due = 0;
         if (remote_next())          /* Raven's lines carry no checksum */
@@ -429,7 +430,7 @@ static uint8_t take(void) __reentrant
  * (0, Remote on) */
 static uint8_t refuse(const __code char *why) __reentrant
 {
-    if (se.framing) {
+    if (se_framing) {
         se_n = 0;
         se_state = S_RX;
         return 0;
@@ -445,10 +446,10 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
 
     if (se_state == S_TX && !drain())
         return 0;
-    if (se.framing != (uint8_t)param_v[P_REMOTE]) {     /* HAL_UART_* is Remote's value */
+    if (se_framing != (uint8_t)param_v[P_REMOTE]) {     /* HAL_UART_* is Remote's value */
         if (!hal_uart_framing((uint8_t)param_v[P_REMOTE]))
             return 0;               /* the last bytes still going out at the old framing */
-        se.framing = (uint8_t)param_v[P_REMOTE];
+        se_framing = (uint8_t)param_v[P_REMOTE];
         se_n = 0;                   /* a line half received at the old one is dropped */
         se_state = S_RX;
     }

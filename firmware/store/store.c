@@ -186,7 +186,7 @@ static uint8_t started_after(uint8_t slot) __reentrant
 
 uint8_t store_load(void) __reentrant
 {
-    uint8_t s, newest_slot = NO_SLOT, n;
+    uint8_t s, newest_slot = NO_SLOT, n, ver;
     uint16_t q, newest_q = 0, base;
     sv_state = SV_IDLE;             /* no save runs from before */
     sv.flags = 0;
@@ -213,11 +213,13 @@ uint8_t store_load(void) __reentrant
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
     base = slot_base(newest_slot);
     n = record_valid(newest_slot);
+    ver = hal_eeprom_read(base + 1u);
     params_defaults();
-    for (s = 0; s < n; s++)
-        param_put(s, read16(base + HDR_VALUES + 2u * s));
+    for (s = 0; s < n; s++)         /* (before version 9 the aog settings were another loop's) */
+        if (ver >= 9u || s < P_AOG_KP || s > P_AOG_MAX)
+            param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (hal_eeprom_read(base + 1u) >= 8u)
+    if (ver >= 8u)
         totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
     else
         totals_set_job(0, 0);       /* an older copy has none */

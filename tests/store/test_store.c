@@ -80,11 +80,13 @@ static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t vers
     twin_write_n(sector, seq, v, version, version == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT);
 }
 
-/* v as a version 5-8 record leaves it loaded: the values appended since at their defaults */
+/* v as a version 5-8 record leaves it loaded: the values appended since and the aog peer's
+ * (another loop's settings then) at their defaults */
 static void as_v8(uint16_t *v)
 {
-    for (int i = PARAMS_V8_COUNT; i < P_COUNT; i++)
-        v[i] = param_info((uint8_t)i)->def;
+    for (int i = 0; i < P_COUNT; i++)
+        if (i >= PARAMS_V8_COUNT || (i >= P_AOG_KP && i <= P_AOG_MAX))
+            v[i] = param_info((uint8_t)i)->def;
 }
 
 /* A set of in-range values that differ from the defaults, numbered by k. */
@@ -618,17 +620,23 @@ static void test_store_keeps_the_job_totals(void **state)
     assert_true(equals(a));
     assert_int_equal(totals_get()->job_dm2, 0);
     assert_int_equal(store_learnt(0), 0x42);
-    /* version 8: a shorter table, its learnt figures and job after it */
+    /* version 8: a shorter table, its learnt figures and job after it; its aog settings (the
+     * former loop's) at their defaults */
     hal_host_reset();
+    uint16_t w[P_COUNT];
+    values_k(w, 5);
+    assert_int_not_equal(w[P_AOG_KP], param_info(P_AOG_KP)->def);
     twin_learnt[0] = 0x43;
     twin_job_dm2 = 4242u;
     twin_job_ml = 99u;
-    twin_write(0, 8, a, 8);
+    twin_write(0, 8, w, 8);
     twin_learnt[0] = 0xFF;
     twin_job_dm2 = twin_job_ml = 0;
     totals_init();
     assert_int_equal(store_load(), STORE_OK);
-    assert_true(equals(a));
+    as_v8(w);
+    assert_true(equals(w));
+    assert_int_equal(param_v[P_AOG_KP], 45);
     assert_int_equal(totals_get()->job_dm2, 4242u);
     assert_int_equal(totals_get()->job_ml, 99u);
     assert_int_equal(store_learnt(0), 0x43);
