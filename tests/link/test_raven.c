@@ -202,7 +202,8 @@ static void test_raven_sends_only_its_own_lines_and_stays_silent(void **state)
         "GET 0\r\n", "SET 0 125*00\r\n", "ACK\r\n", "HELLO\r\n", "$R,RC,13a0\r\n", "$R,RC,-1300\r\n",
         "$R,RC,130.0\r\n", "$R,RC,65536\r\n", "$R,RC,1300;0\r\n", "$R,CR,1\r\n", "$R,DRX\r\n",
         "$R,XX\r\n", "$r,rc,1300\r\n", "$X,RC,1300\r\n", "$R\r\n", "$R,RC 1300\r\n", "$R,RC,1\x01\r\n",
-        "$R,RC,1300,0,1027,0,0,0,0,0,0,0,0\r\n", "\r\n",
+        "$R,RC,1300,0,1027,0,0,0,0,0,0,0,0\r\n", "\r\n", "$R,CX\r\n", "$R,XR\r\n", "$R,RX,1300\r\n",
+        "$R,XC,1300\r\n", "$RXRC,1300\r\n",
     };
     for (size_t i = 0; i < sizeof unusable / sizeof unusable[0]; i++)
         pc_send(unusable[i]);
@@ -324,6 +325,11 @@ static void test_raven_data_logger_pushes_on_its_triggers(void **state)
     for (int i = 0; i < n; i++)
         assert_memory_equal(l[i] + 7, sw_order[i], 3);
     assert_memory_equal(l[4], "$R124F,C1,189,136,", 18);
+    /* a rate taken from the field computer is a calibration change too: C1, C2, C3 at once */
+    pc_send("$R,RC,1400\r\n");
+    n = pc_lines(400, l, 40);
+    assert_int_equal(n, 3);
+    assert_string_equal(l[2], "$R124F,C3,2123,140.0,0");
     /* the logger off: nothing pushed, requests still answered */
     assert_true(param_set(P_LOG_EVERY, 0));
     hal_host_io.sections = 0x3F;
