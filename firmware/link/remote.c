@@ -65,10 +65,10 @@ enum { S_END, S_AR, S_SW1, S_SW2, S_RATE, S_TANK, S_DIST, S_ZERO, S_TD, S_WHEEL,
        S_JOB_A, S_JOB_V, S_LIFE_A, S_LIFE_V, S_B1 };      /* S_JOB_A..S_LIFE_V: totals_t's order */
 #define F_WHOLE 0x00
 #define F_TENTH 0x20                /* x10 values with their decimal point: 150.0 */
-#define F_HA_M2 0x40                /* m^2 as ha, one decimal */
+#define F_HA_M2 0x40                /* m^2 as ha, one decimal (truncated) */
 #define F_HA_DM2 0x60               /* dm^2 as ha, one decimal */
 #define F_L_ML 0x80                 /* ml as whole litres */
-static const __code uint8_t rv_dec[5] = {0, 1, 4, 6, 3};
+static const __code uint32_t rv_div[5] = {1u, 1u, 1000u, 100000UL, 1000u};
 #define RV_FIELDS 9
 static const __code uint8_t rv_lines[8][2 + RV_FIELDS] = {
     {'A', 'R', F_TENTH | S_AR},
@@ -137,7 +137,7 @@ static void put_field(uint8_t k) __reentrant
     if (k == S_TD)                  /* no clock and no field reference (docs/REMOTE.md) */
         serial_put_s("00:00,00/00/00,0");
     else
-        serial_put_num(value(k), rv_dec[f], f && f < 4u);
+        serial_put_num(value(k) / rv_div[f], f && f < 4u);
 }
 
 /* ---- the data logger ------------------------------------------------------------------------ */

@@ -82,23 +82,19 @@ void serial_put_s(const __code char *s) __reentrant
         tx_c(*s++);
 }
 
-/* decimal (fmt.c, the formatter the LCD uses too), up to `keep` digits after the point */
-void serial_put_num(uint32_t v, uint8_t dec, uint8_t keep) __reentrant
+/* decimal (fmt.c, the formatter the LCD uses too) */
+void serial_put_num(uint32_t v, uint8_t dec) __reentrant
 {
     char num[FMT_MAX];
     uint8_t i;
     fmt_u32((__idata char *)num, v, dec, 0);
-    for (i = 0; num[i] && num[i] != '.'; i++)
+    for (i = 0; num[i]; i++)
         tx_c(num[i]);
-    if (keep) {
-        for (keep++; num[i] && keep--; i++)
-            tx_c(num[i]);
-    }
 }
 
 static void tx_u32(uint32_t v) __reentrant
 {
-    serial_put_num(v, 0, 0);
+    serial_put_num(v, 0);
 }
 
 /* a space, then v */

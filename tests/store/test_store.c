@@ -914,6 +914,7 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         {0x5B, PARAMS_VERSION, P_COUNT, 0}, {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
         {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, PARAMS_V8_COUNT - 1, 0},
         {0x5A, PARAMS_VERSION, PARAMS_V8_COUNT, 0}, {0x5A, 8, P_COUNT, 0}, {0x5A, 8, PARAMS_V8_COUNT, 1},
+        {0x5A, 4, PARAMS_V8_COUNT, 0},
         {0x5A, 4, P_COUNT, 0}, {0x5A, 4, PARAMS_V4_COUNT + 1, 0}, {0x5A, 3, PARAMS_V4_COUNT, 0},
         {0x5A, 2, PARAMS_V3_COUNT, 0}, {0x5A, 1, PARAMS_V2_COUNT, 0}, {0x5A, 0, P_COUNT, 0},
         {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 6, PARAMS_V8_COUNT, 1}, {0x5A, 5, PARAMS_V8_COUNT, 1},
