@@ -111,7 +111,7 @@ void con_right_align(uint8_t from)
 
 uint8_t con_is_choice(uint8_t id)
 {
-    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
+    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT;
 }
 
 const __code char *con_choice_name(uint8_t id, uint16_t v)
@@ -119,7 +119,9 @@ const __code char *con_choice_name(uint8_t id, uint16_t v)
     if (id == P_MODE)
         return v ? "Manual" : "Auto";
     if (id == P_REMOTE)
-        return v ? "Raven" : "off";
+        return v == 2 ? "Raven 1200" : v ? "Raven 9600" : "off";
+    if (id == P_LOG_UNIT)
+        return v ? "s" : "m";
     return ctl_name((uint8_t)v);
 }
 
