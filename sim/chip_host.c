@@ -49,8 +49,14 @@ struct chip {
     uint8_t max_adc, max_iap;
     uint32_t *slot_max;
     size_t n_slot, cap_slot;
-    struct { unsigned v; uint32_t count, max; uint64_t sum; } vec[8];
+    struct { unsigned v; uint32_t count, max, own_max; uint64_t sum; } vec[8];
     int n_vec;
+    struct { uint64_t ns; uint8_t kind; uint32_t value; } at[8];  /* chip_at's inputs */
+    int n_at, next_at;
+    uint16_t early;                 /* output pins driven high between a reset and its first pass */
+    uint64_t sweep_from;            /* the sweep's speeds are taken from here (ns; 0: no sweep) */
+    uint16_t *speeds;
+    size_t n_speed, cap_speed;
 };
 
 static chip_t *active;              /* the plant's edge callbacks take no context */
@@ -219,6 +225,12 @@ static void pass(void *ctx)
         event(c, c->slot_start, STC12_EV_P0, (uint8_t)~c->sections);
     }
     settings(c);
+    while (c->next_at < c->n_at && c->at[c->next_at].ns <= c->sim->t_ns) {
+        event(c, c->slot_start, c->at[c->next_at].kind, c->at[c->next_at].value);
+        if (c->at[c->next_at].kind == STC12_EV_WHEEL_SWEEP)
+            c->sweep_from = c->at[c->next_at].ns + 2000000000ull;   /* the speed settled on the sweep */
+        c->next_at++;
+    }
     while ((v = hal_uart_get()) != -1)
         if (v >= 0 && (c->rx_head + 1) % CHIP_RXQ != c->rx_tail) {
             c->rxq[c->rx_head] = (uint8_t)v;
@@ -251,7 +263,7 @@ static void pass(void *ctx)
     c->n_ev = 0;
     c->slot_start = end;
     /* the report */
-    if (rd(c, r, 1) < 0 || r[0] != 'R' || rd(c, r, 25) < 0) {
+    if (rd(c, r, 1) < 0 || r[0] != 'R' || rd(c, r, 27) < 0) {
         c->failed = 1;
         return;
     }
@@ -298,7 +310,8 @@ static void pass(void *ctx)
         if (np)
             c->slot_max[c->n_slot++] = mx;
     }
-    n_tx = r[24];
+    c->early |= (uint16_t)get(r + 24, 2);
+    n_tx = r[26];
     for (i = 0; i < n_tx; i++) {
         uint8_t t[12];
         int d;
@@ -316,6 +329,30 @@ static void pass(void *ctx)
     }
     status(c, b, b + APP_STATUS_BYTES);
     free(b);
+    if (c->sweep_from && c->sim->t_ns >= c->sweep_from && c->sim->t_ns % 100000000u == 0) {
+        if (c->n_speed == c->cap_speed) {
+            c->cap_speed = c->cap_speed ? 2 * c->cap_speed : 1024;
+            c->speeds = realloc(c->speeds, c->cap_speed * sizeof *c->speeds);
+            if (!c->speeds) {
+                c->failed = 1;
+                return;
+            }
+        }
+        c->speeds[c->n_speed++] = app_status.speed_kmh_x100;
+    }
+}
+
+int chip_at(chip_t *c, double t_s, int kind, uint32_t value)
+{
+    int i;
+    if (c->n_at == (int)(sizeof c->at / sizeof c->at[0]) || t_s < 0)
+        return -1;
+    for (i = c->n_at++; i > 0 && c->at[i - 1].ns > (uint64_t)(t_s * 1e9); i--)
+        c->at[i] = c->at[i - 1];
+    c->at[i].ns = (uint64_t)(t_s * 1e9 + 0.5);
+    c->at[i].kind = (uint8_t)kind;
+    c->at[i].value = value;
+    return 0;
 }
 
 /* the address of a symbol in the image's map file */
@@ -454,13 +491,14 @@ int chip_finish(chip_t *c)
         if (rd(c, h, 2) == 0 && h[0] == 'X') {
             c->n_vec = h[1] > 8 ? 8 : h[1];
             for (i = 0; i < c->n_vec; i++) {
-                uint8_t v[18];
-                if (rd(c, v, 18) < 0)
+                uint8_t v[22];
+                if (rd(c, v, 22) < 0)
                     break;
                 c->vec[i].v = (unsigned)get(v, 2);
                 c->vec[i].count = (uint32_t)get(v + 2, 4);
                 c->vec[i].max = (uint32_t)get(v + 6, 4);
-                c->vec[i].sum = get(v + 10, 8);
+                c->vec[i].own_max = (uint32_t)get(v + 10, 4);
+                c->vec[i].sum = get(v + 14, 8);
             }
         } else {
             c->failed = 1;
@@ -481,6 +519,12 @@ unsigned chip_resets(const chip_t *c)
 static int cmp_u32(const void *a, const void *b)
 {
     uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static int cmp_u16(const void *a, const void *b)
+{
+    uint16_t x = *(const uint16_t *)a, y = *(const uint16_t *)b;
     return x < y ? -1 : x > y;
 }
 
@@ -511,10 +555,23 @@ void chip_report(const chip_t *c, FILE *f)
             US((double)c->step_max) / 1000, c->step_max_tick * 1e-3);
     for (i = 0; i < c->n_vec; i++)
         if (c->vec[i].count)
-            fprintf(f, "chip: handler %-22s vector 0x%02x: %u times, max %u clocks = %.1f us, mean %.0f clocks\n",
-                    name[i], c->vec[i].v, c->vec[i].count, c->vec[i].max, US((double)c->vec[i].max),
-                    (double)c->vec[i].sum / c->vec[i].count);
-    fprintf(f, "chip: %u watchdog resets\n", c->resets);
+            fprintf(f, "chip: handler %-22s vector 0x%02x: %u times, its own time max %u clocks = %.1f us, "
+                       "mean %.0f; with the handlers preempting it max %u = %.1f us\n",
+                    name[i], c->vec[i].v, c->vec[i].count, c->vec[i].own_max, US((double)c->vec[i].own_max),
+                    (double)c->vec[i].sum / c->vec[i].count, c->vec[i].max, US((double)c->vec[i].max));
+    fprintf(f, "chip: %u resets (cause WDT_CONTR 0x%02x after the last); board driver pins driven high "
+               "between a reset and its first pass: 0x%04x (P3 high byte, P1 low; 0x3070 the bridge, relay, buzzer)\n",
+            c->resets, c->cause, c->early & 0x3070);
+    if (c->n_speed) {
+        uint16_t *s = malloc(c->n_speed * sizeof *s);
+        if (s) {
+            memcpy(s, c->speeds, c->n_speed * sizeof *s);
+            qsort(s, c->n_speed, sizeof *s, cmp_u16);
+            fprintf(f, "chip: wheel sweep: %zu speeds every 0.1 s, km/h x100 min %u median %u max %u\n", c->n_speed,
+                    s[0], s[c->n_speed / 2], s[c->n_speed - 1]);
+            free(s);
+        }
+    }
 }
 
 void chip_free(chip_t *c)
@@ -544,5 +601,6 @@ void chip_free(chip_t *c)
     unlink(f);
     rmdir(c->dir);
     free(c->slot_max);
+    free(c->speeds);
     free(c);
 }

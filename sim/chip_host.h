@@ -21,13 +21,13 @@
 typedef struct chip chip_t;
 
 chip_t *chip_start(sim_t *sim, const char *ihx, const char *s51, char *err, size_t n);
+/* An input to the model's own pins at t_s (STC12_EV_RESET, STC12_EV_HANG,
+ * STC12_EV_WHEEL_SWEEP of sim/ucsim/stc12_link.h); -1 when the list is full. */
+int chip_at(chip_t *c, double t_s, int kind, uint32_t value);
 /* Stop the model (its interrupt handler figures come back); 0 when it answered. */
 int chip_finish(chip_t *c);
 /* "chip:" lines: passes and interrupt handlers in 1T clocks and us, watchdog resets. */
 void chip_report(const chip_t *c, FILE *f);
 void chip_free(chip_t *c);
-/* the EEPROM the model held at its last report is not visible: tests read it through the
- * serial link or a restart; the resets the watchdog made so far */
-unsigned chip_resets(const chip_t *c);
 
 #endif

@@ -9,6 +9,7 @@
 #include "hal_host.h"
 #include "pil_host.h"
 #include "chip_host.h"
+#include "ucsim/stc12_link.h"
 #include "pty.h"
 #include "link_crc.h"
 #include "summary.h"
@@ -34,6 +35,9 @@ static void usage(FILE *f)
           "  --chip: the field image (build/stc12/sprayer.ihx, its .map beside it) runs in the\n"
           "         STC12C5A60S2 model (--s51 PATH, default build/ucsim/s51; make chip), its pins on\n"
           "         the plant; 'chip:' lines give its passes and handlers in 1T clocks.\n"
+          "         --chip-reset S: the reset pin pulsed at S; --chip-hang S: the main loop hangs at S\n"
+          "         (interrupts still served) until a reset; --chip-wheel-sweep S: from S every wheel\n"
+          "         edge falls 60 + 3k clocks before a PCA overflow (the capture race's window).\n"
           "  --pty: the link on a new pseudo-terminal (its name on stderr) that tools/monitor.py opens like a\n"
           "    port; the run starts when it is opened (--wait S, default 60), at X times real time (--pace,\n"
           "    default 1; 0 as fast as the reader takes it); commands sent to it reach the firmware, and\n"
@@ -147,6 +151,8 @@ int main(int argc, char **argv)
     FILE *serial = NULL, *drive_log = NULL;
     pil_t *pil = NULL;
     chip_t *chip = NULL;
+    struct { double t; int kind; } chip_ev[8];
+    int n_chip_ev = 0;
     unsigned long long seed = 0;
     int have_seed = 0, i, tick_ms = 1, idle_ms = 0;
     double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0, speed;
@@ -198,6 +204,15 @@ int main(int argc, char **argv)
             chip_path = v;
         else if (!strcmp(a, "--s51"))
             s51_path = v;
+        else if (!strcmp(a, "--chip-reset") || !strcmp(a, "--chip-hang") || !strcmp(a, "--chip-wheel-sweep")) {
+            if (n_chip_ev == 8) {
+                fprintf(stderr, "sim: at most 8 --chip-* inputs\n");
+                return 2;
+            }
+            chip_ev[n_chip_ev].t = atof(v);
+            chip_ev[n_chip_ev++].kind = !strcmp(a, "--chip-reset") ? STC12_EV_RESET
+                                        : !strcmp(a, "--chip-hang") ? STC12_EV_HANG : STC12_EV_WHEEL_SWEEP;
+        }
         else if (!strcmp(a, "--input"))
             input_path = v;
         else if (!strcmp(a, "--seed")) {
@@ -318,6 +333,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "sim: --chip: %s\n", err);
             return 1;
         }
+        for (i = 0; i < n_chip_ev; i++)
+            chip_at(chip, chip_ev[i].t, chip_ev[i].kind, 60);
+    } else if (n_chip_ev) {
+        fprintf(stderr, "sim: --chip-reset, --chip-hang, --chip-wheel-sweep go with --chip\n");
+        return 2;
     }
     if (pil_path) {
         pil = pil_start(sim, pil_path, err, sizeof err);

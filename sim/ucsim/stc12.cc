@@ -45,9 +45,9 @@ cl_stc12::mk_hw_elements(void)
   cl_uc::mk_hw_elements();
   acc= sfr->get_cell(ACC);
   psw= sfr->get_cell(PSW);
-  add_hw(h= new cl_stc12_timer(this, 0, "timer0"));
+  add_hw(h= t0= new cl_stc12_timer(this, 0, "timer0"));
   h->init();
-  add_hw(h= new cl_stc12_timer(this, 1, "timer1"));
+  add_hw(h= t1= new cl_stc12_timer(this, 1, "timer1"));
   h->init();
   for (int i= 0; i < 4; i++)
     {
@@ -59,6 +59,15 @@ cl_stc12::mk_hw_elements(void)
   interrupt->init();
   add_hw(hw= new cl_stc12hw(this));
   hw->init();
+  c_ie= sfr->get_cell(IE);
+  c_tcon= sfr->get_cell(TCON);
+  c_scon= sfr->get_cell(SCON);
+  c_adc= sfr->get_cell(0xbc);
+  c_pcon= sfr->get_cell(PCON);
+  c_ccon= sfr->get_cell(0xd8);
+  c_cmod= sfr->get_cell(0xd9);
+  c_ccapm0= sfr->get_cell(0xda);
+  c_ccapm1= sfr->get_cell(0xdb);
 }
 
 int
@@ -82,17 +91,16 @@ cl_stc12::tick(int cycles)
   return cl_uc::tick(cycles);
 }
 
-/* every peripheral ticked once with the clocks that passed (each one handles a span; uCsim's
- * own loop ticks each one clock at a time) */
+/* the peripherals that count time, each ticked once with the clocks that passed (each one
+ * handles a span; uCsim's own loop ticks every peripheral a clock at a time) */
 int
 cl_stc12::tick_hw(int cycles)
 {
-  for (int i= 0; i < hws->count; i++)
-    {
-      class cl_hw *h= (class cl_hw *)(hws->at(i));
-      if ((h->flags & HWF_INSIDE) && h->on)
-        h->tick(cycles);
-    }
+  t0->tick(cycles);
+  t1->tick(cycles);
+  interrupt->tick(cycles);
+  if (hw)
+    hw->tick(cycles);
   do_extra_hw(cycles);
   return 0;
 }
@@ -101,9 +109,15 @@ int
 cl_stc12::exec_inst(void)
 {
   int r;
-  if (hw && hw->reset_due)
+  if (hw && (hw->reset_due || hw->pin_reset))
     {
       reset();
+      return resGO;
+    }
+  if (hw && hw->hung)
+    {
+      in_inst= false;
+      cl_uc::tick(3);           /* an SJMP to itself, interrupts still served */
       return resGO;
     }
   if (hw && hw->stall)
@@ -138,7 +152,16 @@ cl_stc12::do_interrupt(void)
       interrupt->was_reti= false;
       return resGO;
     }
-  if (!(sfr->get(IE) & bmEA))
+  if (!(c_ie->get() & bmEA))
+    return resGO;
+  /* no enabled source with its flag up: nothing to look for */
+  t_mem ie= c_ie->get(), tcon= c_tcon->get(), ccon= c_ccon->get();
+  if (!((ie & 0x01) && (tcon & 0x02)) && !((ie & 0x02) && (tcon & 0x20))
+      && !((ie & 0x04) && (tcon & 0x08)) && !((ie & 0x08) && (tcon & 0x80))
+      && !((ie & 0x10) && (c_scon->get() & 3)) && !((ie & 0x20) && (c_adc->get() & 0x10))
+      && !((ie & 0x40) && (c_pcon->get() & 0x20))
+      && !((ccon & 0x80) && (c_cmod->get() & 1)) && !((ccon & 0x01) && (c_ccapm0->get() & 1))
+      && !((ccon & 0x02) && (c_ccapm1->get() & 1)))
     return resGO;
   class it_level *il= (class it_level *)(it_levels->top());
   class cl_it_src *best= NULL;
@@ -258,6 +281,10 @@ cl_stc12hw::cl_stc12hw(class cl_uc *auc):
   cause= 0;
   rx_byte= 0;
   rx_ok= 0;
+  hung= pin_reset= sweep= false;
+  sweep_at= 0;
+  sweep_off= sweep_k= 0;
+  early= 0;
   p2_latch= 0xff;
 }
 
@@ -338,12 +365,14 @@ cl_stc12hw::chip_reset(void)
 {
   uint8_t pcon_flags= (uint8_t)(c_pcon->get() & 0x30);
   uint8_t wdt_flag= reset_due ? 0x80 : 0;
-  if (reset_due)
+  if (reset_due || pin_reset)
     {
       resets++;
       cause= wdt_flag;
     }
   reset_due= false;
+  pin_reset= false;
+  hung= false;
   stall= 0;
   isr_depth= 0;
   pass_start= 0;
@@ -553,6 +582,7 @@ cl_stc12hw::isr_enter(t_addr vector)
   if (isr_depth < 8)
     {
       isr_stack[isr_depth].t= now;
+      isr_stack[isr_depth].child= 0;
       isr_stack[isr_depth].v= (int)((vector - 3) / 8);
     }
   isr_depth++;
@@ -567,13 +597,17 @@ cl_stc12hw::isr_leave(void)
   if (isr_depth < 8)
     {
       int v= isr_stack[isr_depth].v;
-      uint64_t d= now - isr_stack[isr_depth].t;
+      uint64_t d= now - isr_stack[isr_depth].t, own= d - isr_stack[isr_depth].child;
+      if (isr_depth > 0)
+        isr_stack[isr_depth - 1].child+= d;
       if (v >= 0 && v < STC12_VECTORS)
         {
           vec[v].count++;
-          vec[v].sum+= d;
+          vec[v].sum+= own;
           if (d > vec[v].max)
             vec[v].max= (uint32_t)d;
+          if (own > vec[v].own_max)
+            vec[v].own_max= (uint32_t)own;
         }
     }
 }
@@ -591,6 +625,7 @@ cl_stc12hw::advance(uint64_t to)
       if (rx_at && rx_at < t) t= rx_at;
       if (p1_high_at && p1_high_at < t) t= p1_high_at;
       if (p3_high_at && p3_high_at < t) t= p3_high_at;
+      if (sweep_at && sweep_at < t) t= sweep_at;
       uint64_t d= t - now;
       /* PCA (datasheet, "PCA"): CMOD.CPS 000 SYSCLK/12 (the others: /2, timer 0, ECI,
        * SYSCLK, /4, /6, /8); CCON.CR runs it; CF on the 16-bit overflow; a PWM module
@@ -667,6 +702,22 @@ cl_stc12hw::advance(uint64_t to)
           p3_high_at= 0;
           port_pins(3, 0xff);
         }
+      if (sweep_at == now)
+        {
+          struct stc12_ev w= { now, STC12_EV_WHEEL, 1 };
+          sweep_at= 0;
+          apply(&w);
+        }
+      if (sweep && !sweep_at && (c_ccon->get() & 0x40) && ((c_cmod->get() >> 1) & 7) == 0)
+        {
+          /* the next edge: `off` clocks before the overflow after this one */
+          uint32_t cnt= (c_ch->get() << 8) | c_cl->get();
+          uint64_t ovf= now + (uint64_t)(0x10000 - cnt) * 12 - (uint64_t)pca_sub;
+          uint64_t off= sweep_off + 3u * (sweep_k++ % 600u);
+          if (ovf < now + off + 24)
+            ovf+= (uint64_t)0x10000 * 12;
+          sweep_at= ovf - off;
+        }
     }
 }
 
@@ -677,6 +728,8 @@ cl_stc12hw::apply(const struct stc12_ev *e)
   switch (e->kind)
     {
     case STC12_EV_WHEEL:
+      if (sweep && !e->value)
+        break;                  /* the sweep's edges only */
       port_pins(3, 0xff & ~0x04);
       p3_high_at= now + STC12_PULSE_CLOCKS;
       break;
@@ -722,6 +775,17 @@ cl_stc12hw::apply(const struct stc12_ev *e)
       break;
     case STC12_EV_P0:
       port_pins(0, e->value & 0xff);
+      break;
+    case STC12_EV_RESET:
+      pin_reset= true;
+      break;
+    case STC12_EV_HANG:
+      hung= true;
+      break;
+    case STC12_EV_WHEEL_SWEEP:
+      sweep= true;
+      sweep_off= e->value;
+      sweep_k= 0;
       break;
     }
 }
@@ -775,10 +839,32 @@ cl_stc12hw::link_end(void)
       wr(3 + 8 * v, 2);
       wr(vec[v].count, 4);
       wr(vec[v].max, 4);
+      wr(vec[v].own_max, 4);
       wr(vec[v].sum, 8);
     }
   fflush(fout);
   exit(0);
+}
+
+/* the output pins driving high now: push-pull (PxM1 = 0, PxM0 = 1) with the latch at 1, P1.4
+ * the PCA's PWM where module 1 is in PWM mode; P1 low byte, P3 high byte */
+uint16_t
+cl_stc12hw::strong(void)
+{
+  uint8_t l1= (uint8_t)c_p1->get(), l3= (uint8_t)c_p3->get();
+  if ((c_ccapm[1]->get() & 0x42) == 0x42)
+    l1= (uint8_t)((l1 & ~0x10) | (pwm1() ? 0x10 : 0));
+  return (uint16_t)((l1 & c_p1m0->get() & ~c_p1m1->get() & 0xff)
+                    | (((l3 & c_p3m0->get() & ~c_p3m1->get()) & 0xff) << 8));
+}
+
+/* module 1's high time in 256ths of the PWM period: {EPC1L, CCAP1L} against {0, CL} */
+unsigned
+cl_stc12hw::pwm1(void)
+{
+  if ((c_ccapm[1]->get() & 0x42) != 0x42)
+    return 0;
+  return (c_pwm[1]->get() & 1) ? 0 : 256 - c_ccapl[1]->get();
 }
 
 /* the slot's report, then the next slot's inputs */
@@ -790,15 +876,11 @@ cl_stc12hw::link_slot(void)
       uint8_t l1= (uint8_t)c_p1->get(), l3= (uint8_t)c_p3->get();
       uint8_t m0_1= (uint8_t)c_p1m0->get(), m1_1= (uint8_t)c_p1m1->get();
       uint8_t m0_3= (uint8_t)c_p3m0->get(), m1_3= (uint8_t)c_p3m1->get();
-      unsigned pwm= 0;
-      if ((c_ccapm[1]->get() & 0x42) == 0x42)
-        {
-          pwm= (c_pwm[1]->get() & 1) ? 0 : 256 - c_ccapl[1]->get();
-          l1= (uint8_t)((l1 & ~0x10) | (pwm ? 0x10 : 0));
-        }
+      uint16_t st= strong();
+      unsigned pwm= pwm1();
       fputc('R', fout);
-      wr(l1 & m0_1 & ~m1_1, 1);
-      wr(l3 & m0_3 & ~m1_3, 1);
+      wr(st & 0xff, 1);
+      wr(st >> 8, 1);
       wr(l1 & ~m0_1 & ~m1_1, 1);
       wr(l3 & ~m0_3 & ~m1_3, 1);
       wr(pwm, 2);
@@ -810,6 +892,8 @@ cl_stc12hw::link_slot(void)
       wr(max_adc, 1);
       wr(max_iap, 1);
       wr(step_max, 4);
+      wr(early, 2);
+      early= 0;
       wr(n_tx, 1);
       fwrite(tx_log, 12, n_tx, fout);
       for (int i= 0; i < n_watch; i++)
@@ -847,6 +931,8 @@ int
 cl_stc12hw::tick(int cycles)
 {
   uint64_t to= now + (uint64_t)cycles;
+  if (!pass_start)
+    early|= strong();
   if (fin && !slot_end)
     {
       link_config();

@@ -14,7 +14,7 @@
  *         each at its exact clock (events in time order, all before `end`); the model runs to
  *         `end` and answers 'R' (below). Host 'Q': the model answers 'X' (below) and quits.
  * Report: 'R' pins(4) pwm1(2) resets(1) cause(1) passes(2) pass_max(4) pass_sum(4)
- *         max_adc(1) max_iap(1) step_max(4)
+ *         max_adc(1) max_iap(1) step_max(4) early(2)
  *         n_tx(1) (clock(8) byte(1) bit_clocks(2) frame_bits(1))*n_tx  watch bytes
  *         pins: the level each output pin drives, strong high 1 (push-pull latch 1, or
  *         the PCA's PWM output where module 1 drives P1.4): P1 in byte 0, P3 in byte 1;
@@ -25,10 +25,13 @@
  *         pass ends where the next begins; interrupt time inside it included); the
  *         conversions and IAP operations the longest one started; the longest pass that
  *         started 8 conversions or more (a control step: pressure and level 4 times each);
+ *         early: the output pins (P1 low byte, P3 high byte) that drove high at any instruction
+ *         from a reset to the first main-loop pass after it, since the last report;
  *         tx: the frames the UART started sending in the slot (start bit's clock, the data
  *         byte, its bit time in clocks, data + stop bits: 9 for 8N1, 10 for 8N2).
- * End:    'X' n_vec(1) (vector(2) count(4) max(4) sum(8))*n_vec: each interrupt handler's
- *         clocks from its acceptance to the end of its RETI (nested time included).
+ * End:    'X' n_vec(1) (vector(2) count(4) max(4) own_max(4) own_sum(8))*n_vec: each interrupt
+ *         handler's clocks from its acceptance (the hardware's call included) to the end of its
+ *         RETI: the longest with the handlers that preempted it, and its own time without them.
  */
 #define STC12_SYSCLK_HZ 11059200u
 #define STC12_CLK_OF_NS(ns) ((uint64_t)(ns) * 864u / 78125u)
@@ -42,6 +45,12 @@
 #define STC12_EV_ADC 4          /* the voltage at ADC channel (value >> 12) as 10-bit counts (value & 0x3FF) */
 #define STC12_EV_KEYS 5         /* keypad: bit 4 * row + column set while that key is held */
 #define STC12_EV_P0 6           /* what the section switches drive on P0 (0: pulled to ground) */
+#define STC12_EV_RESET 7        /* the reset pin pulsed: the chip starts again (RAM and EEPROM kept) */
+#define STC12_EV_HANG 8         /* the main loop hangs from here (the CPU no longer advances outside
+                                 * interrupts, as in a loop waiting for what never comes) until a reset */
+#define STC12_EV_WHEEL_SWEEP 9  /* from here every wheel edge falls `value` + 3k clocks before the k-th
+                                 * next PCA overflow (k = 0, 1, ... wrapping at 600): the capture race's
+                                 * window swept; the host's own wheel edges are not sent meanwhile */
 #define STC12_PULSE_CLOCKS 221  /* 20 us */
 
 #endif

@@ -16,7 +16,10 @@ class cl_stc12hw;
 class cl_stc12: public cl_uc52
 {
  public:
-  class cl_stc12hw *hw;
+ class cl_stc12hw *hw;
+  class cl_hw *t0, *t1;
+  class cl_memory_cell *c_ie, *c_tcon, *c_scon, *c_adc, *c_pcon, *c_ccon,
+    *c_cmod, *c_ccapm0, *c_ccapm1;
   bool in_inst;                 /* the opcode's clocks are charged: the handlers' ticks are not */
   cl_stc12(struct cpu_entry *Itype, class cl_sim *asim);
   virtual void mk_hw_elements(void);
@@ -75,6 +78,8 @@ class cl_stc12hw: public cl_hw
   void isr_leave(void);
   int stall;                    /* clocks the CPU is held (IAP) before the next instruction */
   bool reset_due;               /* the watchdog overflowed: reset before the next instruction */
+  bool pin_reset;               /* the reset pin: the same */
+  bool hung;                    /* the main loop hung (STC12_EV_HANG) */
  private:
   class cl_address_space *sfr, *xram;
   class cl_memory_cell *c_ccon, *c_cmod, *c_cl, *c_ch, *c_ccapm[2], *c_ccapl[2], *c_ccaph[2],
@@ -111,11 +116,17 @@ class cl_stc12hw: public cl_hw
   uint8_t pass_adc, pass_iap, max_adc, max_iap;
   uint8_t tx_log[64 * 12];
   unsigned n_tx;
-  struct { uint32_t count, max; uint64_t sum; } vec[STC12_VECTORS];
-  struct { uint64_t t; int v; } isr_stack[8];
+  struct { uint32_t count, max, own_max; uint64_t sum; } vec[STC12_VECTORS];
+  struct { uint64_t t, child; int v; } isr_stack[8];
   int isr_depth;
   bool quit;
 
+  bool sweep;                   /* STC12_EV_WHEEL_SWEEP */
+  uint64_t sweep_at;
+  uint32_t sweep_off, sweep_k;
+  uint16_t early;
+  uint16_t strong(void);
+  unsigned pwm1(void);
   void advance(uint64_t to);
   void apply(const struct stc12_ev *e);
   void link_slot(void);
