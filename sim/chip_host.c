@@ -12,6 +12,7 @@
 #include "chip_host.h"
 #include "ucsim/stc12_link.h"
 #include "hal_host.h"
+#include "link_crc.h"
 #include "params.h"
 #include "store.h"
 #include "app.h"
@@ -158,7 +159,8 @@ static void settings(chip_t *c)
         if (param_v[i] != c->sent[i]) {
             char line[32];
             const char *p;
-            snprintf(line, sizeof line, "SET %u %u\r\n", (unsigned)i, (unsigned)param_v[i]);
+            int k = snprintf(line, sizeof line, "SET %u %u", (unsigned)i, (unsigned)param_v[i]);
+            snprintf(line + k, sizeof line - (size_t)k, "*%02X\r\n", link_crc8(line, (size_t)k));
             for (p = line; *p; p++)
                 if ((c->rx_head + 1) % CHIP_RXQ != c->rx_tail) {
                     c->rxq[c->rx_head] = (uint8_t)*p;

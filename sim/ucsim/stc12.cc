@@ -203,9 +203,10 @@ cl_stc12::accept_it(class it_level *il)
 void
 cl_stc12::reset(void)
 {
+  t_mem pcon= sfr ? sfr->get(PCON) : 0;
   cl_51core::reset();
   if (hw)
-    hw->chip_reset();
+    hw->chip_reset(pcon);
 }
 
 int
@@ -352,8 +353,8 @@ cl_stc12hw::init(void)
   pass_adc= pass_iap= max_adc= max_iap= 0;
   n_tx= 0;
   keys= 0;
-  sfr->set(PCON, 0x30);         /* POF and LVDF after power-on (datasheet, "PCON") */
-  chip_reset();
+  powered= false;               /* the first reset is the power-on's: POF and LVDF set */
+  chip_reset(0);
   return 0;
 }
 
@@ -361,9 +362,10 @@ cl_stc12hw::init(void)
  * quasi-bidirectional, PxM0 = PxM1 = 0; AUXR 0: timers at SYSCLK/12, the on-chip XRAM on;
  * WDT_CONTR 0 but WDT_FLAG after a watchdog reset; PCON's POF and LVDF kept). */
 void
-cl_stc12hw::chip_reset(void)
+cl_stc12hw::chip_reset(t_mem pcon_before)
 {
-  uint8_t pcon_flags= (uint8_t)(c_pcon->get() & 0x30);
+  uint8_t pcon_flags= powered ? (uint8_t)(pcon_before & 0x30) : 0x30;
+  powered= true;
   uint8_t wdt_flag= reset_due ? 0x80 : 0;
   if (reset_due || pin_reset)
     {

@@ -72,7 +72,8 @@ class cl_stc12hw: public cl_hw
   virtual int tick(int cycles);
   virtual void write(class cl_memory_cell *cell, t_mem *val);
   virtual void reset(void) {}
-  void chip_reset(void);        /* the datasheet's reset values, after the core's */
+  void chip_reset(t_mem pcon_before);  /* the datasheet's reset values, after the core's */
+  bool powered;                 /* a reset after the power-on's keeps PCON's POF and LVDF */
   void inst_begin(t_addr pc, int isr_depth);
   void isr_enter(t_addr vector);
   void isr_leave(void);
