@@ -341,9 +341,10 @@ $(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(STC_DIR)/hal/stc12/hal_stc12.
 # machine cycles in s51: the fixed-point blocks and one step of each controller, each step against
 # the budget (ctl.h CTL_STEP_BUDGET_CYCLES: 30,000 classic cycles, under 4 ms on the chip); the
 # interrupt handlers; the whole firmware's passes and stack over pil_bench's scripted 60 s
-bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
+bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX) $(FW_IHX) $(UCSIM_STC12)
 	$(Q)tools/bench.sh $(UC_DIR)
 	$(Q)tools/bench_pil.sh $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
+	$(Q)tools/bench_chip.sh $(SIM_BIN) $(FW_IHX) $(UCSIM_STC12)
 
 # simulated seconds per wall second for the paper's run (one process, one core; the fastest of 9)
 bench-sim: $(SIM_BIN)
