@@ -163,6 +163,7 @@ help:
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator: a summary, the metrics JSON last"
 	@echo "make pil SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
 	@echo "make chip SCENARIO=f [CONTROLLER=n] [CSV=out.csv]  the field image in the STC12C5A60S2 model (build/ucsim/s51) + 1T timing"
+	@echo "make ucsim     that model: Debian's uCsim source + sim/ucsim/stc12.patch, built into build/ucsim/s51"
 	@echo "make compare   the six controllers on the same plant and seeds, beside the paper; ffmap against bp_pid, aog and raven over seeds 1-16"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1]"
 	@echo "               the controllers over N sprayers of the plant family: median and 95th percentile"

@@ -206,16 +206,11 @@ static void status(chip_t *c, const uint8_t *s, const uint8_t *pv)
         target_update(hal_sections());
 }
 
-static void pass(void *ctx)
+/* the slot's inputs: conversions as the plant gives them now, keys, switches, link bytes, the
+ * chip_at inputs due; then all of them in time order (the edges came while the plant stepped) */
+static void inputs(chip_t *c, uint64_t end)
 {
-    chip_t *c = ctx;
-    uint64_t end = STC12_CLK_OF_NS(c->sim->t_ns);
-    uint8_t hdr[11], r[28], *b;
     int16_t v;
-    unsigned n_tx, i;
-    if (c->failed)
-        return;
-    /* the slot's inputs: conversions as the plant gives them now, keys, switches, link bytes */
     event(c, c->slot_start, STC12_EV_ADC, (uint32_t)hal_adc_read(HAL_ADC_PRESSURE) & 0x3FF);
     event(c, c->slot_start, STC12_EV_ADC, 1u << 12 | ((uint32_t)hal_adc_read(HAL_ADC_LEVEL) & 0x3FF));
     if (hal_host_io.keys != c->keys) {
@@ -246,7 +241,6 @@ static void pass(void *ctx)
         c->rx_tail = (c->rx_tail + 1) % CHIP_RXQ;
         c->rx_next = at + 10u * HOST_BIT_CLOCKS;
     }
-    /* events in time order: the edges came while the plant stepped, the rest at the start */
     {
         unsigned a, z;
         for (a = 1; a < c->n_ev; a++)
@@ -257,17 +251,17 @@ static void pass(void *ctx)
                 memcpy(c->ev + 13 * (z - 1), t, 13);
             }
     }
-    hdr[0] = 'S';
-    put(hdr + 1, end, 8);
-    put(hdr + 9, c->n_ev, 2);
-    wr(c, hdr, sizeof hdr);
-    wr(c, c->ev, 13u * c->n_ev);
-    c->n_ev = 0;
-    c->slot_start = end;
-    /* the report */
+}
+
+/* the slot's report: the pins into the host's outputs, resets, passes, the UART's frames, the
+ * status; 0, or -1 when the model did not answer */
+static int report(chip_t *c)
+{
+    uint8_t r[28], *b;
+    unsigned n_tx, i;
     if (rd(c, r, 1) < 0 || r[0] != 'R' || rd(c, r, 27) < 0) {
         c->failed = 1;
-        return;
+        return -1;
     }
     {
         uint8_t p1 = r[0], p3 = r[1];
@@ -306,7 +300,7 @@ static void pass(void *ctx)
             c->slot_max = realloc(c->slot_max, c->cap_slot * sizeof *c->slot_max);
             if (!c->slot_max) {
                 c->failed = 1;
-                return;
+                return -1;
             }
         }
         if (np)
@@ -318,7 +312,7 @@ static void pass(void *ctx)
         uint8_t t[12];
         int d;
         if (rd(c, t, 12) < 0)
-            return;
+            return -1;
         d = decode((unsigned)get(t + 9, 2), t[8]);
         if (d >= 0)
             hal_uart_put((uint8_t)d);
@@ -327,7 +321,7 @@ static void pass(void *ctx)
     if (!b || rd(c, b, APP_STATUS_BYTES + 2 * P_COUNT) < 0) {
         free(b);
         c->failed = 1;
-        return;
+        return -1;
     }
     status(c, b, b + APP_STATUS_BYTES);
     free(b);
@@ -337,11 +331,31 @@ static void pass(void *ctx)
             c->speeds = realloc(c->speeds, c->cap_speed * sizeof *c->speeds);
             if (!c->speeds) {
                 c->failed = 1;
-                return;
+                return -1;
             }
         }
         c->speeds[c->n_speed++] = app_status.speed_kmh_x100;
     }
+    return 0;
+}
+
+/* one tick: the slot's inputs out, the model runs to the slot's end, its report back */
+static void pass(void *ctx)
+{
+    chip_t *c = ctx;
+    uint64_t end = STC12_CLK_OF_NS(c->sim->t_ns);
+    uint8_t hdr[11];
+    if (c->failed)
+        return;
+    inputs(c, end);
+    hdr[0] = 'S';
+    put(hdr + 1, end, 8);
+    put(hdr + 9, c->n_ev, 2);
+    wr(c, hdr, sizeof hdr);
+    wr(c, c->ev, 13u * c->n_ev);
+    c->n_ev = 0;
+    c->slot_start = end;
+    report(c);
 }
 
 int chip_at(chip_t *c, double t_s, int kind, uint32_t value)
