@@ -4,17 +4,10 @@
 # the outputs from a reset to the first pass, the wheel's capture race swept across the PCA
 # overflow, an EEPROM save read back after a reset, the UART at 38400, the watchdog on a hung
 # loop. Each run is a few seconds of tests/scripts/data/chip_*.scn.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-SIM=$B/host/bin/sim
+source "$(dirname "$0")/tap.sh" chip
 IHX=${CHIP_IHX:-$B/stc12/sprayer.ihx}     # CHIP_IHX: another image (a HAL fix reverted, docs/PIL.md)
 S51=$B/ucsim/s51
 D=tests/scripts/data
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { echo "ok - chip: $1"; }
-nok() { echo "not ok - chip: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
 
 # the model is built from Debian's source with the project's patch; without it nothing here can
 # run, and that is a failure, never a pass
