@@ -52,6 +52,7 @@ struct chip {
     size_t n_slot, cap_slot;
     struct { unsigned v; uint32_t count, max, own_max; uint64_t sum; } vec[8];
     int n_vec;
+    uint8_t sp_max;                 /* the stack's high-water mark (SP), from the model */
     struct { uint64_t ns; uint8_t kind; uint32_t value; } at[8];  /* chip_at's inputs */
     int n_at, next_at;
     uint16_t early;                 /* output pins driven high between a reset and its first pass */
@@ -499,13 +500,14 @@ chip_t *chip_start(sim_t *sim, const char *ihx, const char *s51, char *err, size
 
 int chip_finish(chip_t *c)
 {
-    uint8_t q = 'Q', h[2];
+    uint8_t q = 'Q', h[3];
     int st = 0, i;
     c->sim->pass = NULL;
     if (!c->failed) {
         wr(c, &q, 1);
-        if (rd(c, h, 2) == 0 && h[0] == 'X') {
-            c->n_vec = h[1] > 8 ? 8 : h[1];
+        if (rd(c, h, 3) == 0 && h[0] == 'X') {
+            c->sp_max = h[1];
+            c->n_vec = h[2] > 8 ? 8 : h[2];
             for (i = 0; i < c->n_vec; i++) {
                 uint8_t v[22];
                 if (rd(c, v, 22) < 0)
@@ -575,6 +577,9 @@ void chip_report(const chip_t *c, FILE *f)
                        "mean %.0f; with the handlers preempting it max %u = %.1f us\n",
                     name[i], c->vec[i].v, c->vec[i].count, c->vec[i].own_max, US((double)c->vec[i].own_max),
                     (double)c->vec[i].sum / c->vec[i].count, c->vec[i].max, US((double)c->vec[i].max));
+    if (c->sp_max)
+        fprintf(f, "chip: stack high-water mark 0x%02x (SP, with the handlers' pushes): %d B below the top (0xff)\n",
+                c->sp_max, 0xFF - c->sp_max);
     fprintf(f, "chip: %u resets (cause WDT_CONTR 0x%02x after the last); board driver pins driven high "
                "between a reset and its first pass: 0x%04x (P3 high byte, P1 low; 0x3070 the bridge, relay, buzzer)\n",
             c->resets, c->cause, c->early & 0x3070);

@@ -286,6 +286,7 @@ cl_stc12hw::cl_stc12hw(class cl_uc *auc):
   sweep_at= 0;
   sweep_off= sweep_k= 0;
   early= 0;
+  sp_max= 0;
   p2_latch= 0xff;
 }
 
@@ -329,6 +330,7 @@ cl_stc12hw::init(void)
   c_p3m0= sfr->get_cell(P3M0_A);
   c_p3m1= sfr->get_cell(P3M1_A);
   c_th1= sfr->get_cell(TH1);
+  c_sp= sfr->get_cell(SP);
   c_tmod= sfr->get_cell(TMOD);
   for (int i= 0; i < 4; i++)
     port[i]= uc->get_hw(HW_PORT, i, NULL);
@@ -557,6 +559,9 @@ void
 cl_stc12hw::inst_begin(t_addr pc, int depth)
 {
   (void)depth;
+  t_mem sp= c_sp->get();
+  if (sp > sp_max && pass_start)
+    sp_max= (uint8_t)sp;        /* the stack's high-water mark once the main loop runs */
   if (pc == pass_pc && isr_depth == 0)
     {
       if (pass_start)
@@ -835,6 +840,7 @@ void
 cl_stc12hw::link_end(void)
 {
   fputc('X', fout);
+  wr(sp_max, 1);
   wr(STC12_VECTORS, 1);
   for (int v= 0; v < STC12_VECTORS; v++)
     {

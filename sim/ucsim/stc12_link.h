@@ -29,7 +29,8 @@
  *         from a reset to the first main-loop pass after it, since the last report;
  *         tx: the frames the UART started sending in the slot (start bit's clock, the data
  *         byte, its bit time in clocks, data + stop bits: 9 for 8N1, 10 for 8N2).
- * End:    'X' n_vec(1) (vector(2) count(4) max(4) own_max(4) own_sum(8))*n_vec: each interrupt
+ * End:    'X' sp_max(1) n_vec(1) (vector(2) count(4) max(4) own_max(4) own_sum(8))*n_vec: the
+ *         highest SP from the first main-loop pass on (internal RAM ends at 0xFF); each interrupt
  *         handler's clocks from its acceptance (the hardware's call included) to the end of its
  *         RETI: the longest with the handlers that preempted it, and its own time without them.
  */

@@ -86,7 +86,7 @@ class cl_stc12hw: public cl_hw
   class cl_memory_cell *c_ccon, *c_cmod, *c_cl, *c_ch, *c_ccapm[2], *c_ccapl[2], *c_ccaph[2],
     *c_pwm[2], *c_adc, *c_res, *c_resl, *c_scon, *c_sbuf, *c_brt, *c_auxr, *c_wdt, *c_pcon,
     *c_iap_data, *c_iap_ah, *c_iap_al, *c_iap_cmd, *c_iap_trig, *c_iap_contr,
-    *c_p1, *c_p3, *c_p2, *c_p1m0, *c_p1m1, *c_p3m0, *c_p3m1, *c_th1, *c_tmod;
+    *c_p1, *c_p3, *c_p2, *c_sp, *c_p1m0, *c_p1m1, *c_p3m0, *c_p3m1, *c_th1, *c_tmod;
   class cl_hw *port[4];
   uint64_t now;                 /* SYSCLK clocks since power-on */
   int pca_sub;                  /* clocks towards the next PCA count */
@@ -126,6 +126,7 @@ class cl_stc12hw: public cl_hw
   uint64_t sweep_at;
   uint32_t sweep_off, sweep_k;
   uint16_t early;
+  uint8_t sp_max;               /* the highest SP since the first pass */
   uint16_t strong(void);
   unsigned pwm1(void);
   void advance(uint64_t to);

@@ -3,7 +3,8 @@
 # STC12C5A60S2 model (build/ucsim/s51 -t STC12, sim/ucsim/), the plant on its pins (make chip):
 # the outputs from a reset to the first pass, the wheel's capture race swept across the PCA
 # overflow, an EEPROM save read back after a reset, the UART at 38400, the watchdog on a hung
-# loop. Each run is a few seconds of tests/scripts/data/chip_*.scn.
+# loop. Each run is a few seconds of tests/scripts/data/chip_*.scn. Then the model's UART alone
+# at 9600 8N2 and 38400 8N1 (tests/chip/uart_echo.c, tests/scripts/chip_uart.py).
 source "$(dirname "$0")/tap.sh" chip
 IHX=${CHIP_IHX:-$B/stc12/sprayer.ihx}     # CHIP_IHX: another image (a HAL fix reverted, docs/PIL.md)
 S51=$B/ucsim/s51
@@ -85,4 +86,28 @@ if [ "$w" = "1 0x80 0x0000" ] && grep -q '^BOOT WATCHDOG' "$tmp/wdt.serial"; the
     ok "a hung loop: the watchdog resets the chip (BOOT WATCHDOG), its outputs low until the first pass"
 else
     nok "a hung loop: the watchdog resets the chip, outputs low after" "resets/cause/pins: ${w:-none}; $(grep BOOT "$tmp/wdt.serial" | tr '\n' ' ')"
+fi
+
+# the UART alone, as hal/stc12 sets it up: BRT in 1T mode, mode 3 with TB8 = 1 for 8N2; a PC at
+# the same baud and framing reads every byte back plus one, a PC at another baud does not
+for cfg in "9600 8N2:-DBAUD=9600UL -DSTOP2" "38400 8N1:-DBAUD=38400UL"; do
+    name=${cfg%%:*}; flags=${cfg#*:}; f=$tmp/echo_${name// /_}
+    mkdir -p "$f"
+    if ! sdcc -mmcs51 $flags tests/chip/uart_echo.c -o "$f/uart_echo.ihx" > "$f/sdcc.log" 2>&1; then
+        nok "the UART echo program builds ($name)" "$(cat "$f/sdcc.log")"
+        continue
+    fi
+    baud=${name% *}; stop=${name#*N}
+    out=$(timeout 300 python3 tests/scripts/chip_uart.py "$S51" "$f/uart_echo.ihx" "$baud" "$stop" "$baud" "$stop" 2>&1)
+    if echo "$out" | grep -q 'echo ok$'; then
+        ok "the UART at $name: every byte back plus one, $(echo "$out" | sed 's/.*bits \(\[.*\]\).*/bit time and data+stop bits \1/')"
+    else
+        nok "the UART at $name echoes each byte plus one" "$out"
+    fi
+done
+out=$(timeout 300 python3 tests/scripts/chip_uart.py "$S51" "$tmp/echo_9600_8N2/uart_echo.ihx" 38400 1 9600 2 2>&1)
+if echo "$out" | grep -q 'echo WRONG$'; then
+    ok "a PC at 38400 8N1 does not get through to the UART at 9600 8N2 (the check can fail)"
+else
+    nok "a PC at the wrong baud does not get through" "$out"
 fi
