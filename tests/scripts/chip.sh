@@ -38,7 +38,7 @@ for n in eeprom sweep wdt; do
         nok "the $n run completes in the model" "$(tail -5 "$tmp/$n.out")"
     fi
 done
-grep -h '^chip: \(worst\|handler\)' "$tmp/eeprom.out" | sed 's/^/# /'
+grep -h '^chip: \(worst\|handler\|stack\)' "$tmp/eeprom.out" | sed 's/^/# /'
 
 # outputs: no driver pin of the board (H-bridge IN_A/IN_B/enable, relay, buzzer) high between
 # a reset and the first main-loop pass, at any instruction; after it they drive (push-pull)
