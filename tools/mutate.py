@@ -81,6 +81,8 @@ NP = "DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, 1, 1, 0,"
 NP2 = "DIAG_BAL_PERIODS, 1, DIAG_MIN_FLOW_PERIODS"
 DIGIT = ("Valve cal's dead-band digit: the subtractions only take the digits apart; a bound moved by "
          "one leaves a value ending in 0 at 0 and one ending in 1-9 (or wrapped past 0) not at 0")
+DIR = "dir is set to 1 or -1 just above (d > 0 ? 1 : -1): dir >= 0 is dir > 0"
+AT_END = "at t == 32767 both ways leave t at 32767 with nothing added over the end"
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
 EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
@@ -117,6 +119,25 @@ EQUIVALENT = [
      "d = 1 gets the wrong way but is under VALVE_MOVE_Q15: it returns before the way is used"),
     ("firmware/control/valve.c", "integrate", "if (d < 0)", "< -> <=", "d is not 0 here"),
     ("firmware/control/valve.c", "integrate", "if (d < 0)", "0 -> 1", "d is not 0 here: d < 1 is d < 0"),
+    ("firmware/control/valve.c", "integrate",
+     "step = d > va.drun ? (int16_t)MUL_R15(d - va.drun, va.rate) : 0;    /* (.. * rate + 2^14) >> 15 */",
+     "> -> >=", "at d == drun the product is 0 and rounds to 0: a step of 0 either way"),
+    ("firmware/control/valve.c", "integrate", "va.limit &= (uint8_t)~(dir > 0 ? CTL_AT_OPEN : CTL_AT_CLOSED);",
+     "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "if (dir > 0) {", "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "va.limit |= dir > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;", "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "va.pos = dir > 0 ? 0 : 32767;", "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "if ((uint16_t)step >= t) {", ">= -> >",
+     "at step == t both ways end at t = 0 with nothing added over the end"),
+    ("firmware/control/valve.c", "integrate", "if (t >= 32767u) {", ">= -> >", AT_END),
+    ("firmware/control/valve.c", "integrate", "if (t >= 32767u) {", "32767u -> 32768u", AT_END),
+    ("firmware/control/valve.c", "valve_set", "bit = drive > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;", "> -> >=",
+     "inside if (drive != 0): drive >= 0 is drive > 0"),
+    ("firmware/control/valve.c", "valve_set",
+     "mag = drive > 0 ? (uint16_t)drive : drive == Q15_MIN ? 32767u : (uint16_t)-drive;", "> -> >=",
+     "in the drive != 0 branch: drive >= 0 is drive > 0"),
+    ("firmware/control/valve.c", "valve_set", "va.want_dir = drive > 0 ? HAL_VALVE_CLOSE : HAL_VALVE_OPEN;", "> -> >=",
+     "in the drive != 0 branch: drive >= 0 is drive > 0"),
     ("firmware/control/target.c", "target_rate_window",
      "uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;", ">= -> >",
      "at rate_x10 == job both ways give 0"),
