@@ -63,7 +63,7 @@ SITES = {
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
     "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_plaus", "test_faults"],
-    "firmware/ops/diag_line.c": ["test_diag", "test_diag_edges", "test_slow_faults"],
+    "firmware/ops/diag_line.c": ["test_diag_line", "test_diag", "test_diag_edges", "test_slow_faults"],
     "firmware/ops/diag_wheel.c": ["test_plaus", "test_diag", "test_faults"],
     "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
@@ -138,6 +138,23 @@ EQUIVALENT = [
      "in the drive != 0 branch: drive >= 0 is drive > 0"),
     ("firmware/control/valve.c", "valve_set", "va.want_dir = drive > 0 ? HAL_VALVE_CLOSE : HAL_VALVE_OPEN;", "> -> >=",
      "in the drive != 0 branch: drive >= 0 is drive > 0"),
+    ("firmware/ops/diag_line.c", "diag_dry_line",
+     "&& UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->target_lpm_x100) {", "> -> >=",
+     "at meter == 0 both ways give 0"),
+    ("firmware/ops/diag_line.c", "diag_dry_line",
+     "if (dl.dry_line && (!in->open_nozzles || (!in->spraying && psens && p >= pmin)", "dl.dry_line -> 1",
+     "the branch clears dry_line: clearing it when it is 0 changes nothing"),
+    ("firmware/ops/diag_line.c", "diag_zero", "if (in->spraying || in->speed_kmh_x100 || !dl.p_spray",
+     "!dl.p_spray -> 0", "with p_spray 0 the window's test z_hi << 1 >= p_spray holds: it returns zero_off "
+     "with z_n 0 a few lines on, and z_lo, z_hi are set anew at the next window's first period"),
+    ("firmware/ops/diag_line.c", "diag_zero",
+     "|| !((valve_limit() & CTL_AT_OPEN) || (pos != VALVE_POS_UNKNOWN && pos >= DIAG_ZERO_OPEN_Q15))) {",
+     "(valve_limit() & CTL_AT_OPEN) -> 0", "valve.c sets CTL_AT_OPEN with the position 32767 and clears it "
+     "at the first step closed: while it stands the position's test holds as well"),
+    ("firmware/ops/diag_line.c", "diag_zero", "if (!dl.z_n || p < dl.z_lo)", "< -> <=",
+     "at p == z_lo it writes the value z_lo holds"),
+    ("firmware/ops/diag_line.c", "diag_zero", "if (!dl.z_n || p > dl.z_hi)", "> -> >=",
+     "at p == z_hi it writes the value z_hi holds"),
     ("firmware/control/target.c", "target_rate_window",
      "uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;", ">= -> >",
      "at rate_x10 == job both ways give 0"),
