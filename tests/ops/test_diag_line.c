@@ -88,6 +88,13 @@ static uint8_t zero(void)
 }
 
 
+static uint8_t bal(uint16_t l)
+{
+    measure();
+    sy.st.tank_l = l;
+    return diag_balance(&sy.st, sy.settled);
+}
+
 /* ---- pump dry from the line -------------------------------------------------------------------- */
 /* spraying at working speed, nothing metered, the line under P start: dry on the 10th period */
 static void dry_line_raised(uint16_t tank)
@@ -373,6 +380,255 @@ static void test_zero_needs_the_boom_shut_and_the_bypass_known_open(void **state
     }
 }
 
+/* ---- the tank balance ------------------------------------------------------------------------- */
+/* Tank size 1000 L: m = 1000 / 256 + 1 = 4 L; judged from a fall of 8 m = 32 L; a stretch's fall
+ * counts from its 100th period, a stretch closes at a fall of 32 m = 128 L, the sums are
+ * halved from 64 m = 256 L; OFF when 10 |V - 10 F| > 6 F + 100 m (F in L, V in 0.1 L: the
+ * meter off the fall by more than 6 % of it and m). At 30.00 L/min (a pulse every 20 ms) the
+ * meter sums 0.05 L a period: after c periods of a stretch, V = c / 2 (floored). Call 1 is
+ * the first (it starts anew; a stretch opens in it at the level given). */
+static void bal_start(uint16_t l, uint64_t meter_ns)
+{
+    setup(NULL);
+    meter_every(meter_ns);
+    measure();                                  /* the meter's first pulses: no reading yet */
+    assert_int_equal(bal(l), DIAG_BAL_ANEW);
+}
+
+/* calls `from` to `to` at level l, each NONE */
+static void bal_none(int from, int to, uint16_t l)
+{
+    for (int c = from; c <= to; c++)
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+}
+
+/* 32 L fallen by 4 L a period (a step of m is not a step), at call 101 the stretch's fall
+ * counts: F 32, V 50: the meter far off, OFF; not a call before. */
+static void test_balance_from_a_stretch_of_100_periods_and_32_l(void **state)
+{
+    (void)state;
+    static const uint64_t every[2] = {20000000u, 40000000u};    /* 30.00, 15.00 L/min */
+    for (int k = 0; k < 2; k++) {
+        bal_start(800, every[k]);
+        assert_int_equal(flow_lpm_x100(), k ? 1500 : 3000);
+        uint16_t l = 800;
+        for (int c = 2; c <= 100; c++) {
+            if (c <= 9)
+                l = (uint16_t)(l - 4u);
+            assert_int_equal(bal(l), DIAG_BAL_NONE);
+        }
+        assert_int_equal(l, 768);
+        assert_int_equal(bal(l), DIAG_BAL_OFF);
+    }
+}
+
+/* a rise of m (4 L) over the level a period ago and over the stretch's lowest is no step: the
+ * stretch goes on (judged at 101 as above); a rise to 810 with no stretch open is a step: the
+ * balance waits 30 periods before a stretch may open */
+static void test_balance_a_step_is_more_than_m(void **state)
+{
+    (void)state;
+    bal_start(800, 20000000u);
+    bal_none(2, 50, 800);
+    assert_int_equal(bal(804), DIAG_BAL_NONE);
+    uint16_t l = 804;
+    for (int c = 52; c <= 100; c++) {
+        if (c <= 60)
+            l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+    }
+    assert_int_equal(l, 768);
+    assert_int_equal(bal(l), DIAG_BAL_OFF);
+    /* the meter off (no stretch), a refill of 10 L at call 2, the meter on: the 30 periods from
+     * the step no stretch opens (the fall before it opens never counts); the 30th (call 31) it
+     * opens at 778 L, and 32 L below that, once it has run 100 periods, is judged */
+    setup(NULL);
+    assert_int_equal(bal(800), DIAG_BAL_ANEW);
+    assert_int_equal(bal(810), DIAG_BAL_NONE);
+    meter_every(20000000u);
+    l = 810;
+    for (int c = 3; c <= 130; c++) {
+        if (c >= 5 && c <= 12)
+            l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+    }
+    for (int c = 131; c <= 137; c++) {
+        l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+    }
+    assert_int_equal(bal(746), DIAG_BAL_OFF);   /* 778 - 746 = 32 */
+}
+
+/* A stretch runs only at 15.00 L/min or more, on a working level sensor, with a pulse in the
+ * period, below the span's top (level + m under Tank size). */
+static void test_balance_stretches_need_flow_pulses_a_level_and_room(void **state)
+{
+    (void)state;
+    /* 14.99 L/min: a pulse every 40.0174 ms (36880.0 ticks: 1499.35, whatever the rounding) */
+    bal_start(800, 40017361u);
+    uint16_t l = 800;
+    for (int c = 2; c <= 300; c++) {
+        if (c <= 9)
+            l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+        assert_int_equal(flow_lpm_x100(), 1499);
+    }
+    /* the level sensor judged failed (its 3rd period open) */
+    bal_start(800, 20000000u);
+    adc_counts[1] = 179;
+    l = 800;
+    for (int c = 2; c <= 300; c++) {
+        if (c <= 9)
+            l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+    }
+    /* Meter K 10.0 p/L at 30 L/min: a pulse every 200 ms, every other period without one (its
+     * reading held at 30.00): the stretches close at each */
+    setup(NULL);
+    assert_true(param_set(P_METER_K, 100));
+    meter_every(200000000u);
+    for (int c = 0; c < 4; c++)
+        measure();
+    assert_int_equal(bal(800), DIAG_BAL_ANEW);
+    l = 800;
+    for (int c = 2; c <= 300; c++) {
+        if (c <= 9)
+            l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+        assert_int_equal(flow_lpm_x100(), 3000);
+    }
+    /* at 996 L of 1000 the level is at the span's top (996 + 4 is not under 1000): no stretch
+     * there; one opened at 993 has not run 100 periods when the fall from 996 is 33 L */
+    bal_start(996, 20000000u);
+    bal_none(2, 150, 996);
+    for (l = 993; l >= 963; l = (uint16_t)(l - 3u))
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+}
+
+/* A stretch that stops before its 100th period is dropped, at its 100th it goes into the sums;
+ * a level over the stretch's start (within m) is no fall. */
+static void test_balance_sums_stretches_of_100_periods_only(void **state)
+{
+    (void)state;
+    /* 100 periods, 32 L fallen, then the meter stops: summed, F 32 and V 50: OFF */
+    bal_start(800, 20000000u);
+    uint16_t l = 800;
+    for (int c = 2; c <= 100; c++) {
+        if (c <= 9)
+            l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+    }
+    meter_every(0);
+    assert_int_equal(bal(l), DIAG_BAL_OFF);
+    /* 99 periods metering 4.9 L with no fall, dropped; then a stretch of 710 periods (35.5 L
+     * metered) with 32 L fallen at its end: ON (a 4.9 L more, 40.4 L, would be OFF) */
+    bal_start(800, 20000000u);
+    bal_none(2, 99, 800);
+    meter_every(0);
+    assert_int_equal(bal(800), DIAG_BAL_NONE);
+    meter_every(20000000u);
+    l = 800;
+    uint8_t r = DIAG_BAL_NONE;
+    for (int c = 101; c <= 811; c++) {
+        if (c > 803)
+            l = (uint16_t)(l - 4u);
+        r = bal(l);
+        if (c < 811)
+            assert_int_equal(r, DIAG_BAL_NONE);
+    }
+    assert_int_equal(l, 768);
+    assert_int_equal(flow_lpm_x100(), 3000);
+    assert_int_equal(r, DIAG_BAL_ON);
+    /* a level 2 L over the stretch's start, after its 100th period: no fall, NONE */
+    bal_start(800, 20000000u);
+    bal_none(2, 110, 800);
+    bal_none(111, 130, 802);
+}
+
+/* A pause of the meter closes the stretch: what the level loses while nothing is metered (40 L
+ * here) is in no stretch. */
+static void test_balance_a_pause_closes_the_stretch(void **state)
+{
+    (void)state;
+    bal_start(800, 20000000u);
+    bal_none(2, 150, 800);
+    meter_every(0);
+    uint16_t l = 800;
+    for (int c = 151; c <= 160; c++) {
+        l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+    }
+    meter_every(20000000u);
+    bal_none(161, 400, l);
+}
+
+/* The threshold, F 31 not judged, 32 judged; at F 35 a meter 6.1 L off is within 6 % and m
+ * (10 x 61 = 610, not over 6 x 35 + 400 = 610), at F 36 6.2 L off is not (620 over 616). */
+static void test_balance_off_by_6_percent_and_m(void **state)
+{
+    (void)state;
+    /* call 578: V 289 (28.9 L) against 35 L */
+    bal_start(800, 20000000u);
+    bal_none(2, 565, 800);
+    uint16_t l = 800;
+    for (int c = 566; c <= 575; c++) {
+        l = (uint16_t)(l - 3u);
+        bal(l);
+    }
+    assert_int_equal(bal(769), DIAG_BAL_NONE);          /* 576: F 31 */
+    assert_int_equal(bal(768), DIAG_BAL_ON);            /* 577: F 32, V 288: 320 within 592 */
+    assert_int_equal(bal(765), DIAG_BAL_ON);            /* 578: F 35, V 289 */
+    /* call 596: V 298 (29.8 L) against 36 L */
+    bal_start(800, 20000000u);
+    bal_none(2, 584, 800);
+    l = 800;
+    for (int c = 585; c <= 595; c++) {
+        l = (uint16_t)(l - 3u);
+        bal(l);
+    }
+    assert_int_equal(l, 767);
+    assert_int_equal(bal(764), DIAG_BAL_OFF);           /* 596: F 36, V 298 */
+}
+
+/* A stretch closes at a fall of 128 L (into the sums; the next one's fall counts from its own
+ * 100th period); the sums are halved once the fall summed reaches 256 L. */
+static void test_balance_long_stretches_and_the_halving(void **state)
+{
+    (void)state;
+    /* 128 L fallen at call 2361 (V 1180 summed: ON, 10 x 100 within 1168), 4 L more the call
+     * after, in the next stretch: still F 128, ON (at F 132 it would be OFF: 1400 over 1192) */
+    bal_start(900, 20000000u);
+    bal_none(2, 2329, 900);
+    uint16_t l = 900;
+    for (int c = 2330; c <= 2361; c++) {
+        l = (uint16_t)(l - 4u);
+        bal(l);
+    }
+    assert_int_equal(l, 772);
+    assert_int_equal(bal(768), DIAG_BAL_ON);
+    /* 128 L at call 2301 (V 1150: 10 x 130 = 1300 over 1168, OFF; halved it would be F 64, V
+     * 575, ON); then 2400 calls more (V 1200) and 128 L more: 256 summed, halved: F 128, V
+     * 1175, ON (unhalved F 256, V 2350: 2100 over 1936, OFF) */
+    bal_start(900, 20000000u);
+    bal_none(2, 2269, 900);
+    l = 900;
+    uint8_t r = 0;
+    for (int c = 2270; c <= 2301; c++) {
+        l = (uint16_t)(l - 4u);
+        r = bal(l);
+    }
+    assert_int_equal(l, 772);
+    assert_int_equal(r, DIAG_BAL_OFF);
+    for (int c = 2302; c <= 4669; c++)
+        assert_int_equal(bal(l), DIAG_BAL_OFF);
+    for (int c = 4670; c <= 4701; c++) {
+        l = (uint16_t)(l - 4u);
+        r = bal(l);
+    }
+    assert_int_equal(l, 644);
+    assert_int_equal(r, DIAG_BAL_ON);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -384,6 +640,13 @@ int main(void)
         cmocka_unit_test(test_zero_at_rest_under_half_the_spraying_pressure),
         cmocka_unit_test(test_zero_spraying_pressure_at_working_speed_in_auto_only),
         cmocka_unit_test(test_zero_needs_the_boom_shut_and_the_bypass_known_open),
+        cmocka_unit_test(test_balance_from_a_stretch_of_100_periods_and_32_l),
+        cmocka_unit_test(test_balance_a_step_is_more_than_m),
+        cmocka_unit_test(test_balance_stretches_need_flow_pulses_a_level_and_room),
+        cmocka_unit_test(test_balance_sums_stretches_of_100_periods_only),
+        cmocka_unit_test(test_balance_a_pause_closes_the_stretch),
+        cmocka_unit_test(test_balance_off_by_6_percent_and_m),
+        cmocka_unit_test(test_balance_long_stretches_and_the_halving),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
