@@ -64,7 +64,7 @@ SITES = {
 TESTS = {
     "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_plaus", "test_faults"],
     "firmware/ops/diag_line.c": ["test_diag_line", "test_diag", "test_diag_edges", "test_slow_faults"],
-    "firmware/ops/diag_wheel.c": ["test_plaus", "test_diag", "test_faults"],
+    "firmware/ops/diag_wheel.c": ["test_diag_wheel", "test_plaus", "test_diag", "test_faults"],
     "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
@@ -83,6 +83,8 @@ DIGIT = ("Valve cal's dead-band digit: the subtractions only take the digits apa
          "one leaves a value ending in 0 at 0 and one ending in 1-9 (or wrapped past 0) not at 0")
 DIR = "dir is set to 1 or -1 just above (d > 0 ? 1 : -1): dir >= 0 is dir > 0"
 AT_END = "at t == 32767 both ways leave t at 32767 with nothing added over the end"
+FAR = ("the constant moved in the test only: a hi of 120 (or under) leaves with 120 either way, "
+       "the assignment writes DIAG_PDEV_FAR_KPA")
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
 EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
@@ -102,6 +104,36 @@ EQUIVALENT = [
      "a count is reset when it reaches its need (30 at most): it never nears 254"),
     ("firmware/ops/diag.c", "rule", "if (*cnt < 255)", "< -> <=",
      "a count is reset when it reaches its need (30 at most): it never reaches 255"),
+    ("firmware/ops/diag.c", "diag_model", "&& target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;", "0 -> 1",
+     "at target 1 the meter, 500 or more while judged, is never within 5 % of it"),
+    ("firmware/ops/diag.c", "diag_model", "&& target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;", "> -> >=",
+     "at target 0 the meter, 500 or more while judged, times 20 is never 0 or less"),
+    ("firmware/ops/diag.c", "diag_model", "&& target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;", "> -> >= #2", "at meter == target both ways give 0"),
+    ("firmware/ops/diag.c", "diag_model", "a = UMUL(p > dg.pc_kpa ? p - dg.pc_kpa : 0, 100u);", "> -> >=",
+     "at p == pc_kpa both ways give 0"),
+    ("firmware/ops/diag.c", "diag_model", "lo = pexp > hi ? pexp - hi : 0;     /* p + dev < pexp */", "> -> >=",
+     "at pexp == hi both ways give 0"),
+    ("firmware/ops/diag.c", "diag_model", "if (hi < DIAG_PDEV_FAR_KPA)", "< -> <=", FAR),
+    ("firmware/ops/diag.c", "diag_model", "if (hi < DIAG_PDEV_FAR_KPA)", "DIAG_PDEV_FAR_KPA -> (DIAG_PDEV_FAR_KPA + 1)",
+     FAR),
+    ("firmware/ops/diag.c", "diag_offrate", "&& UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);",
+     "< -> <=", "at qp == 0, -qp and qp are both 0"),
+    ("firmware/ops/diag.c", "diag_step", "dg.meter_noise = (uint8_t)(dg.meter_noise > 235 ? 255 : dg.meter_noise + 20);",
+     "235 -> 234", "at 235 both ways give 255 (235 + 20)"),
+    ("firmware/ops/diag.c", "diag_step", "dg.meter_noise = (uint8_t)(dg.meter_noise > 235 ? 255 : dg.meter_noise + 20);",
+     "> -> >=", "at 235 both ways give 255 (235 + 20)"),
+    ("firmware/ops/diag.c", "diag_step", "dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);", "255u -> 254u",
+     "at x == 255 both ways give 255"),
+    ("firmware/ops/diag.c", "diag_step", "dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);", "> -> >=",
+     "at x == 255 both ways give 255"),
+    ("firmware/ops/diag.c", "diag_step", "x = x > n ? x - n : 0;", "> -> >=", "at x == n both ways give 0"),
+    ("firmware/ops/diag.c", "diag_step",
+     "g = dg.learnt && dg.kp_kpa < DIAG_WEAR_KP_KPA && !(dg.alarms & (1u << AL_METER_CAL));", "dg.learnt -> 1",
+     "with nothing learnt kp is the told 300 kPa (model_told; every path that sets learnt to 0 calls it), "
+     "not under DIAG_WEAR_KP_KPA"),
+    ("firmware/ops/diag.c", "diag_supply", "rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));",
+     "!dry -> 1", "dry needs a working level sensor at 1 % of Tank size or less, where refill (over Tank min "
+     "+ Tank size / 64) cannot hold: with dry 1 the rest of the clear is 0 either way"),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
      "va.want_dir == HAL_VALVE_OFF -> 0", "want_duty is 0 exactly when want_dir is off (valve_set)"),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
