@@ -85,6 +85,8 @@ DIR = "dir is set to 1 or -1 just above (d > 0 ? 1 : -1): dir >= 0 is dir > 0"
 AT_END = "at t == 32767 both ways leave t at 32767 with nothing added over the end"
 FAR = ("the constant moved in the test only: a hi of 120 (or under) leaves with 120 either way, "
        "the assignment writes DIAG_PDEV_FAR_KPA")
+SIGNED = ("JOG and HIL need their checksum (CHANGES): past the word, p[0] is a space or the '*' that "
+          "line_check ended the line at, and then p[1] is a hex digit of the checksum: refused either way")
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
 EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
@@ -134,6 +136,10 @@ EQUIVALENT = [
     ("firmware/ops/diag.c", "diag_supply", "rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));",
      "!dry -> 1", "dry needs a working level sensor at 1 % of Tank size or less, where refill (over Tank min "
      "+ Tank size / 64) cannot hold: with dry 1 the rest of the clear is 0 either way"),
+    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
+     "p[0] == ' ' -> 1", SIGNED),
+    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N'))", "p[0] == ' ' -> 1",
+     SIGNED),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
      "va.want_dir == HAL_VALVE_OFF -> 0", "want_duty is 0 exactly when want_dir is off (valve_set)"),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
