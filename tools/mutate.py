@@ -87,6 +87,8 @@ FAR = ("the constant moved in the test only: a hi of 120 (or under) leaves with 
        "the assignment writes DIAG_PDEV_FAR_KPA")
 SIGNED = ("JOG and HIL need their checksum (CHANGES): past the word, p[0] is a space or the '*' that "
           "line_check ended the line at, and then p[1] is a hex digit of the checksum: refused either way")
+PAST_END = ("slot STORE_SLOTS starts at 2 x HAL_EEPROM_SECTOR = HAL_EEPROM_SIZE, past the EEPROM: both "
+            "HALs read 0xFF there (hal.h), no magic, no record")
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
 EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
@@ -140,6 +142,12 @@ EQUIVALENT = [
      "p[0] == ' ' -> 1", SIGNED),
     ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N'))", "p[0] == ' ' -> 1",
      SIGNED),
+    ("firmware/store/store.c", "ck_more",
+     "} else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {",
+     "HDR_VALUES -> (HDR_VALUES - 1)", "at sv_at == HDR_VALUES the parity test is 0: no check either way"),
+    ("firmware/store/store.c", "store_load", "for (s = 0; s < STORE_SLOTS; s++) {", "< -> <=", PAST_END),
+    ("firmware/store/store.c", "store_load", "for (s = 0; s < STORE_SLOTS; s++) {", "STORE_SLOTS -> (STORE_SLOTS + 1)",
+     PAST_END),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
      "va.want_dir == HAL_VALVE_OFF -> 0", "want_duty is 0 exactly when want_dir is off (valve_set)"),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
