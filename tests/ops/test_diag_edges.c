@@ -17,6 +17,8 @@
 #include "target.h"
 #include "ctl.h"
 #include "analog.h"
+#include "umath.h"
+#include "store.h"
 
 #define PERIOD_NS 100000000ull
 #define NOZZLES 36u                 /* params' default: every section open */
@@ -1236,6 +1238,114 @@ static void test_model_not_learnt_against_a_negative_target(void **state)
     }
 }
 
+/* ---- the model's exact edges -------------------------------------------------------------------- */
+/* x = (q / n Q3)^2 in Q8 as diag.c takes it: r = q 4096 / (n Q3) by um_muldiv (Q12), x = r^2 >> 16 */
+static uint32_t r_of(int m)
+{
+    return um_muldiv((uint32_t)m, 4096u, (uint32_t)NOZZLES * param_v[P_NOZZLE_Q3]);
+}
+
+static uint16_t x_of_meter(int m)
+{
+    uint32_t r = r_of(m);
+    return (uint16_t)((r * r) >> 16);
+}
+
+/* the meter at m x 0.01 L/min exactly (Meter K 100.0 p/L, a pulse every 6e10 / (m + 1/4) ns),
+ * the target on it, the pressure given */
+static void metered(int m, uint16_t kpa)
+{
+    sy.meter_ns = 6e10 / (m + 0.25);
+    sy.st.target_lpm_x100 = (int16_t)m;
+    sy.st.pressure_kpa = kpa;
+}
+
+/* Nothing is learnt above twice the rated pressure's flow: r (Q12) over 5792 (the square root
+ * of 2). At the flow whose r is 5792 the model is learnt (257), at the one whose r is 5793 not. */
+static void test_model_learnt_up_to_r_5792(void **state)
+{
+    (void)state;
+    int m2 = 0, m3 = 0;
+    for (int m = 5950; m <= 6050; m++) {
+        if (r_of(m) == 5792u && !m2)
+            m2 = m;
+        if (r_of(m) == 5793u && !m3)
+            m3 = m;
+    }
+    assert_true(m2 && m3);
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 60.0, 0);
+        metered(k ? m3 : m2, told_kpa((k ? m3 : m2) / 100.0));
+        int n = periods_to_learn(400);
+        assert_int_equal(flow_lpm_x100(), k ? m3 : m2);
+        assert_int_equal(n, k ? 401 : 257);
+    }
+}
+
+/* Worn from a kp under 242 kPa: a model learnt at one flow whose x is 1 (the rated flow: r 4096,
+ * x 256) at a pressure p fits kp = p - 30 (the told check valves): 272 kPa gives 242, no
+ * NOZZLE_WEAR; 271 gives 241, worn. */
+static void test_nozzle_wear_under_242_kpa(void **state)
+{
+    (void)state;
+    int m1 = 0;
+    for (int m = 4200; m <= 4300 && !m1; m++)
+        if (r_of(m) == 4096u)
+            m1 = m;
+    assert_true(m1 > 0);
+    assert_int_equal(x_of_meter(m1), 256);
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 42.0, 0);
+        metered(m1, (uint16_t)(272 - k));
+        int n = periods_to_learn(400);
+        assert_int_equal(n, 257);
+        assert_int_equal(diag_nozzle_learnt(), 1);
+        assert_int_equal(store_learnt_byte(STORE_LEARN_CTL + 2u) | store_learnt_byte(STORE_LEARN_CTL + 3u) << 8,
+                         242 - k);
+        for (int i = 0; i < 20; i++)
+            assert_int_equal(on(period(), AL_NOZZLE_WEAR), k);
+    }
+}
+
+/* A model learnt at one flow (xm) is judged in the fine band for x from 7/8 xm to 8/7 xm, both
+ * edges in: learnt at x 259 (7 x 37), judged at x 296 (8/7 of it), and learnt at 296, judged at
+ * 259 (7/8 of it); a pressure 30 % over the model's above the check valves (under its 120 kPa
+ * of the gross band) is a CLOG there. */
+static void test_model_learnt_at_one_flow_judged_at_7_8_and_8_7_of_it(void **state)
+{
+    (void)state;
+    int m259 = 0, m296 = 0;
+    for (int m = 4000; m <= 5000; m++) {
+        if (x_of_meter(m) == 259 && !m259)
+            m259 = m;
+        if (x_of_meter(m) == 296 && !m296)
+            m296 = m;
+    }
+    assert_true(m259 && m296);
+    for (int k = 0; k < 2; k++) {
+        int learn_at = k ? m296 : m259, judge_at = k ? m259 : m296;
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 45.0, 0);
+        metered(learn_at, told_kpa(learn_at / 100.0));
+        assert_int_equal(periods_to_learn(400), 257);
+        assert_int_equal(diag_nozzle_learnt(), 1);
+        uint16_t pexp = diag_nozzle_pressure_kpa((int16_t)judge_at, NOZZLES);
+        metered(judge_at, pexp);
+        for (int i = 0; i < 5; i++)
+            assert_int_equal(period(), 0);
+        assert_int_equal(flow_lpm_x100(), judge_at);
+        uint16_t pc = diag_nozzle_pressure_kpa(1, NOZZLES);
+        sy.st.pressure_kpa = (uint16_t)(pc + (pexp - pc) * 13 / 10);
+        assert_true(sy.st.pressure_kpa < pexp + 120);
+        assert_int_equal(periods_until(AL_CLOG, 1, 40), 20);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1281,6 +1391,9 @@ int main(void)
         cmocka_unit_test(test_wheel_noise_score_caps),
         cmocka_unit_test(test_wheel_noise_from_a_jump_held_until_a_standstill),
         cmocka_unit_test(test_model_not_learnt_against_a_negative_target),
+        cmocka_unit_test(test_model_learnt_up_to_r_5792),
+        cmocka_unit_test(test_nozzle_wear_under_242_kpa),
+        cmocka_unit_test(test_model_learnt_at_one_flow_judged_at_7_8_and_8_7_of_it),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
