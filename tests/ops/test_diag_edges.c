@@ -1346,6 +1346,25 @@ static void test_model_learnt_at_one_flow_judged_at_7_8_and_8_7_of_it(void **sta
     }
 }
 
+/* METER_LOST clears on 10 periods with a pulse and a reading: the first may read 0.01 L/min
+ * (Meter K 6000.0 p/L: a lone pulse 1.3 s after the last reads 921600 / 1198080 ticks, 0.77,
+ * rounded to 1) and counts; 9 more with the meter back clear it. */
+static void test_meter_lost_cleared_counting_a_reading_of_0_01_lpm(void **state)
+{
+    (void)state;
+    setup(NULL);
+    assert_true(param_set(P_P_MAX, 300));           /* (the meter's rate in its range) */
+    assert_true(param_set(P_METER_K, 60000));
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    assert_int_equal(periods_until(AL_METER_LOST, 1, 20), 12);
+    hal_host_flow_edge(sy.now_ns + PERIOD_NS / 2);
+    assert_true(on(period(), AL_METER_LOST));
+    assert_int_equal(flow_lpm_x100(), 1);
+    meter(30.0);
+    assert_int_equal(periods_until(AL_METER_LOST, 0, 20), 9);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1394,6 +1413,7 @@ int main(void)
         cmocka_unit_test(test_model_learnt_up_to_r_5792),
         cmocka_unit_test(test_nozzle_wear_under_242_kpa),
         cmocka_unit_test(test_model_learnt_at_one_flow_judged_at_7_8_and_8_7_of_it),
+        cmocka_unit_test(test_meter_lost_cleared_counting_a_reading_of_0_01_lpm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -629,6 +629,35 @@ static void test_balance_long_stretches_and_the_halving(void **state)
     assert_int_equal(r, DIAG_BAL_ON);
 }
 
+/* The metered volume in whole 0.1 L (6000 of L/min x100 periods each), the rest carried: 30.00
+ * L/min in call 1, 29.99 in call 2 (5999: not yet 0.1 L), 30.00 after. At an even call c the
+ * meter has summed 3000 c - 1: c / 2 - 1 tenths. At call 824, 41.1 L against a fall of 35 L:
+ * 6.1 L off, within 6 % and m (610, not over 610): ON (41.2 L would be OFF). */
+static void test_balance_counts_whole_tenths_of_a_litre(void **state)
+{
+    (void)state;
+    bal_start(800, 20000000u);
+    assert_int_equal(flow_lpm_x100(), 3000);
+    uint64_t last = sy.meter_next - sy.meter_ns;        /* the pulses of call 2 at 29.99 */
+    sy.meter_ns = 20005001u;                            /* 6e10 / 2999.25 */
+    sy.meter_next = last + sy.meter_ns;
+    assert_int_equal(bal(800), DIAG_BAL_NONE);
+    assert_int_equal(flow_lpm_x100(), 2999);
+    last = sy.meter_next - sy.meter_ns;
+    sy.meter_ns = 20000000u;
+    sy.meter_next = last + sy.meter_ns;
+    bal_none(3, 811, 800);
+    assert_int_equal(flow_lpm_x100(), 3000);
+    uint16_t l = 800;
+    for (int c = 812; c <= 821; c++) {
+        l = (uint16_t)(l - 3u);
+        bal(l);
+    }
+    assert_int_equal(bal(769), DIAG_BAL_NONE);          /* 822: F 31 */
+    bal(768);
+    assert_int_equal(bal(765), DIAG_BAL_ON);            /* 824: F 35, V 411 */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -647,6 +676,7 @@ int main(void)
         cmocka_unit_test(test_balance_a_pause_closes_the_stretch),
         cmocka_unit_test(test_balance_off_by_6_percent_and_m),
         cmocka_unit_test(test_balance_long_stretches_and_the_halving),
+        cmocka_unit_test(test_balance_counts_whole_tenths_of_a_litre),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
