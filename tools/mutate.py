@@ -89,6 +89,7 @@ SIGNED = ("JOG and HIL need their checksum (CHANGES): past the word, p[0] is a s
           "line_check ended the line at, and then p[1] is a hex digit of the checksum: refused either way")
 PAST_END = ("slot STORE_SLOTS starts at 2 x HAL_EEPROM_SECTOR = HAL_EEPROM_SIZE, past the EEPROM: both "
             "HALs read 0xFF there (hal.h), no magic, no record")
+FLOW8 = "30001 / 8 and 30000 / 8 are both 3750 (integer division): the same bound"
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
 EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
@@ -148,6 +149,10 @@ EQUIVALENT = [
     ("firmware/store/store.c", "store_load", "for (s = 0; s < STORE_SLOTS; s++) {", "< -> <=", PAST_END),
     ("firmware/store/store.c", "store_load", "for (s = 0; s < STORE_SLOTS; s++) {", "STORE_SLOTS -> (STORE_SLOTS + 1)",
      PAST_END),
+    ("firmware/store/params.c", "params_cross", "> (PARAM_FLOW_MAX_X100 / 8u) * (PARAM_FLOW_MAX_X100 / 8u) * 300u / 2048u)",
+     "PARAM_FLOW_MAX_X100 -> (PARAM_FLOW_MAX_X100 + 1)", FLOW8),
+    ("firmware/store/params.c", "params_cross", "> (PARAM_FLOW_MAX_X100 / 8u) * (PARAM_FLOW_MAX_X100 / 8u) * 300u / 2048u)",
+     "PARAM_FLOW_MAX_X100 -> (PARAM_FLOW_MAX_X100 + 1) #2", FLOW8),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
      "va.want_dir == HAL_VALVE_OFF -> 0", "want_duty is 0 exactly when want_dir is off (valve_set)"),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",

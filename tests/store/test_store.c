@@ -1038,6 +1038,24 @@ static void test_store_a_whole_record_after_the_newest_is_no_cut_save(void **sta
     assert_true(equals(v));
 }
 
+/* The boom's flow with every nozzle open at P max within the meter's 300 L/min (worked by hand,
+ * n Q3 sqrt(P max / 300 kPa)): 20 nozzles of 18.28 L/min at P max 202 kPa make 365.60 x 0.82057
+ * = 299.999 L/min, taken; 19 of 19.34 at 200 kPa 367.46 x 0.81650 = 300.03, refused
+ * (PARAM_X_FLOW), 19 of 19.33 299.88, taken. A refused value leaves the old one. */
+static void test_params_boom_flow_within_300_lpm_at_p_max_at_its_edges(void **state)
+{
+    (void)state;
+    assert_int_equal(param_try(P_P_MAX, 202), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLES, 20), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 1828), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 100), PARAM_OK);
+    assert_int_equal(param_try(P_P_MAX, 200), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLES, 19), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 1934), PARAM_X_FLOW);
+    assert_int_equal(param_v[P_NOZZLE_Q3], 100);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 1933), PARAM_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1069,6 +1087,7 @@ int main(void)
         cmocka_unit_test_setup(test_store_older_only_for_a_save_cut_after_the_newest, setup),
         cmocka_unit_test_setup(test_params_every_range_edge_and_the_dead_band_digit, setup),
         cmocka_unit_test_setup(test_params_meter_rate_within_5_khz_at_its_edges, setup),
+        cmocka_unit_test_setup(test_params_boom_flow_within_300_lpm_at_p_max_at_its_edges, setup),
         cmocka_unit_test_setup(test_store_of_two_records_with_one_sequence_the_first_slot_loads, setup),
         cmocka_unit_test_setup(test_store_a_whole_record_after_the_newest_is_no_cut_save, setup),
     };
