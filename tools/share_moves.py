@@ -9,7 +9,8 @@ those sequences; the build makes from it
                      that the linker takes from the firmware's archive only the routines called;
   [--hot=F,..] FILE.asm..
                      the modules' assembly rewritten in place: each sequence found whole (no
-                     label inside it, so nothing jumps into its middle) becomes LCALL _mv_NAME.
+                     label inside it, so nothing jumps into its middle) becomes LCALL _mv_NAME
+                     (LJMP, the RET dropped, where the function returns right after it).
 
 A call leaves the registers, DPTR, A, the flags and the memory as the sequence did; the stack
 holds two bytes more for the moment and the sequence takes 4 machine cycles longer. This runs on
@@ -392,8 +393,16 @@ def share(lines, hot=()):
     while i < n:
         if choice[i]:
             name, j, kept = choice[i]
-            out.append("\tlcall\t_mv_%s\n" % name)
-            out.extend(kept)
+            k = j                                # a RET right after it, no label between:
+            while k < n and (not lines[k].strip() or lines[k].strip().startswith(";")):
+                k += 1                           # the routine's own RET returns for the function
+            if k < n and norm(lines[k]) == "ret":
+                out.append("\tljmp\t_mv_%s\n" % name)
+                out.extend(kept + lines[j:k])
+                j = k + 1
+            else:
+                out.append("\tlcall\t_mv_%s\n" % name)
+                out.extend(kept)
             used[name] = used.get(name, 0) + 1
             i = j
         else:
@@ -443,7 +452,7 @@ def main():
         out, used = share(lines, hot)
         if stats:                                # the calls a build already made count too
             for line in lines:
-                m = re.match(r"\s*lcall\s+_mv_(\w+)", line)
+                m = re.match(r"\s*l(?:call|jmp)\s+_mv_(\w+)", line)
                 if m:
                     used[m.group(1)] = used.get(m.group(1), 0) + 1
         for k, v in used.items():

@@ -2,8 +2,8 @@
 # share_moves.sh: tools/share_moves.py generates from its one table routines that hold exactly
 # its sequences, then RET (assembled by sdas to the bytes its size model counts); it replaces a
 # whole sequence by a call, leaves alone one with a label inside (a jump into its middle) or one
-# cut short, covers overlapping candidates at the fewest bytes, and uses only the hot routines
-# in the functions --hot names.
+# cut short, covers overlapping candidates at the fewest bytes, jumps where the function returns
+# right after, and uses only the hot routines in the functions --hot names.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 tmp=$(mktemp -d)
@@ -96,7 +96,7 @@ fi
 # and a call: 4 B); written out they are 9 B
 printf '_g:\n\tmov\tr7,a\n\tmov\tr0,_bp\n\tinc\tr0\n\tmov\tdpl,@r0\n\tinc\tr0\n\tmov\tdph,@r0\n\tret\n' > "$tmp/c.asm"
 python3 tools/share_moves.py "$tmp/c.asm"
-if [ "$(grep -c 'lcall' "$tmp/c.asm")" -eq 1 ] && grep -q 'lcall	_mv_fp1_dptr' "$tmp/c.asm" \
+if [ "$(grep -c '_mv_' "$tmp/c.asm")" -eq 1 ] && grep -q 'l[a-z]*	_mv_fp1_dptr' "$tmp/c.asm" \
     && grep -q 'mov	r7,a' "$tmp/c.asm"; then
     echo "ok - share_moves: overlapping sequences covered at the fewest bytes"
 else
@@ -107,11 +107,24 @@ fi
 seq=$'\tmov\tr6,dpl\n\tmov\tr7,dph\n\tmov\tr5,dpl\n\tmov\tr6,dph\n'
 printf '_step:\n%s\tret\n_derive:\n%s\tret\n' "$seq" "$seq" > "$tmp/b.asm"
 python3 tools/share_moves.py '--hot=ste?' "$tmp/b.asm"
-if [ "$(sed -n '/^_step:/,/^_derive:/p' "$tmp/b.asm" | grep -c 'lcall')" -eq 1 ] \
+if [ "$(sed -n '/^_step:/,/^_derive:/p' "$tmp/b.asm" | grep -c '_mv_')" -eq 1 ] \
     && sed -n '/^_step:/,/^_derive:/p' "$tmp/b.asm" | grep -q 'lcall	_mv_res_r67' \
-    && [ "$(sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -c 'lcall')" -eq 2 ] \
-    && sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -q 'lcall	_mv_res_r56'; then
+    && [ "$(sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -c '_mv_')" -eq 2 ] \
+    && sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -q 'ljmp	_mv_res_r56'; then
     echo "ok - share_moves: --hot keeps a step's function to the hot routines, the next one shares all"
 else
     echo "not ok - share_moves: --hot"; sed 's/^/#   /' "$tmp/b.asm"
+fi
+
+# a sequence the function returns right after: LJMP, the routine's RET returns for it; not
+# where a label stands before the RET (something jumps to it)
+printf '_f:\n\tmov\tr6,dpl\n\tmov\tr7,dph\n;\tc.c:9: }\n\tret\n_g:\n\tmov\tr6,dpl\n\tmov\tr7,dph\n00105$:\n\tret\n' > "$tmp/d.asm"
+python3 tools/share_moves.py "$tmp/d.asm"
+if [ "$(sed -n '/^_f:/,/^_g:/p' "$tmp/d.asm" | grep -c 'ret')" -eq 0 ] \
+    && sed -n '/^_f:/,/^_g:/p' "$tmp/d.asm" | grep -q 'ljmp	_mv_res_r67' \
+    && sed -n '/^_g:/,$p' "$tmp/d.asm" | grep -q 'lcall	_mv_res_r67' \
+    && [ "$(sed -n '/^_g:/,$p' "$tmp/d.asm" | grep -c 'ret')" -eq 1 ]; then
+    echo "ok - share_moves: a call the function returns after becomes a jump, not across a label"
+else
+    echo "not ok - share_moves: tail jump"; sed 's/^/#   /' "$tmp/d.asm"
 fi
