@@ -35,7 +35,7 @@ XRAM_SIZE ?= 1024
 # HIL image (HIL=1) are held to the chip's size for their code (and HIL's XRAM) and to the stack
 # margin.
 CODE_FREE_PCT ?= $(if $(filter 1,$(FW_PEERS) $(HIL)),0,8)
-XRAM_FREE_MIN ?= $(if $(filter 1,$(HIL)),0,128)
+XRAM_FREE_MIN ?= $(if $(filter 1,$(FW_PEERS) $(HIL)),0,128)
 STACK_MARGIN_MIN ?= 40
 
 # ==== sources: firmware/ in layers, bottom to top ====================================================
