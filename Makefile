@@ -46,7 +46,7 @@ FW_SRC := $(wildcard $(addsuffix /*.c,$(addprefix firmware/,$(FW_DIRS))))
 FW_LIB_SRC := $(filter-out firmware/app/main.c,$(FW_SRC))
 # the 8051 port: the assembly routines (multiply, divide, saturation) of the SDCC builds; the host
 # builds compile the C references in firmware/math instead
-PORT_SRC := $(wildcard port8051/*.c)
+PORT_SRC := $(wildcard hal/mcs51/*.c)
 SIM_MAIN := $(wildcard sim/*_main.c)
 SIM_LIB_SRC := $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
 UNIT_TEST_SRC := $(wildcard tests/*/test_*.c)
@@ -68,7 +68,7 @@ SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(
 # Shared sequences (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
 # replaces the sequences of its table by calls of the routines it generates from the same table
 # (one module each in DIR/moves/, the archive links those called), sdas assembles it. The 8051
-# port's own assembly (port8051/) is left as written. SHARE_HOT_<file>: the functions whose
+# port's own assembly (hal/mcs51/) is left as written. SHARE_HOT_<file>: the functions whose
 # cycles count (`*` the whole file): only the table's hot routines there. bp_pid's step takes
 # 84 % of the step budget (make bench); the other controllers' steps under 21 % share all.
 SDAS ?= sdas8051
@@ -288,7 +288,7 @@ target-tests: $(TT_IHX) $(TT_HOST)
 # make sabotage SAB=n: tt_ops for s51 with routine n of mul.h's FX_SABOTAGE list built wrong (its
 # file alone compiled with the switch, linked ahead of the s51 library) in $(UC_DIR)/sabotage-n/;
 # tools/run_tests.sh shows the s51 comparison catching each of them
-SAB_FILES := port8051/mul port8051/mul port8051/mul port8051/mul $(addprefix port8051/,mul_round mul_round mul_round \
+SAB_FILES := hal/mcs51/mul hal/mcs51/mul hal/mcs51/mul hal/mcs51/mul $(addprefix hal/mcs51/,mul_round mul_round mul_round \
              mul_round mul_round sat16) firmware/math/fixed $(addprefix firmware/math/,umath umath umath)
 SAB ?= 1
 sabotage: $(UC_DIR)/fw.lib $(UC_TT_REL) $(UC_DIR)/tests/target/tt_ops.rel
