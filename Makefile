@@ -103,7 +103,10 @@ STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(H
 # the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
 # firmware's archive only the modules something calls
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
-STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(FW_LIB_SRC) $(PORT_SRC))
+# the controllers only the research image carries (FW_PEERS): not compiled into the field set,
+# whose controllers' state union then holds ffmap's alone (ctl_int.h)
+FW_PEER_SRC := $(addprefix firmware/control/,pid.c bp.c aog.c raven.c)
+STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(if $(filter 1,$(FW_PEERS)),$(FW_LIB_SRC),$(filter-out $(FW_PEER_SRC),$(FW_LIB_SRC))) $(PORT_SRC))
 STC_LIB := $(STC_DIR)/fw.lib
 FW_IHX := $(STC_DIR)/sprayer.ihx
 FW_HEX := $(STC_DIR)/sprayer.hex
@@ -135,7 +138,7 @@ TT_HOST := $(patsubst tests/target/%.c,$(TEST_DIR)/target/%,$(TT_PROGS))
 
 # processor in the loop: the firmware as for the chip, hal/pil instead of hal/stc12, main in hal/pil
 PIL_DIR := $(BUILD)/pil
-PIL_SRC := $(FW_LIB_SRC) $(PORT_SRC) $(wildcard hal/pil/*.c)
+PIL_SRC := $(filter-out $(FW_PEER_SRC),$(FW_LIB_SRC)) $(PORT_SRC) $(wildcard hal/pil/*.c)
 PIL_REL := $(patsubst %.c,$(PIL_DIR)/%.rel,$(PIL_SRC))
 PIL_IHX := $(PIL_DIR)/sprayer_pil.ihx
 # s51 has 64 KB of XRAM: the PIL image may use more than the chip's 1 KB, so that it still runs
