@@ -271,7 +271,7 @@ static void pc_poll(sim_t *sim)
 static int hil_carries(int kind)
 {
     switch (kind) {
-    case EV_SECTIONS_OPEN: case EV_RATE: case EV_GIVEN_SPEED: case EV_PTO_RPM:
+    case EV_SECTIONS_OPEN: case EV_RATE: case EV_PRESET: case EV_GIVEN_SPEED: case EV_PTO_RPM:
     case EV_METER_FAIL: case EV_METER_RESTORE: case EV_SPEED_FAIL: case EV_SPEED_RESTORE:
     case EV_PSENS_OPEN: case EV_PSENS_RESTORE: case EV_VALVE_STUCK: case EV_VALVE_FREE:
     case EV_BOUNCE: case EV_LEAK: case EV_CLOG: case EV_TANK:

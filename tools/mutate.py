@@ -118,7 +118,7 @@ EQUIVALENT = [
     ("firmware/control/valve.c", "integrate", "if (d < 0)", "< -> <=", "d is not 0 here"),
     ("firmware/control/valve.c", "integrate", "if (d < 0)", "0 -> 1", "d is not 0 here: d < 1 is d < 0"),
     ("firmware/control/target.c", "target_rate_window",
-     "uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;", ">= -> >",
+     "uint16_t job = target_preset_x10(), d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;", ">= -> >",
      "at rate_x10 == job both ways give 0"),
     ("firmware/control/target.c", "target_flow_x100", "if (speed_x100 < vmin)", "< -> <=",
      "at speed_x100 == vmin both ways give vmin"),

@@ -109,10 +109,17 @@ static void key_run(void)
         if (con_apply(P_MODE, param_v[P_MODE] ? 0 : 1))
             con_say(param_v[P_MODE] ? "Mode: MANUAL" : "Mode: AUTO");
     } else if (con.k == '2' || con.k == '8') {
-        if (app_status.manual)
+        if (app_status.manual) {
             ops_jog(con.k == '2' ? 1 : -1);
-        else
-            con_say("Jog: manual only");
+        } else {                    /* auto: the rate in use a Rate step up or down */
+            target_nudge(con.k == '2' ? 1 : -1);
+            con.remind_ms = (uint16_t)hal_ms();
+        }
+    } else if (con.k == '5') {
+        target_nudge(0);            /* back to the preset */
+    } else if (con.k == '0') {
+        if (con_apply(P_PRESET, param_v[P_PRESET] ? 0 : 1))
+            con_say(param_v[P_PRESET] ? "Preset: Rate 2" : "Preset: Rate 1");
     }
 }
 
@@ -175,11 +182,13 @@ static uint8_t typing(uint8_t decimals)
     return 0;
 }
 
+/* A number typed in the units chosen (console_units.c), back in the parameter's. */
 static void key_edit(void)
 {
-    const __code param_info_t *pi = param_info(con_item);
-    uint16_t v;
-    if (typing(pi->decimals))
+    const __code con_unit_t *u = con_unit_of(con_item);
+    uint8_t dec = u ? u->dec : param_info(con_item)->decimals;
+    uint32_t v;
+    if (typing(dec))
         return;
     if (con.k == 'C') {
         if (con.entry_n)
@@ -191,12 +200,14 @@ static void key_edit(void)
             go(S_MENU);
             return;
         }
-        v = con_entry_value(pi->decimals);
-        if (!pi->decimals && entry_point() != 0xFF) {
+        v = con_entry_value(dec);
+        if (u && v != ENTRY_TOO_BIG)
+            v = con_unit_in(u, v);
+        if (!dec && entry_point() != 0xFF) {
             con_say("Whole numbers");
-        } else if (v == ENTRY_TOO_BIG) {
+        } else if (v >= ENTRY_TOO_BIG) {
             con_say_range(con_item);
-        } else if (con_apply(con_item, v)) {
+        } else if (con_apply(con_item, (uint16_t)v)) {
             con_state = S_MENU;
             con_entry_clear();
             return;
@@ -207,7 +218,8 @@ static void key_edit(void)
 
 static void key_choice(void)
 {
-    uint8_t n = con_item == P_MODE || con_item == P_REMOTE ? 2 : CTL_COUNT;
+    uint8_t n = con_item == P_MODE || con_item == P_REMOTE || con_item == P_PRESET ? 2
+              : con_item == P_UNITS ? 3 : CTL_COUNT;
     if (con.k == 'A')
         con_step = con_step + 1 < n ? con_step + 1 : 0;
     else if (con.k == 'B')
@@ -382,6 +394,7 @@ void console_init(void)
     con.rc_seen = target_remote_refusals();
     con.next_draw_ms = (uint16_t)hal_ms();
     con.rate_ms = con.next_draw_ms;
+    con.remind_ms = con.next_draw_ms;
     con.rate_l_ha = CON_RATE_NONE;
     con.rate_at = 0;
 }
@@ -396,6 +409,11 @@ void console_poll(void)
     }
     if (store_done(STORE_BY_CONSOLE)) {     /* the save of a value set here has ended */
         con_say(store_result() == STORE_OK ? "Saved" : store_status_text(store_result()));
+        con.next_draw_ms = now;
+    }
+    if (target_nudge_pct() && (uint16_t)(now - con.remind_ms) >= CONSOLE_REMIND_MS) {
+        con.remind_ms = now;        /* off the preset: a reminder now and then */
+        con_say("Nudged: 5=preset");
         con.next_draw_ms = now;
     }
     if (con.rc_seen != target_remote_refusals()) {  /* a field computer's rate refused */

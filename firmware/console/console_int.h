@@ -54,6 +54,7 @@ typedef struct {
     uint16_t cal_value;             /* the new calibration value, in the parameter's units;
                                      * I/O test: hal_ms() low 16 bits at the window's start */
     uint8_t rc_seen;                /* target_remote_refusals() last shown */
+    uint16_t remind_ms;             /* hal_ms() low 16 bits of the last nudge or its reminder */
     uint8_t shown;                  /* CON_SHOWN_* or the unacknowledged alarm bit shown */
     uint8_t rate_at;                /* the oldest of the job totals' snapshots */
     uint16_t rate_ms;               /* hal_ms() low 16 bits of the newest snapshot */
@@ -93,6 +94,19 @@ void con_entry_key(uint8_t decimals) __reentrant;
 uint16_t con_entry_value(uint8_t decimals) __reentrant;
 uint32_t con_cal_now(void) __reentrant;
 void con_draw(void) __reentrant;
+/* units (console_units.c): the quantities that have a US and a turf unit */
+enum { CU_NONE, CU_RATE, CU_SPEED, CU_PRESS, CU_VOL, CU_FLOW, CU_AREA, CU_ML, CU_COUNT };
+typedef struct {
+    const __code char *unit;
+    uint8_t dec;                    /* decimals shown */
+    uint16_t m, d;                  /* shown = the firmware's value x m / d */
+} con_unit_t;
+uint8_t con_unit_class(const __code char *u) __reentrant;
+const __code con_unit_t *con_unit(uint8_t cls) __reentrant;
+const __code con_unit_t *con_unit_of(uint8_t id) __reentrant;
+uint32_t con_unit_in(const __code con_unit_t *u, uint32_t shown) __reentrant;
+const __code char *con_cat_pnum(uint8_t id, uint16_t v, uint8_t flags) __reentrant;
+void con_cat_q(uint8_t cls, uint32_t v, uint8_t width, uint8_t form, const __code char *unit) __reentrant;
 void con_iotest_start(void) __reentrant;
 void con_draw_iotest(void) __reentrant;     /* console_io.c */
 

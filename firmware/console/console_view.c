@@ -16,6 +16,7 @@
 #include "console.h"
 #include "console_int.h"
 #include "totals.h"
+#include "mul.h"
 
 /* ---- small text helpers ---------------------------------------------------------------- */
 void con_say(const __code char *s)
@@ -111,8 +112,10 @@ void con_right_align(uint8_t from)
 
 uint8_t con_is_choice(uint8_t id)
 {
-    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
+    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_PRESET || id == P_UNITS;
 }
+
+static const __code char *const __code unit_names[] = {"Metric", "US", "Turf"};
 
 const __code char *con_choice_name(uint8_t id, uint16_t v)
 {
@@ -120,25 +123,29 @@ const __code char *con_choice_name(uint8_t id, uint16_t v)
         return v ? "Manual" : "Auto";
     if (id == P_REMOTE)
         return v ? "Raven" : "off";
+    if (id == P_PRESET)
+        return v ? "Rate 2" : "Rate 1";
+    if (id == P_UNITS)
+        return unit_names[v];
     return ctl_name((uint8_t)v);
 }
 
-/* append a parameter's value and unit, "150 L/ha" */
+/* append a parameter's value and unit in the units chosen, "150.0 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)
 {
-    const __code param_info_t *pi = param_info(id);
+    const __code char *unit;
     if (con_is_choice(id)) {
         con_cat(con_choice_name(id, v));
         return;
     }
-    con_cat_num(v, 0, pi->decimals);
-    if (pi->unit[0]) {
+    unit = con_cat_pnum(id, v, 0);
+    if (unit[0]) {
         con_cat(" ");
-        con_cat(pi->unit);
+        con_cat(unit);
     }
 }
 
-/* "Range 10..1000", the limits with their decimals, trailing zeros dropped */
+/* "Range 10..1000", the limits with their decimals in the units chosen, trailing zeros dropped */
 void con_say_range(uint8_t id)
 {
     con_say(0);
@@ -164,10 +171,14 @@ void con_draw_msg(void)
         con_cat(b == CON_SHOWN_EE ? store_status_text(store_status()) : diag_text(b));
     } else {
         pi = param_info(m);
-        con_start("Range ");
-        con_cat_num(pi->min, 0, pi->decimals | CON_TRIM);
-        con_cat("..");
-        con_cat_num(pi->max, 0, pi->decimals | CON_TRIM);
+        for (b = 0; b < 2; b++) {   /* the word when the limits leave room for it */
+            con_start(b ? "Range " : "");
+            con_cat_pnum(m, pi->min, CON_TRIM);
+            con_cat("..");
+            con_cat_pnum(m, pi->max, CON_TRIM);
+            if (con_at > SCREEN_COLS - 6u)
+                break;
+        }
     }
     con_show(3);
 }
@@ -231,7 +242,7 @@ static int8_t alarm_shown(void)
 static void draw_run_bottom(void)
 {
     const __xdata app_status_t *st = &app_status;
-    int8_t a = alarm_shown();
+    int8_t a = alarm_shown(), n;
     uint8_t at, alarm_msg = con.msg_range != NO_RANGE && con.msg_range >= CON_MSG_PEEK;
     if (!alarm_msg && a >= 0 && ((st->alarms_unacked & (1u << a)) || !con_msg_on())) {
         if (st->alarms_unacked & (1u << a)) {
@@ -248,16 +259,27 @@ static void draw_run_bottom(void)
         con_start("!");
         con_cat(store_status_text(store_status()));
         con_show(3);
+    } else if (target_nudge_pct()) {        /* the rate in use and the operator's offset */
+        con_at = 0;
+        con_cat_q(CU_RATE, target_rate_x10(), 0, 1, "L/ha");
+        con_cat(" ");
+        at = con_at;
+        con_cat(target_nudge_pct() > 0 ? "+" : "-");
+        n = target_nudge_pct();
+        con_cat_num((uint8_t)(n > 0 ? n : -n), 0, 0);
+        con_cat("%");
+        con_right_align(at);
+        con_show(3);
     } else {
         con_start("T");
-        con_cat_num(st->tank_l, 5, 0);
-        con_cat("L ");
+        con_cat_q(CU_VOL, st->tank_l, 5, 0, "L");
+        con_cat(" ");
         at = con_at;
         if (target_rate_remote()) {         /* the rate comes from the field computer */
             con_cat("RC");
-            con_cat_num(target_rate_x10(), 0, 1);
+            con_cat_q(CU_RATE, target_rate_x10(), 0, 1, 0);
         } else
-            con_cat(ctl_name(ctl_selected()));
+            con_cat(param_v[P_PRESET] ? "Rate 2" : ctl_name(ctl_selected()));
         con_right_align(at);
         con_show(3);
     }
@@ -268,30 +290,28 @@ static void draw_run(void)
     const __xdata app_status_t *st = &app_status;
     uint8_t at;
     int16_t q;
-    /* " 7.2km/h 4.40bar": ground speed, boom pressure */
+    /* " 7.2km/h 4.40bar": ground speed, boom pressure (US: " 4.5mph  63.8PSI") */
     con_at = 0;
-    con_cat_num(st->speed_kmh_x100, 4, 1 | CON_DROP(1));
-    con_cat("km/h");
-    con_cat_num(st->pressure_kpa, 5, 2);
-    con_cat("bar");
+    con_cat_q(CU_SPEED, (st->speed_kmh_x100 + 5u) / 10u, 4, 1, "km/h");
+    con_cat_q(CU_PRESS, st->pressure_kpa, 5, 2, "bar");
     con_show(0);
-    /* "Q 49.5> 49.3L/mn": target flow > measured flow */
+    /* "Q 49.5> 49.3L/mn": target flow > measured flow (US: "Q13.08>13.02gpm") */
     con_start("Q");
     q = st->target_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
+    con_cat_q(CU_FLOW, q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1), 0);
     con_cat(">");
     q = st->flow_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
-    con_cat("L/mn");
+    con_cat_q(CU_FLOW, q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1), "L/mn");
     con_show(1);
     /* "Now 150L/ha AUTO": the rate applied over the last seconds, the mode (HIL: the inputs
-     * come from the PC's plant) */
-    con_start("Now");
-    if (con.rate_l_ha == CON_RATE_NONE)
+     * come from the PC's plant); US: "15.0gal/ac  AUTO" */
+    con_start(param_v[P_UNITS] ? "" : "Now");
+    if (con.rate_l_ha == CON_RATE_NONE) {
         con_cat("  --");
-    else
-        con_cat_num(con.rate_l_ha, 4, 0);
-    con_cat("L/ha ");
+        con_cat(con_unit(CU_RATE) ? con_unit(CU_RATE)->unit : "L/ha");
+    } else
+        con_cat_q(CU_RATE, con.rate_l_ha * 10uL, 4, CON_DROP(1), "L/ha");
+    con_cat(" ");
     at = con_at;
     con_cat(hal_hil_active() ? (st->manual ? "HILM" : "HIL") : st->manual ? "MAN"
             : st->boom_wait ? "WAIT" : "AUTO");
@@ -300,33 +320,53 @@ static void draw_run(void)
     draw_run_bottom();
 }
 
-/* The job's area, volume and average rate; the lifetime's area and volume take turns. */
+/* The area the tank's contents above Tank min (where the boom stops) cover at the rate in
+ * use, m^2: L x 100000 / (L/ha x10). */
+static uint32_t area_left_m2(void)
+{
+    uint16_t l = app_status.tank_l, r = target_rate_x10();
+    l = l > param_v[P_TANK_MIN] ? l - param_v[P_TANK_MIN] : 0;
+    return r ? UMUL(l, 50000u) * 2u / r : 0;
+}
+
+/* The job's area, volume and average rate; the work rate now (the speed times the open
+ * width), the area left, the lifetime's volume and area take turns every 2 s. */
 static void draw_totals(void)
 {
+    uint32_t v;
     con_start("Job ");
-    con_cat_num(app_status.job_area_m2, 9, 2 | CON_DROP(2));
-    con_cat(" ha");
+    con_cat_q(CU_AREA, app_status.job_area_m2, 9, 2 | CON_DROP(2), " ha");
     con_show(0);
     con_start("Job ");
-    con_cat_num(totals.job_ml, 10, 1 | CON_DROP(2));
-    con_cat(" L");
+    con_cat_q(CU_ML, totals.job_ml, 10, 1 | CON_DROP(2), " L");
     con_show(1);
-    con_start("Job avg");
-    con_cat_num(app_status.applied_l_ha_x10, 5, CON_DROP(1));
-    con_cat("L/ha");
+    con_start(param_v[P_UNITS] ? "Avg" : "Job avg");
+    con_cat_q(CU_RATE, app_status.applied_l_ha_x10, 5, CON_DROP(1), "L/ha");
     con_show(2);
     if (con_step) {
         draw_bottom("Reset job? D=yes");
     } else if (con_msg_on()) {
         con_draw_msg();
     } else {
-        con_start("Life");
-        if ((hal_ms() / 2000u) & 1u) {
-            con_cat_num(totals.life_ml, 10, CON_DROP(3));
-            con_cat(" L");
-        } else {
-            con_cat_num(totals.life_m2, 9, 2 | CON_DROP(2));
-            con_cat(" ha");
+        switch ((uint8_t)(hal_ms() / 2000u) & 3u) {
+        case 0:
+            con_start("Life");
+            con_cat_q(CU_AREA, totals.life_m2, 9, 2 | CON_DROP(2), " ha");
+            break;
+        case 1:
+            con_start("Life");
+            con_cat_q(CU_ML, totals.life_ml, 10, CON_DROP(3), " L");
+            break;
+        case 2:                     /* m^2 an hour: km/h x100 x cm / 10 */
+            con_start("Work");
+            v = app_status.spraying ? UMUL(app_status.speed_kmh_x100, target_width_cm()) / 10u : 0;
+            con_cat_q(CU_AREA, v, 7, 2 | CON_DROP(2), " ha");
+            con_cat("/h");
+            break;
+        default:
+            con_start("Left");
+            con_cat_q(CU_AREA, area_left_m2(), 9, 2 | CON_DROP(2), " ha");
+            break;
         }
         con_show(3);
     }
@@ -370,6 +410,8 @@ static void draw_menu(void)
 static void draw_edit(void)
 {
     const __code param_info_t *pi = param_info(con_item);
+    const __code con_unit_t *u = con_unit_of(con_item);
+    const __code char *unit = u ? u->unit : pi->unit;
     screen_line(pi->name, 0);
     con_start("now ");
     con_cat_value(con_item, param_v[con_item]);
@@ -378,9 +420,9 @@ static void draw_edit(void)
     con_start("new ");
     con_cat_ram(con.u.entry);
     con_cat("_");
-    if (pi->unit[0]) {
+    if (unit[0]) {
         con_cat(" ");
-        con_cat(pi->unit);
+        con_cat(unit);
     }
     con_show(2);
     draw_bottom("D:ok C:clear");

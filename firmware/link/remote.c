@@ -98,8 +98,8 @@ static uint32_t value(uint8_t k) __reentrant
         return actual_x10();
     case V_SW1:                     /* sections 1-7 on, bit 7 set */
         return 0x80u | (hal_sections() & 0x7Fu & ((1u << param_v[P_SECTIONS]) - 1u));
-    case V_SW2:                     /* auto: rate 1 */
-        return app_status.manual ? 0x80u : 0x88u;
+    case V_SW2:                     /* auto: the preset in use, rate 1 (bit 3) or rate 2 (bit 4) */
+        return app_status.manual ? 0x80u : param_v[P_PRESET] ? 0x90u : 0x88u;
     case V_RATE:
         return target_rate_x10();
     case V_TANK:

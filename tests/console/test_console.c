@@ -19,6 +19,8 @@
 #include "screen.h"
 #include "keypad.h"
 #include "console.h"
+#include "target.h"
+#include "ops.h"
 #include "sim.h"
 
 static uint64_t now_ns;
@@ -365,7 +367,7 @@ static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of
     char s[24], want[48], lo[12], hi[12];
     (void)state;
     for (uint8_t id = 0; id < P_COUNT; id++) {
-        if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE)
+        if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_PRESET || id == P_UNITS)
             continue;
         const param_info_t *pi = param_info(id);
         to_item(id);
@@ -804,11 +806,20 @@ static void test_console_totals_show_and_reset_the_job(void **state)
     assert_true(fabs(avg - app_status.applied_l_ha_x10 / 10.0) <= 0.6);
     assert_true(avg > 150 * 0.9 && avg < 150 * 1.1);
     assert_non_null(strstr(lcd(2), "L/ha"));
-    /* the lifetime's area and volume take turns on the last line */
-    int seen_ha = 0, seen_l = 0;
-    for (int i = 0; i < 16; i++) {
+    /* the lifetime's area and volume, the work rate and the area left take turns on the last
+     * line: 8 km/h x 18 m = 14.4 ha/h; the tank above Tank min (30 L) at 150 L/ha */
+    int seen_ha = 0, seen_l = 0, seen_work = 0, seen_left = 0;
+    for (int i = 0; i < 32; i++) {
         const char *l3 = lcd(3);
-        if (strstr(l3, " ha")) {
+        if (strstr(l3, "Work")) {
+            seen_work = 1;
+            assert_non_null(strstr(l3, " ha/h"));
+            assert_true(fabs(number_after(l3, "Work") - 14.4) < 14.4 * 0.03);  /* the wheel's speed */
+        } else if (strstr(l3, "Left")) {
+            seen_left = 1;
+            double left = (app_status.tank_l - 30.0) / 150.0;
+            assert_true(fabs(number_after(l3, "Left") - left) < 0.011);
+        } else if (strstr(l3, " ha")) {
             seen_ha = 1;
             assert_true(fabs(number_after(l3, "Life") - totals_get()->life_m2 / 10000.0) < 0.011);
         } else if (strstr(l3, " L")) {
@@ -816,7 +827,7 @@ static void test_console_totals_show_and_reset_the_job(void **state)
             assert_true(fabs(number_after(l3, "Life") - totals_get()->life_ml / 1000.0) < 1.0);
         }
     }
-    assert_true(seen_ha && seen_l);
+    assert_true(seen_ha && seen_l && seen_work && seen_left);
     uint32_t life_ml = totals_get()->life_ml;
     press('D');
     assert_string_equal(lcd(3), "Reset job? D=yes");
@@ -848,8 +859,11 @@ static void test_console_jog_only_in_manual_mode(void **state)
     store_status_clear();
     sensors_good();
     run_ms(1500);
-    press('2');
-    assert_string_equal(lcd(3), "Jog: manual only");
+    press('2');                     /* in auto: the rate nudged, the valve left to the loop */
+    assert_int_equal(target_nudge_pct(), 5);
+    assert_int_equal(ops_jog_req.periods, 0);
+    press('5');
+    assert_int_equal(target_nudge_pct(), 0);
     press('#');
     run_ms(300);
     assert_true(app_status.manual);
@@ -871,12 +885,12 @@ static void test_console_a_reboot_keeps_every_setting(void **state)
     press('D');
     keys("220");
     press('D');
-    assert_int_equal(param_v[P_RATE], 220);
+    assert_int_equal(param_v[P_RATE], 2200);
     boot();                         /* power off and on: the EEPROM stays */
-    assert_int_equal(param_v[P_RATE], 220);
+    assert_int_equal(param_v[P_RATE], 2200);
     assert_int_equal(store_status(), STORE_OK);
     to_item(P_RATE);
-    assert_string_equal(lcd(2), "        220 L/ha");
+    assert_string_equal(lcd(2), "      220.0 L/ha");
 }
 
 int main(void)

@@ -175,8 +175,8 @@ static void test_raven_rate_outside_the_window_is_refused_and_shown(void **state
     assert_string_equal(bottom(), "RC rate refused ");
     assert_string_equal(req("$R,RC,0\r\n"), "ERR WINDOW");
     assert_int_equal(target_rate_x10(), 1300);
-    /* a new Dose whose window leaves the remote rate outside drops it */
-    assert_true(param_set(P_RATE, 200));                /* 160 .. 240 */
+    /* a new Rate 1 whose window leaves the remote rate outside drops it */
+    assert_true(param_set(P_RATE, 2000));               /* 160 .. 240 */
     link_run_ms(200);
     assert_false(target_rate_remote());
     assert_int_equal(target_rate_x10(), 2000);
@@ -205,7 +205,7 @@ static void test_raven_malformed_strings_get_an_error_and_change_nothing(void **
     }
     assert_int_equal(target_remote_refusals(), refusals);      /* none was a rate refused */
     /* our own protocol goes on beside it */
-    assert_string_equal(req("GET 0\r\n"), "OK 0 150");
+    assert_string_equal(req("GET 0\r\n"), "OK 0 1500");
 }
 
 static void test_raven_calibration_and_data_requests_answer_in_raven_strings(void **state)

@@ -122,11 +122,11 @@ static void test_sim_events_now(void **state)
     assert_int_equal(sim_event_name(&sim, "leak_lpm", 2.5), 0);
     assert_true(sim.plant.leak_lpm == 2.5);
     assert_int_equal(sim_event_name(&sim, "rate_l_ha", 100), 0);
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_int_equal(sim_event_name(&sim, "given_speed_kmh", 6.5), 0);
     assert_int_equal(param_v[P_GIVEN_SPEED], 65);
     assert_int_equal(sim_event_name(&sim, "rate_l_ha", 5), -1);
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_int_equal(sim_event_name(&sim, "meter_fail", 0), 0);
     assert_int_equal(sim.plant.meter_fail, 1);
     assert_int_equal(sim_event_name(&sim, "no_such_event", 0), -1);
@@ -225,7 +225,7 @@ static void test_sim_paper_run_needs_the_bypass_within_055_070(void **state)
         plant_step(pl, &in, 1000000u);
         v = plant_speed_kmh(pl);
         if (v >= 4.0 && i % 100 == 0) {
-            double th = plant_bypass_needed(pl, scn.param[P_RATE] * width_m * v / 600.0);
+            double th = plant_bypass_needed(pl, scn.param[P_RATE] * 0.1 * width_m * v / 600.0);
             lo = th < lo ? th : lo;
             hi = th > hi ? th : hi;
         }
@@ -309,7 +309,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
 {
     static const char text[] =
         "[run]\nduration_s = 40\n[config]\nrate_l_ha = 125\n[drive]\n0 0\n2 0\n10 8\n"
-        "[events]\n15 serial SET 0 100*EA\n17 key #\n20 power_cut 2\n";
+        "[events]\n15 serial SET 0 1000*18\n17 key #\n20 power_cut 2\n";
     static char out[200000];
     uint8_t kicks;
     double theta;
@@ -317,11 +317,11 @@ static void test_sim_key_serial_and_power_cut(void **state)
     if (scenario_parse(&scn, text, "cut.scn", err, sizeof err) != 0)
         fail_msg("%s", err);
     sim_init(&sim, &scn);
-    assert_int_equal(param_v[P_RATE], 125);
+    assert_int_equal(param_v[P_RATE], 1250);
     sim_run(&sim, 14.9);
     assert_int_equal(hal_host_io.spray_on, 1);
     sim_run(&sim, 15.5);
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_true(sim.set_rate == 100);
     sim_run(&sim, 17.05);
     assert_int_not_equal(hal_host_io.keys, 0);              /* '#' held ... */
@@ -348,7 +348,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
     assert_int_not_equal(hal_host_io.wdt_kicks, kicks);
     uart_text(out, sizeof out);
     assert_int_equal(count_of(out, "BOOT POWER"), 1);
-    assert_int_equal(param_v[P_RATE], 100);                 /* saved 2 s after the SET (app.c) */
+    assert_int_equal(param_v[P_RATE], 1000);                 /* saved 2 s after the SET (app.c) */
     assert_true(sim.set_rate == 100);
     sim_free(&sim);
     /* without the SET, the scenario's 125 comes back from the EEPROM (the RAM's defaults are 150) */
@@ -356,8 +356,8 @@ static void test_sim_key_serial_and_power_cut(void **state)
     scn.events[0] = scn.events[2];
     sim_init(&sim, &scn);
     sim_run(&sim, 23.0);
-    assert_int_equal(param_v[P_RATE], 125);
-    assert_int_not_equal(param_info(P_RATE)->def, 125);
+    assert_int_equal(param_v[P_RATE], 1250);
+    assert_int_not_equal(param_info(P_RATE)->def, 1250);
     sim_free(&sim);
 }
 
@@ -370,17 +370,17 @@ static void test_sim_a_set_then_a_power_cut_keeps_the_setting(void **state)
     (void)state;
     for (int cut_s = 8; cut_s >= 6; cut_s -= 2) {
         snprintf(text, sizeof text, "[run]\nduration_s = 20\n[config]\nrate_l_ha = 125\n[drive]\n0 0\n2 0\n4 8\n"
-                 "[events]\n5 serial SET 0 100*EA\n%d power_cut 1\n", cut_s);
+                 "[events]\n5 serial SET 0 1000*18\n%d power_cut 1\n", cut_s);
         if (scenario_parse(&scn, text, "set_cut.scn", err, sizeof err) != 0)
             fail_msg("%s", err);
         sim_init(&sim, &scn);
         sim_run(&sim, 5.5);
-        assert_int_equal(param_v[P_RATE], 100);
+        assert_int_equal(param_v[P_RATE], 1000);
         assert_int_equal(hal_host_io.spray_on, 1);          /* spraying all along: no shut's save */
         sim_run(&sim, cut_s + 1.5);
         uart_text(out, sizeof out);
         assert_int_equal(count_of(out, "BOOT POWER"), 1);  /* the reboot's (the queue went with the power) */
-        assert_int_equal(param_v[P_RATE], cut_s == 8 ? 100 : 125);
+        assert_int_equal(param_v[P_RATE], cut_s == 8 ? 1000 : 1250);
         assert_int_equal(count_of(out, "EE "), 0);          /* a good record loaded either way */
         sim_free(&sim);
     }
