@@ -113,13 +113,11 @@ static void key_run(void)
             ops_jog(con.k == '2' ? 1 : -1);
         } else {                    /* auto: the rate in use a Rate step up or down */
             target_nudge(con.k == '2' ? 1 : -1);
-            con.remind_ms = (uint16_t)hal_ms();
         }
     } else if (con.k == '5') {
         target_nudge(0);            /* back to the preset */
     } else if (con.k == '0') {
-        if (con_apply(P_PRESET, param_v[P_PRESET] ? 0 : 1))
-            con_say(param_v[P_PRESET] ? "Preset: Rate 2" : "Preset: Rate 1");
+        con_apply(P_PRESET, param_v[P_PRESET] ? 0 : 1);    /* the bottom line shows Rate 2 */
     }
 }
 
@@ -185,7 +183,7 @@ static uint8_t typing(uint8_t decimals)
 /* A number typed in the units chosen (console_units.c), back in the parameter's. */
 static void key_edit(void)
 {
-    const __code con_unit_t *u = con_unit_of(con_item);
+    const __code con_unit_t *u = con_unit(con_id_class(con_item));
     uint8_t dec = u ? u->dec : param_info(con_item)->decimals;
     uint32_t v;
     if (typing(dec))
@@ -202,7 +200,7 @@ static void key_edit(void)
         }
         v = con_entry_value(dec);
         if (u && v != ENTRY_TOO_BIG)
-            v = con_unit_in(u, v);
+            v = con_unit_in(con_item, v);
         if (!dec && entry_point() != 0xFF) {
             con_say("Whole numbers");
         } else if (v >= ENTRY_TOO_BIG) {
@@ -394,7 +392,6 @@ void console_init(void)
     con.rc_seen = target_remote_refusals();
     con.next_draw_ms = (uint16_t)hal_ms();
     con.rate_ms = con.next_draw_ms;
-    con.remind_ms = con.next_draw_ms;
     con.rate_l_ha = CON_RATE_NONE;
     con.rate_at = 0;
 }
@@ -406,14 +403,13 @@ void console_poll(void)
     if ((uint16_t)(now - con.rate_ms) >= 1000u) {
         con.rate_ms += 1000u;
         rate_second();
+        /* off the preset: a reminder in one second of every CONSOLE_REMIND_MS (the seconds'
+         * grid meets each such span's first second once) */
+        if (target_nudge_pct() && ((uint16_t)hal_ms() & (CONSOLE_REMIND_MS - 1u)) < 1000u)
+            con_say("Nudged: 5=preset");
     }
     if (store_done(STORE_BY_CONSOLE)) {     /* the save of a value set here has ended */
         con_say(store_result() == STORE_OK ? "Saved" : store_status_text(store_result()));
-        con.next_draw_ms = now;
-    }
-    if (target_nudge_pct() && (uint16_t)(now - con.remind_ms) >= CONSOLE_REMIND_MS) {
-        con.remind_ms = now;        /* off the preset: a reminder now and then */
-        con_say("Nudged: 5=preset");
         con.next_draw_ms = now;
     }
     if (con.rc_seen != target_remote_refusals()) {  /* a field computer's rate refused */

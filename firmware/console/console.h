@@ -25,7 +25,7 @@
  */
 #define CONSOLE_REDRAW_MS 250       /* the run screen's refresh */
 #define CONSOLE_MSG_MS 2500         /* how long a message stays on the bottom line */
-#define CONSOLE_REMIND_MS 30000u    /* while the rate is nudged: a reminder this often */
+#define CONSOLE_REMIND_MS 32768u    /* while the rate is nudged: a reminder this often (a power of 2) */
 
 /* Menu entries after the parameters (their index in the menu is P_COUNT + n). */
 #define MENU_CAL_SPEED (P_COUNT + 0)

@@ -17,6 +17,7 @@
 #include "console_int.h"
 #include "totals.h"
 #include "mul.h"
+#include "umath.h"
 
 /* ---- small text helpers ---------------------------------------------------------------- */
 void con_say(const __code char *s)
@@ -69,12 +70,12 @@ void con_show(uint8_t row)
 }
 
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
- * is; form: the decimals, | CON_TRIM or CON_DROP(k) (console_int.h) */
+ * is; form: the decimals, | CON_TRIM or CON_DROP(k), | CON_Q(cls) (console_int.h) */
 void con_cat_num(uint32_t v, uint8_t width, uint8_t form)
 {
     static const __code uint16_t half[4] = {0, 5, 50, 500};
     char num[FMT_MAX];
-    uint8_t n, drop = (uint8_t)(form >> 3), decimals = (uint8_t)(form & CON_DEC_MASK);
+    uint8_t n, drop = (uint8_t)((form >> 3) & 3u), decimals = (uint8_t)(form & CON_DEC_MASK);
     n = fmt_u32((__idata char *)num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)((form & CON_TRIM) != 0));
     if (drop) {
         n -= drop;
@@ -90,6 +91,13 @@ void con_cat_num(uint32_t v, uint8_t width, uint8_t form)
     while (width-- > n)
         con_cat(" ");
     con_cat_ram(num);
+}
+
+/* con_cat_num of a quantity of class CON_Q(cls) in the units chosen; the conversion is done
+ * before con_cat_num runs, not inside it (the console's deepest stack path goes through it) */
+void con_cat_q(uint32_t v, uint8_t width, uint8_t form)
+{
+    con_cat_num(con_q(v, form), width, con_q_form(form));
 }
 
 /* move line[from..] to the right end of the row, spaces in between */
@@ -130,15 +138,29 @@ const __code char *con_choice_name(uint8_t id, uint16_t v)
     return ctl_name((uint8_t)v);
 }
 
+/* The form of parameter id's values, CON_Q of its class; a speed setting (km/h x10) goes to
+ * con_q as the class's km/h x100 (pvalue) in US or turf units. */
+static uint8_t pform(uint8_t id, uint8_t cls) __reentrant
+{
+    return (uint8_t)(param_info(id)->decimals | CON_Q(cls));
+}
+
+static uint32_t pvalue(uint8_t cls, uint16_t v) __reentrant
+{
+    return cls == CU_SPEED && param_v[P_UNITS] ? v * 10uL : v;
+}
+
 /* append a parameter's value and unit in the units chosen, "150.0 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)
 {
     const __code char *unit;
+    uint8_t cls = con_id_class(id);
     if (con_is_choice(id)) {
         con_cat(con_choice_name(id, v));
         return;
     }
-    unit = con_cat_pnum(id, v, 0);
+    con_cat_num(con_q(pvalue(cls, v), pform(id, cls)), 0, con_q_form(pform(id, cls)));
+    unit = con_unit_text(cls, param_info(id)->unit);
     if (unit[0]) {
         con_cat(" ");
         con_cat(unit);
@@ -156,7 +178,7 @@ void con_say_range(uint8_t id)
 void con_draw_msg(void)
 {
     const __code param_info_t *pi;
-    uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT);
+    uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT), c, f;
     if (m == NO_RANGE) {
         screen_line(con.msg, 3);
         return;
@@ -171,11 +193,13 @@ void con_draw_msg(void)
         con_cat(b == CON_SHOWN_EE ? store_status_text(store_status()) : diag_text(b));
     } else {
         pi = param_info(m);
+        c = con_id_class(m);
+        f = (uint8_t)(pform(m, c) | CON_TRIM);
         for (b = 0; b < 2; b++) {   /* the word when the limits leave room for it */
             con_start(b ? "Range " : "");
-            con_cat_pnum(m, pi->min, CON_TRIM);
+            con_cat_num(con_q(pvalue(c, pi->min), f), 0, con_q_form(f));
             con_cat("..");
-            con_cat_pnum(m, pi->max, CON_TRIM);
+            con_cat_num(con_q(pvalue(c, pi->max), f), 0, con_q_form(f));
             if (con_at > SCREEN_COLS - 6u)
                 break;
         }
@@ -261,7 +285,8 @@ static void draw_run_bottom(void)
         con_show(3);
     } else if (target_nudge_pct()) {        /* the rate in use and the operator's offset */
         con_at = 0;
-        con_cat_q(CU_RATE, target_rate_x10(), 0, 1, "L/ha");
+        con_cat_q(target_rate_x10(), 0, 1 | CON_Q(CU_RATE));
+        con_cat(con_unit_text(CU_RATE, "L/ha"));
         con_cat(" ");
         at = con_at;
         con_cat(target_nudge_pct() > 0 ? "+" : "-");
@@ -272,12 +297,13 @@ static void draw_run_bottom(void)
         con_show(3);
     } else {
         con_start("T");
-        con_cat_q(CU_VOL, st->tank_l, 5, 0, "L");
+        con_cat_q(st->tank_l, 5, CON_Q(CU_VOL));
+        con_cat(con_unit_text(CU_VOL, "L"));
         con_cat(" ");
         at = con_at;
         if (target_rate_remote()) {         /* the rate comes from the field computer */
             con_cat("RC");
-            con_cat_q(CU_RATE, target_rate_x10(), 0, 1, 0);
+            con_cat_q(target_rate_x10(), 0, 1 | CON_Q(CU_RATE));
         } else
             con_cat(param_v[P_PRESET] ? "Rate 2" : ctl_name(ctl_selected()));
         con_right_align(at);
@@ -292,25 +318,28 @@ static void draw_run(void)
     int16_t q;
     /* " 7.2km/h 4.40bar": ground speed, boom pressure (US: " 4.5mph  63.8PSI") */
     con_at = 0;
-    con_cat_q(CU_SPEED, (st->speed_kmh_x100 + 5u) / 10u, 4, 1, "km/h");
-    con_cat_q(CU_PRESS, st->pressure_kpa, 5, 2, "bar");
+    con_cat_q(st->speed_kmh_x100, 4, 1 | CON_DROP(1) | CON_Q(CU_SPEED));
+    con_cat(con_unit_text(CU_SPEED, "km/h"));
+    con_cat_q(st->pressure_kpa, 5, 2 | CON_Q(CU_PRESS));
+    con_cat(con_unit_text(CU_PRESS, "bar"));
     con_show(0);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow (US: "Q13.08>13.02gpm") */
     con_start("Q");
     q = st->target_lpm_x100;
-    con_cat_q(CU_FLOW, q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1), 0);
+    con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
     con_cat(">");
     q = st->flow_lpm_x100;
-    con_cat_q(CU_FLOW, q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1), "L/mn");
+    con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
+    con_cat(con_unit_text(CU_FLOW, "L/mn"));
     con_show(1);
     /* "Now 150L/ha AUTO": the rate applied over the last seconds, the mode (HIL: the inputs
      * come from the PC's plant); US: "15.0gal/ac  AUTO" */
     con_start(param_v[P_UNITS] ? "" : "Now");
-    if (con.rate_l_ha == CON_RATE_NONE) {
+    if (con.rate_l_ha == CON_RATE_NONE)
         con_cat("  --");
-        con_cat(con_unit(CU_RATE) ? con_unit(CU_RATE)->unit : "L/ha");
-    } else
-        con_cat_q(CU_RATE, con.rate_l_ha * 10uL, 4, CON_DROP(1), "L/ha");
+    else
+        con_cat_q(con.rate_l_ha * 10uL, 4, CON_DROP(1) | CON_Q(CU_RATE));
+    con_cat(con_unit_text(CU_RATE, "L/ha"));
     con_cat(" ");
     at = con_at;
     con_cat(hal_hil_active() ? (st->manual ? "HILM" : "HIL") : st->manual ? "MAN"
@@ -329,19 +358,30 @@ static uint32_t area_left_m2(void)
     return r ? UMUL(l, 50000u) * 2u / r : 0;
 }
 
+/* an area (m^2) in ha, acres or 1000 ft^2, right-aligned in width, its unit after a space */
+static void cat_area(uint32_t m2, uint8_t width)
+{
+    con_cat_q(m2, width, 2 | CON_DROP(2) | CON_Q(CU_AREA));
+    con_cat(" ");
+    con_cat(con_unit_text(CU_AREA, "ha"));
+}
+
 /* The job's area, volume and average rate; the work rate now (the speed times the open
  * width), the area left, the lifetime's volume and area take turns every 2 s. */
 static void draw_totals(void)
 {
     uint32_t v;
     con_start("Job ");
-    con_cat_q(CU_AREA, app_status.job_area_m2, 9, 2 | CON_DROP(2), " ha");
+    cat_area(app_status.job_area_m2, 9);
     con_show(0);
     con_start("Job ");
-    con_cat_q(CU_ML, totals.job_ml, 10, 1 | CON_DROP(2), " L");
+    con_cat_q(totals.job_ml, 10, 1 | CON_DROP(2) | CON_Q(CU_ML));
+    con_cat(" ");
+    con_cat(con_unit_text(CU_ML, "L"));
     con_show(1);
     con_start(param_v[P_UNITS] ? "Avg" : "Job avg");
-    con_cat_q(CU_RATE, app_status.applied_l_ha_x10, 5, CON_DROP(1), "L/ha");
+    con_cat_q(app_status.applied_l_ha_x10, 5, CON_DROP(1) | CON_Q(CU_RATE));
+    con_cat(con_unit_text(CU_RATE, "L/ha"));
     con_show(2);
     if (con_step) {
         draw_bottom("Reset job? D=yes");
@@ -351,21 +391,23 @@ static void draw_totals(void)
         switch ((uint8_t)(hal_ms() / 2000u) & 3u) {
         case 0:
             con_start("Life");
-            con_cat_q(CU_AREA, totals.life_m2, 9, 2 | CON_DROP(2), " ha");
+            cat_area(totals.life_m2, 9);
             break;
         case 1:
             con_start("Life");
-            con_cat_q(CU_ML, totals.life_ml, 10, CON_DROP(3), " L");
+            con_cat_q(totals.life_ml, 10, (uint8_t)(CON_DROP(3) | CON_Q(CU_ML)));
+            con_cat(" ");
+            con_cat(con_unit_text(CU_ML, "L"));
             break;
         case 2:                     /* m^2 an hour: km/h x100 x cm / 10 */
             con_start("Work");
             v = app_status.spraying ? UMUL(app_status.speed_kmh_x100, target_width_cm()) / 10u : 0;
-            con_cat_q(CU_AREA, v, 7, 2 | CON_DROP(2), " ha");
+            cat_area(v, 7);
             con_cat("/h");
             break;
         default:
             con_start("Left");
-            con_cat_q(CU_AREA, area_left_m2(), 9, 2 | CON_DROP(2), " ha");
+            cat_area(area_left_m2(), 9);
             break;
         }
         con_show(3);
@@ -410,8 +452,7 @@ static void draw_menu(void)
 static void draw_edit(void)
 {
     const __code param_info_t *pi = param_info(con_item);
-    const __code con_unit_t *u = con_unit_of(con_item);
-    const __code char *unit = u ? u->unit : pi->unit;
+    const __code char *unit = con_unit_text(con_id_class(con_item), pi->unit);
     screen_line(pi->name, 0);
     con_start("now ");
     con_cat_value(con_item, param_v[con_item]);

@@ -8,7 +8,6 @@ static struct {
     uint32_t k_q16;                 /* L/min x100 per km/h x100, Q16: C d m / 600000 (C in L/ha x10) */
     uint16_t remote_x10;            /* L/ha x10 from a field computer, 0: none (the preset) */
     int8_t nudge_pct;               /* the operator's offset on it, +-TARGET_NUDGE_MAX % */
-    uint8_t preset;                 /* P_PRESET the offset and the remote rate were taken on */
     uint8_t refusals;               /* remote rates refused since start (wraps) */
     uint16_t width_cm;
     uint8_t open;
@@ -120,11 +119,6 @@ static void target_derive(void) __reentrant
         target_noz_new = 1;
     tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
     target_noz();
-    if (tg.preset != (uint8_t)param_v[P_PRESET]) {
-        tg.preset = (uint8_t)param_v[P_PRESET];
-        tg.nudge_pct = 0;           /* the other preset, as it is set */
-        tg.remote_x10 = 0;
-    }
     if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))
         tg.remote_x10 = 0;          /* Remote off, or a new preset or window leaves it outside */
     cdm = UMUL(target_rate_x10(), param_v[P_SPACING]) * tg.open;       /* <= 1.92e8 */
@@ -139,7 +133,6 @@ void target_init(void)
     tg.valid = 0;
     tg.remote_x10 = 0;
     tg.nudge_pct = 0;
-    tg.preset = (uint8_t)param_v[P_PRESET];
     tg.refusals = 0;
     tg.sections = 0;
     target_derive();

@@ -39,8 +39,8 @@ uint8_t target_section_nozzles(uint8_t s) __reentrant;
 uint16_t target_width_cm(void);
 /* A rate from a field computer (serial Remote), L/ha x10, in place of the preset in use: taken
  * (1) when P_REMOTE is on and it is within P_REMOTE_WIN % of that preset (and at least 10 L/ha);
- * refused (0) otherwise, and counted. It holds until Remote is switched off, the other preset
- * is chosen, or a new preset or window leaves it outside. */
+ * refused (0) otherwise, and counted. It holds until Remote is switched off or a new preset
+ * (its value, or the other one chosen) or window leaves it outside. */
 uint8_t target_remote_rate(uint16_t rate_x10) __reentrant;
 /* The rate in use, L/ha x10: the preset in use (P_PRESET: Rate 1 or Rate 2) or the field
  * computer's rate in its place, times (100 + the operator's nudge) / 100; the one set rate of
@@ -48,7 +48,8 @@ uint8_t target_remote_rate(uint16_t rate_x10) __reentrant;
 uint16_t target_rate_x10(void);
 uint16_t target_preset_x10(void);
 /* The operator's nudge: dir > 0 up, < 0 down by P_RATE_STEP %, 0 back to the preset; bounded
- * to +-TARGET_NUDGE_MAX %; the offset now in %. Choosing the other preset clears it. */
+ * to +-TARGET_NUDGE_MAX %; the offset now in %. An offset of the rate in use: it stays over a
+ * change of preset or of the field computer's rate. */
 #define TARGET_NUDGE_MAX 50
 int8_t target_nudge(int8_t dir) __reentrant;
 int8_t target_nudge_pct(void);

@@ -91,7 +91,6 @@ enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
 static struct {
     uint8_t flags;                  /* below */
     uint8_t n;                      /* the values of the record being checked */
-    uint8_t ver;                    /* its version */
     uint8_t gen;                    /* the param_generation the record being written comes from */
     uint8_t end;                    /* where the CRC of the record being checked is */
     uint16_t crc;                   /* of the bytes written or checked so far */
@@ -139,7 +138,6 @@ static uint8_t ck_more(uint8_t budget) __reentrant
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
             sv.n = b;
-            sv.ver = sv_lo;
             sv.end = (uint8_t)CRC_N(b);
             if (sv_lo >= 7u)
                 sv.end += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
@@ -149,7 +147,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
                 sv.end += STORE_JOB_BYTES;      /* the job totals (version 8 on) */
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
             if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1),
-                                old_value(sv.ver, (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8))))
+                                old_value(hal_eeprom_read(base + 1u), (uint8_t)((sv_at - HDR_VALUES) >> 1),
+                                          (uint16_t)(sv_lo | (uint16_t)b << 8))))
                 return 0;
         } else if (sv_at == sv.end) {
             if (b != (uint8_t)(sv.crc >> 8))

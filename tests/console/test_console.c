@@ -19,6 +19,7 @@
 #include "screen.h"
 #include "keypad.h"
 #include "console.h"
+#include "console_int.h"
 #include "target.h"
 #include "ops.h"
 #include "sim.h"
@@ -893,10 +894,134 @@ static void test_console_a_reboot_keeps_every_setting(void **state)
     assert_string_equal(lcd(2), "      220.0 L/ha");
 }
 
+/* The conversions from their definitions, not from the firmware's table. */
+#define GAL_L 3.785411784
+#define ACRE_M2 4046.8564224
+#define MILE_M 1609.344
+#define PSI_KPA 6.89475729
+#define KFT2_M2 92.90304                    /* 1000 ft^2: 1000 x 0.3048^2 */
+
+/* US units: the run screen in mph, PSI, gpm, gal/acre and gal against the inputs of the metric
+ * run screen test (7.07 km/h, 196 kPa, 31.8 > 31.6 L/min, 149 L/ha, 500 L), converted here. */
+static void test_console_us_units_on_the_run_screen(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_UNITS, 1));
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 305;
+    hal_host_io.adc[HAL_ADC_LEVEL] = 614;
+    hal_host_io.sections = 0x3F;
+    wheel_every_ms = 200;
+    flow_every_ms = 5;
+    run_ms(13000);
+    double v, psi, qt, qm, rate;
+    int tank;
+    char unit[8];
+    printf("# [%s] [%s] [%s] [%s]\n", lcd(0), lcd(1), lcd(2), lcd(3));
+    assert_int_equal(sscanf(lcd(0), "%lfmph %lfPSI", &v, &psi), 2);
+    assert_true(fabs(v - 0.3927 / 0.2 * 3.6 / (MILE_M / 1000.0)) < 0.051);
+    assert_true(fabs(psi - app_status.pressure_kpa / PSI_KPA) < 0.051);
+    assert_int_equal(sscanf(lcd(1), "Q%lf>%lfgpm", &qt, &qm), 2);
+    assert_true(fabs(qt - app_status.target_lpm_x100 / 100.0 / GAL_L) < 0.0051);
+    assert_true(fabs(qm - app_status.flow_lpm_x100 / 100.0 / GAL_L) < 0.0051);
+    assert_int_equal(sscanf(lcd(2), "%lf%7s", &rate, unit), 2);
+    assert_string_equal(unit, "gal/ac");
+    assert_true(fabs(rate - 149.0 * GAL_L / (10000.0 / ACRE_M2) / GAL_L / GAL_L) < 0.2);
+    assert_int_equal(sscanf(lcd(3), "T %dgal", &tank), 1);
+    assert_int_equal(tank, (int)floor(500 / GAL_L + 0.5));
+    assert_true(param_set(P_UNITS, 0));
+}
+
+/* A rate typed in gal/acre reads back unchanged and is the metric value to its last digit
+ * (15.0 gal/acre = 140.3 L/ha); every rate of the range, typed, reads back as typed; the range
+ * message in gal/acre; turf in gal/1000 ft^2. */
+static void test_console_a_rate_typed_in_gal_per_acre_reads_back_unchanged(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_UNITS, 1));
+    to_item(P_RATE);
+    assert_string_equal(lcd(2), "     16.0 gal/ac");    /* 150 L/ha: 16.04 gal/acre */
+    press('D');
+    keys("15#0");
+    press('D');
+    assert_int_equal(param_v[P_RATE], (int)floor(15.0 * GAL_L / ACRE_M2 * 10000.0 * 10.0 + 0.5));
+    assert_int_equal(param_v[P_RATE], 1403);
+    assert_string_equal(lcd(2), "     15.0 gal/ac");
+    /* out of range: the limits in gal/acre, 10..1000 L/ha (1.1..106.9) */
+    press('D');
+    keys("2000");
+    press('D');
+    char want[32];
+    snprintf(want, sizeof want, "Range %.1f..%.1f", 10.0 / GAL_L * ACRE_M2 / 10000.0, 1000.0 / GAL_L * ACRE_M2 / 10000.0);
+    snprintf(want + strlen(want), sizeof want - strlen(want), "%*s", (int)(16 - strlen(want)), "");
+    assert_string_equal(lcd(3), want);
+    press('C');
+    press('C');
+    assert_true(param_set(P_UNITS, 0));
+    to_item(P_RATE);
+    assert_string_equal(lcd(2), "      140.3 L/ha");
+    /* every rate in gal/acre x10 of the range: typed, stored, shown as typed */
+    assert_true(param_set(P_UNITS, 1));
+    int lo = (int)ceil(100 / GAL_L * ACRE_M2 / 10000.0), hi = (int)floor(10000 / GAL_L * ACRE_M2 / 10000.0);
+    for (int g = lo; g <= hi; g++) {
+        uint32_t in = con_unit_in(P_RATE, (uint32_t)g);
+        assert_true(fabs(in - g * GAL_L / ACRE_M2 * 10000.0) <= 0.5);   /* the nearest 0.1 L/ha */
+        assert_int_equal(con_q(in, CON_Q(CU_RATE)), g);
+    }
+    /* turf: gal / 1000 ft^2 with two decimals; 140.3 L/ha = 0.34 */
+    assert_true(param_set(P_UNITS, 2));
+    to_item(P_RATE);
+    snprintf(want, sizeof want, "%.2f gal/M", 140.3 / GAL_L * KFT2_M2 / 10000.0);
+    char w16[32];
+    snprintf(w16, sizeof w16, "%16s", want);
+    assert_string_equal(lcd(2), w16);
+    assert_true(param_set(P_UNITS, 0));
+}
+
+/* In auto 2 / 8 nudge the rate in use by Rate step (the target follows within the control
+ * period), the run screen's bottom line shows it and its offset, 5 goes back to the preset; 0
+ * switches Rate 1 <-> Rate 2, which the bottom line shows. */
+static void test_console_nudge_and_preset_keys(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_RATE_STEP, 10));
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 305;    /* as on the run screen above: no alarm */
+    hal_host_io.adc[HAL_ADC_LEVEL] = 614;
+    hal_host_io.sections = 0x3F;
+    wheel_every_ms = 200;
+    flow_every_ms = 5;
+    run_ms(10000);
+    assert_int_equal(app_status.alarms, 0);
+    double t0 = app_status.target_lpm_x100;
+    press('2');
+    press('2');
+    run_ms(100);
+    assert_int_equal(target_rate_x10(), 1800);
+    assert_true(fabs(app_status.target_lpm_x100 / t0 - 1.2) < 0.01);
+    assert_string_equal(lcd(3), "180.0L/ha   +20%");
+    press('8');
+    assert_string_equal(lcd(3), "165.0L/ha   +10%");
+    press('5');
+    assert_int_equal(target_rate_x10(), 1500);
+    assert_string_equal(lcd(3), "T  500L    ffmap");
+    press('0');
+    assert_int_equal(param_v[P_PRESET], 1);
+    run_ms(3000);                   /* "Saved", then the line as it is */
+    assert_string_equal(lcd(3), "T  500L   Rate 2");
+    assert_int_equal(target_rate_x10(), 2000);
+    press('0');
+    assert_int_equal(target_rate_x10(), 1500);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_controller, setup),
+        cmocka_unit_test_setup(test_console_us_units_on_the_run_screen, setup),
+        cmocka_unit_test_setup(test_console_a_rate_typed_in_gal_per_acre_reads_back_unchanged, setup),
+        cmocka_unit_test_setup(test_console_nudge_and_preset_keys, setup),
         cmocka_unit_test_setup(test_console_first_boot_shows_the_eeprom_notice_until_acknowledged, setup),
         cmocka_unit_test_setup(test_console_an_alarm_wins_the_line_over_the_notice, setup),
         cmocka_unit_test_setup(test_console_one_star_acknowledges_only_the_alarm_shown, setup),

@@ -220,6 +220,19 @@ static void test_raven_calibration_and_data_requests_answer_in_raven_strings(voi
     assert_string_equal(next_line(), "$R100A,C3,2123,1300,0");
     link_run_ms(5);
     assert_string_equal(next_line(), "");
+    /* Rate 2 in use: bit 4 of switch byte 2 in place of bit 3 (0x90); the remote rate stays in
+     * its window around Rate 2 (200 L/ha by default: 100..300), nudged 5 % in C3's rate */
+    assert_true(param_set(P_PRESET, 1));
+    target_nudge(1);
+    link_run_ms(200);
+    assert_string_equal(req("$R,CR\r\n"), "$R100A,C1,191,144,300,300,300,300,300,300,3927");
+    assert_string_equal(next_line(), "$R100A,C2,3800,0");
+    link_run_ms(5);
+    assert_string_equal(next_line(), "$R100A,C3,2123,1365,0");
+    link_run_ms(5);
+    target_nudge(0);
+    assert_true(param_set(P_PRESET, 0));
+    drain_lines();
     /* manual mode: both rate bits 0; section 2 off */
     assert_true(param_set(P_MODE, 1));
     hal_host_io.sections = 0x3D;

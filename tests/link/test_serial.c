@@ -583,10 +583,30 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
     assert_false(app_status.manual);
 }
 
+/* NUD nudges the rate in use a Rate step (5 % by default) up or down, 0 back to the preset;
+ * it changes something: its check is required. JOG has no 0. */
+static void test_serial_nud_nudges_the_rate_in_use(void **state)
+{
+    (void)state;
+    link_run_ms(200);
+    assert_string_equal(cmd("NUD +\r\n"), "ERR NOCSUM");
+    assert_string_equal(scmd("NUD +"), "OK NUD 5 1575");
+    assert_string_equal(scmd("NUD +"), "OK NUD 10 1650");
+    assert_string_equal(scmd("NUD -"), "OK NUD 5 1575");
+    assert_string_equal(scmd("NUD 0"), "OK NUD 0 1500");
+    assert_string_equal(scmd("NUD -"), "OK NUD -5 1425");
+    assert_string_equal(scmd("NUD 1"), "ERR ARG");
+    assert_string_equal(scmd("NUD"), "ERR ARG");
+    assert_string_equal(scmd("JOG 0"), "ERR ARG");
+    link_run_ms(200);
+    assert_int_equal(app_status.target_lpm_x100, 0);   /* standing: nothing, whatever the rate */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog, setup),
+        cmocka_unit_test_setup(test_serial_nud_nudges_the_rate_in_use, setup),
         cmocka_unit_test_setup(test_serial_logs_every_second_like_the_paper_s_pc_monitor, setup),
         cmocka_unit_test_setup(test_serial_commands_read_and_set_parameters_strictly, setup),
         cmocka_unit_test_setup(test_serial_alarm_messages_and_the_buzzer, setup),

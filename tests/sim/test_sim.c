@@ -11,6 +11,7 @@
 #include "sim.h"
 #include "hal_host.h"
 #include "params.h"
+#include "target.h"
 #include "ctl.h"
 #include "app.h"
 
@@ -331,7 +332,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
     sim_run(&sim, 20.0);
     uart_text(out, sizeof out);
     assert_int_equal(count_of(out, "BOOT POWER"), 1);
-    assert_int_equal(count_of(out, "OK 0 100"), 1);
+    assert_int_equal(count_of(out, "OK 0 1000"), 1);
     sim_run(&sim, 20.5);
     kicks = hal_host_io.wdt_kicks;
     theta = sim.plant.theta;
@@ -386,6 +387,57 @@ static void test_sim_a_set_then_a_power_cut_keeps_the_setting(void **state)
     }
 }
 
+/* sim_run with the PC reading the link (the host UART's transmit queue would fill and hold the
+ * commands that come in). */
+static void run_read(double until_s)
+{
+    static char out[20000];
+    while (sim_time_s(&sim) < until_s - 1e-9) {
+        double t = sim_time_s(&sim) + 1.0;
+        sim_run(&sim, t < until_s ? t : until_s);
+        uart_text(out, sizeof out);
+    }
+}
+
+/* The operator's nudge and preset as scenario events (the serial NUD line and the Preset
+ * setting): the metrics score the dose against the rate in use. 8 km/h on 18 m: 150 L/ha is
+ * 36 L/min; two nudges at a 10 % step: 180 L/ha; back, then Rate 2: 200 L/ha. No stretch of a
+ * wrong dose: the rate in use is applied. Bad values are refused when the file is read. */
+static void test_sim_nudge_and_preset_events_score_against_the_rate_in_use(void **state)
+{
+    static const char text[] =
+        "[run]\nduration_s = 180\n[config]\nrate_step_pct = 10\n[drive]\n0 8\n180 8\n"
+        "[events]\n60 rate_nudge 1\n60.5 rate_nudge 1\n120 rate_nudge 0\n121 rate_preset 2\n";
+    metrics_result_t r;
+    (void)state;
+    if (scenario_parse(&scn, text, "nudge.scn", err, sizeof err) != 0)
+        fail_msg("%s", err);
+    sim_init(&sim, &scn);
+    run_read(59.0);
+    assert_true(fabs(sim.set_rate - 150.0) < 1e-9);
+    assert_true(abs(app_status.target_lpm_x100 - 3600) <= 2);
+    run_read(61.0);
+    assert_true(fabs(sim.set_rate - 180.0) < 1e-9);
+    assert_true(abs(app_status.target_lpm_x100 - 4320) <= 2);
+    run_read(119.0);
+    assert_true(fabs(sim.plant.q_boom - 43.2) < 43.2 * 0.05);    /* the plant applies it */
+    run_read(122.0);
+    assert_true(fabs(sim.set_rate - 200.0) < 1e-9);
+    assert_true(abs(app_status.target_lpm_x100 - 4800) <= 2);
+    run_read(180.0);
+    sim_finish(&sim, &r);
+    printf("# dose error %.2f %%, silent wrong %.1f s\n", r.dose_error_pct, r.silent_wrong_s);
+    assert_true(fabs(r.dose_error_pct) < 2.0);
+    assert_true(r.silent_wrong_s == 0.0);
+    sim_free(&sim);
+    static const char *const bad[] = {
+        "[drive]\n0 8\n[events]\n10 rate_nudge 2\n", "[drive]\n0 8\n[events]\n10 rate_preset 3\n",
+        "[drive]\n0 8\n[events]\n10 rate_preset 0\n",
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        assert_int_not_equal(scenario_parse(&scn, bad[i], "bad.scn", err, sizeof err), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -399,6 +451,7 @@ int main(void)
         cmocka_unit_test(test_sim_target_steps_found_where_the_scenario_puts_them),
         cmocka_unit_test(test_sim_fast_mode_keeps_the_grid),
         cmocka_unit_test(test_sim_key_serial_and_power_cut),
+        cmocka_unit_test(test_sim_nudge_and_preset_events_score_against_the_rate_in_use),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
