@@ -11,6 +11,7 @@
 #include "pty.h"
 #include "link_crc.h"
 #include "summary.h"
+#include "progress.h"
 
 static void usage(FILE *f)
 {
@@ -142,6 +143,7 @@ int main(int argc, char **argv)
     const char *input_path = NULL;
     FILE *serial = NULL, *drive_log = NULL;
     pil_t *pil = NULL;
+    progress_t prog;
     unsigned long long seed = 0;
     int have_seed = 0, i, tick_ms = 1, idle_ms = 0;
     double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0, speed;
@@ -319,17 +321,26 @@ int main(int argc, char **argv)
         /* run in 0.1 s slices and take what the UART sent in each (the host queue holds 4 KB) */
         double t;
         int b;
+        progress_start(&prog, pil ? "pil" : "sim", s->duration_s);
         for (t = 0.1; !sim_done(sim); t += 0.1) {
             sim_run(sim, t < s->duration_s ? t : s->duration_s);
             while ((b = hal_host_uart_tx_pop()) >= 0)
                 fputc(b, serial);
+            progress_show(&prog, sim_time_s(sim));
         }
+        progress_end(&prog);
         if (fclose(serial) != 0) {
             fprintf(stderr, "sim: error writing %s: %s\n", serial_path, strerror(errno));
             return 1;
         }
     } else {
-        sim_run(sim, s->duration_s);
+        /* in 1 s slices, the same steps as at once, for the progress line */
+        progress_start(&prog, pil ? "pil" : "sim", s->duration_s);
+        while (!sim_done(sim)) {
+            sim_run(sim, sim_time_s(sim) + 1.0);
+            progress_show(&prog, sim_time_s(sim));
+        }
+        progress_end(&prog);
     }
     if (pil && pil_finish(pil) < 0) {
         fprintf(stderr, "sim: --pil: the firmware in s51 stopped answering\n");

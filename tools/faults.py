@@ -29,6 +29,9 @@ import subprocess
 import sys
 from multiprocessing import Pool
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
+
 PARAMS_H = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "firmware", "store", "params.h")
 T0 = 90.0                       # the fault's start, unless the fault is there from the start
 RATE, NOZZLES, SPACING_M, KMH = 150, 36, 0.5, 8.0
@@ -309,7 +312,7 @@ def main():
     jobs = [(a.sim, a.controller, a.out, name, label, build(arg))
             for name, _, build, sizes in FAULTS if not only or name in only for label, arg in sizes]
     with Pool(max(1, a.jobs)) as pool:
-        rows = pool.map(run_one, jobs, chunksize=1)
+        rows = progress.pool_map(pool, run_one, jobs, "faults")
     bad = [r for r in rows if "error" in r]
     if bad:
         sys.exit("faults: %s %s: %s" % (bad[0]["fault"], bad[0]["size"], bad[0]["error"]))
