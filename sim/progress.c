@@ -21,7 +21,7 @@ static void mmss(char *buf, size_t n, double s)
 
 int progress_line(char *buf, int n, const char *label, double done, double total, double elapsed)
 {
-    char e[16], left[16] = "?";
+    char e[48], left[48] = "?";
     if (done > 0 && total >= done)
         mmss(left, sizeof left, elapsed * (total - done) / done);
     mmss(e, sizeof e, elapsed);
@@ -42,7 +42,7 @@ void progress_start(progress_t *p, const char *label, double total)
 
 void progress_show(progress_t *p, double done)
 {
-    char line[160];
+    char line[256];
     double now;
     if (!p->on || (now = wall_s()) < p->next)
         return;

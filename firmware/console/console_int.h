@@ -113,5 +113,6 @@ uint32_t con_q(uint32_t v, uint8_t form) __reentrant;
 uint8_t con_q_form(uint8_t form) __reentrant;
 void con_iotest_start(void) __reentrant;
 void con_draw_iotest(void) __reentrant;     /* console_io.c */
+void con_draw_totals(void) __reentrant;     /* console_totals.c */
 
 #endif

@@ -349,71 +349,6 @@ static void draw_run(void)
     draw_run_bottom();
 }
 
-/* The area the tank's contents above Tank min (where the boom stops) cover at the rate in
- * use, m^2: L x 100000 / (L/ha x10). */
-static uint32_t area_left_m2(void)
-{
-    uint16_t l = app_status.tank_l, r = target_rate_x10();
-    l = l > param_v[P_TANK_MIN] ? l - param_v[P_TANK_MIN] : 0;
-    return r ? UMUL(l, 50000u) * 2u / r : 0;
-}
-
-/* an area (m^2) in ha, acres or 1000 ft^2, right-aligned in width, its unit after a space */
-static void cat_area(uint32_t m2, uint8_t width)
-{
-    con_cat_q(m2, width, 2 | CON_DROP(2) | CON_Q(CU_AREA));
-    con_cat(" ");
-    con_cat(con_unit_text(CU_AREA, "ha"));
-}
-
-/* The job's area, volume and average rate; the work rate now (the speed times the open
- * width), the area left, the lifetime's volume and area take turns every 2 s. */
-static void draw_totals(void)
-{
-    uint32_t v;
-    con_start("Job ");
-    cat_area(app_status.job_area_m2, 9);
-    con_show(0);
-    con_start("Job ");
-    con_cat_q(totals.job_ml, 10, 1 | CON_DROP(2) | CON_Q(CU_ML));
-    con_cat(" ");
-    con_cat(con_unit_text(CU_ML, "L"));
-    con_show(1);
-    con_start(param_v[P_UNITS] ? "Avg" : "Job avg");
-    con_cat_q(app_status.applied_l_ha_x10, 5, CON_DROP(1) | CON_Q(CU_RATE));
-    con_cat(con_unit_text(CU_RATE, "L/ha"));
-    con_show(2);
-    if (con_step) {
-        draw_bottom("Reset job? D=yes");
-    } else if (con_msg_on()) {
-        con_draw_msg();
-    } else {
-        switch ((uint8_t)(hal_ms() / 2000u) & 3u) {
-        case 0:
-            con_start("Life");
-            cat_area(totals.life_m2, 9);
-            break;
-        case 1:
-            con_start("Life");
-            con_cat_q(totals.life_ml, 10, (uint8_t)(CON_DROP(3) | CON_Q(CU_ML)));
-            con_cat(" ");
-            con_cat(con_unit_text(CU_ML, "L"));
-            break;
-        case 2:                     /* m^2 an hour: km/h x100 x cm / 10 */
-            con_start("Work");
-            v = app_status.spraying ? UMUL(app_status.speed_kmh_x100, target_width_cm()) / 10u : 0;
-            cat_area(v, 7);
-            con_cat("/h");
-            break;
-        default:
-            con_start("Left");
-            cat_area(area_left_m2(), 9);
-            break;
-        }
-        con_show(3);
-    }
-}
-
 static const char *menu_name(uint8_t i)
 {
     if (i == MENU_CAL_SPEED)
@@ -524,7 +459,7 @@ void con_draw(void)
     con.shown = CON_SHOWN_NONE;     /* the screen drawn says what it shows */
     switch (con_state) {
     case S_RUN: draw_run(); break;
-    case S_TOTALS: draw_totals(); break;
+    case S_TOTALS: con_draw_totals(); break;
     case S_MENU: draw_menu(); break;
     case S_EDIT: draw_edit(); break;
     case S_CHOICE: draw_choice(); break;

@@ -114,6 +114,9 @@ uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
 const __code char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id (and, for Valve cal, its dead band digit is 1-9). */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
+/* Value v of parameter id in a record of version ver, in this version's units: Rate 1 was whole
+ * L/ha before version 9 (0, out of every range, for what it cannot have been). */
+uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */
 const __code param_info_t *param_info(uint8_t id);
 /* Bumped by every change, so readers (controller, target) can tell when to pick values up. */

@@ -74,7 +74,6 @@ static uint32_t read32(uint16_t a)
 #define STORE_BYTES_PER_POLL 16u
 /* the learnt figures start a pass's bytes of their own: read from their owners at one time */
 typedef char store_learnt_in_one_pass[(STORE_LEARN_BYTES <= STORE_BYTES_PER_POLL) ? 1 : -1];
-typedef char store_totals_in_one_pass[(8u <= STORE_BYTES_PER_POLL) ? 1 : -1];
 /* record_byte reads the two lifetime totals as one run of 8 bytes, and the job's so */
 typedef char store_life_adjacent[(offsetof(totals_t, life_ml) == offsetof(totals_t, life_m2) + 4u) ? 1 : -1];
 typedef char store_job_adjacent[(offsetof(totals_t, job_ml) == offsetof(totals_t, job_dm2) + 4u) ? 1 : -1];
@@ -100,15 +99,6 @@ static __data uint8_t sv_state;     /* SV_* */
 static __data uint8_t sv_slot;      /* the slot being found, written or checked */
 static __data uint8_t sv_at;        /* its next byte */
 static __data uint8_t sv_lo;        /* the low byte of the value being checked */
-
-/* Value id of a record of version ver in this version's units: Rate 1 was whole L/ha before
- * version 9 (0, out of every range, when it cannot have been one). */
-static uint16_t old_value(uint8_t ver, uint8_t id, uint16_t v) __reentrant
-{
-    if (id == P_RATE && ver < 9u)
-        return v > 1000u ? 0 : v * 10u;
-    return v;
-}
 
 /* Check the record in a slot a few bytes at a time: ck_begin, then ck_more until it returns
  * other than CK_MORE: the number of values the record holds when it has a known header, its
@@ -146,9 +136,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (sv_lo >= 8u)
                 sv.end += STORE_JOB_BYTES;      /* the job totals (version 8 on) */
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
-            if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1),
-                                old_value(hal_eeprom_read(base + 1u), (uint8_t)((sv_at - HDR_VALUES) >> 1),
-                                          (uint16_t)(sv_lo | (uint16_t)b << 8))))
+            if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), param_of_version(hal_eeprom_read(base + 1u),
+                                (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8))))
                 return 0;
         } else if (sv_at == sv.end) {
             if (b != (uint8_t)(sv.crc >> 8))
@@ -227,7 +216,7 @@ uint8_t store_load(void) __reentrant
     params_defaults();
     q = hal_eeprom_read(base + 1u);     /* its version */
     for (s = 0; s < n; s++)
-        param_put(s, old_value((uint8_t)q, s, read16(base + HDR_VALUES + 2u * s)));
+        param_put(s, param_of_version((uint8_t)q, s, read16(base + HDR_VALUES + 2u * s)));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
     if (q >= 8u)                    /* the job after the learnt figures */
         totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
