@@ -1,15 +1,6 @@
 #!/usr/bin/env bash
 # progress_pty.sh: the progress line of long host commands (sim/progress.c, tools/progress.py) shows on a terminal (a pty), never in a pipe, a log or CI.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-SIM=$B/host/bin/sim
-PY=.venv/bin/python
-[ -x "$PY" ] || PY=python3
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { echo "ok - progress: $1"; }
-nok() { echo "not ok - progress: $1"; [ -n "${2:-}" ] && echo "$2" | head -8 | sed 's/^/#   /'; }
+source "$(dirname "$0")/tap.sh" progress
 
 if ! make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1; then
     nok "the simulator builds" "$(cat "$tmp/build.log")"
