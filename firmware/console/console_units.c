@@ -52,16 +52,11 @@ const __code char *con_unit_text(uint8_t cls, const __code char *metric)
     return u ? u->unit : metric;
 }
 
-/* v, of class CON_Q(cls) in form, in the units chosen: x m / d rounded, by parts ((d - 1) m +
- * d / 2 fits 32 bits) */
+/* v, of class CON_Q(cls) in form, in the units chosen: x m / d rounded */
 uint32_t con_q(uint32_t v, uint8_t form)
 {
     const __code con_unit_t *u = con_unit((uint8_t)(form >> 5));
-    uint32_t q;
-    if (!u)
-        return v;
-    q = v / u->d;
-    return q * u->m + ((v - q * u->d) * u->m + u->d / 2u) / u->d;
+    return u ? um_scaled_div(v, u->m, u->d) : v;
 }
 
 /* The form con_q's value is shown with: the unit's decimals (CON_TRIM kept), or form itself. */

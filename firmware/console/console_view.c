@@ -463,7 +463,11 @@ void con_draw(void)
     case S_MENU: draw_menu(); break;
     case S_EDIT: draw_edit(); break;
     case S_CHOICE: draw_choice(); break;
-    case S_IOTEST: con_draw_iotest(); break;
+    case S_IOTEST:                  /* its message drawn here, not under its frame (the stack) */
+        con_draw_iotest();
+        if (con_msg_on())
+            con_draw_msg();
+        break;
     default: draw_cal(); break;
     }
 }

@@ -60,13 +60,12 @@ int8_t target_nudge_pct(void)
 
 int8_t target_nudge(int8_t dir) __reentrant
 {
-    int8_t step = (int8_t)param_v[P_RATE_STEP], n = tg.nudge_pct;
-    if (!dir)
-        n = 0;
-    else if (dir > 0)
-        n = n + step > TARGET_NUDGE_MAX ? TARGET_NUDGE_MAX : n + step;
-    else
-        n = n - step < -TARGET_NUDGE_MAX ? -TARGET_NUDGE_MAX : n - step;
+    int8_t step = (int8_t)param_v[P_RATE_STEP], n;   /* |offset| + step <= 100: within int8 */
+    n = dir ? (int8_t)(tg.nudge_pct + (dir > 0 ? step : -step)) : 0;
+    if (n > TARGET_NUDGE_MAX)
+        n = TARGET_NUDGE_MAX;
+    else if (n < -TARGET_NUDGE_MAX)
+        n = -TARGET_NUDGE_MAX;
     if (n != tg.nudge_pct) {
         tg.nudge_pct = n;
         tg.valid = 0;               /* derived again at the next update */

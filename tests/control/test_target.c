@@ -204,9 +204,10 @@ static void test_target_nudge_steps_the_rate_in_use_within_50_pct(void **state)
     target_nudge(0);
 }
 
-/* Two presets: Preset picks Rate 1 or Rate 2; choosing the other clears the nudge and a field
- * computer's rate (the operator's choice stands); a remote rate stands in for the preset in
- * use, its window around that preset, and the nudge applies on top of it. */
+/* Two presets: Preset picks Rate 1 or Rate 2; the nudge, an offset of the rate in use, stays
+ * over a change of preset; a remote rate stands in for the preset in use, its window around
+ * that preset (a change of preset that leaves it outside drops it), the nudge on top of it.
+ * 8 km/h on 18 m: L/ha x 8 x 18 / 600 L/min. */
 static void test_target_presets_and_the_remote_rate_in_their_place(void **state)
 {
     (void)state;
@@ -218,21 +219,26 @@ static void test_target_presets_and_the_remote_rate_in_their_place(void **state)
     assert_int_equal(target_rate_x10(), 1575);
     assert_true(param_set(P_PRESET, 1));
     target_update(0x3F);
-    assert_int_equal(target_nudge_pct(), 0);
-    assert_int_equal(target_rate_x10(), 2000);
-    assert_int_equal(target_flow_x100(800), 4800);      /* 200 x 8 x 18 / 600 */
-    /* a remote rate within 50 % of Rate 2 (100.0 .. 300.0), refused around Rate 1's */
+    assert_int_equal(target_nudge_pct(), 5);
+    assert_int_equal(target_rate_x10(), 2100);
+    assert_int_equal(target_flow_x100(800), 5040);      /* 210 x 8 x 18 / 600 */
+    target_nudge(0);
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(800), 4800);
+    /* a remote rate within 50 % of Rate 2 (100.0 .. 300.0) */
     assert_true(param_set(P_REMOTE, 1));
     assert_int_equal(target_remote_rate(2900), 1);
     assert_int_equal(target_rate_x10(), 2900);
     target_nudge(-1);
     assert_int_equal(target_rate_x10(), 2755);          /* 290.0 x 0.95 */
-    assert_true(param_set(P_PRESET, 0));                /* back to Rate 1: the remote rate goes */
+    assert_true(param_set(P_PRESET, 0));                /* Rate 1's window, 75.0 .. 225.0, leaves it out */
     target_update(0x3F);
     assert_int_equal(target_rate_remote(), 0);
-    assert_int_equal(target_rate_x10(), 1500);
-    assert_int_equal(target_remote_rate(2900), 0);      /* outside 75.0 .. 225.0 */
+    assert_int_equal(target_rate_x10(), 1425);          /* 150.0 x 0.95 */
+    assert_int_equal(target_remote_rate(2900), 0);
+    assert_int_equal(target_remote_rate(2200), 1);      /* inside it */
     assert_true(param_set(P_REMOTE, 0));
+    target_nudge(0);
 }
 
 int main(void)
