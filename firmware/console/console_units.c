@@ -16,7 +16,7 @@
  */
 static const __code con_unit_t units[CU_COUNT - 1][2] = {   /* US, turf */
     {{"gal/ac", 1, 2376u, 22225u}, {"gal/M", 2, 240u, 9779u}},      /* rate: x10, x100 */
-    {{"mph", 1, 3125u, 50292u}, {"mph", 1, 3125u, 50292u}},        /* speed x10 */
+    {{"mph", 1, 3125u, 50292u}, {"mph", 1, 3125u, 50292u}},        /* speed: km/h x100 -> mph x10 */
     {{"PSI", 1, 59187u, 40808u}, {"PSI", 1, 59187u, 40808u}},      /* pressure x10 */
     {{"gal", 0, 15821u, 59889u}, {"gal", 0, 15821u, 59889u}},      /* volume */
     {{"gpm", 2, 15821u, 59889u}, {"gpm", 2, 15821u, 59889u}},      /* flow x100 */
