@@ -26,11 +26,11 @@
 static struct {
     uint8_t prime;                  /* periods of start-up closing left (0: done) */
     uint8_t parked;                 /* boom shut and the bypass found at its open stop, or held */
-    union {
-        uint16_t p_hold;            /* kPa the boom sprayed at (filtered), 0: park open */
-        int16_t f1;                 /* priming (p_hold 0 then): the meter's flow a period ago */
-    } u;
+    uint16_t p_hold;                /* kPa the boom sprayed at (filtered), 0: park open */
 } dv;
+/* x100 L/min: the meter's flow a period ago, while the start-up closing runs (drive_auto; the
+ * direct RAM, as XRAM is at its floor) */
+static __data int16_t prime_flow_last;
 
 /* 1: the meter read half the target since the boom opened in auto (drive_starved) */
 static __bit flowed;
@@ -41,7 +41,7 @@ void drive_init(void)
 {
     dv.prime = 0;
     dv.parked = 0;
-    dv.u.p_hold = 0;
+    dv.p_hold = 0;
 }
 
 /* The boom opens: the start-up closing at full duty while the line is under P start (the
@@ -49,10 +49,10 @@ void drive_init(void)
  * from rest. */
 void drive_spray_on(uint8_t manual)
 {
-    dv.prime = (!manual && !dv.u.p_hold && analog_pressure_ok()
+    dv.prime = (!manual && !dv.p_hold && analog_pressure_ok()
                 && app_status.pressure_kpa < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
     if (dv.prime)
-        dv.u.f1 = app_status.flow_lpm_x100;
+        prime_flow_last = app_status.flow_lpm_x100;
     flowed = 0;
     ctl_reset(0);
 }
@@ -121,8 +121,8 @@ static q15_t drive_auto(uint8_t overp)
     int16_t rise;
     if (dv.prime) {
         dv.prime--;
-        rise = app_status.flow_lpm_x100 - dv.u.f1;
-        dv.u.f1 = app_status.flow_lpm_x100;
+        rise = app_status.flow_lpm_x100 - prime_flow_last;
+        prime_flow_last = app_status.flow_lpm_x100;
         if (rise < 0)
             rise = 0;
         if (app_status.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok()
@@ -131,10 +131,8 @@ static q15_t drive_auto(uint8_t overp)
             dv.prime = 0;
         else
             drive = Q15_MAX;
-        if (!dv.prime) {
-            dv.u.p_hold = 0;            /* (f1 no more) */
-            ctl_reset(drive);
-        }
+        if (!dv.prime)
+            ctl_reset(drive);           /* (p_hold: 0 since the boom opened, drive_spray_on) */
     }
     if (!dv.prime) {
         app_status.valve_limit = valve_limit() | (overp || drive_starved() ? CTL_NO_CLOSE : 0);
@@ -147,9 +145,9 @@ static q15_t drive_auto(uint8_t overp)
  * done: what a shut boom holds the bypass to. */
 static void drive_hold_learn(void)
 {
-    int16_t d = (int16_t)(app_status.pressure_kpa - dv.u.p_hold);
+    int16_t d = (int16_t)(app_status.pressure_kpa - dv.p_hold);
     if (!dv.prime)
-        dv.u.p_hold = dv.u.p_hold ? (uint16_t)(dv.u.p_hold + ((d + 4) >> 3)) : app_status.pressure_kpa;
+        dv.p_hold = dv.p_hold ? (uint16_t)(dv.p_hold + ((d + 4) >> 3)) : app_status.pressure_kpa;
 }
 
 /* A shut boom: the bypass opens until the pressure is no higher than the boom sprayed at (the
@@ -159,7 +157,7 @@ static void drive_hold_learn(void)
  * moved by hand, the pressure sensor failed) the bypass is parked at its open stop. */
 static q15_t drive_park(void)
 {
-    uint16_t h = dv.u.p_hold;
+    uint16_t h = dv.p_hold;
     if ((valve_limit() & CTL_AT_OPEN)
         || (valve_position() != VALVE_POS_UNKNOWN && valve_position() >= (uint16_t)Q15(0.9))) {
         dv.parked = 1;                      /* open enough (or at the stop): stay, no retries */
@@ -167,7 +165,7 @@ static q15_t drive_park(void)
         /* held within h/16 + APP_HOLD_KPA of the spraying pressure; once held, opened again
          * beyond twice that (the pump sped up) */
         h = (h >> 4) + APP_HOLD_KPA;
-        dv.parked = app_status.pressure_kpa <= dv.u.p_hold + (dv.parked ? 2 * h : h);
+        dv.parked = app_status.pressure_kpa <= dv.p_hold + (dv.parked ? 2 * h : h);
     }
     return dv.parked ? 0 : -Q15_MAX;
 }
@@ -190,13 +188,16 @@ void drive_step(void)
         drive_hold_learn();
     } else {
         if (dv.prime) {
-            dv.prime = 0;                   /* shut while priming: nothing sprayed to hold, */
-            dv.u.p_hold = 0;                /* and f1 is no pressure */
+            dv.prime = 0;                   /* shut while priming: nothing sprayed to hold */
+            dv.p_hold = 0;
         }
         drive = drive_park();
     }
-    if (manual || IO_ON || !analog_pressure_ok())
-        dv.u.p_hold = 0;                    /* the valve moved by hand, or no pressure to hold on */
+    if (manual || IO_ON || !analog_pressure_ok()) {
+        dv.p_hold = 0;                      /* the valve moved by hand, or no pressure to hold on; */
+        prime_flow_last = 0;                /* a start-up closing resumed after it takes its flow as
+                                             * risen from nothing */
+    }
     if (manual || IO_ON)
         flowed = 0;                         /* back in auto the loop may have to close first */
     if (app_status.spraying || manual || IO_ON)

@@ -120,7 +120,8 @@ void con_right_align(uint8_t from)
 
 uint8_t con_is_choice(uint8_t id)
 {
-    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_PRESET || id == P_UNITS;
+    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT || id == P_PRESET
+           || id == P_UNITS;
 }
 
 static const __code char *const __code unit_names[] = {"Metric", "US", "Turf"};
@@ -130,7 +131,9 @@ const __code char *con_choice_name(uint8_t id, uint16_t v)
     if (id == P_MODE)
         return v ? "Manual" : "Auto";
     if (id == P_REMOTE)
-        return v ? "Raven" : "off";
+        return v == 2 ? "Raven 1200" : v ? "Raven 9600" : "off";
+    if (id == P_LOG_UNIT)
+        return v ? "s" : "m";
     if (id == P_PRESET)
         return v ? "Rate 2" : "Rate 1";
     if (id == P_UNITS)

@@ -102,6 +102,8 @@ void speed_init(void)
     sp.pulses = 0;
     sp.v_x100 = 0;
     sp.v_pulse_x100 = 0;
+    sp.v_meas = 0;
+    tk.n = 0;
     sp.quiet = 0xFFFF;
     sp.glitches = 0;
     have_edge = 0;
@@ -201,13 +203,17 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         sp.off[old] -= e;
 }
 
-/* The speed step's working values in the direct RAM: the cheapest addressing the 8051 has, and
- * no stack frame to reach (the step runs once a period, never inside itself). */
-static __data hal_capture_t c;
-static __data uint32_t v;
+/* The step's working values in the direct RAM (the cheapest addressing; the step never nests) */
+static __data struct {
+    hal_capture_t edges;    /* the period's wheel edges */
+    uint32_t v_x100;        /* the newest span's speed, km/h x100: measured, led, slewed */
+    uint16_t ceil_x100;     /* the tracker's speed may not pass it (speed_track_out): where no edge
+                             * came, the speed at which the next would have come; 0x7FFF: one came */
+} wk;
 /* 1: the offsets are learnt and judged (a first turn's are judged at the edge that ends it,
  * after this step's speed: until then they may hold a speed change, not the wheel); speed.h */
 __bit speed_learnt;
+static __bit tk_slipped;    /* 1: the tracker's last edge was a whole pulse off its place */
 
 /* x / 4096, rounded */
 static uint32_t r12(uint32_t x) __reentrant
@@ -215,23 +221,16 @@ static uint32_t r12(uint32_t x) __reentrant
     return (x + 2048u) >> 12;
 }
 
-/* The tracker's working values in the direct RAM (the cheapest addressing; speed_ahead's, which
- * is done with them when the tracker runs): the span (PCA/256), 2^23 over it, the rate's change
- * over it; and `v`, the step's, once the step is done with it. */
-static __data uint16_t tk_t;
-static __data int16_t tk_r, tk_x;
-#define tk_w (*(__data int32_t *)&v)
-
-/* tk_w clipped to the rate's range */
-static uint16_t speed_tk_clip(void) __reentrant
+/* the rate's change over t (PCA/256 ticks) at the tracker's acceleration */
+static int16_t speed_tk_dv(uint16_t t) __reentrant
 {
-    return tk_w < 0 ? 0 : tk_w > (int32_t)SPEED_TK_V_MAX ? SPEED_TK_V_MAX : (uint16_t)tk_w;
+    return (int16_t)(MUL(tk.a, t) >> 13);
 }
 
-/* tk_x: the rate's change over tk_t at the acceleration */
-static void speed_tk_dv(void) __reentrant
+/* a rate clipped to the tracker's range */
+static uint16_t speed_tk_clip(int32_t rate) __reentrant
 {
-    tk_x = (int16_t)(MUL(tk.a, tk_t) >> 13);
+    return rate < 0 ? 0 : rate > (int32_t)SPEED_TK_V_MAX ? SPEED_TK_V_MAX : (uint16_t)rate;
 }
 
 /* The tracker's gains by the edges it has tracked (tk.n, 1 .. SPEED_TK_FILL_N): for its first
@@ -249,49 +248,60 @@ static int16_t speed_tk_gain(uint8_t k) __reentrant
     return tk_gain[tk.n - 1][k];
 }
 
-/* tk_w within 16 bits */
-static int16_t speed_tk_16(void) __reentrant
+/* x within 16 bits */
+static int16_t speed_tk_16(int32_t x) __reentrant
 {
-    return tk_w > 32767 ? 32767 : tk_w < -32767 ? -32767 : (int16_t)tk_w;
+    return x > 32767 ? 32767 : x < -32767 ? -32767 : (int16_t)x;
 }
 
-/* An edge: c.count pulses over sl_dt. The tracker's alpha-beta-gamma step on the position
+/* The tracker from this edge, `span` PCA/256 ticks after the last: its rate, no acceleration. */
+static void speed_tk_start(uint16_t span) __reentrant
+{
+    tk.v = speed_tk_clip((int32_t)(((uint32_t)wk.edges.count << 21) / span));
+    tk.a = tk.e = 0;
+    tk.n = 1;
+    tk_slipped = 0;
+}
+
+/* An edge: wk.edges.count pulses over sl_dt. The tracker's alpha-beta-gamma step on the position
  * (speed.h SPEED_TK_*); after a span over SPEED_TK_T_MAX (a crawl, a stop) it starts again from
  * rest at this edge. */
 static void speed_track(void) __reentrant
 {
-    if (sl_dt >= ((uint32_t)SPEED_TK_T_MAX << 8) || sl_dt <= 0x10000ul) {
-        tk.n = 0;
+    uint16_t span;          /* the newest span, PCA/256 ticks */
+    int16_t dv, resid, part, inv, rate;
+    if (sl_dt >= ((uint32_t)SPEED_TK_T_MAX << 8) || sl_dt < 0x10080ul) {
+        tk.n = 0;               /* (0x10080: span over 256, inv within 16 bits) */
         return;
     }
-    tk_t = (uint16_t)(sl_dt >> 8);
+    span = (uint16_t)((sl_dt + 128u) >> 8);
     if (tk.n == 0) {
-        /* the second edge: the span's rate, no acceleration yet (exact on two edges) */
-        tk_w = ((uint32_t)c.count << 21) / tk_t;
-        tk.v = speed_tk_clip();
-        tk.a = tk.e = 0;
-        tk.n = 1;
+        speed_tk_start(span);
         return;
     }
-    tk_r = (int16_t)(0x800000ul / tk_t);
-    /* the edge's position less the one predicted from the last edge, (v + dv / 2) t, within 16 bits */
-    speed_tk_dv();
-    tk_w = (int32_t)tk.v + (tk_x >> 1);
-    tk_w = ((int32_t)c.count << 12) - tk.e - (int32_t)(UMUL(speed_tk_clip(), tk_t) >> 9);
-    tk_w = speed_tk_16();
-    /* on the steady gains (the first edges fitted), an edge over half a spacing from its place is
-     * a pulse missed or extra (bounce the HAL let through), not the wheel: only what is left of a
-     * whole pulse counts */
-    if (tk.n == SPEED_TK_FILL_N)
-        tk_w = (int16_t)((uint16_t)tk_w << 4) >> 4;
-    tk.e = (int16_t)-(MUL((int16_t)tk_w, 256 - speed_tk_gain(0)) >> 8);
-    /* the residual as a rate over the span (r 2^9 / t; tk_t is done with), then the rate and
-     * the acceleration */
-    tk_t = (uint16_t)(MUL((int16_t)tk_w, tk_r) >> 14);
-    tk_w = (int32_t)tk.v + tk_x + (MUL((int16_t)tk_t, speed_tk_gain(1)) >> 8);
-    tk.v = speed_tk_clip();
-    tk_w = (int32_t)tk.a + (MUL((int16_t)(MUL((int16_t)tk_t, tk_r) >> 14), speed_tk_gain(2)) >> 9);
-    tk.a = speed_tk_16();
+    /* the edge's position less the one predicted from the last edge, (v + dv / 2) t, within 16
+     * bits (1/4096 pulse) */
+    dv = speed_tk_dv(span);
+    resid = speed_tk_16(((int32_t)wk.edges.count << 12) - tk.e
+                        - (int32_t)(UMUL(speed_tk_clip((int32_t)tk.v + (dv >> 1)), span) >> 9));
+    /* on the steady gains an edge over half a spacing from its place is a pulse missed or extra
+     * (bounce the HAL let through): only what is left of a whole pulse counts; two in a row are
+     * the rate off by a whole pulse a span, and the tracker starts again from this span */
+    if (tk.n == SPEED_TK_FILL_N) {
+        part = (int16_t)((uint16_t)resid << 4) >> 4;
+        if (part != resid && tk_slipped) {
+            speed_tk_start(span);
+            return;
+        }
+        tk_slipped = part != resid;
+        resid = part;
+    }
+    inv = (int16_t)(0x800000ul / span);         /* 2^23 / span */
+    tk.e = (int16_t)-(MUL(resid, 256 - speed_tk_gain(0)) >> 8);
+    /* the residual as a rate over the span (resid 2^9 / t), then the rate and the acceleration */
+    rate = (int16_t)(MUL(resid, inv) >> 14);
+    tk.v = speed_tk_clip((int32_t)tk.v + dv + (MUL(rate, speed_tk_gain(1)) >> 8));
+    tk.a = speed_tk_16((int32_t)tk.a + (MUL((int16_t)(MUL(rate, inv) >> 14), speed_tk_gain(2)) >> 9));
     if (tk.n < SPEED_TK_FILL_N)
         tk.n++;
 }
@@ -307,27 +317,23 @@ __bit speed_plain;
 
 static void speed_ahead(void) __reentrant
 {
-#define vm tk_t
-#define d (*(__data uint16_t *)&tk_x)
-    vm = (uint16_t)v;
+    uint16_t meas = (uint16_t)wk.v_x100, lead;
     if (speed_learnt && sp.v_meas && !speed_plain) {
-        d = (vm > sp.v_meas ? vm - sp.v_meas : sp.v_meas - vm) >> 2;
-        if (d > (vm >> SPEED_AHEAD_MAX))
-            d = vm >> SPEED_AHEAD_MAX;
-        v = vm > sp.v_meas ? vm + d : vm - d;
+        lead = (meas > sp.v_meas ? meas - sp.v_meas : sp.v_meas - meas) >> 2;
+        if (lead > (meas >> SPEED_AHEAD_MAX))
+            lead = meas >> SPEED_AHEAD_MAX;
+        wk.v_x100 = meas > sp.v_meas ? meas + lead : meas - lead;
     }
-    sp.v_meas = vm;
-#undef vm
-#undef d
+    sp.v_meas = meas;
 }
 
-/* The wheel's plausibility (speed.h SPEED_JUMP_PERIODS): this span's speed v against the estimate
+/* The wheel's plausibility (speed.h SPEED_JUMP_PERIODS): this span's speed against the estimate
  * before a run of rises (v_base, measured base_age periods ago): a quarter over it, and over the
  * rise SPEED_SLEW_X100 a period allows since. */
 static void speed_judge_rise(void) __reentrant
 {
-    if (sp.v_base && v >= sp.v_base + (sp.v_base >> 2)
-        && v > sp.v_base + UMUL(SPEED_SLEW_X100, sp.base_age)) {
+    if (sp.v_base && wk.v_x100 >= sp.v_base + (sp.v_base >> 2)
+        && wk.v_x100 > sp.v_base + UMUL(SPEED_SLEW_X100, sp.base_age)) {
         if (++sp.rises >= SPEED_JUMP_PERIODS)
             sp.jumped = 1;
     } else {
@@ -335,16 +341,16 @@ static void speed_judge_rise(void) __reentrant
     }
 }
 
-/* The span's speed v judged (speed_judge_rise), then taken as the estimate with its rise
- * limited to SPEED_SLEW_X100 for each period since the last measurement; out of a run of rises,
- * the next base. */
+/* The span's speed judged (speed_judge_rise), then taken as the estimate with its rise limited
+ * to SPEED_SLEW_X100 for each period since the last measurement; out of a run of rises, the next
+ * base. */
 static void speed_slew(void) __reentrant
 {
     uint32_t lim = (uint32_t)sp.v_x100 + UMUL(SPEED_SLEW_X100, sp.since);
     speed_judge_rise();
-    if (v > lim)
-        v = lim;
-    sp.v_x100 = (uint16_t)v;
+    if (wk.v_x100 > lim)
+        wk.v_x100 = lim;
+    sp.v_x100 = (uint16_t)wk.v_x100;
     sp.since = 0;
     if (!sp.rises) {
         sp.v_base = sp.v_x100;
@@ -362,65 +368,72 @@ static void speed_age(void) __reentrant
 }
 
 /* Each period after the edges: offsets unlearnt, the tracker's speed, carried on from the newest
- * edge at the acceleration, under the bound v when no edge came (the speed at which the next one
- * would have come, a spacing of SPEED_TK_NEXT; tk_r; tk_w is v). The acceleration decays. */
+ * edge at the acceleration, under wk.ceil_x100. The acceleration decays. */
 static void speed_track_out(void) __reentrant
 {
+    int32_t since;          /* (an edge the HAL stamped after this period's `now`: just under 0) */
+    uint16_t t, v;
     if (tk.n == SPEED_TK_FILL_N)
         tk.a -= tk.a >> SPEED_TK_DECAY;     /* (the first edges' fit takes it as constant) */
     if (!speed_learnt && have_edge && tk.n >= SPEED_TK_OUT_N && tk.v < SPEED_TK_V_MAX) {
-        tk_r = c.count || v > 32767u ? 32767 : (int16_t)v;
-        tk_w = hal_pca_now() - sp.last_pca;
-        tk_t = tk_w >= ((int32_t)SPEED_TK_T_MAX << 8) ? SPEED_TK_T_MAX : (uint16_t)(tk_w >> 8);
-        speed_tk_dv();
-        tk_w = (int32_t)tk.v + tk_x;
-        tk_t = (uint16_t)(UMUL(speed_tk_clip(), (uint16_t)(sp.k >> 14)) >> 15);     /* k v / 2^29 */
-        sp.v_x100 = tk_t < (uint16_t)tk_r ? tk_t : (uint16_t)tk_r;
+        since = (int32_t)(hal_pca_now() - sp.last_pca);
+        t = since >= ((int32_t)SPEED_TK_T_MAX << 8) ? SPEED_TK_T_MAX : (uint16_t)(since >> 8);
+        v = (uint16_t)(UMUL(speed_tk_clip((int32_t)tk.v + speed_tk_dv(t)), (uint16_t)(sp.k >> 14)) >> 15);     /* k rate / 2^29 */
+        sp.v_x100 = v < wk.ceil_x100 ? v : wk.ceil_x100;
     }
+}
+
+/* The HAL's bounce filter: no pulse sooner than a quarter of the period at 1.5 times the speed,
+ * the last span's where faster than the estimate (slewed: from rest it would refuse the wheel's
+ * own pulses); at standstill 60 km/h (the last span may be a crawl's, long before). */
+static void speed_bounce_filter(void) __reentrant
+{
+    uint16_t v = sp.v_x100 && sp.v_meas > sp.v_x100 ? sp.v_meas : sp.v_x100;
+    hal_wheel_min_interval(um_muldiv(sp.k, 1, v ? UMUL(v, 6u) : SPEED_MAX_X100 * 4ul));
 }
 
 uint16_t speed_step(void) __reentrant
 {
-
     if (sp.gen != param_generation)
         speed_derive();
-    hal_wheel_capture_take(&c);
+    hal_wheel_capture_take(&wk.edges);
     speed_learnt = sp.shift && !(sp.drift & SPEED_FIRST_TURN);
-    if (c.rejected)
-        sp.glitches += c.rejected;
+    if (wk.edges.rejected)
+        sp.glitches += wk.edges.rejected;
     speed_age();
-    if (c.count) {
+    if (wk.edges.count) {
         uint8_t old = sp.idx, nw;
-        uint16_t w = sp.idx + c.count;
+        uint16_t w = sp.idx + wk.edges.count;
         while (w >= sp.n)
             w -= sp.n;              /* (idx + count) mod n without a divide */
         nw = (uint8_t)w;
-        sp.pulses += c.count;
+        sp.pulses += wk.edges.count;
         sp.quiet = 0;
+        wk.ceil_x100 = 0x7FFF;
         if (!have_edge)
             tk.n = 0;               /* the tracker starts again from this edge */
         if (have_edge) {
-            sl_dt = c.last - sp.last_pca;
+            sl_dt = wk.edges.last - sp.last_pca;
             /* the distance the span covers, in 1/4096 of a pulse spacing: each element's
              * learnt offset takes the wheel's spacing error out of the period */
-            w = c.count < 15u ? (uint16_t)(((uint16_t)c.count << 12) + sp.off[nw] - sp.off[old]) : c.count;
-            v = um_muldiv(sp.k, w, sl_dt);
-            if (c.count < 15u)
-                v = r12(v);
-            if (c.last == sp.last_pca || v > SPEED_MAX_X100) {
+            w = wk.edges.count < 15u ? (uint16_t)(((uint16_t)wk.edges.count << 12) + sp.off[nw] - sp.off[old]) : wk.edges.count;
+            wk.v_x100 = um_muldiv(sp.k, w, sl_dt);
+            if (wk.edges.count < 15u)
+                wk.v_x100 = r12(wk.v_x100);
+            if (wk.edges.last == sp.last_pca || wk.v_x100 > SPEED_MAX_X100) {
                 sp.glitches++;
             } else {
                 sp.idx = nw;
                 speed_ahead();
                 speed_slew();
                 if (sp.n > 1)
-                    speed_track();      /* (the last use of v in this period's edge) */
+                    speed_track();
             }
         }
         sp.idx = nw;
-        sp.last_pca = c.last;
-        if (sp.n > 1 && have_edge && c.count < 15u)
-            speed_learn((uint8_t)c.count, old);
+        sp.last_pca = wk.edges.last;
+        if (sp.n > 1 && have_edge && wk.edges.count < 15u)
+            speed_learn((uint8_t)wk.edges.count, old);
         have_edge = 1;
         sp.v_pulse_x100 = sp.v_x100;
     } else {
@@ -431,9 +444,10 @@ uint16_t speed_step(void) __reentrant
              * offsets are learnt (a turn's being learnt may hold a speed change) */
             uint8_t nx = sp.idx + 1u == sp.n ? 0 : sp.idx + 1u;
             uint16_t w = speed_learnt ? (uint16_t)(4096 + sp.off[nx] - sp.off[sp.idx]) : SPEED_TK_NEXT;
-            v = r12(um_muldiv(sp.k, w, hal_pca_now() - sp.last_pca));
-            if (v < sp.v_x100)
-                sp.v_x100 = (uint16_t)v;
+            uint32_t next = r12(um_muldiv(sp.k, w, hal_pca_now() - sp.last_pca));
+            wk.ceil_x100 = next > 0x7FFFu ? 0x7FFF : (uint16_t)next;
+            if (wk.ceil_x100 < sp.v_x100)
+                sp.v_x100 = wk.ceil_x100;
             if (sp.quiet >= SPEED_STALE_PERIODS) {
                 have_edge = 0;   /* before the 32-bit PCA time can wrap */
                 sp.v_meas = 0;      /* ... and no span before the next one */
@@ -449,8 +463,7 @@ uint16_t speed_step(void) __reentrant
         sp.v_x100 = 0;
         sp.jumped = 0;              /* a stop ends the suspicion: the wheel starts again from rest */
     }
-    /* a pulse sooner than a quarter of the period at 1.5 times this speed is not a pulse */
-    hal_wheel_min_interval(um_muldiv(sp.k, 1, sp.v_x100 ? UMUL(sp.v_x100, 6u) : SPEED_MAX_X100 * 4ul));
+    speed_bounce_filter();
     return sp.v_x100;
 }
 

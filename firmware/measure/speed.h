@@ -31,8 +31,12 @@
  * the speed at which the next edge would have come. It starts on the expanding-memory gains (the
  * least-squares quadratic through the edges so far) and settles on SPEED_TK_*'s; a speed taken
  * over a window of spans lags by half the window, which at a start from standstill left the
- * target 5-14 % under the truth for a second and a half. A pulse sooner than a quarter of the period at 1.5 times the speed is
- * dropped by the HAL (bounce, interference) and counted as a glitch.
+ * target 5-14 % under the truth for a second and a half. On its steady gains an edge a whole
+ * pulse off its place is a pulse missed or extra and only the rest of it counts; two such edges
+ * in a row are the tracker's rate off by a pulse a span, and it starts again from the span. A
+ * pulse sooner than a quarter of the period at 1.5 times the speed (the estimate's, or the last
+ * span's where that is faster: the estimate's rise is slewed; at standstill none) is dropped by
+ * the HAL (bounce, interference) and counted as a glitch.
  * The distance per pulse is P_WHEEL (0.1 mm); its 100 m calibration counts
  * speed_pulses() over a measured 100 m: P_WHEEL = 1000000 / pulses.
  */

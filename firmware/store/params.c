@@ -109,7 +109,7 @@ const __code char *param_why_text(uint8_t why)
 
 uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v)
 {
-    if (id == P_RATE && ver < 9u)
+    if (id == P_RATE && ver < 10u)
         return v > 1000u ? 0 : v * 10u;
     return v;
 }

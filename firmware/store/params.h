@@ -10,9 +10,9 @@
  * link, the EEPROM store and the scenario reader all go through this table; nothing else
  * holds a setting.
  */
-/* Control: the field image carries bp_pid (2, the paper's) and ffmap (3, the default); the
- * research image (FW_PEERS) all six of ctl.h */
-#define P_CTL_MIN (FW_PEERS ? 0 : 2)
+/* Control: the field image carries ffmap (3) only; the research image (FW_PEERS) all six of
+ * ctl.h, the paper's bp_pid among them */
+#define P_CTL_MIN (FW_PEERS ? 0 : 3)
 #define P_CTL_MAX (FW_PEERS ? 5 : 3)
 #define PARAM_TABLE(X)                                                              \
     X(P_RATE,        "Rate 1",     "L/ha",  1,   100, 10000, 1500)  /* eq. (1) C: the first preset */ \
@@ -39,14 +39,17 @@
     X(P_VALVE_BRK,   "Min duty",   "%",     0,     5,    90,   20)  /* the valve's break-away duty, or a little above */ \
     X(P_VALVE_SLACK, "Backlash",   "%",     1,     0,   100,   20)  /* the valve's backlash, % of the stroke, or a little under */ \
     X(P_WHEEL_PPR,   "Wheel p/rev","",      0,     1,    16,   12)  /* wheel pulses a turn: their spacing error is learnt */ \
-    X(P_AOG_KP,      "AOG Kp",     "",      1,     0,  1500,  100)  /* aog: PWM counts (of 255) a L/min of error */ \
-    X(P_AOG_KI,      "AOG Ki",     "",      2,     0,  2000,    0)  /* aog: PWM counts a L/min a 50 ms loop */ \
-    X(P_AOG_KD,      "AOG Kd",     "",      1,     0,   500,    0)  /* aog: PWM counts a L/min of flow change a 50 ms loop */ \
-    X(P_AOG_MIN,     "AOG minPWM", "",      0,     0,   255,   60)  /* aog: the smallest drive, PWM counts */ \
+    X(P_AOG_KP,      "AOG Kp",     "",      0,     0,  1500,   45)  /* aog: as the app sets it (the module's Kp x 100) */ \
+    X(P_AOG_KI,      "AOG Ki",     "",      0,     0,  2000,   70)  /* aog: as the app sets it (the module's Ki x 100) */ \
+    X(P_AOG_BRAKE,   "AOG brake",  "%",     1,     0,   500,  350)  /* aog: the brake point, % of the target */ \
+    X(P_AOG_MIN,     "AOG minPWM", "",      0,     0,   255,    5)  /* aog: the smallest drive, PWM counts */ \
     X(P_AOG_MAX,     "AOG maxPWM", "",      0,     1,   255,  255)  /* aog: the largest drive, PWM counts */ \
     X(P_RAVEN_CAL,   "Valve cal",  "",      0,    11,  9999, 2123)  /* raven: backlash, speed, brake point, dead band digits */ \
-    X(P_REMOTE,      "Remote",     "",      0,     0,     1,    0)  /* 0 off, 1 Raven strings on the serial link */ \
+    X(P_REMOTE,      "Remote",     "",      0,     0,     2,    0)  /* 0 off; the link a Raven console's at 1 9600, 2 1200 baud (remote.h) */ \
     X(P_REMOTE_WIN,  "Remote win", "%",     0,     1,   100,   50)  /* a remote rate within this of the preset */ \
+    X(P_LOG_EVERY,   "Log every",  "",      0,     0,  9999,    1)  /* Raven's data logger trigger, in Log unit; 0 off */ \
+    X(P_LOG_UNIT,    "Log unit",   "",      0,     0,     1,    1)  /* 0 metres, 1 seconds */ \
+    X(P_AOG_SLOW,    "AOG slow",   "%",     0,     1,   100,   60)  /* aog: the gain inside the brake point, % */ \
     X(P_RATE2,       "Rate 2",     "L/ha",  1,   100, 10000, 2000)  /* the second preset */ \
     X(P_PRESET,      "Preset",     "",      0,     0,     1,    0)  /* 0 Rate 1, 1 Rate 2 in use */ \
     X(P_RATE_STEP,   "Rate step",  "%",     0,     1,    50,    5)  /* a nudge of the rate in use */ \
@@ -56,18 +59,20 @@
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 9            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+#define PARAMS_VERSION 10           /* bump when the table or the EEPROM record changes (2: lifetime totals,
                                      * 3: Min duty and Backlash appended, 4: Wheel p/rev appended, 5: the peers'
                                      * settings and Remote appended, 6: the learnt figures after the totals,
                                      * 7: ffmap's speed feed-forward among them, 8: the job totals after them,
-                                     * 9: Dose as Rate 1 in 0.1 L/ha, Rate 2, Preset, Rate step and Units
-                                     * appended;
-                                     * a copy of version 2 to 8 still loads, the values appended since at
-                                     * their defaults) */
+                                     * 9: Raven's data logger trigger and AOG slow appended, the aog peer's
+                                     * settings in the current RateControl's units, AOG brake in AOG Kd's
+                                     * place, 10: Dose as Rate 1 in 0.1 L/ha, Rate 2, Preset, Rate step and
+                                     * Units appended; a copy of version 2 to 9 still loads, the values
+                                     * appended since and (before 9) the aog settings at their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
 #define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 #define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */
 #define PARAMS_V8_COUNT 32          /* P_COUNT of versions 5 to 8: up to P_REMOTE_WIN */
+#define PARAMS_V9_COUNT 35          /* P_COUNT of version 9: up to P_AOG_SLOW */
 
 typedef struct {
     const __code char *name;

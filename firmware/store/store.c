@@ -68,12 +68,13 @@ static uint32_t read32(uint16_t a)
  * order they did in one pass, so a power cut anywhere still leaves the newest record or the
  * previous one. The values are written over several passes: a settings change before the
  * CRC abandons the half-written slot (it reads as a cut write) and starts again in the next
- * one, so that a record never mixes two sets. The lifetime totals are written within one pass
- * (the chunk check below), so both are from the same step.
+ * one, so that a record never mixes two sets. The lifetime totals start a pass of their own
+ * and are written within it, so both are from the same step.
  */
 #define STORE_BYTES_PER_POLL 16u
 /* the learnt figures start a pass's bytes of their own: read from their owners at one time */
 typedef char store_learnt_in_one_pass[(STORE_LEARN_BYTES <= STORE_BYTES_PER_POLL) ? 1 : -1];
+typedef char store_totals_in_one_pass[(8u <= STORE_BYTES_PER_POLL) ? 1 : -1];
 /* record_byte reads the two lifetime totals as one run of 8 bytes, and the job's so */
 typedef char store_life_adjacent[(offsetof(totals_t, life_ml) == offsetof(totals_t, life_m2) + 4u) ? 1 : -1];
 typedef char store_job_adjacent[(offsetof(totals_t, job_ml) == offsetof(totals_t, job_dm2) + 4u) ? 1 : -1];
@@ -123,7 +124,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (b != STORE_MAGIC)
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (!((sv_lo == PARAMS_VERSION && b == P_COUNT) || (sv_lo >= 5u && sv_lo < PARAMS_VERSION && b == PARAMS_V8_COUNT)
+            if (!((sv_lo == PARAMS_VERSION && b == P_COUNT) || (sv_lo >= 5u && sv_lo < 9u && b == PARAMS_V8_COUNT)
+                  || (sv_lo == 9u && b == PARAMS_V9_COUNT)
                   || (sv_lo == 2u && b == PARAMS_V2_COUNT)
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
@@ -186,7 +188,7 @@ static uint8_t started_after(uint8_t slot) __reentrant
 
 uint8_t store_load(void) __reentrant
 {
-    uint8_t s, newest_slot = NO_SLOT, n;
+    uint8_t s, newest_slot = NO_SLOT, n, ver;
     uint16_t q, newest_q = 0, base;
     sv_state = SV_IDLE;             /* no save runs from before */
     sv.flags = 0;
@@ -213,12 +215,13 @@ uint8_t store_load(void) __reentrant
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
     base = slot_base(newest_slot);
     n = record_valid(newest_slot);
+    ver = hal_eeprom_read(base + 1u);
     params_defaults();
-    q = hal_eeprom_read(base + 1u);     /* its version */
-    for (s = 0; s < n; s++)
-        param_put(s, param_of_version((uint8_t)q, s, read16(base + HDR_VALUES + 2u * s)));
+    for (s = 0; s < n; s++)         /* (before version 9 the aog settings were another loop's) */
+        if (ver >= 9u || s < P_AOG_KP || s > P_AOG_MAX)
+            param_put(s, param_of_version(ver, s, read16(base + HDR_VALUES + 2u * s)));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (q >= 8u)                    /* the job after the learnt figures */
+    if (ver >= 8u)                  /* the job after the learnt figures */
         totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
     else
         totals_set_job(0, 0);       /* an older copy has none */

@@ -210,6 +210,117 @@ static void test_speed_above_60_kmh_is_a_glitch(void **state)
     }
 }
 
+/* The speed an even pulse train means, worked by hand from the wheel cal: P_WHEEL (0.1 mm a
+ * pulse) over the spacing, m/s x3.6 km/h, x100 */
+static double kmh_x100_of_spacing(double spacing_ns)
+{
+    return param_v[P_WHEEL] * 1e-4 / (spacing_ns * 1e-9) * 3.6 * 100.0;
+}
+
+/* Evenly spaced pulses, `spacing_ns` apart from `w->next_ns` on, for `periods` periods; from
+ * `check_from` on, the worst error against the speed the spacing means (x0.01 km/h, signed as
+ * its largest magnitude); *v_last the last reading. */
+static int sweep_hold(train_t *w, double spacing_ns, int periods, int check_from, uint16_t *v_last)
+{
+    const double truth = kmh_x100_of_spacing(spacing_ns);
+    double worst = 0.0;
+    w->period_ns = spacing_ns;
+    for (int i = 0; i < periods; i++) {
+        advance(w, NULL);
+        *v_last = speed_step();
+        double e = *v_last - truth;
+        if (i >= check_from && fabs(e) > fabs(worst))
+            worst = e;
+    }
+    return (int)lround(worst);
+}
+
+/* How long the estimate may take to reach a speed from `from`: the rise slewed at SPEED_SLEW_X100
+ * a period (falls as 1/t, sooner), `edges` spacings to time and 2 s more; in periods. */
+static int settle_periods(double from_x100, double to_x100, double spacing_ns, int edges)
+{
+    double rise = to_x100 > from_x100 ? (to_x100 - from_x100) / SPEED_SLEW_X100 : 0.0;
+    return (int)ceil(rise + edges * spacing_ns / PERIOD_NS) + 20;
+}
+
+/* An even wheel, from rest, at every speed of 0.5 .. 60 km/h (the range: SPEED_ZERO_X100 ..
+ * SPEED_MAX_X100) and two phases of the first pulse against the period: once risen, each
+ * reading is within 0.2 % (+1 LSB) of the speed the spacing means, and not one of the wheel's
+ * own pulses is refused as a glitch (the estimate's rise is slewed: a bounce filter set from it
+ * alone would refuse a start's pulses, and a tracker that took a whole pulse a span as a slip
+ * would lock onto the wrong rate). */
+static void test_speed_from_rest_reads_the_spacing_from_0_5_to_60_kmh(void **state)
+{
+    int fails = 0;
+    double worst_pct = 0.0;
+    (void)state;
+    for (int phase = 0; phase < 2; phase++) {
+        for (int k = 0; k <= 60; k++) {
+            const double kmh = k ? k : 0.5;
+            const double spacing = round(param_v[P_WHEEL] * 1e-4 / (kmh / 3.6) * 1e9);
+            const double truth = kmh_x100_of_spacing(spacing);
+            train_t w = {0};
+            uint16_t v = 0;
+            setup(NULL);
+            now_ns = 0;
+            hal_host_set_time_ns(0);
+            w.on = 1;
+            w.next_ns = phase ? 91e6 : 37e6;
+            int settle = settle_periods(0.0, truth, spacing, 3);
+            int e = sweep_hold(&w, spacing, settle + 30, settle, &v);
+            int tol = (int)(truth * 0.002) + 1;
+            worst_pct = fmax(worst_pct, 100.0 * (abs(e) - 1) / truth);    /* past the LSB */
+            if (abs(e) > tol || speed_glitches() != 0) {
+                printf("# from rest to %.2f km/h (first pulse at %.0f ms): worst error %d x 0.01 km/h "
+                       "(bound %d), last %u, %u glitches\n", truth / 100.0, phase ? 91.0 : 37.0, e, tol, v,
+                       speed_glitches());
+                fails++;
+            }
+        }
+    }
+    printf("# from rest, 0.5 .. 60 km/h, 2 phases: %d speeds off, worst error %.3f %% past the LSB\n", fails, worst_pct);
+    assert_int_equal(fails, 0);
+}
+
+/* The same even wheel through steps up and down (each up-step under 6 times the speed before:
+ * pulses at more than that are the HAL's bounce, speed.c), from before its spacing is learnt
+ * (1 s holds) and after it is (10 s holds): once settled (the slewed rise, 20 edges for the
+ * tracker's step response, 2 s), each hold reads within 0.2 % (+1 LSB)
+ * of the speed its spacing means. */
+static void test_speed_through_steps_reads_the_spacing(void **state)
+{
+    static const double seq[] = {8, 30, 12, 45, 20, 60, 16, 50, 25, 5, 0.5, 2, 7, 28, 57, 3, 10, 40, 1};
+    int fails = 0;
+    double worst_pct = 0.0;
+    (void)state;
+    for (int pass = 0; pass < 2; pass++) {
+        train_t w = {0};
+        double prev = 0.0;
+        setup(NULL);
+        now_ns = 0;
+        hal_host_set_time_ns(0);
+        w.on = 1;
+        w.next_ns = 37e6;
+        for (size_t j = 0; j < sizeof seq / sizeof *seq; j++) {
+            const double spacing = round(param_v[P_WHEEL] * 1e-4 / (seq[j] / 3.6) * 1e9);
+            const double truth = kmh_x100_of_spacing(spacing);
+            uint16_t v = 0;
+            int settle = settle_periods(prev, truth, spacing, 20);
+            int e = sweep_hold(&w, spacing, settle + (pass ? 100 : 10), settle, &v);
+            int tol = (int)(truth * 0.002) + 1;
+            worst_pct = fmax(worst_pct, 100.0 * (abs(e) - 1) / truth);    /* past the LSB */
+            if (abs(e) > tol) {
+                printf("# %s: %.2f -> %.2f km/h: worst error %d x 0.01 km/h (bound %d), last %u\n",
+                       pass ? "long holds" : "short holds", prev / 100.0, truth / 100.0, e, tol, v);
+                fails++;
+            }
+            prev = truth;
+        }
+    }
+    printf("# steps through 0.5 .. 60 km/h: %d holds off, worst error %.3f %% past the LSB\n", fails, worst_pct);
+    assert_int_equal(fails, 0);
+}
+
 /* A wheel of 12 elements whose positions are off by a fixed pattern (+-3 % of a spacing, summing
  * to zero over a turn), at a steady 7 km/h: a single period would read the pattern as speed, up
  * to 5 % off; until the offsets are learnt the tracker's filter on the edges' positions takes
@@ -238,6 +349,47 @@ static void tractor_to_now(double aim, double *v, double *x, double *t, uint64_t
         *v += a * 1e-4;
         roll(*v, x, t, k, pattern);
     }
+}
+
+/* The drive of a headland turn (m/s at t s): 7 km/h, down to rest over 5 s, 5.3 s at rest, up to
+ * 9.4 km/h over 6 s */
+static double headland_aim(double t)
+{
+    return (t < 30.0 ? 7.0 : t < 35.0 ? 7.0 * (35.0 - t) / 5.0 : t < 40.3 ? 0.0
+            : t < 46.3 ? 9.4 * (t - 40.3) / 6.0 : 9.4) / 3.6;
+}
+
+/* The spacing test's wheel learnt at 7 km/h, then a headland turn (headland_aim; the tractor's 1 s
+ * lag: the last spans before the stop and the first after it a crawl), the wheel stopping at 8
+ * places between two edges: not one of the wheel's pulses is refused as a glitch (a bounce filter
+ * set from the crawl's span would refuse the start's next pulses, and the learnt offsets would
+ * then sit on the wrong elements), and from 10 s after the start every period is within 0.5 %
+ * (+1 LSB) of the truth. */
+static void test_speed_after_a_stop_keeps_every_pulse_of_the_start(void **state)
+{
+    double worst = 0.0;
+    unsigned glitches = 0;
+    (void)state;
+    for (int phase = 0; phase < 8; phase++) {
+        double v = 0.0, x = phase * 0.3927 / 8, t = 0.0;
+        uint64_t k = 1;
+        setup(NULL);
+        now_ns = 0;
+        hal_host_set_time_ns(0);
+        for (int p = 0; p < 660; p++) {
+            now_ns += PERIOD_NS;
+            tractor_to_now(headland_aim(p * 0.1), &v, &x, &t, &k);
+            hal_host_set_time_ns(now_ns);
+            uint16_t m = speed_step();
+            if (p >= 563)
+                worst = fmax(worst, (fabs(m - v * 360.0) - 1.0) / (v * 360.0));
+        }
+        glitches += speed_glitches();
+    }
+    printf("# a headland turn at 8 wheel phases: %u glitches, worst period error %.2f %% past the LSB from "
+           "10 s after the start\n", glitches, 100 * worst);
+    assert_int_equal(glitches, 0);
+    assert_true(worst <= 0.005);
 }
 
 static void test_speed_learns_the_element_spacing_and_drops_bounce(void **state)
@@ -887,7 +1039,10 @@ int main(void)
         cmocka_unit_test_setup(test_speed_tracker_follows_a_step_and_settles, setup),
         cmocka_unit_test_setup(test_speed_rejects_a_burst_of_impossible_pulses, setup),
         cmocka_unit_test_setup(test_speed_above_60_kmh_is_a_glitch, setup),
+        cmocka_unit_test_setup(test_speed_from_rest_reads_the_spacing_from_0_5_to_60_kmh, setup),
+        cmocka_unit_test_setup(test_speed_through_steps_reads_the_spacing, setup),
         cmocka_unit_test_setup(test_speed_learns_the_element_spacing_and_drops_bounce, setup),
+        cmocka_unit_test_setup(test_speed_after_a_stop_keeps_every_pulse_of_the_start, setup),
         cmocka_unit_test_setup(test_speed_learns_a_wheel_whose_spans_differ_by_a_quarter, setup),
         cmocka_unit_test_setup(test_speed_does_not_learn_a_change_of_speed_as_spacing, setup),
         cmocka_unit_test_setup(test_speed_learns_no_speed_change_begun_inside_a_turn, setup),

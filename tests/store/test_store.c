@@ -74,9 +74,21 @@ static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t ve
     e[n + 1] = (uint8_t)crc;
 }
 
+/* a copy of this version's or of an older one's table (version 9: PARAMS_V9_COUNT values, 5 to 8:
+ * PARAMS_V8_COUNT) */
 static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t version)
 {
-    twin_write_n(sector, seq, v, version, P_COUNT);
+    twin_write_n(sector, seq, v, version, version == PARAMS_VERSION ? P_COUNT
+                                          : version == 9 ? PARAMS_V9_COUNT : PARAMS_V8_COUNT);
+}
+
+/* v as a version 5-8 record leaves it loaded: the values appended since and the aog peer's
+ * (another loop's settings then) at their defaults */
+static void as_v8(uint16_t *v)
+{
+    for (int i = 0; i < P_COUNT; i++)
+        if (i >= PARAMS_V8_COUNT || (i >= P_AOG_KP && i <= P_AOG_MAX))
+            v[i] = param_info((uint8_t)i)->def;
 }
 
 /* A set of in-range values that differ from the defaults, numbered by k. */
@@ -618,6 +630,7 @@ static void test_store_keeps_the_job_totals(void **state)
      * figures after its own count of values */
     hal_host_reset();
     old_rate(a);
+    as_v8(a);
     twin_learnt[0] = 0x43;
     twin_job_dm2 = 1234567UL;
     twin_job_ml = 89012UL;
@@ -633,7 +646,8 @@ static void test_store_keeps_the_job_totals(void **state)
     /* version 7: the same layout less the job */
     hal_host_reset();
     twin_learnt[0] = 0x42;
-    twin_write_n(0, 8, a, 7, PARAMS_V8_COUNT);
+    as_v8(a);
+    twin_write(0, 8, a, 7);
     twin_learnt[0] = 0xFF;
     totals_init();
     totals_set_job(1u, 1u);
@@ -641,6 +655,44 @@ static void test_store_keeps_the_job_totals(void **state)
     assert_true(equals_old(a, PARAMS_V8_COUNT));
     assert_int_equal(totals_get()->job_dm2, 0);
     assert_int_equal(store_learnt(0), 0x42);
+    /* version 8: a shorter table, its learnt figures and job after it; its aog settings (the
+     * former loop's) at their defaults */
+    hal_host_reset();
+    uint16_t w[P_COUNT];
+    values_k(w, 5);
+    assert_int_not_equal(w[P_AOG_KP], param_info(P_AOG_KP)->def);
+    twin_learnt[0] = 0x43;
+    twin_job_dm2 = 4242u;
+    twin_job_ml = 99u;
+    old_rate(w);
+    twin_write(0, 8, w, 8);
+    twin_learnt[0] = 0xFF;
+    twin_job_dm2 = twin_job_ml = 0;
+    totals_init();
+    assert_int_equal(store_load(), STORE_OK);
+    as_v8(w);
+    assert_true(equals_old(w, PARAMS_V8_COUNT));
+    assert_int_equal(param_v[P_AOG_KP], 45);
+    assert_int_equal(totals_get()->job_dm2, 4242u);
+    assert_int_equal(totals_get()->job_ml, 99u);
+    assert_int_equal(store_learnt(0), 0x43);
+    assert_int_equal(param_v[P_LOG_EVERY], 1);
+    /* version 9: Raven's settings and the aog peer's kept, Rate 1 whole L/ha (123: 123.0), the
+     * presets, Rate step and Units appended since at their defaults */
+    hal_host_reset();
+    values_k(w, 6);
+    old_rate(w);
+    twin_learnt[0] = 0x44;
+    twin_write(0, 9, w, 9);
+    twin_learnt[0] = 0xFF;
+    totals_init();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals_old(w, PARAMS_V9_COUNT));
+    assert_int_equal(param_v[P_AOG_KP], w[P_AOG_KP]);
+    assert_int_not_equal(w[P_AOG_KP], param_info(P_AOG_KP)->def);
+    assert_int_equal(param_v[P_LOG_EVERY], w[P_LOG_EVERY]);
+    assert_int_equal(param_v[P_RATE2], 2000);
+    assert_int_equal(store_learnt(0), 0x44);
 }
 
 /* A save that ends well does not take the operator's notice of what the load found (the
@@ -800,6 +852,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     /* a version 5 copy: its values, nothing learnt */
     hal_host_reset();
     old_rate(a);
+    as_v8(a);
     twin_write_n(0, 9, a, 5, PARAMS_V8_COUNT);
     assert_int_equal(store_load(), STORE_OK);
     assert_true(equals_old(a, PARAMS_V8_COUNT));
@@ -913,11 +966,14 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
     old_rate(v);                    /* 12.3 L/ha in this version, 123 L/ha in the older ones */
     static const struct { uint8_t magic, version; int count; int loads; } h[] = {
         {0x5B, PARAMS_VERSION, P_COUNT, 0}, {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
-        {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, P_COUNT - 1, 0},
+        {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, PARAMS_V8_COUNT - 1, 0},
+        {0x5A, PARAMS_VERSION, PARAMS_V8_COUNT, 0}, {0x5A, 8, P_COUNT, 0}, {0x5A, 8, PARAMS_V8_COUNT, 1},
+        {0x5A, 4, PARAMS_V8_COUNT, 0},
         {0x5A, 4, P_COUNT, 0}, {0x5A, 4, PARAMS_V4_COUNT + 1, 0}, {0x5A, 3, PARAMS_V4_COUNT, 0},
         {0x5A, 2, PARAMS_V3_COUNT, 0}, {0x5A, 1, PARAMS_V2_COUNT, 0}, {0x5A, 0, P_COUNT, 0},
-        {0x5A, 8, P_COUNT, 0}, {0x5A, 5, P_COUNT, 0},
-        {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 8, PARAMS_V8_COUNT, 1}, {0x5A, 7, PARAMS_V8_COUNT, 1},
+        {0x5A, 8, P_COUNT, 0}, {0x5A, 5, P_COUNT, 0}, {0x5A, 9, P_COUNT, 0}, {0x5A, 9, PARAMS_V8_COUNT, 0},
+        {0x5A, PARAMS_VERSION, PARAMS_V9_COUNT, 0},
+        {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 9, PARAMS_V9_COUNT, 1}, {0x5A, 7, PARAMS_V8_COUNT, 1},
         {0x5A, 6, PARAMS_V8_COUNT, 1}, {0x5A, 5, PARAMS_V8_COUNT, 1},
         {0x5A, 4, PARAMS_V4_COUNT, 1}, {0x5A, 3, PARAMS_V3_COUNT, 1}, {0x5A, 2, PARAMS_V2_COUNT, 1},
     };
@@ -940,7 +996,7 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         printf("# magic %02X version %u count %d: %s\n", h[i].magic, h[i].version, count,
                st == STORE_OK ? "loaded" : "defaults");
         assert_int_equal(st == STORE_OK, h[i].loads);
-        assert_int_equal(param_v[0] == (h[i].version < 9 ? 1230 : v[0]), h[i].loads);
+        assert_int_equal(param_v[0] == (h[i].version < PARAMS_VERSION ? 1230 : v[0]), h[i].loads);
     }
 }
 
