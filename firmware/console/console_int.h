@@ -108,6 +108,7 @@ typedef struct {
 const __code con_unit_t *con_unit(uint8_t cls) __reentrant;
 uint8_t con_id_class(uint8_t id) __reentrant;
 const __code char *con_unit_text(uint8_t cls, const __code char *metric) __reentrant;
+void con_cat_unit(uint8_t cls) __reentrant;
 uint32_t con_unit_in(uint8_t id, uint32_t shown) __reentrant;
 uint32_t con_q(uint32_t v, uint8_t form) __reentrant;
 uint8_t con_q_form(uint8_t form) __reentrant;

@@ -25,7 +25,7 @@ static void cat_area(uint32_t m2, uint8_t width)
 {
     con_cat_q(m2, width, 2 | CON_DROP(2) | CON_Q(CU_AREA));
     con_cat(" ");
-    con_cat(con_unit_text(CU_AREA, "ha"));
+    con_cat_unit(CU_AREA);
 }
 
 /* The job's area, volume and average rate; the work rate now (the speed times the open
@@ -39,11 +39,11 @@ void con_draw_totals(void)
     con_start("Job ");
     con_cat_q(totals.job_ml, 10, 1 | CON_DROP(2) | CON_Q(CU_ML));
     con_cat(" ");
-    con_cat(con_unit_text(CU_ML, "L"));
+    con_cat_unit(CU_ML);
     con_show(1);
     con_start(param_v[P_UNITS] ? "Avg" : "Job avg");
     con_cat_q(app_status.applied_l_ha_x10, 5, CON_DROP(1) | CON_Q(CU_RATE));
-    con_cat(con_unit_text(CU_RATE, "L/ha"));
+    con_cat_unit(CU_RATE);
     con_show(2);
     if (con_msg_on()) {
         con_draw_msg();
@@ -59,7 +59,7 @@ void con_draw_totals(void)
             con_start("Life");
             con_cat_q(totals.life_ml, 10, (uint8_t)(CON_DROP(3) | CON_Q(CU_ML)));
             con_cat(" ");
-            con_cat(con_unit_text(CU_ML, "L"));
+            con_cat_unit(CU_ML);
             break;
         case 2:                     /* m^2 an hour: km/h x100 x cm / 10 */
             con_start("Work");

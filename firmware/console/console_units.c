@@ -45,6 +45,17 @@ uint8_t con_id_class(uint8_t id)
     return CU_NONE;
 }
 
+/* The screens' metric unit of each class (the run screen's pressure in bar, its flow L/mn) */
+static const __code char *const __code metric_units[CU_COUNT] = {
+    "", "L/ha", "km/h", "bar", "L", "L/mn", "ha", "L",
+};
+
+/* Append the unit of class cls in the units chosen: the screens' metric one when metric. */
+void con_cat_unit(uint8_t cls)
+{
+    con_cat(con_unit_text(cls, metric_units[cls]));
+}
+
 /* The text of the unit of class cls: metric's when metric. */
 const __code char *con_unit_text(uint8_t cls, const __code char *metric)
 {

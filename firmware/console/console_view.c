@@ -153,21 +153,26 @@ static uint32_t pvalue(uint8_t cls, uint16_t v) __reentrant
     return cls == CU_SPEED && param_v[P_UNITS] ? v * 10uL : v;
 }
 
+/* append parameter id's unit in the units chosen after a space, none when it has none */
+static void cat_param_unit(uint8_t id) __reentrant
+{
+    const __code char *unit = con_unit_text(con_id_class(id), param_info(id)->unit);
+    if (unit[0]) {
+        con_cat(" ");
+        con_cat(unit);
+    }
+}
+
 /* append a parameter's value and unit in the units chosen, "150.0 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)
 {
-    const __code char *unit;
     uint8_t cls = con_id_class(id);
     if (con_is_choice(id)) {
         con_cat(con_choice_name(id, v));
         return;
     }
     con_cat_num(con_q(pvalue(cls, v), pform(id, cls)), 0, con_q_form(pform(id, cls)));
-    unit = con_unit_text(cls, param_info(id)->unit);
-    if (unit[0]) {
-        con_cat(" ");
-        con_cat(unit);
-    }
+    cat_param_unit(id);
 }
 
 /* "Range 10..1000", the limits with their decimals in the units chosen, trailing zeros dropped */
@@ -289,7 +294,7 @@ static void draw_run_bottom(void)
     } else if (target_nudge_pct()) {        /* the rate in use and the operator's offset */
         con_at = 0;
         con_cat_q(target_rate_x10(), 0, 1 | CON_Q(CU_RATE));
-        con_cat(con_unit_text(CU_RATE, "L/ha"));
+        con_cat_unit(CU_RATE);
         con_cat(" ");
         at = con_at;
         con_cat(target_nudge_pct() > 0 ? "+" : "-");
@@ -301,7 +306,7 @@ static void draw_run_bottom(void)
     } else {
         con_start("T");
         con_cat_q(st->tank_l, 5, CON_Q(CU_VOL));
-        con_cat(con_unit_text(CU_VOL, "L"));
+        con_cat_unit(CU_VOL);
         con_cat(" ");
         at = con_at;
         if (target_rate_remote()) {         /* the rate comes from the field computer */
@@ -322,9 +327,9 @@ static void draw_run(void)
     /* " 7.2km/h 4.40bar": ground speed, boom pressure (US: " 4.5mph  63.8PSI") */
     con_at = 0;
     con_cat_q(st->speed_kmh_x100, 4, 1 | CON_DROP(1) | CON_Q(CU_SPEED));
-    con_cat(con_unit_text(CU_SPEED, "km/h"));
+    con_cat_unit(CU_SPEED);
     con_cat_q(st->pressure_kpa, 5, 2 | CON_Q(CU_PRESS));
-    con_cat(con_unit_text(CU_PRESS, "bar"));
+    con_cat_unit(CU_PRESS);
     con_show(0);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow (US: "Q13.08>13.02gpm") */
     con_start("Q");
@@ -333,7 +338,7 @@ static void draw_run(void)
     con_cat(">");
     q = st->flow_lpm_x100;
     con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
-    con_cat(con_unit_text(CU_FLOW, "L/mn"));
+    con_cat_unit(CU_FLOW);
     con_show(1);
     /* "Now 150L/ha AUTO": the rate applied over the last seconds, the mode (HIL: the inputs
      * come from the PC's plant); US: "15.0gal/ac  AUTO" */
@@ -342,7 +347,7 @@ static void draw_run(void)
         con_cat("  --");
     else
         con_cat_q(con.rate_l_ha * 10uL, 4, CON_DROP(1) | CON_Q(CU_RATE));
-    con_cat(con_unit_text(CU_RATE, "L/ha"));
+    con_cat_unit(CU_RATE);
     con_cat(" ");
     at = con_at;
     con_cat(hal_hil_active() ? (st->manual ? "HILM" : "HIL") : st->manual ? "MAN"
@@ -390,7 +395,6 @@ static void draw_menu(void)
 static void draw_edit(void)
 {
     const __code param_info_t *pi = param_info(con_item);
-    const __code char *unit = con_unit_text(con_id_class(con_item), pi->unit);
     screen_line(pi->name, 0);
     con_start("now ");
     con_cat_value(con_item, param_v[con_item]);
@@ -399,10 +403,7 @@ static void draw_edit(void)
     con_start("new ");
     con_cat_ram(con.u.entry);
     con_cat("_");
-    if (unit[0]) {
-        con_cat(" ");
-        con_cat(unit);
-    }
+    cat_param_unit(con_item);
     con_show(2);
     draw_bottom("D:ok C:clear");
 }

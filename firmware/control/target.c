@@ -9,12 +9,11 @@ static struct {
     uint16_t remote_x10;            /* L/ha x10 from a field computer, 0: none (the preset) */
     int8_t nudge_pct;               /* the operator's offset on it, +-TARGET_NUDGE_MAX % */
     uint8_t refusals;               /* remote rates refused since start (wraps) */
-    uint16_t width_cm;
-    uint8_t open;
+    uint8_t open;                   /* the nozzles of the sections switched on */
     uint8_t sections;
     uint8_t gen;
-    uint8_t valid;
 } tg;
+static __bit tg_valid;              /* tg derived from the sections and settings it holds */
 __data uint8_t target_noz_q = 4;
 __bit target_noz_new;               /* the nozzles open changed (ffmap.c's hold) */
 
@@ -68,7 +67,7 @@ int8_t target_nudge(int8_t dir) __reentrant
         n = -TARGET_NUDGE_MAX;
     if (n != tg.nudge_pct) {
         tg.nudge_pct = n;
-        tg.valid = 0;               /* derived again at the next update */
+        tg_valid = 0;               /* derived again at the next update */
     }
     return n;
 }
@@ -85,7 +84,7 @@ uint8_t target_remote_rate(uint16_t rate_x10) __reentrant
         return 0;
     }
     tg.remote_x10 = rate_x10;
-    tg.valid = 0;                   /* derived again at the next update */
+    tg_valid = 0;                   /* derived again at the next update */
     return 1;
 }
 
@@ -116,7 +115,6 @@ static void target_derive(void) __reentrant
             tg.open += target_section_nozzles(s);
     if (tg.open != o)
         target_noz_new = 1;
-    tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
     target_noz();
     if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))
         tg.remote_x10 = 0;          /* Remote off, or a new preset or window leaves it outside */
@@ -124,12 +122,12 @@ static void target_derive(void) __reentrant
     /* cdm * 65536 / 600000 = cdm * 4096 / 37500, rounded (the same bits as C in L/ha / 60000) */
     tg.k_q16 = um_scaled_div(cdm, 4096u, 37500u);
     tg.gen = param_generation;
-    tg.valid = 1;
+    tg_valid = 1;
 }
 
 void target_init(void)
 {
-    tg.valid = 0;
+    tg_valid = 0;
     tg.remote_x10 = 0;
     tg.nudge_pct = 0;
     tg.refusals = 0;
@@ -139,7 +137,7 @@ void target_init(void)
 
 void target_update(uint8_t sections) __reentrant
 {
-    if (!tg.valid || sections != tg.sections || tg.gen != param_generation) {
+    if (!tg_valid || sections != tg.sections || tg.gen != param_generation) {
         tg.sections = sections;
         target_derive();
     }
@@ -179,5 +177,5 @@ uint8_t target_open_nozzles(void)
 
 uint16_t target_width_cm(void)
 {
-    return tg.width_cm;
+    return (uint16_t)tg.open * param_v[P_SPACING];
 }
