@@ -118,27 +118,32 @@ void con_right_align(uint8_t from)
         con_line[from + shift] = ' ';
 }
 
-uint8_t con_is_choice(uint8_t id)
+/* The settings chosen by name (besides Control, named by ctl.h): each one's names in the
+ * order of its values, from choice_first[k] in choice_names */
+static const __code uint8_t choice_ids[] = {P_MODE, P_REMOTE, P_LOG_UNIT, P_PRESET, P_UNITS};
+static const __code uint8_t choice_first[] = {0, 2, 5, 7, 9};
+static const __code char *const __code choice_names[] = {
+    "Auto", "Manual", "off", "Raven 9600", "Raven 1200", "m", "s", "Rate 1", "Rate 2", "Metric", "US", "Turf",
+};
+
+/* id's row in choice_ids, sizeof choice_ids when it has none */
+static uint8_t choice_row(uint8_t id) __reentrant
 {
-    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT || id == P_PRESET
-           || id == P_UNITS;
+    uint8_t k;
+    for (k = 0; k < sizeof choice_ids && choice_ids[k] != id; k++)
+        ;
+    return k;
 }
 
-static const __code char *const __code unit_names[] = {"Metric", "US", "Turf"};
+uint8_t con_is_choice(uint8_t id)
+{
+    return id == P_CONTROLLER || choice_row(id) < sizeof choice_ids;
+}
 
 const __code char *con_choice_name(uint8_t id, uint16_t v)
 {
-    if (id == P_MODE)
-        return v ? "Manual" : "Auto";
-    if (id == P_REMOTE)
-        return v == 2 ? "Raven 1200" : v ? "Raven 9600" : "off";
-    if (id == P_LOG_UNIT)
-        return v ? "s" : "m";
-    if (id == P_PRESET)
-        return v ? "Rate 2" : "Rate 1";
-    if (id == P_UNITS)
-        return unit_names[v];
-    return ctl_name((uint8_t)v);
+    uint8_t k = choice_row(id);
+    return k < sizeof choice_ids ? choice_names[choice_first[k] + v] : ctl_name((uint8_t)v);
 }
 
 /* The form of parameter id's values, CON_Q of its class; a speed setting (km/h x10) goes to
@@ -313,7 +318,7 @@ static void draw_run_bottom(void)
             con_cat("RC");
             con_cat_q(target_rate_x10(), 0, 1 | CON_Q(CU_RATE));
         } else
-            con_cat(param_v[P_PRESET] ? "Rate 2" : ctl_name(ctl_selected()));
+            con_cat(param_v[P_PRESET] ? con_choice_name(P_PRESET, 1) : ctl_name(ctl_selected()));
         con_right_align(at);
         con_show(3);
     }
