@@ -47,7 +47,7 @@ keys() { local k; for k in "$@"; do $T send-keys -t panel -l "$k"; sleep 0.3; do
 target() { lcd_line 2 | sed -nE 's/^Q *([0-9.]+)>.*/\1/p'; }
 ratio_in() { local a; a=$(target); [ -n "$a" ] && awk "BEGIN{r = $a / $1; exit !(r > $2 && r < $3)}"; }
 # switch byte 2 of the newest C1 line the controller sent
-c1_sw2() { grep -a '^\$R100A,C1,' "$tmp/link.txt" 2>/dev/null | tail -n 1 | cut -d, -f4; }
+c1_sw2() { grep -a '^\$R124F,C1,' "$tmp/link.txt" 2>/dev/null | tail -n 1 | cut -d, -f4; }
 c1_is() { [ "$(c1_sw2)" = "$1" ]; }
 
 $T new-session -d -s panel -x 120 -y 50 \
