@@ -13,9 +13,8 @@
 #include "linebuf.h"
 #include "linecheck.h"
 
-/* One buffer: it collects a command line, then holds the line being sent (the reply is
- * composed over the parsed command). While a line goes out, received bytes wait in the
- * HAL's queue. */
+/* One buffer: it collects a command line, then holds the line being sent (the reply composed
+ * over the parsed command). While a line goes out, received bytes wait in the HAL's queue. */
 static struct {
     char buf[SERIAL_TX_MAX];
     uint16_t reported;              /* alarm bits the PC has been told about */
@@ -38,7 +37,6 @@ static __data uint8_t se_framing;   /* the UART's once switched (HAL_UART_*: Rem
 static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
 static __bit ee_due;                /* the EE line (settings not the newest saved) not yet sent */
 static __bit csum_seen;             /* the line being answered carried its check */
-
 
 static const __code char hexd[] = "0123456789ABCDEF";
 
@@ -216,10 +214,8 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
         tx_sp_u32(target_rate_x10());
         break;
     case C_JOG:
-        if (!a) {
-            reply_err(link_e_arg);  /* JOG has no 0 */
-        } else if (!app_status.manual) {
-            reply_err("MODE");
+        if (!a || !app_status.manual) {     /* JOG has no 0 */
+            reply_err(a ? "MODE" : link_e_arg);
         } else {
             ops_jog((int8_t)a);
             ok("JOG");

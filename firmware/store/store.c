@@ -125,8 +125,7 @@ static uint8_t ck_more(uint8_t budget) __reentrant
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
             if (!((sv_lo == PARAMS_VERSION && b == P_COUNT) || (sv_lo >= 5u && sv_lo < 9u && b == PARAMS_V8_COUNT)
-                  || (sv_lo == 9u && b == PARAMS_V9_COUNT)
-                  || (sv_lo == 2u && b == PARAMS_V2_COUNT)
+                  || (sv_lo == 9u && b == PARAMS_V9_COUNT) || (sv_lo == 2u && b == PARAMS_V2_COUNT)
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
             sv.n = b;
@@ -356,8 +355,7 @@ static void sv_write_more(void) __reentrant
         ck_begin(sv_slot);
         return;
     }
-    for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT
-                && !(k && (sv_at == HDR_LIFE || sv_at == HDR_LEARN || sv_at == HDR_JOB));
+    for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && (sv_at == HDR_LIFE || sv_at == HDR_LEARN || sv_at == HDR_JOB));
          k++, sv_at++) {
         b = record_byte(sv_at, next);
         sv.crc = crc_byte(sv.crc, b);
@@ -483,7 +481,6 @@ uint8_t store_generation(void)
 {
     return saved_gen;
 }
-
 
 uint8_t store_status(void)
 {
