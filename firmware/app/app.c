@@ -15,6 +15,7 @@
 #include "ops.h"
 #include "totals.h"
 #include "serial.h"
+#include "pgn.h"
 #include "hil.h"
 #include "store.h"
 #include "console.h"
@@ -168,11 +169,12 @@ static void app_measure(void)
     int16_t q_meter, q_used;
     uint8_t open, meter_lost;
 
-    v_meas = speed_step();
+    v_meas = pgn_speed(speed_step());   /* the wheel's, or the GPS's (Speed src) */
+    diag_set_frames((uint8_t)(pgn_lost() | (pgn_speed_off() << 1)));
     q_meter = flow_step();
     analog_step();
     p = analog_pressure_kpa();
-    target_update(hal_sections());
+    target_update(pgn_sections(hal_sections()));
     open = target_open_nozzles();
     diag_set_nozzles(open);
     app_status.speed_kmh_x100 = target_speed_x100(v_meas);
@@ -338,7 +340,7 @@ static uint8_t app_prepare(void)
     case 3: diag_set_nozzles(target_open_nozzles()); break;
     case 4: valve_prepare(); break;
     default:                        /* (both here: as many passes as before the target's came) */
-        target_update(hal_sections());
+        target_update(pgn_sections(hal_sections()));
         ctl_prepare();
         ap.prep = 0;
         break;

@@ -26,7 +26,7 @@ const __code char *remote_command(const __xdata char *line) __reentrant
 {
     uint16_t v = 0;
     uint8_t n = 0, c;
-    if (!param_v[P_REMOTE])
+    if (param_v[P_REMOTE] != REMOTE_RAVEN)
         return "REMOTE";
     if (line[1] != 'R' || line[2] != ',')      /* line[0] is '$' (serial.c) */
         return link_e_cmd;
@@ -56,7 +56,7 @@ const __code char *remote_command(const __xdata char *line) __reentrant
 
 void remote_tick(void)
 {
-    if (param_v[P_REMOTE])
+    if (param_v[P_REMOTE] == REMOTE_RAVEN)
         rv_due |= RV_AR;
 }
 

@@ -9,6 +9,7 @@
 #include "fmt.h"
 #include "hil.h"
 #include "remote.h"
+#include "pgn.h"
 #include "linebuf.h"
 #include "linecheck.h"
 
@@ -45,6 +46,7 @@ void serial_init(void)
     se.reported = 0;
     se.quiet = 0;
     boot_due = 1;
+    pgn_init();
     ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
 
@@ -383,6 +385,8 @@ static void compose_next(void) __reentrant
     } else {
         if (remote_next())          /* Raven's lines carry no checksum */
             tx_crlf();
+        else if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
+            se_tx_i = 0, se_state = S_TX;   /* a reply frame, as it is */
         return;
     }
     tx_end();
@@ -433,6 +437,7 @@ static uint8_t take(void) __reentrant
 uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
+    uint8_t c;
 
     if (se_state == S_TX && !drain())
         return 0;
@@ -448,6 +453,10 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
         se.quiet = 0;
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
+            pgn_drop();             /* ... or the frame */
+        } else if ((c = pgn_byte((uint8_t)b)) != PGN_NO) {
+            if (c == PGN_END)
+                return 1;           /* one frame a pass, its work done */
         } else if (b == '\r' || b == '\n') {
             if (se_state != S_RX) {
                 reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");

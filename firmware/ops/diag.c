@@ -45,6 +45,7 @@ static struct {
     int16_t t1;                                 /* the target a period ago (diag_model) */
     uint8_t session;                            /* 1: a calibration is open: clean spraying teaches the model */
     uint16_t q3;                                /* P_NOZZLE_Q3 the model was learnt for */
+    uint8_t frames;                             /* DIAG_FRAMES_*: the link's frames this period */
 } dg;
 
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
@@ -64,6 +65,7 @@ void diag_init(void)
     dg.offrate_cnt = 0;
     dg.meter_noise = dg.wheel_noise = 0;
     dg.meter_suspect = 0;
+    dg.frames = 0;
     diag_wheel_init();
     dg.meter_glitches = flow_glitches();
     dg.wheel_glitches = speed_glitches();
@@ -203,6 +205,11 @@ static uint8_t learn(uint16_t r, uint16_t p) __reentrant
     dg.sxx += UMUL(r, r);
     dg.sxy += UMUL(r, p);
     return ++dg.ln >= DIAG_LEARN_N;
+}
+
+void diag_set_frames(uint8_t frames)
+{
+    dg.frames = frames;
 }
 
 void diag_set_nozzles(uint8_t open_nozzles) __reentrant
@@ -405,8 +412,9 @@ static void diag_speed(const __xdata app_status_t *in) __reentrant
 {
     uint8_t g = target_speed_given(), pump = diag_pump(in);
     uint16_t x = speed_quiet_periods();
-    rule(AL_SPEED_LOST, !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()))),
-         g || x < DIAG_SPEED_PERIODS / 2u);
+    uint8_t lost = dg.frames & DIAG_FRAMES_LOST;    /* or the AgOpenGPS frames in use stopped */
+    rule(AL_SPEED_LOST, lost || (!g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())))),
+         !lost && (g || x < DIAG_SPEED_PERIODS / 2u));
     x = in->speed_kmh_x100;
     g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
@@ -463,7 +471,9 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     x = x > n ? x - n : 0;
     dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
     /* ... or a rise a tractor cannot make (speed.h SPEED_JUMP_PERIODS), held until a standstill */
-    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || speed_jumped(), dg.wheel_noise == 0 && !speed_jumped());
+    /* ... or, Speed src both, the wheel off the GPS (pgn.c) */
+    g = speed_jumped() || (dg.frames & DIAG_FRAMES_SPEED_OFF);
+    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || g, dg.wheel_noise == 0 && !g);
     return dg.alarms;
 }
 

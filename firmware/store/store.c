@@ -124,7 +124,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (b != STORE_MAGIC)
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == P_COUNT) || (sv_lo == 2u && b == PARAMS_V2_COUNT)
+            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == (sv_lo == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT))
+                  || (sv_lo == 2u && b == PARAMS_V2_COUNT)
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
             sv.n = b;
@@ -133,8 +134,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
                 sv.end += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
             else if (sv_lo == 6u)
                 sv.end += STORE_LEARN_V6;
-            if (sv_lo == PARAMS_VERSION)
-                sv.end += STORE_JOB_BYTES;      /* the job totals (version 8) */
+            if (sv_lo >= 8u)
+                sv.end += STORE_JOB_BYTES;      /* the job totals (since version 8) */
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
             if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
                 return 0;
@@ -216,8 +217,8 @@ uint8_t store_load(void) __reentrant
     for (s = 0; s < n; s++)
         param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (hal_eeprom_read(base + 1u) == PARAMS_VERSION)
-        totals_set_job(read32(base + HDR_JOB), read32(base + HDR_JOB + 4u));
+    if (hal_eeprom_read(base + 1u) >= 8u)    /* after the learnt figures, where n values put them */
+        totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
     else
         totals_set_job(0, 0);       /* an older copy has none */
     n = params_cross();

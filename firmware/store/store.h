@@ -56,7 +56,8 @@
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
 #define STORE_NO_SLOT 0xFFu
-#define STORE_AT_LEARNT (5u + 2u * P_COUNT + 8u)  /* where the learnt bytes start in a record */
+#define STORE_AT_LEARNT_N(n) (5u + 2u * (uint16_t)(n) + 8u)  /* where the learnt bytes start in a record of n values */
+#define STORE_AT_LEARNT STORE_AT_LEARNT_N(P_COUNT)
 
 /* What store_load() found, or a save that failed since (store_status(), the operator's notice
  * until store_status_clear()); a save's own result (store_result()): STORE_OK, _WRITE_ERR or

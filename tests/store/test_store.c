@@ -113,6 +113,13 @@ static void set_all(const uint16_t *v)
     assert_int_equal(params_cross(), PARAM_OK);
 }
 
+/* a set as a version 5 to 8 copy holds it: the settings appended since at their defaults */
+static void as_v8(uint16_t *v)
+{
+    for (int i = PARAMS_V8_COUNT; i < P_COUNT; i++)
+        v[i] = param_info((uint8_t)i)->def;
+}
+
 static int equals(const uint16_t *v)
 {
     return memcmp(param_v, v, sizeof param_v) == 0;
@@ -598,10 +605,24 @@ static void test_store_keeps_the_job_totals(void **state)
     assert_int_equal(store_load(), STORE_OK);
     assert_int_equal(totals_get()->job_dm2, 5000u);
     assert_int_equal(totals_get()->job_ml, 77u);
+    /* version 8: the job after the learnt figures of its 32 values */
+    hal_host_reset();
+    as_v8(a);
+    twin_job_dm2 = 4242u;
+    twin_job_ml = 99u;
+    twin_learnt[0] = 0x43;
+    twin_write_n(0, 8, a, 8, PARAMS_V8_COUNT);
+    twin_job_dm2 = twin_job_ml = 0;
+    totals_init();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(a));
+    assert_int_equal(totals_get()->job_dm2, 4242u);
+    assert_int_equal(totals_get()->job_ml, 99u);
+    assert_int_equal(store_learnt(0), 0x43);
     /* version 7: the same layout less the job */
     hal_host_reset();
     twin_learnt[0] = 0x42;
-    twin_write(0, 8, a, 7);
+    twin_write_n(0, 8, a, 7, PARAMS_V8_COUNT);
     twin_learnt[0] = 0xFF;
     totals_init();
     totals_set_job(1u, 1u);
@@ -767,7 +788,8 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(ctl_st.fm.ff_gain, 0);
     /* a version 5 copy: its values, nothing learnt */
     hal_host_reset();
-    twin_write_n(0, 9, a, 5, P_COUNT);
+    as_v8(a);
+    twin_write_n(0, 9, a, 5, PARAMS_V8_COUNT);
     assert_int_equal(store_load(), STORE_OK);
     assert_true(equals(a));
     assert_int_equal(store_learnt(0), 0xFF);
@@ -776,7 +798,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     /* a version 6 copy (10 learnt bytes, a gain among them): its values, nothing learnt */
     hal_host_reset();
     twin_learnt[0] = 150; twin_learnt[1] = 0;
-    twin_write_n(0, 9, a, 6, P_COUNT);
+    twin_write_n(0, 9, a, 6, PARAMS_V8_COUNT);
     memset(twin_learnt, 0xFF, sizeof twin_learnt);
     assert_int_equal(store_load(), STORE_OK);
     assert_true(equals(a));
@@ -879,10 +901,11 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
     values_k(v, 3);
     static const struct { uint8_t magic, version; int count; int loads; } h[] = {
         {0x5B, PARAMS_VERSION, P_COUNT, 0}, {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
-        {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, P_COUNT - 1, 0},
+        {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, PARAMS_V8_COUNT - 1, 0}, {0x5A, 8, P_COUNT, 0},
+        {0x5A, PARAMS_VERSION, PARAMS_V8_COUNT, 0}, {0x5A, 8, PARAMS_V8_COUNT, 1},
         {0x5A, 4, P_COUNT, 0}, {0x5A, 4, PARAMS_V4_COUNT + 1, 0}, {0x5A, 3, PARAMS_V4_COUNT, 0},
         {0x5A, 2, PARAMS_V3_COUNT, 0}, {0x5A, 1, PARAMS_V2_COUNT, 0}, {0x5A, 0, P_COUNT, 0},
-        {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 6, P_COUNT, 1}, {0x5A, 5, P_COUNT, 1},
+        {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 6, PARAMS_V8_COUNT, 1}, {0x5A, 5, PARAMS_V8_COUNT, 1},
         {0x5A, 4, PARAMS_V4_COUNT, 1}, {0x5A, 3, PARAMS_V3_COUNT, 1}, {0x5A, 2, PARAMS_V2_COUNT, 1},
     };
     for (size_t i = 0; i < sizeof h / sizeof h[0]; i++) {

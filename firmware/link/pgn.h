@@ -1,0 +1,64 @@
+/* pgn.h: AgOpenGPS machine frames and RateControl module frames among the serial link's text lines. */
+#ifndef PGN_H
+#define PGN_H
+
+#include "compiler.h"
+
+/*
+ * With Remote = AgOpenGPS (P_REMOTE REMOTE_PGN) the link also takes binary PGN frames between (or
+ * inside) its text lines; a byte that starts no frame goes to the text parser as before.
+ *   AgOpenGPS (AgIO's machine port): 80 81 src pgn len data.. crc, crc the low byte of the sum of
+ *   bytes 2 to n-2. Taken: 254 (len 8: speed km/h x10 u16 LE, status, steer, xte, sections 1-8,
+ *   9-16), 239 (len 8: uturn, speed x10 u8, lift, tram, geoStop, -, sections 1-8, 9-16), 229
+ *   (len 10: sections 1-64, tool speeds); another pgn with a good crc is skipped.
+ *   RateControl (SK21, a module's frames): pgn u16 LE first, crc the low byte of the sum of bytes 0
+ *   to n-2. 32500 (F4 7E, 14 bytes: module<<4|sensor, target UPM x1000 u24, meter cal x1000 u24,
+ *   command, manual PWM i16, -, crc), 32501 (F5 7E, 11 bytes: module, relays lo, hi, power relays
+ *   lo, hi, inverted lo, hi, master valve, crc), 32502 (F6 7E, 24 bytes: module<<4|sensor, max PWM %,
+ *   min PWM %, Kp, Ki, dead band % x10, ...).
+ * A frame whose second byte, length or crc is wrong, that loses a byte or stalls is dropped and
+ * counted (pgn_rx.bad). Replies (pgn_next): 237 to each 239 taken, 32400 and 32401 to each 32500.
+ */
+#define PGN_BUF 16                  /* frame bytes kept (32502's after these are summed, not kept) */
+#define PGN_OUT_MAX 15              /* the longest reply */
+#define PGN_OFF_PERIODS 20u         /* "both": the speeds apart this many periods more than together */
+#define PGN_CHECK_X100 200u         /* ... judged from this GPS speed, km/h x100 */
+
+/* pgn_byte's verdicts */
+#define PGN_NO 0                    /* not a frame's byte: the text parser's */
+#define PGN_IN 1                    /* taken into a frame */
+#define PGN_END 2                   /* a frame ended (taken or dropped) */
+
+/* What the frames carried last (each field from its own frame). */
+typedef struct {
+    uint16_t gps_kmh_x10;           /* 254 */
+    uint8_t sections;               /* boom sections (bit 0 = section 1) from 239, 229 or 32501 */
+    uint32_t rc_upm_x1000;          /* 32500: the target, units (litres) a minute x1000 */
+    uint32_t rc_cal_x1000;          /* 32500: meter cal, pulses a unit x1000 */
+    uint8_t rc_cmd;                 /* 32500: command byte (bit 4 MasterOn, bit 6 AutoOn) */
+    int16_t rc_pwm;                 /* 32500: manual PWM */
+    uint8_t rc_valve[5];            /* 32502: max PWM %, min PWM %, Kp, Ki, dead band % x10 */
+    uint16_t taken;                 /* frames taken */
+    uint16_t bad;                   /* frames dropped */
+} pgn_rx_t;
+extern __xdata pgn_rx_t pgn_rx;
+
+void pgn_init(void);
+/* One received byte (serial_poll): PGN_NO, PGN_IN or PGN_END. */
+uint8_t pgn_byte(uint8_t b) __reentrant;
+/* Bytes were lost (HAL_UART_LOST): a frame in progress is dropped. */
+void pgn_drop(void);
+/* Once a period: the speed the target follows (km/h x100) from the wheel's and the GPS's by
+ * Speed src; judges the two ("both") and a stalled frame. */
+uint16_t pgn_speed(uint16_t wheel_x100) __reentrant;
+/* The boom sections to use: the switches', and with AOG sections on the frames' too (none
+ * once the frames stop for Frames lost). */
+uint8_t pgn_sections(uint8_t switches) __reentrant;
+/* 1 while frames in use have stopped for Frames lost (SPEED_LOST). */
+uint8_t pgn_lost(void) __reentrant;
+/* 1 while "both" finds the wheel's speed off the GPS's by more than Speed diff (WHEEL_NOISE). */
+uint8_t pgn_speed_off(void);
+/* A reply frame due, into buf (PGN_OUT_MAX bytes): its length, 0 when none. */
+uint8_t pgn_next(__xdata uint8_t *buf) __reentrant;
+
+#endif
