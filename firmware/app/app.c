@@ -170,7 +170,7 @@ static void app_measure(void)
     uint8_t open, meter_lost;
 
     v_meas = pgn_speed(speed_step());   /* the wheel's, or the GPS's (Speed src) */
-    diag_set_frames((uint8_t)(pgn_lost() | (pgn_speed_off() << 1)));
+    diag_set_frames(pgn_frames());
     q_meter = flow_step();
     analog_step();
     p = analog_pressure_kpa();

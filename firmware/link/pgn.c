@@ -6,6 +6,7 @@
 #include "totals.h"
 #include "umath.h"
 #include "mul.h"
+#include "diag.h"
 #include "pgn.h"
 
 __xdata pgn_rx_t pgn_rx;
@@ -175,9 +176,12 @@ uint8_t pgn_lost(void) __reentrant
            || (param_v[P_AOG_SECT] && stale(pg.t_sect));
 }
 
-uint8_t pgn_speed_off(void)
+uint8_t pgn_frames(void) __reentrant
 {
-    return pg.off_flag;
+    uint8_t f = pgn_lost() | (pg.off_flag << 1);
+    if (param_v[P_REMOTE] == REMOTE_PGN && param_v[P_SPEED_SRC] != SPEED_SRC_WHEEL)
+        f |= DIAG_FRAMES_GPS;
+    return f;
 }
 
 uint16_t pgn_speed(uint16_t wheel_x100) __reentrant

@@ -56,8 +56,8 @@ uint16_t pgn_speed(uint16_t wheel_x100) __reentrant;
 uint8_t pgn_sections(uint8_t switches) __reentrant;
 /* 1 while frames in use have stopped for Frames lost (SPEED_LOST). */
 uint8_t pgn_lost(void) __reentrant;
-/* 1 while "both" finds the wheel's speed off the GPS's by more than Speed diff (WHEEL_NOISE). */
-uint8_t pgn_speed_off(void);
+/* The frames' state for the alarms: diag.h DIAG_FRAMES_* (lost, speeds apart, GPS in use). */
+uint8_t pgn_frames(void) __reentrant;
 /* A reply frame due, into buf (PGN_OUT_MAX bytes): its length, 0 when none. */
 uint8_t pgn_next(__xdata uint8_t *buf) __reentrant;
 

@@ -413,8 +413,10 @@ static void diag_speed(const __xdata app_status_t *in) __reentrant
     uint8_t g = target_speed_given(), pump = diag_pump(in);
     uint16_t x = speed_quiet_periods();
     uint8_t lost = dg.frames & DIAG_FRAMES_LOST;    /* or the AgOpenGPS frames in use stopped */
-    rule(AL_SPEED_LOST, lost || (!g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())))),
-         !lost && (g || x < DIAG_SPEED_PERIODS / 2u));
+    uint8_t wheel = !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())));
+    /* cleared by pulses again, or with the GPS's speed in use by the wheel's cause gone */
+    rule(AL_SPEED_LOST, lost || wheel,
+         !lost && (g || x < DIAG_SPEED_PERIODS / 2u || ((dg.frames & DIAG_FRAMES_GPS) && !wheel)));
     x = in->speed_kmh_x100;
     g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
