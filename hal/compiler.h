@@ -40,6 +40,17 @@
 #endif
 #endif
 
+/* FW_PGN: AgOpenGPS and RateControl frames on the serial link (firmware/link/pgn.h) and their
+ * settings: in every build but the chip's field image, whose XRAM has no room for them yet;
+ * `make firmware PGN=1` builds the field image with them (the HIL image has them). */
+#ifndef FW_PGN
+#if defined(HAL_STC12)
+#define FW_PGN 0
+#else
+#define FW_PGN 1
+#endif
+#endif
+
 /* FW_PROBES: accessors only the host's programs, the s51 tests and PIL read (a flag, a learnt
  * byte, a gain, a synchronous save): not in the chip's image, where nothing calls them. */
 #ifndef FW_PROBES

@@ -170,7 +170,9 @@ static void app_measure(void)
     uint8_t open, meter_lost;
 
     v_meas = pgn_speed(speed_step());   /* the wheel's, or the GPS's (Speed src) */
+#if FW_PGN
     diag_set_frames(pgn_frames());
+#endif
     q_meter = flow_step();
     analog_step();
     p = analog_pressure_kpa();

@@ -9,35 +9,34 @@
 #include "diag.h"
 #include "pgn.h"
 
+#if FW_PGN
+
 __xdata pgn_rx_t pgn_rx;
 
 static __xdata struct {
-    uint8_t f[PGN_BUF];             /* the frame coming in */
+    uint8_t f[PGN_BUF];             /* the frame coming in (its first PGN_BUF bytes) */
     uint8_t n;                      /* its bytes so far (0: none) */
     uint8_t total;                  /* its length once known (0: not yet) */
     uint8_t sum;                    /* the sum of its bytes so far */
-    uint8_t n_seen;                 /* n at the last period (a frame that stalls is dropped) */
-    uint8_t stall;                  /* periods n has not moved */
     uint8_t due;                    /* replies due: Q_* */
     uint8_t off;                    /* "both": periods apart less periods together */
     uint8_t off_flag;               /* the speeds apart (WHEEL_NOISE) */
-    uint32_t t_speed;               /* hal_ms() of the last 254 */
-    uint32_t t_sect;                /* ... of the last 239, 229 or 32501 */
-    uint32_t t_rc;                  /* ... of the last 32500 */
+    uint8_t age_speed;              /* periods since the last 254 (saturates) */
+    uint8_t age_sect;               /* ... since the last 239, 229 or 32501 */
+    uint8_t age_rc;                 /* ... since the last 32500 of this module */
     uint16_t rc_rate_x10;           /* the rate last handed to the target (L/ha x10) */
 } pg;
 
 #define Q_237 1u
 #define Q_32400 2u
 #define Q_32401 4u
-#define RC_COMM_MS 4000u            /* 32400's status bit 0: the app heard within this */
+#define RC_COMM_PERIODS 40u         /* 32400's status bit 0: the app heard within 4 s */
 
 void pgn_init(void)
 {
-    uint32_t now = hal_ms();
-    pg.n = pg.stall = pg.due = pg.off = pg.off_flag = 0;
-    pg.t_speed = pg.t_sect = now;   /* Frames lost counts from power-up */
-    pg.t_rc = now - RC_COMM_MS;
+    pg.n = pg.due = pg.off = pg.off_flag = 0;
+    pg.age_speed = pg.age_sect = 0;  /* Frames lost counts from power-up */
+    pg.age_rc = 255;
     pg.rc_rate_x10 = 0;
     pgn_rx.sections = 0xFF;
     pgn_rx.rc_cmd = 0x50;           /* MasterOn, AutoOn until a 32500 says otherwise */
@@ -73,15 +72,14 @@ static void rc_rate(void) __reentrant
 static void take(void) __reentrant
 {
     uint8_t k = pg.f[3], m = (uint8_t)param_v[P_RC_ID];
-    uint32_t now = hal_ms();
     pgn_rx.taken++;
     if (pg.f[0] == 0x80) {          /* AgOpenGPS: f[3] the pgn */
         if (k == 254) {
             pgn_rx.gps_kmh_x10 = le16(5);
-            pg.t_speed = now;
+            pg.age_speed = 0;
         } else {
             pgn_rx.sections = pg.f[k == 239 ? 11 : 5];
-            pg.t_sect = now;
+            pg.age_sect = 0;
             if (k == 239 && param_v[P_AOG_REPLY])
                 pg.due |= Q_237;
         }
@@ -94,19 +92,20 @@ static void take(void) __reentrant
     }
     if (pg.f[0] == 0xF4) {
         pgn_rx.rc_upm_x1000 = le24(3);
-        pgn_rx.rc_cal_x1000 = le24(6);
         pgn_rx.rc_cmd = pg.f[9];
-        pgn_rx.rc_pwm = (int16_t)le16(10);
-        pg.t_rc = now;
+        pg.age_rc = 0;
         pg.due |= Q_32400 | Q_32401;
         rc_rate();
     } else if (pg.f[0] == 0xF5) {
         pgn_rx.sections = pg.f[3];
-        pg.t_sect = now;
-    } else {
-        for (k = 0; k < 5u; k++)
-            pgn_rx.rc_valve[k] = pg.f[3 + k];
-    }
+        pg.age_sect = 0;
+    }                               /* 32502: checked and counted; its valve settings have no
+                                     * counterpart here (docs/PGN.md) */
+}
+
+uint8_t pgn_busy(void)
+{
+    return pg.n != 0;
 }
 
 void pgn_drop(void)
@@ -156,24 +155,17 @@ bad:
     return PGN_END;
 }
 
-/* ms since t, saturating at 65535 */
-static uint16_t age_ms(uint32_t t) __reentrant
+static uint8_t stale(uint8_t age) __reentrant
 {
-    uint32_t a = hal_ms() - t;
-    return a > 65535u ? 65535u : (uint16_t)a;
-}
-
-static uint8_t stale(uint32_t t) __reentrant
-{
-    return age_ms(t) > UMUL(param_v[P_FRAMES_LOST], 100u);
+    return age > param_v[P_FRAMES_LOST];    /* (Frames lost in 0.1 s: periods) */
 }
 
 uint8_t pgn_lost(void) __reentrant
 {
     if (param_v[P_REMOTE] != REMOTE_PGN)
         return 0;
-    return (param_v[P_SPEED_SRC] != SPEED_SRC_WHEEL && stale(pg.t_speed))
-           || (param_v[P_AOG_SECT] && stale(pg.t_sect));
+    return (param_v[P_SPEED_SRC] != SPEED_SRC_WHEEL && stale(pg.age_speed))
+           || (param_v[P_AOG_SECT] && stale(pg.age_sect));
 }
 
 uint8_t pgn_frames(void) __reentrant
@@ -188,19 +180,17 @@ uint16_t pgn_speed(uint16_t wheel_x100) __reentrant
 {
     uint16_t gps = pgn_rx.gps_kmh_x10 * 10u, d;
     uint8_t src = (uint8_t)param_v[P_SPEED_SRC];
-    /* a frame that stalls part way is dropped (the next one's bytes would complete it) */
-    if (pg.n && pg.n == pg.n_seen) {
-        if (++pg.stall >= 3u)
-            pgn_drop();
-    } else {
-        pg.stall = 0;
-    }
-    pg.n_seen = pg.n;
+    if (pg.age_speed < 255u)
+        pg.age_speed++;
+    if (pg.age_sect < 255u)
+        pg.age_sect++;
+    if (pg.age_rc < 255u)
+        pg.age_rc++;
     if (param_v[P_REMOTE] != REMOTE_PGN || src == SPEED_SRC_WHEEL) {
         pg.off = pg.off_flag = 0;
         return wheel_x100;
     }
-    if (stale(pg.t_speed))
+    if (stale(pg.age_speed))
         return src == SPEED_SRC_GPS ? 0 : wheel_x100;     /* both: the wheel, SPEED_LOST tells */
     if (src == SPEED_SRC_BOTH && gps >= PGN_CHECK_X100) {
         /* the wheel off the GPS by more than Speed diff % of it: counted up, together down */
@@ -221,7 +211,7 @@ uint8_t pgn_sections(uint8_t switches) __reentrant
 {
     if (param_v[P_REMOTE] != REMOTE_PGN || !param_v[P_AOG_SECT])
         return switches;
-    if (stale(pg.t_sect) || !(pgn_rx.rc_cmd & 0x10u))
+    if (stale(pg.age_sect) || !(pgn_rx.rc_cmd & 0x10u))
         return 0;                   /* frames stopped, or RateControl's master off */
     return switches & pgn_rx.sections;
 }
@@ -263,7 +253,7 @@ uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
             put_le(buf, 3, UMUL(q, 10u), 3);
             put_le(buf, 6, totals.job_ml / 100u, 3);
             put_le(buf, 9, (uint16_t)(app_status.drive >> 7), 2);
-            buf[11] = age_ms(pg.t_rc) < RC_COMM_MS;
+            buf[11] = pg.age_rc < RC_COMM_PERIODS;
             put_le(buf, 12, UMUL(q, param_v[P_METER_K]) / 6000u, 2);     /* meter pulses a second x10 */
         } else {                    /* module info: pressure, the boom spraying */
             pg.due = 0;
@@ -277,3 +267,4 @@ uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
     buf[n] = s;
     return (uint8_t)(n + 1u);
 }
+#endif

@@ -4,6 +4,8 @@
 
 #include "compiler.h"
 
+#if FW_PGN
+
 /*
  * With Remote = AgOpenGPS (P_REMOTE REMOTE_PGN) the link also takes binary PGN frames between (or
  * inside) its text lines; a byte that starts no frame goes to the text parser as before.
@@ -16,10 +18,11 @@
  *   command, manual PWM i16, -, crc), 32501 (F5 7E, 11 bytes: module, relays lo, hi, power relays
  *   lo, hi, inverted lo, hi, master valve, crc), 32502 (F6 7E, 24 bytes: module<<4|sensor, max PWM %,
  *   min PWM %, Kp, Ki, dead band % x10, ...).
- * A frame whose second byte, length or crc is wrong, that loses a byte or stalls is dropped and
- * counted (pgn_rx.bad). Replies (pgn_next): 237 to each 239 taken, 32400 and 32401 to each 32500.
+ * A frame whose second byte, length or crc is wrong, or that loses a byte or stalls (serial.c:
+ * as a line does) is dropped and counted (pgn_rx.bad). Replies (pgn_next): 237 to each 239 taken
+ * (AOG reply), 32400 and 32401 to each 32500 of this module (RC module).
  */
-#define PGN_BUF 16                  /* frame bytes kept (32502's after these are summed, not kept) */
+#define PGN_BUF 12                  /* frame bytes kept (those after are summed, not kept) */
 #define PGN_OUT_MAX 15              /* the longest reply */
 #define PGN_OFF_PERIODS 20u         /* "both": the speeds apart this many periods more than together */
 #define PGN_CHECK_X100 200u         /* ... judged from this GPS speed, km/h x100 */
@@ -34,10 +37,7 @@ typedef struct {
     uint16_t gps_kmh_x10;           /* 254 */
     uint8_t sections;               /* boom sections (bit 0 = section 1) from 239, 229 or 32501 */
     uint32_t rc_upm_x1000;          /* 32500: the target, units (litres) a minute x1000 */
-    uint32_t rc_cal_x1000;          /* 32500: meter cal, pulses a unit x1000 */
     uint8_t rc_cmd;                 /* 32500: command byte (bit 4 MasterOn, bit 6 AutoOn) */
-    int16_t rc_pwm;                 /* 32500: manual PWM */
-    uint8_t rc_valve[5];            /* 32502: max PWM %, min PWM %, Kp, Ki, dead band % x10 */
     uint16_t taken;                 /* frames taken */
     uint16_t bad;                   /* frames dropped */
 } pgn_rx_t;
@@ -60,5 +60,13 @@ uint8_t pgn_lost(void) __reentrant;
 uint8_t pgn_frames(void) __reentrant;
 /* A reply frame due, into buf (PGN_OUT_MAX bytes): its length, 0 when none. */
 uint8_t pgn_next(__xdata uint8_t *buf) __reentrant;
+/* 1 while a frame is coming in (the lines to send wait, as for a line coming in). */
+uint8_t pgn_busy(void);
+#else
+/* without FW_PGN: the wheel's speed and the switches' sections as they are */
+#define pgn_speed(wheel_x100) (wheel_x100)
+#define pgn_sections(switches) (switches)
+#define pgn_busy() 0
+#endif
 
 #endif

@@ -46,7 +46,9 @@ void serial_init(void)
     se.reported = 0;
     se.quiet = 0;
     boot_due = 1;
+#if FW_PGN
     pgn_init();
+#endif
     ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
 
@@ -385,8 +387,10 @@ static void compose_next(void) __reentrant
     } else {
         if (remote_next())          /* Raven's lines carry no checksum */
             tx_crlf();
+#if FW_PGN
         else if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
             se_tx_i = 0, se_state = S_TX;   /* a reply frame, as it is */
+#endif
         return;
     }
     tx_end();
@@ -437,7 +441,9 @@ static uint8_t take(void) __reentrant
 uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
+#if FW_PGN
     uint8_t c;
+#endif
 
     if (se_state == S_TX && !drain())
         return 0;
@@ -453,10 +459,12 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
         se.quiet = 0;
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
+#if FW_PGN
             pgn_drop();             /* ... or the frame */
         } else if ((c = pgn_byte((uint8_t)b)) != PGN_NO) {
             if (c == PGN_END)
                 return 1;           /* one frame a pass, its work done */
+#endif
         } else if (b == '\r' || b == '\n') {
             if (se_state != S_RX) {
                 reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
@@ -479,11 +487,14 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
                 put_raw((char)b);
         }
     }
-    if (se_n || se_state != S_RX) {
-        /* a line is coming in; one whose bytes stop for 3 s is dropped so the log goes on
-         * (one that lost bytes, its end perhaps among them, is answered ERR LOST then) */
+    if (se_n || se_state != S_RX || pgn_busy()) {
+        /* a line (or a frame) is coming in; one whose bytes stop for 3 s is dropped so the log
+         * goes on (one that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.quiet < SERIAL_STALL_S)
             return 0;
+#if FW_PGN
+        pgn_drop();
+#endif
         if (se_state == S_RX_LOST) {
             reply_err("LOST");
             send();

@@ -45,14 +45,22 @@
     X(P_AOG_MIN,     "AOG minPWM", "",      0,     0,   255,   60)  /* aog: the smallest drive, PWM counts */ \
     X(P_AOG_MAX,     "AOG maxPWM", "",      0,     1,   255,  255)  /* aog: the largest drive, PWM counts */ \
     X(P_RAVEN_CAL,   "Valve cal",  "",      0,    11,  9999, 2123)  /* raven: backlash, speed, brake point, dead band digits */ \
-    X(P_REMOTE,      "Remote",     "",      0,     0,     2,    0)  /* 0 off, 1 Raven strings, 2 AgOpenGPS frames (pgn.h) */ \
+    X(P_REMOTE,      "Remote",     "",      0,     0, P_REMOTE_MAX, 0)  /* 0 off, 1 Raven strings, 2 AgOpenGPS frames (pgn.h) */ \
     X(P_REMOTE_WIN,  "Remote win", "%",     0,     1,   100,   50)  /* a remote rate within this of Dose */ \
+    PARAM_TABLE_PGN(X)
+#if FW_PGN
+#define P_REMOTE_MAX 2
+#define PARAM_TABLE_PGN(X)                                                          \
     X(P_SPEED_SRC,   "Speed src",  "",      0,     0,     2,    0)  /* 0 wheel, 1 GPS (PGN 254), 2 both cross-checked */ \
     X(P_SPEED_DIFF,  "Speed diff", "%",     0,     2,    50,    5)  /* both: wheel off GPS by this: WHEEL_NOISE */ \
     X(P_AOG_SECT,    "AOG sect",   "",      0,     0,     1,    0)  /* 1: sections also from the frames */ \
     X(P_AOG_REPLY,   "AOG reply",  "",      0,     0,     1,    1)  /* 1: PGN 237 answers each 239, as a machine module */ \
     X(P_FRAMES_LOST, "Frames lost","s",     1,     3,   100,   26)  /* frames in use stopped this long: boom shut */ \
     X(P_RC_ID,       "RC module",  "",      0,     0,    15,    0)  /* RateControl module id */
+#else
+#define P_REMOTE_MAX 1
+#define PARAM_TABLE_PGN(X)
+#endif
 
 #define REMOTE_RAVEN 1              /* P_REMOTE: Raven's strings (remote.h) */
 #define REMOTE_PGN 2                /* P_REMOTE: AgOpenGPS and RateControl frames (pgn.h) */
@@ -64,11 +72,11 @@
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 9            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+#define PARAMS_VERSION (FW_PGN ? 9 : 8)            /* bump when the table or the EEPROM record changes (2: lifetime totals,
                                      * 3: Min duty and Backlash appended, 4: Wheel p/rev appended, 5: the peers'
                                      * settings and Remote appended, 6: the learnt figures after the totals,
                                      * 7: ffmap's speed feed-forward among them, 8: the job totals after them,
-                                     * 9: the speed source and frame settings appended;
+                                     * 9: the speed source and frame settings appended (FW_PGN);
                                      * a copy of version 2 to 7 still loads, the values appended since at
                                      * their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */

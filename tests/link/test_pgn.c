@@ -140,9 +140,7 @@ static void test_pgn_each_frame_of_the_layouts_decoded(void **state)
     send_bytes(f, rc32500(f, 0, 12345, 380500, 0x50, -100));
     link_run_ms(20);
     assert_int_equal(pgn_rx.rc_upm_x1000, 12345);
-    assert_int_equal(pgn_rx.rc_cal_x1000, 380500);
     assert_int_equal(pgn_rx.rc_cmd, 0x50);
-    assert_int_equal(pgn_rx.rc_pwm, -100);
     link_run_ms(20);
     n = tx_all(out, sizeof out);
     /* ... answered with 32400 (module 0 sensor 0, status bit 0: the app heard) and 32401 */
@@ -164,9 +162,7 @@ static void test_pgn_each_frame_of_the_layouts_decoded(void **state)
     uint8_t d32502[21] = {0, 100, 20, 50, 5, 15, 35, 60};
     send_bytes(f, rc(f, 32502, d32502, 21));
     link_run_ms(20);
-    const uint8_t want[5] = {100, 20, 50, 5, 15};
-    assert_memory_equal(pgn_rx.rc_valve, want, 5);
-    assert_int_equal(pgn_rx.taken, taken + 7u);
+    assert_int_equal(pgn_rx.taken, taken + 7u);     /* checked and counted (nothing of it applies) */
     /* another module's 32500 and 32501 are not taken; AgIO's other pgns (238 settings) skipped */
     send_bytes(f, rc32500(f, 1, 999, 1000, 0x50, 0));
     link_run_ms(20);
