@@ -122,6 +122,12 @@ typedef struct sim {
     uint64_t key_release_ns;        /* the key held now is let go at this time (0: none held) */
     int scn_input;                  /* the scenario's [events] hold key or serial input */
     uint64_t power_back_ns;         /* a power cut: the supply comes back at this time (0: on) */
+    /* AgOpenGPS and RateControl on the serial link (events aog_hz, aog_sections, rc_rate_l_ha) */
+    uint64_t aog_period_ns, aog_next_ns;    /* 254 and 239 every period (0: none) */
+    uint8_t aog_sections;           /* the sections they carry (bit 0 = section 1) */
+    int aog_sect_set;               /* an aog_sections event came: the boom's valves follow them */
+    double rc_rate;                 /* L/ha RateControl asks for (0: no frames) */
+    uint64_t rc_next_ns;            /* its next 32500 */
     uint16_t fw_rate;               /* the firmware's P_RATE the last tick it ran ... */
     double set_rate;                /* ... and the rate the operator last set (a reboot's reload is not one) */
     /* step 5 of sim_step: app_poll() when NULL; the HIL program (sim/hil_main.c) puts a board

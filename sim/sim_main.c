@@ -329,7 +329,13 @@ int main(int argc, char **argv)
             return 1;
         }
     } else {
-        sim_run(sim, s->duration_s);
+        /* the link with nobody on it: what the UART sends is gone, as a real line's */
+        double t;
+        for (t = 0.1; !sim_done(sim); t += 0.1) {
+            sim_run(sim, t < s->duration_s ? t : s->duration_s);
+            while (hal_host_uart_tx_pop() >= 0)
+                ;
+        }
     }
     if (pil && pil_finish(pil) < 0) {
         fprintf(stderr, "sim: --pil: the firmware in s51 stopped answering\n");

@@ -118,29 +118,32 @@ uint8_t con_is_choice(uint8_t id)
     return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
 }
 
+#if FW_PGN
 /* the names of the choices other than the controllers', three a setting */
 static const char __code *const __code choice_names[] = {
     "Auto", "Manual", "",                   /* P_MODE */
-#if FW_PGN
     "off", "Raven", "AgOpenGPS",            /* P_REMOTE */
     "wheel", "GPS", "both",                 /* P_SPEED_SRC */
     "switches", "frames", "",               /* P_AOG_SECT */
-#else
-    "off", "Raven", "",                     /* P_REMOTE */
-#endif
 };
 
 const __code char *con_choice_name(uint8_t id, uint16_t v)
 {
-    uint8_t k = id == P_MODE ? 0 : id == P_REMOTE ? 3 : 255;
-#if FW_PGN
-    if (id == P_SPEED_SRC || id == P_AOG_SECT)
-        k = id == P_SPEED_SRC ? 6 : 9;
-#endif
+    uint8_t k = id == P_MODE ? 0 : id == P_REMOTE ? 3 : id == P_SPEED_SRC ? 6 : id == P_AOG_SECT ? 9 : 255;
     if (k != 255)
         return choice_names[k + (uint8_t)v];
     return ctl_name((uint8_t)v);
 }
+#else
+const __code char *con_choice_name(uint8_t id, uint16_t v)
+{
+    if (id == P_MODE)
+        return v ? "Manual" : "Auto";
+    if (id == P_REMOTE)
+        return v ? "Raven" : "off";
+    return ctl_name((uint8_t)v);
+}
+#endif
 
 /* append a parameter's value and unit, "150 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)

@@ -21,5 +21,5 @@ uint8_t store_learnt(uint8_t i)
     uint16_t base = store_slot_base(store_newest);
     if (store_newest == STORE_NO_SLOT || hal_eeprom_read(base + 1u) < STORE_LEARN_VERSION)
         return 0xFFu;
-    return hal_eeprom_read(base + STORE_AT_LEARNT_N(hal_eeprom_read(base + 2u)) + i);  /* after the record's values */
+    return hal_eeprom_read(base + STORE_AT_LEARNT_OF(base) + i);   /* after the record's values */
 }

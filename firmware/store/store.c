@@ -18,6 +18,14 @@
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
+#if FW_PGN
+/* the count of a known version from 5 on, and where the job lies in a record of n values */
+#define COUNT_OF(v) ((v) == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT)
+#define JOB_N(n) (CRC_N(n) + STORE_LEARN_BYTES)
+#else
+#define COUNT_OF(v) P_COUNT
+#define JOB_N(n) HDR_JOB
+#endif
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_*: the operator's notice (store_status) */
@@ -124,7 +132,7 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (b != STORE_MAGIC)
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == (sv_lo == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT))
+            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == COUNT_OF(sv_lo))
                   || (sv_lo == 2u && b == PARAMS_V2_COUNT)
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
@@ -218,7 +226,7 @@ uint8_t store_load(void) __reentrant
         param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
     if (hal_eeprom_read(base + 1u) >= 8u)    /* after the learnt figures, where n values put them */
-        totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
+        totals_set_job(read32(base + JOB_N(n)), read32(base + JOB_N(n) + 4u));
     else
         totals_set_job(0, 0);       /* an older copy has none */
     n = params_cross();

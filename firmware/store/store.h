@@ -58,6 +58,11 @@
 #define STORE_NO_SLOT 0xFFu
 #define STORE_AT_LEARNT_N(n) (5u + 2u * (uint16_t)(n) + 8u)  /* where the learnt bytes start in a record of n values */
 #define STORE_AT_LEARNT STORE_AT_LEARNT_N(P_COUNT)
+#if FW_PGN
+#define STORE_AT_LEARNT_OF(base) STORE_AT_LEARNT_N(hal_eeprom_read((base) + 2u))  /* versions 5-8 hold fewer values */
+#else
+#define STORE_AT_LEARNT_OF(base) STORE_AT_LEARNT
+#endif
 
 /* What store_load() found, or a save that failed since (store_status(), the operator's notice
  * until store_status_clear()); a save's own result (store_result()): STORE_OK, _WRITE_ERR or
