@@ -392,6 +392,13 @@ int sim_event_text(sim_t *sim, int kind, const char *text)
     return 0;
 }
 
+/* The rate in force: the operator's, or a field computer's the firmware took (the host's
+ * firmware; its state is not on the host under PIL) */
+static double rate_now(const sim_t *sim)
+{
+    return !sim->pass && target_rate_remote() ? target_rate_x10() * 0.1 : sim->set_rate;
+}
+
 /* The operator is told: an alarm, a warning or a notice active on the firmware's screen (its
  * bits in app_status.alarms), or the screen dark while the power is cut. */
 static int operator_told(const sim_t *sim)
@@ -408,7 +415,7 @@ static void watch(sim_t *sim)
     w.boom_lpm = sim->boom_lpm;
     w.v_kmh = plant_speed_kmh(pl);
     w.width_m = (flowing > 0 ? flowing : 0) * pl->p.spacing_m;
-    w.rate_l_ha = sim->set_rate;
+    w.rate_l_ha = rate_now(sim);
     w.spraying = pl->spray_on;
     w.sections_on = pl->open_nozzles > 0;
     w.told = operator_told(sim);
@@ -478,7 +485,7 @@ void sim_step(sim_t *sim)
     sim->prev_alarms = app_status.alarms;
 
     metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
-                param_v[P_RATE], pl->p_bar, pl->spray_on);
+                rate_now(sim), pl->p_bar, pl->spray_on);
     if (pl->spray_on && !sim->spray_on_ns)
         sim->spray_on_ns = t1 + 1;
     metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 * 0.01,
