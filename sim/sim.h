@@ -139,14 +139,17 @@ typedef struct sim {
 /* One timed operator input: a key held SIM_KEY_HOLD_MS, or a line sent to the serial link. */
 typedef struct sim_input {
     double t_s;
-    char key;                       /* keypad character, or 0 for a serial line */
+    char key;                       /* keypad character, or 0 for a serial line or frame */
     char line[72];                  /* the line without its end; "\r\n" is added */
+    uint8_t n_bytes;                /* a frame: its bytes in line[], as they are (0: a line) */
 } sim_input_t;
 #define SIM_KEY_HOLD_MS 100
 
 /* Read operator input for the run from a text file, one event a line, times ascending:
  *     t_s key K         hold keypad key K (0-9 A-D * #) for SIM_KEY_HOLD_MS
  *     t_s serial TEXT   the characters of TEXT and "\r\n" arrive at the UART
+ *     t_s frame HEX..   the bytes (two hex digits each, spaces between allowed) arrive at the
+ *                       UART as they are: a PGN frame (docs/PGN.md)
  * ('#' starts a comment where a line starts with it). 0, or -1 with "file:line: reason" in err.
  * Call after sim_init(). */
 int sim_input_load(sim_t *sim, const char *path, char *err, size_t n);
