@@ -4,16 +4,11 @@
 # RateControl's PGN32500.Send builds them (to the module port 28888, here 28988) for 120 L/ha
 # over the boom at 7 km/h; the board's 32400 frames come back to the app's port (29999, here
 # 30099) and their applied rate reaches the frames' target. A damaged datagram is refused.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-PY=.venv/bin/python
+source "$(dirname "$0")/tap.sh" pgn_bridge
 out=$B/test-logs/pgn_bridge
 SCN=tests/scripts/data/rc_bridge_150.scn
 mkdir -p "$out"
 rm -rf "${out:?}"/*
-ok() { echo "ok - pgn_bridge: $1"; }
-nok() { echo "not ok - pgn_bridge: $1"; }
 make -s --no-print-directory -j2 $B/host/bin/sim > "$out/build.log" 2>&1 || { nok "build: $(tail -3 "$out/build.log")"; exit 0; }
 
 # the board at 4 x real time: 60 s of the run in 15 s (the bridge stops after 11 s)
@@ -77,7 +72,8 @@ brc=$?
 kill $sim 2>/dev/null; wait $sim 2>/dev/null
 res=$(grep RESULT "$out/client.out")
 if [ $brc -eq 0 ] && [ "${res#RESULT ok}" != "$res" ]; then
-    ok "RateControl-shaped 32500 frames set the rate through the bridge; the board's 32400 came back to the app's port with the applied rate (${res#RESULT ok } UPM, want within 5 %)"
+    read -r _ _ got want <<< "$res"
+    ok "RateControl-shaped 32500 frames set the rate through the bridge; the board's 32400 came back to the app's port with the applied rate ($got UPM for $want, within 5 %)"
 else
     nok "bridge rc $brc, client: $(tail -3 "$out/client.out"), bridge: $(tail -1 "$out/bridge.err"), sim: $(tail -1 "$out/sim.err")"
 fi

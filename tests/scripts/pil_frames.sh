@@ -4,17 +4,9 @@
 # (tests/scripts/data/frame_flood.scn) into the whole firmware in s51: every control step still
 # runs within its period and the watchdog is kicked after each (one frame a pass, as one line a
 # pass); every GET is answered; the speed used is the frames'; they are never lost.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-SIM=$B/host/bin/sim
+source "$(dirname "$0")/tap.sh" pil_frames
 IHX=$B/pil/sprayer_pil.ihx
 SCN=tests/scripts/data/frame_flood.scn
-PY=.venv/bin/python
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-ok() { echo "ok - pil_frames: $1"; }
-nok() { echo "not ok - pil_frames: $1"; [ -n "${2:-}" ] && echo "$2" | head -5 | sed 's/^/#   /'; }
 
 if ! make -s --no-print-directory "$SIM" "$IHX" BUILD="$B" > "$tmp/build.log" 2>&1; then
     nok "the simulator and the s51 image build" "$(cat "$tmp/build.log")"
