@@ -59,9 +59,9 @@ SDCC_MODEL := --model-large
 # HIL=1: hardware in the loop built into the chip's image (docs/HIL.md): held to the chip's size and
 # the stack margin floor, not to the code and XRAM headroom floors (a bench image, not the field's)
 HIL ?= 0
-# PGN=1: the field image with AgOpenGPS and RateControl frames (FW_PGN, hal/compiler.h; the HIL
-# image has them): XRAM has no room for them under its floor yet
-PGN ?= $(HIL)
+# PGN=1: the field image with AgOpenGPS and RateControl frames (FW_PGN, hal/compiler.h): its XRAM
+# has no room for them under the floor yet (the HIL image none at all)
+PGN ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 # Shared moves (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
@@ -99,7 +99,7 @@ OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O3 -fno-tree-slp-vectorize -f
 
 # ==== build folders and products =====================================================================
 # each image its own folder: the objects of one are compiled with other flags than another's
-STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(HIL)),-hil)$(if $(filter 1,$(PGN)),$(if $(filter 1,$(HIL)),,-pgn))
+STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(HIL)),-hil)$(if $(filter 1,$(PGN)),-pgn)
 # the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
 # firmware's archive only the modules something calls
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))

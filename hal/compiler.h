@@ -41,8 +41,9 @@
 #endif
 
 /* FW_PGN: AgOpenGPS and RateControl frames on the serial link (firmware/link/pgn.h) and their
- * settings: in every build but the chip's field image, whose XRAM has no room for them yet;
- * `make firmware PGN=1` builds the field image with them (the HIL image has them). */
+ * settings: in the host's, the s51 tests' and PIL's builds, not in the chip's images (the field
+ * image's XRAM has no room for them under its floor yet; `make firmware PGN=1` builds it with
+ * them). */
 #ifndef FW_PGN
 #if defined(HAL_STC12)
 #define FW_PGN 0
