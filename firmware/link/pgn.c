@@ -118,14 +118,15 @@ void pgn_drop(void)
 
 uint8_t pgn_byte(uint8_t b) __reentrant
 {
-    uint8_t n = pg.n, k;
+    uint8_t n = pg.n, k, none = PGN_NO;
     if (n == 1 && b != (pg.f[0] == 0x80 ? 0x81 : 0x7E)) {
         pgn_drop();                 /* no second sync byte: the first was noise, b perhaps a start */
         n = 0;
+        none = PGN_NOISE;
     }
     if (!n) {
         if (param_v[P_REMOTE] != REMOTE_PGN || !(b == 0x80 || (b >= 0xF4 && b <= 0xF6)))
-            return PGN_NO;
+            return none;
         pg.total = b == 0x80 ? 0 : b == 0xF4 ? 14 : b == 0xF5 ? 11 : 24;
         pg.sum = 0;
     }

@@ -31,6 +31,8 @@
 #define PGN_NO 0                    /* not a frame's byte: the text parser's */
 #define PGN_IN 1                    /* taken into a frame */
 #define PGN_END 2                   /* a frame ended (taken or dropped) */
+#define PGN_NOISE 3                 /* the byte before began no frame (dropped, counted): this
+                                     * one is the text parser's, the line it fell in is spoilt */
 
 /* What the frames carried last (each field from its own frame). */
 typedef struct {

@@ -461,30 +461,38 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
 #if FW_PGN
             pgn_drop();             /* ... or the frame */
-        } else if ((c = pgn_byte((uint8_t)b)) != PGN_NO) {
+#endif
+        } else {
+#if FW_PGN
+            c = pgn_byte((uint8_t)b);
             if (c == PGN_END)
                 return 1;           /* one frame a pass, its work done */
+            if (c == PGN_IN)
+                continue;
+            if (c == PGN_NOISE && se_state == S_RX)
+                se_state = S_RX_CHAR;   /* a start byte no frame followed: this line's, as ever */
 #endif
-        } else if (b == '\r' || b == '\n') {
-            if (se_state != S_RX) {
-                reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
-                send();
-                return 1;
-            }
-            if (se_n) {
-                if (!may_take) {
-                    se_state = S_RX_HELD;
-                    return 0;
+            if (b == '\r' || b == '\n') {
+                if (se_state != S_RX) {
+                    reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
+                    send();
+                    return 1;
                 }
-                return take();
+                if (se_n) {
+                    if (!may_take) {
+                        se_state = S_RX_HELD;
+                        return 0;
+                    }
+                    return take();
+                }
+            } else if (se_state == S_RX) {
+                if (b < 0x20 || b > 0x7E)
+                    se_state = S_RX_CHAR;
+                else if (se_n >= SERIAL_LINE_MAX)
+                    se_state = S_RX_LONG;
+                else
+                    put_raw((char)b);
             }
-        } else if (se_state == S_RX) {
-            if (b < 0x20 || b > 0x7E)
-                se_state = S_RX_CHAR;
-            else if (se_n >= SERIAL_LINE_MAX)
-                se_state = S_RX_LONG;
-            else
-                put_raw((char)b);
         }
     }
     if (se_n || se_state != S_RX || pgn_busy()) {

@@ -345,6 +345,33 @@ static void test_pgn_ratecontrol_target_upm_is_a_rate_in_the_window(void **state
     assert_int_equal(target_rate_x10(), 1500);
 }
 
+/* A frame inside a text line: the line goes on after it. A start byte no frame follows inside
+ * a line: counted, and the line refused (ERR CHAR) as any byte that is not text. */
+static void test_pgn_a_frame_inside_a_line_and_noise(void **state)
+{
+    (void)state;
+    uint8_t f[32], out[2048];
+    const uint8_t d254[8] = {77, 0, 1, 0, 0, 0x7D, 0, 0};
+    tx_all(out, sizeof out);
+    link_send("GET ");
+    send_bytes(f, aog(f, 254, d254, 8));
+    link_send("0\r\n");
+    link_run_ms(50);
+    size_t n = tx_all(out, sizeof out);
+    out[n < sizeof out ? n : sizeof out - 1] = 0;
+    assert_non_null(strstr((char *)out, "OK 0 150*"));
+    assert_int_equal(pgn_rx.gps_kmh_x10, 77);
+    uint16_t bad = pgn_rx.bad;
+    const uint8_t noise[] = {'G', 'E', 'T', ' ', 0x80, '0', '\r', '\n'};
+    send_bytes(noise, sizeof noise);
+    link_run_ms(50);
+    n = tx_all(out, sizeof out);
+    out[n < sizeof out ? n : sizeof out - 1] = 0;
+    assert_non_null(strstr((char *)out, "ERR CHAR*"));
+    assert_null(strstr((char *)out, "OK 0"));
+    assert_int_equal(pgn_rx.bad, bad + 1u);
+}
+
 /* Remote off or Raven: a frame's bytes are not frames (ERR CHAR for its line, as ever) */
 static void test_pgn_frames_only_with_remote_agopengps(void **state)
 {
@@ -369,6 +396,7 @@ int main(void)
         cmocka_unit_test_setup(test_pgn_gps_speed_sections_and_frames_stopping, setup),
         cmocka_unit_test_setup(test_pgn_both_raises_wheel_noise_when_the_speeds_part, setup),
         cmocka_unit_test_setup(test_pgn_ratecontrol_target_upm_is_a_rate_in_the_window, setup),
+        cmocka_unit_test_setup(test_pgn_a_frame_inside_a_line_and_noise, setup),
         cmocka_unit_test_setup(test_pgn_frames_only_with_remote_agopengps, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
