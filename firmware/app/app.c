@@ -12,6 +12,7 @@
 #include "target.h"
 #include "valve.h"
 #include "diag.h"
+#include "diag_wheel.h"
 #include "ops.h"
 #include "totals.h"
 #include "serial.h"

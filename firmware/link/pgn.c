@@ -6,7 +6,7 @@
 #include "totals.h"
 #include "umath.h"
 #include "mul.h"
-#include "diag.h"
+#include "diag_wheel.h"
 #include "pgn.h"
 
 #if FW_PGN

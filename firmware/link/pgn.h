@@ -4,6 +4,13 @@
 
 #include "compiler.h"
 
+/* pgn_byte's verdicts */
+#define PGN_NO 0                    /* not a frame's byte: the text parser's */
+#define PGN_IN 1                    /* taken into a frame */
+#define PGN_END 2                   /* a frame ended (taken or dropped) */
+#define PGN_NOISE 3                 /* the byte before began no frame (dropped, counted): this
+                                     * one is the text parser's, the line it fell in is spoilt */
+
 #if FW_PGN
 
 /*
@@ -27,12 +34,6 @@
 #define PGN_OFF_PERIODS 20u         /* "both": the speeds apart this many periods more than together */
 #define PGN_CHECK_X100 200u         /* ... judged from this GPS speed, km/h x100 */
 
-/* pgn_byte's verdicts */
-#define PGN_NO 0                    /* not a frame's byte: the text parser's */
-#define PGN_IN 1                    /* taken into a frame */
-#define PGN_END 2                   /* a frame ended (taken or dropped) */
-#define PGN_NOISE 3                 /* the byte before began no frame (dropped, counted): this
-                                     * one is the text parser's, the line it fell in is spoilt */
 
 /* What the frames carried last (each field from its own frame). */
 typedef struct {
@@ -69,6 +70,10 @@ uint8_t pgn_busy(void);
 #define pgn_speed(wheel_x100) (wheel_x100)
 #define pgn_sections(switches) (switches)
 #define pgn_busy() 0
+#define pgn_init()
+#define pgn_drop()
+#define pgn_next(buf) 0
+#define pgn_byte(b) PGN_NO
 #endif
 
 #endif

@@ -46,9 +46,7 @@ void serial_init(void)
     se.reported = 0;
     se.quiet = 0;
     boot_due = 1;
-#if FW_PGN
     pgn_init();
-#endif
     ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
 
@@ -387,10 +385,8 @@ static void compose_next(void) __reentrant
     } else {
         if (remote_next())          /* Raven's lines carry no checksum */
             tx_crlf();
-#if FW_PGN
         else if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
             se_tx_i = 0, se_state = S_TX;   /* a reply frame, as it is */
-#endif
         return;
     }
     tx_end();
@@ -441,9 +437,7 @@ static uint8_t take(void) __reentrant
 uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
-#if FW_PGN
     uint8_t c;
-#endif
 
     if (se_state == S_TX && !drain())
         return 0;
@@ -459,40 +453,31 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
         se.quiet = 0;
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
-#if FW_PGN
             pgn_drop();             /* ... or the frame */
-#endif
-        } else {
-#if FW_PGN
-            c = pgn_byte((uint8_t)b);
-            if (c == PGN_END)
-                return 1;           /* one frame a pass, its work done */
-            if (c == PGN_IN)
-                continue;
-            if (c == PGN_NOISE && se_state == S_RX)
-                se_state = S_RX_CHAR;   /* a start byte no frame followed: this line's, as ever */
-#endif
-            if (b == '\r' || b == '\n') {
-                if (se_state != S_RX) {
-                    reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
-                    send();
-                    return 1;
-                }
-                if (se_n) {
-                    if (!may_take) {
-                        se_state = S_RX_HELD;
-                        return 0;
-                    }
-                    return take();
-                }
-            } else if (se_state == S_RX) {
-                if (b < 0x20 || b > 0x7E)
-                    se_state = S_RX_CHAR;
-                else if (se_n >= SERIAL_LINE_MAX)
-                    se_state = S_RX_LONG;
-                else
-                    put_raw((char)b);
+        } else if ((c = pgn_byte((uint8_t)b)) == PGN_END) {
+            return 1;               /* one frame a pass, its work done */
+        } else if (c == PGN_IN) {
+            /* a frame's byte (pgn.c) */
+        } else if (b == '\r' || b == '\n') {
+            if (se_state != S_RX || c == PGN_NOISE) {   /* (a start byte no frame followed) */
+                reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
+                send();
+                return 1;
             }
+            if (se_n) {
+                if (!may_take) {
+                    se_state = S_RX_HELD;
+                    return 0;
+                }
+                return take();
+            }
+        } else if (se_state == S_RX) {
+            if (b < 0x20 || b > 0x7E || c == PGN_NOISE)
+                se_state = S_RX_CHAR;
+            else if (se_n >= SERIAL_LINE_MAX)
+                se_state = S_RX_LONG;
+            else
+                put_raw((char)b);
         }
     }
     if (se_n || se_state != S_RX || pgn_busy()) {
@@ -500,9 +485,7 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
          * goes on (one that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.quiet < SERIAL_STALL_S)
             return 0;
-#if FW_PGN
         pgn_drop();
-#endif
         if (se_state == S_RX_LOST) {
             reply_err("LOST");
             send();

@@ -45,11 +45,7 @@ static struct {
     int16_t t1;                                 /* the target a period ago (diag_model) */
     uint8_t session;                            /* 1: a calibration is open: clean spraying teaches the model */
     uint16_t q3;                                /* P_NOZZLE_Q3 the model was learnt for */
-#if FW_PGN
-    uint8_t frames;                             /* DIAG_FRAMES_*: the link's frames this period */
-#endif
 } dg;
-#define FRAMES(bit) (dg.frames & (bit))
 
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
  * at the rated flow */
@@ -68,9 +64,6 @@ void diag_init(void)
     dg.offrate_cnt = 0;
     dg.meter_noise = dg.wheel_noise = 0;
     dg.meter_suspect = 0;
-#if FW_PGN
-    dg.frames = 0;
-#endif
     diag_wheel_init();
     dg.meter_glitches = flow_glitches();
     dg.wheel_glitches = speed_glitches();
@@ -211,13 +204,6 @@ static uint8_t learn(uint16_t r, uint16_t p) __reentrant
     dg.sxy += UMUL(r, p);
     return ++dg.ln >= DIAG_LEARN_N;
 }
-
-#if FW_PGN
-void diag_set_frames(uint8_t frames)
-{
-    dg.frames = frames;
-}
-#endif
 
 void diag_set_nozzles(uint8_t open_nozzles) __reentrant
 {
@@ -419,16 +405,10 @@ static void diag_speed(const __xdata app_status_t *in) __reentrant
 {
     uint8_t g = target_speed_given(), pump = diag_pump(in);
     uint16_t x = speed_quiet_periods();
-#if FW_PGN
-    uint8_t lost = FRAMES(DIAG_FRAMES_LOST);    /* or the AgOpenGPS frames in use stopped */
+    uint8_t lost = DIAG_FRAMES(DIAG_FRAMES_LOST);   /* or the frames in use stopped (diag_wheel.h) */
     uint8_t wheel = !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())));
-    /* cleared by pulses again, or with the GPS's speed in use by the wheel's cause gone */
     rule(AL_SPEED_LOST, lost || wheel,
-         !lost && (g || x < DIAG_SPEED_PERIODS / 2u || (FRAMES(DIAG_FRAMES_GPS) && !wheel)));
-#else
-    rule(AL_SPEED_LOST, !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()))),
-         g || x < DIAG_SPEED_PERIODS / 2u);
-#endif
+         !lost && (g || x < DIAG_SPEED_PERIODS / 2u || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !wheel)));
     x = in->speed_kmh_x100;
     g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
@@ -484,14 +464,10 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     dg.wheel_pulses += n;           /* (speed_pulses()'s low 16 bits) */
     x = x > n ? x - n : 0;
     dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
-    /* ... or a rise a tractor cannot make (speed.h SPEED_JUMP_PERIODS), held until a standstill */
-#if FW_PGN
-    /* ... or, Speed src both, the wheel off the GPS (pgn.c) */
-    g = speed_jumped() || FRAMES(DIAG_FRAMES_SPEED_OFF);
+    /* ... or a rise a tractor cannot make (speed.h SPEED_JUMP_PERIODS), held until a standstill;
+     * or, Speed src both, the wheel off the GPS (diag_wheel.h) */
+    g = speed_jumped() || DIAG_FRAMES(DIAG_FRAMES_SPEED_OFF);
     rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || g, dg.wheel_noise == 0 && !g);
-#else
-    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || speed_jumped(), dg.wheel_noise == 0 && !speed_jumped());
-#endif
     return dg.alarms;
 }
 

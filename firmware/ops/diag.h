@@ -83,13 +83,6 @@ uint8_t diag_nozzle_learnt(void);
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant;
 /* The pressure the nozzle model needs for this flow, kPa (0 with no nozzles). */
 uint16_t diag_nozzle_pressure_kpa(int16_t flow_x100, uint8_t open_nozzles) __reentrant;
-/* The link's AgOpenGPS frames this period (set by the application): those in use stopped
- * (SPEED_LOST), Speed src both finding the wheel off the GPS (WHEEL_NOISE), the GPS's speed in
- * use (SPEED_LOST clears without wheel pulses). */
-#define DIAG_FRAMES_LOST 1u
-#define DIAG_FRAMES_SPEED_OFF 2u
-#define DIAG_FRAMES_GPS 4u          /* the speed is the GPS's (Speed src GPS or both) */
-void diag_set_frames(uint8_t frames);
 /* Nozzles the model uses (set by the application each period). */
 void diag_set_nozzles(uint8_t open_nozzles) __reentrant;
 /* Latch the internal fault. */

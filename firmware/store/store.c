@@ -18,14 +18,7 @@
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
-#if FW_PGN
-/* the count of a known version from 5 on, and where the job lies in a record of n values */
-#define COUNT_OF(v) ((v) == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT)
-#define JOB_N(n) (CRC_N(n) + STORE_LEARN_BYTES)
-#else
-#define COUNT_OF(v) P_COUNT
-#define JOB_N(n) HDR_JOB
-#endif
+#define JOB_N(n) (CRC_N(n) + STORE_LEARN_BYTES)   /* the job in a record of n values */
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_*: the operator's notice (store_status) */
@@ -132,7 +125,7 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (b != STORE_MAGIC)
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == COUNT_OF(sv_lo))
+            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == PARAMS_COUNT_OF(sv_lo))
                   || (sv_lo == 2u && b == PARAMS_V2_COUNT)
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
