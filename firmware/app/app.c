@@ -126,6 +126,9 @@ void app_init(void)
     totals_init();
     store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
     serial_init();
+#if FW_PGN
+    pgn_init();
+#endif
 #if FW_HIL
     hil_init();                     /* out of the HIL mode, as at power-on */
 #endif

@@ -70,10 +70,19 @@ uint8_t pgn_busy(void);
 #define pgn_speed(wheel_x100) (wheel_x100)
 #define pgn_sections(switches) (switches)
 #define pgn_busy() 0
-#define pgn_init()
 #define pgn_drop()
-#define pgn_next(buf) 0
-#define pgn_byte(b) PGN_NO
+#endif
+/* serial_poll's byte chain (serial.c), nothing without FW_PGN: the verdict v on each byte b;
+ * PGN_CHAIN the branches for a frame's bytes (a frame ended: the pass's work done), PGN_NOISY
+ * the text parser's condition that the byte before began no frame (this line refused) */
+#if FW_PGN
+#define PGN_VERDICT(v) uint8_t v;
+#define PGN_CHAIN(v, b) } else if (((v) = pgn_byte(b)) == PGN_END) { return 1; } else if ((v) == PGN_IN) {
+#define PGN_NOISY(v) || (v) == PGN_NOISE
+#else
+#define PGN_VERDICT(v)
+#define PGN_CHAIN(v, b)
+#define PGN_NOISY(v)
 #endif
 
 #endif

@@ -46,7 +46,6 @@ void serial_init(void)
     se.reported = 0;
     se.quiet = 0;
     boot_due = 1;
-    pgn_init();
     ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
 
@@ -385,8 +384,10 @@ static void compose_next(void) __reentrant
     } else {
         if (remote_next())          /* Raven's lines carry no checksum */
             tx_crlf();
+#if FW_PGN
         else if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
             se_tx_i = 0, se_state = S_TX;   /* a reply frame, as it is */
+#endif
         return;
     }
     tx_end();
@@ -437,7 +438,7 @@ static uint8_t take(void) __reentrant
 uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
-    uint8_t c;
+    PGN_VERDICT(c)
 
     if (se_state == S_TX && !drain())
         return 0;
@@ -454,12 +455,9 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
             pgn_drop();             /* ... or the frame */
-        } else if ((c = pgn_byte((uint8_t)b)) == PGN_END) {
-            return 1;               /* one frame a pass, its work done */
-        } else if (c == PGN_IN) {
-            /* a frame's byte (pgn.c) */
+        PGN_CHAIN(c, (uint8_t)b)    /* a frame's byte (pgn.h): one frame a pass */
         } else if (b == '\r' || b == '\n') {
-            if (se_state != S_RX || c == PGN_NOISE) {   /* (a start byte no frame followed) */
+            if (se_state != S_RX PGN_NOISY(c)) {
                 reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
                 send();
                 return 1;
@@ -472,7 +470,7 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
                 return take();
             }
         } else if (se_state == S_RX) {
-            if (b < 0x20 || b > 0x7E || c == PGN_NOISE)
+            if (b < 0x20 || b > 0x7E PGN_NOISY(c))
                 se_state = S_RX_CHAR;
             else if (se_n >= SERIAL_LINE_MAX)
                 se_state = S_RX_LONG;

@@ -22,8 +22,6 @@
 void diag_set_frames(uint8_t frames);
 uint8_t diag_frames(void);
 #define DIAG_FRAMES(bit) (diag_frames() & (bit))
-#else
-#define DIAG_FRAMES(bit) 0u
 #endif
 
 void diag_wheel_init(void);

@@ -83,7 +83,11 @@ enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 #define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */
 #define PARAMS_V8_COUNT 32          /* P_COUNT of versions 5 to 8: up to P_REMOTE_WIN */
+#if FW_PGN
 #define PARAMS_COUNT_OF(v) ((v) == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT)  /* a version from 5 on */
+#else
+#define PARAMS_COUNT_OF(v) P_COUNT
+#endif
 
 typedef struct {
     const __code char *name;

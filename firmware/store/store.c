@@ -18,7 +18,7 @@
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
-#define JOB_N(n) (CRC_N(n) + STORE_LEARN_BYTES)   /* the job in a record of n values */
+#define JOB_N(n) (FW_PGN ? CRC_N(n) + STORE_LEARN_BYTES : HDR_JOB)    /* the job in a record of n values */
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_*: the operator's notice (store_status) */
