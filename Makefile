@@ -30,7 +30,8 @@ XRAM_SIZE ?= 1024
 # of the code free (the aim is 10 %: the room is to come from what the image carries and how its
 # code is generated, not from trimming the safety rules), 128 B of XRAM and a 40 B stack margin
 # at the static worst case. The field
-# image carries ffmap and bp_pid; the research image (FW_PEERS=1: all six controllers) and the
+# image carries ffmap; the research image (FW_PEERS=1: all six controllers, the paper's bp_pid
+# among them) and the
 # HIL image (HIL=1) are held to the chip's size for their code (and HIL's XRAM) and to the stack
 # margin.
 CODE_FREE_PCT ?= $(if $(filter 1,$(FW_PEERS) $(HIL)),0,8)

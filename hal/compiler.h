@@ -40,10 +40,10 @@
 #endif
 #endif
 
-/* FW_PGN: AgOpenGPS and RateControl frames on the serial link (firmware/link/pgn.h) and their
- * settings: in the host's, the s51 tests' and PIL's builds, not in the chip's images (the field
+/* FW_PGN: AgOpenGPS and RateControl frames on the serial link (firmware/link/pgn.h), Remote's
+ * value 3: in the host's, the s51 tests' and PIL's builds, not in the chip's images (the field
  * image's XRAM has no room for them under its floor yet; `make firmware PGN=1` builds it with
- * them). */
+ * them). Their settings are in every image's table (params.h), used only with the frames. */
 #ifndef FW_PGN
 #if defined(HAL_STC12)
 #define FW_PGN 0

@@ -90,7 +90,15 @@ uint8_t hal_hil_active(void);
 #endif
 
 /* ---- serial link (RS232 to the PC) -------------------------------------------------------- */
-#define HAL_UART_BAUD 38400UL
+#define HAL_UART_BAUD 38400UL       /* our own protocol's rate (HAL_UART_38400_8N1) */
+/* The link's framing: our own protocol's, or a Raven console's (9600 or 1200 baud, 8 data bits,
+ * no parity, 2 stop bits). At reset HAL_UART_38400_8N1. */
+#define HAL_UART_38400_8N1 0
+#define HAL_UART_9600_8N2 1
+#define HAL_UART_1200_8N2 2
+/* Switch to framing f: 1 when done, 0 (nothing changed) while bytes still wait to go out at
+ * the old one (call again later: it never waits). */
+uint8_t hal_uart_framing(uint8_t f);
 /* The receive queue's size (a power of two; the ring holds one byte less): hal_stc12's
  * hal_serial.c sizes it for the main loop's passes, the host backend models the same. */
 #define HAL_UART_RXQ 64

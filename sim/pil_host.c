@@ -197,6 +197,10 @@ static int serve(pil_t *p, int until)
             wr(p, out, 1);
             p->k[K_TX]++;
             break;
+        case PIL_UART_FRAMING:
+            out[0] = hal_uart_framing((uint8_t)rd(p));
+            wr(p, out, 1);
+            break;
         case PIL_UART_GET: {
             int16_t b = hal_uart_get();
             wr(p, out, put16(out, (uint16_t)b));

@@ -32,9 +32,10 @@ static const cfg_key_t cfg_keys[] = {
     {"valve_backlash", P_VALVE_SLACK, 1000},        /* ... its Backlash, stored in 0.1 % */
     {"nozzle_lpm_at_3bar", P_NOZZLE_Q3, 100},
     {"wheel_pulses_per_rev", P_WHEEL_PPR, 1},      /* the elements a turn whose spacing is learnt */
-    {"aog_kp", P_AOG_KP, 10},                       /* aog's settings: PWM counts a L/min, 0.1 steps */
-    {"aog_ki", P_AOG_KI, 100},                      /* ... a 50 ms loop, 0.01 steps */
-    {"aog_kd", P_AOG_KD, 10},
+    {"aog_kp", P_AOG_KP, 1},                        /* aog's settings as the RateControl app sets them */
+    {"aog_ki", P_AOG_KI, 1},
+    {"aog_brake_pct", P_AOG_BRAKE, 10},             /* ... % of the target, 0.1 steps */
+    {"aog_slow_pct", P_AOG_SLOW, 1},
     {"aog_min_pwm", P_AOG_MIN, 1},                  /* ... PWM counts of 255 */
     {"aog_max_pwm", P_AOG_MAX, 1},
     {"raven_valve_cal", P_RAVEN_CAL, 1},            /* raven's four digits */

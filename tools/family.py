@@ -207,19 +207,21 @@ def tuned_config(p):
     """The peers' settings for this plant's valve, as a careful user would set them by hand:
     he times a full stroke (T s), finds the smallest drive that moves the valve (its break-away
     duty b) and sees how long a reversal takes before the flow answers (backlash x T).
-    aog: min PWM just above b (10 % more, rounded up), Kp 5 T PWM counts a L/min (20 for a 4 s
-    valve: a slower valve needs more drive for the same correction), max PWM full.
+    aog: min PWM just above b (10 % more, rounded up), Kp the release's 45 scaled by T / 4 s (a
+    slower valve needs more drive for the same correction), max PWM full, the rest at the
+    release's defaults.
     raven: speed digit S so that a correction beyond the brake point moves the valve about 0.17
     stroke a second (standard valve: drive (S + 1) / 10 = 0.17 T) and at least 1.1 b, backlash
-    digit the take-up time in 10 ms, brake point 10 % and dead band 2 %. The rules were chosen
-    on 4 plants of seed 1 (0, 1, 3, 5) from a few settings each, as a user would try them."""
+    digit the take-up time in 10 ms, brake point 10 % and dead band 2 %. raven's rules were
+    chosen on 4 plants of seed 1 (0, 1, 3, 5) from a few settings each, as a user would try
+    them; aog's is its release's defaults with the valve's own break-away and stroke, not tried."""
     T, b, k = p["valve_travel_s"], p["valve_stiction_duty"], p["valve_backlash"]
     min_pwm = min(255, math.ceil(255 * b * 1.1))
-    kp = min(150.0, round(5.0 * T, 1))
+    kp = min(1500, round(45.0 * T / 4.0))
     speed = max(1, min(9, round(max(1.7 * T, 11.0 * b) - 1)))
     backlash = max(1, min(9, round(k * T / 0.01)))
     cal = backlash * 1000 + speed * 100 + 1 * 10 + 2
-    return ["aog_kp = %.1f" % kp, "aog_min_pwm = %d" % min_pwm, "aog_max_pwm = 255",
+    return ["aog_kp = %d" % kp, "aog_min_pwm = %d" % min_pwm, "aog_max_pwm = 255",
             "raven_valve_cal = %d" % cal]
 
 

@@ -163,8 +163,9 @@ def sav_loop(period):
 
 def raven_cr(cal):
     p = param_id("P_REMOTE")
-    ev = ["%g serial %s" % (T0 - 1, csum("SET %d 1" % p)),
-          "%g serial %s" % (T0, csum("SET %d %d" % (param_id("P_WHEEL"), cal))),
+    # the wheel cal over our own protocol first: with Remote on the link is a Raven console's
+    ev = ["%g serial %s" % (T0 - 1, csum("SET %d %d" % (param_id("P_WHEEL"), cal))),
+          "%g serial %s" % (T0, csum("SET %d 1" % p)),
           "%g serial $R,CR" % (T0 + 1)]
     return dict(text=scenario("wheel cal %d, $R,CR" % cal, ev), start=T0, c1=True)
 

@@ -44,8 +44,8 @@ SITES = {
     "firmware/ops/diag_line.c": ["diag_dry_line", "diag_zero", "diag_balance"],
     "firmware/ops/diag_wheel.c": ["diag_pump"],
     # the link's checksum, layout and refusals; Raven's strings and their refusals
-    "firmware/link/linecheck.c": ["line_crc8", "hexval", "line_check"],
-    "firmware/link/serial.c": ["number", "answer", "run", "take", "serial_poll"],
+    "firmware/link/linecheck.c": ["line_crc8", "hexval", "line_check", "line_number"],
+    "firmware/link/serial.c": ["answer", "run", "take", "serial_poll"],
     "firmware/link/remote.c": ["remote_command"],
     # the EEPROM record checks; the settings' ranges and cross-checks
     "firmware/store/store.c": ["ck_more", "store_load"],
@@ -166,9 +166,10 @@ EQUIVALENT = [
      "a byte under '0' gives c - '0' under 0: the -1 of a refusal's test either way"),
     ("firmware/link/serial.c", "answer", "if (c >= LINE_E_ARG) {", "LINE_E_ARG -> (LINE_E_ARG - 1)",
      "a good line's value is its length (SERIAL_LINE_MAX at most) with LINE_CHECKED: 0x9F at most"),
-    ("firmware/link/serial.c", "number", "if (n == 0 || (*p != ' ' && *p != 0))", "n == 0 -> 0",
-     "with no digit *p is the character after a space: line_ok refuses a double or trailing space, "
-     "so it is neither a space nor the end, and the second test refuses it"),
+    ("firmware/link/linecheck.c", "line_number", "if (n == 0 || (*p != sep && *p != 0))", "n == 0 -> 0",
+     "with no digit *p is neither sep nor the end (serial.c: the character after a space, and line_check "
+     "refuses a double or trailing space; remote.c: an empty field is not read), so the second test "
+     "refuses it"),
 ]
 
 # survivors recorded by the last whole run that still await a test (not equivalent): one a line,

@@ -9,7 +9,7 @@ controller sends back (32400 rate info, 32401 module info) goes to the app as on
 controller's own text lines (LOG, ALM ..., docs/PC.md) are skipped (--lines prints them).
 
 The frames (docs/PGN.md): the PGN as u16 little-endian first, the CRC last, the low byte of the
-sum of every byte before it. The controller needs `Remote` = AgOpenGPS (SET 30 2) and its
+sum of every byte before it. The controller needs `Remote` = AgOpenGPS (SET 30 3) and its
 `RC module` set to the app's module id.
 
     .venv/bin/python tools/rc_bridge.py --port /dev/ttyUSB0

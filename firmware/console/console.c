@@ -207,11 +207,7 @@ static void key_edit(void)
 
 static void key_choice(void)
 {
-#if FW_PGN
     uint8_t n = con_item == P_CONTROLLER ? CTL_COUNT : (uint8_t)(param_info(con_item)->max + 1u);
-#else
-    uint8_t n = con_item == P_MODE || con_item == P_REMOTE ? 2 : CTL_COUNT;
-#endif
     if (con.k == 'A')
         con_step = con_step + 1 < n ? con_step + 1 : 0;
     else if (con.k == 'B')

@@ -115,35 +115,27 @@ uint8_t con_is_choice(uint8_t id)
     if (id == P_SPEED_SRC || id == P_AOG_SECT)
         return 1;
 #endif
-    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE;
+    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT;
 }
 
-#if FW_PGN
-/* the names of the choices other than the controllers', three a setting */
-static const char __code *const __code choice_names[] = {
-    "Auto", "Manual", "",                   /* P_MODE */
-    "off", "Raven", "AgOpenGPS",            /* P_REMOTE */
-    "wheel", "GPS", "both",                 /* P_SPEED_SRC */
-    "switches", "frames", "",               /* P_AOG_SECT */
-};
-
-const __code char *con_choice_name(uint8_t id, uint16_t v)
-{
-    uint8_t k = id == P_MODE ? 0 : id == P_REMOTE ? 3 : id == P_SPEED_SRC ? 6 : id == P_AOG_SECT ? 9 : 255;
-    if (k != 255)
-        return choice_names[k + (uint8_t)v];
-    return ctl_name((uint8_t)v);
-}
-#else
 const __code char *con_choice_name(uint8_t id, uint16_t v)
 {
     if (id == P_MODE)
         return v ? "Manual" : "Auto";
+#if FW_PGN
+    if (id == P_REMOTE && v == REMOTE_PGN)
+        return "AgOpenGPS";
+    if (id == P_SPEED_SRC)
+        return v == SPEED_SRC_BOTH ? "both" : v == SPEED_SRC_GPS ? "GPS" : "wheel";
+    if (id == P_AOG_SECT)
+        return v ? "frames" : "switches";
+#endif
     if (id == P_REMOTE)
-        return v ? "Raven" : "off";
+        return v == REMOTE_RAVEN_1200 ? "Raven 1200" : v ? "Raven 9600" : "off";
+    if (id == P_LOG_UNIT)
+        return v ? "s" : "m";
     return ctl_name((uint8_t)v);
 }
-#endif
 
 /* append a parameter's value and unit, "150 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)

@@ -47,9 +47,9 @@ int16_t ctl_k[3];
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */
 ctl_state_t ctl_st;
 
-static const __code char nm_bp[] = "bp_pid";
 static const __code char nm_ffmap[] = "ffmap";
-#if FW_PEERS                        /* the field image: bp_pid and ffmap only (params.h) */
+#if FW_PEERS                        /* the field image: ffmap only (params.h) */
+static const __code char nm_bp[] = "bp_pid";
 static const __code char nm_pid[] = "pid";
 static const __code char nm_fuzzy[] = "fuzzy_pid";
 static const __code char nm_aog[] = "aog";
@@ -59,9 +59,9 @@ static const __code char nm_raven[] = "raven";
 const __code char *ctl_name(uint8_t id)
 {
     switch (id) {
-    case CTL_BP_PID: return nm_bp;
     case CTL_FFMAP: return nm_ffmap;
 #if FW_PEERS
+    case CTL_BP_PID: return nm_bp;
     case CTL_PID: return nm_pid;
     case CTL_FUZZY_PID: return nm_fuzzy;
     case CTL_AOG: return nm_aog;
@@ -145,8 +145,8 @@ uint8_t ctl_select(uint8_t id)
     if (id >= CTL_COUNT)
         return 0;
 #else
-    if (id >= CTL_AOG || id < CTL_BP_PID)
-        return 0;                   /* the field image: bp_pid and ffmap (FW_PEERS) */
+    if (id != CTL_FFMAP)
+        return 0;                   /* the field image: ffmap only (FW_PEERS) */
 #endif
     ctl_id = id;
     speed_plain = 0;                /* (ffmap sets it from what it learnt, each step) */
@@ -160,10 +160,10 @@ uint8_t ctl_select(uint8_t id)
     case CTL_FUZZY_PID:
         ctl_st.fz.e1 = ctl_st.fz.e2 = 0;
         break;
-#endif
     case CTL_BP_PID:
         bp_init();
         break;
+#endif
     case CTL_AOG:
     case CTL_RAVEN:
         break;                      /* their first step starts them from rest (ctl_first) */
@@ -212,9 +212,9 @@ q15_t ctl_step(const __xdata ctl_in_t *step_in)
     if (ctl_gen != param_generation || ctl_kf == 0)
         ctl_derive();
     switch (ctl_id) {
+#if FW_PEERS
     case CTL_BP_PID:
         return bp_step();
-#if FW_PEERS
     case CTL_PID:
         return pid_step();
     case CTL_FUZZY_PID:

@@ -145,18 +145,21 @@ typedef struct {
     uint8_t hold;                   /* periods left without P and D after the sections changed */
 } ffmap_state_t;
 
-/* ---- aog: AgOpenGPS Rate Control's valve loop (aog.c), the user's settings P_AOG_* ----------- */
-#define AG_DB_Q15 1311              /* dead band: |e| <= 4 % of the target (Q15 of the target) */
-#define AG_BRAKE_Q15 6554           /* brake point: 20 % of the target */
+/* ---- aog: SK21's RateControl module's valve PID (aog.c), the user's settings P_AOG_* --------- */
+#define AG_DB_Q15 492               /* dead band: |e| <= 1.5 % of the target (Q15 of the target) */
+#define AG_MAXI_Q15 2141            /* the integral's change a period: 25 PWM counts a 150 ms run, x 2/3 */
+#define AG_ZERO_Q15 13              /* a change under 0.1 PWM count sends nothing */
 typedef struct {
-    int32_t integ;                  /* Q23 (Q15 duty << 8): the integral, within +-max PWM */
-    int16_t y1;                     /* x100 L/min: the last measured flow (the derivative's) */
-    /* derived from the settings when a parameter changes (ctl.c ctl_derive): */
-    int16_t kp;                     /* Q7: Q15 duty per x100 L/min of error */
-    int16_t ki;                     /* the integral's Q23 per x100 L/min of error a 100 ms period */
-    int16_t kd;                     /* Q8: Q15 duty per x100 L/min of flow change a 100 ms period */
+    int16_t integ;                  /* Q15 duty: the integral, within +-(max - min) */
+    int16_t ref;                    /* x100 L/min: the highest target since the loop started */
+    /* derived from the settings when a parameter changes (ctl.c ctl_derive), in ag_derive's order: */
+    int16_t kp;                     /* Q11: Kp / 100, beyond the brake point */
+    int16_t ki;                     /* Q11: Ki / 100 x 2/3 (a 100 ms period of a 150 ms loop) */
     int16_t min;                    /* Q15 duty: min PWM */
     int16_t max;                    /* Q15 duty: max PWM (at least min PWM) */
+    int16_t brake;                  /* Q15 of the reference: the brake point */
+    int16_t kps;                    /* Q11: Kp / 100 x slow adjust, inside it */
+    uint8_t pos;                    /* 1: the error was last beyond the dead band above the target */
 } ag_state_t;
 
 /* ---- raven: the SCS consoles' four-digit valve calibration (raven.c), P_RAVEN_CAL ------------ */

@@ -26,6 +26,22 @@ static int8_t hexval(char c) __reentrant
     return c >= 'a' && c <= 'f' ? (int8_t)(c - 'a' + 10) : -1;
 }
 
+const __xdata char *line_number(const __xdata char *p, __idata uint16_t *v, char sep) __reentrant
+{
+    uint16_t x = 0;
+    uint8_t n = 0, d;
+    while ((d = (uint8_t)(*p - '0')) <= 9u) {
+        if (++n > 5 || x > 6553u || (x == 6553u && d > 5))
+            return 0;               /* above 65535 */
+        x = (uint16_t)(x * 10u + d);
+        p++;
+    }
+    if (n == 0 || (*p != sep && *p != 0))
+        return 0;
+    *v = x;
+    return p;
+}
+
 uint8_t line_check(__xdata char *p, uint8_t n) __reentrant
 {
     uint8_t i, checked = 0;

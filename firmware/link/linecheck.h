@@ -19,4 +19,10 @@ uint8_t line_crc8(const __xdata char *p, uint8_t n) __reentrant;
 #define LINE_E_CSUM 0xFFu
 uint8_t line_check(__xdata char *p, uint8_t n) __reentrant;
 
+/* The plain decimal 0..65535 at p, up to the byte sep or the line's end, into *v (v on the
+ * caller's stack): the position after it, or 0 when there is no digit, a sixth one, a value
+ * beyond 65535 or another byte (v unchanged). Both the commands and Raven's strings read
+ * their numbers so. */
+const __xdata char *line_number(const __xdata char *p, __idata uint16_t *v, char sep) __reentrant;
+
 #endif

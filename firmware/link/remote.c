@@ -1,4 +1,4 @@
-/* remote.c: Raven's remote-computer strings on the serial link: rate change, calibration and data requests (remote.h). */
+/* remote.c: the serial link as a Raven console's: rate change, calibration and data requests, the data logger's lines (remote.h). */
 #include "hal.h"
 #include "params.h"
 #include "ops.h"
@@ -8,72 +8,77 @@
 #include "linebuf.h"
 #include "remote.h"
 #include "mul.h"
+#include "linecheck.h"
 
-/* the lines queued, sent lowest bit first */
+/* the lines queued, sent lowest bit first: so a trigger's AR, D1, D2, D3, TD and a switch
+ * change's D1, D2, D3, TD, C1, C2, C3 go in the manuals' order */
 #define RV_AR 0x01
-#define RV_C1 0x02
-#define RV_C2 0x04
-#define RV_C3 0x08
-#define RV_D1 0x10
-#define RV_D2 0x20
-#define RV_D3 0x40
-static uint8_t rv_due;
+#define RV_D 0x1E                   /* D1, D2, D3, TD */
+#define RV_C 0xE0                   /* C1, C2, C3 */
+static struct {
+    uint8_t due;
+    uint8_t gen;                    /* param_generation at the last look (remote_tick) */
+    uint8_t sw;                     /* the switch bytes' changing bits then (switches()) */
+    uint8_t periods;                /* trigger periods since power-up then, modulo 256 */
+} rv;
+static __bit rv_primed;             /* the marks above hold (Remote on since the last look) */
 
 const __code char link_e_cmd[] = "CMD", link_e_arg[] = "ARG", link_e_num[] = "NUM";
 
 /* ---- parsing ------------------------------------------------------------------------------ */
-const __code char *remote_command(const __xdata char *line) __reentrant
+uint8_t remote_command(const __xdata char *line) __reentrant
 {
-    uint16_t v = 0;
-    uint8_t n = 0, c;
-    if (param_v[P_REMOTE] != REMOTE_RAVEN)
-        return "REMOTE";
+    uint16_t v = 0, other;
+    uint8_t i, given = 0, c;
     if (line[1] != 'R' || line[2] != ',')      /* line[0] is '$' (serial.c) */
-        return link_e_cmd;
-    c = (uint8_t)line[3];
-    if ((c == 'C' || c == 'D') && line[4] == 'R') {
-        if (line[5])
-            return link_e_arg;
-        rv_due |= c == 'C' ? RV_C1 | RV_C2 | RV_C3 : RV_D1 | RV_D2 | RV_D3;
         return 0;
+    c = (uint8_t)line[3];
+    if ((c == 'C' || c == 'D') && line[4] == 'R' && !line[5]) {
+        rv.due |= c == 'C' ? RV_C : RV_D;
+        return 1;
     }
     if (c != 'R' || line[4] != 'C' || line[5] != ',')
-        return link_e_cmd;
-    for (line += 6; (c = (uint8_t)(*line - '0')) <= 9u; line++, n++) {
-        if (v > 6553u || (v == 6553u && c > 5u))
-            return link_e_num;      /* beyond 65535 */
-        v = v * 10u + c;
+        return 0;
+    /* rate 1, then the other products' (read, not used): an empty field changes nothing */
+    for (line += 6, i = 0;; line++, i++) {
+        if (*line != ',' && *line) {
+            if (!(line = line_number(line, (__idata uint16_t *)(i ? &other : &v), ',')))
+                return 0;           /* neither empty nor a number */
+            given |= i == 0;
+        }
+        if (!*line)
+            break;
     }
-    if (*line == ',')
-        return n ? link_e_arg : link_e_num;     /* one product: no rate 2 or 3 */
-    if (n == 0 || *line)
-        return link_e_num;
+    if (!given)
+        return 1;
     if (!target_remote_rate(v))
-        return "WINDOW";
-    rv_due |= RV_AR;
-    return 0;
+        return 0;
+    if (param_v[P_LOG_EVERY])
+        rv.due |= RV_C;             /* rate 1's cal changed */
+    return 1;
 }
 
-void remote_tick(void)
-{
-    if (param_v[P_REMOTE] == REMOTE_RAVEN)
-        rv_due |= RV_AR;
-}
-
-/* ---- composing ------------------------------------------------------------------------------ */
-/* Each line: its two letters and its values: V_PARAM | a parameter's id, V_TOTAL | a field of
- * totals_t (0 job_dm2, 1 job_ml, 2 life_m2, 3 life_ml), or one of the others */
-#define V_PARAM 0x80
-#define V_TOTAL 0x40
-enum { V_END, V_AR, V_SW1, V_SW2, V_RATE, V_TANK, V_DIST, V_ZERO, V_B1 };
-static const __code uint8_t rv_lines[7][11] = {
-    {'A', 'R', V_AR},
-    {'C', '1', V_SW1, V_SW2, V_B1, V_B1 + 1, V_B1 + 2, V_B1 + 3, V_B1 + 4, V_B1 + 5, V_PARAM | P_WHEEL},
-    {'C', '2', V_PARAM | P_METER_K, V_ZERO},
-    {'C', '3', V_PARAM | P_RAVEN_CAL, V_RATE, V_ZERO},
-    {'D', '1', V_TOTAL | 2, V_TOTAL | 0},   /* areas 0.1 ha: lifetime m^2 / 1000, job dm^2 / 100000 */
-    {'D', '2', V_TOTAL | 3, V_TOTAL | 1},   /* volumes L: ml / 1000 */
-    {'D', '3', V_TANK, V_DIST},             /* tank L, distance since power-up m */
+/* ---- the lines and their values ----------------------------------------------------------- */
+/* Each line: its two letters and its fields, each a source (S_*, its value: value()) and how it
+ * is written (F_*: the value's decimals and the decimals sent, rv_dec) */
+enum { S_END, S_AR, S_SW1, S_SW2, S_RATE, S_TANK, S_DIST, S_ZERO, S_TD, S_WHEEL, S_METER, S_VALVE,
+       S_JOB_A, S_JOB_V, S_LIFE_A, S_LIFE_V, S_B1 };      /* S_JOB_A..S_LIFE_V: totals_t's order */
+#define F_WHOLE 0x00
+#define F_TENTH 0x20                /* x10 values with their decimal point: 150.0 */
+#define F_HA_M2 0x40                /* m^2 as ha, one decimal (truncated) */
+#define F_HA_DM2 0x60               /* dm^2 as ha, one decimal */
+#define F_L_ML 0x80                 /* ml as whole litres */
+static const __code uint32_t rv_div[5] = {1u, 1u, 1000u, 100000UL, 1000u};
+#define RV_FIELDS 9
+static const __code uint8_t rv_lines[8][2 + RV_FIELDS] = {
+    {'A', 'R', F_TENTH | S_AR},
+    {'D', '1', F_HA_M2 | S_LIFE_A, F_HA_DM2 | S_JOB_A},
+    {'D', '2', F_L_ML | S_LIFE_V, F_L_ML | S_JOB_V},
+    {'D', '3', S_TANK, S_DIST},
+    {'T', 'D', S_TD},
+    {'C', '1', S_SW1, S_SW2, S_B1, S_B1 + 1, S_B1 + 2, S_B1 + 3, S_B1 + 4, S_B1 + 5, F_TENTH | S_WHEEL},
+    {'C', '2', F_TENTH | S_METER, S_ZERO},
+    {'C', '3', S_VALVE, F_TENTH | S_RATE, S_ZERO},
 };
 
 /* the actual rate, L/ha x10: flow x 6000 / (speed x width / 100), 0 when not spraying */
@@ -86,49 +91,103 @@ static uint32_t actual_x10(void) __reentrant
     return UMUL(app_status.flow_lpm_x100, 6000u) / d;     /* flow > 0 */
 }
 
+/* the distance since power-up, m */
+static uint32_t metres(void) __reentrant
+{
+    return um_muldiv(ops_wheel_pulses(), param_v[P_WHEEL], 10000UL);
+}
+
 static uint32_t value(uint8_t k) __reentrant
 {
-    uint16_t w;
-    if (k & V_PARAM)
-        return param_v[k & 0x7Fu];
-    if (k & V_TOTAL)
-        return (&totals.job_dm2)[k & 3u];
     switch (k) {
-    case V_AR:
+    case S_AR:
         return actual_x10();
-    case V_SW1:                     /* sections 1-7 on, bit 7 set */
-        return 0x80u | (hal_sections() & 0x7Fu & ((1u << param_v[P_SECTIONS]) - 1u));
-    case V_SW2:                     /* auto: rate 1 */
-        return app_status.manual ? 0x80u : 0x88u;
-    case V_RATE:
+    case S_SW1:                     /* booms 1-6 on (bit 0 = boom 1), bit 7 set */
+        return 0x80u | (hal_sections() & 0x3Fu & ((1u << param_v[P_SECTIONS]) - 1u));
+    case S_SW2:                     /* bit 7 set; in auto the rate in use: rate 1 (REMOTE_SW2_*) */
+        return app_status.manual ? 0x80u : 0x80u | REMOTE_SW2_RATE1;
+    case S_RATE:
         return target_rate_x10();
-    case V_TANK:
+    case S_TANK:
         return app_status.tank_l;
-    case V_DIST:
-        return um_muldiv(ops_wheel_pulses(), param_v[P_WHEEL], 10000UL);
-    case V_ZERO:
+    case S_DIST:
+        return metres();
+    case S_WHEEL:
+        return param_v[P_WHEEL];
+    case S_METER:
+        return param_v[P_METER_K];
+    case S_VALVE:
+        return param_v[P_RAVEN_CAL];
+    case S_ZERO:
+    case S_TD:
         return 0;
-    default:                        /* boom widths, cm */
-        w = (uint16_t)target_section_nozzles(k - V_B1) * param_v[P_SPACING];
-        return w > 9999u ? 9999u : w;
+    default:
+        if (k < S_B1)               /* the totals */
+            return (&totals.job_dm2)[k - S_JOB_A];
+        return UMUL(target_section_nozzles(k - S_B1), param_v[P_SPACING]);     /* cm */
     }
 }
 
+/* A field as it is written (rates, areas and the cal numbers with one decimal, as the Hiniker
+ * 8605's emulation of a Raven 450 documents) */
+static void put_field(uint8_t k) __reentrant
+{
+    uint8_t f = k >> 5;
+    k &= 0x1Fu;
+    if (k == S_TD)                  /* no clock and no field reference (docs/REMOTE.md) */
+        serial_put_s("00:00,00/00/00,0");
+    else
+        serial_put_num(value(k) / rv_div[f], f && f < 4u);
+}
+
+/* ---- the data logger ------------------------------------------------------------------------ */
+/* The console's pushes, looked for once a second (Log every not 0: the data logger on): every
+ * Log every metres or seconds since power-up (Log unit) AR, D1, D2, D3, TD; after a setting
+ * changed C1, C2, C3; after a switch byte changed D1, D2, D3, TD, C1, C2, C3. The first look
+ * after Remote comes on only takes the marks. */
+void remote_tick(void) __reentrant
+{
+    uint8_t sw, n;
+    uint16_t every = param_v[P_LOG_EVERY];
+    if (!REMOTE_IS_RAVEN(param_v[P_REMOTE]))
+        rv.due = 0;                 /* nothing owed to a Raven console any more */
+    if (!REMOTE_IS_RAVEN(param_v[P_REMOTE]) || !every) {
+        rv_primed = 0;
+        return;
+    }
+    /* the bits of the switch bytes that change: booms 1-6, rates 1 and 2 */
+    sw = (uint8_t)((value(S_SW1) & 0x3Fu) | (value(S_SW2) & 0x18u) << 3);
+    n = (uint8_t)((param_v[P_LOG_UNIT] ? hal_ms() / 1000u : metres()) / every);   /* trigger periods */
+    if (rv_primed) {
+        if (sw != rv.sw)
+            rv.due |= RV_D | RV_C;
+        else if (rv.gen != param_generation)
+            rv.due |= RV_C;
+        if (n != rv.periods)
+            rv.due |= RV_AR | RV_D;
+    }
+    rv.sw = sw;
+    rv.gen = param_generation;
+    rv.periods = n;
+    rv_primed = 1;
+}
+
+/* ---- composing ------------------------------------------------------------------------------ */
 uint8_t remote_next(void) __reentrant
 {
     uint8_t line, i, k;
 
-    if (!rv_due)
+    if (!rv.due)
         return 0;
-    for (line = 0, k = 1; !(rv_due & k); line++)
+    for (line = 0, k = 1; !(rv.due & k); line++)
         k <<= 1;
-    rv_due &= (uint8_t)~k;
+    rv.due &= (uint8_t)~k;
     serial_put_s(RAVEN_ID);
     serial_put_c(rv_lines[line][0]);
     serial_put_c(rv_lines[line][1]);
-    for (i = 2; i < 11u && (k = rv_lines[line][i]) != V_END; i++) {
+    for (i = 2; i < 2 + RV_FIELDS && (k = rv_lines[line][i]) != S_END; i++) {
         serial_put_c(',');
-        serial_put_u32_div(value(k), (k & V_TOTAL) && !(k & V_PARAM) ? (k == V_TOTAL ? 5u : 3u) : 0u);
+        put_field(k);
     }
     return 1;
 }

@@ -26,6 +26,8 @@ static __data uint8_t se_n;         /* bytes in se.buf */
 static __data uint8_t se_tx_i;      /* next byte to send */
 static __data uint8_t se_state;     /* S_* */
 static __data uint8_t se_log_due;   /* log lines asked for and not yet sent */
+static __data uint8_t se_framing;   /* the UART's once switched (HAL_UART_*: REMOTE_FRAMING); not
+                                     * HAL_UART_38400_8N1: the link is a Raven console's (remote.h) */
 
 #define S_RX 0                      /* collecting a line */
 #define S_RX_LONG 1                 /* the line overflowed: skip to its end */
@@ -37,6 +39,7 @@ static __bit boot_due;              /* the BOOT line (the reset cause) not yet s
 static __bit ee_due;                /* the EE line (settings not the newest saved) not yet sent */
 static __bit csum_seen;             /* the line being answered carried its check */
 
+
 static const __code char hexd[] = "0123456789ABCDEF";
 
 void serial_init(void)
@@ -45,6 +48,7 @@ void serial_init(void)
     se_state = S_RX;
     se.reported = 0;
     se.quiet = 0;
+    se_framing = HAL_UART_38400_8N1;    /* hal_init's */
     boot_due = 1;
     ee_due = store_status() != STORE_OK;    /* (store_load has run) */
 }
@@ -69,7 +73,7 @@ static void put_raw(char c) __reentrant
 
 void serial_put_c(char c) __reentrant
 {
-    if (se_n < SERIAL_TX_MAX - 5)       /* room for "*HH\r\n" */
+    if (se_n < SERIAL_TX_MAX - (se_framing ? 2 : 5))    /* room for "\r\n", ours "*HH\r\n" */
         put_raw(c);
 }
 
@@ -79,19 +83,19 @@ void serial_put_s(const __code char *s) __reentrant
         tx_c(*s++);
 }
 
-/* decimal (fmt.c, the formatter the LCD uses too), the last `drop` digits left out: v / 10^drop */
-void serial_put_u32_div(uint32_t v, uint8_t drop) __reentrant
+/* decimal (fmt.c, the formatter the LCD uses too) */
+void serial_put_num(uint32_t v, uint8_t dec) __reentrant
 {
     char num[FMT_MAX];
     uint8_t i;
-    fmt_u32((__idata char *)num, v, drop, 0);
-    for (i = 0; num[i] && num[i] != '.'; i++)
+    fmt_u32((__idata char *)num, v, dec, 0);
+    for (i = 0; num[i]; i++)
         tx_c(num[i]);
 }
 
 static void tx_u32(uint32_t v) __reentrant
 {
-    serial_put_u32_div(v, 0);
+    serial_put_num(v, 0);
 }
 
 /* a space, then v */
@@ -131,25 +135,6 @@ static void tx_end(void) __reentrant
 }
 
 /* ---- parsing a command -------------------------------------------------------------------- */
-/* A plain decimal 0..65535 from p up to a space or the end; returns the next position or 0.
- * p points into the line buffer, v to answer()'s locals (on the stack). */
-static const __xdata char *number(const __xdata char *p, __idata uint16_t *v) __reentrant
-{
-    uint16_t x = 0;
-    uint8_t n = 0, d;
-    while (*p >= '0' && *p <= '9') {
-        d = (uint8_t)(*p - '0');
-        if (++n > 5 || x > 6553u || (x == 6553u && d > 5))
-            return 0;               /* above 65535 */
-        x = (uint16_t)(x * 10u + d);
-        p++;
-    }
-    if (n == 0 || (*p != ' ' && *p != 0))
-        return 0;
-    *v = x;
-    return p;
-}
-
 static void reply_err(const __code char *why) __reentrant
 {
     se_n = 0;
@@ -271,28 +256,30 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
     }
 }
 
-/* The command in se.buf: look its word up, parse its arguments, run its handler; a line
- * starting with '$' goes to Raven's strings (remote.c). 1 when a reply of ours is to be sent. */
+/* The command in se.buf: look its word up, parse its arguments, run its handler. With Remote
+ * on, a line starting with '$' goes to Raven's strings (remote.c) and nothing is answered; with
+ * it off, such a line is refused. 1 when a reply of ours is to be sent. */
 static uint8_t answer(void) __reentrant
 {
     const __xdata char *p = se.buf + 3;
-    const __code char *why;
     const __code command_t *cmd = commands;
     uint8_t n = se_n, c;
     uint16_t a = 0, b = 0;
 
     se_n = 0;                       /* the reply is written over the line once it is parsed */
     c = line_check(se.buf, n);      /* (linecheck.h) */
+    if (se_framing) {               /* a Raven console: its answers are queued, nothing else */
+        if (c < LINE_E_ARG && se.buf[0] == '$')
+            remote_command(se.buf);
+        return 0;
+    }
     if (c >= LINE_E_ARG) {
         reply_err(c == LINE_E_CSUM ? "CSUM" : link_e_arg);
         return 1;
     }
     csum_seen = (c & LINE_CHECKED) != 0;
-    if (se.buf[0] == '$') {         /* Raven's: their answers are queued, a refusal is ours */
-        why = remote_command(se.buf);
-        if (!why)
-            return 0;
-        reply_err(why);
+    if (se.buf[0] == '$') {
+        reply_err("REMOTE");
         return 1;
     }
     for (c = 0; c < N_COMMANDS; c++, cmd++)
@@ -310,8 +297,8 @@ static uint8_t answer(void) __reentrant
     switch (cmd->args) {
     case ARG_NUM:
     case ARG_NUM2:
-        if (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&a))
-            || (cmd->args == ARG_NUM2 && (*p != ' ' || !(p = number(p + 1, (__idata uint16_t *)&b))))) {
+        if (*p != ' ' || !(p = line_number(p + 1, (__idata uint16_t *)&a, ' '))
+            || (cmd->args == ARG_NUM2 && (*p != ' ' || !(p = line_number(p + 1, (__idata uint16_t *)&b, ' '))))) {
             reply_err(link_e_num);
             return 1;
         }
@@ -347,6 +334,13 @@ static void compose_next(void) __reentrant
     uint16_t diff = diag_alarms() ^ se.reported;
     uint8_t bit;
 
+    if (se_framing) {               /* a Raven console sends its own lines only */
+        boot_due = ee_due = 0;
+        se_log_due = 0;
+        if (remote_next())          /* Raven's lines carry no checksum */
+            tx_crlf();
+        return;
+    }
     if (store_done(STORE_BY_SERIAL)) {  /* a SAV's save has ended */
         store_result() == STORE_OK ? ok("SAV") : reply_err("SAVE");
     } else if (boot_due) {                 /* first of all: why the controller started */
@@ -382,10 +376,8 @@ static void compose_next(void) __reentrant
         for (bit = 16; bit; bit -= 4)
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
     } else {
-        if (remote_next())          /* Raven's lines carry no checksum */
-            tx_crlf();
 #if FW_PGN
-        else if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
+        if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
             se_tx_i = 0, se_state = S_TX;   /* a reply frame, as it is */
 #endif
         return;
@@ -435,6 +427,20 @@ static uint8_t take(void) __reentrant
     return 0;
 }
 
+/* A line that could not be read, dropped: ERR <why> sent (1), or nothing as a Raven console
+ * (0, Remote on) */
+static uint8_t refuse(const __code char *why) __reentrant
+{
+    if (se_framing) {
+        se_n = 0;
+        se_state = S_RX;
+        return 0;
+    }
+    reply_err(why);
+    send();
+    return 1;
+}
+
 uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
@@ -442,6 +448,13 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
 
     if (se_state == S_TX && !drain())
         return 0;
+    if (se_framing != REMOTE_FRAMING(param_v[P_REMOTE])) {
+        if (!hal_uart_framing(REMOTE_FRAMING(param_v[P_REMOTE])))
+            return 0;               /* the last bytes still going out at the old framing */
+        se_framing = REMOTE_FRAMING(param_v[P_REMOTE]);
+        se_n = 0;                   /* a line half received at the old one is dropped */
+        se_state = S_RX;
+    }
 #if FW_HIL
     if (hil_active()) {             /* frames only (hil.c) */
         hil_poll();
@@ -457,11 +470,8 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
             pgn_drop();             /* ... or the frame */
         PGN_CHAIN(c, (uint8_t)b)    /* a frame's byte (pgn.h): one frame a pass */
         } else if (b == '\r' || b == '\n') {
-            if (se_state != S_RX PGN_NOISY(c)) {
-                reply_err(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
-                send();
-                return 1;
-            }
+            if (se_state != S_RX PGN_NOISY(c))
+                return refuse(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
             if (se_n) {
                 if (!may_take) {
                     se_state = S_RX_HELD;
@@ -484,11 +494,8 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
         if (se.quiet < SERIAL_STALL_S)
             return 0;
         pgn_drop();
-        if (se_state == S_RX_LOST) {
-            reply_err("LOST");
-            send();
-            return 1;
-        }
+        if (se_state == S_RX_LOST)
+            return refuse("LOST");
         se_n = 0;
         se_state = S_RX;
     }

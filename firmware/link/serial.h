@@ -39,7 +39,8 @@
  *                                              budget, store.h); ERR BUSY while the last SAV's has not
  *   HIL ON*HH         OK HIL                   hardware in the loop (hil.h; the checksum is required)
  * Anything else changes nothing and gets ERR CMD / ARG / NUM / CSUM / NOCSUM / LONG / CHAR.
- * With Remote = Raven, lines starting with '$' are Raven's strings (remote.h).
+ * With Remote = Raven the link is a Raven console's (remote.h): at its framing, only '$' lines
+ * read, only Raven's lines sent; everything above is off until Remote is off again.
  * A line during which received bytes were lost (the HAL's receive queue overflowed, or an IAP
  * erase held the CPU: hal_uart_get's HAL_UART_LOST) is discarded whole with ERR LOST, at its
  * end (or at the next line end when its own was lost).
@@ -49,7 +50,9 @@
 #define SERIAL_STALL_S 3
 #define SERIAL_LINE_MAX 31
 #define SERIAL_CRC_BYTES 20         /* the CRC-8 catches every 2-bit error up to this length */
-#define SERIAL_TX_MAX 56           /* one buffer for the line in and the line out */
+#define SERIAL_TX_MAX 56           /* one buffer for the line in and the line out: our own lines
+                                    * and their "*HH\r\n", a Raven C1 line at its longest (54 bytes,
+                                    * docs/REMOTE.md) and its CR LF */
 
 void serial_init(void);
 /* From the main loop: receive, answer at most one command line, send what is pending (never

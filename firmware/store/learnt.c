@@ -21,5 +21,6 @@ uint8_t store_learnt(uint8_t i)
     uint16_t base = store_slot_base(store_newest);
     if (store_newest == STORE_NO_SLOT || hal_eeprom_read(base + 1u) < STORE_LEARN_VERSION)
         return 0xFFu;
-    return hal_eeprom_read(base + STORE_AT_LEARNT_OF(base) + i);   /* after the record's values */
+    /* after the record's values (an older record's table may be shorter) and lifetime totals */
+    return hal_eeprom_read(base + 5u + 2u * hal_eeprom_read(base + 2u) + 8u + i);
 }

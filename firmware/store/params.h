@@ -10,9 +10,9 @@
  * link, the EEPROM store and the scenario reader all go through this table; nothing else
  * holds a setting.
  */
-/* Control: the field image carries bp_pid (2, the paper's) and ffmap (3, the default); the
- * research image (FW_PEERS) all six of ctl.h */
-#define P_CTL_MIN (FW_PEERS ? 0 : 2)
+/* Control: the field image carries ffmap (3) only; the research image (FW_PEERS) all six of
+ * ctl.h, the paper's bp_pid among them */
+#define P_CTL_MIN (FW_PEERS ? 0 : 3)
 #define P_CTL_MAX (FW_PEERS ? 5 : 3)
 #define PARAM_TABLE(X)                                                              \
     X(P_RATE,        "Dose",       "L/ha",  0,    10,  1000,  150)  /* eq. (1) C */      \
@@ -39,31 +39,39 @@
     X(P_VALVE_BRK,   "Min duty",   "%",     0,     5,    90,   20)  /* the valve's break-away duty, or a little above */ \
     X(P_VALVE_SLACK, "Backlash",   "%",     1,     0,   100,   20)  /* the valve's backlash, % of the stroke, or a little under */ \
     X(P_WHEEL_PPR,   "Wheel p/rev","",      0,     1,    16,   12)  /* wheel pulses a turn: their spacing error is learnt */ \
-    X(P_AOG_KP,      "AOG Kp",     "",      1,     0,  1500,  100)  /* aog: PWM counts (of 255) a L/min of error */ \
-    X(P_AOG_KI,      "AOG Ki",     "",      2,     0,  2000,    0)  /* aog: PWM counts a L/min a 50 ms loop */ \
-    X(P_AOG_KD,      "AOG Kd",     "",      1,     0,   500,    0)  /* aog: PWM counts a L/min of flow change a 50 ms loop */ \
-    X(P_AOG_MIN,     "AOG minPWM", "",      0,     0,   255,   60)  /* aog: the smallest drive, PWM counts */ \
+    X(P_AOG_KP,      "AOG Kp",     "",      0,     0,  1500,   45)  /* aog: as the app sets it (the module's Kp x 100) */ \
+    X(P_AOG_KI,      "AOG Ki",     "",      0,     0,  2000,   70)  /* aog: as the app sets it (the module's Ki x 100) */ \
+    X(P_AOG_BRAKE,   "AOG brake",  "%",     1,     0,   500,  350)  /* aog: the brake point, % of the target */ \
+    X(P_AOG_MIN,     "AOG minPWM", "",      0,     0,   255,    5)  /* aog: the smallest drive, PWM counts */ \
     X(P_AOG_MAX,     "AOG maxPWM", "",      0,     1,   255,  255)  /* aog: the largest drive, PWM counts */ \
     X(P_RAVEN_CAL,   "Valve cal",  "",      0,    11,  9999, 2123)  /* raven: backlash, speed, brake point, dead band digits */ \
-    X(P_REMOTE,      "Remote",     "",      0,     0, P_REMOTE_MAX, 0)  /* 0 off, 1 Raven strings, 2 AgOpenGPS frames (pgn.h) */ \
+    X(P_REMOTE,      "Remote",     "",      0,     0, P_REMOTE_MAX, 0)  /* 0 off; Raven at 1 9600, 2 1200 baud (remote.h); 3 AgOpenGPS frames (pgn.h) */ \
     X(P_REMOTE_WIN,  "Remote win", "%",     0,     1,   100,   50)  /* a remote rate within this of Dose */ \
-    PARAM_TABLE_PGN(X)
-#if FW_PGN
-#define P_REMOTE_MAX 2
-#define PARAM_TABLE_PGN(X)                                                          \
+    X(P_LOG_EVERY,   "Log every",  "",      0,     0,  9999,    1)  /* Raven's data logger trigger, in Log unit; 0 off */ \
+    X(P_LOG_UNIT,    "Log unit",   "",      0,     0,     1,    1)  /* 0 metres, 1 seconds */ \
+    X(P_AOG_SLOW,    "AOG slow",   "%",     0,     1,   100,   60)  /* aog: the gain inside the brake point, % */ \
     X(P_SPEED_SRC,   "Speed src",  "",      0,     0,     2,    0)  /* 0 wheel, 1 GPS (PGN 254), 2 both cross-checked */ \
     X(P_SPEED_DIFF,  "Speed diff", "%",     0,     2,    50,    5)  /* both: wheel off GPS by this: WHEEL_NOISE */ \
     X(P_AOG_SECT,    "AOG sect",   "",      0,     0,     1,    0)  /* 1: sections also from the frames */ \
     X(P_AOG_REPLY,   "AOG reply",  "",      0,     0,     1,    1)  /* 1: PGN 237 answers each 239, as a machine module */ \
     X(P_FRAMES_LOST, "Frames lost","s",     1,     3,   100,   26)  /* frames in use stopped this long: boom shut */ \
     X(P_RC_ID,       "RC module",  "",      0,     0,    15,    0)  /* RateControl module id */
+/* The frame settings are in every image's table (a record loads in any image); an image
+ * without the frames (FW_PGN 0) only stores them, and its Remote stops at Raven */
+#define REMOTE_RAVEN_9600 1         /* P_REMOTE: Raven's strings at 9600 baud (remote.h) */
+#define REMOTE_RAVEN_1200 2         /* ... at 1200 baud */
+#define REMOTE_PGN 3                /* P_REMOTE: AgOpenGPS and RateControl frames (pgn.h) */
+/* Remote's top value; whether it is a Raven console's link; the UART's framing for it (hal.h
+ * HAL_UART_*: a Raven's is Remote's value, the frames ride our own link's) */
+#if FW_PGN
+#define P_REMOTE_MAX REMOTE_PGN
+#define REMOTE_IS_RAVEN(r) ((r) && (r) != REMOTE_PGN)
+#define REMOTE_FRAMING(r) ((uint8_t)((r) == REMOTE_PGN ? HAL_UART_38400_8N1 : (r)))
 #else
-#define P_REMOTE_MAX 1
-#define PARAM_TABLE_PGN(X)
+#define P_REMOTE_MAX REMOTE_RAVEN_1200
+#define REMOTE_IS_RAVEN(r) ((r) != 0)
+#define REMOTE_FRAMING(r) ((uint8_t)(r))
 #endif
-
-#define REMOTE_RAVEN 1              /* P_REMOTE: Raven's strings (remote.h) */
-#define REMOTE_PGN 2                /* P_REMOTE: AgOpenGPS and RateControl frames (pgn.h) */
 #define SPEED_SRC_WHEEL 0           /* P_SPEED_SRC: the wheel sensor */
 #define SPEED_SRC_GPS 1             /* ... PGN 254's speed */
 #define SPEED_SRC_BOTH 2            /* ... PGN 254's, the wheel's cross-checked against it */
@@ -72,22 +80,20 @@
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION (FW_PGN ? 9 : 8)            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+#define PARAMS_VERSION 10           /* bump when the table or the EEPROM record changes (2: lifetime totals,
                                      * 3: Min duty and Backlash appended, 4: Wheel p/rev appended, 5: the peers'
                                      * settings and Remote appended, 6: the learnt figures after the totals,
                                      * 7: ffmap's speed feed-forward among them, 8: the job totals after them,
-                                     * 9: the speed source and frame settings appended (FW_PGN);
-                                     * a copy of version 2 to 7 still loads, the values appended since at
-                                     * their defaults) */
+                                     * 9: Raven's data logger trigger and AOG slow appended, the aog peer's
+                                     * settings in the current RateControl's units, AOG brake in AOG Kd's
+                                     * place, 10: the speed source and frame settings appended; a copy of
+                                     * version 2 to 9 still loads, the values appended since and (before
+                                     * 9) the aog settings at their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
 #define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 #define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */
 #define PARAMS_V8_COUNT 32          /* P_COUNT of versions 5 to 8: up to P_REMOTE_WIN */
-#if FW_PGN
-#define PARAMS_COUNT_OF(v) ((v) == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT)  /* a version from 5 on */
-#else
-#define PARAMS_COUNT_OF(v) P_COUNT
-#endif
+#define PARAMS_V9_COUNT 35          /* P_COUNT of version 9: up to P_AOG_SLOW */
 
 typedef struct {
     const __code char *name;

@@ -18,7 +18,6 @@
 /* the same for a copy of n values (an older version's shorter table) */
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
-#define JOB_N(n) (FW_PGN ? CRC_N(n) + STORE_LEARN_BYTES : HDR_JOB)    /* the job in a record of n values */
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_*: the operator's notice (store_status) */
@@ -69,13 +68,13 @@ static uint32_t read32(uint16_t a)
  * order they did in one pass, so a power cut anywhere still leaves the newest record or the
  * previous one. The values are written over several passes: a settings change before the
  * CRC abandons the half-written slot (it reads as a cut write) and starts again in the next
- * one, so that a record never mixes two sets. The lifetime totals are written within one pass
- * (the chunk check below), so both are from the same step.
+ * one, so that a record never mixes two sets. The lifetime totals start a pass of their own
+ * and are written within it, so both are from the same step.
  */
 #define STORE_BYTES_PER_POLL 16u
 /* the learnt figures start a pass's bytes of their own: read from their owners at one time */
 typedef char store_learnt_in_one_pass[(STORE_LEARN_BYTES <= STORE_BYTES_PER_POLL) ? 1 : -1];
-typedef char store_totals_in_one_chunk[(HDR_LIFE / STORE_BYTES_PER_POLL == (HDR_LIFE + 7u) / STORE_BYTES_PER_POLL) ? 1 : -1];
+typedef char store_totals_in_one_pass[(8u <= STORE_BYTES_PER_POLL) ? 1 : -1];
 /* record_byte reads the two lifetime totals as one run of 8 bytes, and the job's so */
 typedef char store_life_adjacent[(offsetof(totals_t, life_ml) == offsetof(totals_t, life_m2) + 4u) ? 1 : -1];
 typedef char store_job_adjacent[(offsetof(totals_t, job_ml) == offsetof(totals_t, job_dm2) + 4u) ? 1 : -1];
@@ -102,6 +101,13 @@ static __data uint8_t sv_slot;      /* the slot being found, written or checked 
 static __data uint8_t sv_at;        /* its next byte */
 static __data uint8_t sv_lo;        /* the low byte of the value being checked */
 
+/* a value a record may hold: in its range, or Remote = AgOpenGPS, which an image without the
+ * frames refuses to set (the record loads all the same there, Remote at its default, off) */
+static uint8_t stored_in_range(uint8_t id, uint16_t v) __reentrant
+{
+    return param_in_range(id, v) || (id == P_REMOTE && v == REMOTE_PGN);
+}
+
 /* Check the record in a slot a few bytes at a time: ck_begin, then ck_more until it returns
  * other than CK_MORE: the number of values the record holds when it has a known header, its
  * CRC and every value in range; 0 otherwise. Known: this version's table, or version 2's, 3's
@@ -125,7 +131,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (b != STORE_MAGIC)
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (!((sv_lo >= 5u && sv_lo <= PARAMS_VERSION && b == PARAMS_COUNT_OF(sv_lo))
+            if (!((sv_lo == PARAMS_VERSION && b == P_COUNT) || (sv_lo >= 5u && sv_lo <= 8u && b == PARAMS_V8_COUNT)
+                  || (sv_lo == 9u && b == PARAMS_V9_COUNT)
                   || (sv_lo == 2u && b == PARAMS_V2_COUNT)
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
@@ -136,9 +143,9 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             else if (sv_lo == 6u)
                 sv.end += STORE_LEARN_V6;
             if (sv_lo >= 8u)
-                sv.end += STORE_JOB_BYTES;      /* the job totals (since version 8) */
+                sv.end += STORE_JOB_BYTES;      /* the job totals (version 8 on) */
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
-            if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
+            if (!stored_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
                 return 0;
         } else if (sv_at == sv.end) {
             if (b != (uint8_t)(sv.crc >> 8))
@@ -187,7 +194,7 @@ static uint8_t started_after(uint8_t slot) __reentrant
 
 uint8_t store_load(void) __reentrant
 {
-    uint8_t s, newest_slot = NO_SLOT, n;
+    uint8_t s, newest_slot = NO_SLOT, n, ver;
     uint16_t q, newest_q = 0, base;
     sv_state = SV_IDLE;             /* no save runs from before */
     sv.flags = 0;
@@ -214,12 +221,14 @@ uint8_t store_load(void) __reentrant
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
     base = slot_base(newest_slot);
     n = record_valid(newest_slot);
+    ver = hal_eeprom_read(base + 1u);
     params_defaults();
-    for (s = 0; s < n; s++)
-        param_put(s, read16(base + HDR_VALUES + 2u * s));
+    for (s = 0; s < n; s++)         /* (before version 9 the aog settings were another loop's) */
+        if (ver >= 9u || s < P_AOG_KP || s > P_AOG_MAX)
+            param_put(s, read16(base + HDR_VALUES + 2u * s));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (hal_eeprom_read(base + 1u) >= 8u)    /* after the learnt figures, where n values put them */
-        totals_set_job(read32(base + JOB_N(n)), read32(base + JOB_N(n) + 4u));
+    if (ver >= 8u)
+        totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
     else
         totals_set_job(0, 0);       /* an older copy has none */
     n = params_cross();
@@ -353,7 +362,7 @@ static void sv_write_more(void) __reentrant
         ck_begin(sv_slot);
         return;
     }
-    for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && (sv_at == HDR_LEARN || sv_at == HDR_JOB));
+    for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && (sv_at == HDR_LIFE || sv_at == HDR_LEARN || sv_at == HDR_JOB));
          k++, sv_at++) {
         b = record_byte(sv_at, next);
         sv.crc = crc_byte(sv.crc, b);

@@ -52,17 +52,11 @@
 #define STORE_LEARN_VERSION 7u      /* the first version whose learnt bytes are this layout's */
 #define STORE_JOB_BYTES 8u          /* the job totals (version 8) */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + STORE_JOB_BYTES + 2u)
-#define STORE_SLOT_BYTES 128u         /* a record of 32 values, the learnt figures and the job is 99 bytes */
+#define STORE_SLOT_BYTES 128u       /* a record of 45 values, the learnt figures and the job is 125 bytes */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
 #define STORE_NO_SLOT 0xFFu
-#define STORE_AT_LEARNT_N(n) (5u + 2u * (uint16_t)(n) + 8u)  /* where the learnt bytes start in a record of n values */
-#define STORE_AT_LEARNT STORE_AT_LEARNT_N(P_COUNT)
-#if FW_PGN
-#define STORE_AT_LEARNT_OF(base) STORE_AT_LEARNT_N(hal_eeprom_read((base) + 2u))  /* versions 5-8 hold fewer values */
-#else
-#define STORE_AT_LEARNT_OF(base) STORE_AT_LEARNT
-#endif
+#define STORE_AT_LEARNT (5u + 2u * P_COUNT + 8u)  /* where the learnt bytes start in a record */
 
 /* What store_load() found, or a save that failed since (store_status(), the operator's notice
  * until store_status_clear()); a save's own result (store_result()): STORE_OK, _WRITE_ERR or

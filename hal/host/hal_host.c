@@ -13,18 +13,6 @@ typedef struct {
 } edge_q_t;
 
 static edge_q_t flow_q, wheel_q;
-static uint8_t uart_tx[HAL_HOST_UART_Q];
-static uint32_t tx_head, tx_tail;
-static struct {
-    uint8_t b[HAL_HOST_UART_Q];     /* the wire: bytes sent by the PC, not yet arrived */
-    uint64_t t_ns[HAL_HOST_UART_Q]; /* when each one's stop bit ends */
-    uint32_t head, tail;
-    uint64_t last_ns;               /* arrival of the newest byte on the wire */
-} wire;
-static uint8_t rxq[HAL_HOST_UART_RXQ];  /* the receive queue (hal_host.h: smaller than the chip's) */
-static uint32_t rx_head, rx_tail;
-static uint8_t rx_lost;
-static uint64_t hold_from_ns, hold_until_ns;    /* the last IAP erase held the CPU */
 static uint8_t eeprom[HAL_EEPROM_SIZE];
 static int32_t eeprom_ops_left = -1;
 static uint8_t eeprom_cut;
@@ -38,10 +26,8 @@ void hal_host_reset(void)
     memset(&hal_host_io, 0, sizeof hal_host_io);
     memset(&flow_q, 0, sizeof flow_q);
     memset(&wheel_q, 0, sizeof wheel_q);
-    tx_head = tx_tail = rx_head = rx_tail = 0;
-    memset(&wire, 0, sizeof wire);
-    rx_lost = 0;
-    hold_from_ns = hold_until_ns = 0;
+    hal_host_uart_reset();
+    hal_host_uart_pc_framing(-1);
     memset(eeprom, 0xFF, sizeof eeprom);
     eeprom_ops_left = -1;
     eeprom_cut = 0;
@@ -55,10 +41,7 @@ void hal_host_power_on(void)
 {
     memset(&flow_q, 0, sizeof flow_q);
     memset(&wheel_q, 0, sizeof wheel_q);
-    tx_head = tx_tail = rx_head = rx_tail = 0;
-    memset(&wire, 0, sizeof wire);
-    rx_lost = 0;
-    hold_from_ns = hold_until_ns = 0;
+    hal_host_uart_reset();
     hal_host_io.valve_dir = HAL_VALVE_OFF;
     hal_host_io.valve_duty = 0;
     hal_host_io.spray_on = 0;
@@ -72,6 +55,7 @@ void hal_host_power_on(void)
 
 void hal_init(void)
 {
+    hal_host_uart_init();
     hal_host_io.valve_dir = HAL_VALVE_OFF;
     hal_host_io.valve_duty = 0;
     hal_host_io.spray_on = 0;
@@ -230,93 +214,6 @@ void hal_buzzer(uint8_t on)
     hal_host_io.buzzer = on && !hil ? 1 : 0;
 }
 
-uint8_t hal_uart_put(uint8_t b)
-{
-    uint32_t n = (tx_head + 1) % HAL_HOST_UART_Q;
-    if (n == tx_tail)
-        return 0;
-    uart_tx[tx_head] = b;
-    tx_head = n;
-    return 1;
-}
-
-/* a byte into the chip's queue, or the loss marked (as hal_stc12.c's RX_TAKE) */
-static void rx_take(uint8_t b)
-{
-    uint32_t n = (rx_head + 1) % HAL_HOST_UART_RXQ;
-    if (!rx_lost && n != rx_tail) {
-        rxq[rx_head] = b;
-        rx_head = n;
-    } else {
-        rx_lost = 1;
-    }
-}
-
-/* The bytes that have arrived by now, in order. Those arriving while an erase held the CPU
- * are a gap (SBUF keeps one, drops the rest; the chip cannot tell how many came, so it drops
- * that one too and marks the loss), as hal_stc12.c's iap_cmd does. */
-static void uart_deliver(void)
-{
-    uint64_t now = hal_host_io.time_ns;
-    while (wire.tail != wire.head && wire.t_ns[wire.tail] <= now) {
-        uint64_t t = wire.t_ns[wire.tail];
-        uint8_t b = wire.b[wire.tail];
-        wire.tail = (wire.tail + 1) % HAL_HOST_UART_Q;
-        if (t >= hold_from_ns && t < hold_until_ns) {
-            rx_lost = 1;
-            continue;
-        }
-        rx_take(b);
-    }
-}
-
-int16_t hal_uart_get(void)
-{
-    int16_t b;
-    uart_deliver();
-    if (rx_tail == rx_head) {
-        if (rx_lost) {
-            rx_lost = 0;
-            return HAL_UART_LOST;
-        }
-        return -1;
-    }
-    b = rxq[rx_tail];
-    rx_tail = (rx_tail + 1) % HAL_HOST_UART_RXQ;
-    return b;
-}
-
-int hal_host_uart_tx_pop(void)
-{
-    int b;
-    if (tx_tail == tx_head)
-        return -1;
-    b = uart_tx[tx_tail];
-    tx_tail = (tx_tail + 1) % HAL_HOST_UART_Q;
-    return b;
-}
-
-uint32_t hal_host_uart_rx_waiting(void)
-{
-    uart_deliver();                 /* what has arrived by now (time stands still in a pass) */
-    return (rx_head - rx_tail + HAL_HOST_UART_RXQ) % HAL_HOST_UART_RXQ + rx_lost;
-}
-
-void hal_host_uart_rx_push(uint8_t b)
-{
-    uint32_t n = (wire.head + 1) % HAL_HOST_UART_Q;
-    uint64_t t = hal_host_io.time_ns;
-    if (n == wire.tail)
-        return;
-    if (wire.last_ns > t)
-        t = wire.last_ns;
-    t += HAL_HOST_BYTE_NS;
-    wire.b[wire.head] = b;
-    wire.t_ns[wire.head] = t;
-    wire.last_ns = t;
-    wire.head = n;
-}
-
 uint8_t hal_reset_cause(void)
 {
     return hal_host_io.reset_cause;
@@ -350,9 +247,7 @@ void hal_eeprom_erase(uint16_t addr)
 {
     if (addr >= HAL_EEPROM_SIZE || !eeprom_power())
         return;
-    uart_deliver();                 /* what came before the hold */
-    hold_from_ns = hal_host_io.time_ns;
-    hold_until_ns = hold_from_ns + HAL_HOST_IAP_ERASE_NS;
+    hal_host_uart_hold(hal_host_io.time_ns, hal_host_io.time_ns + HAL_HOST_IAP_ERASE_NS);
     hal_host_io.eeprom_erases++;
     memset(eeprom + (addr & ~(HAL_EEPROM_SECTOR - 1)), 0xFF, HAL_EEPROM_SECTOR);
 }

@@ -44,19 +44,37 @@ uint32_t hal_host_pca_of_ns(uint64_t t_ns);
 void hal_host_flow_edge(uint64_t t_ns);
 void hal_host_wheel_edge(uint64_t t_ns);
 
-/* Serial link: bytes the firmware sent, and bytes for it to receive. A pushed byte travels
- * the wire at 38400 baud (one byte every 260.4 us after the one before, from the time it is
- * pushed) into a 16-byte receive queue (15 bytes waiting at most), a quarter of the chip's
- * HAL_UART_RXQ: the host's tests and fuzzing see losses a firmware that does not read for
- * 4 ms makes (the chip's queue holds 16 ms), and the bytes arriving while an
- * IAP erase holds the CPU (HAL_HOST_IAP_ERASE_NS) are lost; the firmware reads HAL_UART_LOST
- * where the gap is. */
+/* Serial link (hal_uart.c): bytes the firmware sent, and bytes for it to receive. The line is
+ * modelled bit by bit: a pushed byte travels the wire as its frame (start bit, 8 data bits, the
+ * stop bits) at the PC's framing, from the end of the one before or the time it is pushed; the
+ * chip's receiver, at the framing the firmware set (hal_uart_framing), finds each start bit's
+ * falling edge, samples every bit in its middle and takes the byte at the end of its own
+ * frame, as the 8051's UART does: no framing error, so a PC at another baud rate or a chip in
+ * mode 3 fed back-to-back 8N1 frames reads garbled bytes. Into a 16-byte receive queue (15
+ * bytes waiting at most), a quarter of the chip's HAL_UART_RXQ: the host's tests and fuzzing
+ * see losses a firmware that does not read for 4 ms makes (the chip's queue holds 16 ms), and
+ * the bytes completed while an IAP erase holds the CPU (HAL_HOST_IAP_ERASE_NS) are lost; the
+ * firmware reads HAL_UART_LOST where the gap is. By default the PC follows the chip's framing. */
 #define HAL_HOST_UART_RXQ 16
-#define HAL_HOST_BYTE_NS 260417u
 #define HAL_HOST_IAP_ERASE_NS 21000000u
 int hal_host_uart_tx_pop(void);     /* -1 when empty */
 void hal_host_uart_rx_push(uint8_t b);
 uint32_t hal_host_uart_rx_waiting(void);    /* hal_uart_get calls that would not return -1 now */
+/* The PC's own framing (HAL_UART_*), or -1: the chip's, whatever it is (the default). With a
+ * framing set, the PC receives what the chip sends bit by bit at that framing instead of
+ * through hal_host_uart_tx_pop: hal_host_uart_pc_get gives the next byte whose frame has ended
+ * by now, -1 when none (a frame nobody reads is forgotten after HAL_HOST_UART_Q more). */
+void hal_host_uart_pc_framing(int f);
+#define HAL_HOST_UART_9600_8N1 3    /* a framing for the PC only: one stop bit */
+int hal_host_uart_pc_get(void);
+/* The chip's framing now (HAL_UART_*) and the wire time of one of its frames, ns. */
+uint8_t hal_host_uart_framing(void);
+uint64_t hal_host_uart_frame_ns(uint8_t f);
+/* (hal_host.c's) the UART's state at a reset or power-up; the framing hal_init sets; an IAP
+ * operation holding the CPU from from_ns to until_ns */
+void hal_host_uart_reset(void);
+void hal_host_uart_init(void);
+void hal_host_uart_hold(uint64_t from_ns, uint64_t until_ns);
 
 /* EEPROM: direct access for tests, and a power cut after n more programmed bytes or erases
  * (-1: never). A cut operation leaves the cell as it was; later ones are lost as well. */

@@ -205,6 +205,13 @@ uint8_t hal_uart_put(uint8_t b)
     return pil_get();
 }
 
+uint8_t hal_uart_framing(uint8_t f)
+{
+    pil_put(PIL_UART_FRAMING);
+    pil_put(f);
+    return pil_get();
+}
+
 int16_t hal_uart_get(void)
 {
     if (!rx_waiting)

@@ -40,6 +40,7 @@
 #define PIL_RESET_CAUSE 'Y' /* -> cause(1) */
 #define PIL_SUPPLY_LOW 'U'  /* -> low(1) */
 #define PIL_UART_PUT 'P'    /* byte(1) -> taken(1) */
+#define PIL_UART_FRAMING 'B' /* framing(1) -> done(1): hal_uart_framing on the host's line */
 #define PIL_UART_GET 'G'    /* -> int16(2), -1: none (only asked while the tick said rx > 0) */
 #define PIL_EE_READ 'R'     /* addr(2) -> byte(1) */
 #define PIL_EE_ERASE 'E'    /* addr(2) */

@@ -381,10 +381,8 @@ void hal_init(void)
     P1ASF = ADC_PINS_MASK;
     ADC_CONTR = ADC_POWER;
 
-    /* UART 1: mode 1, BRT in 1T mode, 38400 baud */
-    SCON = 0x50;
-    BRT = (uint8_t)(256u - HAL_SYSCLK_HZ / 32u / HAL_UART_BAUD);
-    AUXR |= 0x15;                   /* BRTR | BRTx12 | S1BRS */
+    /* UART 1 from the BRT generator (hal_serial.c) */
+    hal_uart_framing(HAL_UART_38400_8N1);
     ES = 1;
 
     EA = 1;

@@ -365,7 +365,8 @@ static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of
     char s[24], want[48], lo[12], hi[12];
     (void)state;
     for (uint8_t id = 0; id < P_COUNT; id++) {
-        if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_SPEED_SRC || id == P_AOG_SECT)
+        if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT || id == P_SPEED_SRC
+            || id == P_AOG_SECT)
             continue;               /* the choices: named, tested below */
         const param_info_t *pi = param_info(id);
         to_item(id);
@@ -604,15 +605,34 @@ static void test_console_controller_and_mode_are_chosen_by_name(void **state)
     run_ms(300);
     assert_int_equal(param_v[P_MODE], 1);
     assert_non_null(strstr(lcd(2), "  MAN"));
-    /* Remote: off / Raven */
+    /* Remote: off / Raven at 9600 / Raven at 1200 baud / AgOpenGPS (this build has the
+     * frames), round again to off */
     to_item(P_REMOTE);
     assert_string_equal(lcd(2), "             off");
     press('D');
     press('A');
-    assert_string_equal(lcd(2), "new        Raven");
+    assert_string_equal(lcd(2), "new   Raven 9600");
+    press('A');
+    assert_string_equal(lcd(2), "new   Raven 1200");
+    press('A');
+    assert_string_equal(lcd(2), "new    AgOpenGPS");
+    press('A');
+    assert_string_equal(lcd(2), "new          off");
+    press('B');
+    assert_string_equal(lcd(2), "new    AgOpenGPS");
+    press('B');
     press('D');
-    assert_int_equal(param_v[P_REMOTE], 1);
-    assert_int_equal(stored(P_REMOTE), 1);
+    assert_int_equal(param_v[P_REMOTE], 2);
+    assert_int_equal(stored(P_REMOTE), 2);
+    /* Log unit: metres / seconds */
+    to_item(P_LOG_UNIT);
+    assert_string_equal(lcd(2), "               s");
+    press('D');
+    press('A');
+    assert_string_equal(lcd(2), "new            m");
+    press('D');
+    assert_int_equal(param_v[P_LOG_UNIT], 0);
+    assert_int_equal(stored(P_LOG_UNIT), 0);
 }
 
 static void test_console_speed_calibration_over_100_m(void **state)

@@ -85,10 +85,12 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
  * Each returns the drive (fraction of full duty, + = more boom flow) its description asks for,
  * before the output stage (ctl_out.c); 0 within the dead band. Flows in L/min. */
 typedef struct {
-    double kp, ki, kd;              /* the user's settings: PWM counts a L/min (ki, kd a 50 ms loop) */
+    double kp, ki;                  /* the user's settings as the RateControl app sets them (x 100) */
+    double brake, slow;             /* the brake point (fraction of the reference), slow adjust (fraction) */
     double min_pwm, max_pwm;        /* PWM counts of 255 */
     double integ;                   /* PWM counts */
-    double y1;                      /* L/min: the last actual flow */
+    double ref;                     /* L/min: the highest target since the start */
+    int pos;                        /* the error last beyond the dead band above the target */
     int first;
 } ctltw_ag_t;
 double ctltw_ag_step(ctltw_ag_t *a, double target, double actual);

@@ -379,34 +379,41 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
 }
 
 /* ---- the peers ---------------------------------------------------------------------------------- */
-/* AgOpenGPS's loop as described (aog.c has the reading): two 50 ms loops a 100 ms period. */
+/* RateControl's valve PID as aog.c reads it: a 100 ms period of its 150 ms loop. */
 double ctltw_ag_step(ctltw_ag_t *a, double t, double y)
 {
-    double e, o, sf, lim;
-    int far;
-    if (t < 0)
-        t = 0;
-    e = ctltw_clamp(t - y, -t, t);
-    if (a->first) {
-        a->y1 = y;
+    double e, f, auth, c, band = 0.015 * t;
+    int near;
+    if (t <= 0 || a->first) {
+        a->integ = 0;
+        a->ref = 0;
+        a->pos = 1;
         a->first = 0;
     }
-    if (fabs(e) <= 0.04 * t) {
-        a->y1 = y;
+    if (t > a->ref)
+        a->ref = t;
+    e = t - y;
+    if ((e > band && !a->pos) || (e < -band && a->pos)) {
+        a->pos = !a->pos;
+        a->integ = 0;
+    }
+    if (t <= 0 || fabs(e) <= band) {
+        a->integ = 0;
         return 0;
     }
-    far = fabs(e) > 0.2 * t;
-    sf = far ? 1.0 : 0.75;
-    a->integ = ctltw_clamp(a->integ + 2.0 * a->ki * e, -a->max_pwm, a->max_pwm);
-    o = (e > 0 ? a->min_pwm : -a->min_pwm) + a->kp * sf * e + a->integ + a->kd / 2.0 * (a->y1 - y);
-    a->y1 = y;
-    lim = a->max_pwm * sf;
-    if (o == 0)
-        o = e > 0 ? 1e-9 : -1e-9;
-    o = (o > 0 ? 1 : -1) * ctltw_clamp(fabs(o), a->min_pwm, lim > a->min_pwm ? lim : a->min_pwm);
-    if (fabs(o) > lim)
-        o = (o > 0 ? 1 : -1) * lim;
-    return o / 255.0;
+    e = ctltw_clamp(e, -t, t);
+    f = e / a->ref;
+    auth = a->max_pwm > a->min_pwm ? a->max_pwm - a->min_pwm : 0;
+    near = fabs(f) <= a->brake;
+    if (near)
+        a->integ += ctltw_clamp(f * a->ki / 100.0 * auth * 2.0 / 3.0, -25.0 * 2.0 / 3.0, 25.0 * 2.0 / 3.0);
+    if (a->ki == 0)
+        a->integ = 0;
+    a->integ = ctltw_clamp(a->integ, -auth, auth);
+    c = f * a->kp / 100.0 * (near ? a->slow : 1.0) * auth + a->integ;
+    if (fabs(c) < 0.1)
+        return 0;
+    return (c > 0 ? 1 : -1) * ctltw_clamp(fabs(c) + a->min_pwm, a->min_pwm, a->max_pwm > a->min_pwm ? a->max_pwm : a->min_pwm) / 255.0;
 }
 
 /* Raven's valve cal as read in raven.c. */

@@ -1,4 +1,4 @@
-/* test_remote.c: a field computer's Raven strings through the host build: rate change within the window, calibration and data replies, refusals and malformed strings. */
+/* test_raven.c: the link as a Raven console's through the host build, on a line run bit by bit at 9600 (or 1200) 8N2: requests and their lines, multi-product rates, silence, the data logger. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -12,6 +12,7 @@
 #include "params.h"
 #include "app.h"
 #include "target.h"
+#include "totals.h"
 #include "screen.h"
 #include "serial.h"
 #include "remote.h"
@@ -19,54 +20,97 @@
 #include "console.h"
 
 static char line[128];
+static char part[1];                /* "" */
+static uint64_t first_ms, last_ms;  /* when the last line's first and last bytes arrived */
 
-#define MA(x) LINK_MA(x)
-
-/* the next line sent, CR LF removed ("" when none); ours end in "*HH" (checked and cut), Raven's
- * have none */
-static const char *next_line(void)
+/* our own protocol's next line with Remote off (through the raw queue), its check cut */
+static const char *our_line(void)
 {
     size_t n = link_read_line(line, sizeof line);
     if (n == 0)
         return line;
-    assert_true(n >= 2 && line[n - 1] == '\r');
-    line[--n] = 0;
-    if (line[0] == '$') {
-        assert_null(strchr(line, '*'));
-        return line;
-    }
-    assert_true(n >= 4 && line[n - 3] == '*');
+    assert_true(n >= 6 && line[n - 1] == '\r' && line[n - 4] == '*');
     unsigned cs;
-    assert_int_equal(sscanf(line + n - 2, "%2X", &cs), 1);
-    assert_int_equal(cs, link_crc8(line, n - 3));
-    line[n - 3] = 0;
+    assert_int_equal(sscanf(line + n - 3, "%2X", &cs), 1);
+    assert_int_equal(cs, link_crc8(line, n - 4));
+    line[n - 4] = 0;
     return line;
 }
 
-static void drain_lines(void)
+/* The PC's next line, read bit by bit off the wire at its own framing, CR LF cut; the loop
+ * runs a millisecond at a time meanwhile, up to ms; "" when no whole line came (the part that
+ * did is kept for the next call). */
+static size_t n_part;
+static const char *pc_line(uint32_t ms)
 {
-    while (next_line()[0])
-        ;
+    size_t n = n_part;
+    int b;
+    for (uint32_t t = 0; t <= ms; t++) {
+        while ((b = hal_host_uart_pc_get()) >= 0) {
+            if (n == 0)
+                first_ms = link_t_ms;
+            if (b == '\n') {
+                last_ms = link_t_ms;
+                assert_true(n >= 1 && line[n - 1] == '\r');
+                line[n - 1] = 0;
+                n_part = 0;
+                return line;
+            }
+            assert_true(n < sizeof line - 1);
+            line[n++] = (char)b;
+        }
+        link_run_ms(1);
+    }
+    n_part = n;
+    part[0] = 0;
+    return part;
+}
+
+/* every line that comes within ms, each checked to be a Raven line of this console */
+static int pc_lines(uint32_t ms, char out[][64], int max)
+{
+    int k = 0;
+    uint64_t end = link_t_ms + ms;
+    while (link_t_ms < end) {
+        const char *l = pc_line((uint32_t)(end - link_t_ms));
+        if (!l[0])
+            break;
+        assert_memory_equal(l, "$R124F,", 7);
+        assert_true(k < max);
+        snprintf(out[k++], 64, "%s", l);
+    }
+    return k;
+}
+
+static void pc_send(const char *s)
+{
+    link_send(s);
 }
 
 static int setup(void **state)
 {
     (void)state;
     link_start();
+    n_part = 0;
     store_status_clear();                   /* a first boot's "EE: defaults" seen */
-    link_run_ms(CONSOLE_MSG_MS + 100);           /* the reset cause's message gone */
-    drain_lines();                          /* the BOOT line */
+    link_run_ms(CONSOLE_MSG_MS + 100);      /* the reset cause's message gone */
+    while (our_line()[0])                   /* the BOOT line */
+        ;
     return 0;
 }
 
-/* send a string, let the loop answer (after a settings change the loop first spends a pass a module on
- * their constants; well inside a second: no log line), return the first reply */
-static const char *req(const char *c)
+/* Remote = Raven at r (1: 9600, 2: 1200 baud); the PC set to the same; the data logger at
+ * every s seconds (0: off) */
+static void raven(uint16_t r, uint16_t every)
 {
-    drain_lines();
-    link_send(c);
+    assert_true(param_set(P_LOG_EVERY, every));
+    assert_true(param_set(P_LOG_UNIT, 1));
+    assert_true(param_set(P_REMOTE, r));
+    hal_host_uart_pc_framing(r);
     link_run_ms(20);
-    return next_line();
+    assert_int_equal(hal_host_uart_framing(), r);
+    char l[16][64];
+    pc_lines(1100, l, 16);                  /* the logger's first look takes its marks only */
 }
 
 /* the screen model's bottom line */
@@ -84,193 +128,254 @@ static void test_raven_strings_are_refused_while_remote_is_off(void **state)
 {
     (void)state;
     assert_int_equal(param_v[P_REMOTE], 0);
-    assert_string_equal(req("$R,RC,1300\r\n"), "ERR REMOTE");
-    assert_string_equal(req("$R,DR\r\n"), "ERR REMOTE");
+    assert_int_equal(hal_host_uart_framing(), HAL_UART_38400_8N1);
+    link_send("$R,RC,1300\r\n");
+    link_run_ms(20);
+    assert_string_equal(our_line(), "ERR REMOTE");
     assert_int_equal(target_rate_x10(), 1500);
     assert_false(target_rate_remote());
-    link_run_ms(1000);                           /* no AR line with Remote off, the LOG line as ever */
-    assert_memory_equal(next_line(), "LOG ", 4);
-    assert_string_equal(next_line(), "");
 }
 
-static void test_raven_rate_change_within_the_window_sets_the_rate(void **state)
+/* The line runs at 9600 baud, 11 bits a byte (8N2): the frame time is 11 / 9600 s, a line's
+ * bytes come 1.146 ms apart; the documented requests give the documented lines. A PC at 38400
+ * 8N1 is not understood, nor understands; one at 9600 8N1 (back-to-back frames) is read. */
+static void test_raven_runs_the_uart_at_9600_8n2(void **state)
 {
     (void)state;
-    assert_true(param_set(P_REMOTE, 1));
-    link_run_ms(200);
-    /* 130.0 L/ha (the decimal point not sent): taken, the actual rate answers */
-    assert_string_equal(req("$R,RC,1300\r\n"), "$R100A,AR,0");
+    raven(1, 0);
+    assert_int_equal(hal_host_uart_frame_ns(HAL_UART_9600_8N2), 11u * 104167u);    /* 1.1458 ms */
+    pc_send("$R,CR\r\n");
+    assert_string_equal(pc_line(200), "$R124F,C1,191,136,300,300,300,300,300,300,392.7");
+    /* 47 bytes and CR LF: the first and the last 48 frames apart, 55.0 ms at 9600 8N2 (at 38400
+     * 8N1 it would be 12.5 ms) */
+    assert_int_equal(strlen(line), 47);
+    assert_in_range(last_ms - first_ms, 54, 56);
+    assert_string_equal(pc_line(200), "$R124F,C2,380.0,0");
+    assert_string_equal(pc_line(200), "$R124F,C3,2123,150.0,0");
+    assert_string_equal(pc_line(200), "");
+    pc_send("$R,DR\r\n");
+    assert_string_equal(pc_line(200), "$R124F,D1,0.0,0.0");
+    assert_string_equal(pc_line(200), "$R124F,D2,0,0");
+    char want[64];
+    snprintf(want, sizeof want, "$R124F,D3,%u,0", app_status.tank_l);
+    assert_string_equal(pc_line(200), want);
+    assert_string_equal(pc_line(200), "$R124F,TD,00:00,00/00/00,0");
+    /* a PC left at 38400 8N1: its request is garbled on the way in, and nothing answers */
+    hal_host_uart_pc_framing(HAL_UART_38400_8N1);
+    pc_send("$R,CR\r\n");
+    assert_string_equal(pc_line(300), "");
+    /* 9600 8N1, one stop bit: the chip's receiver does not wait for the second (a line end
+     * first ends the garbled line the 38400 baud request left) */
+    hal_host_uart_pc_framing(HAL_HOST_UART_9600_8N1);
+    pc_send("\r\n$R,CR\r\n");
+    assert_string_equal(pc_line(300), "$R124F,C1,191,136,300,300,300,300,300,300,392.7");
+}
+
+static void test_raven_1200_baud_is_a_setting(void **state)
+{
+    (void)state;
+    raven(2, 0);
+    assert_int_equal(hal_host_uart_framing(), HAL_UART_1200_8N2);
+    pc_send("$R,RC,1300\r\n");
+    link_run_ms(150);                       /* 12 bytes at 9.17 ms */
     assert_int_equal(target_rate_x10(), 1300);
-    assert_true(target_rate_remote());
-    assert_string_equal(bottom(), "T 1000L  RC130.0");
-    /* the target flow follows the rate: 130 L/ha x 8 km/h (given) x 18 m / 600 = 31.2 L/min */
-    assert_true(param_set(P_GIVEN_SPEED, 80));
-    link_run_ms(200);
-    assert_int_equal(app_status.target_lpm_x100, 3120);
-    /* 130.5 is kept to the tenth */
-    assert_string_equal(req("$R,RC,1305\r\n"), "$R100A,AR,0");
-    assert_int_equal(target_rate_x10(), 1305);
-    /* the window's edges: 50 % of 150 L/ha: 75.0 .. 225.0 taken, 74.9 and 225.1 refused */
-    assert_string_equal(req("$R,RC,750\r\n"), "$R100A,AR,0");
-    assert_string_equal(req("$R,RC,2250\r\n"), "$R100A,AR,0");
-    assert_string_equal(req("$R,RC,749\r\n"), "ERR WINDOW");
-    assert_string_equal(req("$R,RC,2251\r\n"), "ERR WINDOW");
-    assert_int_equal(target_rate_x10(), 2250);
-    /* Remote switched off: back to Dose */
+    pc_send("$R,CR\r\n");
+    assert_string_equal(pc_line(1000), "$R124F,C1,191,136,300,300,300,300,300,300,392.7");
+    /* 48 frames of 11 / 1200 s: 440 ms */
+    assert_in_range(last_ms - first_ms, 439, 441);
+    /* back to off: our own protocol at 38400 8N1 */
     assert_true(param_set(P_REMOTE, 0));
-    link_run_ms(200);
-    assert_int_equal(target_rate_x10(), 1500);
-    assert_false(target_rate_remote());
-    assert_int_equal(app_status.target_lpm_x100, 3600);     /* 150 L/ha: 36.0 L/min */
+    hal_host_uart_pc_framing(-1);
+    link_run_ms(1500);
+    assert_int_equal(hal_host_uart_framing(), HAL_UART_38400_8N1);
+    const char *l = our_line();
+    assert_memory_equal(l, "LOG ", 4);
 }
 
-/* The strings' letters and numbers exactly: any other letter at any place is ERR CMD, a rate
- * beyond 65535 or with a character that is no digit ERR NUM (one past '9' too), and one parsed
- * but outside the window ERR WINDOW; nothing changes the rate. */
-static void test_raven_strings_letter_by_letter_and_rates_to_65535(void **state)
+/* Nothing but $R lines in Raven mode: our commands, malformed strings, bad characters, long and
+ * lost lines, alarms coming and going are all met with silence; no LOG line in 3 s. */
+static void test_raven_sends_only_its_own_lines_and_stays_silent(void **state)
 {
     (void)state;
-    assert_true(param_set(P_REMOTE, 1));
-    static const char *const bad_cmd[] = {"$RXRC,1500", "$R,XC,1500", "$R,RX,1500", "$R,RC.1500", "$R,CX",
-                                          "$R,XR", "$R,DX", "$X,RC,1500"};
-    static const char *const bad_num[] = {"$R,RC,15:0", "$R,RC,15/0", "$R,RC,65536", "$R,RC,65539",
-                                          "$R,RC,65540", "$R,RC,65600", "$R,RC,100000", "$R,RC,"};
-    static const char *const window[] = {"$R,RC,65535", "$R,RC,65529", "$R,RC,65499", "$R,RC,6553"};
-    char l[32];
-    for (size_t i = 0; i < sizeof bad_cmd / sizeof bad_cmd[0]; i++) {
-        snprintf(l, sizeof l, "%s\r\n", bad_cmd[i]);
-        assert_string_equal(req(l), "ERR CMD");
-    }
-    for (size_t i = 0; i < sizeof bad_num / sizeof bad_num[0]; i++) {
-        snprintf(l, sizeof l, "%s\r\n", bad_num[i]);
-        assert_string_equal(req(l), "ERR NUM");
-    }
-    for (size_t i = 0; i < sizeof window / sizeof window[0]; i++) {
-        snprintf(l, sizeof l, "%s\r\n", window[i]);
-        assert_string_equal(req(l), "ERR WINDOW");
-    }
+    raven(1, 0);
+    static const char *const unusable[] = {
+        "GET 0\r\n", "SET 0 125*00\r\n", "ACK\r\n", "HELLO\r\n", "$R,RC,13a0\r\n", "$R,RC,-1300\r\n",
+        "$R,RC,130.0\r\n", "$R,RC,65536\r\n", "$R,RC,1300;0\r\n", "$R,CR,1\r\n", "$R,DRX\r\n",
+        "$R,XX\r\n", "$r,rc,1300\r\n", "$X,RC,1300\r\n", "$R\r\n", "$R,RC 1300\r\n", "$R,RC,1\x01\r\n",
+        "$R,RC,1300,0,1027,0,0,0,0,0,0,0,0\r\n", "\r\n", "$R,CX\r\n", "$R,XR\r\n", "$R,RX,1300\r\n",
+        "$R,XC,1300\r\n", "$RXRC,1300\r\n", "$R,RC,13:0\r\n",      /* ':' is one past '9' */
+    };
+    for (size_t i = 0; i < sizeof unusable / sizeof unusable[0]; i++)
+        pc_send(unusable[i]);
+    hal_host_io.adc[HAL_ADC_LEVEL] = LINK_MA(3.0);         /* a level sensor fault comes */
+    char l[8][64];
+    assert_int_equal(pc_lines(3000, l, 8), 0);
+    hal_host_io.adc[HAL_ADC_LEVEL] = LINK_MA(20.0);
+    assert_int_equal(pc_lines(2000, l, 8), 0);
     assert_int_equal(target_rate_x10(), 1500);
-    assert_false(target_rate_remote());
-    const char *r = req("$R,CR\r\n");
-    while (!strncmp(r, "LOG ", 4) || !strncmp(r, "$R100A,AR", 9))
-        r = next_line();                            /* a second's lines meanwhile */
-    assert_memory_equal(r, "$R100A,C1,", 10);
-    r = req("$R,DR\r\n");
-    while (!strncmp(r, "LOG ", 4) || !strncmp(r, "$R100A,AR", 9))
-        r = next_line();
-    assert_memory_equal(r, "$R100A,D1,", 10);
-    assert_string_equal(req("$R,CR,1\r\n"), "ERR ARG");
+    assert_int_equal(param_v[P_RATE], 150);                 /* the SET was not taken */
+    /* and a good one after all that is answered */
+    pc_send("$R,CR\r\n");
+    assert_int_equal(pc_lines(300, l, 8), 3);
 }
 
-static void test_raven_rate_outside_the_window_is_refused_and_shown(void **state)
+/* The multi-product forms set product 1; an empty field leaves it; the window still holds, a
+ * refusal shows on the LCD and changes nothing. */
+static void test_raven_multi_product_rate_lines_set_product_1(void **state)
 {
     (void)state;
-    assert_true(param_set(P_REMOTE, 1));
-    assert_true(param_set(P_REMOTE_WIN, 20));           /* 120 .. 180 L/ha */
-    assert_string_equal(req("$R,RC,1300\r\n"), "$R100A,AR,0");
+    raven(1, 0);
+    static const struct { const char *s; uint16_t rate; } rc[] = {
+        {"$R,RC,1300,,1027\r\n", 1300}, {"$R,RC,1250,0,1027\r\n", 1250}, {"$R,RC,,1027\r\n", 1250},
+        {"$R,RC,,\r\n", 1250},          {"$R,RC,1400,\r\n", 1400},     {"$R,RC,1350,1,2,3,4\r\n", 1350},
+        {"$R,RC,\r\n", 1350},           {"$R,RC,1200,x\r\n", 1350},    {"$R,RC,1200,65536\r\n", 1350},
+        {"$R,RC,1305\r\n", 1305},
+    };
+    for (size_t i = 0; i < sizeof rc / sizeof rc[0]; i++) {
+        pc_send(rc[i].s);
+        assert_string_equal(pc_line(100), "");              /* no reply to RC */
+        assert_int_equal(target_rate_x10(), rc[i].rate);
+    }
+    assert_true(target_rate_remote());
+    assert_string_equal(bottom(), "T 1000L  RC130.5");
+    /* the window: 50 % of 150 L/ha, 75.0 .. 225.0 */
     uint8_t n0 = target_remote_refusals();
-    assert_string_equal(req("$R,RC,2300\r\n"), "ERR WINDOW");
-    assert_int_equal(target_rate_x10(), 1300);          /* nothing changed */
+    pc_send("$R,RC,2251,,1027\r\n");
+    assert_string_equal(pc_line(100), "");
+    assert_int_equal(target_rate_x10(), 1305);
     assert_int_equal(target_remote_refusals(), (uint8_t)(n0 + 1));
     assert_string_equal(bottom(), "RC rate refused ");
-    assert_string_equal(req("$R,RC,0\r\n"), "ERR WINDOW");
-    assert_int_equal(target_rate_x10(), 1300);
-    /* a new Dose whose window leaves the remote rate outside drops it */
-    assert_true(param_set(P_RATE, 200));                /* 160 .. 240 */
+    pc_send("$R,RC,750,0\r\n");
+    link_run_ms(100);
+    assert_int_equal(target_rate_x10(), 750);
+    /* the target flow follows: 75 L/ha x 8 km/h (given) x 18 m / 600 = 18.0 L/min */
+    assert_true(param_set(P_GIVEN_SPEED, 80));
     link_run_ms(200);
-    assert_false(target_rate_remote());
-    assert_int_equal(target_rate_x10(), 2000);
+    assert_int_equal(app_status.target_lpm_x100, 1800);
 }
 
-static void test_raven_malformed_strings_get_an_error_and_change_nothing(void **state)
+/* DR's lines carry the totals in hectares and litres with the decimal point sent */
+static void test_raven_data_lines_carry_the_totals(void **state)
 {
     (void)state;
-    static const char *const bad[][2] = {
-        {"$R,RC,\r\n", "ERR NUM"},          {"$R,RC,13a0\r\n", "ERR NUM"},
-        {"$R,RC,-1300\r\n", "ERR NUM"},     {"$R,RC,130.0\r\n", "ERR NUM"},
-        {"$R,RC,999999\r\n", "ERR NUM"},    {"$R,RC,1300,0,1027\r\n", "ERR ARG"},
-        {"$R,RC,1300,\r\n", "ERR ARG"},     {"$R,CR,1\r\n", "ERR ARG"},
-        {"$R,DRX\r\n", "ERR ARG"},          {"$R,XX\r\n", "ERR CMD"},
-        {"$r,rc,1300\r\n", "ERR CMD"},      {"$X,RC,1300\r\n", "ERR CMD"},
-        {"$R\r\n", "ERR CMD"},              {"$R,RC 1300\r\n", "ERR CMD"},
-        {"$R,RC,65536\r\n", "ERR NUM"},
-    };
-    assert_true(param_set(P_REMOTE, 1));
-    assert_string_equal(req("$R,RC,1400\r\n"), "$R100A,AR,0");
-    uint8_t refusals = target_remote_refusals();
-    for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        assert_string_equal(req(bad[i][0]), bad[i][1]);
-        assert_string_equal(next_line(), "");           /* nothing else sent */
-        assert_int_equal(target_rate_x10(), 1400);
+    raven(1, 0);
+    totals_set_life(123456u, 9876543u);     /* 12.3456 ha, 9876.543 L */
+    totals_set_job(4567890u, 654321u);      /* 4.567890 ha, 654.321 L */
+    pc_send("$R,DR\r\n");
+    assert_string_equal(pc_line(200), "$R124F,D1,12.3,4.5");
+    assert_string_equal(pc_line(200), "$R124F,D2,9876,654");
+}
+
+/* The C1 line at its longest: 30,000 (3000.0 mm a pulse) and six booms of 3,200 cm, whole */
+static void test_raven_c1_is_never_cut(void **state)
+{
+    (void)state;
+    raven(1, 0);
+    assert_true(param_set(P_NOZZLES, 96));
+    assert_true(param_set(P_SPACING, 200));
+    assert_true(param_set(P_NOZZLE_Q3, 10));
+    assert_true(param_set(P_WHEEL, 30000));
+    pc_send("$R,CR\r\n");
+    assert_string_equal(pc_line(300), "$R124F,C1,191,136,3200,3200,3200,3200,3200,3200,3000.0");
+    assert_int_equal(strlen(line), 54);
+    /* one section of 96 nozzles: 19,200 cm, the field as wide as it needs */
+    assert_true(param_set(P_SECTIONS, 1));
+    pc_line(300);
+    pc_line(300);
+    link_run_ms(1200);
+    while (pc_line(0)[0])
+        ;
+    pc_send("$R,CR\r\n");
+    assert_string_equal(pc_line(300), "$R124F,C1,129,136,19200,0,0,0,0,0,3000.0");
+}
+
+/* The data logger: every Log every seconds AR, D1, D2, D3, TD in that order; a setting changed:
+ * C1, C2, C3; a switch changed: D1, D2, D3, TD, C1, C2, C3; with Log every 0 nothing is pushed
+ * (DR still answered) */
+static void test_raven_data_logger_pushes_on_its_triggers(void **state)
+{
+    (void)state;
+    char l[40][64];
+    raven(1, 3);
+    int n = pc_lines(9000, l, 40);
+    assert_int_equal(n, 15);                /* 3 triggers in 9 s */
+    for (int i = 0; i < n; i++) {
+        static const char *const order[] = {"AR,", "D1,", "D2,", "D3,", "TD,"};
+        assert_memory_equal(l[i] + 7, order[i % 5], 3);
     }
-    assert_int_equal(target_remote_refusals(), refusals);      /* none was a rate refused */
-    /* our own protocol goes on beside it */
-    assert_string_equal(req("GET 0\r\n"), "OK 0 150");
-}
-
-static void test_raven_calibration_and_data_requests_answer_in_raven_strings(void **state)
-{
-    (void)state;
-    assert_true(param_set(P_REMOTE, 1));
-    assert_string_equal(req("$R,RC,1300\r\n"), "$R100A,AR,0");
-    /* six sections of 6 nozzles at 50 cm: booms 300 cm; sections 1-6 on; auto: rate 1 */
-    assert_string_equal(req("$R,CR\r\n"), "$R100A,C1,191,136,300,300,300,300,300,300,3927");
-    assert_string_equal(next_line(), "$R100A,C2,3800,0");
-    link_run_ms(5);
-    assert_string_equal(next_line(), "$R100A,C3,2123,1300,0");
-    link_run_ms(5);
-    assert_string_equal(next_line(), "");
-    /* manual mode: both rate bits 0; section 2 off */
-    assert_true(param_set(P_MODE, 1));
+    assert_string_equal(l[0], "$R124F,AR,0.0");
+    /* a calibration value changed: C1, C2, C3 within a second, before the next trigger */
+    link_run_ms(2500);
+    while (pc_line(0)[0])
+        ;
+    assert_true(param_set(P_METER_K, 4000));
+    n = pc_lines(1100, l, 40);
+    assert_true(n >= 3);
+    assert_memory_equal(l[0] + 7, "C1,", 3);
+    assert_string_equal(l[1], "$R124F,C2,400.0,0");
+    assert_memory_equal(l[2] + 7, "C3,", 3);
+    /* a section switched off: D1 D2 D3 TD C1 C2 C3, C1 showing it */
+    link_run_ms(3000 - 1100);
+    while (pc_line(0)[0])
+        ;
     hal_host_io.sections = 0x3D;
-    link_run_ms(200);
-    assert_string_equal(req("$R,CR\r\n"), "$R100A,C1,189,128,300,300,300,300,300,300,3927");
-    drain_lines();
-    link_run_ms(20);
-    drain_lines();
-    char want[64];
-    assert_string_equal(req("$R,DR\r\n"), "$R100A,D1,0,0");
-    link_run_ms(5);
-    assert_string_equal(next_line(), "$R100A,D2,0,0");
-    link_run_ms(5);
-    snprintf(want, sizeof want, "$R100A,D3,%u,0", app_status.tank_l);
-    assert_string_equal(next_line(), want);
-    assert_true(app_status.tank_l > 900);
+    n = pc_lines(1100, l, 40);
+    assert_int_equal(n, 7);
+    static const char *const sw_order[] = {"D1,", "D2,", "D3,", "TD,", "C1,", "C2,", "C3,"};
+    for (int i = 0; i < n; i++)
+        assert_memory_equal(l[i] + 7, sw_order[i], 3);
+    assert_memory_equal(l[4], "$R124F,C1,189,136,", 18);
+    /* a rate taken from the field computer is a calibration change too: C1, C2, C3 at once */
+    pc_send("$R,RC,1400\r\n");
+    n = pc_lines(400, l, 40);
+    assert_int_equal(n, 3);
+    assert_string_equal(l[2], "$R124F,C3,2123,140.0,0");
+    /* the logger off: nothing pushed, requests still answered */
+    assert_true(param_set(P_LOG_EVERY, 0));
+    hal_host_io.sections = 0x3F;
+    assert_int_equal(pc_lines(4000, l, 40), 0);
+    pc_send("$R,DR\r\n");
+    assert_int_equal(pc_lines(400, l, 40), 4);
 }
 
-static void test_raven_actual_rate_once_a_second_after_the_log_line(void **state)
+/* The distance trigger: every 10 m of wheel pulses (392.7 mm each), AR D1 D2 D3 TD */
+static void test_raven_data_logger_distance_trigger(void **state)
 {
     (void)state;
-    assert_true(param_set(P_REMOTE, 1));
-    drain_lines();
-    link_run_ms(1100);
-    assert_memory_equal(next_line(), "LOG ", 4);
-    link_run_ms(5);
-    assert_string_equal(next_line(), "$R100A,AR,0");
-    /* spraying 36 L/min at 8 km/h over 18 m: 150.0 L/ha */
-    drain_lines();
-    app_status.spraying = 1;
-    app_status.speed_kmh_x100 = 800;
-    app_status.flow_lpm_x100 = 3600;
-    remote_tick();
-    serial_poll(1);
-    assert_string_equal(next_line(), "$R100A,AR,1500");
-    app_status.flow_lpm_x100 = 3000;                /* 125.0 */
-    remote_tick();
-    serial_poll(1);
-    assert_string_equal(next_line(), "$R100A,AR,1250");
+    char l[40][64];
+    raven(1, 0);
+    assert_true(param_set(P_LOG_UNIT, 0));
+    assert_true(param_set(P_LOG_EVERY, 10));
+    pc_lines(1100, l, 40);                  /* the first look: marks */
+    /* 100 pulses 100 ms apart: 39.27 m at 14 km/h, past 10, 20 and 30 m */
+    int n = 0;
+    for (int k = 0; k < 100; k++) {
+        hal_host_wheel_edge(hal_host_io.time_ns);
+        n += pc_lines(100, l + (n < 30 ? n : 30), 10);
+    }
+    n += pc_lines(1100, l + (n < 30 ? n : 30), 10);
+    assert_int_equal(n, 15);
+    /* each group at the first look (once a second) past 10, 20, 30 m: D3's distance is
+     * past it by at most a second's travel, 3.9 m */
+    for (int g = 0; g < 3; g++) {
+        unsigned tank, m;
+        assert_int_equal(sscanf(l[5 * g + 3], "$R124F,D3,%u,%u", &tank, &m), 2);
+        assert_in_range(m, 10u * (g + 1), 10u * (g + 1) + 3u);
+    }
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_raven_strings_are_refused_while_remote_is_off, setup),
-        cmocka_unit_test_setup(test_raven_rate_change_within_the_window_sets_the_rate, setup),
-        cmocka_unit_test_setup(test_raven_rate_outside_the_window_is_refused_and_shown, setup),
-        cmocka_unit_test_setup(test_raven_strings_letter_by_letter_and_rates_to_65535, setup),
-        cmocka_unit_test_setup(test_raven_malformed_strings_get_an_error_and_change_nothing, setup),
-        cmocka_unit_test_setup(test_raven_calibration_and_data_requests_answer_in_raven_strings, setup),
-        cmocka_unit_test_setup(test_raven_actual_rate_once_a_second_after_the_log_line, setup),
+        cmocka_unit_test_setup(test_raven_runs_the_uart_at_9600_8n2, setup),
+        cmocka_unit_test_setup(test_raven_1200_baud_is_a_setting, setup),
+        cmocka_unit_test_setup(test_raven_sends_only_its_own_lines_and_stays_silent, setup),
+        cmocka_unit_test_setup(test_raven_multi_product_rate_lines_set_product_1, setup),
+        cmocka_unit_test_setup(test_raven_data_lines_carry_the_totals, setup),
+        cmocka_unit_test_setup(test_raven_c1_is_never_cut, setup),
+        cmocka_unit_test_setup(test_raven_data_logger_pushes_on_its_triggers, setup),
+        cmocka_unit_test_setup(test_raven_data_logger_distance_trigger, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -233,7 +233,7 @@ static void test_scenario_values_out_of_range(void **state)
     bad("[plant]\nvalve_running_duty = 0.25\n", "bad.scn:2: key 'valve_running_duty': running duty 0.25 is above");
     bad("[plant]\nmeter_blades = 0\n", "key 'meter_blades': 0 out of range");
     bad("[config]\nraven_valve_cal = 2120\n", "bad.scn:2: key 'raven_valve_cal': 2120 refused by the firmware");
-    bad("[config]\naog_kp = 10.05\n", "key 'aog_kp': 10.05 has more decimals than the firmware keeps");
+    bad("[config]\naog_brake_pct = 10.05\n", "key 'aog_brake_pct': 10.05 has more decimals than the firmware keeps");
     bad("[config]\naog_min_pwm = 256\n", "key 'aog_min_pwm': 256 out of the firmware's range 0..255");
 }
 
@@ -241,13 +241,14 @@ static void test_scenario_values_out_of_range(void **state)
 static void test_scenario_peer_settings(void **state)
 {
     (void)state;
-    assert_int_equal(scenario_parse(&s, "[config]\ncontroller = aog\naog_kp = 12.5\naog_ki = 0.25\naog_kd = 1.5\n"
+    assert_int_equal(scenario_parse(&s, "[config]\ncontroller = aog\naog_kp = 125\naog_ki = 25\naog_brake_pct = 1.5\naog_slow_pct = 40\n"
                                     "aog_min_pwm = 70\naog_max_pwm = 200\nraven_valve_cal = 743\n[drive]\n0 5\n",
                                     "p.scn", err, sizeof err), 0);
     assert_int_equal(s.param[P_CONTROLLER], CTL_AOG);
     assert_int_equal(s.param[P_AOG_KP], 125);
     assert_int_equal(s.param[P_AOG_KI], 25);
-    assert_int_equal(s.param[P_AOG_KD], 15);
+    assert_int_equal(s.param[P_AOG_BRAKE], 15);
+    assert_int_equal(s.param[P_AOG_SLOW], 40);
     assert_int_equal(s.param[P_AOG_MIN], 70);
     assert_int_equal(s.param[P_AOG_MAX], 200);
     assert_int_equal(s.param[P_RAVEN_CAL], 743);

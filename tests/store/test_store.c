@@ -74,9 +74,21 @@ static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t ve
     e[n + 1] = (uint8_t)crc;
 }
 
+/* a copy of this version's or of an older one's table (versions 5 to 8: PARAMS_V8_COUNT values,
+ * 9: PARAMS_V9_COUNT) */
 static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t version)
 {
-    twin_write_n(sector, seq, v, version, P_COUNT);
+    twin_write_n(sector, seq, v, version,
+                 version == PARAMS_VERSION ? P_COUNT : version == 9 ? PARAMS_V9_COUNT : PARAMS_V8_COUNT);
+}
+
+/* v as a version 5-8 record leaves it loaded: the values appended since and the aog peer's
+ * (another loop's settings then) at their defaults */
+static void as_v8(uint16_t *v)
+{
+    for (int i = 0; i < P_COUNT; i++)
+        if (i >= PARAMS_V8_COUNT || (i >= P_AOG_KP && i <= P_AOG_MAX))
+            v[i] = param_info((uint8_t)i)->def;
 }
 
 /* A set of in-range values that differ from the defaults, numbered by k. */
@@ -111,13 +123,6 @@ static void set_all(const uint16_t *v)
     for (int i = 0; i < P_COUNT; i++)
         assert_true(param_put((uint8_t)i, v[i]));
     assert_int_equal(params_cross(), PARAM_OK);
-}
-
-/* a set as a version 5 to 8 copy holds it: the settings appended since at their defaults */
-static void as_v8(uint16_t *v)
-{
-    for (int i = PARAMS_V8_COUNT; i < P_COUNT; i++)
-        v[i] = param_info((uint8_t)i)->def;
 }
 
 static int equals(const uint16_t *v)
@@ -605,16 +610,21 @@ static void test_store_keeps_the_job_totals(void **state)
     assert_int_equal(store_load(), STORE_OK);
     assert_int_equal(totals_get()->job_dm2, 5000u);
     assert_int_equal(totals_get()->job_ml, 77u);
-    /* version 8: the job after the learnt figures of its 32 values */
+    /* version 9: the job after the learnt figures of its 35 values, the frame settings (appended
+     * since) at their defaults */
     hal_host_reset();
-    as_v8(a);
+    values_k(a, 6);
+    assert_int_not_equal(a[P_SPEED_SRC], param_info(P_SPEED_SRC)->def);
     twin_job_dm2 = 4242u;
     twin_job_ml = 99u;
     twin_learnt[0] = 0x43;
-    twin_write_n(0, 8, a, 8, PARAMS_V8_COUNT);
+    twin_write(0, 8, a, 9);
     twin_job_dm2 = twin_job_ml = 0;
+    twin_learnt[0] = 0xFF;
     totals_init();
     assert_int_equal(store_load(), STORE_OK);
+    for (int i = PARAMS_V9_COUNT; i < P_COUNT; i++)
+        a[i] = param_info((uint8_t)i)->def;
     assert_true(equals(a));
     assert_int_equal(totals_get()->job_dm2, 4242u);
     assert_int_equal(totals_get()->job_ml, 99u);
@@ -622,7 +632,8 @@ static void test_store_keeps_the_job_totals(void **state)
     /* version 7: the same layout less the job */
     hal_host_reset();
     twin_learnt[0] = 0x42;
-    twin_write_n(0, 8, a, 7, PARAMS_V8_COUNT);
+    as_v8(a);
+    twin_write(0, 8, a, 7);
     twin_learnt[0] = 0xFF;
     totals_init();
     totals_set_job(1u, 1u);
@@ -630,6 +641,27 @@ static void test_store_keeps_the_job_totals(void **state)
     assert_true(equals(a));
     assert_int_equal(totals_get()->job_dm2, 0);
     assert_int_equal(store_learnt(0), 0x42);
+    /* version 8: a shorter table, its learnt figures and job after it; its aog settings (the
+     * former loop's) at their defaults */
+    hal_host_reset();
+    uint16_t w[P_COUNT];
+    values_k(w, 5);
+    assert_int_not_equal(w[P_AOG_KP], param_info(P_AOG_KP)->def);
+    twin_learnt[0] = 0x43;
+    twin_job_dm2 = 4242u;
+    twin_job_ml = 99u;
+    twin_write(0, 8, w, 8);
+    twin_learnt[0] = 0xFF;
+    twin_job_dm2 = twin_job_ml = 0;
+    totals_init();
+    assert_int_equal(store_load(), STORE_OK);
+    as_v8(w);
+    assert_true(equals(w));
+    assert_int_equal(param_v[P_AOG_KP], 45);
+    assert_int_equal(totals_get()->job_dm2, 4242u);
+    assert_int_equal(totals_get()->job_ml, 99u);
+    assert_int_equal(store_learnt(0), 0x43);
+    assert_int_equal(param_v[P_LOG_EVERY], 1);
 }
 
 /* A save that ends well does not take the operator's notice of what the load found (the
@@ -901,8 +933,10 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
     values_k(v, 3);
     static const struct { uint8_t magic, version; int count; int loads; } h[] = {
         {0x5B, PARAMS_VERSION, P_COUNT, 0}, {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
-        {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, PARAMS_V8_COUNT - 1, 0}, {0x5A, 8, P_COUNT, 0},
-        {0x5A, PARAMS_VERSION, PARAMS_V8_COUNT, 0}, {0x5A, 8, PARAMS_V8_COUNT, 1},
+        {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, PARAMS_V8_COUNT - 1, 0},
+        {0x5A, PARAMS_VERSION, PARAMS_V8_COUNT, 0}, {0x5A, 8, P_COUNT, 0}, {0x5A, 8, PARAMS_V8_COUNT, 1},
+        {0x5A, 4, PARAMS_V8_COUNT, 0}, {0x5A, 9, PARAMS_V9_COUNT, 1}, {0x5A, 9, P_COUNT, 0},
+        {0x5A, PARAMS_VERSION, PARAMS_V9_COUNT, 0}, {0x5A, 9, PARAMS_V8_COUNT, 0},
         {0x5A, 4, P_COUNT, 0}, {0x5A, 4, PARAMS_V4_COUNT + 1, 0}, {0x5A, 3, PARAMS_V4_COUNT, 0},
         {0x5A, 2, PARAMS_V3_COUNT, 0}, {0x5A, 1, PARAMS_V2_COUNT, 0}, {0x5A, 0, P_COUNT, 0},
         {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 6, PARAMS_V8_COUNT, 1}, {0x5A, 5, PARAMS_V8_COUNT, 1},

@@ -73,7 +73,7 @@ static uint16_t state_sum(uint8_t id)
     case CTL_PID: w = &ctl_st.pid.e1; n = 2; break;
     case CTL_FUZZY_PID: w = &ctl_st.fz.e1; n = 2; break;
     case CTL_BP_PID: w = &ctl_st.bp.w[0][0]; n = BP_IN * BP_HID; break;
-    case CTL_AOG: w = &ctl_st.ag.y1; n = 6; break;                 /* y1 and the derived settings */
+    case CTL_AOG: w = &ctl_st.ag.integ; n = 8; break;              /* integral, reference and the derived settings */
     case CTL_RAVEN: w = &ctl_st.rv.speed; n = 4; break;
     default: w = &ctl_st.fm.e1; n = 4; break;
     }
@@ -88,7 +88,7 @@ static uint16_t state_sum(uint8_t id)
             s = (uint16_t)((s << 1) | (s >> 15)) ^ (uint8_t)(&ctl_st.bp.dw[0][0])[i];
     }
     if (id == CTL_AOG)
-        s ^= (uint16_t)ctl_st.ag.integ ^ (uint16_t)(ctl_st.ag.integ >> 16);
+        s ^= ctl_st.ag.pos;
     if (id == CTL_RAVEN)
         s ^= (uint16_t)(uint8_t)ctl_st.rv.dir;
     if (id == CTL_FFMAP)
@@ -181,11 +181,13 @@ int main(void)
             tt_putc('\n');
         }
     }
-    /* the peers with the rest of their settings in use: aog's integral, derivative and a min PWM
-     * under Min duty (the output stage's pulses); raven's fast valve (743) and a standard one's
-     * widest brake point and backlash (9999 ... 9991) */
-    param_set(P_AOG_KI, 50);
-    param_set(P_AOG_KD, 20);
+    /* the peers with their other settings: aog's larger gains, a narrow brake point and slow
+     * adjust, a min PWM under Min duty (the output stage's pulses); raven's fast valve (743) and
+     * a standard one's widest brake point and backlash (9999 ... 9991) */
+    param_set(P_AOG_KP, 250);
+    param_set(P_AOG_KI, 300);
+    param_set(P_AOG_BRAKE, 100);
+    param_set(P_AOG_SLOW, 30);
     param_set(P_AOG_MIN, 40);
     param_set(P_AOG_MAX, 200);
     run_ctl(CTL_AOG, 0);
