@@ -247,7 +247,18 @@ $(TEST_DIR)/$(basename $(notdir $(1))): $(TEST_DIR)/$(1:.c=.o) $(TEST_HELPERS) $
 endef
 $(foreach t,$(UNIT_TEST_SRC),$(eval $(call unit_test_rule,$(t))))
 
-host-tests: $(UNIT_TESTS) $(FUZZ_REPLAY)
+# tests/store/field_store.c: the store of an image without the frames (FW_PGN 0: params.c and
+# store.c built so, ahead of the library's) on the records of one with them
+FIELD_STORE_OBJ := $(patsubst %.c,$(TEST_DIR)/field/%.o,tests/store/field_store.c firmware/store/params.c firmware/store/store.c)
+$(TEST_DIR)/field/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(call msg,CC,$< [FW_PGN=0])
+	$(Q)$(CC) $(TEST_CFLAGS) -DFW_PGN=0 -MMD -MP -c $< -o $@
+$(TEST_DIR)/test_store_field: $(FIELD_STORE_OBJ) $(TEST_LIB)
+	$(call msg,LD,$@)
+	$(Q)$(CC) $(TEST_LDFLAGS) $(FIELD_STORE_OBJ) $(TEST_LIB) -lcmocka -lm -o $@
+
+host-tests: $(UNIT_TESTS) $(TEST_DIR)/test_store_field $(FUZZ_REPLAY)
 
 # tests/fuzz/fuzz_<t>.c + the replay main -> build/host-test/fuzz/replay_<t> (gcc, ASan, UBSan)
 $(TEST_DIR)/fuzz/replay_%: $(TEST_DIR)/tests/fuzz/fuzz_%.o $(TEST_DIR)/tests/fuzz/replay_main.o $(TEST_LIB)
