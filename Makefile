@@ -150,7 +150,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate sabotage bench sim pil pil-image \
+.PHONY: chip ucsim hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate sabotage bench sim pil pil-image \
         sim-progs demo compare family redraw faults report \
         bench-sim panel screenshots clean help FORCE
 
@@ -167,6 +167,8 @@ help:
 	@echo "               handlers, the whole firmware's passes over pil_bench"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator: a summary, the metrics JSON last"
 	@echo "make pil SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
+	@echo "make chip SCENARIO=f [CONTROLLER=n] [CSV=out.csv]  the field image in the STC12C5A60S2 model (build/ucsim/s51) + 1T timing"
+	@echo "make ucsim     that model: Debian's uCsim source + sim/ucsim/stc12.patch, built into build/ucsim/s51"
 	@echo "make compare   the six controllers on the same plant and seeds, beside the paper; ffmap against bp_pid, aog and raven over seeds 1-16"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1]"
 	@echo "               the controllers over N sprayers of the plant family: median and 95th percentile"
@@ -324,6 +326,19 @@ pil-image: $(PIL_IHX)
 pil: $(SIM_BIN) $(PIL_IHX)
 	$(Q)$(SIM_BIN) --pil $(PIL_IHX) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
 
+# ==== chip in the loop: the field image in the STC12C5A60S2 model (sim/ucsim/, sim/chip_host.c) =====
+# the model: Debian's uCsim source with sim/ucsim/stc12.patch, built into build/ucsim/ (not /usr/bin)
+UCSIM_STC12 := $(BUILD)/ucsim/s51
+$(UCSIM_STC12): sim/ucsim/stc12.patch sim/ucsim/stc12.cc sim/ucsim/stc12cl.h sim/ucsim/stc12_link.h \
+		sim/ucsim/sources.list.in tools/ucsim_stc12.sh
+	$(Q)tools/ucsim_stc12.sh
+
+ucsim: $(UCSIM_STC12)
+
+# make chip SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: as make sim, the field image in the model
+chip: $(SIM_BIN) $(FW_IHX) $(UCSIM_STC12)
+	$(Q)$(SIM_BIN) --chip $(FW_IHX) --s51 $(UCSIM_STC12) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
+
 # ==== tests and measurements ==========================================================================
 test:
 	$(Q)tools/deps.sh --quiet
@@ -343,9 +358,10 @@ $(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(STC_DIR)/hal/stc12/hal_stc12.
 # machine cycles in s51: the fixed-point blocks and one step of each controller, each step against
 # the budget (ctl.h CTL_STEP_BUDGET_CYCLES: 30,000 classic cycles, under 4 ms on the chip); the
 # interrupt handlers; the whole firmware's passes and stack over pil_bench's scripted 60 s
-bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
+bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX) $(FW_IHX) $(UCSIM_STC12)
 	$(Q)tools/bench.sh $(UC_DIR)
 	$(Q)tools/bench_pil.sh $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
+	$(Q)tools/bench_chip.sh $(SIM_BIN) $(FW_IHX) $(UCSIM_STC12)
 
 # simulated seconds per wall second for the paper's run (one process, one core; the fastest of 9)
 bench-sim: $(SIM_BIN)
@@ -485,6 +501,7 @@ fuzz-merge:
 # ==== set-up and cleaning ====================================================================================
 deps:
 	$(Q)tools/deps.sh
+	$(Q)tools/ucsim_stc12.sh
 
 clean:
 	rm -rf $(BUILD)
