@@ -46,7 +46,7 @@ FW_SRC := $(wildcard $(addsuffix /*.c,$(addprefix firmware/,$(FW_DIRS))))
 FW_LIB_SRC := $(filter-out firmware/app/main.c,$(FW_SRC))
 # the 8051 port: the assembly routines (multiply, divide, saturation) of the SDCC builds; the host
 # builds compile the C references in firmware/math instead
-PORT_SRC := $(wildcard port8051/*.c)
+PORT_SRC := $(wildcard hal/mcs51/*.c)
 SIM_MAIN := $(wildcard sim/*_main.c)
 SIM_LIB_SRC := $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
 UNIT_TEST_SRC := $(wildcard tests/*/test_*.c)
@@ -71,7 +71,7 @@ SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(
 # Shared sequences (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
 # replaces the sequences of its table by calls of the routines it generates from the same table
 # (one module each in DIR/moves/, the archive links those called), sdas assembles it. The 8051
-# port's own assembly (port8051/) is left as written. SHARE_HOT_<file>: the functions whose
+# port's own assembly (hal/mcs51/) is left as written. SHARE_HOT_<file>: the functions whose
 # cycles count (`*` the whole file): only the table's hot routines there. bp_pid's step takes
 # 84 % of the step budget (make bench); the other controllers' steps under 21 % share all.
 SDAS ?= sdas8051
@@ -106,7 +106,10 @@ STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(H
 # the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
 # firmware's archive only the modules something calls
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
-STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(FW_LIB_SRC) $(PORT_SRC))
+# the controllers only the research image carries (FW_PEERS): not compiled into the field set,
+# whose controllers' state union then holds ffmap's alone (ctl_int.h)
+FW_PEER_SRC := $(addprefix firmware/control/,pid.c bp.c aog.c raven.c)
+STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(if $(filter 1,$(FW_PEERS)),$(FW_LIB_SRC),$(filter-out $(FW_PEER_SRC),$(FW_LIB_SRC))) $(PORT_SRC))
 STC_LIB := $(STC_DIR)/fw.lib
 FW_IHX := $(STC_DIR)/sprayer.ihx
 FW_HEX := $(STC_DIR)/sprayer.hex
@@ -138,7 +141,7 @@ TT_HOST := $(patsubst tests/target/%.c,$(TEST_DIR)/target/%,$(TT_PROGS))
 
 # processor in the loop: the firmware as for the chip, hal/pil instead of hal/stc12, main in hal/pil
 PIL_DIR := $(BUILD)/pil
-PIL_SRC := $(FW_LIB_SRC) $(PORT_SRC) $(wildcard hal/pil/*.c)
+PIL_SRC := $(filter-out $(FW_PEER_SRC),$(FW_LIB_SRC)) $(PORT_SRC) $(wildcard hal/pil/*.c)
 PIL_REL := $(patsubst %.c,$(PIL_DIR)/%.rel,$(PIL_SRC))
 PIL_IHX := $(PIL_DIR)/sprayer_pil.ihx
 # s51 has 64 KB of XRAM: the PIL image may use more than the chip's 1 KB, so that it still runs
@@ -303,7 +306,7 @@ target-tests: $(TT_IHX) $(TT_HOST)
 # make sabotage SAB=n: tt_ops for s51 with routine n of mul.h's FX_SABOTAGE list built wrong (its
 # file alone compiled with the switch, linked ahead of the s51 library) in $(UC_DIR)/sabotage-n/;
 # tools/run_tests.sh shows the s51 comparison catching each of them
-SAB_FILES := port8051/mul port8051/mul port8051/mul port8051/mul $(addprefix port8051/,mul_round mul_round mul_round \
+SAB_FILES := hal/mcs51/mul hal/mcs51/mul hal/mcs51/mul hal/mcs51/mul $(addprefix hal/mcs51/,mul_round mul_round mul_round \
              mul_round mul_round sat16) firmware/math/fixed $(addprefix firmware/math/,umath umath umath)
 SAB ?= 1
 sabotage: $(UC_DIR)/fw.lib $(UC_TT_REL) $(UC_DIR)/tests/target/tt_ops.rel

@@ -26,7 +26,7 @@ static const char default_scn[] =
 static void usage(FILE *f)
 {
     fputs("usage: panel [--scenario FILE] [--speed X] [--time S] [--keys SEQ] [--screenshot OUT.png]\n"
-          "             [--scale N] [--text]\n"
+          "             [--scale N] [--text] [--serial FILE]\n"
           "  the controller's LCD and keypad in the terminal, the simulated sprayer behind them.\n"
           "  keys: 0-9 A B C D * # as on the keypad (a-d too); arrows up/down = A/B, Enter = D,\n"
           "        Backspace = C; q quits.\n"
@@ -38,6 +38,8 @@ static void usage(FILE *f)
           "  --keys SEQ    press these keys first ('.' waits 0.5 s; m and sN work the switches)\n"
           "  --screenshot  after --time and --keys: write the LCD as PNG, print its text, exit\n"
           "  --text        draw only the 4 text lines (no pixel image)\n"
+          "  --serial FILE what the controller sends on its serial link, line by line (a scenario's\n"
+          "                serial events are what comes in)\n"
           "  without --scenario: 8 km/h for an hour with the defaults\n", f);
 }
 
@@ -307,13 +309,21 @@ static double wall_s(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* --serial: where what the firmware sends on its link goes (else it is read and dropped, as a
+ * PC would, so that the link takes the scenario's serial lines) */
+static FILE *link_out;
+
 /* One simulation tick with the key queue; 0 once the scenario is over. */
 static int tick(sim_t *sim)
 {
+    int b;
     if (sim_done(sim))
         return 0;
     keys_tick(sim);
     sim_step(sim);
+    while ((b = hal_host_uart_tx_pop()) >= 0)
+        if (link_out)
+            fputc(b, link_out);
     return 1;
 }
 
@@ -348,7 +358,13 @@ int main(int argc, char **argv)
             scn_path = v;
         else if (!strcmp(a, "--keys"))
             keys = v;
-        else if (!strcmp(a, "--screenshot"))
+        else if (!strcmp(a, "--serial")) {
+            if (!(link_out = fopen(v, "w"))) {
+                fprintf(stderr, "panel: cannot write %s: %s\n", v, strerror(errno));
+                return 2;
+            }
+            setvbuf(link_out, NULL, _IOLBF, 0);
+        } else if (!strcmp(a, "--screenshot"))
             shot = v;
         else if (!strcmp(a, "--speed")) {
             speed = strtod(v, &end);

@@ -128,7 +128,7 @@ typedef struct sim {
     int aog_sect_set;               /* an aog_sections event came: the boom's valves follow them */
     double rc_rate;                 /* L/ha RateControl asks for (0: no frames) */
     uint64_t rc_next_ns;            /* its next 32500 */
-    uint16_t fw_rate;               /* the firmware's P_RATE the last tick it ran ... */
+    uint16_t fw_rate;               /* the firmware's rate in use (L/ha x10) the last tick it ran ... */
     double set_rate;                /* ... and the rate the operator last set (a reboot's reload is not one) */
     /* step 5 of sim_step: app_poll() when NULL; the HIL program (sim/hil_main.c) puts a board
      * on the serial link there instead */

@@ -2,7 +2,7 @@
 #include "fixed.h"
 
 #if !defined(__SDCC)
-/* the reference of the 8051's assembly (port8051/sat16.c); the target tests compare the two bit for bit */
+/* the reference of the 8051's assembly (hal/mcs51/sat16.c); the target tests compare the two bit for bit */
 int16_t fx_sat16(int32_t x)
 {
     if (x > 32767L)

@@ -38,7 +38,7 @@ q15_t fx_sigmoid(q12_t x)
     return fx_sat16((32769L + fx_tanh(x)) >> 1);
 }
 
-/* Saturating sum and difference: the reference of the 8051's assembly (port8051/addsub_sat.c);
+/* Saturating sum and difference: the reference of the 8051's assembly (hal/mcs51/addsub_sat.c);
  * the target tests compare the two bit for bit. */
 #if !defined(__SDCC)
 int16_t fx_add_sat(int16_t a, int16_t b)

@@ -1,4 +1,4 @@
-/* mul.c: the dot product and the learning row in C for the host (the 8051's assembly: port8051/mul.c). */
+/* mul.c: the dot product and the learning row in C for the host (the 8051's assembly: hal/mcs51/mul.c). */
 #include "mul.h"
 
 #if !defined(__SDCC)

@@ -40,6 +40,13 @@ uint8_t param_in_range(uint8_t id, uint16_t v)
     return 1;
 }
 
+/* a value a record may hold: in its range, or Remote = AgOpenGPS, which an image without the
+ * frames refuses to set (the record loads all the same there, Remote at its default, off) */
+uint8_t param_stored_ok(uint8_t id, uint16_t v) __reentrant
+{
+    return param_in_range(id, v) || (id == P_REMOTE && v == REMOTE_PGN);
+}
+
 uint8_t param_put(uint8_t id, uint16_t v)
 {
     if (!param_in_range(id, v))
@@ -105,6 +112,13 @@ static const char __code *const __code why_texts[] = {
 const __code char *param_why_text(uint8_t why)
 {
     return why <= PARAM_X_FLOW ? why_texts[why] : "";
+}
+
+uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v)
+{
+    if (id == P_RATE && ver < 10u)
+        return v > 1000u ? 0 : v * 10u;
+    return v;
 }
 
 const __code param_info_t *param_info(uint8_t id)

@@ -359,7 +359,7 @@ static void test_pgn_a_frame_inside_a_line_and_noise(void **state)
     link_run_ms(50);
     size_t n = tx_all(out, sizeof out);
     out[n < sizeof out ? n : sizeof out - 1] = 0;
-    assert_non_null(strstr((char *)out, "OK 0 150*"));
+    assert_non_null(strstr((char *)out, "OK 0 1500*"));
     assert_int_equal(pgn_rx.gps_kmh_x10, 77);
     uint16_t bad = pgn_rx.bad;
     const uint8_t noise[] = {'G', 'E', 'T', ' ', 0x80, '0', '\r', '\n'};

@@ -44,9 +44,9 @@ static void test_field_store_one_layout_for_every_image(void **state)
 {
     (void)state;
     /* the frames' six settings are in this image's table, stored though unused */
-    assert_int_equal(P_COUNT, 41);
-    assert_int_equal(PARAMS_VERSION, 10);
-    assert_int_equal(P_RC_ID, 40);
+    assert_int_equal(P_COUNT, 45);
+    assert_int_equal(PARAMS_VERSION, 11);
+    assert_int_equal(P_RC_ID, 44);
     /* Remote: off and Raven only */
     assert_true(param_set(P_REMOTE, 2));
     assert_false(param_set(P_REMOTE, 3));
@@ -55,17 +55,17 @@ static void test_field_store_one_layout_for_every_image(void **state)
     assert_true(param_set(P_RC_ID, 7));
     assert_true(param_set(P_FRAMES_LOST, 40));
     assert_true(save());
-    /* the record as the image with the frames reads it: version 10, 41 values, in table order */
+    /* the record as the image with the frames reads it: version 11, 45 values, in table order */
     uint8_t *e = hal_host_eeprom();
     while (e[0] != 0x5A && e < hal_host_eeprom() + 2 * HAL_EEPROM_SECTOR)
         e += STORE_SLOT_BYTES;                  /* the slot it went to */
     assert_int_equal(e[0], 0x5A);
-    assert_int_equal(e[1], 10);
-    assert_int_equal(e[2], 41);
+    assert_int_equal(e[1], 11);
+    assert_int_equal(e[2], 45);
     assert_int_equal(e[5 + 2 * 30], 2);         /* Remote, parameter 30 */
-    assert_int_equal(e[5 + 2 * 35], 2);         /* Speed src, 35 */
-    assert_int_equal(e[5 + 2 * 40], 7);         /* RC module, 40 */
-    size_t n = 5 + 2 * 41 + 8 + 12 + 8;
+    assert_int_equal(e[5 + 2 * 39], 2);         /* Speed src, 39 */
+    assert_int_equal(e[5 + 2 * 44], 7);         /* RC module, 44 */
+    size_t n = 5 + 2 * 45 + 8 + 12 + 8;
     assert_int_equal(e[n], (uint8_t)(twin_crc(e, n) >> 8));
     assert_int_equal(e[n + 1], (uint8_t)twin_crc(e, n));
     /* that image sets Remote = AgOpenGPS and saves: this one loads the record, Remote off */
@@ -87,7 +87,7 @@ static void test_field_store_one_layout_for_every_image(void **state)
     w[n + 1] = (uint8_t)crc;
     assert_int_equal(store_load(), STORE_DEFAULTS);
     w[5 + 2 * 30] = 3;
-    w[5 + 2 * 35] = 3;                          /* Speed src 0-2 */
+    w[5 + 2 * 39] = 3;                          /* Speed src 0-2 */
     crc = twin_crc(w, n);
     w[n] = (uint8_t)(crc >> 8);
     w[n + 1] = (uint8_t)crc;
