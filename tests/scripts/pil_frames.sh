@@ -43,7 +43,7 @@ if [ "${n:-0}" -ge 119 ] && [ "${g:-999}" -le 110 ] && [ "${k:-0}" -ge 119 ] && 
 else
     nok "every step within its period under the frames" "$n steps, longest gap $g ms; $k kicks, longest $h ms"
 fi
-oks=$(grep -a -c 'OK 0 150\*' "$tmp/pil.serial")
+oks=$(grep -a -c 'OK 0 1500\*' "$tmp/pil.serial")
 if [ "$oks" -eq "$gets" ]; then
     ok "every GET among the frames answered ($oks of $gets)"
 else
