@@ -89,8 +89,10 @@ if until_ok 10 c1_is 144; then ok "C1's switch byte 2 with Rate 2: 144 (bit 4)";
 keys 0
 until_ok 3 ratio_in "$before" 0.99 1.01
 
-# US units from the menu (Units, the 36th entry: six steps up from the first)
-keys A A A A A A A
+# US units from the menu: A opens it, then A steps up (from the first, round to the last) until
+# Units is shown; at most once round the table
+keys A
+for ((i = 0; i < 60; i++)); do line_is 2 "Units           " && break; keys A; done
 if until_ok 5 line_is 2 "Units           "; then ok "the menu has Units"; else nok "the menu has Units" "$($T capture-pane -p -t panel | tail -14)"; fi
 keys D A D C
 if until_ok 5 line_has 1 '^ *[0-9.]+mph +[0-9.]+PSI *$' && until_ok 5 line_has 3 '^[0-9.]+gal/ac +AUTO *$' &&
@@ -112,9 +114,10 @@ else
     nok "15.0 gal/acre reads back" "$($T capture-pane -p -t panel | tail -14)"
 fi
 want=$(awk 'BEGIN{printf "%.1f L/ha", 15.0 * 3.785411784 / (4046.8564224 / 10000)}')
-keys A A A A A A D B D
+for ((i = 0; i < 60; i++)); do line_is 2 "Units           " && break; keys A; done
+keys D B D
 until_ok 5 line_is 4 "Saved           "
-keys B B B B B B
+for ((i = 0; i < 60; i++)); do line_is 2 "Rate 1          " && break; keys B; done
 if until_ok 5 line_is 2 "Rate 1          " && until_ok 5 line_has 3 "^ +$want$"; then
     ok "in metric it is $(lcd_line 3 | sed 's/^ *//') ($want from the definitions)"
 else
