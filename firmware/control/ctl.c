@@ -149,7 +149,7 @@ uint8_t ctl_select(uint8_t id)
         return 0;                   /* the field image: ffmap only (FW_PEERS) */
 #endif
     ctl_id = id;
-    speed_plain = 0;                /* (ffmap sets it from what it learnt, each step) */
+    speed_set_plain(0);             /* (ffmap sets it from what it learnt, each step) */
     ctl_kf = 0;                     /* the reset below derives this controller's constants */
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {

@@ -122,7 +122,7 @@ static __data union {
 
 static void ffmap_ff(void)
 {
-    speed_plain = M->ff_gain < FFMAP_FF_LEAD;
+    speed_set_plain(M->ff_gain < FFMAP_FF_LEAD);
     ffmap_w.ff.speed = ctl_in->speed_kmh_x100;
     ffmap_w.ff.dq = ctl_in->target_lpm_x100 - M->target_last;
     if (!M->speed_last || (ffmap_w.ff.speed > M->speed_last ? ffmap_w.ff.dq <= 0

@@ -315,6 +315,14 @@ static void speed_track(void) __reentrant
  * by itself, and a target run ahead at a level-off is a bump the loop chases. */
 __bit speed_plain;
 
+void speed_set_plain(uint8_t plain) __reentrant
+{
+    if (plain)
+        speed_plain = 1;
+    else
+        speed_plain = 0;
+}
+
 static void speed_ahead(void) __reentrant
 {
     uint16_t meas = (uint16_t)wk.v_x100, lead;

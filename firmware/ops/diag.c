@@ -72,7 +72,7 @@ void diag_init(void)
     diag_line_init();
     diag_nozzle_relearn();
     /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the
-     * bytes of store_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a
+     * bytes of diag_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a
      * calibration opens */
     dg.kp_kpa = store_learnt(STORE_LEARN_CTL + 2u) | (uint16_t)store_learnt(STORE_LEARN_CTL + 3u) << 8;
     dg.pc_kpa = store_learnt(STORE_LEARN_CTL);
@@ -85,12 +85,13 @@ void diag_init(void)
         model_told();
     dg.q3 = param_v[P_NOZZLE_Q3];
     dg.gen = (uint8_t)(param_generation - 1u);
+    store_learnt_from(diag_learnt_byte);    /* a save writes what is learnt as this module says */
 }
 
 /* The held model's bytes: check valves (kPa, at most 150), then xm / 2 with its lowest bit set
  * for a model learnt near one flow (0 for one learnt over the range), then kp little endian;
  * 0xFF each without a model. */
-uint8_t store_learnt_byte(uint8_t i) __reentrant
+uint8_t diag_learnt_byte(uint8_t i) __reentrant
 {
     if (i < STORE_LEARN_CTL)
         return ctl_learnt_byte(i);

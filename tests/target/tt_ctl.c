@@ -35,6 +35,10 @@ static uint32_t cyc_max, cyc_sum;
 __xdata ctl_in_t ctl_src;
 __bit speed_plain;              /* speed.h's, which ffmap sets: here without the wheel's module and its HAL */
 __bit speed_learnt;             /* ... and reads: 0, a wheel not learnt */
+void speed_set_plain(uint8_t plain) __reentrant
+{
+    speed_plain = plain != 0;
+}
 #else
 static ctl_in_t ctl_src;
 #endif
