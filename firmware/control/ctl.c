@@ -99,12 +99,7 @@ static void ctl_derive(void)
     s = (int16_t)um_scaled_div(param_v[P_VALVE_BRK], 32768u, 100u);       /* (v 2^15 + 50) / 100 */
     b = (int16_t)um_scaled_div(param_v[P_VALVE_SLACK], 32768u, 1000u);    /* (v 2^15 + 500) / 1000 */
     if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && t && ctl_id == CTL_FFMAP) {
-        ctl_st.fm.brk_extra = 0;
-        ctl_st.fm.brk_age = 0;
-        ctl_st.fm.gain = FFMAP_G_INIT;
-        ctl_st.fm.rev_min = FFMAP_REV_MIN;
-        ctl_st.fm.ff_gain = 0;
-        ctl_st.fm.cap = 255;
+        ffmap_forget();
     }
     ctl_stiction = s;
     ctl_backlash = b;
@@ -186,7 +181,7 @@ uint8_t ctl_learnt_byte(uint8_t i)
         return store_learnt(i);
     if (ctl_gen != param_generation)
         ctl_derive();               /* valve parameters told anew: what was learnt goes first */
-    return ((const uint8_t *)&ctl_st.fm.gain)[i];
+    return ffmap_learnt_byte(i);
 }
 
 #if FW_PROBES

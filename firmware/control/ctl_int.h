@@ -272,6 +272,10 @@ void bp_init(void);
 q15_t bp_step(void) CTL_SHARED;
 void ffmap_init(void);
 q15_t ffmap_step(void) CTL_SHARED;
+/* ffmap's learnt figures: forgotten (the valve told anew: a new valve's starting point), and
+ * byte i of their EEPROM image (store.h STORE_LEARN_CTL bytes; ffmap_init reads it back). */
+void ffmap_forget(void);
+uint8_t ffmap_learnt_byte(uint8_t i) __reentrant;
 q15_t ag_step(void) CTL_SHARED;
 void ag_derive(void) CTL_SHARED;
 q15_t rv_step(void) CTL_SHARED;
