@@ -321,7 +321,7 @@ $(UC_DIR)/tests/bench/isr_cycles.rel: tests/bench/isr_cycles.c
 	$(call msg,SDCC,$< [s51])
 	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1) -Ihal/stc12 -MMD -c $< -o $@
 
-$(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(STC_DIR)/hal/stc12/hal_stc12.rel $(STC_DIR)/hal/stc12/hal_serial.rel
+$(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
 	$(call msg,LINK,$@ [s51 program])
 	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $^ -o $@ > $(UC_DIR)/isr_cycles.log 2>&1 || { cat $(UC_DIR)/isr_cycles.log; exit 1; }
 
