@@ -148,7 +148,7 @@ DEMO_DIR := $(BUILD)/demo
 .SECONDARY:
 .DELETE_ON_ERROR:
 .PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate sabotage bench sim pil pil-image \
-        sim-progs demo compare family redraw faults report \
+        sim-progs demo compare family faults report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -167,7 +167,7 @@ help:
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1]"
 	@echo "               the controllers over N sprayers of the plant family: median and 95th percentile"
 	@echo "make faults [FAULTS_CONTROLLER=ffmap] [ONLY=leak_growing,..]   every fault of issue 51 at two sizes: told or not (build/faults/table.md)"
-	@echo "make redraw [PLANTS=\"28/35/untold ..\"] [SELECT=fast-high|fast-stiff] [SEEDS=1-140] [DRAWS=12]   family plants with more noise draws: runs with an alarm"
+	@echo "make help-research  the research harnesses' targets (tools/research/research.mk)"
 	@echo "make report    docs/RESULTS.md and its plots, the README's headline: the paper's experiments reproduced, the family, the cost (minutes)"
 	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run, with the machine it ran on"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
@@ -361,16 +361,6 @@ EVENTS ?=
 family: $(SIM_BIN) $(VENV)
 	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --kind $(KIND) $(if $(EVENTS),--events) --out $(BUILD)/family
 
-# family plants again with more noise draws (the plant's own seed, then --seed 1..DRAWS-1): the
-# runs with an alarm per plant; PLANTS as SEED/NUMBER/told|untold, or SELECT a class of SEEDS'
-# plants (tools/redraw.py); neither: the alarm plants of docs/CONTROLLERS.md
-PLANTS ?=
-SELECT ?=
-SEEDS ?= 1-140
-DRAWS ?= 12
-redraw: $(SIM_BIN) $(VENV)
-	$(Q)$(PYTHON) tools/redraw.py $(SIM_BIN) $(PLANTS) $(if $(SELECT),--select $(SELECT) --seeds $(SEEDS)) --draws $(DRAWS) --out $(BUILD)/redraw
-
 # every fault of issue 51's first table at two sizes: the alarm or warning, its delay, the dose
 # while untold and silent_wrong_s (tools/faults.py); the table in build/faults/table.md
 FAULTS_CONTROLLER ?= ffmap
@@ -473,6 +463,9 @@ deps:
 
 clean:
 	rm -rf $(BUILD)
+
+# ==== research harnesses: their targets apart from the product's ==================================
+include tools/research/research.mk
 
 # ==== header dependencies (written by -MMD) ====================================================================
 # SDCC has no -MP: a header that is gone is no reason to stop, the object is rebuilt
