@@ -60,7 +60,10 @@ def parse(dirname):
                     cur["depth"] = max(0, cur["depth"] - (256 - n))
             elif op in ("lcall", "acall", "ljmp", "sjmp", "ajmp"):
                 target = s.split()[1].strip()
-                if op == "lcall" and target.endswith("$") and name in INDIRECT:
+                if op == "lcall" and target.endswith("$"):
+                    if name not in INDIRECT:    # a callee this walk cannot see: no figure
+                        raise SystemExit("stackdepth: %s calls through a function pointer: name "
+                                         "what it may call in INDIRECT (tools/stackdepth.py)" % name)
                     cur["calls"] += [(t, cur["depth"] + 2) for t in INDIRECT[name]]
                     cur["trampoline"] = True
                 elif target.startswith("_") or target.startswith("__"):
