@@ -222,10 +222,10 @@ static void exchange(sim_t *sim, hil_pc_t *h)
     hal_host_io.spray_on = o.relays & 1u;
     hal_host_io.buzzer = (o.relays >> 1) & 1u;
     hal_wheel_min_interval(o.wheel_min);
-    app_status.speed_kmh_x100 = o.speed_kmh_x100;
-    app_status.target_lpm_x100 = o.target_lpm_x100;
-    app_status.flow_lpm_x100 = o.flow_lpm_x100;
-    app_status.pressure_kpa = o.pressure_kpa;
+    app_status.in.speed_kmh_x100 = o.speed_kmh_x100;
+    app_status.in.target_lpm_x100 = o.target_lpm_x100;
+    app_status.in.flow_lpm_x100 = o.flow_lpm_x100;
+    app_status.in.pressure_kpa = o.pressure_kpa;
     h->alarms = o.alarms;
     h->alarms_ms = hal_ms() + HIL_DIAG_MS;
     app_status.spraying = o.relays & 1u;

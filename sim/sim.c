@@ -197,8 +197,8 @@ static double meter_reads_lpm(sim_t *sim)
 
 static void sample(sim_t *sim, double flow_lpm)
 {
-    metrics_sample(&sim->metrics, reference_lpm(sim), app_status.target_lpm_x100 / 100.0, flow_lpm,
-                   app_status.speed_kmh_x100 / 100.0, hal_host_io.spray_on);
+    metrics_sample(&sim->metrics, reference_lpm(sim), app_status.in.target_lpm_x100 / 100.0, flow_lpm,
+                   app_status.in.speed_kmh_x100 / 100.0, hal_host_io.spray_on);
 }
 
 /* The driver's command at t (time only moves forward): scenario_drive_kmh with a cursor. */
@@ -404,7 +404,7 @@ void sim_step(sim_t *sim)
                 param_v[P_RATE], pl->p_bar, pl->spray_on);
     if (pl->spray_on && !sim->spray_on_ns)
         sim->spray_on_ns = t1 + 1;
-    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 * 0.01,
+    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.in.target_lpm_x100 * 0.01,
                    (pl->theta <= 0.0 || pl->theta >= 1.0 ? METRICS_AT_STOP : 0)
                        | (!sim->spray_on_ns || t1 < sim->spray_on_ns + SIM_START_NS ? METRICS_AT_START : 0));
     metrics_valve(&sim->metrics, dt, (double)pl->valve_reversals, pl->valve_travel, pl->spray_on);
@@ -469,16 +469,16 @@ void sim_row(const sim_t *sim, sim_row_t *r)
     r->t_s = sim->t_ns * 1e-9;
     r->v_cmd_kmh = pl->v_cmd_kmh;
     r->v_true_kmh = plant_speed_kmh(pl);
-    r->v_meas_kmh = app_status.speed_kmh_x100 / 100.0;
-    r->target_lpm = app_status.target_lpm_x100 / 100.0;
-    r->flow_meas_lpm = app_status.flow_lpm_x100 / 100.0;
+    r->v_meas_kmh = app_status.in.speed_kmh_x100 / 100.0;
+    r->target_lpm = app_status.in.target_lpm_x100 / 100.0;
+    r->flow_meas_lpm = app_status.in.flow_lpm_x100 / 100.0;
     r->flow_true_lpm = sim->flow_true_lpm;
     r->boom_lpm = sim->boom_lpm;
     r->pump_lpm = pl->q_pump;
     r->bypass_lpm = pl->q_bypass;
     r->relief_lpm = pl->q_relief;
     r->p_bar = pl->p_bar;
-    r->p_meas_kpa = app_status.pressure_kpa;
+    r->p_meas_kpa = app_status.in.pressure_kpa;
     r->adc_pressure = hal_host_io.adc[HAL_ADC_PRESSURE];
     r->adc_level = hal_host_io.adc[HAL_ADC_LEVEL];
     r->valve_pos = pl->theta;

@@ -272,17 +272,17 @@ static void draw_run(void)
     int16_t q;
     /* " 7.2km/h 4.40bar": ground speed, boom pressure */
     con_at = 0;
-    con_cat_num(st->speed_kmh_x100, 4, 1 | CON_DROP(1));
+    con_cat_num(st->in.speed_kmh_x100, 4, 1 | CON_DROP(1));
     con_cat("km/h");
-    con_cat_num(st->pressure_kpa, 5, 2);
+    con_cat_num(st->in.pressure_kpa, 5, 2);
     con_cat("bar");
     con_show(0);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow */
     con_start("Q");
-    q = st->target_lpm_x100;
+    q = st->in.target_lpm_x100;
     con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
     con_cat(">");
-    q = st->flow_lpm_x100;
+    q = st->in.flow_lpm_x100;
     con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
     con_cat("L/mn");
     con_show(1);

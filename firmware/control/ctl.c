@@ -39,9 +39,7 @@ int16_t ctl_backlash = CTL_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 __data q15_t ctl_carry;
 q15_t ctl_last;
 __data uint8_t ctl_sat;
-#if !defined(__SDCC)
-const ctl_in_t *ctl_in;
-#endif
+const __xdata ctl_in_t *__data ctl_in;
 int16_t ctl_k[3];
 
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */
@@ -199,11 +197,7 @@ void ctl_prepare(void)
 
 q15_t ctl_step(const __xdata ctl_in_t *step_in)
 {
-#if defined(__SDCC)
-    (void)step_in;              /* &ctl_src (ctl.h) */
-#else
     ctl_in = step_in;
-#endif
     if (ctl_gen != param_generation || ctl_kf == 0)
         ctl_derive();
     switch (ctl_id) {

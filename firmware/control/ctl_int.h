@@ -209,12 +209,8 @@ extern const __code int8_t fz_tab[3][7][7];
 #define CTL_STEP static inline
 #endif
 
-/* the inputs of the step in progress (ctl.h ctl_step: on the chip at ctl_src's address) */
-#if defined(__SDCC)
-#define ctl_in (&ctl_src)
-#else
-extern const ctl_in_t *ctl_in;
-#endif
+/* the inputs of the step in progress: ctl_step's argument (direct RAM: read at every input) */
+extern const __xdata ctl_in_t *__data ctl_in;
 /* ffmap: the last reversal sent was under 1.5 times the smallest one (rev_min) and at most one pulse
  * followed it the same way: what the half cycle swung is the valve's resolution, not the loop
  * gain (ffmap.c ffmap_out); ffmap_rl1: a pulse followed it */

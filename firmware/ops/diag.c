@@ -286,7 +286,7 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t
 {
     uint16_t tmin = param_v[P_TANK_MIN];
     uint16_t tank = in->tank_l;
-    uint16_t p = in->pressure_kpa;
+    uint16_t p = in->in.pressure_kpa;
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
@@ -310,11 +310,11 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t
  * (a headland's low pressures are where a model is least sure); clean spraying teaches it. */
 static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
-    uint16_t p = in->pressure_kpa;
+    uint16_t p = in->in.pressure_kpa;
     int16_t meter = flow_lpm_x100();
     int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
-    int16_t target = in->target_lpm_x100;
-    uint8_t working = target_working_speed(in->speed_kmh_x100);
+    int16_t target = in->in.target_lpm_x100;
+    uint8_t working = target_working_speed(in->in.speed_kmh_x100);
     uint8_t judge = settled && analog_pressure_ok(), g;
     uint16_t pexp, x, d;
     uint32_t a, lo, hi;
@@ -384,9 +384,9 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
  * rule's too: the rate off target is what the operator must hear, whatever holds it there. */
 static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
-    int16_t target = in->target_lpm_x100;
-    int16_t qp = in->flow_lpm_x100 - target;
-    uint8_t off = settled && target > 0 && (in->manual || target_working_speed(in->speed_kmh_x100))
+    int16_t target = in->in.target_lpm_x100;
+    int16_t qp = in->in.flow_lpm_x100 - target;
+    uint8_t off = settled && target > 0 && (in->manual || target_working_speed(in->in.speed_kmh_x100))
                   && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);
     if (dg.alarms & (1u << AL_OFFRATE))
         rule(AL_OFFRATE, 0, !off);
@@ -408,7 +408,7 @@ static void diag_speed(const __xdata app_status_t *in) __reentrant
     uint16_t x = speed_quiet_periods();
     rule(AL_SPEED_LOST, !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()))),
          g || x < DIAG_SPEED_PERIODS / 2u);
-    x = in->speed_kmh_x100;
+    x = in->in.speed_kmh_x100;
     g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
 }

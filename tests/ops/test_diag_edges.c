@@ -104,7 +104,7 @@ static uint16_t period(void)
         sy.meter_next += sy.meter_ns;
     }
     speed_step();
-    sy.st.flow_lpm_x100 = flow_step();
+    sy.st.in.flow_lpm_x100 = flow_step();
     analog_step();
     diag_set_nozzles(NOZZLES);
     valve_set(sy.drive);
@@ -138,9 +138,9 @@ static void spraying(double kmh, double lpm, int periods)
 {
     wheel(kmh);
     meter(lpm);
-    sy.st.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
-    sy.st.target_lpm_x100 = (int16_t)lround(lpm * 100);
-    sy.st.pressure_kpa = told_kpa(lpm);
+    sy.st.in.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
+    sy.st.in.target_lpm_x100 = (int16_t)lround(lpm * 100);
+    sy.st.in.pressure_kpa = told_kpa(lpm);
     for (int i = 0; i < periods; i++)
         assert_int_equal(period(), 0);
 }
@@ -179,18 +179,18 @@ static void test_overpressure_after_3_periods_over_p_max_cleared_under_95_percen
 {
     (void)state;
     setup(NULL);
-    sy.st.pressure_kpa = param_v[P_P_MAX];                          /* at P max: not over */
+    sy.st.in.pressure_kpa = param_v[P_P_MAX];                          /* at P max: not over */
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 20), 21);
-    sy.st.pressure_kpa++;
+    sy.st.in.pressure_kpa++;
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 3);  /* 0.3 s */
     /* 5 % hysteresis: 456 kPa is 95 % of 480, not under it; 455 is */
-    sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MAX] * 95u / 100u);
+    sy.st.in.pressure_kpa = (uint16_t)(param_v[P_P_MAX] * 95u / 100u);
     assert_int_equal(periods_until(AL_OVERPRESSURE, 0, 20), 21);
-    sy.st.pressure_kpa--;
+    sy.st.in.pressure_kpa--;
     assert_int_equal(periods_until(AL_OVERPRESSURE, 0, 20), 10);
     /* not watched (the bypass not parked, nothing sprayed): no alarm */
     sy.p_watch = 0;
-    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    sy.st.in.pressure_kpa = 2 * param_v[P_P_MAX];
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 11);
 }
 
@@ -233,10 +233,10 @@ static void test_overpressure_needs_the_pressure_sensor(void **state)
     for (int i = 0; i < 3; i++)
         period();
     assert_false(analog_pressure_ok());
-    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    sy.st.in.pressure_kpa = 2 * param_v[P_P_MAX];
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 20), 21);
     setup(NULL);
-    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    sy.st.in.pressure_kpa = 2 * param_v[P_P_MAX];
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 3);
     adc_counts[0] = 179;
     int n = periods_until(AL_OVERPRESSURE, 0, 30);
@@ -357,15 +357,15 @@ static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void 
     setup(NULL);
     spraying(8.0, 30.0, 30);
     meter(0);
-    sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - 1u);
+    sy.st.in.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - 1u);
     assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
-    sy.st.pressure_kpa = param_v[P_P_MIN];
+    sy.st.in.pressure_kpa = param_v[P_P_MIN];
     assert_true(periods_until(AL_METER_LOST, 1, 40) <= 10);
     /* below working speed */
     setup(NULL);
     spraying(8.0, 30.0, 30);
     meter(0);
-    sy.st.speed_kmh_x100 = (uint16_t)(param_v[P_MINF_SPEED] * 10u - 1u);
+    sy.st.in.speed_kmh_x100 = (uint16_t)(param_v[P_MINF_SPEED] * 10u - 1u);
     assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
     /* the boom not settled (starting up) */
     setup(NULL);
@@ -380,8 +380,8 @@ static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void 
         assert_true(param_set(P_P_MIN, 0));
         spraying(8.0, 30.0, 30);
         meter(0);
-        sy.st.pressure_kpa = told_kpa(k ? 5.6 : 4.9);
-        assert_int_equal(diag_nozzle_flow_x100(sy.st.pressure_kpa, NOZZLES) < 500, !k);
+        sy.st.in.pressure_kpa = told_kpa(k ? 5.6 : 4.9);
+        assert_int_equal(diag_nozzle_flow_x100(sy.st.in.pressure_kpa, NOZZLES) < 500, !k);
         assert_int_equal(periods_until(AL_METER_LOST, 1, 40) <= 40, k);
     }
 }
@@ -425,8 +425,8 @@ static void test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost(void **s
         assert_true(param_set(P_P_MIN, 0));
         spraying(8.0, 5.0, 1);
         sy.meter_ns = k ? 31312934.0 : 31250000.0;
-        sy.st.target_lpm_x100 = 500;
-        sy.st.pressure_kpa = 200;
+        sy.st.in.target_lpm_x100 = 500;
+        sy.st.in.pressure_kpa = 200;
         int n = periods_until(AL_CLOG, 1, 40);
         printf("# meter %d x 0.01 L/min at 200 kPa: CLOG after %d periods\n", flow_lpm_x100(), n);
         assert_int_equal(flow_lpm_x100(), k ? 499 : 500);
@@ -439,7 +439,7 @@ static void test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost(void **s
     meter(0);
     assert_true(periods_until(AL_METER_LOST, 1, 20) <= 20);
     meter(30.0);
-    sy.st.pressure_kpa = 330;                   /* the told model's 180 kPa and 120 more */
+    sy.st.in.pressure_kpa = 330;                   /* the told model's 180 kPa and 120 more */
     int n = periods_until(AL_CLOG, 1, 60);
     printf("# the meter back at a clog's pressure: CLOG after %d periods\n", n);
     assert_int_equal(n, 10 + 20 - 1);
@@ -458,7 +458,7 @@ static void test_nozzle_model_learns_within_5_percent_of_the_target_only(void **
         assert_true(param_set(P_METER_K, 3840));
         spraying(8.0, 31.25, 1);
         sy.meter_ns = 5000000.0;
-        sy.st.target_lpm_x100 = e[i].t;
+        sy.st.in.target_lpm_x100 = e[i].t;
         for (int n = 0; n < 64 * 4 + 20; n++)
             period();
         assert_int_equal(flow_lpm_x100(), 3125);
@@ -473,14 +473,14 @@ static void test_off_rate_at_its_set_time_and_percentage(void **state)
     setup(NULL);
     spraying(8.0, 30.0, 20);
     /* the flow the diag reads is the status's: 10 % off exactly is not off, 10.01 % is */
-    sy.st.target_lpm_x100 = 3000;
+    sy.st.in.target_lpm_x100 = 3000;
     meter(0);
     sy.meter_ns = 0;
     for (int k = 0; k < 2; k++) {
         uint16_t need = param_v[P_OFFRATE_S] * 10u;     /* 5 s: 50 periods */
         int n;
         for (n = 1; n <= 100; n++) {
-            sy.st.flow_lpm_x100 = k ? 3301 : 3300;
+            sy.st.in.flow_lpm_x100 = k ? 3301 : 3300;
             uint16_t a = diag_step(&sy.st, 1, 1);
             if (on(a, AL_OFFRATE))
                 break;
@@ -490,14 +490,14 @@ static void test_off_rate_at_its_set_time_and_percentage(void **state)
     /* cleared after 10 periods back on target */
     int n;
     for (n = 1; n <= 30; n++) {
-        sy.st.flow_lpm_x100 = 3000;
+        sy.st.in.flow_lpm_x100 = 3000;
         if (!on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
             break;
     }
     assert_int_equal(n, 10);
     /* low by as much counts too; one period on target starts the count again */
     for (n = 1; n <= 100; n++) {
-        sy.st.flow_lpm_x100 = n == 30 ? 3000 : 2699;
+        sy.st.in.flow_lpm_x100 = n == 30 ? 3000 : 2699;
         if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
             break;
     }
@@ -506,9 +506,9 @@ static void test_off_rate_at_its_set_time_and_percentage(void **state)
     setup(NULL);
     assert_true(param_set(P_OFFRATE_S, 2));
     for (n = 1; n <= 100; n++) {
-        sy.st.target_lpm_x100 = 3000;
-        sy.st.flow_lpm_x100 = 2000;
-        sy.st.speed_kmh_x100 = 800;
+        sy.st.in.target_lpm_x100 = 3000;
+        sy.st.in.flow_lpm_x100 = 2000;
+        sy.st.in.speed_kmh_x100 = 800;
         if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
             break;
     }
@@ -523,9 +523,9 @@ static void test_off_rate_not_in_manual_unsettled_nor_below_working_speed(void *
     static const int want[5] = {50, 20, 101, 101, 20};
     for (int c = 0; c < 5; c++) {
         setup(NULL);
-        sy.st.target_lpm_x100 = 3000;
-        sy.st.flow_lpm_x100 = 1500;
-        sy.st.speed_kmh_x100 = c == 2 || c == 4 ? param_v[P_MINF_SPEED] * 10u - 1u : param_v[P_MINF_SPEED] * 10u;
+        sy.st.in.target_lpm_x100 = 3000;
+        sy.st.in.flow_lpm_x100 = 1500;
+        sy.st.in.speed_kmh_x100 = c == 2 || c == 4 ? param_v[P_MINF_SPEED] * 10u - 1u : param_v[P_MINF_SPEED] * 10u;
         sy.st.manual = c == 1 || c == 4;
         int n;
         for (n = 1; n <= 100; n++)
@@ -556,18 +556,18 @@ static void test_leak_and_clog_after_20_periods_off_the_learnt_model(void **stat
     uint16_t p = told_kpa(30.0);
     /* the fine band: P_PDEV / 2 = 15 % of the pressure above the check valves */
     uint16_t lo = (uint16_t)(30 + (p - 30) * 0.85 - 3), hi = (uint16_t)(30 + (p - 30) * 1.15 + 3);
-    sy.st.pressure_kpa = lo;
+    sy.st.in.pressure_kpa = lo;
     assert_int_equal(periods_until(AL_LEAK, 1, 40), 20);
-    sy.st.pressure_kpa = p;
+    sy.st.in.pressure_kpa = p;
     assert_int_equal(periods_until(AL_LEAK, 0, 30), 10);
-    sy.st.pressure_kpa = hi;
+    sy.st.in.pressure_kpa = hi;
     assert_int_equal(periods_until(AL_CLOG, 1, 40), 20);
-    sy.st.pressure_kpa = p;
+    sy.st.in.pressure_kpa = p;
     assert_int_equal(periods_until(AL_CLOG, 0, 30), 10);
     /* inside the band: nothing */
-    sy.st.pressure_kpa = (uint16_t)(lo + 6);
+    sy.st.in.pressure_kpa = (uint16_t)(lo + 6);
     assert_int_equal(periods_until(AL_LEAK, 1, 40), 41);
-    sy.st.pressure_kpa = (uint16_t)(hi - 6);
+    sy.st.in.pressure_kpa = (uint16_t)(hi - 6);
     assert_int_equal(periods_until(AL_CLOG, 1, 40), 41);
 }
 
@@ -579,12 +579,12 @@ static void test_leak_not_judged_while_the_target_moves(void **state)
     setup(NULL);
     learn_model();
     spraying(8.0, 30.0, 10);
-    sy.st.pressure_kpa = (uint16_t)(told_kpa(30.0) * 0.6);
+    sy.st.in.pressure_kpa = (uint16_t)(told_kpa(30.0) * 0.6);
     /* the target falls, then rises, by 1/100 of itself a period (over 1/128, under twice that) */
     double t = 3000;
     for (int i = 0; i < 80; i++) {
         t *= i < 40 ? 0.99 : 1.01;
-        sy.st.target_lpm_x100 = (int16_t)lround(t);
+        sy.st.in.target_lpm_x100 = (int16_t)lround(t);
         assert_false(on(period(), AL_LEAK));
     }
     /* rising by exactly 1/128 of the new target (its >> 7) a period: judged */
@@ -594,7 +594,7 @@ static void test_leak_not_judged_while_the_target_moves(void **state)
         while (((ti + d) >> 7) != d)
             d++;
         ti += d;
-        sy.st.target_lpm_x100 = (int16_t)ti;
+        sy.st.in.target_lpm_x100 = (int16_t)ti;
         if (on(period(), AL_LEAK))
             break;
     }

@@ -337,7 +337,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
     theta = sim.plant.theta;
     assert_int_equal(hal_host_io.spray_on, 0);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
-    assert_int_equal(app_status.target_lpm_x100, 0);
+    assert_int_equal(app_status.in.target_lpm_x100, 0);
     assert_true(sim.plant.v_mps > 7.9 / 3.6);               /* the tractor drives on */
     sim_run(&sim, 21.9);
     assert_int_equal(hal_host_io.wdt_kicks, kicks);
