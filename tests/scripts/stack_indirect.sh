@@ -3,11 +3,9 @@
 # record_byte calls what store_learnt_from registered: INDIRECT), so the image's static stack
 # figure includes that callee's depth; and it refuses an indirect call it is not told about (the
 # function renamed in a copy of the image's assembly) rather than print a figure that misses it.
-set -uo pipefail
-cd "$(dirname "$0")/../.."
-B=${BUILD:-build}
-[ -f "$B/stc12/firmware/store/store.asm" ] || make --no-print-directory -j2 firmware > /dev/null 2>&1
-out=$(python3 - "$B/stc12" <<'PY' 2>&1
+. "$(dirname "$0")/tap.sh" "stack depth"
+[ -f "$B/stc12/firmware/store/store.asm" ] || make --no-print-directory -j2 firmware BUILD="$B" > /dev/null 2>&1
+if out=$(python3 - "$B/stc12" <<'PY' 2>&1
 import sys
 sys.path.insert(0, "tools")
 import stackdepth as s
@@ -17,19 +15,17 @@ outer, inner = s.deepest(f, "_record_byte", memo, []), s.deepest(f, "_diag_learn
 print("record_byte %d B, diag_learnt_byte %d B" % (outer, inner))
 sys.exit(0 if outer >= inner + 2 else 1)
 PY
-)
-if [ $? -eq 0 ]; then
-    echo "ok - stack depth follows the learnt figures' pointer: $out"
+); then
+    ok "it follows the learnt figures' pointer: $out"
 else
-    echo "not ok - stack depth follows the learnt figures' pointer"; echo "$out" | sed 's/^/#   /'
+    nok "it follows the learnt figures' pointer" "$out"
 fi
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 (cd "$B/stc12" && find . -name '*.asm' -exec cp --parents {} "$tmp/" \;)
 sed -i 's/^;\t function record_byte$/;\t function record_byte_renamed/' "$tmp/firmware/store/store.asm"
 if python3 tools/stackdepth.py "$tmp" > "$tmp/out" 2>&1; then
-    echo "not ok - stack depth refuses an indirect call it does not know"; sed 's/^/#   /' "$tmp/out"
+    nok "it refuses an indirect call it does not know" "$(cat "$tmp/out")"
 elif grep -q "record_byte_renamed calls through a function pointer" "$tmp/out"; then
-    echo "ok - stack depth refuses an indirect call it does not know: $(cat "$tmp/out")"
+    ok "it refuses an indirect call it does not know: $(cat "$tmp/out")"
 else
-    echo "not ok - stack depth refuses an indirect call it does not know: not as itself"; sed 's/^/#   /' "$tmp/out"
+    nok "it refuses an indirect call it does not know: not as itself" "$(cat "$tmp/out")"
 fi

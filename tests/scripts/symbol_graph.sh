@@ -3,15 +3,13 @@
 # own layer's globals (tools/symgraph.py over the host objects, its allow file); and the check
 # fails on each defect planted alone in a copy of the tree, where no include shows it: an upward
 # call (store -> ops, the prototype written in place) and a foreign write (control -> store).
-set -uo pipefail
-cd "$(dirname "$0")/../.."
+. "$(dirname "$0")/tap.sh" "symbol graph"
 allow=tools/symgraph_allow.txt
 if out=$(python3 tools/symgraph.py firmware --allow $allow 2>&1); then
-    echo "ok - symbol graph: $(echo "$out" | tail -1 | sed 's/^symgraph: //')"
+    ok "$(echo "$out" | tail -1 | sed 's/^symgraph: //')"
 else
-    echo "not ok - symbol graph"; echo "$out" | sed 's/^/#   /'
+    nok "the firmware's objects" "$out"
 fi
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 # plant NAME WANT FILE TEXT: TEXT appended to FILE of a fresh copy; the check must fail on WANT
 # alone (one problem, naming WANT)
 plant() {
@@ -19,11 +17,11 @@ plant() {
     rm -rf "$tmp/firmware" && cp -r firmware "$tmp/"
     printf '%s\n' "$4" >> "$tmp/firmware/$3"
     if python3 tools/symgraph.py "$tmp/firmware" --allow $allow > "$tmp/out" 2>&1; then
-        echo "not ok - symbol graph check catches $name"; sed 's/^/#   /' "$tmp/out"
+        nok "the check catches $name" "$(cat "$tmp/out")"
     elif ! grep -q "^symgraph: $want" "$tmp/out" || ! grep -q " 1 problems$" "$tmp/out"; then
-        echo "not ok - symbol graph check catches $name: not as $want alone"; sed 's/^/#   /' "$tmp/out"
+        nok "the check catches $name: not as $want alone" "$(cat "$tmp/out")"
     else
-        echo "ok - symbol graph check catches $name: $(grep "^symgraph: $want" "$tmp/out" | sed 's/^symgraph: //')"
+        ok "the check catches $name: $(grep "^symgraph: $want" "$tmp/out" | sed 's/^symgraph: //')"
     fi
 }
 plant "a planted upward call (learnt.c -> diag_learnt_byte)" "upward call: store/learnt.c -> diag_learnt_byte" \
