@@ -144,6 +144,12 @@ typedef struct sim_input {
  * ('#' starts a comment where a line starts with it). 0, or -1 with "file:line: reason" in err.
  * Call after sim_init(). */
 int sim_input_load(sim_t *sim, const char *path, char *err, size_t n);
+/* The operator's inputs due by t1 (ns): keys pressed and let go, lines into the UART
+ * (sim_input.c, for sim_step). */
+void sim_input_step(sim_t *sim, uint64_t t1);
+/* The reference target, L/min: what the firmware's settings give for the true wheel speed (slip
+ * included), so that the firmware's own measurement noise can neither hide nor invent a hold. */
+double sim_reference_lpm(const sim_t *sim);
 
 /* Start a simulation of scenario s at time 0 (resets the host HAL and the firmware). */
 void sim_init(sim_t *sim, const scenario_t *s);
