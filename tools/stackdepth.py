@@ -18,7 +18,7 @@ LIB_BYTES = 8           # a support routine: return address plus a few pushes (g
 HIGH_PRIORITY = {"_stc12_pca_isr"}
 # calls through a function pointer (SDCC: lcall to a local label that pushes the pointer and
 # `ret`s into it), by the function that makes them: every function the pointer may hold
-INDIRECT = {"_record_byte": ["_diag_learnt_byte"]}   # store.c: store_learnt_from's
+INDIRECT = {"_store_learnt_now": ["_diag_learnt_byte"]}   # learnt.c: store_learnt_from's
 
 
 def parse(dirname):

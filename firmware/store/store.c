@@ -29,7 +29,6 @@ static struct {
 } eb;
 #define newest store_newest         /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT (learnt.c) */
 static uint16_t seq;                /* its sequence number */
-static __data store_learnt_fn learnt_fn;    /* store_learnt_from's (direct RAM: the XRAM's floor) */
 #define NO_SLOT STORE_NO_SLOT
 #define slot_base store_slot_base
 typedef char store_learnt_at[(STORE_AT_LEARNT == HDR_LEARN) ? 1 : -1];
@@ -297,7 +296,7 @@ static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
     if (i >= HDR_JOB)               /* job_dm2, then job_ml (totals_t) */
         return ((const __xdata uint8_t *)&totals.job_dm2)[i - HDR_JOB];
     if (i >= HDR_LEARN)
-        return learnt_fn ? learnt_fn((uint8_t)(i - HDR_LEARN)) : 0xFFu;
+        return store_learnt_now((uint8_t)(i - HDR_LEARN));
     if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
         return ((const __xdata uint8_t *)&totals.life_m2)[i - HDR_LIFE];
     return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];
@@ -364,11 +363,6 @@ static void sv_write_more(void) __reentrant
             return;
         }
     }
-}
-
-void store_learnt_from(store_learnt_fn fn)
-{
-    learnt_fn = fn;
 }
 
 uint8_t store_save_start(uint8_t who)

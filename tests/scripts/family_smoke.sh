@@ -94,7 +94,7 @@ $PY tools/research/redraw.py "$SIM" --select fast-high --seeds 1-1 > "$tmp/r1.ou
          || nok "redraw refuses a class with no plant, rather than run the default plants" "$(cat "$tmp/err")"; }
 if $PY - <<'PYEOF'
 import sys
-sys.path.insert(0, "tools")
+sys.path[:0] = ["tools", "tools/research"]
 import family, redraw
 sel = redraw.select("fast-high", 1, 2)
 assert sel and all(n.split("/")[2] in ("told", "untold") for n in sel)
