@@ -33,12 +33,7 @@ static uint32_t cyc_max, cyc_sum;
 /* the step's inputs, passed to ctl_step (in XRAM on the chip, ctl.h) */
 static __xdata ctl_in_t step_in;
 #if defined(__SDCC)
-__bit speed_plain;              /* speed.h's, which ffmap sets: here without the wheel's module and its HAL */
-__bit speed_learnt;             /* ... and reads: 0, a wheel not learnt */
-void speed_set_plain(uint8_t plain) __reentrant
-{
-    speed_plain = plain != 0;
-}
+__bit speed_learnt;             /* speed.h's, which ffmap reads: 0, a wheel not learnt (no wheel module here) */
 #endif
 
 static q15_t timed_step(const __xdata ctl_in_t *in)
