@@ -35,7 +35,7 @@ XRAM_SIZE ?= 1024
 # HIL image (HIL=1) are held to the chip's size for their code (and HIL's XRAM) and to the stack
 # margin.
 CODE_FREE_PCT ?= $(if $(filter 1,$(FW_PEERS) $(HIL)),0,8)
-XRAM_FREE_MIN ?= $(if $(filter 1,$(HIL)),0,128)
+XRAM_FREE_MIN ?= $(if $(filter 1,$(FW_PEERS) $(HIL)),0,128)
 STACK_MARGIN_MIN ?= 40
 
 # ==== sources: firmware/ in layers, bottom to top ====================================================
@@ -44,6 +44,9 @@ FW_DIRS := math store measure control ops console link app
 FW_INC := $(addprefix -Ifirmware/,$(FW_DIRS))
 FW_SRC := $(wildcard $(addsuffix /*.c,$(addprefix firmware/,$(FW_DIRS))))
 FW_LIB_SRC := $(filter-out firmware/app/main.c,$(FW_SRC))
+# the 8051 port: the assembly routines (multiply, divide, saturation) of the SDCC builds; the host
+# builds compile the C references in firmware/math instead
+PORT_SRC := $(wildcard hal/mcs51/*.c)
 SIM_MAIN := $(wildcard sim/*_main.c)
 SIM_LIB_SRC := $(filter-out $(SIM_MAIN),$(wildcard sim/*.c))
 UNIT_TEST_SRC := $(wildcard tests/*/test_*.c)
@@ -62,30 +65,29 @@ SDCC_MODEL := --model-large
 HIL ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
-# Shared moves (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
-# replaces its long moves by calls of firmware/math/moves.c, moves_short.c, moves_arith.c,
-# moves_more.c and moves_late.c, sdas assembles it.
-# Not in the peers' controllers (outside the field image) nor in the modules written in assembly;
-# bp_pid in part.
+# Shared sequences (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
+# replaces the sequences of its table by calls of the routines it generates from the same table
+# (one module each in DIR/moves/, the archive links those called), sdas assembles it. The 8051
+# port's own assembly (hal/mcs51/) is left as written. SHARE_HOT_<file>: the functions whose
+# cycles count (`*` the whole file): only the table's hot routines there. bp_pid's step takes
+# 84 % of the step budget (make bench); the other controllers' steps under 21 % share all.
 SDAS ?= sdas8051
-SHARE_SKIP := $(addprefix firmware/control/,aog.c raven.c) \
-              $(addprefix firmware/math/,mul.c mul_round.c fixed.c fxops.c moves.c moves_short.c \
-                moves_arith.c moves_more.c moves_late.c \
-                divulong.c)
-# the controllers' modules: not the x_ nor the z_ sets of sequences, so that their steps keep
-# their cycles
-SHARE_OPTS_firmware/control/ffmap.c := --skip=x_ --skip=z_
-SHARE_OPTS_firmware/control/pid.c := --skip=x_ --skip=z_
-SHARE_OPTS_firmware/control/ctl_out.c := --skip=x_ --skip=z_
-# bp_pid: its step has some cycles to spare (make bench), not for calls at its inner loops' locals
-SHARE_OPTS_firmware/control/bp.c := --skip=fp_r0_0f --skip=x_ --skip=z_
-# ctl.c: its derivations and selection share, not the step's dispatch nor ctl_applied (timed with it)
-SHARE_OPTS_firmware/control/ctl.c := --skip-func=ctl_step --skip-func=ctl_applied --skip=x_ --skip=z_
+SHARE_HOT_firmware/control/bp.c := bp_step
+SHARE_HOT_firmware/control/ctl.c := ctl_step ctl_applied
 # $(call sdcc_rel,FLAGS): $< compiled to $@ (and its .d), through share_moves.py where it applies
-sdcc_rel = $(if $(filter firmware/%,$(filter-out $(SHARE_SKIP),$<)),\
+sdcc_rel = $(if $(filter firmware/%,$<),\
     $(SDCC) $(1) -MMD -S $< -o $(@:.rel=.asm) && sed -i '1s|\.asm:|.rel:|' $(@:.rel=.d) \
-    && $(PYTHON) tools/share_moves.py $(SHARE_OPTS_$<) $(@:.rel=.asm) && $(SDAS) -plosgffw $@ $(@:.rel=.asm),\
+    && $(PYTHON) tools/share_moves.py $(foreach f,$(SHARE_HOT_$<),'--hot=$(f)') $(@:.rel=.asm) \
+    && $(SDAS) -plosgffw $@ $(@:.rel=.asm),\
     $(SDCC) $(1) -MMD -c $< -o $@)
+# $(1)/moves/: the shared routines, generated from the table and assembled, one module each
+define moves_rule
+$(1)/moves/.stamp: tools/share_moves.py | $(VENV)
+	@mkdir -p $(1)/moves
+	$$(call msg,GEN,$(1)/moves)
+	$(Q)rm -f $(1)/moves/*.asm $(1)/moves/*.rel && $$(PYTHON) tools/share_moves.py --gen $(1)/moves \
+	    && for f in $(1)/moves/*.asm; do $$(SDAS) -plosgffw $$$${f%.asm}.rel $$$$f || exit 1; done && touch $$@
+endef
 HOST_WARN := -std=c99 -Wall -Wextra -Werror -D_DEFAULT_SOURCE
 HOST_INC := -Ihal -Ihal/host -Ihal/pil $(FW_INC) -Isim -Itests/target
 TEST_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
@@ -101,7 +103,10 @@ STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(H
 # the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
 # firmware's archive only the modules something calls
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
-STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(FW_LIB_SRC))
+# the controllers only the research image carries (FW_PEERS): not compiled into the field set,
+# whose controllers' state union then holds ffmap's alone (ctl_int.h)
+FW_PEER_SRC := $(addprefix firmware/control/,pid.c bp.c aog.c raven.c)
+STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(if $(filter 1,$(FW_PEERS)),$(FW_LIB_SRC),$(filter-out $(FW_PEER_SRC),$(FW_LIB_SRC))) $(PORT_SRC))
 STC_LIB := $(STC_DIR)/fw.lib
 FW_IHX := $(STC_DIR)/sprayer.ihx
 FW_HEX := $(STC_DIR)/sprayer.hex
@@ -126,14 +131,14 @@ FUZZ_S ?= 60
 
 UC_DIR := $(BUILD)/ucsim$(if $(SDCC_EXTRA),-variant)
 UC_CFLAGS := $(SDCC_CFLAGS) -DHAL_UCSIM -Itests/target
-UC_LIB_REL := $(patsubst %.c,$(UC_DIR)/%.rel,$(FW_LIB_SRC))
+UC_LIB_REL := $(patsubst %.c,$(UC_DIR)/%.rel,$(FW_LIB_SRC) $(PORT_SRC))
 UC_TT_REL := $(UC_DIR)/tests/target/tt_common.rel $(UC_DIR)/hal/ucsim/tt_ucsim.rel
 TT_IHX := $(patsubst tests/target/%.c,$(UC_DIR)/%.ihx,$(TT_PROGS))
 TT_HOST := $(patsubst tests/target/%.c,$(TEST_DIR)/target/%,$(TT_PROGS))
 
 # processor in the loop: the firmware as for the chip, hal/pil instead of hal/stc12, main in hal/pil
 PIL_DIR := $(BUILD)/pil
-PIL_SRC := $(FW_LIB_SRC) $(wildcard hal/pil/*.c)
+PIL_SRC := $(filter-out $(FW_PEER_SRC),$(FW_LIB_SRC)) $(PORT_SRC) $(wildcard hal/pil/*.c)
 PIL_REL := $(patsubst %.c,$(PIL_DIR)/%.rel,$(PIL_SRC))
 PIL_IHX := $(PIL_DIR)/sprayer_pil.ihx
 # s51 has 64 KB of XRAM: the PIL image may use more than the chip's 1 KB, so that it still runs
@@ -147,7 +152,7 @@ DEMO_DIR := $(BUILD)/demo
 
 .SECONDARY:
 .DELETE_ON_ERROR:
-.PHONY: hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate sabotage bench sim pil pil-image \
+.PHONY: chip ucsim hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate sabotage bench sim pil pil-image \
         sim-progs demo compare family faults report \
         bench-sim panel screenshots clean help FORCE
 
@@ -163,6 +168,8 @@ help:
 	@echo "               handlers, the whole firmware's passes over pil_bench"
 	@echo "make sim SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   one scenario in the simulator: a summary, the metrics JSON last"
 	@echo "make pil SCENARIO=f [CONTROLLER=n] [CSV=out.csv]   the same, the whole firmware in s51 (processor in the loop) + pass timing"
+	@echo "make chip SCENARIO=f [CONTROLLER=n] [CSV=out.csv]  the field image in the STC12C5A60S2 model (build/ucsim/s51) + 1T timing"
+	@echo "make ucsim     that model: Debian's uCsim source + sim/ucsim/stc12.patch, built into build/ucsim/s51"
 	@echo "make compare   the six controllers on the same plant and seeds, beside the paper; ffmap against bp_pid, aog and raven over seeds 1-16"
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1]"
 	@echo "               the controllers over N sprayers of the plant family: median and 95th percentile"
@@ -198,9 +205,10 @@ $(STC_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)
 	$(call msg,SDCC,$<)
 	$(Q)$(call sdcc_rel,$(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1))
 
-$(STC_LIB): $(STC_LIB_REL)
+$(eval $(call moves_rule,$(STC_DIR)))
+$(STC_LIB): $(STC_LIB_REL) $(STC_DIR)/moves/.stamp
 	$(call msg,AR,$@)
-	$(Q)rm -f $@ && $(SDAR) -rcs $@ $^
+	$(Q)rm -f $@ && $(SDAR) -rcs $@ $(STC_LIB_REL) $(STC_DIR)/moves/*.rel
 
 $(FW_IHX): $(STC_MAIN_REL) $(STC_LIB)
 	$(call msg,LINK,$@)
@@ -265,8 +273,9 @@ $(UC_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)
 	$(call msg,SDCC,$< [s51])
 	$(Q)$(call sdcc_rel,$(UC_CFLAGS))
 
-$(UC_DIR)/fw.lib: $(UC_LIB_REL)
-	$(Q)rm -f $@ && $(SDAR) -rcs $@ $^
+$(eval $(call moves_rule,$(UC_DIR)))
+$(UC_DIR)/fw.lib: $(UC_LIB_REL) $(UC_DIR)/moves/.stamp
+	$(Q)rm -f $@ && $(SDAR) -rcs $@ $(UC_LIB_REL) $(UC_DIR)/moves/*.rel
 
 $(UC_DIR)/tt_%.ihx: $(UC_DIR)/tests/target/tt_%.rel $(UC_DIR)/fw.lib $(UC_TT_REL)
 	$(call msg,LINK,$@ [s51 program])
@@ -282,11 +291,12 @@ target-tests: $(TT_IHX) $(TT_HOST)
 # make sabotage SAB=n: tt_ops for s51 with routine n of mul.h's FX_SABOTAGE list built wrong (its
 # file alone compiled with the switch, linked ahead of the s51 library) in $(UC_DIR)/sabotage-n/;
 # tools/run_tests.sh shows the s51 comparison catching each of them
-SAB_FILES := mul mul mul mul mul_round mul_round mul_round mul_round mul_round fixed fixed umath umath umath
+SAB_FILES := hal/mcs51/mul hal/mcs51/mul hal/mcs51/mul hal/mcs51/mul $(addprefix hal/mcs51/,mul_round mul_round mul_round \
+             mul_round mul_round sat16) firmware/math/fixed $(addprefix firmware/math/,umath umath umath)
 SAB ?= 1
 sabotage: $(UC_DIR)/fw.lib $(UC_TT_REL) $(UC_DIR)/tests/target/tt_ops.rel
 	@mkdir -p $(UC_DIR)/sabotage-$(SAB)
-	$(Q)$(SDCC) $(UC_CFLAGS) -DFX_SABOTAGE=$(SAB) -c firmware/math/$(word $(SAB),$(SAB_FILES)).c -o $(UC_DIR)/sabotage-$(SAB)/sab.rel
+	$(Q)$(SDCC) $(UC_CFLAGS) -DFX_SABOTAGE=$(SAB) -c $(word $(SAB),$(SAB_FILES)).c -o $(UC_DIR)/sabotage-$(SAB)/sab.rel
 	$(Q)$(SDCC) $(UC_CFLAGS) $(SDCC_LDFLAGS) $(UC_DIR)/tests/target/tt_ops.rel $(UC_DIR)/sabotage-$(SAB)/sab.rel $(UC_TT_REL) -L $(UC_DIR) -l fw.lib -o $(UC_DIR)/sabotage-$(SAB)/tt_ops.ihx > $(UC_DIR)/sabotage-$(SAB)/link.log 2>&1 || { cat $(UC_DIR)/sabotage-$(SAB)/link.log; exit 1; }
 
 # ==== processor in the loop: the whole firmware in s51, the plant on the host (hal/pil, sim/pil_host.c) ====
@@ -298,9 +308,12 @@ $(PIL_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)
 # the PIL image carries hal/pil's frames and pass stopwatch, larger than the chip's HAL: s51 gives
 # it the 8051's whole 64 KB code space (the chip's image is checked by make firmware)
 PIL_CODE_SIZE ?= 65536
-$(PIL_IHX): $(PIL_REL)
+$(eval $(call moves_rule,$(PIL_DIR)))
+$(PIL_DIR)/moves.lib: $(PIL_DIR)/moves/.stamp
+	$(Q)rm -f $@ && $(SDAR) -rcs $@ $(PIL_DIR)/moves/*.rel
+$(PIL_IHX): $(PIL_REL) $(PIL_DIR)/moves.lib
 	$(call msg,LINK,$@ [pil])
-	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) --code-size $(PIL_CODE_SIZE) --xram-size $(PIL_XRAM_SIZE) $(PIL_REL) -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
+	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) --code-size $(PIL_CODE_SIZE) --xram-size $(PIL_XRAM_SIZE) $(PIL_REL) -L $(PIL_DIR) -l moves.lib -o $@ > $(PIL_DIR)/link.log 2>&1 || { cat $(PIL_DIR)/link.log; rm -f $@; exit 1; }
 	$(Q)if grep -qi "error\|insufficient\|overlap\|exceed" $(PIL_DIR)/link.log; then cat $(PIL_DIR)/link.log; rm -f $@; exit 1; fi
 
 pil-image: $(PIL_IHX)
@@ -308,6 +321,19 @@ pil-image: $(PIL_IHX)
 # make pil SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: as make sim, the firmware running in s51
 pil: $(SIM_BIN) $(PIL_IHX)
 	$(Q)$(SIM_BIN) --pil $(PIL_IHX) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
+
+# ==== chip in the loop: the field image in the STC12C5A60S2 model (sim/ucsim/, sim/chip_host.c) =====
+# the model: Debian's uCsim source with sim/ucsim/stc12.patch, built into build/ucsim/ (not /usr/bin)
+UCSIM_STC12 := $(BUILD)/ucsim/s51
+$(UCSIM_STC12): sim/ucsim/stc12.patch sim/ucsim/stc12.cc sim/ucsim/stc12cl.h sim/ucsim/stc12_link.h \
+		sim/ucsim/sources.list.in tools/ucsim_stc12.sh
+	$(Q)tools/ucsim_stc12.sh
+
+ucsim: $(UCSIM_STC12)
+
+# make chip SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: as make sim, the field image in the model
+chip: $(SIM_BIN) $(FW_IHX) $(UCSIM_STC12)
+	$(Q)$(SIM_BIN) --chip $(FW_IHX) --s51 $(UCSIM_STC12) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
 
 # ==== tests and measurements ==========================================================================
 test:
@@ -328,9 +354,10 @@ $(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(patsubst %.c,$(STC_DIR)/%.rel
 # machine cycles in s51: the fixed-point blocks and one step of each controller, each step against
 # the budget (ctl.h CTL_STEP_BUDGET_CYCLES: 30,000 classic cycles, under 4 ms on the chip); the
 # interrupt handlers; the whole firmware's passes and stack over pil_bench's scripted 60 s
-bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
+bench: $(TT_IHX) $(TT_HOST) $(ISR_IHX) $(SIM_BIN) $(PIL_IHX) $(FW_IHX) $(UCSIM_STC12)
 	$(Q)tools/bench.sh $(UC_DIR)
 	$(Q)tools/bench_pil.sh $(ISR_IHX) $(SIM_BIN) $(PIL_IHX)
+	$(Q)tools/bench_chip.sh $(SIM_BIN) $(FW_IHX) $(UCSIM_STC12)
 
 # simulated seconds per wall second for the paper's run (one process, one core; the fastest of 9)
 bench-sim: $(SIM_BIN)
@@ -460,6 +487,7 @@ fuzz-merge:
 # ==== set-up and cleaning ====================================================================================
 deps:
 	$(Q)tools/deps.sh
+	$(Q)tools/ucsim_stc12.sh
 
 clean:
 	rm -rf $(BUILD)

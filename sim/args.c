@@ -36,8 +36,17 @@ static int take(const char *prog, const arg_opt_t *o, const char *v)
     default:
         x = strtod(v, &end);
         if (*v && !*end && !errno && x >= o->lo && x <= o->hi) {
-            *(double *)o->to = x;
-            return 0;
+            if (o->kind != ARG_NUMS) {
+                *(double *)o->to = x;
+                return 0;
+            }
+            if (((arg_nums_t *)o->to)->n < ARG_NUMS_MAX) {
+                arg_nums_t *l = o->to;
+                l->v[l->n++] = x;
+                return 0;
+            }
+            fprintf(stderr, "%s: %s given more than %d times\n", prog, o->name, ARG_NUMS_MAX);
+            return -1;
         }
         fprintf(stderr, "%s: %s '%s' is not a number %.12g..%.12g\n", prog, o->name, v, o->lo, o->hi);
         return -1;

@@ -450,18 +450,16 @@ void pil_report(const pil_t *p, FILE *f)
             share_max = c / period_cycles;
     }
     qsort(s, n, sizeof *s, cmp_u32);
-    fprintf(f, "pil: %zu passes, machine cycles (classic 12T) mean %.0f, p99 %u, max %u; "
-               "1T estimate (/%.0f) mean %.0f, p99 %.0f, max %.0f\n",
-            n, sum / n, s[(size_t)(0.99 * (n - 1))], s[n - 1], PIL_1T_FACTOR, sum / n / PIL_1T_FACTOR,
-            s[(size_t)(0.99 * (n - 1))] / PIL_1T_FACTOR, s[n - 1] / PIL_1T_FACTOR);
+    fprintf(f, "pil: %zu passes, machine cycles (classic 12T) mean %.0f, p99 %u, max %u "
+               "(the 1T chip's own: make chip, docs/PIL.md)\n",
+            n, sum / n, s[(size_t)(0.99 * (n - 1))], s[n - 1]);
     for (i = 0; i < PIL_TOP && p->top[i].cycles; i++) {
         const pil_pass_t *w = &p->top[i];
         size_t j;
         int any = 0;
         if (i == 0)
-            fprintf(f, "pil: worst pass at tick %llu (%.3f s): %u cycles = %.2f ms at 12T, %.2f ms at 1T; it did:",
-                    (unsigned long long)w->tick, w->tick * 1e-3, w->cycles, w->cycles / PIL_CYCLES_PER_MS,
-                    w->cycles / PIL_CYCLES_PER_MS / PIL_1T_FACTOR);
+            fprintf(f, "pil: worst pass at tick %llu (%.3f s): %u cycles = %.2f ms at 12T; it did:",
+                    (unsigned long long)w->tick, w->tick * 1e-3, w->cycles, w->cycles / PIL_CYCLES_PER_MS);
         else
             fprintf(f, "pil: worst pass %zu at tick %llu (%.3f s): %u cycles; it did:", i + 1,
                     (unsigned long long)w->tick, w->tick * 1e-3, w->cycles);
@@ -477,10 +475,8 @@ void pil_report(const pil_t *p, FILE *f)
         fprintf(f, "%s\n", any || w->key || w->setting ? "" : " no HAL calls");
     }
     if (periods)
-        fprintf(f, "pil: control period (%zu ms) used: mean %.1f %%, max %.1f %% at 12T; "
-                   "1T estimate mean %.1f %%, max %.1f %%\n",
-                per, 100 * share_sum / periods, 100 * share_max, 100 * share_sum / periods / PIL_1T_FACTOR,
-                100 * share_max / PIL_1T_FACTOR);
+        fprintf(f, "pil: control period (%zu ms) used: mean %.1f %%, max %.1f %% at 12T\n",
+                per, 100 * share_sum / periods, 100 * share_max);
     fprintf(f, "pil: %zu control steps, the longest time between two %llu ms (at %.3f s); %zu watchdog kicks, "
                "the longest time between two %llu ms (at %.3f s)\n",
             p->steps.n, (unsigned long long)p->steps.gap_max, p->steps.gap_at * 1e-3, p->kicks.n,

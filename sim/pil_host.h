@@ -15,7 +15,6 @@
  * sim_run() as usual; pil_finish() stops s51 and takes the stack's high-water mark.
  * One PIL run a process.
  */
-#define PIL_1T_FACTOR 8.0           /* the STC12's 1T core against s51's 12-clock cycles, on this code */
 #define PIL_CYCLES_PER_MS 921.6     /* classic 8051 at 11.0592 MHz: machine cycles a millisecond */
 
 typedef struct pil pil_t;

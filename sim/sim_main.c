@@ -9,6 +9,8 @@
 #include "sim.h"
 #include "hal_host.h"
 #include "pil_host.h"
+#include "chip_host.h"
+#include "ucsim/stc12_link.h"
 #include "pty.h"
 #include "link_crc.h"
 #include "summary.h"
@@ -17,7 +19,7 @@ static void usage(FILE *f)
 {
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
           "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt]\n"
-          "           [--pil IMAGE.ihx] [--input KEYS_AND_LINES.txt] [--pty [--pace X] [--wait S]]\n"
+          "           [--pil IMAGE.ihx | --chip IMAGE.ihx [--s51 PATH]] [--input KEYS_AND_LINES.txt] [--pty [--pace X] [--wait S]]\n"
           "           [--fast | --tick-ms N [--idle-tick-ms M]] [--duration S]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
           "  prints a summary of the run's figures, then the metrics of docs/SCENARIOS.md as one JSON\n"
@@ -31,6 +33,12 @@ static void usage(FILE *f)
           "  --drive-log: a line 'tick dir duty spray' whenever the valve drive or the boom valve changes.\n"
           "  --pil: the firmware runs inside s51 from IMAGE (make pil-image: build/pil/sprayer_pil.ihx),\n"
           "         in lock step with the plant; 'pil:' lines give its pass timing and stack.\n"
+          "  --chip: the field image (build/stc12/sprayer.ihx, its .map beside it) runs in the\n"
+          "         STC12C5A60S2 model (--s51 PATH, default build/ucsim/s51; make chip), its pins on\n"
+          "         the plant; 'chip:' lines give its passes and handlers in 1T clocks.\n"
+          "         --chip-reset S: the reset pin pulsed at S; --chip-hang S: the main loop hangs at S\n"
+          "         (interrupts still served) until a reset; --chip-wheel-sweep S: from S every wheel\n"
+          "         edge falls 60 + 3k clocks before a PCA overflow (the capture race's window).\n"
           "  --pty: the link on a new pseudo-terminal (its name on stderr) that tools/monitor.py opens like a\n"
           "    port; the run starts when it is opened (--wait S, default 60), at X times real time (--pace,\n"
           "    default 1; 0 as fast as the reader takes it); commands sent to it reach the firmware, and\n"
@@ -130,9 +138,13 @@ int main(int argc, char **argv)
 {
     const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL, *samples_path = NULL;
     const char *serial_path = NULL, *drive_path = NULL, *pil_path = NULL;
-    const char *input_path = NULL;
+    const char *input_path = NULL, *chip_path = NULL, *s51_path = "build/ucsim/s51";
     FILE *serial = NULL, *drive_log = NULL;
     pil_t *pil = NULL;
+    chip_t *chip = NULL;
+    arg_nums_t chip_ev[3] = { { { 0 }, 0 } };   /* the times of --chip-reset, --chip-hang, --chip-wheel-sweep */
+    static const int chip_ev_kind[3] = { STC12_EV_RESET, STC12_EV_HANG, STC12_EV_WHEEL_SWEEP };
+    int j;
     unsigned long long seed = 0;
     int have_seed = 0, i, tick_ms = 1, idle_ms = 0, fast = 0;
     long tick_l = 0, idle_l = 0;
@@ -153,6 +165,11 @@ int main(int argc, char **argv)
         {"--serial", ARG_TEXT, &serial_path, 0, 0, NULL},
         {"--drive-log", ARG_TEXT, &drive_path, 0, 0, NULL},
         {"--pil", ARG_TEXT, &pil_path, 0, 0, NULL},
+        {"--chip", ARG_TEXT, &chip_path, 0, 0, NULL},
+        {"--s51", ARG_TEXT, &s51_path, 0, 0, NULL},
+        {"--chip-reset", ARG_NUMS, &chip_ev[0], 0, 1e6, NULL},
+        {"--chip-hang", ARG_NUMS, &chip_ev[1], 0, 1e6, NULL},
+        {"--chip-wheel-sweep", ARG_NUMS, &chip_ev[2], 0, 1e6, NULL},
         {"--input", ARG_TEXT, &input_path, 0, 0, NULL},
         {"--pty", ARG_FLAG, &use_pty, 0, 0, NULL},
         {"--fast", ARG_FLAG, &fast, 0, 0, NULL},
@@ -223,8 +240,12 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    if ((tick_ms != 1 || idle_ms) && pil_path) {
-        fprintf(stderr, "sim: --fast/--tick-ms and --pil do not go together (s51 runs a pass a millisecond)\n");
+    if ((tick_ms != 1 || idle_ms) && (pil_path || chip_path)) {
+        fprintf(stderr, "sim: --fast/--tick-ms and --pil or --chip do not go together (s51 runs a millisecond a step)\n");
+        return 2;
+    }
+    if (pil_path && chip_path) {
+        fprintf(stderr, "sim: --pil and --chip: one firmware at a time\n");
         return 2;
     }
     sim_init(sim, s);
@@ -238,12 +259,28 @@ int main(int argc, char **argv)
         fprintf(stderr, "sim: --input: %s\n", err);
         return 1;
     }
-    for (i = 0; pil_path && i < s->n_events; i++)
+    for (i = 0; (pil_path || chip_path) && i < s->n_events; i++)
         if (s->events[i].kind == EV_POWER_CUT) {
-            fprintf(stderr, "sim: --pil: %s:%d: power_cut runs on the host build only\n", s->name,
-                    s->events[i].line);
+            fprintf(stderr, "sim: %s: %s:%d: power_cut runs on the host build only\n", pil_path ? "--pil" : "--chip",
+                    s->name, s->events[i].line);
             return 1;
         }
+    if (chip_path) {
+        chip = chip_start(sim, chip_path, s51_path, err, sizeof err);
+        if (!chip) {
+            fprintf(stderr, "sim: --chip: %s\n", err);
+            return 1;
+        }
+        for (j = 0; j < 3; j++)
+            for (i = 0; i < chip_ev[j].n; i++)
+                if (chip_at(chip, chip_ev[j].v[i], chip_ev_kind[j], 60) < 0) {
+                    fprintf(stderr, "sim: at most 8 --chip-* inputs\n");
+                    return 2;
+                }
+    } else if (chip_ev[0].n + chip_ev[1].n + chip_ev[2].n) {
+        fprintf(stderr, "sim: --chip-reset, --chip-hang, --chip-wheel-sweep go with --chip\n");
+        return 2;
+    }
     if (pil_path) {
         pil = pil_start(sim, pil_path, err, sizeof err);
         if (!pil) {
@@ -276,6 +313,10 @@ int main(int argc, char **argv)
     } else {
         sim_run(sim, s->duration_s);
     }
+    if (chip && chip_finish(chip) < 0) {
+        fprintf(stderr, "sim: --chip: the model stopped answering\n");
+        return 1;
+    }
     if (pil && pil_finish(pil) < 0) {
         fprintf(stderr, "sim: --pil: the firmware in s51 stopped answering\n");
         return 1;
@@ -299,6 +340,10 @@ int main(int argc, char **argv)
     if (pil) {
         pil_report(pil, stdout);
         pil_free(pil);
+    }
+    if (chip) {
+        chip_report(chip, stdout);
+        chip_free(chip);
     }
     sim_json(sim, &r, stdout);
     sim_free(sim);

@@ -17,7 +17,8 @@ done
 budget=$(sed -n 's/^#define CTL_STEP_BUDGET_CYCLES \([0-9]*\).*/\1/p' firmware/control/ctl.h)
 echo
 echo "budget: a control step of any controller (ctl_step + ctl_applied) at most $budget machine cycles"
-echo "        of classic 12-clock timing (the 1T STC12 runs this code about 8x faster: under 4 ms of the 100 ms period)"
+echo "        of classic 12-clock timing (its time on the 1T chip: the last part of make bench, measured in the"
+echo "        STC12C5A60S2 model, tools/bench_chip.sh)"
 sed -n 's/^#cycles ctl_step_\(.*\)_max \([0-9]*\)$/\1 \2/p' "$dir"/tt_ctl.bench |
     while read -r c n; do
         awk -v c="$c" -v n="$n" -v b="$budget" 'BEGIN { printf "  %-12s %6d  %5.1f %% of the budget  %s\n", c, n, 100 * n / b, n <= b ? "ok" : "OVER" }'

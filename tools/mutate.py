@@ -63,8 +63,8 @@ SITES = {
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
     "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_plaus", "test_faults"],
-    "firmware/ops/diag_line.c": ["test_diag", "test_diag_edges", "test_slow_faults"],
-    "firmware/ops/diag_wheel.c": ["test_plaus", "test_diag", "test_faults"],
+    "firmware/ops/diag_line.c": ["test_diag_line", "test_diag", "test_diag_edges", "test_slow_faults"],
+    "firmware/ops/diag_wheel.c": ["test_diag_wheel", "test_plaus", "test_diag", "test_faults"],
     "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
@@ -81,6 +81,15 @@ NP = "DIAG_METER_PERIODS, 1, 1, 1, DIAG_OVERP_PERIODS, 1, 1, 1, 0,"
 NP2 = "DIAG_BAL_PERIODS, 1, DIAG_MIN_FLOW_PERIODS"
 DIGIT = ("Valve cal's dead-band digit: the subtractions only take the digits apart; a bound moved by "
          "one leaves a value ending in 0 at 0 and one ending in 1-9 (or wrapped past 0) not at 0")
+DIR = "dir is set to 1 or -1 just above (d > 0 ? 1 : -1): dir >= 0 is dir > 0"
+AT_END = "at t == 32767 both ways leave t at 32767 with nothing added over the end"
+FAR = ("the constant moved in the test only: a hi of 120 (or under) leaves with 120 either way, "
+       "the assignment writes DIAG_PDEV_FAR_KPA")
+SIGNED = ("JOG and HIL need their checksum (CHANGES): past the word, p[0] is a space or the '*' that "
+          "line_check ended the line at, and then p[1] is a hex digit of the checksum: refused either way")
+PAST_END = ("slot STORE_SLOTS starts at 2 x HAL_EEPROM_SECTOR = HAL_EEPROM_SIZE, past the EEPROM: both "
+            "HALs read 0xFF there (hal.h), no magic, no record")
+FLOW8 = "30001 / 8 and 30000 / 8 are both 3750 (integer division): the same bound"
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
 EQUIVALENT = [
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
@@ -100,6 +109,50 @@ EQUIVALENT = [
      "a count is reset when it reaches its need (30 at most): it never nears 254"),
     ("firmware/ops/diag.c", "rule", "if (*cnt < 255)", "< -> <=",
      "a count is reset when it reaches its need (30 at most): it never reaches 255"),
+    ("firmware/ops/diag.c", "diag_model", "&& target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;", "0 -> 1",
+     "at target 1 the meter, 500 or more while judged, is never within 5 % of it"),
+    ("firmware/ops/diag.c", "diag_model", "&& target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;", "> -> >=",
+     "at target 0 the meter, 500 or more while judged, times 20 is never 0 or less"),
+    ("firmware/ops/diag.c", "diag_model", "&& target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;", "> -> >= #2", "at meter == target both ways give 0"),
+    ("firmware/ops/diag.c", "diag_model", "a = UMUL(p > dg.pc_kpa ? p - dg.pc_kpa : 0, 100u);", "> -> >=",
+     "at p == pc_kpa both ways give 0"),
+    ("firmware/ops/diag.c", "diag_model", "lo = pexp > hi ? pexp - hi : 0;     /* p + dev < pexp */", "> -> >=",
+     "at pexp == hi both ways give 0"),
+    ("firmware/ops/diag.c", "diag_model", "if (hi < DIAG_PDEV_FAR_KPA)", "< -> <=", FAR),
+    ("firmware/ops/diag.c", "diag_model", "if (hi < DIAG_PDEV_FAR_KPA)", "DIAG_PDEV_FAR_KPA -> (DIAG_PDEV_FAR_KPA + 1)",
+     FAR),
+    ("firmware/ops/diag.c", "diag_offrate", "&& UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);",
+     "< -> <=", "at qp == 0, -qp and qp are both 0"),
+    ("firmware/ops/diag.c", "diag_step", "dg.meter_noise = (uint8_t)(dg.meter_noise > 235 ? 255 : dg.meter_noise + 20);",
+     "235 -> 234", "at 235 both ways give 255 (235 + 20)"),
+    ("firmware/ops/diag.c", "diag_step", "dg.meter_noise = (uint8_t)(dg.meter_noise > 235 ? 255 : dg.meter_noise + 20);",
+     "> -> >=", "at 235 both ways give 255 (235 + 20)"),
+    ("firmware/ops/diag.c", "diag_step", "dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);", "255u -> 254u",
+     "at x == 255 both ways give 255"),
+    ("firmware/ops/diag.c", "diag_step", "dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);", "> -> >=",
+     "at x == 255 both ways give 255"),
+    ("firmware/ops/diag.c", "diag_step", "x = x > n ? x - n : 0;", "> -> >=", "at x == n both ways give 0"),
+    ("firmware/ops/diag.c", "diag_step",
+     "g = dg.learnt && dg.kp_kpa < DIAG_WEAR_KP_KPA && !(dg.alarms & (1u << AL_METER_CAL));", "dg.learnt -> 1",
+     "with nothing learnt kp is the told 300 kPa (model_told; every path that sets learnt to 0 calls it), "
+     "not under DIAG_WEAR_KP_KPA"),
+    ("firmware/ops/diag.c", "diag_supply", "rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));",
+     "!dry -> 1", "dry needs a working level sensor at 1 % of Tank size or less, where refill (over Tank min "
+     "+ Tank size / 64) cannot hold: with dry 1 the rest of the clear is 0 either way"),
+    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
+     "p[0] == ' ' -> 1", SIGNED),
+    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N'))", "p[0] == ' ' -> 1",
+     SIGNED),
+    ("firmware/store/store.c", "ck_more",
+     "} else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {",
+     "HDR_VALUES -> (HDR_VALUES - 1)", "at sv_at == HDR_VALUES the parity test is 0: no check either way"),
+    ("firmware/store/store.c", "store_load", "for (s = 0; s < STORE_SLOTS; s++) {", "< -> <=", PAST_END),
+    ("firmware/store/store.c", "store_load", "for (s = 0; s < STORE_SLOTS; s++) {", "STORE_SLOTS -> (STORE_SLOTS + 1)",
+     PAST_END),
+    ("firmware/store/params.c", "params_cross", "> (PARAM_FLOW_MAX_X100 / 8u) * (PARAM_FLOW_MAX_X100 / 8u) * 300u / 2048u)",
+     "PARAM_FLOW_MAX_X100 -> (PARAM_FLOW_MAX_X100 + 1)", FLOW8),
+    ("firmware/store/params.c", "params_cross", "> (PARAM_FLOW_MAX_X100 / 8u) * (PARAM_FLOW_MAX_X100 / 8u) * 300u / 2048u)",
+     "PARAM_FLOW_MAX_X100 -> (PARAM_FLOW_MAX_X100 + 1) #2", FLOW8),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
      "va.want_dir == HAL_VALVE_OFF -> 0", "want_duty is 0 exactly when want_dir is off (valve_set)"),
     ("firmware/control/valve.c", "apply", "if (va.want_dir == HAL_VALVE_OFF || va.want_duty == 0) {",
@@ -117,6 +170,55 @@ EQUIVALENT = [
      "d = 1 gets the wrong way but is under VALVE_MOVE_Q15: it returns before the way is used"),
     ("firmware/control/valve.c", "integrate", "if (d < 0)", "< -> <=", "d is not 0 here"),
     ("firmware/control/valve.c", "integrate", "if (d < 0)", "0 -> 1", "d is not 0 here: d < 1 is d < 0"),
+    ("firmware/control/valve.c", "integrate",
+     "step = d > va.drun ? (int16_t)MUL_R15(d - va.drun, va.rate) : 0;    /* (.. * rate + 2^14) >> 15 */",
+     "> -> >=", "at d == drun the product is 0 and rounds to 0: a step of 0 either way"),
+    ("firmware/control/valve.c", "integrate", "va.limit &= (uint8_t)~(dir > 0 ? CTL_AT_OPEN : CTL_AT_CLOSED);",
+     "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "if (dir > 0) {", "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "va.limit |= dir > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;", "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "va.pos = dir > 0 ? 0 : 32767;", "> -> >=", DIR),
+    ("firmware/control/valve.c", "integrate", "if ((uint16_t)step >= t) {", ">= -> >",
+     "at step == t both ways end at t = 0 with nothing added over the end"),
+    ("firmware/control/valve.c", "integrate", "if (t >= 32767u) {", ">= -> >", AT_END),
+    ("firmware/control/valve.c", "integrate", "if (t >= 32767u) {", "32767u -> 32768u", AT_END),
+    ("firmware/control/valve.c", "valve_set", "bit = drive > 0 ? CTL_AT_CLOSED : CTL_AT_OPEN;", "> -> >=",
+     "inside if (drive != 0): drive >= 0 is drive > 0"),
+    ("firmware/control/valve.c", "valve_set",
+     "mag = drive > 0 ? (uint16_t)drive : drive == Q15_MIN ? 32767u : (uint16_t)-drive;", "> -> >=",
+     "in the drive != 0 branch: drive >= 0 is drive > 0"),
+    ("firmware/control/valve.c", "valve_set", "va.want_dir = drive > 0 ? HAL_VALVE_CLOSE : HAL_VALVE_OPEN;", "> -> >=",
+     "in the drive != 0 branch: drive >= 0 is drive > 0"),
+    ("firmware/ops/diag_line.c", "diag_dry_line",
+     "&& UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->target_lpm_x100) {", "> -> >=",
+     "at meter == 0 both ways give 0"),
+    ("firmware/ops/diag_line.c", "diag_dry_line",
+     "if (dl.dry_line && (!in->open_nozzles || (!in->spraying && psens && p >= pmin)", "dl.dry_line -> 1",
+     "the branch clears dry_line: clearing it when it is 0 changes nothing"),
+    ("firmware/ops/diag_line.c", "diag_zero", "if (in->spraying || in->speed_kmh_x100 || !dl.p_spray",
+     "!dl.p_spray -> 0", "with p_spray 0 the window's test z_hi << 1 >= p_spray holds: it returns zero_off "
+     "with z_n 0 a few lines on, and z_lo, z_hi are set anew at the next window's first period"),
+    ("firmware/ops/diag_line.c", "diag_zero",
+     "|| !((valve_limit() & CTL_AT_OPEN) || (pos != VALVE_POS_UNKNOWN && pos >= DIAG_ZERO_OPEN_Q15))) {",
+     "(valve_limit() & CTL_AT_OPEN) -> 0", "valve.c sets CTL_AT_OPEN with the position 32767 and clears it "
+     "at the first step closed: while it stands the position's test holds as well"),
+    ("firmware/ops/diag_line.c", "diag_zero", "if (!dl.z_n || p < dl.z_lo)", "< -> <=",
+     "at p == z_lo it writes the value z_lo holds"),
+    ("firmware/ops/diag_line.c", "diag_zero", "if (!dl.z_n || p > dl.z_hi)", "> -> >=",
+     "at p == z_hi it writes the value z_hi holds"),
+    ("firmware/ops/diag_line.c", "diag_balance", "a = v > a ? v - a : a - v;", "> -> >=",
+     "at v == a both ways give 0"),
+    ("firmware/ops/diag_line.c", "diag_balance",
+     "f = dl.bal_n >= DIAG_BAL_STRETCH && dl.bal_s0 > l ? dl.bal_s0 - l : 0;   /* the stretch's fall */",
+     "> -> >=", "at s0 == l both ways give 0"),
+    ("firmware/ops/diag_line.c", "diag_balance",
+     "if ((!run || f >= (m << 5)) && dl.bal_n) {     /* closed, or long: into the sums, and anew */",
+     "dl.bal_n -> 1", "with no stretch open f is 0 and the branch sums nothing: it writes bal_n = f = 0, "
+     "which they hold"),
+    ("firmware/ops/diag_line.c", "diag_balance", "if (l < dl.bal_smin)", "< -> <=",
+     "at l == bal_smin it writes the value bal_smin holds"),
+    ("firmware/ops/diag_line.c", "diag_balance", "if (dl.bal_n < 255u)", "255u -> 254u",
+     "bal_n is compared with DIAG_BAL_STRETCH (100) and 0 only: 254 and 255 alike"),
     ("firmware/control/target.c", "target_rate_window",
      "uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;", ">= -> >",
      "at rate_x10 == job both ways give 0"),
@@ -453,10 +555,13 @@ class Runner:
         return None
 
     def tests_for(self, path):
-        """The tests of TESTS built now (taken once: a test built during the run does not join)."""
+        """The tests of TESTS built now (taken once: a test built during the run does not join),
+        the fastest first once the baseline has timed them (a kill by the first costs least)."""
         if path not in self.tests:
             self.tests[path] = [t for t in TESTS.get(path, [])
                                 if self.test_obj(t) and os.path.exists(self.test_obj(t))]
+        if all(t in self.base_s for t in self.tests[path]):
+            self.tests[path].sort(key=lambda t: self.base_s[t])
         return self.tests[path]
 
     def baseline(self, names):

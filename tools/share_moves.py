@@ -1,263 +1,333 @@
 #!/usr/bin/env python3
-"""share_moves.py FILE.asm...: replace the long register and memory moves SDCC writes out again
-and again by calls of one shared copy each (firmware/math/moves*.c), in place.
+"""share_moves.py: the 8051 port's shared instruction sequences, from one table.
 
-SDCC's large model moves every 32-bit value byte by byte: XRAM to R4-R7 is 11 bytes of code,
-and the same 11 bytes appear wherever such a value is read. Each sequence in MOVES below is
-replaced, where it stands whole (no label inside it, so nothing jumps into its middle), by an
-LCALL of the routine that holds exactly those instructions and a RET: the registers, DPTR, A,
-the flags and the memory end as they did; only the stack holds two bytes more for the moment,
-and the sequence takes 4 machine cycles longer. This runs on the assembly SDCC wrote, after its
-own optimiser (whose register analysis takes a call to leave R0-R7 unread and would drop the
-moves that set them up), and before the assembler. The Makefile runs it on every firmware
-module but most of the controllers' (their step's cycles count: make bench).
+SDCC's large model writes the same short sequences out again and again: a 32-bit value from
+XRAM into R4-R7 is 11 bytes wherever such a value is read. ROUTINES below is the one list of
+those sequences; the build makes from it
 
-The later round's sequences (names z_) are a second pass over what the first left: the sets
-before it share exactly as they did.
+  --gen DIR          one assembly module DIR/mv_NAME.asm a routine: the sequence, then RET, so
+                     that the linker takes from the firmware's archive only the routines called;
+  [--hot=F,..] FILE.asm..
+                     the modules' assembly rewritten in place: each sequence found whole (no
+                     label inside it, so nothing jumps into its middle) becomes LCALL _mv_NAME
+                     (LJMP, the RET dropped, where the function returns right after it).
 
---stats: print what would be replaced, change nothing. --skip=PREFIX: not the sequences whose
-name starts with PREFIX (fp_: a controller's locals, reached many times a step).
---skip-func=NAME: nothing in the function NAME (its C name; from its label to the next
-function's): a controller's step, whose cycles count, in a module whose other functions
-(derivations, initialisation) may share."""
+A call leaves the registers, DPTR, A, the flags and the memory as the sequence did; the stack
+holds two bytes more for the moment and the sequence takes 4 machine cycles longer. This runs on
+SDCC's output after its own optimiser (whose register analysis takes a call to leave R0-R7
+unread and would drop the moves feeding one) and before the assembler.
+
+Where several sequences could start or overlap, each function's instructions are covered at
+the fewest bytes (a shortest path over the instructions: an instruction kept costs its size, a
+call 3 bytes; a tie keeps the instructions, fewer calls). The one exception mechanism: --hot
+names the functions whose cycles count (a controller's step; `*` every function of the file);
+in them only the routines marked hot (the plain loads, stores and frame addresses) are used.
+
+--stats: what each routine saves over the files given, SDCC's output or a build's rewritten
+assembly (its calls there count): uses x (its size - 3), less its own size and RET; nothing
+changed. Names say what a routine does (the key below ROUTINES)."""
+import os
 import re
 import sys
+from fnmatch import fnmatch
 
-# name -> instructions (normalised: mnemonic, one space, operands without spaces)
-MOVES = {
-    "ld_r4567": ["movx a,@dptr", "mov r4,a", "inc dptr", "movx a,@dptr", "mov r5,a",
-                 "inc dptr", "movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
-    "ld_r2367": ["movx a,@dptr", "mov r2,a", "inc dptr", "movx a,@dptr", "mov r3,a",
-                 "inc dptr", "movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
-    "ld_r2345": ["movx a,@dptr", "mov r2,a", "inc dptr", "movx a,@dptr", "mov r3,a",
-                 "inc dptr", "movx a,@dptr", "mov r4,a", "inc dptr", "movx a,@dptr", "mov r5,a"],
-    "st_r4567": ["mov a,r4", "movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a",
-                 "mov a,r6", "inc dptr", "movx @dptr,a", "mov a,r7", "inc dptr", "movx @dptr,a"],
-    "st_r2367": ["mov a,r2", "movx @dptr,a", "mov a,r3", "inc dptr", "movx @dptr,a",
-                 "mov a,r6", "inc dptr", "movx @dptr,a", "mov a,r7", "inc dptr", "movx @dptr,a"],
-    "st_r2345": ["mov a,r2", "movx @dptr,a", "mov a,r3", "inc dptr", "movx @dptr,a",
-                 "mov a,r4", "inc dptr", "movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a"],
-    "ld_i4": ["movx a,@dptr", "mov @r0,a", "inc dptr", "movx a,@dptr", "inc r0", "mov @r0,a",
-              "inc dptr", "movx a,@dptr", "inc r0", "mov @r0,a", "inc dptr", "movx a,@dptr",
-              "inc r0", "mov @r0,a"],
-    "st_i4": ["mov a,@r0", "movx @dptr,a", "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a",
-              "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a", "inc r0", "mov a,@r0",
-              "inc dptr", "movx @dptr,a"],
-    "rv_i4": ["mov @r0,dpl", "inc r0", "mov @r0,dph", "inc r0", "mov @r0,b", "inc r0",
-              "mov @r0,a"],
-    "rv_r4567": ["mov r4,dpl", "mov r5,dph", "mov r6,b", "mov r7,a"],
-    "ar_r4567": ["mov dpl,r4", "mov dph,r5", "mov b,r6", "mov a,r7"],
-    "ld_r67": ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
-    "ld_r45": ["movx a,@dptr", "mov r4,a", "inc dptr", "movx a,@dptr", "mov r5,a"],
-    "ld_r23": ["movx a,@dptr", "mov r2,a", "inc dptr", "movx a,@dptr", "mov r3,a"],
-    "st_r67": ["mov a,r6", "movx @dptr,a", "mov a,r7", "inc dptr", "movx @dptr,a"],
-    "st_r45": ["mov a,r4", "movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a"],
-    "cld_r67": ["clr a", "movc a,@a+dptr", "mov r6,a", "inc dptr", "clr a", "movc a,@a+dptr",
-                "mov r7,a"],
-    "gp_r67": ["mov r5,#0x80", "mov dpl,r6", "mov dph,r7", "mov b,r5"],
-    "rrc_i3": ["rrc a", "mov @r0,a", "dec r0", "mov a,@r0", "rrc a", "mov @r0,a", "dec r0",
-               "mov a,@r0", "rrc a", "mov @r0,a"],
-    "ld_fp1": ["mov r0,_bp", "inc r0", "mov dpl,@r0", "inc r0", "mov dph,@r0"],
-    "ld_dptr": ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov dpl,r6", "mov dph,a"],
-    "addc_i67": ["mov a,r6", "inc r0", "addc a,@r0", "mov r6,a", "mov a,r7", "inc r0",
-                 "addc a,@r0", "mov r7,a"],
-    "ar_i4a": ["mov r0,a", "mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0",
-               "inc r0", "mov a,@r0"],
-    "ar_i4": ["mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0", "inc r0",
-              "mov a,@r0"],
-    "st_ir4567": ["mov @r0,ar4", "inc r0", "mov @r0,ar5", "inc r0", "mov @r0,ar6", "inc r0",
-                  "mov @r0,ar7"],
-    "st_a000": ["movx @dptr,a", "clr a", "inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a",
-                "inc dptr", "movx @dptr,a"],
-    "st_1a00": ["inc dptr", "movx @dptr,a", "clr a", "inc dptr", "movx @dptr,a", "inc dptr",
-                "movx @dptr,a"],
-    "st_aaaa": ["movx @dptr,a", "inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a",
-                "inc dptr", "movx @dptr,a"],
-    # the shorter ones: a 16-bit value between DPTR and a register
-    # pair, the registers a call's 24- or 32-bit result lands in, 16-bit moves through @R0 and
-    # @R1, SDCC's signed compare (sign bits flipped; the carry is the result), 32-bit sums and
-    # differences with a local, carries and sign extensions into R6-R7, 32-bit shifts by 4
-    "ar_r67": ["mov dpl,r6", "mov dph,r7"],
-    "ar_r45": ["mov dpl,r4", "mov dph,r5"],
-    "ar_r23": ["mov dpl,r2", "mov dph,r3"],
-    "rv_r67": ["mov r6,dpl", "mov r7,dph"],
-    "rv_r45": ["mov r4,dpl", "mov r5,dph"],
-    "rv_r23": ["mov r2,dpl", "mov r3,dph"],
-    "rv_r3456": ["mov r3,dpl", "mov r4,dph", "mov r5,b", "mov r6,a"],
-    "st_i2": ["mov a,@r0", "movx @dptr,a", "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a"],
-    "cp_ii2": ["mov @r1,a", "inc r0", "mov a,@r0", "inc r1", "mov @r1,a"],
-    "ld_ir23": ["mov ar2,@r0", "inc r0", "mov ar3,@r0"],
-    "ld_ir45": ["mov ar4,@r0", "inc r0", "mov ar5,@r0"],
-    "ld_ir67": ["mov ar6,@r0", "inc r0", "mov ar7,@r0"],
-    "st_ir23": ["mov @r0,ar2", "inc r0", "mov @r0,ar3"],
-    "st_ir67": ["mov @r0,ar6", "inc r0", "mov @r0,ar7"],
-    "st_ir3456": ["mov @r0,ar3", "inc r0", "mov @r0,ar4", "inc r0", "mov @r0,ar5", "inc r0",
-                  "mov @r0,ar6"],
-    "ld_r56": ["movx a,@dptr", "mov r5,a", "inc dptr", "movx a,@dptr", "mov r6,a"],
-    "st_r23": ["mov a,r2", "movx @dptr,a", "mov a,r3", "inc dptr", "movx @dptr,a"],
-    "st_00": ["clr a", "movx @dptr,a", "inc dptr", "movx @dptr,a"],
-    "ld_fp1a": ["mov r0,_bp", "inc r0", "mov a,@r0"],
-    "r67_0": ["mov r6,#0x00", "mov r7,#0x00"],
-    "inc_dptr5": ["inc dptr", "inc dptr", "inc dptr", "inc dptr", "inc dptr"],
-    "scmp_b": ["xrl b,#0x80", "subb a,b"],
-    "sub_i_r2367": ["mov a,@r0", "clr c", "subb a,r2", "mov r2,a", "inc r0", "mov a,@r0",
-                    "subb a,r3", "mov r3,a", "inc r0", "mov a,@r0", "subb a,r6", "mov r6,a",
-                    "inc r0", "mov a,@r0", "subb a,r7"],
-    "add_i_r4567": ["mov a,@r0", "add a,r4", "mov r4,a", "inc r0", "mov a,@r0", "addc a,r5",
-                    "mov r5,a", "inc r0", "mov a,@r0", "addc a,r6", "mov r6,a", "inc r0",
-                    "mov a,@r0", "addc a,r7"],
-    "adc_r67": ["clr a", "addc a,r6", "mov r6,a", "clr a", "addc a,r7", "mov r7,a"],
-    "sext_r67": ["rlc a", "subb a,acc", "mov r6,a", "mov r7,a"],
-    "shr4_r4": ["swap a", "xch a,r4", "swap a", "anl a,#0x0f", "xrl a,r4", "xch a,r4",
-                "anl a,#0x0f", "xch a,r4", "xrl a,r4", "xch a,r4"],
-    "shr4_r6": ["swap a", "xch a,r6", "swap a", "anl a,#0x0f", "xrl a,r6", "xch a,r6",
-                "anl a,#0x0f", "xch a,r6", "xrl a,r6", "xch a,r6"],
-    # issue 14's tenth round (x_): sequences found by counting those the firmware's modules still
-    # write out after the sets above; not in the controllers' modules (--skip=x_: their steps' cycles)
-    "x_sbc_ii3": ["subb a,@r0", "inc r1", "mov a,@r1", "inc r0", "subb a,@r0", "inc r1",
-                  "mov a,@r1", "inc r0", "subb a,@r0"],
-    "x_cmp_r4567_i": ["clr c", "mov a,r4", "subb a,@r0", "mov a,r5", "inc r0", "subb a,@r0",
-                      "mov a,r6", "inc r0", "subb a,@r0", "mov a,r7", "inc r0", "subb a,@r0"],
-    "x_cmp_ffff_r4567": ["clr c", "mov a,#0xff", "subb a,r4", "mov a,#0xff", "subb a,r5", "clr a",
-                         "subb a,r6", "clr a", "subb a,r7"],
-    "x_neg_scmp_r45": ["mov ar4,r6", "mov ar5,r7", "clr c", "clr a", "subb a,r4",
-                       "mov a,#(0x00^0x80)", "mov b,r5"],
-    "x_rv_r567": ["mov r5,dpl", "mov r6,dph", "mov r7,b"],
-    "x_shl4_r67_i": ["mov @r0,ar5", "mov a,r6", "swap a", "xch a,@r0", "swap a", "anl a,#0x0f",
-                     "xrl a,@r0", "xch a,@r0", "anl a,#0x0f", "xch a,@r0", "xrl a,@r0",
-                     "xch a,@r0", "inc r0", "mov @r0,a", "mov a,r7", "swap a", "anl a,#0xf0",
-                     "orl a,@r0", "mov @r0,a", "mov a,r7", "swap a", "anl a,#0x0f", "inc r0",
-                     "mov @r0,a", "inc r0"],
-    "x_cmp_i_r2367": ["clr c", "mov a,@r0", "subb a,r2", "inc r0", "mov a,@r0", "subb a,r3",
-                      "inc r0", "mov a,@r0", "subb a,r6", "inc r0", "mov a,@r0", "subb a,r7"],
-    "x_shl1_r4567": ["mov a,r4", "add a,r4", "mov r4,a", "mov a,r5", "rlc a", "mov r5,a",
-                     "mov a,r6", "rlc a", "mov r6,a", "mov a,r7", "rlc a", "mov r7,a"],
-    "x_ar_r564": ["mov dpl,r5", "mov dph,r6", "mov b,r4"],
-    "x_sbc_r45_i": ["subb a,r4", "mov r4,a", "inc r0", "mov a,@r0", "subb a,r5", "mov r5,a",
-                    "inc r0", "mov a,@r0"],
-    "x_shl4_r2367": ["xch a,r6", "swap a", "anl a,#0xf0", "xch a,r6", "swap a", "xch a,r6",
-                     "xrl a,r6", "xch a,r6", "anl a,#0xf0", "xch a,r6", "xrl a,r6", "mov r7,a",
-                     "mov a,r2", "swap a", "anl a,#0x0f", "orl a,r6", "mov r6,a", "mov a,r2",
-                     "swap a", "anl a,#0xf0", "mov r3,a", "mov r2,#0x00"],
-    "x_sub_i_r4567": ["clr c", "subb a,r4", "mov @r0,a", "inc r0", "mov a,@r0", "subb a,r5",
-                      "mov @r0,a", "inc r0", "mov a,@r0", "subb a,r6", "mov @r0,a", "inc r0",
-                      "mov a,@r0", "subb a,r7", "mov @r0,a"],
-    "x_shr1_r4567": ["clr c", "rrc a", "mov r7,a", "mov a,r6", "rrc a", "mov r6,a", "mov a,r5",
-                     "rrc a", "mov r5,a", "mov a,r4", "rrc a"],
-    "x_fp_r0_02": ["mov r0,_bp", "inc r0", "inc r0"],
-    "x_cmp_ii4": ["mov a,_bp", "add a,#0x18", "mov r0,a", "mov a,_bp", "add a,#0x1c", "mov r1,a",
-                  "clr c", "mov a,@r0", "subb a,@r1", "inc r0", "mov a,@r0", "inc r1",
-                  "subb a,@r1", "inc r0", "mov a,@r0", "inc r1", "subb a,@r1", "inc r0",
-                  "mov a,@r0", "inc r1", "subb a,@r1"],
-    "x_shr1_i4_r67": ["inc r0", "inc r0", "inc r0", "mov a,@r0", "clr c", "rrc a", "mov r7,a",
-                      "dec r0", "mov a,@r0", "rrc a", "mov r6,a", "dec r0", "mov a,@r0", "rrc a"],
-    "x_ld_r45_add": ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov r4,a",
-                     "mov ar5,r6", "clr a", "mov r6,a", "mov r7,a", "mov a,#0xf0", "add a,r6",
-                     "mov r6,a", "mov a,#0x3f", "addc a,r7", "mov r7,a", "clr a", "addc a,r5",
-                     "mov r5,a", "clr a", "addc a,r4", "mov r4,a"],
-    "x_add_fp1_r45": ["mov r0,_bp", "inc r0", "mov a,r4", "add a,@r0", "mov r4,a", "mov a,r5",
-                      "inc r0", "addc a,@r0", "mov r5,a"],
-    "x_fp_x05": ["xch a,r0", "mov a,_bp", "add a,#0x05", "xch a,r0"],
-    "x_ar_r567": ["mov dpl,r5", "mov dph,r6", "mov b,r7"],
-    "x_dptr_a_r67": ["add a,r6", "mov dpl,a", "clr a", "addc a,r7", "mov dph,a"],
-    "x_shl1_r56": ["mov a,r5", "add a,r5", "mov r5,a", "mov a,r6", "rlc a", "mov r6,a"],
-    "x_st_i00": ["inc r0", "mov @r0,#0x00", "inc r0", "mov @r0,#0x00"],
-    "x_ld_r6a": ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr"],
-    "x_add_i_r23": ["mov a,r2", "add a,@r0", "mov r2,a", "mov a,r3", "inc r0", "addc a,@r0",
-                    "mov r3,a"],
-    "x_fp1_st00": ["mov r0,_bp", "inc r0", "clr a", "mov @r0,a", "inc r0", "mov @r0,a"],
-    "x_neg_scmp_r67": ["clr c", "clr a", "subb a,r6", "mov a,#(0x00^0x80)", "mov b,r7"],
-    "x_cmp_r67_100": ["clr c", "mov a,r6", "subb a,#0x64", "mov a,r7", "subb a,#0x00"],
-    "x_rv_r3467": ["mov r3,dpl", "mov r4,dph", "mov r6,b", "mov r7,a"],
-    "x_mv_r45_r67": ["mov ar4,r6", "mov ar5,r7"],
-    "x_add_ii4_r4567": ["mov a,@r1", "add a,@r0", "mov r4,a", "inc r1", "mov a,@r1", "inc r0",
-                        "addc a,@r0", "mov r5,a", "inc r1", "mov a,@r1", "inc r0", "addc a,@r0",
-                        "mov r6,a", "inc r1", "mov a,@r1", "inc r0", "addc a,@r0", "mov r7,a"],
-    "x_sbc_i_r67": ["mov a,r6", "inc r0", "subb a,@r0", "mov r6,a", "mov a,r7", "inc r0",
-                    "subb a,@r0", "mov r7,a"],
-    "x_orl_i3": ["inc r0", "orl a,@r0", "inc r0", "orl a,@r0", "inc r0", "orl a,@r0"],
-    "x_sbc_r67_i": ["subb a,r6", "mov r6,a", "inc r0", "mov a,@r0", "subb a,r7", "mov r7,a"],
-    "x_shr2_i": ["anl a,#0x03", "mov c,acc.0", "xch a,@r0", "rrc a", "xch a,@r0", "rrc a",
-                 "mov c,acc.0", "xch a,@r0", "rrc a", "xch a,@r0", "rrc a", "xch a,@r0", "inc r0",
-                 "mov @r0,a"],
-    "x_sbc_r567_0": ["subb a,r5", "clr a", "subb a,r6", "clr a", "subb a,r7"],
-    "x_st_r56": ["mov a,r5", "movx @dptr,a", "mov a,r6", "inc dptr", "movx @dptr,a"],
-    "x_add_a_r67": ["add a,r6", "mov r6,a", "clr a", "addc a,r7", "mov r7,a"],
-    "x_cmp_r67_r45": ["clr c", "mov a,r6", "subb a,r4", "mov a,r7", "subb a,r5"],
-    "x_st_r34": ["mov a,r3", "movx @dptr,a", "mov a,r4", "inc dptr", "movx @dptr,a"],
-    "x_ld_r2a": ["movx a,@dptr", "mov r2,a", "inc dptr", "movx a,@dptr"],
-    "x_fp_r0_fa": ["mov a,_bp", "add a,#0xfa", "mov r0,a"],
-    "x_addc_b_dph": ["addc a,b", "mov dph,a"],
-    "x_sub_i_r4763": ["mov a,@r0", "clr c", "subb a,r4", "mov r4,a", "inc r0", "mov a,@r0",
-                      "subb a,r7", "mov r7,a", "inc r0", "mov a,@r0", "subb a,r6", "mov r6,a",
-                      "inc r0", "mov a,@r0", "subb a,r3", "mov r3,a"],
-    "x_shl2_r45": ["mov c,acc.7", "xch a,r4", "rlc a", "xch a,r4", "rlc a", "mov c,acc.7",
-                   "xch a,r4", "rlc a", "xch a,r4", "rlc a", "xch a,r4", "anl a,#0x03",
-                   "mov r5,a"],
-    "x_shl2_r67": ["mov c,acc.7", "xch a,r6", "rlc a", "xch a,r6", "rlc a", "mov c,acc.7",
-                   "xch a,r6", "rlc a", "xch a,r6", "rlc a", "xch a,r6", "anl a,#0x03",
-                   "mov r7,a"],
-    "x_rv_r56": ["mov r5,dpl", "mov r6,dph"],
-    "x_cmp_fp1_r3467": ["mov r0,_bp", "inc r0", "clr c", "mov a,r3", "subb a,@r0", "mov a,r4",
-                        "inc r0", "subb a,@r0", "mov a,r6", "inc r0", "subb a,@r0", "mov a,r7",
-                        "inc r0", "subb a,@r0"],
-    "x_st_1a010": ["inc dptr", "movx @dptr,a", "mov a,#0x01", "inc dptr", "movx @dptr,a", "clr a",
-                   "inc dptr", "movx @dptr,a"],
-    "x_sbc_i3_0": ["subb a,@r0", "clr a", "inc r0", "subb a,@r0", "clr a", "inc r0", "subb a,@r0"],
-    "x_cld_r45": ["clr a", "movc a,@a+dptr", "mov r4,a", "inc dptr", "clr a", "movc a,@a+dptr",
-                  "mov r5,a"],
-    "x_ld_i2": ["movx a,@dptr", "mov @r0,a", "inc dptr", "movx a,@dptr", "inc r0", "mov @r0,a"],
-    "x_rlc_r67": ["mov a,r6", "rlc a", "mov r6,a", "mov a,r7", "rlc a", "mov r7,a"],
-    "x_ld_r34": ["movx a,@dptr", "mov r3,a", "inc dptr", "movx a,@dptr", "mov r4,a"],
-    "x_st_ir45": ["mov @r0,ar4", "inc r0", "mov @r0,ar5"],
-    # a later round (z_, firmware/math/moves_late.c): the sequences still written out often enough
-    # to pay for a routine, counted on the modules' assembly after every set above had been
-    # shared (LATE: a second pass, so the sets above are shared exactly as before); not in the
-    # controllers' modules (--skip=z_), nor any that sets _bp or SP (tools/stackdepth.py reads
-    # the frames from those)
-    "z_ar_i2": ["mov dpl,@r0", "inc r0", "mov dph,@r0"],
-    "z_mul_b2": ["mov b,#0x02", "mul ab"],
-    "z_fp_r0_14": ["mov a,_bp", "add a,#0x14", "mov r0,a"],
-    "z_sbc_i3_r67": ["inc r0", "subb a,@r0", "mov a,r6", "inc r0", "subb a,@r0", "mov a,r7", "inc r0", "subb a,@r0"],
-    "z_neg_scmp_r23": ["clr c", "clr a", "subb a,r2", "mov a,#(0x00^0x80)", "mov b,r3"],
-    "z_st_1a1a": ["inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a"],
-    "z_ar_r34": ["mov dpl,r3", "mov dph,r4"],
-    "z_c_dpl": ["clr a", "rlc a", "mov dpl,a"],
-    "z_rrc_r67": ["rrc a", "xch a,r6", "rrc a", "xch a,r6", "mov r7,a"],
-    "z_sbc_0_r67": ["subb a,#0x00", "mov a,r6", "subb a,#0x00", "mov a,r7", "subb a,#0x00"],
-    "z_ld_fp1_r34": ["mov r0,_bp", "inc r0", "mov ar3,@r0", "inc r0", "mov ar4,@r0"],
-    "z_rv_r567a": ["mov r5,dph", "mov r6,b", "mov r7,a"],
-    "z_fp_r1_09": ["mov a,_bp", "add a,#0x09", "mov r1,a"],
-    "z_shl4_r45": ["swap a", "anl a,#0xf0", "xch a,r4", "swap a", "xch a,r4", "xrl a,r4", "xch a,r4", "anl a,#0xf0", "xch a,r4", "xrl a,r4", "mov r5,a"],
-    "z_shr2_orl_i": ["mov a,r5", "rr a", "rr a", "anl a,#0x3f", "dec r0", "orl a,@r0", "mov @r0,a", "dec r0", "dec r0", "mov @r0,ar4", "mov a,r5"],
-    "z_shl1_r23": ["mov a,r2", "add a,r2", "mov r2,a", "mov a,r3", "rlc a", "mov r3,a"],
-    "z_ld_r5a": ["movx a,@dptr", "mov r5,a", "inc dptr", "movx a,@dptr"],
-    "z_ar_r56": ["mov dpl,r5", "mov dph,r6"],
-    "z_ar_r76": ["mov dpl,r7", "mov dph,r6"],
-    "z_cld_r3a": ["clr a", "movc a,@a+dptr", "mov r3,a", "inc dptr", "clr a", "movc a,@a+dptr"],
-    "z_sub_ii_r67": ["inc r1", "mov @r1,a", "inc r0", "mov a,@r0", "subb a,r6", "inc r1", "mov @r1,a", "inc r0", "mov a,@r0", "subb a,r7", "inc r1", "mov @r1,a"],
-    "z_add_a_r45": ["add a,r4", "mov r4,a", "clr a", "addc a,r5", "mov r5,a"],
-    "z_ld_r47": ["movx a,@dptr", "mov r4,a", "inc dptr", "movx a,@dptr", "mov r7,a"],
-    "z_fp1_r7a": ["mov r7,a", "mov r0,_bp", "inc r0"],
-    "z_sub_r67_r45": ["mov a,r6", "clr c", "subb a,r4", "mov r4,a", "mov a,r7", "subb a,r5", "mov r5,a"],
-    "z_scmp_0_r2": ["clr c", "mov a,#(0x00^0x80)", "mov b,r2"],
-    "z_cmp_ffff_r3456": ["clr c", "mov a,#0xff", "subb a,r3", "mov a,#0xff", "subb a,r4", "clr a", "subb a,r5", "clr a", "subb a,r6"],
-    "z_st_a_r56": ["movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a", "mov a,r6", "inc dptr", "movx @dptr,a"],
-    "z_shr1_r4": ["clr c", "rrc a", "xch a,r4", "rrc a", "xch a,r4"],
-    "z_add_a_r23": ["add a,r2", "mov r2,a", "clr a", "addc a,r3", "mov r3,a"],
-    "z_ld_ir4567_r1": ["mov ar4,@r1", "inc r1", "mov ar5,@r1", "inc r1", "mov ar6,@r1", "inc r1", "mov ar7,@r1"],
-    "z_i3_clr": ["inc r0", "inc r0", "inc r0", "mov a,@r0", "clr c"],
-    "z_fp_r0_0a": ["mov a,_bp", "add a,#0x0a", "mov r0,a"],
+# Names:  xld_/xst_ load from / store to the XRAM at DPTR (through DPTR, incremented);
+#         cld_ load from the code at DPTR;  ild_/ist_ load from / store to the internal RAM at
+#         R0 (R1 where named);  res_ the result of a call (DPL, DPH, B, A) into registers;
+#         arg_ registers into DPL, DPH, B, A;  fp_rN_XX RN = the frame pointer _bp + XX (a
+#         reentrant function's local);  add_/sub_ sums and differences, sbc_ a subtraction's
+#         later bytes (the borrow in C), cmp_ an unsigned compare (C the result), scmp_ SDCC's
+#         signed compare (sign bits flipped), neg_scmp_ that of 0 - x;  shl/shr shifts.
+#         Operand letters: r4567 the registers low byte first, i4 four bytes at @R0, a the
+#         accumulator, 0/1 those constants.
+# name: (hot, instructions) - normalised: mnemonic, one space, operands without spaces
+
+
+def _xld(regs, last_a=False):
+    """XRAM at DPTR into the registers (low byte first); last_a: the last byte left in A"""
+    out = []
+    for k, r in enumerate(regs):
+        out += (["inc dptr"] if k else []) + ["movx a,@dptr", "mov r%s,a" % r]
+    return out + (["inc dptr", "movx a,@dptr"] if last_a else [])
+
+
+def _xst(regs):
+    out = []
+    for k, r in enumerate(regs):
+        out += ["mov a,r%s" % r] + (["inc dptr"] if k else []) + ["movx @dptr,a"]
+    return out
+
+
+def _cld(regs, last_a=False):
+    out = []
+    for k, r in enumerate(regs):
+        out += (["inc dptr"] if k else []) + ["clr a", "movc a,@a+dptr", "mov r%s,a" % r]
+    return out + (["inc dptr", "clr a", "movc a,@a+dptr"] if last_a else [])
+
+
+def _ild(regs, ptr="r0"):
+    out = []
+    for k, r in enumerate(regs):
+        out += (["inc %s" % ptr] if k else []) + ["mov ar%s,@%s" % (r, ptr)]
+    return out
+
+
+def _ist(regs):
+    out = []
+    for k, r in enumerate(regs):
+        out += (["inc r0"] if k else []) + ["mov @r0,ar%s" % r]
+    return out
+
+
+def _res(regs):
+    return ["mov r%s,%s" % (r, s) for r, s in zip(regs, ("dpl", "dph", "b", "a"))]
+
+
+def _arg(regs):
+    return ["mov %s,r%s" % (s, r) for r, s in zip(regs, ("dpl", "dph", "b", "a"))]
+
+
+def _fp(reg, off):
+    return ["mov a,_bp", "add a,#0x%02x" % off, "mov %s,a" % reg]
+
+
+ROUTINES = {
+    # loads and stores of 16- and 32-bit values (the hot set: a controller's step may use them)
+    "xld_r4567": (True, _xld("4567")),
+    "xld_r2367": (True, _xld("2367")),
+    "xld_r2345": (True, _xld("2345")),
+    "xld_r67": (True, _xld("67")),
+    "xld_r45": (True, _xld("45")),
+    "xld_r23": (True, _xld("23")),
+    "xld_r56": (True, _xld("56")),
+    "xld_r34": (False, _xld("34")),
+    "xld_r47": (False, _xld("47")),
+    "xld_r6a": (False, _xld("6", True)),
+    "xld_r2a": (False, _xld("2", True)),
+    "xld_r5a": (False, _xld("5", True)),
+    "xld_dptr": (True, ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr", "mov dpl,r6",
+                        "mov dph,a"]),
+    "xst_r4567": (True, _xst("4567")),
+    "xst_r2367": (True, _xst("2367")),
+    "xst_r2345": (True, _xst("2345")),
+    "xst_r67": (True, _xst("67")),
+    "xst_r45": (True, _xst("45")),
+    "xst_r23": (True, _xst("23")),
+    "xst_r56": (False, _xst("56")),
+    "xst_r34": (False, _xst("34")),
+    "xst_00": (True, ["clr a", "movx @dptr,a", "inc dptr", "movx @dptr,a"]),
+    "xst_a000": (True, ["movx @dptr,a", "clr a", "inc dptr", "movx @dptr,a", "inc dptr",
+                        "movx @dptr,a", "inc dptr", "movx @dptr,a"]),
+    "xst_next_a00": (True, ["inc dptr", "movx @dptr,a", "clr a", "inc dptr", "movx @dptr,a",
+                            "inc dptr", "movx @dptr,a"]),
+    "xst_next_a10": (False, ["inc dptr", "movx @dptr,a", "mov a,#0x01", "inc dptr",
+                             "movx @dptr,a", "clr a", "inc dptr", "movx @dptr,a"]),
+    "xst_aaaa": (True, ["movx @dptr,a", "inc dptr", "movx @dptr,a", "inc dptr", "movx @dptr,a",
+                        "inc dptr", "movx @dptr,a"]),
+    "xst_a_r56": (False, ["movx @dptr,a", "mov a,r5", "inc dptr", "movx @dptr,a", "mov a,r6",
+                          "inc dptr", "movx @dptr,a"]),
+    "xld_i4": (True, ["movx a,@dptr", "mov @r0,a", "inc dptr", "movx a,@dptr", "inc r0",
+                      "mov @r0,a", "inc dptr", "movx a,@dptr", "inc r0", "mov @r0,a",
+                      "inc dptr", "movx a,@dptr", "inc r0", "mov @r0,a"]),
+    "xld_i2": (False, ["movx a,@dptr", "mov @r0,a", "inc dptr", "movx a,@dptr", "inc r0",
+                       "mov @r0,a"]),
+    "xst_i4": (True, ["mov a,@r0", "movx @dptr,a", "inc r0", "mov a,@r0", "inc dptr",
+                      "movx @dptr,a", "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a",
+                      "inc r0", "mov a,@r0", "inc dptr", "movx @dptr,a"]),
+    "xst_i2": (True, ["mov a,@r0", "movx @dptr,a", "inc r0", "mov a,@r0", "inc dptr",
+                      "movx @dptr,a"]),
+    "cld_r67": (True, _cld("67")),
+    "cld_r45": (False, _cld("45")),
+    "cld_r3a": (False, _cld("3", True)),
+    "ild_r23": (True, _ild("23")),
+    "ild_r45": (True, _ild("45")),
+    "ild_r67": (True, _ild("67")),
+    "ild_r4567_r1": (False, _ild("4567", "r1")),
+    "ist_r4567": (True, _ist("4567")),
+    "ist_r3456": (True, _ist("3456")),
+    "ist_r23": (True, _ist("23")),
+    "ist_r45": (False, _ist("45")),
+    "ist_r67": (True, _ist("67")),
+    "ist_00": (False, ["inc r0", "mov @r0,#0x00", "inc r0", "mov @r0,#0x00"]),
+    "copy_i2_r0_r1": (True, ["mov @r1,a", "inc r0", "mov a,@r0", "inc r1", "mov @r1,a"]),
+    "ild_dptr": (False, ["mov dpl,@r0", "inc r0", "mov dph,@r0"]),
+    # a call's result and arguments (DPL, DPH, B, A)
+    "res_r4567": (True, _res("4567")),
+    "res_r3456": (True, _res("3456")),
+    "res_r3467": (False, _res("3467")),
+    "res_r67": (True, _res("67")),
+    "res_r45": (True, _res("45")),
+    "res_r23": (True, _res("23")),
+    "res_r56": (False, _res("56")),
+    "res_hi_r567": (False, ["mov r5,dph", "mov r6,b", "mov r7,a"]),
+    "res_i4": (True, ["mov @r0,dpl", "inc r0", "mov @r0,dph", "inc r0", "mov @r0,b", "inc r0",
+                      "mov @r0,a"]),
+    "arg_r4567": (True, _arg("4567")),
+    "arg_r67": (True, _arg("67")),
+    "arg_r45": (True, _arg("45")),
+    "arg_r23": (True, _arg("23")),
+    "arg_r34": (False, _arg("34")),
+    "arg_r56": (False, _arg("56")),
+    "arg_r76": (False, _arg("76")),
+    "arg_r564": (False, _arg("564")),
+    "arg_i4": (True, ["mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0", "inc r0",
+                      "mov a,@r0"]),
+    "dptr_a_r67": (False, ["add a,r6", "mov dpl,a", "clr a", "addc a,r7", "mov dph,a"]),
+    "dptr_a_plus_i2": (False, ["add a,@r0", "mov dpl,a", "clr a", "inc r0", "addc a,@r0",
+                               "mov dph,a"]),
+    "addc_b_dph": (False, ["addc a,b", "mov dph,a"]),
+    # a reentrant function's locals: R0 (R1) at the frame pointer plus an offset
+    "fp_r0_02": (False, ["mov r0,_bp", "inc r0", "inc r0"]),
+    "fp_r0_05_keep_a": (False, ["xch a,r0", "mov a,_bp", "add a,#0x05", "xch a,r0"]),
+    "fp1_dptr": (True, ["mov r0,_bp", "inc r0", "mov dpl,@r0", "inc r0", "mov dph,@r0"]),
+    "fp1_a": (True, ["mov r0,_bp", "inc r0", "mov a,@r0"]),
+    "fp1_st00": (False, ["mov r0,_bp", "inc r0", "clr a", "mov @r0,a", "inc r0", "mov @r0,a"]),
+    "fp1_after_r7a": (False, ["mov r7,a", "mov r0,_bp", "inc r0"]),
+    # sums, differences and compares
+    "addc_i_r67": (True, ["mov a,r6", "inc r0", "addc a,@r0", "mov r6,a", "mov a,r7", "inc r0",
+                          "addc a,@r0", "mov r7,a"]),
+    "add_i_r4567": (True, ["mov a,@r0", "add a,r4", "mov r4,a", "inc r0", "mov a,@r0",
+                           "addc a,r5", "mov r5,a", "inc r0", "mov a,@r0", "addc a,r6",
+                           "mov r6,a", "inc r0", "mov a,@r0", "addc a,r7"]),
+    "add_i_r23": (False, ["mov a,r2", "add a,@r0", "mov r2,a", "mov a,r3", "inc r0",
+                          "addc a,@r0", "mov r3,a"]),
+    "add_fp1_r45": (False, ["mov r0,_bp", "inc r0", "mov a,r4", "add a,@r0", "mov r4,a",
+                            "mov a,r5", "inc r0", "addc a,@r0", "mov r5,a"]),
+    "add_a_r67": (False, ["add a,r6", "mov r6,a", "clr a", "addc a,r7", "mov r7,a"]),
+    "add_a_r45": (False, ["add a,r4", "mov r4,a", "clr a", "addc a,r5", "mov r5,a"]),
+    "adc_r67": (True, ["clr a", "addc a,r6", "mov r6,a", "clr a", "addc a,r7", "mov r7,a"]),
+    "xld_r45_add_3ff0": (False, ["movx a,@dptr", "mov r6,a", "inc dptr", "movx a,@dptr",
+                                 "mov r4,a", "mov ar5,r6", "clr a", "mov r6,a", "mov r7,a",
+                                 "mov a,#0xf0", "add a,r6", "mov r6,a", "mov a,#0x3f",
+                                 "addc a,r7", "mov r7,a", "clr a", "addc a,r5", "mov r5,a",
+                                 "clr a", "addc a,r4", "mov r4,a"]),
+    "sub_i_r2367": (True, ["mov a,@r0", "clr c", "subb a,r2", "mov r2,a", "inc r0", "mov a,@r0",
+                           "subb a,r3", "mov r3,a", "inc r0", "mov a,@r0", "subb a,r6",
+                           "mov r6,a", "inc r0", "mov a,@r0", "subb a,r7"]),
+    "sub_i_r4763": (False, ["mov a,@r0", "clr c", "subb a,r4", "mov r4,a", "inc r0",
+                            "mov a,@r0", "subb a,r7", "mov r7,a", "inc r0", "mov a,@r0",
+                            "subb a,r6", "mov r6,a", "inc r0", "mov a,@r0", "subb a,r3",
+                            "mov r3,a"]),
+    "sub_r4567_to_i": (False, ["clr c", "subb a,r4", "mov @r0,a", "inc r0", "mov a,@r0",
+                               "subb a,r5", "mov @r0,a", "inc r0", "mov a,@r0", "subb a,r6",
+                               "mov @r0,a", "inc r0", "mov a,@r0", "subb a,r7", "mov @r0,a"]),
+    "sub_r67_r45": (False, ["mov a,r6", "clr c", "subb a,r4", "mov r4,a", "mov a,r7",
+                            "subb a,r5", "mov r5,a"]),
+    "sub_ii_r67": (False, ["inc r1", "mov @r1,a", "inc r0", "mov a,@r0", "subb a,r6", "inc r1",
+                           "mov @r1,a", "inc r0", "mov a,@r0", "subb a,r7", "inc r1",
+                           "mov @r1,a"]),
+    "sbc_ii3": (False, ["subb a,@r0", "inc r1", "mov a,@r1", "inc r0", "subb a,@r0", "inc r1",
+                        "mov a,@r1", "inc r0", "subb a,@r0"]),
+    "sbc_r45_i": (False, ["subb a,r4", "mov r4,a", "inc r0", "mov a,@r0", "subb a,r5",
+                          "mov r5,a", "inc r0", "mov a,@r0"]),
+    "sbc_r67_i": (False, ["subb a,r6", "mov r6,a", "inc r0", "mov a,@r0", "subb a,r7",
+                          "mov r7,a"]),
+    "sbc_i3_0": (False, ["subb a,@r0", "clr a", "inc r0", "subb a,@r0", "clr a", "inc r0",
+                         "subb a,@r0"]),
+    "sbc_i3_r67": (False, ["inc r0", "subb a,@r0", "mov a,r6", "inc r0", "subb a,@r0",
+                           "mov a,r7", "inc r0", "subb a,@r0"]),
+    "sbc_0_r567": (False, ["subb a,r5", "clr a", "subb a,r6", "clr a", "subb a,r7"]),
+    "cmp_r4567_i": (False, ["clr c", "mov a,r4", "subb a,@r0", "mov a,r5", "inc r0",
+                            "subb a,@r0", "mov a,r6", "inc r0", "subb a,@r0", "mov a,r7",
+                            "inc r0", "subb a,@r0"]),
+    "cmp_i_r2367": (False, ["clr c", "mov a,@r0", "subb a,r2", "inc r0", "mov a,@r0",
+                            "subb a,r3", "inc r0", "mov a,@r0", "subb a,r6", "inc r0",
+                            "mov a,@r0", "subb a,r7"]),
+    "cmp_ffff_r4567": (False, ["clr c", "mov a,#0xff", "subb a,r4", "mov a,#0xff", "subb a,r5",
+                               "clr a", "subb a,r6", "clr a", "subb a,r7"]),
+    "cmp_ffff_r3456": (False, ["clr c", "mov a,#0xff", "subb a,r3", "mov a,#0xff", "subb a,r4",
+                               "clr a", "subb a,r5", "clr a", "subb a,r6"]),
+    "cmp_r67_100": (False, ["clr c", "mov a,r6", "subb a,#0x64", "mov a,r7", "subb a,#0x00"]),
+    "cmp_r67_r45": (False, ["clr c", "mov a,r6", "subb a,r4", "mov a,r7", "subb a,r5"]),
+    "scmp_b": (True, ["xrl b,#0x80", "subb a,b"]),
+    "scmp_0_r2": (False, ["clr c", "mov a,#(0x00^0x80)", "mov b,r2"]),
+    "neg_scmp_r23": (False, ["clr c", "clr a", "subb a,r2", "mov a,#(0x00^0x80)", "mov b,r3"]),
+    "neg_scmp_r45": (False, ["clr c", "clr a", "subb a,r4", "mov a,#(0x00^0x80)", "mov b,r5"]),
+    "neg_scmp_r67": (False, ["clr c", "clr a", "subb a,r6", "mov a,#(0x00^0x80)", "mov b,r7"]),
+    "mov_r45_r67": (False, ["mov ar4,r6", "mov ar5,r7"]),
+    "orl_i3": (False, ["inc r0", "orl a,@r0", "inc r0", "orl a,@r0", "inc r0", "orl a,@r0"]),
+    "i3_a_clr_c": (False, ["inc r0", "inc r0", "inc r0", "mov a,@r0", "clr c"]),
+    "carry_dpl": (False, ["clr a", "rlc a", "mov dpl,a"]),
+    "mul_b2": (False, ["mov b,#0x02", "mul ab"]),
+    "r67_0": (True, ["mov r6,#0x00", "mov r7,#0x00"]),
+    "inc_dptr5": (True, ["inc dptr"] * 5),
+    "sext_r67": (True, ["rlc a", "subb a,acc", "mov r6,a", "mov r7,a"]),
+    # shifts
+    "rrc_i3": (True, ["rrc a", "mov @r0,a", "dec r0", "mov a,@r0", "rrc a", "mov @r0,a",
+                      "dec r0", "mov a,@r0", "rrc a", "mov @r0,a"]),
+    "rrc_r67": (False, ["rrc a", "xch a,r6", "rrc a", "xch a,r6", "mov r7,a"]),
+    "shr4_r4": (True, ["swap a", "xch a,r4", "swap a", "anl a,#0x0f", "xrl a,r4", "xch a,r4",
+                       "anl a,#0x0f", "xch a,r4", "xrl a,r4", "xch a,r4"]),
+    "shr4_r6": (True, ["swap a", "xch a,r6", "swap a", "anl a,#0x0f", "xrl a,r6", "xch a,r6",
+                       "anl a,#0x0f", "xch a,r6", "xrl a,r6", "xch a,r6"]),
+    "shl4_r45": (False, ["swap a", "anl a,#0xf0", "xch a,r4", "swap a", "xch a,r4", "xrl a,r4",
+                         "xch a,r4", "anl a,#0xf0", "xch a,r4", "xrl a,r4", "mov r5,a"]),
+    "shl4_r67_to_i": (False, ["mov @r0,ar5", "mov a,r6", "swap a", "xch a,@r0", "swap a",
+                              "anl a,#0x0f", "xrl a,@r0", "xch a,@r0", "anl a,#0x0f",
+                              "xch a,@r0", "xrl a,@r0", "xch a,@r0", "inc r0", "mov @r0,a",
+                              "mov a,r7", "swap a", "anl a,#0xf0", "orl a,@r0", "mov @r0,a",
+                              "mov a,r7", "swap a", "anl a,#0x0f", "inc r0", "mov @r0,a",
+                              "inc r0"]),
+    "shl1_r4567": (False, ["mov a,r4", "add a,r4", "mov r4,a", "mov a,r5", "rlc a", "mov r5,a",
+                           "mov a,r6", "rlc a", "mov r6,a", "mov a,r7", "rlc a", "mov r7,a"]),
+    "shl1_r56": (False, ["mov a,r5", "add a,r5", "mov r5,a", "mov a,r6", "rlc a", "mov r6,a"]),
+    "shl1_r23": (False, ["mov a,r2", "add a,r2", "mov r2,a", "mov a,r3", "rlc a", "mov r3,a"]),
+    "shl2_r45": (False, ["mov c,acc.7", "xch a,r4", "rlc a", "xch a,r4", "rlc a", "mov c,acc.7",
+                         "xch a,r4", "rlc a", "xch a,r4", "rlc a", "xch a,r4", "anl a,#0x03",
+                         "mov r5,a"]),
+    "shl2_r67": (False, ["mov c,acc.7", "xch a,r6", "rlc a", "xch a,r6", "rlc a", "mov c,acc.7",
+                         "xch a,r6", "rlc a", "xch a,r6", "rlc a", "xch a,r6", "anl a,#0x03",
+                         "mov r7,a"]),
+    "shl2_r2a": (False, ["mov c,acc.7", "xch a,r2", "rlc a", "xch a,r2", "rlc a", "mov c,acc.7",
+                         "xch a,r2", "rlc a", "xch a,r2", "rlc a", "xch a,r2", "anl a,#0x03"]),
+    "shr5_r2": (False, ["swap a", "rl a", "xch a,r2", "swap a", "rl a", "anl a,#0x1f", "xrl a,r2",
+                        "xch a,r2", "anl a,#0x1f", "xch a,r2", "xrl a,r2", "xch a,r2"]),
+    "shr1_r4567": (False, ["clr c", "rrc a", "mov r7,a", "mov a,r6", "rrc a", "mov r6,a",
+                           "mov a,r5", "rrc a", "mov r5,a", "mov a,r4", "rrc a"]),
+    "shr1_r4": (False, ["clr c", "rrc a", "xch a,r4", "rrc a", "xch a,r4"]),
+    "shr1_i4_r67": (False, ["inc r0", "inc r0", "inc r0", "mov a,@r0", "clr c", "rrc a",
+                            "mov r7,a", "dec r0", "mov a,@r0", "rrc a", "mov r6,a", "dec r0",
+                            "mov a,@r0", "rrc a"]),
+    "shr2_i": (False, ["anl a,#0x03", "mov c,acc.0", "xch a,@r0", "rrc a", "xch a,@r0", "rrc a",
+                       "mov c,acc.0", "xch a,@r0", "rrc a", "xch a,@r0", "rrc a", "xch a,@r0",
+                       "inc r0", "mov @r0,a"]),
+    "shr2_orl_i": (False, ["mov a,r5", "rr a", "rr a", "anl a,#0x3f", "dec r0", "orl a,@r0",
+                           "mov @r0,a", "dec r0", "dec r0", "mov @r0,ar4", "mov a,r5"]),
 }
-# R0 (or R1) = the address of a reentrant function's local: the frame base _bp plus its offset
-# (the offsets the firmware uses most)
-for _reg, _offs in (("r0", (0x03, 0x04, 0x05, 0x06, 0x07, 0x09, 0x0b, 0x0d, 0x0f, 0x11, 0x13, 0x15,
-                            0xfc, 0xfd)),
-                    ("r1", (0x05,))):
-    for _off in _offs:
-        MOVES["fp_%s_%02x" % (_reg, _off)] = ["mov a,_bp", "add a,#0x%02x" % _off, "mov %s,a" % _reg]
-ORDER = sorted((n for n in MOVES if not n.startswith("z_")), key=lambda n: -len(MOVES[n]))
-LATE = sorted((n for n in MOVES if n.startswith("z_")), key=lambda n: -len(MOVES[n]))
+# the frame offsets the firmware's reentrant functions use most
+for _off in (0x03, 0x04, 0x05, 0x06, 0x07, 0x09, 0x0b, 0x0d, 0x11, 0x13, 0x15, 0xfc, 0xfd):
+    ROUTINES["fp_r0_%02x" % _off] = (True, _fp("r0", _off))
+for _off in (0x0a, 0x0f, 0xfa):
+    ROUTINES["fp_r0_%02x" % _off] = (False, _fp("r0", _off))
+ROUTINES["fp_r1_05"] = (True, _fp("r1", 0x05))
+
+CALL_BYTES = 3          # LCALL addr16
+
+
+def size(ins):
+    """bytes of one instruction of the table (the 8051's encodings)"""
+    op, _, args = ins.partition(" ")
+    a = args.split(",") if args else []
+    if op in ("lcall", "ljmp"):
+        return 3
+    if op in ("ret", "swap", "rr", "rl", "rrc", "rlc", "mul", "movc", "movx") or \
+            ins in ("clr a", "clr c", "inc dptr", "inc a", "dec a"):
+        return 1
+    if op in ("inc", "dec"):
+        return 1 if re.match(r"@?r\d$", a[0]) else 2
+    imm = [x for x in a if x.startswith("#")]
+    direct = [x for x in a if not re.match(r"(a|c|@r\d|r\d|@a\+dptr|dptr|#.*)$", x)]
+    if op == "mov" and a[0] == "c":
+        return 2                                 # mov c,bit
+    if imm and direct:
+        return 3                                 # op direct,#data
+    if len(direct) == 2:
+        return 3                                 # mov direct,direct
+    return 1 + len(imm) + len(direct)
+
+
+def body_size(seq):
+    return sum(size(s) for s in seq)
 
 
 def norm(line):
@@ -272,36 +342,67 @@ def norm(line):
 FUNC = re.compile(r"^_(\w+):\s*$")
 
 
-def share(lines, skip_funcs=(), order=None):
-    order = ORDER if order is None else order
-    out, used, i, func = [], {}, 0, None
-    while i < len(lines):
-        hit = None
-        m = FUNC.match(lines[i])
+def matches(lines, i, seq):
+    """the end of seq matched whole from lines[i] and the comments inside it, or None"""
+    j, k, kept = i, 0, []
+    while k < len(seq) and j < len(lines):
+        n = norm(lines[j])
+        if n is None:
+            if lines[j].strip().startswith(";"):
+                kept.append(lines[j])            # a comment: kept, after the call
+                j += 1
+                continue
+            return None                          # a label or directive: not whole
+        if n != seq[k]:
+            return None
+        k += 1
+        j += 1
+    return (j, kept) if k == len(seq) else None
+
+
+def share(lines, hot=()):
+    """lines rewritten: each function's instructions covered at the fewest bytes"""
+    firsts = {}
+    for name, (is_hot, seq) in ROUTINES.items():
+        firsts.setdefault(seq[0], []).append(name)
+    funcs, func = [], None
+    for i, line in enumerate(lines):
+        m = FUNC.match(line)
         if m:
             func = m.group(1)
-        if norm(lines[i]) is not None and func not in skip_funcs:
-            for name in order:
-                seq, j, k, kept = MOVES[name], i, 0, []
-                while k < len(seq) and j < len(lines):
-                    n = norm(lines[j])
-                    if n is None:
-                        if lines[j].strip().startswith(";"):
-                            kept.append(lines[j])      # a comment: kept, after the call
-                            j += 1
-                            continue
-                        break                          # a label or directive: not whole
-                    if n != seq[k]:
-                        break
-                    k += 1
-                    j += 1
-                if k == len(seq):
-                    hit = (name, j, kept)
-                    break
-        if hit:
-            name, j, kept = hit
-            out.append("\tlcall\t_mv_%s\n" % name)
-            out.extend(kept)
+        funcs.append(func)
+    n = len(lines)
+    # cost[i]: bytes from line i to the end; choice[i]: (routine, end, comments) or None
+    cost, choice = [0] * (n + 1), [None] * (n + 1)
+    for i in range(n - 1, -1, -1):
+        ins = norm(lines[i])
+        keep = size(ins) if ins is not None and ins.split()[0] in _KNOWN_OPS else 0
+        cost[i] = keep + cost[i + 1]
+        if ins is None:
+            continue
+        is_hot = funcs[i] is not None and any(fnmatch(funcs[i], p) for p in hot)
+        for name in firsts.get(ins, ()):
+            h, seq = ROUTINES[name]
+            if is_hot and not h:
+                continue
+            m = matches(lines, i, seq)
+            if m and CALL_BYTES + cost[m[0]] < cost[i]:
+                cost[i] = CALL_BYTES + cost[m[0]]
+                choice[i] = (name, m[0], m[1])
+    out, used, i = [], {}, 0
+    while i < n:
+        if choice[i]:
+            name, j, kept = choice[i]
+            k = j                                # a RET right after it, no label between:
+            while k < n and (not lines[k].strip() or lines[k].strip().startswith(";")):
+                k += 1                           # the routine's own RET returns for the function
+            if k < n and norm(lines[k]) == "ret":
+                out.append("\tljmp\t_mv_%s\n" % name)
+                out.extend(kept + lines[j:k])
+                j = k + 1
+            else:
+                out.append("\tlcall\t_mv_%s\n" % name)
+                out.extend(kept)
             used[name] = used.get(name, 0) + 1
             i = j
         else:
@@ -310,38 +411,63 @@ def share(lines, skip_funcs=(), order=None):
     return out, used
 
 
+_KNOWN_OPS = {s.split()[0] for _, seq in ROUTINES.values() for s in seq}
+
+
+def gen(folder):
+    """one module a routine: DIR/mv_NAME.asm"""
+    os.makedirs(folder, exist_ok=True)
+    for name, (_, seq) in sorted(ROUTINES.items()):
+        text = [";\tgenerated by tools/share_moves.py --gen from its ROUTINES table\n",
+                "\t.module mv_%s\n" % name,
+                "\tar0 = 0x00\n\tar1 = 0x01\n\tar2 = 0x02\n\tar3 = 0x03\n",
+                "\tar4 = 0x04\n\tar5 = 0x05\n\tar6 = 0x06\n\tar7 = 0x07\n",
+                "\t.area CSEG (CODE)\n",
+                ";\t-----------------------------------------\n",
+                ";\t function mv_%s\n" % name,
+                ";\t-----------------------------------------\n",
+                "_mv_%s::\n" % name]
+        text += ["\t%s\n" % s.replace(" ", "\t", 1) for s in seq] + ["\tret\n"]
+        path = os.path.join(folder, "mv_%s.asm" % name)
+        old = open(path).read() if os.path.exists(path) else None
+        if old != "".join(text):
+            with open(path, "w") as f:
+                f.writelines(text)
+
+
 def main():
-    global ORDER, LATE
     args = sys.argv[1:]
+    if args[:1] == ["--gen"] and len(args) == 2:
+        gen(args[1])
+        return
     stats = "--stats" in args
-    skip = [a.split("=", 1)[1] for a in args if a.startswith("--skip=")]
-    skip_funcs = [a.split("=", 1)[1] for a in args if a.startswith("--skip-func=")]
-    ORDER = [n for n in ORDER if not any(n.startswith(p) for p in skip)]
-    LATE = [n for n in LATE if not any(n.startswith(p) for p in skip)]
-    files = [a for a in args if a != "--stats" and not a.startswith("--skip")]
+    hot = [p for a in args if a.startswith("--hot=") for p in a.split("=", 1)[1].split(",") if p]
+    files = [a for a in args if not a.startswith("--")]
     if not files:
-        sys.exit("usage: share_moves.py [--stats] [--skip=PREFIX] [--skip-func=NAME] FILE.asm...")
+        sys.exit("usage: share_moves.py --gen DIR | [--stats] [--hot=FUNC,..] FILE.asm...")
     total = {}
     for path in files:
         with open(path, encoding="latin-1") as f:
             lines = f.readlines()
-        out, used = share(lines, skip_funcs)
-        out, late = share(out, skip_funcs, LATE)
-        used.update(late)
+        out, used = share(lines, hot)
+        if stats:                                # the calls a build already made count too
+            for line in lines:
+                m = re.match(r"\s*l(?:call|jmp)\s+_mv_(\w+)", line)
+                if m:
+                    used[m.group(1)] = used.get(m.group(1), 0) + 1
         for k, v in used.items():
             total[k] = total.get(k, 0) + v
         if not stats and used:
             with open(path, "w", encoding="latin-1") as f:
                 f.writelines(out)
     if stats:
-        saved = 0
-        for k in ORDER + LATE:
-            if k in total:
-                b = sum(1 if s.split()[0] in ("movx", "inc") or re.match(r"mov (a,r\d|r\d,a|a,@r0|@r0,a)$", s)
-                        else 2 for s in MOVES[k])
-                saved += total[k] * (b - 3)
-                print("%-10s %4d uses, %2d bytes each" % (k, total[k], b))
-        print("share_moves: about %d bytes saved before the routines" % saved)
+        net = 0
+        for k in sorted(ROUTINES, key=lambda k: -total.get(k, 0) * (body_size(ROUTINES[k][1]) - CALL_BYTES)):
+            b = body_size(ROUTINES[k][1])
+            gain = total.get(k, 0) * (b - CALL_BYTES) - (b + 1) if k in total else 0
+            net += gain
+            print("%-18s %4d uses, %2d bytes each, %5d B net" % (k, total.get(k, 0), b, gain))
+        print("share_moves: %d bytes saved, the routines' own bytes counted" % net)
 
 
 if __name__ == "__main__":

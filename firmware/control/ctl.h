@@ -47,7 +47,7 @@ void ctl_applied(q15_t drive, uint8_t limit) __reentrant;
  * target, and nothing else of the caller's.
  * The budget of any controller: ctl_step plus ctl_applied in at most
  * CTL_STEP_BUDGET_CYCLES machine cycles of classic 12-clock timing as s51 counts them (the 1T
- * STC12 runs this code about eight times faster: under 4 ms of the 100 ms period); tt_ctl fails
+ * STC12 runs this code about six times faster: about 5.4 ms of the 100 ms period); tt_ctl fails
  * a controller over it, `make bench` prints each one's worst. */
 #ifndef CTL_STEP_BUDGET_CYCLES          /* a lower one on the command line proves the check fails */
 #define CTL_STEP_BUDGET_CYCLES 30000UL

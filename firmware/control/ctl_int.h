@@ -173,13 +173,17 @@ typedef struct {
     int16_t pulse;                  /* Q15 duty added to the first correction after a reversal */
 } rv_state_t;
 
+/* One controller runs at a time; the field image carries ffmap alone (FW_PEERS, hal/compiler.h),
+ * so its union holds ffmap's state only (bp_pid's is more than twice the size) */
 typedef union {
+    ffmap_state_t fm;
+#if FW_PEERS
     pid_state_t pid;
     fz_state_t fz;
     bp_state_t bp;
-    ffmap_state_t fm;
     ag_state_t ag;
     rv_state_t rv;
+#endif
 } ctl_state_t;
 
 /* The live state (read by the tests; only the controllers' files write it). */

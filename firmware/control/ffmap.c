@@ -101,8 +101,8 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
  * over about 2^FFMAP_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
  * the target up and back by about a percent, which on a stiff valve would be two reversals
  * each. The working values the code uses most are in the direct RAM (the cheapest addressing;
- * the step never runs inside itself), the others in the controllers' union (XRAM that bp_pid's
- * network sizes). */
+ * the step never runs inside itself), the others in the controllers' union (XRAM, ffmap's
+ * state alone in the field image). */
 /* this period's error, the step's most used value: in the direct RAM (the cheapest addressing;
  * the step never runs inside itself; ffmap_ff reads it too) */
 static __data int16_t ffmap_e;

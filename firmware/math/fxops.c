@@ -38,69 +38,9 @@ q15_t fx_sigmoid(q12_t x)
     return fx_sat16((32769L + fx_tanh(x)) >> 1);
 }
 
-/* Saturating sum and difference, in assembly on the chip: they touch only A, B, DPTR and PSW
- * and borrow two bytes of stack (fixed.h declares them __naked); the C versions are the
- * reference (the host build, and the target tests compare the two bit for bit). */
-#if defined(__SDCC)
-int16_t fx_add_sat(int16_t a, int16_t b) __naked
-{
-    (void)a;
-    (void)b;
-    __asm
-        mov b,dpl               ; a in dpl, dph; b in its xdata parameter
-        push dph
-        mov dptr,#_fx_add_sat_PARM_2
-        movx a,@dptr
-        add a,b
-        mov b,a
-        inc dptr
-        movx a,@dptr
-        mov dpl,b
-        pop b
-        addc a,b
-        mov dph,a
-        jnb ov,00020$
-        jb acc.7,00021$         ; overflow: the sign flipped; negative means above the top
-        mov dptr,#0x8000
-        ret
-00021$:
-        mov dptr,#0x7fff
-00020$:
-        ret
-    __endasm;
-}
-
-int16_t fx_sub_sat(int16_t a, int16_t b) __naked
-{
-    (void)a;
-    (void)b;
-    __asm
-        mov b,dpl               ; a in dpl, dph; b in its xdata parameter
-        push dph
-        mov dptr,#_fx_sub_sat_PARM_2
-        movx a,@dptr
-        xch a,b
-        clr c
-        subb a,b
-        mov b,a
-        inc dptr
-        movx a,@dptr
-        mov dpl,b
-        mov b,a
-        pop acc
-        subb a,b
-        mov dph,a
-        jnb ov,00030$
-        jb acc.7,00031$
-        mov dptr,#0x8000
-        ret
-00031$:
-        mov dptr,#0x7fff
-00030$:
-        ret
-    __endasm;
-}
-#else
+/* Saturating sum and difference: the reference of the 8051's assembly (hal/mcs51/addsub_sat.c);
+ * the target tests compare the two bit for bit. */
+#if !defined(__SDCC)
 int16_t fx_add_sat(int16_t a, int16_t b)
 {
     return fx_sat16((int32_t)a + b);

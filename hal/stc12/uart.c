@@ -13,8 +13,8 @@
 /* The receive queue holds what arrives while the main loop does not read it: at 38400 baud a
  * byte every 0.26 ms (3840 a second). app_poll runs serial_poll in every pass but the control
  * step's, so the longest wait is about two passes (a redraw's, whose serial_poll ran before the
- * console, then a step's): in 1T time (classic machine cycles x 12 / 11.0592 MHz /
- * PIL_1T_FACTOR), times 3840/s, plus the slot the ring keeps free, to a power of two.
+ * console, then a step's): in 1T time (make chip measures them in the model), times 3840/s,
+ * plus the slot the ring keeps free, to a power of two.
  * docs/PIL.md gives the passes from the pil_bench run and the size they ask for; a longer burst
  * is a gap the reader is told of (HAL_UART_LOST, ERR LOST to the PC). */
 #define UART_RXQ HAL_UART_RXQ

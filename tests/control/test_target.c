@@ -168,6 +168,24 @@ static void test_target_working_speed_from_minq_speed_up(void **state)
     assert_int_equal(target_working_speed(550), 1);
 }
 
+/* The flow saturates at 327.67 L/min, never wraps: one section of 6 nozzles at 50 cm and 150
+ * L/ha is 0.75 L/min x100 per km/h x100 (1500 x 50 x 6 x 65536 / 600000 = 49152 in Q16), so the
+ * speed's units from 436.88 km/h ask 32766, 32767, 32768 (held at 32767), ... rising by 0.75. */
+static void test_target_flow_saturates_at_32767(void **state)
+{
+    (void)state;
+    target_update(0x01);
+    int16_t q0 = target_flow_x100(43680);
+    assert_int_equal(q0, 32760);                /* 0.75 x 43680 */
+    for (uint32_t v = 43681; v <= 44000; v++) {
+        int16_t q = target_flow_x100((uint16_t)v);
+        assert_true(q >= q0);                   /* (so never negative: no wrap) */
+        q0 = q;
+    }
+    assert_int_equal(q0, 32767);
+    assert_int_equal(target_flow_x100(65535), 32767);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -178,6 +196,7 @@ int main(void)
         cmocka_unit_test_setup(test_target_gain_factor_for_the_nozzles_open, setup),
         cmocka_unit_test_setup(test_target_remote_rate_window_and_its_10_l_ha_floor, setup),
         cmocka_unit_test_setup(test_target_working_speed_from_minq_speed_up, setup),
+        cmocka_unit_test_setup(test_target_flow_saturates_at_32767, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

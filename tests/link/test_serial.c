@@ -14,6 +14,8 @@
 #include "app.h"
 #include "diag.h"
 #include "totals.h"
+#include "serial.h"
+#include "hal.h"
 
 static char line[128];
 
@@ -583,6 +585,58 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
     assert_false(app_status.manual);
 }
 
+/* A SET with one number is refused (ERR NUM) for every parameter, whatever its checksum's two
+ * hex digits would read as: the second number is looked for after a space only. */
+static void test_serial_set_with_one_number_is_refused(void **state)
+{
+    (void)state;
+    for (int id = 0; id < P_COUNT; id++) {
+        link_start();
+        char c[16];
+        snprintf(c, sizeof c, "SET %d", id);
+        assert_string_equal(scmd(c), "ERR NUM");
+    }
+}
+
+/* A line whose end comes in while the loop may not take it (serial_poll(0): the control
+ * period's work first) is held, unanswered, and answered at the next pass that may take it. */
+static void test_serial_a_held_line_is_answered_at_the_next_pass_that_may_take_it(void **state)
+{
+    (void)state;
+    while (next_line()[0])
+        ;
+    link_send("PUL\r\n");
+    link_t_ms += 5;                             /* the bytes arrive (38400 baud: 1.3 ms) */
+    hal_host_set_time_ns(link_t_ms * 1000000ull);
+    assert_int_equal(serial_poll(0), 0);
+    assert_int_equal(hal_host_uart_tx_pop(), -1);
+    assert_int_equal(serial_poll(0), 0);
+    assert_int_equal(hal_host_uart_tx_pop(), -1);
+    assert_int_equal(serial_poll(1), 1);
+    assert_memory_equal(next_line(), "OK PUL ", 7);
+}
+
+/* A reply the UART cannot take yet (its queue full) is finished before anything else: a line
+ * that comes in meanwhile waits in the receive queue and is answered after it. */
+static void test_serial_a_reply_waits_for_room_and_the_next_line_for_it(void **state)
+{
+    (void)state;
+    while (next_line()[0])
+        ;
+    int fill = 0;
+    while (hal_uart_put(' '))
+        fill++;
+    link_send("PUL\r\n");
+    link_run_ms(10);
+    link_send("LIF\r\n");
+    link_run_ms(10);
+    for (int i = 0; i < fill; i++)
+        assert_int_equal(hal_host_uart_tx_pop(), ' ');
+    link_run_ms(10);
+    assert_memory_equal(next_line(), "OK PUL ", 7);
+    assert_memory_equal(next_line(), "OK LIF ", 7);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -600,6 +654,9 @@ int main(void)
         cmocka_unit_test_setup(test_serial_sav_answers_when_its_save_has_ended, setup),
         cmocka_unit_test_setup(test_serial_the_totals_are_saved_a_second_after_the_boom_shuts, setup),
         cmocka_unit_test_setup(test_serial_a_stalled_loop_loses_no_area, setup),
+        cmocka_unit_test_setup(test_serial_set_with_one_number_is_refused, setup),
+        cmocka_unit_test_setup(test_serial_a_held_line_is_answered_at_the_next_pass_that_may_take_it, setup),
+        cmocka_unit_test_setup(test_serial_a_reply_waits_for_room_and_the_next_line_for_it, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

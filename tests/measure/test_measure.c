@@ -13,6 +13,7 @@
 #include "speed.h"
 #include "flow.h"
 #include "analog.h"
+#include "umath.h"
 
 #define PERIOD_NS 100000000ull
 
@@ -796,6 +797,38 @@ static void test_flow_300_lpm_is_the_meters_top(void **state)
     }
 }
 
+/* ... to the hundredth: 32 pulses over 32 x 480 = 15360 ticks read 30000 (taken), over one tick
+ * less 32 x 14400000 / 15359 = 30001.95: 30001 (flow.c's um_muldiv agrees), a glitch. */
+static void test_flow_30001_is_over_the_top(void **state)
+{
+    (void)state;
+    static const uint32_t span[2] = {15360u, 15359u};
+    assert_int_equal(um_muldiv(14400000u, 32, span[0]), 30000u);
+    assert_int_equal(um_muldiv(14400000u, 32, span[1]), 30001u);
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 3840));
+        hal_host_set_time_ns(0);
+        hal_host_flow_edge(99500000u);
+        hal_host_set_time_ns(100000000u);
+        flow_step();
+        uint32_t base = hal_host_pca_of_ns(99500000u);
+        uint64_t t = 100000000u;
+        for (uint32_t i = 1; i <= 32; i++) {
+            uint32_t want = base + (i == 32 ? span[k] : i * 480u);
+            while (hal_host_pca_of_ns(t) < want)
+                t++;
+            hal_host_flow_edge(t);
+        }
+        hal_host_set_time_ns(200000000u);
+        int16_t q = flow_step();
+        printf("# 32 pulses over %u ticks: %d x 0.01 L/min, %u glitches\n", span[k], q, flow_glitches());
+        assert_int_equal(flow_glitches(), k);
+        if (!k)
+            assert_int_equal(q, 30000);
+    }
+}
+
 /* When the pulses stop the rate falls as a pulse not yet come allows (one pulse over the time
  * since the last), every period lower, until 1 s without a pulse (10 periods): then 0. */
 static void test_flow_falls_between_pulses_and_is_zero_after_10_quiet_periods(void **state)
@@ -1055,6 +1088,7 @@ int main(void)
         cmocka_unit_test_setup(test_flow_is_measured_from_periods_at_12_30_50_lpm, setup),
         cmocka_unit_test_setup(test_flow_takes_a_new_k_at_the_next_step, setup),
         cmocka_unit_test_setup(test_flow_300_lpm_is_the_meters_top, setup),
+        cmocka_unit_test_setup(test_flow_30001_is_over_the_top, setup),
         cmocka_unit_test_setup(test_flow_forgets_its_last_edge_after_100_quiet_periods, setup),
         cmocka_unit_test_setup(test_flow_falls_between_pulses_and_is_zero_after_10_quiet_periods, setup),
         cmocka_unit_test_setup(test_flow_rejects_glitches_and_reads_zero_when_pulses_stop, setup),

@@ -17,6 +17,8 @@
 #include "target.h"
 #include "ctl.h"
 #include "analog.h"
+#include "umath.h"
+#include "store.h"
 
 #define PERIOD_NS 100000000ull
 #define NOZZLES 36u                 /* params' default: every section open */
@@ -32,6 +34,7 @@ static struct {
     app_status_t st;
     uint8_t settled, p_watch;
     q15_t drive;
+    uint8_t nozzles;                /* open, as app.c tells diag each period */
 } sy;
 
 /* the 4-20 mA inputs, ADC counts (1023 at 5 V, 250 ohm): 12 mA each until a test opens one */
@@ -59,6 +62,7 @@ static int setup(void **state)
     sy.st.tank_l = 500;
     sy.settled = 1;
     sy.p_watch = 1;
+    sy.nozzles = NOZZLES;
     return 0;
 }
 
@@ -106,7 +110,7 @@ static uint16_t period(void)
     speed_step();
     sy.st.in.flow_lpm_x100 = flow_step();
     analog_step();
-    diag_set_nozzles(NOZZLES);
+    diag_set_nozzles(sy.nozzles);
     valve_set(sy.drive);
     return diag_step(&sy.st, sy.settled, sy.p_watch);
 }
@@ -129,7 +133,7 @@ static int periods_until(int bit, int want, int max)
  * valves), worked by hand: P = 30 + 300 (q / (n Q3))^2 kPa */
 static uint16_t told_kpa(double lpm)
 {
-    double r = lpm / (NOZZLES * param_v[P_NOZZLE_Q3] / 100.0);
+    double r = lpm / (sy.nozzles * param_v[P_NOZZLE_Q3] / 100.0);
     return (uint16_t)lround(30.0 + 300.0 * r * r);
 }
 
@@ -673,6 +677,694 @@ static void test_wheel_noise_in_the_period_its_score_passes_60(void **state)
     assert_int_equal(score, 0);
 }
 
+/* ---- the tank balance: METER_CAL ------------------------------------------------------------- */
+/* Spraying at 30 L/min with the level falling 32 L in periods 3 to 10 (4 L a period, no step)
+ * and no more: the meter far under the fall. The balance starts anew in period 1 (no meter
+ * reading yet), its stretch opens in period 2 and counts its fall from its 101st period (102):
+ * OFF from then, METER_CAL on the 10th OFF period, 111. It stands while the balance says OFF, and
+ * while it says nothing (a refill starts it anew); a Meter K told anew clears it at once. */
+static void test_meter_cal_on_the_10th_period_of_the_balance_off(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    meter(30.0);
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 3000;
+    sy.st.in.pressure_kpa = told_kpa(30.0);
+    sy.st.tank_l = 800;
+    int n;
+    for (n = 1; n <= 200; n++) {
+        if (n >= 3 && n <= 10)
+            sy.st.tank_l = (uint16_t)(sy.st.tank_l - 4u);
+        if (on(period(), AL_METER_CAL))
+            break;
+    }
+    assert_int_equal(n, 111);
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_METER_CAL));
+    sy.st.tank_l = 810;                         /* a refill: started anew, NONE for long */
+    for (int i = 0; i < 300; i++)
+        assert_true(on(period(), AL_METER_CAL));
+    assert_true(param_set(P_METER_K, (uint16_t)(param_v[P_METER_K] + 1u)));
+    assert_false(on(period(), AL_METER_CAL));
+}
+
+/* The meter agreeing with the level's fall (30 L/min, 0.05 L a period: 1 L every 20 periods)
+ * clears METER_CAL. Raised as above at 111; a refill to 910 L starts the balance anew, its
+ * stretch opening 30 periods on; 40 periods after the refill the level falls 1 L every 20th
+ * period: 32 L fallen at the 640th, judged ON (32.55 L metered), cleared on the 10th ON, 649. */
+static void test_meter_cal_cleared_after_10_periods_of_the_balance_on(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    meter(30.0);
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 3000;
+    sy.st.in.pressure_kpa = told_kpa(30.0);
+    sy.st.tank_l = 900;
+    int n;
+    for (n = 1; n <= 200; n++) {
+        if (n >= 3 && n <= 10)
+            sy.st.tank_l = (uint16_t)(sy.st.tank_l - 4u);
+        if (on(period(), AL_METER_CAL))
+            break;
+    }
+    assert_int_equal(n, 111);
+    sy.st.tank_l = 910;
+    for (n = 1; n <= 40; n++)
+        assert_true(on(period(), AL_METER_CAL));
+    for (n = 1; n <= 2000; n++) {
+        if (n % 20 == 0)
+            sy.st.tank_l--;
+        if (!on(period(), AL_METER_CAL))
+            break;
+    }
+    assert_int_equal(n, 640 + 10 - 1);
+}
+
+/* ---- learning the nozzle model ----------------------------------------------------------------- */
+/* Spraying steady on target (30 L/min, the told model's pressure): every period from the 2nd is
+ * clean (the 1st has no meter reading, and the target's first period is a move); a sample every
+ * 4th clean period, the fit at the 64th: learnt in period 2 + 4 x 64 - 1 = 257. Periods that are
+ * not clean take no turn: the boom not settled or no nozzles open in periods 1 to 3, clean from
+ * the 4th, learnt in 4 + 255 = 259. */
+static int periods_to_learn(int max)
+{
+    for (int n = 1; n <= max; n++) {
+        period();
+        if (diag_nozzle_learnt())
+            return n;
+    }
+    return max + 1;
+}
+
+static void steady(double kmh, double lpm, uint16_t kpa)
+{
+    wheel(kmh);
+    meter(lpm);
+    sy.st.in.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
+    sy.st.in.target_lpm_x100 = (int16_t)lround(lpm * 100);
+    sy.st.in.pressure_kpa = kpa;
+}
+
+static void test_model_learnt_at_the_64th_sample_of_clean_periods(void **state)
+{
+    (void)state;
+    setup(NULL);
+    steady(8.0, 30.0, told_kpa(30.0));
+    assert_int_equal(periods_to_learn(400), 257);
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        steady(8.0, 30.0, told_kpa(30.0));
+        sy.settled = (uint8_t)k;
+        sy.nozzles = k ? 0 : NOZZLES;
+        for (int i = 0; i < 3; i++)
+            period();
+        sy.settled = 1;
+        sy.nozzles = NOZZLES;
+        int n = periods_to_learn(400);
+        printf("# learnt %d periods after 3 %s\n", n, k ? "without nozzles" : "unsettled");
+        assert_int_equal(3 + n, 259);
+    }
+}
+
+/* Nothing is learnt while LEAK or CLOG stands (330 kPa at 30 L/min: the told model's 180 and
+ * 120 more, a CLOG at the 20th judged period), nor on periods without a meter pulse (Meter K 10.0 p/L:
+ * at 30 L/min a pulse every 200 ms, the reading held between: half the periods clean, learnt in
+ * period 2 x 256 = 512 or so, not by 400), nor above twice the rated pressure's flow (68 L/min
+ * on 36 nozzles of 1.18: 1.6 times it). */
+static void test_model_not_learnt_from_a_fault_a_quiet_meter_or_over_the_range(void **state)
+{
+    (void)state;
+    setup(NULL);
+    steady(8.0, 30.0, 330);
+    assert_int_equal(periods_until(AL_CLOG, 1, 40), 21);    /* judged from period 2 */
+    assert_int_equal(periods_to_learn(400), 401);
+    setup(NULL);
+    assert_true(param_set(P_METER_K, 100));
+    steady(8.0, 30.0, told_kpa(30.0));
+    int n = periods_to_learn(700);
+    printf("# Meter K 10.0: learnt in period %d\n", n);
+    assert_true(n > 400 && n <= 700);
+    setup(NULL);
+    steady(8.0, 68.0, told_kpa(68.0));
+    assert_int_equal(periods_to_learn(400), 401);
+}
+
+/* Clean within 5 % of the target: |q - t| x 20 <= t. At Meter K 100.0 p/L a pulse every
+ * 19.0476 ms reads 31.50 L/min: 1.50 off a target of 30.00 is 5 % exactly, learnt (257). The
+ * learning and the fine band start at 7.50 L/min (DIAG_METER_RANGE_X100): a pulse every 80 ms
+ * reads 7.50 exactly, learnt; every 80.1 ms 7.49, not. */
+static void test_model_learnt_within_5_percent_and_from_7_5_lpm(void **state)
+{
+    (void)state;
+    setup(NULL);
+    assert_true(param_set(P_METER_K, 1000));
+    steady(8.0, 30.0, told_kpa(31.5));
+    sy.meter_ns = 19047635.0;
+    int n = periods_to_learn(400);
+    printf("# meter %d against 3000: learnt in period %d\n", flow_lpm_x100(), n);
+    assert_int_equal(flow_lpm_x100(), 3150);
+    assert_int_equal(n, 257);
+    static const double every[2] = {80000000.0, 80100000.0};
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 7.5, told_kpa(7.5));
+        sy.meter_ns = every[k];
+        n = periods_to_learn(400);
+        printf("# meter %d: learnt in period %d\n", flow_lpm_x100(), n);
+        assert_int_equal(flow_lpm_x100(), k ? 749 : 750);
+        assert_int_equal(n, k ? 401 : 257);
+    }
+}
+
+/* Other nozzles told (Nozzle Q3): the model held is for the old ones, learnt anew from the next
+ * period. */
+static void test_model_learnt_anew_for_other_nozzles(void **state)
+{
+    (void)state;
+    setup(NULL);
+    steady(8.0, 30.0, told_kpa(30.0));
+    assert_int_equal(periods_to_learn(400), 257);
+    assert_true(param_set(P_NOZZLE_Q3, (uint16_t)(param_v[P_NOZZLE_Q3] + 10u)));
+    period();
+    assert_int_equal(diag_nozzle_learnt(), 0);
+}
+
+/* Worn nozzles: a model learnt from pressures 2/3 of the catalog's (kp 200 kPa at the rated
+ * flow, under 242: over 11.5 % more flow) raises NOZZLE_WEAR in the period after the fit (its
+ * need: 1 period), not in the fit's; not while METER_CAL says the meter it was learnt by is off. */
+static uint16_t worn_kpa(double lpm)
+{
+    double r = lpm / (sy.nozzles * param_v[P_NOZZLE_Q3] / 100.0);
+    return (uint16_t)lround(30.0 + 200.0 * r * r);
+}
+
+static void test_nozzle_wear_the_period_after_a_worn_fit_not_with_meter_cal(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        sy.st.tank_l = 800;
+        int n, learnt_at = 0;
+        for (n = 1; n <= 1200 && !learnt_at; n++) {
+            double q = (n / 100) % 2 ? 20.0 : 40.0;
+            steady(8.0, q, worn_kpa(q));
+            if (k && n >= 3 && n <= 10)
+                sy.st.tank_l = (uint16_t)(sy.st.tank_l - 4u);     /* METER_CAL at 111 */
+            uint16_t a = period();
+            if (diag_nozzle_learnt() == 2) {
+                learnt_at = n;
+                assert_false(on(a, AL_NOZZLE_WEAR));
+            }
+        }
+        printf("# worn model learnt in period %d\n", learnt_at);
+        assert_true(learnt_at > 0);
+        uint16_t a = period();
+        assert_int_equal(on(a, AL_METER_CAL), k);
+        assert_int_equal(on(a, AL_NOZZLE_WEAR), !k);
+        for (int i = 0; i < 50; i++)
+            assert_int_equal(on(period(), AL_NOZZLE_WEAR), !k);
+    }
+}
+
+/* ---- leak and clog: the gross band, the gates ---------------------------------------------------- */
+/* Before a model is learnt only a gross deviation counts: P_PDEV (30 %) of the pressure the told
+ * model gives for the metered flow, and at least DIAG_PDEV_FAR_KPA (120): at 30.00 L/min (Meter
+ * K 100.0 p/L, a pulse every 20 ms) about 180 kPa, so 120: LEAK under pexp - 120, CLOG over
+ * pexp + 120, each after 20 judged periods (from period 2: 21); at the edges nothing. */
+static void test_gross_band_edges_before_a_model(void **state)
+{
+    (void)state;
+    static const struct { int dp, bit, at; } e[] = {
+        {-120, AL_LEAK, 41}, {-121, AL_LEAK, 21}, {120, AL_CLOG, 41}, {121, AL_CLOG, 21}};
+    for (int i = 0; i < 4; i++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 30.0, 0);
+        period();
+        uint16_t pexp = diag_nozzle_pressure_kpa(3000, NOZZLES);
+        assert_in_range(pexp, 175, 185);        /* 30 + 300 (30 / 42.48)^2 = 179.6 */
+        sy.st.in.pressure_kpa = (uint16_t)(pexp + e[i].dp);
+        int n = 1 + periods_until(e[i].bit, 1, 39);
+        assert_int_equal(flow_lpm_x100(), 3000);
+        assert_int_equal(n, e[i].at);
+    }
+}
+
+/* Leak and clog are judged with the boom settled, on a working pressure sensor, at working
+ * speed; once raised they stand while the fault lasts, and a period not judged neither clears
+ * nor counts toward clearing. */
+static void test_leak_and_clog_judged_settled_at_working_speed_and_held(void **state)
+{
+    (void)state;
+    for (int bit = AL_LEAK; bit <= AL_CLOG; bit++) {
+        uint16_t bad = bit == AL_LEAK ? 40 : 330;       /* the told model's 180: 140 off, 150 off */
+        setup(NULL);
+        sy.settled = 0;
+        steady(8.0, 30.0, bad);
+        assert_int_equal(periods_until(bit, 1, 40), 41);
+        setup(NULL);
+        steady(3.9, 30.0, bad);                         /* under MinQ speed (4.0) */
+        assert_int_equal(periods_until(bit, 1, 40), 41);
+        setup(NULL);
+        steady(8.0, 30.0, bad);
+        assert_int_equal(periods_until(bit, 1, 40), 21);
+        for (int i = 0; i < 40; i++)
+            assert_true(on(period(), bit));
+        sy.settled = 0;
+        sy.st.in.pressure_kpa = told_kpa(30.0);
+        for (int i = 0; i < 40; i++)
+            assert_true(on(period(), bit));
+        sy.settled = 1;
+        assert_int_equal(periods_until(bit, 0, 20), 10);
+    }
+}
+
+/* No pressure for the metered flow on the model (over 16 times the rated flow: 30 L/min on one
+ * nozzle of 1.18): nothing to judge, whatever the line reads. */
+static void test_no_leak_judged_without_an_expected_pressure(void **state)
+{
+    (void)state;
+    setup(NULL);
+    sy.nozzles = 1;
+    steady(8.0, 30.0, 200);
+    for (int i = 0; i < 60; i++) {
+        uint16_t a = period();
+        assert_false(on(a, AL_LEAK));
+        assert_false(on(a, AL_CLOG));
+    }
+    assert_int_equal(diag_nozzle_pressure_kpa(flow_lpm_x100(), 1), 0xFFFF);
+}
+
+/* With the model learnt over the range, the fine band (P_PDEV / 2 of the pressure above the
+ * check valves) applies only where the nozzles need DIAG_PDEV_MIN_KPA (50) above them: at 15
+ * L/min the model's pressure is about 67 kPa (37 above): 30 % over it is no CLOG. */
+static void test_fine_band_not_under_50_kpa_above_the_check_valves(void **state)
+{
+    (void)state;
+    setup(NULL);
+    learn_model();
+    steady(8.0, 15.0, told_kpa(15.0));
+    for (int i = 0; i < 5; i++)
+        period();
+    uint16_t pexp = diag_nozzle_pressure_kpa(flow_lpm_x100(), NOZZLES);
+    assert_true(pexp < 30 + 50);
+    sy.st.in.pressure_kpa = (uint16_t)lround(30 + (pexp - 30) * 1.3);
+    assert_int_equal(periods_until(AL_CLOG, 1, 60), 61);
+}
+
+/* A model learnt at one flow (30 L/min: learnt 1) is trusted near it: for x = (q / n Q3)^2
+ * within 7/8 .. 8/7 of its xm the fine band, far above it nothing, below 7/8 the gross band.
+ * 27.3 L/min is x 0.83 xm, 33 L/min 1.21 xm: 25 % over the model's pressure (under its 120 kPa)
+ * is no CLOG at either. Below the meter's range (6 L/min) the gross band again: 120 kPa over is
+ * no CLOG, 121 is. */
+static void test_model_learnt_at_one_flow_is_trusted_near_it(void **state)
+{
+    (void)state;
+    static const double q[2] = {27.3, 33.0};
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        steady(8.0, 30.0, told_kpa(30.0));
+        assert_int_equal(periods_to_learn(400), 257);
+        assert_int_equal(diag_nozzle_learnt(), 1);
+        steady(8.0, q[k], told_kpa(q[k]));
+        for (int i = 0; i < 5; i++)
+            period();
+        uint16_t pexp = diag_nozzle_pressure_kpa(flow_lpm_x100(), NOZZLES);
+        sy.st.in.pressure_kpa = (uint16_t)lround(30 + (pexp - 30) * 1.25);
+        assert_true(sy.st.in.pressure_kpa < pexp + 120);
+        assert_int_equal(periods_until(AL_CLOG, 1, 60), 61);
+    }
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        steady(8.0, 30.0, told_kpa(30.0));
+        assert_int_equal(periods_to_learn(400), 257);
+        steady(8.0, 6.0, told_kpa(6.0));
+        for (int i = 0; i < 5; i++)
+            period();
+        uint16_t pexp = diag_nozzle_pressure_kpa(flow_lpm_x100(), NOZZLES);
+        sy.st.in.pressure_kpa = (uint16_t)(pexp + 120 + k);
+        assert_int_equal(periods_until(AL_CLOG, 1, 60), k ? 20 : 61);
+    }
+}
+
+/* TANK_LOW clears on a refill read by a working level sensor only: the last reading of a failed
+ * one, 300 L, clears nothing. */
+static void test_tank_low_not_cleared_by_a_failed_level_sensor(void **state)
+{
+    (void)state;
+    setup(NULL);
+    sy.st.tank_l = 20;
+    assert_int_equal(periods_until(AL_TANK_LOW, 1, 20), 10);
+    adc_counts[1] = 179;
+    sy.st.tank_l = 300;
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_TANK_LOW));
+}
+
+/* METER_LOST suspects the meter from a model flow of 5.00 L/min at the pressure: on 4 nozzles
+ * (4.72 L/min at 3 bar) that is about 367 kPa (30 + 300 (5 / 4.72)^2 = 366.6): the first
+ * pressure whose model flow is 5.00 suspects it, the one under it (4.99 or less) not. */
+static void test_meter_lost_from_a_model_flow_of_5_lpm(void **state)
+{
+    (void)state;
+    setup(NULL);
+    uint16_t p500 = 300;
+    while (diag_nozzle_flow_x100(p500, 4) < 500 && p500 < 500)
+        p500++;
+    assert_in_range(p500, 362, 371);
+    assert_int_equal(diag_nozzle_flow_x100(p500, 4), 500);
+    assert_true(param_set(P_P_MIN, 0));
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_P_MIN, 0));
+        sy.nozzles = 4;
+        spraying(8.0, 4.0, 30);
+        meter(0);
+        sy.st.in.pressure_kpa = (uint16_t)(p500 - 1 + k);
+        assert_int_equal(periods_until(AL_METER_LOST, 1, 40) <= 40, k);
+    }
+}
+
+/* The gross band's least deviation is DIAG_PDEV_FAR_KPA (120): with P dev 66 % the told model's
+ * 180 kPa at 30.00 L/min gives 119 (180 x 66 = 11880, rounded: 119), raised to 120: 300 kPa is
+ * no CLOG, 301 is. */
+static void test_gross_band_at_least_120_kpa(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        assert_true(param_set(P_PDEV, 66));
+        steady(8.0, 30.0, 0);
+        period();
+        assert_int_equal(diag_nozzle_pressure_kpa(3000, NOZZLES), 180);
+        sy.st.in.pressure_kpa = (uint16_t)(300 + k);
+        assert_int_equal(1 + periods_until(AL_CLOG, 1, 39), k ? 21 : 41);
+    }
+}
+
+/* With the model learnt over the range the fine band applies where the model wants 50 kPa or
+ * more above its check valves for the metered flow, not 49: the middle of the flows where it
+ * wants 50, and of those where it wants 49, metered at Meter K 100.0 p/L (a pulse every 6e10 /
+ * (q + 1/4) ns reads q); 30 % over that pressure is a CLOG at the first, nothing at the second. */
+static void test_fine_band_from_50_kpa_above_the_check_valves(void **state)
+{
+    (void)state;
+    for (int want = 49; want <= 50; want++) {
+        setup(NULL);
+        learn_model();
+        uint16_t pc = diag_nozzle_pressure_kpa(1, NOZZLES);     /* the check valves */
+        assert_in_range(pc, 0, 150);
+        int lo = 0, hi = 0;
+        for (int q = 500; q <= 4000; q++)
+            if (diag_nozzle_pressure_kpa((int16_t)q, NOZZLES) == pc + want) {
+                if (!lo)
+                    lo = q;
+                hi = q;
+            }
+        assert_true(lo > 0);
+        int16_t q = (int16_t)((lo + hi) / 2);
+        printf("# %d kPa above the check valves (%u) at %d x 0.01 L/min\n", want, pc, q);
+        assert_true(param_set(P_METER_K, 1000));
+        sy.st.in.target_lpm_x100 = q;
+        sy.meter_ns = 6e10 / (q + 0.25);
+        sy.st.in.pressure_kpa = (uint16_t)(pc + want);
+        for (int i = 0; i < 5; i++)
+            assert_int_equal(period(), 0);
+        assert_int_equal(flow_lpm_x100(), q);
+        sy.st.in.pressure_kpa = (uint16_t)(pc + want * 13 / 10);
+        assert_int_equal(periods_until(AL_CLOG, 1, 40), want == 50 ? 20 : 41);
+    }
+}
+
+/* Off-rate judges a target over 0: at 0 any flow is no off-rate (the boom's flow is not the
+ * rate's), at 0.01 L/min 0.03 is 200 % off. */
+static void test_off_rate_needs_a_target(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        sy.st.in.speed_kmh_x100 = 800;
+        sy.st.in.target_lpm_x100 = (int16_t)k;
+        sy.st.in.flow_lpm_x100 = k ? 3 : 3000;
+        int n;
+        for (n = 1; n <= 100; n++)
+            if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
+                break;
+        assert_int_equal(n, k ? 50 : 101);
+    }
+}
+
+/* The meter's score saturates at 255: 12 glitching periods (240), 4 quiet (236), one more
+ * glitch: 255 (not 256, which 8 bits would hold as 0); from there 255 quiet periods to 0 and 10
+ * more clear it. */
+static void test_meter_noise_score_saturates_at_255(void **state)
+{
+    (void)state;
+    setup(NULL);
+    spraying(8.0, 30.0, 10);
+    sy.meter_ns = 0;
+    static const char seq[] = "gggggggggggg....g";
+    for (size_t i = 0; i < sizeof seq - 1; i++) {
+        if (seq[i] == 'g')
+            hal_host_flow_edge(sy.meter_last);
+        period();
+    }
+    assert_int_equal(periods_until(AL_METER_NOISE, 0, 400), 255 + 10);
+}
+
+/* ---- the wheel's score, pulse by pulse --------------------------------------------------------- */
+/* One period of wheel pulses made here: g good ones evenly spaced, r bounces 0.1 ms after the
+ * first (the input rejects each: too early to be a pulse). */
+static uint16_t wheel_period(int g, int r)
+{
+    sy.wheel_ns = 0;
+    for (int i = 1; i <= g; i++) {
+        uint64_t t = sy.now_ns + (uint64_t)i * PERIOD_NS / (uint64_t)g;
+        hal_host_wheel_edge(t);
+        if (i == 1)
+            for (int b = 0; b < r; b++)
+                hal_host_wheel_edge(t + 100000u);
+    }
+    return period();
+}
+
+/* 4 pulses a period (25 ms apart) for 3 s first: score 0 */
+static void wheel_steady(void)
+{
+    setup(NULL);
+    assert_true(param_set(P_WHEEL, 100));
+    for (int i = 0; i < 30; i++)
+        assert_int_equal(wheel_period(4, 0), 0);
+}
+
+/* +8 a rejected pulse, -1 a good one: 8 rejects and 4 good make 60 (no alarm), with 3 good 61
+ * (WHEEL_NOISE in that period). */
+static void test_wheel_noise_over_a_score_of_60(void **state)
+{
+    (void)state;
+    wheel_steady();
+    uint16_t g0 = speed_glitches();
+    assert_false(on(wheel_period(4, 8), AL_WHEEL_NOISE));
+    assert_int_equal((uint16_t)(speed_glitches() - g0), 8);
+    for (int i = 0; i < 20; i++)
+        assert_false(on(wheel_period(4, 0), AL_WHEEL_NOISE));
+    wheel_steady();
+    assert_true(on(wheel_period(3, 8), AL_WHEEL_NOISE));
+}
+
+/* More than 21 rejects in a period score 255 at once, 21 score 168: less 4 a period (the good
+ * pulses), the score is 0 after 41 periods (164 / 4) or 63 (251 / 4, rounded up), cleared 9
+ * periods after that. From 252 (22 rejects and 3 good), 1 reject and 4 good make 256: held at
+ * 255 (8 bits would wrap it to 0), 0 after 64 periods, cleared at 73. */
+static void test_wheel_noise_score_caps(void **state)
+{
+    (void)state;
+    static const int clear[2] = {41 + 9, 63 + 9};
+    for (int k = 0; k < 2; k++) {
+        wheel_steady();
+        assert_true(on(wheel_period(4, 21 + k), AL_WHEEL_NOISE));
+        int n;
+        for (n = 1; n <= 100; n++)
+            if (!on(wheel_period(4, 0), AL_WHEEL_NOISE))
+                break;
+        assert_int_equal(n, clear[k]);
+    }
+    wheel_steady();
+    assert_true(on(wheel_period(3, 22), AL_WHEEL_NOISE));
+    assert_true(on(wheel_period(4, 1), AL_WHEEL_NOISE));
+    int n;
+    for (n = 1; n <= 100; n++)
+        if (!on(wheel_period(4, 0), AL_WHEEL_NOISE))
+            break;
+    assert_int_equal(n, 64 + 9);
+}
+
+/* A jump the tractor cannot make (the pulses doubling at 8 km/h: 16 at once) raises WHEEL_NOISE
+ * with a score of 0, held while the speed stays up, cleared 10 periods after a standstill. */
+static void test_wheel_noise_from_a_jump_held_until_a_standstill(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    for (int i = 0; i < 100; i++)
+        assert_int_equal(period(), 0);
+    wheel(16.0);
+    assert_true(periods_until(AL_WHEEL_NOISE, 1, 10) <= (int)SPEED_JUMP_PERIODS + 2);
+    assert_true(speed_jumped());
+    for (int i = 0; i < 60; i++)
+        assert_true(on(period(), AL_WHEEL_NOISE));
+    wheel(0);
+    assert_true(periods_until(AL_WHEEL_NOISE, 0, 100) <= 100);
+}
+
+/* A target under 0 (app.c writes none; diag takes the status as given) is no target to be clean
+ * against: a meter at 30 L/min teaches nothing, even with the target moving between -0.01 and
+ * -1.29 L/min each period (by more than its 1/128 each way: the moving-target test lets it by). */
+static void test_model_not_learnt_against_a_negative_target(void **state)
+{
+    (void)state;
+    setup(NULL);
+    steady(8.0, 30.0, told_kpa(30.0));
+    for (int n = 1; n <= 400; n++) {
+        sy.st.in.target_lpm_x100 = (int16_t)(n % 2 ? -1 : -129);
+        period();
+        assert_int_equal(diag_nozzle_learnt(), 0);
+    }
+}
+
+/* ---- the model's exact edges -------------------------------------------------------------------- */
+/* x = (q / n Q3)^2 in Q8 as diag.c takes it: r = q 4096 / (n Q3) by um_muldiv (Q12), x = r^2 >> 16 */
+static uint32_t r_of(int m)
+{
+    return um_muldiv((uint32_t)m, 4096u, (uint32_t)NOZZLES * param_v[P_NOZZLE_Q3]);
+}
+
+static uint16_t x_of_meter(int m)
+{
+    uint32_t r = r_of(m);
+    return (uint16_t)((r * r) >> 16);
+}
+
+/* the meter at m x 0.01 L/min exactly (Meter K 100.0 p/L, a pulse every 6e10 / (m + 1/4) ns),
+ * the target on it, the pressure given */
+static void metered(int m, uint16_t kpa)
+{
+    sy.meter_ns = 6e10 / (m + 0.25);
+    sy.st.in.target_lpm_x100 = (int16_t)m;
+    sy.st.in.pressure_kpa = kpa;
+}
+
+/* Nothing is learnt above twice the rated pressure's flow: r (Q12) over 5792 (the square root
+ * of 2). At the flow whose r is 5792 the model is learnt (257), at the one whose r is 5793 not. */
+static void test_model_learnt_up_to_r_5792(void **state)
+{
+    (void)state;
+    int m2 = 0, m3 = 0;
+    for (int m = 5950; m <= 6050; m++) {
+        if (r_of(m) == 5792u && !m2)
+            m2 = m;
+        if (r_of(m) == 5793u && !m3)
+            m3 = m;
+    }
+    assert_true(m2 && m3);
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 60.0, 0);
+        metered(k ? m3 : m2, told_kpa((k ? m3 : m2) / 100.0));
+        int n = periods_to_learn(400);
+        assert_int_equal(flow_lpm_x100(), k ? m3 : m2);
+        assert_int_equal(n, k ? 401 : 257);
+    }
+}
+
+/* Worn from a kp under 242 kPa: a model learnt at one flow whose x is 1 (the rated flow: r 4096,
+ * x 256) at a pressure p fits kp = p - 30 (the told check valves): 272 kPa gives 242, no
+ * NOZZLE_WEAR; 271 gives 241, worn. */
+static void test_nozzle_wear_under_242_kpa(void **state)
+{
+    (void)state;
+    int m1 = 0;
+    for (int m = 4200; m <= 4300 && !m1; m++)
+        if (r_of(m) == 4096u)
+            m1 = m;
+    assert_true(m1 > 0);
+    assert_int_equal(x_of_meter(m1), 256);
+    for (int k = 0; k < 2; k++) {
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 42.0, 0);
+        metered(m1, (uint16_t)(272 - k));
+        int n = periods_to_learn(400);
+        assert_int_equal(n, 257);
+        assert_int_equal(diag_nozzle_learnt(), 1);
+        assert_int_equal(store_learnt_now(STORE_LEARN_CTL + 2u) | store_learnt_now(STORE_LEARN_CTL + 3u) << 8,
+                         242 - k);
+        for (int i = 0; i < 20; i++)
+            assert_int_equal(on(period(), AL_NOZZLE_WEAR), k);
+    }
+}
+
+/* A model learnt at one flow (xm) is judged in the fine band for x from 7/8 xm to 8/7 xm, both
+ * edges in: learnt at x 259 (7 x 37), judged at x 296 (8/7 of it), and learnt at 296, judged at
+ * 259 (7/8 of it); a pressure 30 % over the model's above the check valves (under its 120 kPa
+ * of the gross band) is a CLOG there. */
+static void test_model_learnt_at_one_flow_judged_at_7_8_and_8_7_of_it(void **state)
+{
+    (void)state;
+    int m259 = 0, m296 = 0;
+    for (int m = 4000; m <= 5000; m++) {
+        if (x_of_meter(m) == 259 && !m259)
+            m259 = m;
+        if (x_of_meter(m) == 296 && !m296)
+            m296 = m;
+    }
+    assert_true(m259 && m296);
+    for (int k = 0; k < 2; k++) {
+        int learn_at = k ? m296 : m259, judge_at = k ? m259 : m296;
+        setup(NULL);
+        assert_true(param_set(P_METER_K, 1000));
+        steady(8.0, 45.0, 0);
+        metered(learn_at, told_kpa(learn_at / 100.0));
+        assert_int_equal(periods_to_learn(400), 257);
+        assert_int_equal(diag_nozzle_learnt(), 1);
+        uint16_t pexp = diag_nozzle_pressure_kpa((int16_t)judge_at, NOZZLES);
+        metered(judge_at, pexp);
+        for (int i = 0; i < 5; i++)
+            assert_int_equal(period(), 0);
+        assert_int_equal(flow_lpm_x100(), judge_at);
+        uint16_t pc = diag_nozzle_pressure_kpa(1, NOZZLES);
+        sy.st.in.pressure_kpa = (uint16_t)(pc + (pexp - pc) * 13 / 10);
+        assert_true(sy.st.in.pressure_kpa < pexp + 120);
+        assert_int_equal(periods_until(AL_CLOG, 1, 40), 20);
+    }
+}
+
+/* METER_LOST clears on 10 periods with a pulse and a reading: the first may read 0.01 L/min
+ * (Meter K 6000.0 p/L: a lone pulse 1.3 s after the last reads 921600 / 1198080 ticks, 0.77,
+ * rounded to 1) and counts; 9 more with the meter back clear it. */
+static void test_meter_lost_cleared_counting_a_reading_of_0_01_lpm(void **state)
+{
+    (void)state;
+    setup(NULL);
+    assert_true(param_set(P_P_MAX, 300));           /* (the meter's rate in its range) */
+    assert_true(param_set(P_METER_K, 60000));
+    spraying(8.0, 30.0, 30);
+    meter(0);
+    assert_int_equal(periods_until(AL_METER_LOST, 1, 20), 12);
+    hal_host_flow_edge(sy.now_ns + PERIOD_NS / 2);
+    assert_true(on(period(), AL_METER_LOST));
+    assert_int_equal(flow_lpm_x100(), 1);
+    meter(30.0);
+    assert_int_equal(periods_until(AL_METER_LOST, 0, 20), 9);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -696,6 +1388,32 @@ int main(void)
         cmocka_unit_test(test_meter_noise_on_the_fourth_glitching_period),
         cmocka_unit_test(test_sensor_faults_in_the_period_the_input_is_judged_faulty),
         cmocka_unit_test(test_wheel_noise_in_the_period_its_score_passes_60),
+        cmocka_unit_test(test_meter_cal_on_the_10th_period_of_the_balance_off),
+        cmocka_unit_test(test_meter_cal_cleared_after_10_periods_of_the_balance_on),
+        cmocka_unit_test(test_model_learnt_at_the_64th_sample_of_clean_periods),
+        cmocka_unit_test(test_model_not_learnt_from_a_fault_a_quiet_meter_or_over_the_range),
+        cmocka_unit_test(test_model_learnt_within_5_percent_and_from_7_5_lpm),
+        cmocka_unit_test(test_model_learnt_anew_for_other_nozzles),
+        cmocka_unit_test(test_nozzle_wear_the_period_after_a_worn_fit_not_with_meter_cal),
+        cmocka_unit_test(test_gross_band_edges_before_a_model),
+        cmocka_unit_test(test_leak_and_clog_judged_settled_at_working_speed_and_held),
+        cmocka_unit_test(test_no_leak_judged_without_an_expected_pressure),
+        cmocka_unit_test(test_fine_band_not_under_50_kpa_above_the_check_valves),
+        cmocka_unit_test(test_model_learnt_at_one_flow_is_trusted_near_it),
+        cmocka_unit_test(test_tank_low_not_cleared_by_a_failed_level_sensor),
+        cmocka_unit_test(test_meter_lost_from_a_model_flow_of_5_lpm),
+        cmocka_unit_test(test_gross_band_at_least_120_kpa),
+        cmocka_unit_test(test_fine_band_from_50_kpa_above_the_check_valves),
+        cmocka_unit_test(test_off_rate_needs_a_target),
+        cmocka_unit_test(test_meter_noise_score_saturates_at_255),
+        cmocka_unit_test(test_wheel_noise_over_a_score_of_60),
+        cmocka_unit_test(test_wheel_noise_score_caps),
+        cmocka_unit_test(test_wheel_noise_from_a_jump_held_until_a_standstill),
+        cmocka_unit_test(test_model_not_learnt_against_a_negative_target),
+        cmocka_unit_test(test_model_learnt_up_to_r_5792),
+        cmocka_unit_test(test_nozzle_wear_under_242_kpa),
+        cmocka_unit_test(test_model_learnt_at_one_flow_judged_at_7_8_and_8_7_of_it),
+        cmocka_unit_test(test_meter_lost_cleared_counting_a_reading_of_0_01_lpm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

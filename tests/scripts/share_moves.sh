@@ -1,44 +1,53 @@
 #!/usr/bin/env bash
-# share_moves.sh: tools/share_moves.py replaces exactly its sequences by calls of routines that
-# hold exactly those instructions (firmware/math/moves*.c), and leaves alone a sequence with a
-# label inside (a jump into its middle) or one cut short.
+# share_moves.sh: tools/share_moves.py generates from its one table routines that hold exactly
+# its sequences, then RET (assembled by sdas to the bytes its size model counts); it replaces a
+# whole sequence by a call, leaves alone one with a label inside (a jump into its middle) or one
+# cut short, covers overlapping candidates at the fewest bytes, jumps where the function returns
+# right after, and uses only the hot routines in the functions --hot names.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+SDAS=${SDAS:-sdas8051}
 
-# every MOVES entry has a routine in moves.c, moves_short.c, moves_arith.c, moves_more.c or
-# moves_late.c with
-# the same instructions, then RET, and no other
-if out=$(python3 - <<'EOF' 2>&1
-import re, sys
+# the generated modules: one a routine, each exactly its table entry then RET, assembled to
+# the size share_moves.py counts (its choice of cover rests on those sizes)
+python3 tools/share_moves.py --gen "$tmp/gen"
+for f in "$tmp"/gen/*.asm; do "$SDAS" -plosgffw "${f%.asm}.rel" "$f" || echo "sdas failed: $f"; done > "$tmp/sdas.log" 2>&1
+if out=$(python3 - "$tmp/gen" <<'EOF' 2>&1
+import glob, os, re, sys
 sys.path.insert(0, "tools")
-from share_moves import MOVES, norm
-asm = "".join(re.search(r"__asm(.*?)__endasm;", open(f).read(), re.S).group(1)
-              for f in ("firmware/math/moves.c", "firmware/math/moves_short.c",
-                        "firmware/math/moves_arith.c", "firmware/math/moves_more.c",
-                        "firmware/math/moves_late.c"))
-found, cur = {}, None
-for line in asm.splitlines():
-    m = re.match(r"\s*_mv_(\w+)::\s*$", line)
-    if m:
-        cur = found.setdefault(m.group(1), [])
-    elif cur is not None and norm(line) is not None:
-        cur.append(norm(line))
-bad = [n for n in MOVES if found.get(n) != MOVES[n] + ["ret"]]
-bad += [n for n in found if n not in MOVES]
+from share_moves import ROUTINES, norm, body_size
+gen = sys.argv[1]
+bad = []
+for name, (_, seq) in ROUTINES.items():
+    asm = os.path.join(gen, "mv_%s.asm" % name)
+    body, cur = [], False
+    for line in open(asm):
+        if re.match(r"_mv_%s::\s*$" % name, line):
+            cur = True
+        elif cur and norm(line) is not None:
+            body.append(norm(line))
+    if body != seq + ["ret"]:
+        bad.append(name + " (instructions)")
+    rel = open(os.path.join(gen, "mv_%s.rel" % name)).read()
+    m = re.search(r"^A CSEG size (\w+)", rel, re.M)
+    if not m or int(m.group(1), 16) != body_size(seq) + 1:
+        bad.append(name + " (size)")
+if len(glob.glob(os.path.join(gen, "*.asm"))) != len(ROUTINES):
+    bad.append("stray modules")
 if bad:
-    sys.exit("routines that differ from MOVES: " + ", ".join(sorted(bad)))
-print("%d routines" % len(found))
+    sys.exit("differ from the table: " + ", ".join(sorted(bad)))
+print("%d routines" % len(ROUTINES))
 EOF
 ); then
-    echo "ok - share_moves: moves.c, moves_short.c, moves_arith.c, moves_more.c and moves_late.c hold each sequence exactly, then RET ($out)"
+    echo "ok - share_moves: --gen makes one module a routine, exactly its sequence then RET, of the size counted ($out)"
 else
-    echo "not ok - share_moves: moves.c, moves_short.c, moves_arith.c, moves_more.c and moves_late.c hold each sequence exactly"; echo "$out" | sed 's/^/#   /'
+    echo "not ok - share_moves: --gen"; echo "$out" | sed 's/^/#   /'; sed 's/^/#   /' "$tmp/sdas.log"
 fi
 
 # a whole sequence (a C line comment inside it kept) is replaced; one with a label inside, or
-# cut short, is not (the sets before the later round: its shorter z_ld_r5a would take the rest)
+# cut short, is not (after the label only what follows it whole: xld_r5a)
 cat > "$tmp/a.asm" <<'EOF'
 _f:
 	mov	dptr,#_x
@@ -71,35 +80,51 @@ _f:
 	mov	b,r6
 	ret
 EOF
-python3 tools/share_moves.py --skip=z_ "$tmp/a.asm"
-calls=$(grep -c 'lcall' "$tmp/a.asm")
-if [ "$calls" -eq 1 ] && grep -q 'lcall	_mv_ld_r4567' "$tmp/a.asm" && grep -q 'the comment stays' "$tmp/a.asm" \
-    && grep -q '^00101\$:' "$tmp/a.asm" && [ "$(grep -c 'movx	a,@dptr' "$tmp/a.asm")" -eq 4 ]; then
-    echo "ok - share_moves: a whole sequence becomes one call; one a label cuts, or one cut short, stays"
+python3 tools/share_moves.py "$tmp/a.asm"
+if [ "$(grep -c 'lcall' "$tmp/a.asm")" -eq 2 ] && grep -q 'lcall	_mv_xld_r4567' "$tmp/a.asm" \
+    && grep -q 'lcall	_mv_xld_r5a' "$tmp/a.asm" && grep -q 'the comment stays' "$tmp/a.asm" \
+    && grep -q '^00101\$:' "$tmp/a.asm" && [ "$(grep -c 'movx	a,@dptr' "$tmp/a.asm")" -eq 2 ] \
+    && [ "$(sed -n '/^_f:/,/^00101/p' "$tmp/a.asm" | grep -c 'mov	r4,a')" -eq 1 ]; then
+    echo "ok - share_moves: a whole sequence becomes one call; one a label cuts stays"
 else
     echo "not ok - share_moves: replacement"; sed 's/^/#   /' "$tmp/a.asm"
 fi
 
-# the later round (z_) is a second pass: the sets before share first (ld_r56, not z_ld_r5a and
-# a move left), and it takes what they left (z_ld_r5a before a move of its own)
-seq=$'\tmovx\ta,@dptr\n\tmov\tr5,a\n\tinc\tdptr\n\tmovx\ta,@dptr\n'
-printf '_g:\n%s\tmov\tr6,a\n\tret\n_h:\n%s\tmov\tr2,a\n\tret\n' "$seq" "$seq" > "$tmp/c.asm"
+# overlapping candidates: the cover with the fewest bytes, not the first or longest match.
+# "mov r7,a / mov r0,_bp / inc r0 / mov dpl,@r0 / inc r0 / mov dph,@r0": fp1_after_r7a would
+# take the first three (a call and 5 B kept: 8 B), fp1_dptr the last five (mov r7,a kept, 1 B,
+# and a call: 4 B); written out they are 9 B
+printf '_g:\n\tmov\tr7,a\n\tmov\tr0,_bp\n\tinc\tr0\n\tmov\tdpl,@r0\n\tinc\tr0\n\tmov\tdph,@r0\n\tret\n' > "$tmp/c.asm"
 python3 tools/share_moves.py "$tmp/c.asm"
-if [ "$(grep -c 'lcall' "$tmp/c.asm")" -eq 2 ] \
-    && [ "$(sed -n '/^_g:/,/^_h:/p' "$tmp/c.asm" | grep -c 'lcall	_mv_ld_r56')" -eq 1 ] \
-    && [ "$(sed -n '/^_h:/,$p' "$tmp/c.asm" | grep -c 'lcall	_mv_z_ld_r5a')" -eq 1 ]; then
-    echo "ok - share_moves: the later round's sequences share after the sets before"
+if [ "$(grep -c '_mv_' "$tmp/c.asm")" -eq 1 ] && grep -q 'l[a-z]*	_mv_fp1_dptr' "$tmp/c.asm" \
+    && grep -q 'mov	r7,a' "$tmp/c.asm"; then
+    echo "ok - share_moves: overlapping sequences covered at the fewest bytes"
 else
-    echo "not ok - share_moves: the later round"; sed 's/^/#   /' "$tmp/c.asm"
+    echo "not ok - share_moves: cover"; sed 's/^/#   /' "$tmp/c.asm"
 fi
 
-# --skip-func=NAME leaves that function alone (a controller's step) and shares in the others
-seq=$'\tmovx\ta,@dptr\n\tmov\tr6,a\n\tinc\tdptr\n\tmovx\ta,@dptr\n\tmov\tr7,a\n'
+# --hot=NAME: only the hot routines in that function (a controller's step), all in the others
+seq=$'\tmov\tr6,dpl\n\tmov\tr7,dph\n\tmov\tr5,dpl\n\tmov\tr6,dph\n'
 printf '_step:\n%s\tret\n_derive:\n%s\tret\n' "$seq" "$seq" > "$tmp/b.asm"
-python3 tools/share_moves.py --skip-func=step "$tmp/b.asm"
-if [ "$(grep -c 'lcall' "$tmp/b.asm")" -eq 1 ] \
-    && [ "$(sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -c 'lcall	_mv_ld_r67')" -eq 1 ]; then
-    echo "ok - share_moves: --skip-func leaves the named function alone, the next one shares"
+python3 tools/share_moves.py '--hot=ste?' "$tmp/b.asm"
+if [ "$(sed -n '/^_step:/,/^_derive:/p' "$tmp/b.asm" | grep -c '_mv_')" -eq 1 ] \
+    && sed -n '/^_step:/,/^_derive:/p' "$tmp/b.asm" | grep -q 'lcall	_mv_res_r67' \
+    && [ "$(sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -c '_mv_')" -eq 2 ] \
+    && sed -n '/^_derive:/,$p' "$tmp/b.asm" | grep -q 'ljmp	_mv_res_r56'; then
+    echo "ok - share_moves: --hot keeps a step's function to the hot routines, the next one shares all"
 else
-    echo "not ok - share_moves: --skip-func"; sed 's/^/#   /' "$tmp/b.asm"
+    echo "not ok - share_moves: --hot"; sed 's/^/#   /' "$tmp/b.asm"
+fi
+
+# a sequence the function returns right after: LJMP, the routine's RET returns for it; not
+# where a label stands before the RET (something jumps to it)
+printf '_f:\n\tmov\tr6,dpl\n\tmov\tr7,dph\n;\tc.c:9: }\n\tret\n_g:\n\tmov\tr6,dpl\n\tmov\tr7,dph\n00105$:\n\tret\n' > "$tmp/d.asm"
+python3 tools/share_moves.py "$tmp/d.asm"
+if [ "$(sed -n '/^_f:/,/^_g:/p' "$tmp/d.asm" | grep -c 'ret')" -eq 0 ] \
+    && sed -n '/^_f:/,/^_g:/p' "$tmp/d.asm" | grep -q 'ljmp	_mv_res_r67' \
+    && sed -n '/^_g:/,$p' "$tmp/d.asm" | grep -q 'lcall	_mv_res_r67' \
+    && [ "$(sed -n '/^_g:/,$p' "$tmp/d.asm" | grep -c 'ret')" -eq 1 ]; then
+    echo "ok - share_moves: a call the function returns after becomes a jump, not across a label"
+else
+    echo "not ok - share_moves: tail jump"; sed 's/^/#   /' "$tmp/d.asm"
 fi

@@ -919,6 +919,7 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
     values_k(v, 3);
     static const struct { uint8_t magic, version; int count; int loads; } h[] = {
         {0x5B, PARAMS_VERSION, P_COUNT, 0}, {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
+        {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
         {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, PARAMS_V8_COUNT - 1, 0},
         {0x5A, PARAMS_VERSION, PARAMS_V8_COUNT, 0}, {0x5A, 8, P_COUNT, 0}, {0x5A, 8, PARAMS_V8_COUNT, 1},
         {0x5A, 4, PARAMS_V8_COUNT, 0},
@@ -932,8 +933,9 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         params_defaults();
         int count = h[i].count;
         /* a version past this one's laid out as the oldest of P_COUNT values (5: no learnt
-         * figures, no job): what a reader that took it would read */
-        uint8_t layout = h[i].version > PARAMS_VERSION ? 5 : h[i].version;
+         * figures, no job), and again as one with the learnt figures and no job (7): what a
+         * reader that took it would read */
+        uint8_t layout = h[i].version > PARAMS_VERSION ? (uint8_t)(i & 1 ? 5 : 7) : h[i].version;
         twin_write_n(0, 7, v, layout, count);
         uint8_t *e = hal_host_eeprom();
         size_t n = 5 + 2 * (size_t)count + 8 + TWIN_LEARNT(layout) + TWIN_JOB(layout);
@@ -1045,6 +1047,57 @@ static void test_params_meter_rate_within_5_khz_at_its_edges(void **state)
     params_defaults();
 }
 
+/* Two valid records with one sequence (this firmware writes each save at the sequence after the
+ * newest's, so only a damaged history has them): the first in slot order is the newest. */
+static void test_store_of_two_records_with_one_sequence_the_first_slot_loads(void **state)
+{
+    (void)state;
+    uint16_t v[P_COUNT], w[P_COUNT];
+    values_k(v, 5);
+    values_k(w, 6);
+    assert_false(memcmp(v, w, sizeof v) == 0);
+    twin_write(1, 9, w, PARAMS_VERSION);                /* slot 4 */
+    twin_write(0, 9, v, PARAMS_VERSION);                /* slot 0 */
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(v));
+}
+
+/* After the sequence wraps: the newest (6) in slot 0 and, in the slot after it, the oldest of the
+ * log, sequence 0xFFFF, whole and valid. Its header reads like a save begun there (0xFF where
+ * the next sequence would be), but it is a record: no cut save, STORE_OK. */
+static void test_store_a_whole_record_after_the_newest_is_no_cut_save(void **state)
+{
+    (void)state;
+    uint16_t v[P_COUNT], w[P_COUNT];
+    values_k(v, 7);
+    values_k(w, 8);
+    uint8_t after[SLOT_BYTES];
+    twin_write(0, 0xFFFF, w, PARAMS_VERSION);
+    memcpy(after, hal_host_eeprom(), SLOT_BYTES);
+    twin_write(0, 6, v, PARAMS_VERSION);
+    memcpy(hal_host_eeprom() + SLOT_BYTES, after, SLOT_BYTES);
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals(v));
+}
+
+/* The boom's flow with every nozzle open at P max within the meter's 300 L/min (worked by hand,
+ * n Q3 sqrt(P max / 300 kPa)): 20 nozzles of 18.28 L/min at P max 202 kPa make 365.60 x 0.82057
+ * = 299.999 L/min, taken; 19 of 19.34 at 200 kPa 367.46 x 0.81650 = 300.03, refused
+ * (PARAM_X_FLOW), 19 of 19.33 299.88, taken. A refused value leaves the old one. */
+static void test_params_boom_flow_within_300_lpm_at_p_max_at_its_edges(void **state)
+{
+    (void)state;
+    assert_int_equal(param_try(P_P_MAX, 202), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLES, 20), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 1828), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 100), PARAM_OK);
+    assert_int_equal(param_try(P_P_MAX, 200), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLES, 19), PARAM_OK);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 1934), PARAM_X_FLOW);
+    assert_int_equal(param_v[P_NOZZLE_Q3], 100);
+    assert_int_equal(param_try(P_NOZZLE_Q3, 1933), PARAM_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1076,6 +1129,9 @@ int main(void)
         cmocka_unit_test_setup(test_store_older_only_for_a_save_cut_after_the_newest, setup),
         cmocka_unit_test_setup(test_params_every_range_edge_and_the_dead_band_digit, setup),
         cmocka_unit_test_setup(test_params_meter_rate_within_5_khz_at_its_edges, setup),
+        cmocka_unit_test_setup(test_params_boom_flow_within_300_lpm_at_p_max_at_its_edges, setup),
+        cmocka_unit_test_setup(test_store_of_two_records_with_one_sequence_the_first_slot_loads, setup),
+        cmocka_unit_test_setup(test_store_a_whole_record_after_the_newest_is_no_cut_save, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -82,7 +82,7 @@ static void upd_rows(uint16_t rows)
     }
 }
 
-/* x / y of 32-bit unsigned values: SDCC's __divulong (firmware/math/divulong.c on the target)
+/* x / y of 32-bit unsigned values: SDCC's __divulong (hal/mcs51/divulong.c on the target)
  * against the host's divide, on edges and on random pairs of every pair of magnitudes */
 static void div_line(uint32_t x, uint32_t y)
 {

@@ -11,7 +11,6 @@
  * before SDCC's libraries on the link line, so the image takes this one. tt_fixed checks its
  * quotients against the host's.
  */
-#if defined(__SDCC)
 void divulong_routine(void) __naked
 {
     __asm
@@ -131,4 +130,3 @@ __divulong::
         ret
     __endasm;
 }
-#endif

@@ -1,7 +1,6 @@
 /* mul_round.c: the unsigned product UMUL (whose first part mul_ab shares) and the controllers' rounded products and shifts MUL_R15 / MUL_R12 / ACC_SHR15 / ACC_SHR12 (mul.h), in assembly on the 8051 (the host's are C macros). */
 #include "mul.h"
 
-#if defined(__SDCC)
 /* Like mul_ab these touch only A, B, DPTR and PSW (and mul_r), so a caller keeps R0-R7; each
  * replaces the rounding add and long shift SDCC writes out at every use. */
 /* mul_r = mul_a * mul_b unsigned, also returned (dpl, dph, b, a): UMUL. Its first part,
@@ -185,4 +184,3 @@ int32_t acc_shr12(void) __naked
         ret
     __endasm;
 }
-#endif
