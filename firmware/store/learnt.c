@@ -9,7 +9,7 @@
  */
 
 uint8_t store_newest;               /* slot of the record loaded or saved last, STORE_NO_SLOT */
-static __data store_learnt_fn learnt_fn;    /* store_learnt_from's (direct RAM: the XRAM's floor) */
+static store_learnt_fn learnt_fn;           /* store_learnt_from's */
 
 void store_learnt_from(store_learnt_fn fn) __reentrant
 {

@@ -60,6 +60,17 @@ out=$("$SIM" --scenario "$tmp/short.scn" --seed -3 2>&1); rc=$?
 if [ $rc -ne 0 ] && echo "$out" | grep -q "seed"; then ok "a bad --seed is refused"; else nok "bad --seed refused" "$out"; fi
 out=$("$SIM" --scenario "$tmp/none.scn" 2>&1); rc=$?
 if [ $rc -ne 0 ] && echo "$out" | grep -q "none.scn: cannot open"; then ok "a missing scenario is named"; else nok "missing scenario" "$out"; fi
+# the model's own inputs: a time each, no more than 8 in all, with --chip only
+out=$("$SIM" --scenario "$tmp/short.scn" --chip-reset soon 2>&1); rc=$?
+out2=$("$SIM" --scenario "$tmp/short.scn" --chip-hang 2 2>&1); rc2=$?
+out3=$("$SIM" --scenario "$tmp/short.scn" $(for k in 1 2 3 4 5 6 7 8 9; do echo --chip-reset $k; done) 2>&1); rc3=$?
+if [ $rc -eq 2 ] && echo "$out" | grep -q "chip-reset 'soon' is not a number" \
+   && [ $rc2 -eq 2 ] && echo "$out2" | grep -q "go with --chip" \
+   && [ $rc3 -eq 2 ] && echo "$out3" | grep -q "more than 8 times" && ! echo "$out$out2$out3" | grep -q '^{'; then
+    ok "--chip-reset/--chip-hang: a bad time, one without --chip, a ninth are refused"
+else
+    nok "chip inputs refused" "rc $rc $rc2 $rc3: $out | $out2 | $out3"
+fi
 
 # make sim with a controller and a CSV
 out=$(make -s --no-print-directory sim BUILD="$B" SCENARIO="$tmp/short.scn" CONTROLLER=pid CSV="$tmp/m.csv" 2>&1); rc=$?
