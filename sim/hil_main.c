@@ -16,6 +16,7 @@
 #include "target.h"
 #include "ctl.h"
 #include "pty.h"
+#include "progress.h"
 
 /* The simulator's firmware passes its main loop once a millisecond. After a settings change
  * its next step waits for the modules' constants, one a pass (app.c's app_prepare: 6 passes);
@@ -272,7 +273,7 @@ static void pc_poll(sim_t *sim)
 static int hil_carries(int kind)
 {
     switch (kind) {
-    case EV_SECTIONS_OPEN: case EV_RATE: case EV_GIVEN_SPEED: case EV_PTO_RPM:
+    case EV_SECTIONS_OPEN: case EV_RATE: case EV_PRESET: case EV_GIVEN_SPEED: case EV_PTO_RPM:
     case EV_METER_FAIL: case EV_METER_RESTORE: case EV_SPEED_FAIL: case EV_SPEED_RESTORE:
     case EV_PSENS_OPEN: case EV_PSENS_RESTORE: case EV_VALVE_STUCK: case EV_VALVE_FREE:
     case EV_BOUNCE: case EV_LEAK: case EV_CLOG: case EV_TANK:
@@ -290,6 +291,7 @@ int main(int argc, char **argv)
     scenario_t *s;
     sim_t *sim;
     hil_pc_t h;
+    progress_t prog;
     metrics_result_t r;
     FILE *csv = NULL;
     double cut_s = 0;
@@ -384,8 +386,12 @@ int main(int argc, char **argv)
     if (csv)
         sim_trace_csv(sim, csv, 0.1);
     h.wall0 = wall_now();
-    while (!sim_done(sim) && !h.failed)
+    progress_start(&prog, "hil", s->duration_s);
+    while (!sim_done(sim) && !h.failed) {
         sim_run(sim, sim_time_s(sim) + 1.0);
+        progress_show(&prog, sim_time_s(sim));
+    }
+    progress_end(&prog);
     if (h.failed == 2)
         return 1;
     if (h.failed) {

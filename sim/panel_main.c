@@ -27,7 +27,7 @@ static const char default_scn[] =
 static void usage(FILE *f)
 {
     fputs("usage: panel [--scenario FILE] [--speed X] [--time S] [--keys SEQ] [--screenshot OUT.png]\n"
-          "             [--scale N] [--text]\n"
+          "             [--scale N] [--text] [--serial FILE]\n"
           "  the controller's LCD and keypad in the terminal, the simulated sprayer behind them.\n"
           "  keys: 0-9 A B C D * # as on the keypad (a-d too); arrows up/down = A/B, Enter = D,\n"
           "        Backspace = C; q quits.\n"
@@ -39,6 +39,8 @@ static void usage(FILE *f)
           "  --keys SEQ    press these keys first ('.' waits 0.5 s; m and sN work the switches)\n"
           "  --screenshot  after --time and --keys: write the LCD as PNG, print its text, exit\n"
           "  --text        draw only the 4 text lines (no pixel image)\n"
+          "  --serial FILE what the controller sends on its serial link, line by line (a scenario's\n"
+          "                serial events are what comes in)\n"
           "  without --scenario: 8 km/h for an hour with the defaults\n", f);
 }
 
@@ -308,13 +310,21 @@ static double wall_s(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* --serial: where what the firmware sends on its link goes (else it is read and dropped, as a
+ * PC would, so that the link takes the scenario's serial lines) */
+static FILE *link_out;
+
 /* One simulation tick with the key queue; 0 once the scenario is over. */
 static int tick(sim_t *sim)
 {
+    int b;
     if (sim_done(sim))
         return 0;
     keys_tick(sim);
     sim_step(sim);
+    while ((b = hal_host_uart_tx_pop()) >= 0)
+        if (link_out)
+            fputc(b, link_out);
     return 1;
 }
 
@@ -329,9 +339,11 @@ int main(int argc, char **argv)
     if (!s || !sim)
         return 1;
     long scale_l = 3;
+    const char *serial_path = NULL;
     const arg_opt_t opts[] = {
         {"--scenario", ARG_TEXT, &scn_path, 0, 0, NULL},
         {"--keys", ARG_TEXT, &keys, 0, 0, NULL},
+        {"--serial", ARG_TEXT, &serial_path, 0, 0, NULL},
         {"--screenshot", ARG_TEXT, &shot, 0, 0, NULL},
         {"--text", ARG_FLAG, &text_only, 0, 0, NULL},
         {"--speed", ARG_NUM, &speed, 0.001, 1000, NULL},
@@ -342,6 +354,13 @@ int main(int argc, char **argv)
     if (r != ARGS_OK)
         return r == ARGS_HELP ? 0 : 2;
     scale = (int)scale_l;
+    if (serial_path) {
+        if (!(link_out = fopen(serial_path, "w"))) {
+            fprintf(stderr, "panel: cannot write %s: %s\n", serial_path, strerror(errno));
+            return 2;
+        }
+        setvbuf(link_out, NULL, _IOLBF, 0);
+    }
     if (scn_path ? scenario_load(s, scn_path, err, sizeof err) < 0
                  : scenario_parse(s, default_scn, "(panel default)", err, sizeof err) < 0) {
         fprintf(stderr, "panel: %s\n", err);

@@ -18,7 +18,9 @@ typedef struct {
 } cfg_key_t;
 
 static const cfg_key_t cfg_keys[] = {
-    {"rate_l_ha", P_RATE, 1},
+    {"rate_l_ha", P_RATE, 10},                      /* Rate 1, stored in 0.1 L/ha */
+    {"rate2_l_ha", P_RATE2, 10},                    /* Rate 2 */
+    {"rate_step_pct", P_RATE_STEP, 1},              /* a nudge's step */
     {"nozzles", P_NOZZLES, 1},
     {"spacing_cm", P_SPACING, 1},
     {"sections", P_SECTIONS, 1},

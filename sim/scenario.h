@@ -14,7 +14,7 @@
 /* Events of the [events] section: `time_s name [value]`. */
 #define SCN_EVENTS(X)                                                           \
     X(EV_SECTIONS_OPEN,      "sections_open",           1)  /* N nozzles open */  \
-    X(EV_RATE,               "rate_l_ha",               1)  /* param_set(P_RATE) */ \
+    X(EV_RATE,               "rate_l_ha",               1)  /* param_set(P_RATE), Rate 1 */ \
     X(EV_GIVEN_SPEED,        "given_speed_kmh",         1)  /* param_set(P_GIVEN_SPEED), 0: wheel */ \
     X(EV_PTO_RPM,            "pto_rpm",                 1)                         \
     X(EV_METER_FAIL,         "meter_fail",              0)                         \
@@ -36,7 +36,9 @@
     X(EV_WHEEL_MULT,         "wheel_pulse_mult",        1)  /* the wheel sensor gives X edges a real one */ \
     X(EV_POWER_CUT,          "power_cut",               1)  /* X s without power, then a boot */ \
     X(EV_KEY,                "key",                     2)  /* a keypad key held (text: the key) */ \
-    X(EV_SERIAL,             "serial",                  2)  /* a line into the UART (text: the line) */
+    X(EV_SERIAL,             "serial",                  2)  /* a line into the UART (text: the line) */ \
+    X(EV_PRESET,             "rate_preset",             1)  /* the preset in use: 1 or 2 */ \
+    X(EV_NUDGE,              "rate_nudge",              1)  /* +1 / -1: a Rate step up / down; 0: back to the preset */
 
 #define SCN_EV_ENUM(id, name, arg) id,
 enum { SCN_EVENTS(SCN_EV_ENUM) EV_COUNT };

@@ -106,9 +106,17 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
             BAD("%g nozzles is not a whole number of sections (%d nozzles each)", v, noz / sec);
         break;
     case EV_RATE:
-        if (!is_whole(v) || v < 0 || v > 65535 || !param_in_range(P_RATE, (uint16_t)floor(v + 0.5)))
-            BAD("%g out of the firmware's range %u..%u L/ha (whole numbers)", v,
-                param_info(P_RATE)->min, param_info(P_RATE)->max);
+        if (!is_whole(v * 10) || v < 0 || v > 6553 || !param_in_range(P_RATE, (uint16_t)floor(v * 10 + 0.5)))
+            BAD("%g out of the firmware's range %g..%g L/ha in steps of 0.1", v,
+                param_info(P_RATE)->min / 10.0, param_info(P_RATE)->max / 10.0);
+        break;
+    case EV_PRESET:
+        if (v != 1 && v != 2)
+            BAD("%g is not a preset (1 or 2)", v);
+        break;
+    case EV_NUDGE:
+        if (v != 1 && v != -1 && v != 0)
+            BAD("%g is not a nudge (+1 up, -1 down, 0 back to the preset)", v);
         break;
     case EV_GIVEN_SPEED:
         if (v < 0 || v > 6553 || !is_whole(v * 10) || !param_in_range(P_GIVEN_SPEED, (uint16_t)floor(v * 10 + 0.5)))

@@ -122,7 +122,7 @@ int main(int argc, char **argv)
         for (i = 0; i < P_COUNT; i++)
             param_set((uint8_t)i, s->param[i]);
     }
-    if (rate > 0 && !param_set(P_RATE, (uint16_t)floor(rate + 0.5)))
+    if (rate > 0 && !param_set(P_RATE, (uint16_t)floor(rate * 10 + 0.5)))
         return 2;
     if (nozzles > 0)
         param_v[P_NOZZLES] = (uint16_t)floor(nozzles + 0.5);
@@ -252,7 +252,7 @@ int main(int argc, char **argv)
         const row_t *st = i ? &rows[i - 1] : rw;
         double width = col[C_WIDTH] >= 0 ? st->v[C_WIDTH]
                      : col[C_OPEN] >= 0 ? st->v[C_OPEN] * param_v[P_SPACING] / 100.0 : width_set;
-        double rate_now = col[C_RATE] >= 0 ? st->v[C_RATE] : param_v[P_RATE];
+        double rate_now = col[C_RATE] >= 0 ? st->v[C_RATE] : param_v[P_RATE] * 0.1;
         unsigned rise = rw->alarms & ~prev_alarms;
         uint8_t b;
         metrics_add(&m, dt, v_slice / 3.6, nozzle, width, rate_now, p, spray);

@@ -10,6 +10,7 @@
 #include "target.h"
 #include "keypad.h"
 #include "store.h"
+#include "link_crc.h"
 #include <stdlib.h>
 
 static double now_s(clockid_t clock)
@@ -91,8 +92,8 @@ void sim_init(sim_t *sim, const scenario_t *s)
             store_save();           /* the operator's settings saved, so that a reboot finds them */
             break;
         }
-    sim->fw_rate = param_v[P_RATE];
-    sim->set_rate = sim->fw_rate;
+    sim->fw_rate = target_rate_x10();
+    sim->set_rate = sim->fw_rate * 0.1;
     /* sample k of the step series is at k * SIM_SAMPLE_S: the first one now */
     sample(sim, 0.0);
 }
@@ -120,7 +121,17 @@ static void power_on(sim_t *sim)
     params_defaults();
     hal_init();
     app_init();
-    sim->fw_rate = param_v[P_RATE];     /* what the firmware loaded, not what the operator set */
+    sim->fw_rate = target_rate_x10();   /* what the firmware loaded, not what the operator set */
+}
+
+/* The operator's nudge as the serial command does it (so that PIL runs it in s51 too): NUD
+ * +, - or 0 (back to the preset), with its check. */
+static void nudge_line(sim_t *sim, int dir)
+{
+    char line[16];
+    snprintf(line, sizeof line, "NUD %c", dir > 0 ? '+' : dir < 0 ? '-' : '0');
+    snprintf(line + 5, sizeof line - 5, "*%02X", link_crc8(line, 5));
+    sim_event_text(sim, EV_SERIAL, line);
 }
 
 int sim_event(sim_t *sim, int kind, double v)
@@ -130,7 +141,9 @@ int sim_event(sim_t *sim, int kind, double v)
         return -1;
     switch (kind) {
     case EV_SECTIONS_OPEN: set_sections(sim, (int)floor(v + 0.5)); break;
-    case EV_RATE: param_set(P_RATE, (uint16_t)floor(v + 0.5)); break;
+    case EV_RATE: param_set(P_RATE, (uint16_t)floor(v * 10 + 0.5)); break;
+    case EV_PRESET: param_set(P_PRESET, (uint16_t)floor(v + 0.5) - 1u); break;
+    case EV_NUDGE: nudge_line(sim, (int)floor(v + 0.5)); break;
     case EV_GIVEN_SPEED: param_set(P_GIVEN_SPEED, (uint16_t)floor(v * 10 + 0.5)); break;
     case EV_PTO_RPM: pl->pto_rpm = v; break;
     case EV_METER_FAIL: pl->meter_fail = 1; break;
@@ -278,9 +291,9 @@ void sim_step(sim_t *sim)
             sim->poll(sim);
         else
             app_poll();
-        if (param_v[P_RATE] != sim->fw_rate) {
-            sim->fw_rate = param_v[P_RATE]; /* the operator set a rate (event, key or link) */
-            sim->set_rate = sim->fw_rate;
+        if (target_rate_x10() != sim->fw_rate) {
+            sim->fw_rate = target_rate_x10();   /* the operator set a rate (event, key or link) */
+            sim->set_rate = sim->fw_rate * 0.1;
         }
     }
     if (sim->drive_log && (hal_host_io.valve_dir != sim->log_dir || hal_host_io.valve_duty != sim->log_duty ||
@@ -303,7 +316,7 @@ void sim_step(sim_t *sim)
     sim->prev_alarms = app_status.alarms;
 
     metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
-                param_v[P_RATE], pl->p_bar, pl->spray_on);
+                sim->set_rate, pl->p_bar, pl->spray_on);
     if (pl->spray_on && !sim->spray_on_ns)
         sim->spray_on_ns = t1 + 1;
     metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.in.target_lpm_x100 * 0.01,

@@ -122,7 +122,7 @@ typedef struct sim {
     uint64_t key_release_ns;        /* the key held now is let go at this time (0: none held) */
     int scn_input;                  /* the scenario's [events] hold key or serial input */
     uint64_t power_back_ns;         /* a power cut: the supply comes back at this time (0: on) */
-    uint16_t fw_rate;               /* the firmware's P_RATE the last tick it ran ... */
+    uint16_t fw_rate;               /* the firmware's rate in use (L/ha x10) the last tick it ran ... */
     double set_rate;                /* ... and the rate the operator last set (a reboot's reload is not one) */
     /* step 5 of sim_step: app_poll() when NULL; the HIL program (sim/hil_main.c) puts a board
      * on the serial link there instead */

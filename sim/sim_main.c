@@ -14,6 +14,7 @@
 #include "pty.h"
 #include "link_crc.h"
 #include "summary.h"
+#include "progress.h"
 
 static void usage(FILE *f)
 {
@@ -141,6 +142,7 @@ int main(int argc, char **argv)
     const char *input_path = NULL, *chip_path = NULL, *s51_path = "build/ucsim/s51";
     FILE *serial = NULL, *drive_log = NULL;
     pil_t *pil = NULL;
+    progress_t prog;
     chip_t *chip = NULL;
     arg_nums_t chip_ev[3] = { { { 0 }, 0 } };   /* the times of --chip-reset, --chip-hang, --chip-wheel-sweep */
     static const int chip_ev_kind[3] = { STC12_EV_RESET, STC12_EV_HANG, STC12_EV_WHEEL_SWEEP };
@@ -301,17 +303,26 @@ int main(int argc, char **argv)
         /* run in 0.1 s slices and take what the UART sent in each (the host queue holds 4 KB) */
         double t;
         int b;
+        progress_start(&prog, pil ? "pil" : chip ? "chip" : "sim", s->duration_s);
         for (t = 0.1; !sim_done(sim); t += 0.1) {
             sim_run(sim, t < s->duration_s ? t : s->duration_s);
             while ((b = hal_host_uart_tx_pop()) >= 0)
                 fputc(b, serial);
+            progress_show(&prog, sim_time_s(sim));
         }
+        progress_end(&prog);
         if (fclose(serial) != 0) {
             fprintf(stderr, "sim: error writing %s: %s\n", serial_path, strerror(errno));
             return 1;
         }
     } else {
-        sim_run(sim, s->duration_s);
+        /* in 1 s slices, the same steps as at once, for the progress line */
+        progress_start(&prog, pil ? "pil" : chip ? "chip" : "sim", s->duration_s);
+        while (!sim_done(sim)) {
+            sim_run(sim, sim_time_s(sim) + 1.0);
+            progress_show(&prog, sim_time_s(sim));
+        }
+        progress_end(&prog);
     }
     if (chip && chip_finish(chip) < 0) {
         fprintf(stderr, "sim: --chip: the model stopped answering\n");

@@ -39,7 +39,7 @@ void sim_row(const sim_t *sim, sim_row_t *r)
     r->sections = hal_host_io.sections;
     r->alarms = app_status.alarms;
     r->ref_lpm = sim_reference_lpm(sim);
-    r->rate_l_ha = param_v[P_RATE];
+    r->rate_l_ha = sim->set_rate;
     r->width_m = pl->open_nozzles * pl->p.spacing_m;
 }
 

@@ -27,7 +27,7 @@ static int rate_changes(const scenario_t *s)
 {
     int i;
     for (i = 0; i < s->n_events; i++)
-        if (s->events[i].kind == EV_RATE)
+        if (s->events[i].kind == EV_RATE || s->events[i].kind == EV_PRESET || s->events[i].kind == EV_NUDGE)
             return 1;
     return 0;
 }
@@ -44,7 +44,7 @@ void sim_summary(const sim_t *sim, const metrics_result_t *r, FILE *f)
     fprintf(f, "%-40s %9s\n%s\n", "figure", "this run", SUMMARY_RULE);
     row(f, "mean overshoot, %", r->overshoot_mean_pct);
     row(f, "mean settling time, s", r->settle_mean_s);
-    snprintf(label, sizeof label, "applied dose, L/ha (set %u%s)", (unsigned)s->param[P_RATE],
+    snprintf(label, sizeof label, "applied dose, L/ha (set %g%s)", s->param[P_RATE] * 0.1,
              rate_changes(s) ? " at first" : "");
     row(f, label, r->applied_l_ha);
     row(f, "dose error, % (v >= 4 km/h)", r->dose_error_pct);

@@ -41,6 +41,9 @@ import subprocess
 import sys
 from multiprocessing import Pool
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
+
 NOZZLES, SPACING_CM, RATING_3BAR, P_LIMIT = 36, 50, 1.18, 4.5
 FIGURES = [  # (summary key, run column, label)
     ("dose_abs_pct", "dose_abs_pct", "|dose| %"),
@@ -335,7 +338,7 @@ def main():
                     f.write(scenario_text_tuned(i, d))
             jobs += [(a.sim, path, c, i, d) for c in ctls]
     with Pool(max(1, a.jobs)) as pool:
-        results = pool.map(run_one, jobs, chunksize=1)
+        results = progress.pool_map(pool, run_one, jobs, "family")
     rows, errors = [], []
     for (sim, path, ctl, i, d), m in zip(jobs, results):
         if "error" in m:

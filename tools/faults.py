@@ -29,6 +29,9 @@ import subprocess
 import sys
 from multiprocessing import Pool
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
+
 PARAMS_H = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "firmware", "store", "params.h")
 T0 = 90.0                       # the fault's start, unless the fault is there from the start
 RATE, NOZZLES, SPACING_M, KMH = 150, 36, 0.5, 8.0
@@ -134,8 +137,9 @@ def manual_hash(dv):
 
 
 def set_then_cut(rate):
-    ev = ["%g serial %s" % (T0, csum("SET 0 %d" % rate)), "%g power_cut 2" % (T0 + 20)]
-    return dict(text=scenario("SET 0 %d, power cut" % rate, ev), start=T0 + 20, rate=[(0, RATE), (T0, rate)])
+    # Rate 1 over the link in 0.1 L/ha
+    ev = ["%g serial %s" % (T0, csum("SET 0 %d" % (rate * 10))), "%g power_cut 2" % (T0 + 20)]
+    return dict(text=scenario("SET 0 %d, power cut" % (rate * 10), ev), start=T0 + 20, rate=[(0, RATE), (T0, rate)])
 
 
 def xor_collision(line):
@@ -146,7 +150,7 @@ def xor_collision(line):
 
 
 def set_flood(n):
-    ev = ["%.3f serial %s" % (T0 + 0.004 * k, csum("SET 0 %d" % RATE)) for k in range(n)]
+    ev = ["%.3f serial %s" % (T0 + 0.004 * k, csum("SET 0 %d" % (RATE * 10))) for k in range(n)]
     return dict(text=scenario("%d SETs" % n, ev), start=T0,
                 note="the host build's pass takes no time: the control period under the flood is PIL's "
                      "(make pil)")
@@ -195,7 +199,7 @@ FAULTS = [
     ("manual_hash", "one '#' on the run screen, the speed changes (PTO fixed), a power-up at standstill", manual_hash,
      [("8 -> 11 km/h", 3.0), ("8 -> 9.5 km/h", 1.5)]),
     ("set_then_cut", "a rate SET over the link, a power cut 20 s later", set_then_cut,
-     [("SET 0 100", 100), ("SET 0 125", 125)]),
+     [("SET 0 1000", 100), ("SET 0 1250", 125)]),
     ("xor_collision", "a line two bytes away from the one sent, the same XOR checksum", xor_collision,
      [("SET 4 110 for SET 0 150", ("SET 0 150", "SET 4 110")),
       ("SET 4 3297 for SET 4 3927", ("SET 4 3927", "SET 4 3297"))]),
@@ -310,7 +314,7 @@ def main():
     jobs = [(a.sim, a.controller, a.out, name, label, build(arg))
             for name, _, build, sizes in FAULTS if not only or name in only for label, arg in sizes]
     with Pool(max(1, a.jobs)) as pool:
-        rows = pool.map(run_one, jobs, chunksize=1)
+        rows = progress.pool_map(pool, run_one, jobs, "faults")
     bad = [r for r in rows if "error" in r]
     if bad:
         sys.exit("faults: %s %s: %s" % (bad[0]["fault"], bad[0]["size"], bad[0]["error"]))

@@ -220,7 +220,7 @@ EQUIVALENT = [
     ("firmware/ops/diag_line.c", "diag_balance", "if (dl.bal_n < 255u)", "255u -> 254u",
      "bal_n is compared with DIAG_BAL_STRETCH (100) and 0 only: 254 and 255 alike"),
     ("firmware/control/target.c", "target_rate_window",
-     "uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;", ">= -> >",
+     "uint16_t job = target_preset_x10(), d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;", ">= -> >",
      "at rate_x10 == job both ways give 0"),
     ("firmware/control/target.c", "target_flow_x100", "if (speed_x100 < vmin)", "< -> <=",
      "at speed_x100 == vmin both ways give vmin"),

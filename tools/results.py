@@ -21,6 +21,9 @@ import tempfile
 import time
 from multiprocessing import Pool
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -62,7 +65,7 @@ class Runner:
 
     def many(self, jobs):
         """jobs: list of (path, controller, seed, extra) -> results in order; any failure stops."""
-        res = self.pool.map(run_sim, [(self.sim, p, c, s, e) for p, c, s, e in jobs], chunksize=1)
+        res = progress.pool_map(self.pool, run_sim, [(self.sim, p, c, s, e) for p, c, s, e in jobs], "report")
         bad = [r for r in res if "error" in r]
         if bad:
             sys.exit("results: a run failed: %s\n  %s" % (bad[0]["cmd"], bad[0]["error"]))

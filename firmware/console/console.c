@@ -109,10 +109,15 @@ static void key_run(void)
         if (con_apply(P_MODE, param_v[P_MODE] ? 0 : 1))
             con_say(param_v[P_MODE] ? "Mode: MANUAL" : "Mode: AUTO");
     } else if (con.k == '2' || con.k == '8') {
-        if (app_status.manual)
+        if (app_status.manual) {
             ops_jog(con.k == '2' ? 1 : -1);
-        else
-            con_say("Jog: manual only");
+        } else {                    /* auto: the rate in use a Rate step up or down */
+            target_nudge(con.k == '2' ? 1 : -1);
+        }
+    } else if (con.k == '5') {
+        target_nudge(0);            /* back to the preset */
+    } else if (con.k == '0') {
+        con_apply(P_PRESET, param_v[P_PRESET] ? 0 : 1);    /* the bottom line shows Rate 2 */
     }
 }
 
@@ -175,11 +180,13 @@ static uint8_t typing(uint8_t decimals)
     return 0;
 }
 
+/* A number typed in the units chosen (console_units.c), back in the parameter's. */
 static void key_edit(void)
 {
-    const __code param_info_t *pi = param_info(con_item);
-    uint16_t v;
-    if (typing(pi->decimals))
+    const __code con_unit_t *u = con_unit(con_id_class(con_item));
+    uint8_t dec = u ? u->dec : param_info(con_item)->decimals;
+    uint32_t v;
+    if (typing(dec))
         return;
     if (con.k == 'C') {
         if (con.entry_n)
@@ -191,12 +198,14 @@ static void key_edit(void)
             go(S_MENU);
             return;
         }
-        v = con_entry_value(pi->decimals);
-        if (!pi->decimals && entry_point() != 0xFF) {
+        v = con_entry_value(dec);
+        if (u && v != ENTRY_TOO_BIG)
+            v = con_unit_in(con_item, v);
+        if (!dec && entry_point() != 0xFF) {
             con_say("Whole numbers");
-        } else if (v == ENTRY_TOO_BIG) {
+        } else if (v >= ENTRY_TOO_BIG) {
             con_say_range(con_item);
-        } else if (con_apply(con_item, v)) {
+        } else if (con_apply(con_item, (uint16_t)v)) {
             con_state = S_MENU;
             con_entry_clear();
             return;
@@ -393,6 +402,10 @@ void console_poll(void)
     if ((uint16_t)(now - con.rate_ms) >= 1000u) {
         con.rate_ms += 1000u;
         rate_second();
+        /* off the preset: a reminder in one second of every CONSOLE_REMIND_MS (the seconds'
+         * grid meets each such span's first second once) */
+        if (target_nudge_pct() && ((uint16_t)hal_ms() & (CONSOLE_REMIND_MS - 1u)) < 1000u)
+            con_say("Nudged: 5=preset");
     }
     if (store_done(STORE_BY_CONSOLE)) {     /* the save of a value set here has ended */
         con_say(store_result() == STORE_OK ? "Saved" : store_status_text(store_result()));

@@ -8,7 +8,9 @@
 /*
  * Keys (keypad.h has the matrix):
  *   run screen   A menu, B totals page, # manual <-> auto, 2 / 8 jog the valve in manual
- *                mode (more / less flow; held: repeats)
+ *                mode (more / less flow; held: repeats); in auto 2 / 8 nudge the rate in use
+ *                up / down by Rate step % (within +-50 %), 5 back to the preset, 0 Rate 1 <->
+ *                Rate 2
  *   any screen   * acknowledges the alarm or the EEPROM notice the bottom line shows, only that;
  *                when it shows neither, * shows the first waiting (a second * acknowledges it)
  *   menu         A previous item, B next item, D open the item, C back to the run screen
@@ -23,6 +25,7 @@
  */
 #define CONSOLE_REDRAW_MS 250       /* the run screen's refresh */
 #define CONSOLE_MSG_MS 2500         /* how long a message stays on the bottom line */
+#define CONSOLE_REMIND_MS 32768u    /* while the rate is nudged: a reminder this often (a power of 2) */
 
 /* Menu entries after the parameters (their index in the menu is P_COUNT + n). */
 #define MENU_CAL_SPEED (P_COUNT + 0)

@@ -80,7 +80,12 @@ void con_show(uint8_t row) __reentrant;     /* the line put together, on the scr
 #define CON_DEC_MASK 3u
 #define CON_TRIM 4u
 #define CON_DROP(k) ((k) << 3)
+/* CON_Q(cls): v is a quantity of class cls (CU_*, in the firmware's scale) shown in the units
+ * chosen (con_cat_q): in US or turf units converted, in the unit's decimals (the drop is
+ * metric's only) */
+#define CON_Q(cls) ((uint8_t)((cls) << 5))
 void con_cat_num(uint32_t v, uint8_t width, uint8_t form) __reentrant;
+void con_cat_q(uint32_t v, uint8_t width, uint8_t form) __reentrant;
 void con_right_align(uint8_t from) __reentrant;
 uint8_t con_is_choice(uint8_t id) __reentrant;
 const __code char *con_choice_name(uint8_t id, uint16_t v) __reentrant;
@@ -93,7 +98,22 @@ void con_entry_key(uint8_t decimals) __reentrant;
 uint16_t con_entry_value(uint8_t decimals) __reentrant;
 uint32_t con_cal_now(void) __reentrant;
 void con_draw(void) __reentrant;
+/* units (console_units.c): the quantities that have a US and a turf unit (at most 7: CON_Q) */
+enum { CU_NONE, CU_RATE, CU_SPEED, CU_PRESS, CU_VOL, CU_FLOW, CU_AREA, CU_ML, CU_COUNT };
+typedef struct {
+    const __code char *unit;
+    uint8_t dec;                    /* decimals shown */
+    uint16_t m, d;                  /* shown = the firmware's value x m / d */
+} con_unit_t;
+const __code con_unit_t *con_unit(uint8_t cls) __reentrant;
+uint8_t con_id_class(uint8_t id) __reentrant;
+const __code char *con_unit_text(uint8_t cls, const __code char *metric) __reentrant;
+void con_cat_unit(uint8_t cls) __reentrant;
+uint32_t con_unit_in(uint8_t id, uint32_t shown) __reentrant;
+uint32_t con_q(uint32_t v, uint8_t form) __reentrant;
+uint8_t con_q_form(uint8_t form) __reentrant;
 void con_iotest_start(void) __reentrant;
 void con_draw_iotest(void) __reentrant;     /* console_io.c */
+void con_draw_totals(void) __reentrant;     /* console_totals.c */
 
 #endif

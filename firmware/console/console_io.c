@@ -69,10 +69,8 @@ void con_draw_iotest(void)
     cat_pulses('W', ops_wheel_pulses(), con_io.wheel_hz);
     con_cat(app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
     con_show(2);
-    if (con_msg_on()) {
-        con_draw_msg();
-        return;
-    }
+    if (con_msg_on())
+        return;                     /* con_draw puts the message on the bottom line */
     cat_pulses('M', ops_flow_pulses(), con_io.meter_hz);
     con_show(3);
 }

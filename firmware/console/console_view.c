@@ -16,6 +16,8 @@
 #include "console.h"
 #include "console_int.h"
 #include "totals.h"
+#include "mul.h"
+#include "umath.h"
 
 /* ---- small text helpers ---------------------------------------------------------------- */
 void con_say(const __code char *s)
@@ -68,12 +70,12 @@ void con_show(uint8_t row)
 }
 
 /* a number, right-aligned in width columns ('#'s when it does not fit); width 0: as long as it
- * is; form: the decimals, | CON_TRIM or CON_DROP(k) (console_int.h) */
+ * is; form: the decimals, | CON_TRIM or CON_DROP(k), | CON_Q(cls) (console_int.h) */
 void con_cat_num(uint32_t v, uint8_t width, uint8_t form)
 {
     static const __code uint16_t half[4] = {0, 5, 50, 500};
     char num[FMT_MAX];
-    uint8_t n, drop = (uint8_t)(form >> 3), decimals = (uint8_t)(form & CON_DEC_MASK);
+    uint8_t n, drop = (uint8_t)((form >> 3) & 3u), decimals = (uint8_t)(form & CON_DEC_MASK);
     n = fmt_u32((__idata char *)num, v + half[drop], (uint8_t)(decimals + drop), (uint8_t)((form & CON_TRIM) != 0));
     if (drop) {
         n -= drop;
@@ -89,6 +91,13 @@ void con_cat_num(uint32_t v, uint8_t width, uint8_t form)
     while (width-- > n)
         con_cat(" ");
     con_cat_ram(num);
+}
+
+/* con_cat_num of a quantity of class CON_Q(cls) in the units chosen; the conversion is done
+ * before con_cat_num runs, not inside it (the console's deepest stack path goes through it) */
+void con_cat_q(uint32_t v, uint8_t width, uint8_t form)
+{
+    con_cat_num(con_q(v, form), width, con_q_form(form));
 }
 
 /* move line[from..] to the right end of the row, spaces in between */
@@ -109,38 +118,69 @@ void con_right_align(uint8_t from)
         con_line[from + shift] = ' ';
 }
 
+/* The settings chosen by name (besides Control, named by ctl.h): each one's names in the
+ * order of its values, from choice_first[k] in choice_names */
+static const __code uint8_t choice_ids[] = {P_MODE, P_REMOTE, P_LOG_UNIT, P_PRESET, P_UNITS};
+static const __code uint8_t choice_first[] = {0, 2, 5, 7, 9};
+static const __code char *const __code choice_names[] = {
+    "Auto", "Manual", "off", "Raven 9600", "Raven 1200", "m", "s", "Rate 1", "Rate 2", "Metric", "US", "Turf",
+};
+
+/* id's row in choice_ids, sizeof choice_ids when it has none */
+static uint8_t choice_row(uint8_t id) __reentrant
+{
+    uint8_t k;
+    for (k = 0; k < sizeof choice_ids && choice_ids[k] != id; k++)
+        ;
+    return k;
+}
+
 uint8_t con_is_choice(uint8_t id)
 {
-    return id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT;
+    return id == P_CONTROLLER || choice_row(id) < sizeof choice_ids;
 }
 
 const __code char *con_choice_name(uint8_t id, uint16_t v)
 {
-    if (id == P_MODE)
-        return v ? "Manual" : "Auto";
-    if (id == P_REMOTE)
-        return v == 2 ? "Raven 1200" : v ? "Raven 9600" : "off";
-    if (id == P_LOG_UNIT)
-        return v ? "s" : "m";
-    return ctl_name((uint8_t)v);
+    uint8_t k = choice_row(id);
+    return k < sizeof choice_ids ? choice_names[choice_first[k] + v] : ctl_name((uint8_t)v);
 }
 
-/* append a parameter's value and unit, "150 L/ha" */
+/* The form of parameter id's values, CON_Q of its class; a speed setting (km/h x10) goes to
+ * con_q as the class's km/h x100 (pvalue) in US or turf units. */
+static uint8_t pform(uint8_t id, uint8_t cls) __reentrant
+{
+    return (uint8_t)(param_info(id)->decimals | CON_Q(cls));
+}
+
+static uint32_t pvalue(uint8_t cls, uint16_t v) __reentrant
+{
+    return cls == CU_SPEED && param_v[P_UNITS] ? v * 10uL : v;
+}
+
+/* append parameter id's unit in the units chosen after a space, none when it has none */
+static void cat_param_unit(uint8_t id) __reentrant
+{
+    const __code char *unit = con_unit_text(con_id_class(id), param_info(id)->unit);
+    if (unit[0]) {
+        con_cat(" ");
+        con_cat(unit);
+    }
+}
+
+/* append a parameter's value and unit in the units chosen, "150.0 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)
 {
-    const __code param_info_t *pi = param_info(id);
+    uint8_t cls = con_id_class(id);
     if (con_is_choice(id)) {
         con_cat(con_choice_name(id, v));
         return;
     }
-    con_cat_num(v, 0, pi->decimals);
-    if (pi->unit[0]) {
-        con_cat(" ");
-        con_cat(pi->unit);
-    }
+    con_cat_num(con_q(pvalue(cls, v), pform(id, cls)), 0, con_q_form(pform(id, cls)));
+    cat_param_unit(id);
 }
 
-/* "Range 10..1000", the limits with their decimals, trailing zeros dropped */
+/* "Range 10..1000", the limits with their decimals in the units chosen, trailing zeros dropped */
 void con_say_range(uint8_t id)
 {
     con_say(0);
@@ -151,7 +191,7 @@ void con_say_range(uint8_t id)
 void con_draw_msg(void)
 {
     const __code param_info_t *pi;
-    uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT);
+    uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT), c, f;
     if (m == NO_RANGE) {
         screen_line(con.msg, 3);
         return;
@@ -166,10 +206,16 @@ void con_draw_msg(void)
         con_cat(b == CON_SHOWN_EE ? store_status_text(store_status()) : diag_text(b));
     } else {
         pi = param_info(m);
-        con_start("Range ");
-        con_cat_num(pi->min, 0, pi->decimals | CON_TRIM);
-        con_cat("..");
-        con_cat_num(pi->max, 0, pi->decimals | CON_TRIM);
+        c = con_id_class(m);
+        f = (uint8_t)(pform(m, c) | CON_TRIM);
+        for (b = 0; b < 2; b++) {   /* the word when the limits leave room for it */
+            con_start(b ? "Range " : "");
+            con_cat_num(con_q(pvalue(c, pi->min), f), 0, con_q_form(f));
+            con_cat("..");
+            con_cat_num(con_q(pvalue(c, pi->max), f), 0, con_q_form(f));
+            if (con_at > SCREEN_COLS - 6u)
+                break;
+        }
     }
     con_show(3);
 }
@@ -233,7 +279,7 @@ static int8_t alarm_shown(void)
 static void draw_run_bottom(void)
 {
     const __xdata app_status_t *st = &app_status;
-    int8_t a = alarm_shown();
+    int8_t a = alarm_shown(), n;
     uint8_t at, alarm_msg = con.msg_range != NO_RANGE && con.msg_range >= CON_MSG_PEEK;
     if (!alarm_msg && a >= 0 && ((st->alarms_unacked & (1u << a)) || !con_msg_on())) {
         if (st->alarms_unacked & (1u << a)) {
@@ -250,16 +296,29 @@ static void draw_run_bottom(void)
         con_start("!");
         con_cat(store_status_text(store_status()));
         con_show(3);
+    } else if (target_nudge_pct()) {        /* the rate in use and the operator's offset */
+        con_at = 0;
+        con_cat_q(target_rate_x10(), 0, 1 | CON_Q(CU_RATE));
+        con_cat_unit(CU_RATE);
+        con_cat(" ");
+        at = con_at;
+        con_cat(target_nudge_pct() > 0 ? "+" : "-");
+        n = target_nudge_pct();
+        con_cat_num((uint8_t)(n > 0 ? n : -n), 0, 0);
+        con_cat("%");
+        con_right_align(at);
+        con_show(3);
     } else {
         con_start("T");
-        con_cat_num(st->tank_l, 5, 0);
-        con_cat("L ");
+        con_cat_q(st->tank_l, 5, CON_Q(CU_VOL));
+        con_cat_unit(CU_VOL);
+        con_cat(" ");
         at = con_at;
         if (target_rate_remote()) {         /* the rate comes from the field computer */
             con_cat("RC");
-            con_cat_num(target_rate_x10(), 0, 1);
+            con_cat_q(target_rate_x10(), 0, 1 | CON_Q(CU_RATE));
         } else
-            con_cat(ctl_name(ctl_selected()));
+            con_cat(param_v[P_PRESET] ? con_choice_name(P_PRESET, 1) : ctl_name(ctl_selected()));
         con_right_align(at);
         con_show(3);
     }
@@ -270,68 +329,37 @@ static void draw_run(void)
     const __xdata app_status_t *st = &app_status;
     uint8_t at;
     int16_t q;
-    /* " 7.2km/h 4.40bar": ground speed, boom pressure */
+    /* " 7.2km/h 4.40bar": ground speed, boom pressure (US: " 4.5mph  63.8PSI") */
     con_at = 0;
-    con_cat_num(st->in.speed_kmh_x100, 4, 1 | CON_DROP(1));
-    con_cat("km/h");
-    con_cat_num(st->in.pressure_kpa, 5, 2);
-    con_cat("bar");
+    con_cat_q(st->in.speed_kmh_x100, 4, 1 | CON_DROP(1) | CON_Q(CU_SPEED));
+    con_cat_unit(CU_SPEED);
+    con_cat_q(st->in.pressure_kpa, 5, 2 | CON_Q(CU_PRESS));
+    con_cat_unit(CU_PRESS);
     con_show(0);
-    /* "Q 49.5> 49.3L/mn": target flow > measured flow */
+    /* "Q 49.5> 49.3L/mn": target flow > measured flow (US: "Q13.08>13.02gpm") */
     con_start("Q");
     q = st->in.target_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
+    con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
     con_cat(">");
     q = st->in.flow_lpm_x100;
-    con_cat_num(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1));
-    con_cat("L/mn");
+    con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
+    con_cat_unit(CU_FLOW);
     con_show(1);
     /* "Now 150L/ha AUTO": the rate applied over the last seconds, the mode (HIL: the inputs
-     * come from the PC's plant) */
-    con_start("Now");
+     * come from the PC's plant); US: "15.0gal/ac  AUTO" */
+    con_start(param_v[P_UNITS] ? "" : "Now");
     if (con.rate_l_ha == CON_RATE_NONE)
         con_cat("  --");
     else
-        con_cat_num(con.rate_l_ha, 4, 0);
-    con_cat("L/ha ");
+        con_cat_q(con.rate_l_ha * 10uL, 4, CON_DROP(1) | CON_Q(CU_RATE));
+    con_cat_unit(CU_RATE);
+    con_cat(" ");
     at = con_at;
     con_cat(hal_hil_active() ? (st->manual ? "HILM" : "HIL") : st->manual ? "MAN"
             : st->boom_wait ? "WAIT" : "AUTO");
     con_right_align(at);
     con_show(2);
     draw_run_bottom();
-}
-
-/* The job's area, volume and average rate; the lifetime's area and volume take turns. */
-static void draw_totals(void)
-{
-    con_start("Job ");
-    con_cat_num(app_status.job_area_m2, 9, 2 | CON_DROP(2));
-    con_cat(" ha");
-    con_show(0);
-    con_start("Job ");
-    con_cat_num(totals.job_ml, 10, 1 | CON_DROP(2));
-    con_cat(" L");
-    con_show(1);
-    con_start("Job avg");
-    con_cat_num(app_status.applied_l_ha_x10, 5, CON_DROP(1));
-    con_cat("L/ha");
-    con_show(2);
-    if (con_step) {
-        draw_bottom("Reset job? D=yes");
-    } else if (con_msg_on()) {
-        con_draw_msg();
-    } else {
-        con_start("Life");
-        if ((hal_ms() / 2000u) & 1u) {
-            con_cat_num(totals.life_ml, 10, CON_DROP(3));
-            con_cat(" L");
-        } else {
-            con_cat_num(totals.life_m2, 9, 2 | CON_DROP(2));
-            con_cat(" ha");
-        }
-        con_show(3);
-    }
 }
 
 static const char *menu_name(uint8_t i)
@@ -380,10 +408,7 @@ static void draw_edit(void)
     con_start("new ");
     con_cat_ram(con.u.entry);
     con_cat("_");
-    if (pi->unit[0]) {
-        con_cat(" ");
-        con_cat(pi->unit);
-    }
+    cat_param_unit(con_item);
     con_show(2);
     draw_bottom("D:ok C:clear");
 }
@@ -443,11 +468,15 @@ void con_draw(void)
     con.shown = CON_SHOWN_NONE;     /* the screen drawn says what it shows */
     switch (con_state) {
     case S_RUN: draw_run(); break;
-    case S_TOTALS: draw_totals(); break;
+    case S_TOTALS: con_draw_totals(); break;
     case S_MENU: draw_menu(); break;
     case S_EDIT: draw_edit(); break;
     case S_CHOICE: draw_choice(); break;
-    case S_IOTEST: con_draw_iotest(); break;
+    case S_IOTEST:                  /* its message drawn here, not under its frame (the stack) */
+        con_draw_iotest();
+        if (con_msg_on())
+            con_draw_msg();
+        break;
     default: draw_cal(); break;
     }
 }

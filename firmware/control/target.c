@@ -6,14 +6,14 @@
 
 static struct {
     uint32_t k_q16;                 /* L/min x100 per km/h x100, Q16: C d m / 600000 (C in L/ha x10) */
-    uint16_t remote_x10;            /* L/ha x10 from a field computer, 0: none (P_RATE) */
+    uint16_t remote_x10;            /* L/ha x10 from a field computer, 0: none (the preset) */
+    int8_t nudge_pct;               /* the operator's offset on it, +-TARGET_NUDGE_MAX % */
     uint8_t refusals;               /* remote rates refused since start (wraps) */
-    uint16_t width_cm;
-    uint8_t open;
+    uint8_t open;                   /* the nozzles of the sections switched on */
     uint8_t sections;
     uint8_t gen;
-    uint8_t valid;
 } tg;
+static __bit tg_valid;              /* tg derived from the sections and settings it holds */
 __data uint8_t target_noz_q = 4;
 __bit target_noz_new;               /* the nozzles open changed (ffmap.c's hold) */
 
@@ -33,11 +33,17 @@ uint8_t target_section_nozzles(uint8_t s) __reentrant
     return (uint8_t)(n / ns + (s < n % ns ? 1 : 0));
 }
 
-/* 1 when rate_x10 (L/ha x10) is at least P_RATE's least (10 L/ha) and within the operator's
- * window (P_REMOTE_WIN % of P_RATE) around the job's rate. */
+/* The preset in use (Rate 1 or Rate 2), L/ha x10. */
+uint16_t target_preset_x10(void)
+{
+    return param_v[param_v[P_PRESET] ? P_RATE2 : P_RATE];
+}
+
+/* 1 when rate_x10 (L/ha x10) is at least the presets' least (10 L/ha) and within the operator's
+ * window (P_REMOTE_WIN % of the preset in use) around it. */
 static uint8_t target_rate_window(uint16_t rate_x10) __reentrant
 {
-    uint16_t job = param_v[P_RATE] * 10u, d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;
+    uint16_t job = target_preset_x10(), d = rate_x10 >= job ? rate_x10 - job : job - rate_x10;
     uint32_t lim;
     if (rate_x10 < 100u)            /* P_RATE's least, 10 L/ha (the window's top is 2 x Dose) */
         return 0;
@@ -47,7 +53,31 @@ static uint8_t target_rate_window(uint16_t rate_x10) __reentrant
 
 uint16_t target_rate_x10(void)
 {
-    return tg.remote_x10 ? tg.remote_x10 : param_v[P_RATE] * 10u;
+    uint16_t base = tg.remote_x10 ? tg.remote_x10 : target_preset_x10();
+    if (!tg.nudge_pct)
+        return base;
+    /* base (<= 10000) x (100 + offset) / 100 rounded, offset within +-50: under 2^16 */
+    return (uint16_t)um_scaled_div(base, (uint16_t)(100 + tg.nudge_pct), 100u);
+}
+
+int8_t target_nudge_pct(void)
+{
+    return tg.nudge_pct;
+}
+
+int8_t target_nudge(int8_t dir) __reentrant
+{
+    int8_t step = (int8_t)param_v[P_RATE_STEP], n;   /* |offset| + step <= 100: within int8 */
+    n = dir ? (int8_t)(tg.nudge_pct + (dir > 0 ? step : -step)) : 0;
+    if (n > TARGET_NUDGE_MAX)
+        n = TARGET_NUDGE_MAX;
+    else if (n < -TARGET_NUDGE_MAX)
+        n = -TARGET_NUDGE_MAX;
+    if (n != tg.nudge_pct) {
+        tg.nudge_pct = n;
+        tg_valid = 0;               /* derived again at the next update */
+    }
+    return n;
 }
 
 uint8_t target_rate_remote(void)
@@ -62,7 +92,7 @@ uint8_t target_remote_rate(uint16_t rate_x10) __reentrant
         return 0;
     }
     tg.remote_x10 = rate_x10;
-    tg.valid = 0;                   /* derived again at the next update */
+    tg_valid = 0;                   /* derived again at the next update */
     return 1;
 }
 
@@ -93,21 +123,21 @@ static void target_derive(void) __reentrant
             tg.open += target_section_nozzles(s);
     if (tg.open != o)
         target_noz_new = 1;
-    tg.width_cm = (uint16_t)tg.open * param_v[P_SPACING];
     target_noz();
     if (tg.remote_x10 && (!param_v[P_REMOTE] || !target_rate_window(tg.remote_x10)))
-        tg.remote_x10 = 0;          /* Remote off, or a new Dose or window leaves it outside */
+        tg.remote_x10 = 0;          /* Remote off, or a new preset or window leaves it outside */
     cdm = UMUL(target_rate_x10(), param_v[P_SPACING]) * tg.open;       /* <= 1.92e8 */
     /* cdm * 65536 / 600000 = cdm * 4096 / 37500, rounded (the same bits as C in L/ha / 60000) */
     tg.k_q16 = um_scaled_div(cdm, 4096u, 37500u);
     tg.gen = param_generation;
-    tg.valid = 1;
+    tg_valid = 1;
 }
 
 void target_init(void)
 {
-    tg.valid = 0;
+    tg_valid = 0;
     tg.remote_x10 = 0;
+    tg.nudge_pct = 0;
     tg.refusals = 0;
     tg.sections = 0;
     target_derive();
@@ -115,7 +145,7 @@ void target_init(void)
 
 void target_update(uint8_t sections) __reentrant
 {
-    if (!tg.valid || sections != tg.sections || tg.gen != param_generation) {
+    if (!tg_valid || sections != tg.sections || tg.gen != param_generation) {
         tg.sections = sections;
         target_derive();
     }
@@ -155,5 +185,5 @@ uint8_t target_open_nozzles(void)
 
 uint16_t target_width_cm(void)
 {
-    return tg.width_cm;
+    return (uint16_t)tg.open * param_v[P_SPACING];
 }

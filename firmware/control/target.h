@@ -5,8 +5,8 @@
 #include "compiler.h"
 
 /*
- * q1 [L/min] = C * v * d * m / 60000 (eq. 1): C = P_RATE L/ha (or the rate a field computer
- * set, target_remote_rate), v km/h, d = P_SPACING cm,
+ * q1 [L/min] = C * v * d * m / 60000 (eq. 1): C = the rate in use, target_rate_x10 (the
+ * preset, or the rate a field computer set, nudged by the operator), v km/h, d = P_SPACING cm,
  * m = the nozzles of the switched-on sections. P_NOZZLES are split over P_SECTIONS as
  * evenly as they go (the first N % S sections carry one more); section switch bits at or
  * beyond P_SECTIONS are ignored.
@@ -39,12 +39,22 @@ uint8_t target_noz_take(void) __reentrant;
 uint8_t target_section_nozzles(uint8_t s) __reentrant;
 /* Working width of the open sections, cm. */
 uint16_t target_width_cm(void);
-/* A rate from a field computer (serial Remote), L/ha x10: taken (1) when P_REMOTE is on and it
- * is within P_REMOTE_WIN % of P_RATE (and P_RATE's range); refused (0) otherwise, and counted.
- * It holds until Remote is switched off or a new Dose or window leaves it outside. */
+/* A rate from a field computer (serial Remote), L/ha x10, in place of the preset in use: taken
+ * (1) when P_REMOTE is on and it is within P_REMOTE_WIN % of that preset (and at least 10 L/ha);
+ * refused (0) otherwise, and counted. It holds until Remote is switched off or a new preset
+ * (its value, or the other one chosen) or window leaves it outside. */
 uint8_t target_remote_rate(uint16_t rate_x10) __reentrant;
-/* The rate in use, L/ha x10, and 1 when it came from the field computer. */
+/* The rate in use, L/ha x10: the preset in use (P_PRESET: Rate 1 or Rate 2) or the field
+ * computer's rate in its place, times (100 + the operator's nudge) / 100; the one set rate of
+ * the target, the alarms, the log and the link. 1 when it came from the field computer. */
 uint16_t target_rate_x10(void);
+uint16_t target_preset_x10(void);
+/* The operator's nudge: dir > 0 up, < 0 down by P_RATE_STEP %, 0 back to the preset; bounded
+ * to +-TARGET_NUDGE_MAX %; the offset now in %. An offset of the rate in use: it stays over a
+ * change of preset or of the field computer's rate. */
+#define TARGET_NUDGE_MAX 50
+int8_t target_nudge(int8_t dir) __reentrant;
+int8_t target_nudge_pct(void);
 uint8_t target_rate_remote(void);
 /* Remote rates refused since start (wraps at 256), for the LCD. */
 uint8_t target_remote_refusals(void);

@@ -104,8 +104,8 @@ static uint32_t value(uint8_t k) __reentrant
         return actual_x10();
     case S_SW1:                     /* booms 1-6 on (bit 0 = boom 1), bit 7 set */
         return 0x80u | (hal_sections() & 0x3Fu & ((1u << param_v[P_SECTIONS]) - 1u));
-    case S_SW2:                     /* bit 7 set; in auto the rate in use: rate 1 (REMOTE_SW2_*) */
-        return app_status.manual ? 0x80u : 0x80u | REMOTE_SW2_RATE1;
+    case S_SW2:                     /* bit 7 set; in auto the preset in use, rate 1 or rate 2 (REMOTE_SW2_*) */
+        return app_status.manual ? 0x80u : param_v[P_PRESET] ? 0x80u | REMOTE_SW2_RATE2 : 0x80u | REMOTE_SW2_RATE1;
     case S_RATE:
         return target_rate_x10();
     case S_TANK:

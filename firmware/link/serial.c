@@ -9,12 +9,12 @@
 #include "fmt.h"
 #include "hil.h"
 #include "remote.h"
+#include "target.h"
 #include "linebuf.h"
 #include "linecheck.h"
 
-/* One buffer: it collects a command line, then holds the line being sent (the reply is
- * composed over the parsed command). While a line goes out, received bytes wait in the
- * HAL's queue. */
+/* One buffer: it collects a command line, then holds the line being sent (the reply composed
+ * over the parsed command). While a line goes out, received bytes wait in the HAL's queue. */
 static struct {
     char buf[SERIAL_TX_MAX];
     uint16_t reported;              /* alarm bits the PC has been told about */
@@ -37,7 +37,6 @@ static __data uint8_t se_framing;   /* the UART's once switched (HAL_UART_*: Rem
 static __bit boot_due;              /* the BOOT line (the reset cause) not yet sent */
 static __bit ee_due;                /* the EE line (settings not the newest saved) not yet sent */
 static __bit csum_seen;             /* the line being answered carried its check */
-
 
 static const __code char hexd[] = "0123456789ABCDEF";
 
@@ -145,9 +144,9 @@ static void reply_err(const __code char *why) __reentrant
 #define ARG_NONE 0                  /* nothing after the word */
 #define ARG_NUM 1                   /* one number */
 #define ARG_NUM2 2                  /* two numbers */
-#define ARG_SIGN 3                  /* + or - */
+#define ARG_SIGN 3                  /* + or - (or 0, for NUD) */
 #define ARG_ON 4                    /* the word ON */
-enum { C_GET, C_SET, C_CTL, C_JOG, C_ACK, C_RST, C_TOT, C_LIF, C_PUL, C_SAV, C_HIL };
+enum { C_GET, C_SET, C_CTL, C_JOG, C_ACK, C_RST, C_TOT, C_LIF, C_PUL, C_SAV, C_NUD, C_HIL };
 typedef struct {
     char word[4];                   /* three letters and the end */
     uint8_t args;                   /* ARG_* */
@@ -165,6 +164,7 @@ static const __code command_t commands[] = {
     {"LIF", ARG_NONE, C_LIF},       /* LIF               OK LIF <life m^2> <life ml> */
     {"PUL", ARG_NONE, C_PUL},       /* PUL               OK PUL <wheel pulses> <meter pulses> */
     {"SAV", ARG_NONE, C_SAV},       /* SAV               OK SAV */
+    {"NUD", ARG_SIGN, C_NUD},       /* NUD +|-|0         OK NUD <offset %> <rate in use L/ha x10> */
 #if FW_HIL
     {"HIL", ARG_ON, C_HIL},         /* HIL ON*HH         OK HIL, then frames (hil.h); the checksum required */
 #endif
@@ -173,7 +173,7 @@ static const __code command_t commands[] = {
 /* The commands that change something: refused without their check, so that a damaged line
  * ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
 #define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_ACK) | (1u << C_RST) | (1u << C_SAV) \
-                 | (1u << C_HIL))
+                 | (1u << C_NUD) | (1u << C_HIL))
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ", "FLOWMAX"};
 
@@ -208,9 +208,14 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
             tx_u32(a);
         }
         break;
+    case C_NUD:                     /* the rate in use nudged a step, or back to the preset */
+        ok("NUD");
+        tx_sp_i16(target_nudge((int8_t)a));
+        tx_sp_u32(target_rate_x10());
+        break;
     case C_JOG:
-        if (!app_status.manual) {
-            reply_err("MODE");
+        if (!a || !app_status.manual) {     /* JOG has no 0 */
+            reply_err(a ? "MODE" : link_e_arg);
         } else {
             ops_jog((int8_t)a);
             ok("JOG");
@@ -303,9 +308,9 @@ static uint8_t answer(void) __reentrant
         }
         break;
     case ARG_SIGN:
-        if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))
+        if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-' || p[1] == '0') && p[2] == 0))
             goto bad_arg;
-        a = p[1] == '+' ? 1 : (uint16_t)-1;
+        a = p[1] == '+' ? 1 : p[1] == '-' ? (uint16_t)-1 : 0;
         p += 2;
         break;
     case ARG_ON:                    /* the word ON */

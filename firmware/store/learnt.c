@@ -8,6 +8,7 @@
  * figures back when they start, and need neither the writing of the log nor what it writes.
  */
 
+typedef char learnt_after_values[(STORE_AT_LEARNT == 13u + 2u * P_COUNT) ? 1 : -1];
 uint8_t store_newest;               /* slot of the record loaded or saved last, STORE_NO_SLOT */
 static store_learnt_fn learnt_fn;           /* store_learnt_from's */
 
@@ -32,6 +33,6 @@ uint8_t store_learnt(uint8_t i)
     uint16_t base = store_slot_base(store_newest);
     if (store_newest == STORE_NO_SLOT || hal_eeprom_read(base + 1u) < STORE_LEARN_VERSION)
         return 0xFFu;
-    /* after the record's values (an older record's table may be shorter) and lifetime totals */
-    return hal_eeprom_read(base + 5u + 2u * hal_eeprom_read(base + 2u) + 8u + i);
+    /* after the record's own count of values (an older record's table is shorter) */
+    return hal_eeprom_read(base + 13u + 2u * hal_eeprom_read(base + 2u) + i);
 }

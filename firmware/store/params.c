@@ -107,6 +107,13 @@ const __code char *param_why_text(uint8_t why)
     return why <= PARAM_X_FLOW ? why_texts[why] : "";
 }
 
+uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v)
+{
+    if (id == P_RATE && ver < 10u)
+        return v > 1000u ? 0 : v * 10u;
+    return v;
+}
+
 const __code param_info_t *param_info(uint8_t id)
 {
     return id < P_COUNT ? &table[id] : NULL;

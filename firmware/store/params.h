@@ -15,7 +15,7 @@
 #define P_CTL_MIN (FW_PEERS ? 0 : 3)
 #define P_CTL_MAX (FW_PEERS ? 5 : 3)
 #define PARAM_TABLE(X)                                                              \
-    X(P_RATE,        "Dose",       "L/ha",  0,    10,  1000,  150)  /* eq. (1) C */      \
+    X(P_RATE,        "Rate 1",     "L/ha",  1,   100, 10000, 1500)  /* eq. (1) C: the first preset */ \
     X(P_NOZZLES,     "Nozzles",    "",      0,     1,    96,   36)  /* eq. (1) m */      \
     X(P_SPACING,     "Spacing",    "cm",    0,    10,   200,   50)  /* eq. (1) d */      \
     X(P_SECTIONS,    "Sections",   "",      0,     1,     8,    6)  /* nozzles split evenly */ \
@@ -46,27 +46,33 @@
     X(P_AOG_MAX,     "AOG maxPWM", "",      0,     1,   255,  255)  /* aog: the largest drive, PWM counts */ \
     X(P_RAVEN_CAL,   "Valve cal",  "",      0,    11,  9999, 2123)  /* raven: backlash, speed, brake point, dead band digits */ \
     X(P_REMOTE,      "Remote",     "",      0,     0,     2,    0)  /* 0 off; the link a Raven console's at 1 9600, 2 1200 baud (remote.h) */ \
-    X(P_REMOTE_WIN,  "Remote win", "%",     0,     1,   100,   50)  /* a remote rate within this of Dose */ \
+    X(P_REMOTE_WIN,  "Remote win", "%",     0,     1,   100,   50)  /* a remote rate within this of the preset */ \
     X(P_LOG_EVERY,   "Log every",  "",      0,     0,  9999,    1)  /* Raven's data logger trigger, in Log unit; 0 off */ \
     X(P_LOG_UNIT,    "Log unit",   "",      0,     0,     1,    1)  /* 0 metres, 1 seconds */ \
-    X(P_AOG_SLOW,    "AOG slow",   "%",     0,     1,   100,   60)  /* aog: the gain inside the brake point, % */
+    X(P_AOG_SLOW,    "AOG slow",   "%",     0,     1,   100,   60)  /* aog: the gain inside the brake point, % */ \
+    X(P_RATE2,       "Rate 2",     "L/ha",  1,   100, 10000, 2000)  /* the second preset */ \
+    X(P_PRESET,      "Preset",     "",      0,     0,     1,    0)  /* 0 Rate 1, 1 Rate 2 in use */ \
+    X(P_RATE_STEP,   "Rate step",  "%",     0,     1,    50,    5)  /* a nudge of the rate in use */ \
+    X(P_UNITS,       "Units",      "",      0,     0,     2,    0)  /* 0 metric, 1 US, 2 turf (console_units.c) */
 
 #define PARAM_ENUM(id, name, unit, dec, lo, hi, def) id,
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 9            /* bump when the table or the EEPROM record changes (2: lifetime totals,
+#define PARAMS_VERSION 10           /* bump when the table or the EEPROM record changes (2: lifetime totals,
                                      * 3: Min duty and Backlash appended, 4: Wheel p/rev appended, 5: the peers'
                                      * settings and Remote appended, 6: the learnt figures after the totals,
                                      * 7: ffmap's speed feed-forward among them, 8: the job totals after them,
                                      * 9: Raven's data logger trigger and AOG slow appended, the aog peer's
                                      * settings in the current RateControl's units, AOG brake in AOG Kd's
-                                     * place; a copy of version 2 to 8 still loads, the values appended
-                                     * since and the aog settings at their defaults) */
+                                     * place, 10: Dose as Rate 1 in 0.1 L/ha, Rate 2, Preset, Rate step and
+                                     * Units appended; a copy of version 2 to 9 still loads, the values
+                                     * appended since and (before 9) the aog settings at their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
 #define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 #define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */
 #define PARAMS_V8_COUNT 32          /* P_COUNT of versions 5 to 8: up to P_REMOTE_WIN */
+#define PARAMS_V9_COUNT 35          /* P_COUNT of version 9: up to P_AOG_SLOW */
 
 typedef struct {
     const __code char *name;
@@ -113,6 +119,9 @@ uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
 const __code char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id (and, for Valve cal, its dead band digit is 1-9). */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
+/* Value v of parameter id in a record of version ver, in this version's units: Rate 1 was whole
+ * L/ha before version 9 (0, out of every range, for what it cannot have been). */
+uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v) __reentrant;
 /* The table row of a parameter (NULL for a bad id). */
 const __code param_info_t *param_info(uint8_t id);
 /* Bumped by every change, so readers (controller, target) can tell when to pick values up. */

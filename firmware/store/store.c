@@ -124,8 +124,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (b != STORE_MAGIC)
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (!((sv_lo == PARAMS_VERSION && b == P_COUNT) || (sv_lo >= 5u && sv_lo < PARAMS_VERSION && b == PARAMS_V8_COUNT)
-                  || (sv_lo == 2u && b == PARAMS_V2_COUNT)
+            if (!((sv_lo == PARAMS_VERSION && b == P_COUNT) || (sv_lo >= 5u && sv_lo < 9u && b == PARAMS_V8_COUNT)
+                  || (sv_lo == 9u && b == PARAMS_V9_COUNT) || (sv_lo == 2u && b == PARAMS_V2_COUNT)
                   || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
             sv.n = b;
@@ -137,7 +137,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (sv_lo >= 8u)
                 sv.end += STORE_JOB_BYTES;      /* the job totals (version 8 on) */
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
-            if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
+            if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), param_of_version(hal_eeprom_read(base + 1u),
+                                (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8))))
                 return 0;
         } else if (sv_at == sv.end) {
             if (b != (uint8_t)(sv.crc >> 8))
@@ -217,9 +218,9 @@ uint8_t store_load(void) __reentrant
     params_defaults();
     for (s = 0; s < n; s++)         /* (before version 9 the aog settings were another loop's) */
         if (ver >= 9u || s < P_AOG_KP || s > P_AOG_MAX)
-            param_put(s, read16(base + HDR_VALUES + 2u * s));
+            param_put(s, param_of_version(ver, s, read16(base + HDR_VALUES + 2u * s)));
     totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (ver >= 8u)
+    if (ver >= 8u)                  /* the job after the learnt figures */
         totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
     else
         totals_set_job(0, 0);       /* an older copy has none */
@@ -480,7 +481,6 @@ uint8_t store_generation(void)
 {
     return saved_gen;
 }
-
 
 uint8_t store_status(void)
 {

@@ -10,10 +10,12 @@
  *   0      magic 0x5A
  *   1      PARAMS_VERSION (version 2's shorter table still loads, the values appended since at
  *          their defaults; any other version is not loaded)
- *   2      P_COUNT (PARAMS_V2_COUNT in a version 2 record)
+ *   2      P_COUNT (PARAMS_V2_COUNT in a version 2 record, PARAMS_V8_COUNT in versions 5-8);
+ *          what follows the values is found after the record's own count of them
  *   3..4   sequence number, little endian (the newest record is the one whose sequence is
  *          ahead of the others by 1..32767, so it may wrap)
- *   5..    P_COUNT values, uint16 little endian, in the order of params.h
+ *   5..    P_COUNT values, uint16 little endian, in the order of params.h (before version 9
+ *          Rate 1 was whole L/ha: loaded times 10)
  *   then   the lifetime totals: area m^2 and volume ml, uint32 little endian each
  *   then   (version 7) the figures learnt from the sprayer, STORE_LEARN_BYTES: ffmap's valve
  *          (ctl_learnt_byte: loop gain, break-away, reversal threshold, the speed's feed-forward)
@@ -52,7 +54,7 @@
 #define STORE_LEARN_VERSION 7u      /* the first version whose learnt bytes are this layout's */
 #define STORE_JOB_BYTES 8u          /* the job totals (version 8) */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + STORE_JOB_BYTES + 2u)
-#define STORE_SLOT_BYTES 128u         /* a record of 34 values, the learnt figures and the job is 103 bytes */
+#define STORE_SLOT_BYTES 128u         /* a record of 39 values, the learnt figures and the job is 113 bytes */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
 #define STORE_NO_SLOT 0xFFu

@@ -19,6 +19,9 @@
 #include "screen.h"
 #include "keypad.h"
 #include "console.h"
+#include "console_int.h"
+#include "target.h"
+#include "ops.h"
 #include "sim.h"
 
 static uint64_t now_ns;
@@ -365,7 +368,8 @@ static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of
     char s[24], want[48], lo[12], hi[12];
     (void)state;
     for (uint8_t id = 0; id < P_COUNT; id++) {
-        if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT)
+        if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT || id == P_PRESET
+            || id == P_UNITS)
             continue;
         const param_info_t *pi = param_info(id);
         to_item(id);
@@ -818,11 +822,20 @@ static void test_console_totals_show_and_reset_the_job(void **state)
     assert_true(fabs(avg - app_status.applied_l_ha_x10 / 10.0) <= 0.6);
     assert_true(avg > 150 * 0.9 && avg < 150 * 1.1);
     assert_non_null(strstr(lcd(2), "L/ha"));
-    /* the lifetime's area and volume take turns on the last line */
-    int seen_ha = 0, seen_l = 0;
-    for (int i = 0; i < 16; i++) {
+    /* the lifetime's area and volume, the work rate and the area left take turns on the last
+     * line: 8 km/h x 18 m = 14.4 ha/h; the tank above Tank min (30 L) at 150 L/ha */
+    int seen_ha = 0, seen_l = 0, seen_work = 0, seen_left = 0;
+    for (int i = 0; i < 32; i++) {
         const char *l3 = lcd(3);
-        if (strstr(l3, " ha")) {
+        if (strstr(l3, "Work")) {
+            seen_work = 1;
+            assert_non_null(strstr(l3, " ha/h"));
+            assert_true(fabs(number_after(l3, "Work") - 14.4) < 14.4 * 0.03);  /* the wheel's speed */
+        } else if (strstr(l3, "Left")) {
+            seen_left = 1;
+            double left = (app_status.tank_l - 30.0) / 150.0;
+            assert_true(fabs(number_after(l3, "Left") - left) < 0.011);
+        } else if (strstr(l3, " ha")) {
             seen_ha = 1;
             assert_true(fabs(number_after(l3, "Life") - totals_get()->life_m2 / 10000.0) < 0.011);
         } else if (strstr(l3, " L")) {
@@ -830,7 +843,7 @@ static void test_console_totals_show_and_reset_the_job(void **state)
             assert_true(fabs(number_after(l3, "Life") - totals_get()->life_ml / 1000.0) < 1.0);
         }
     }
-    assert_true(seen_ha && seen_l);
+    assert_true(seen_ha && seen_l && seen_work && seen_left);
     uint32_t life_ml = totals_get()->life_ml;
     press('D');
     assert_string_equal(lcd(3), "Reset job? D=yes");
@@ -862,8 +875,11 @@ static void test_console_jog_only_in_manual_mode(void **state)
     store_status_clear();
     sensors_good();
     run_ms(1500);
-    press('2');
-    assert_string_equal(lcd(3), "Jog: manual only");
+    press('2');                     /* in auto: the rate nudged, the valve left to the loop */
+    assert_int_equal(target_nudge_pct(), 5);
+    assert_int_equal(ops_jog_req.periods, 0);
+    press('5');
+    assert_int_equal(target_nudge_pct(), 0);
     press('#');
     run_ms(300);
     assert_true(app_status.manual);
@@ -885,18 +901,142 @@ static void test_console_a_reboot_keeps_every_setting(void **state)
     press('D');
     keys("220");
     press('D');
-    assert_int_equal(param_v[P_RATE], 220);
+    assert_int_equal(param_v[P_RATE], 2200);
     boot();                         /* power off and on: the EEPROM stays */
-    assert_int_equal(param_v[P_RATE], 220);
+    assert_int_equal(param_v[P_RATE], 2200);
     assert_int_equal(store_status(), STORE_OK);
     to_item(P_RATE);
-    assert_string_equal(lcd(2), "        220 L/ha");
+    assert_string_equal(lcd(2), "      220.0 L/ha");
+}
+
+/* The conversions from their definitions, not from the firmware's table. */
+#define GAL_L 3.785411784
+#define ACRE_M2 4046.8564224
+#define MILE_M 1609.344
+#define PSI_KPA 6.89475729
+#define KFT2_M2 92.90304                    /* 1000 ft^2: 1000 x 0.3048^2 */
+
+/* US units: the run screen in mph, PSI, gpm, gal/acre and gal against the inputs of the metric
+ * run screen test (7.07 km/h, 196 kPa, 31.8 > 31.6 L/min, 149 L/ha, 500 L), converted here. */
+static void test_console_us_units_on_the_run_screen(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_UNITS, 1));
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 305;
+    hal_host_io.adc[HAL_ADC_LEVEL] = 614;
+    hal_host_io.sections = 0x3F;
+    wheel_every_ms = 200;
+    flow_every_ms = 5;
+    run_ms(13000);
+    double v, psi, qt, qm, rate;
+    int tank;
+    char unit[8];
+    printf("# [%s] [%s] [%s] [%s]\n", lcd(0), lcd(1), lcd(2), lcd(3));
+    assert_int_equal(sscanf(lcd(0), "%lfmph %lfPSI", &v, &psi), 2);
+    assert_true(fabs(v - 0.3927 / 0.2 * 3.6 / (MILE_M / 1000.0)) < 0.051);
+    assert_true(fabs(psi - app_status.in.pressure_kpa / PSI_KPA) < 0.051);
+    assert_int_equal(sscanf(lcd(1), "Q%lf>%lfgpm", &qt, &qm), 2);
+    assert_true(fabs(qt - app_status.in.target_lpm_x100 / 100.0 / GAL_L) < 0.0051);
+    assert_true(fabs(qm - app_status.in.flow_lpm_x100 / 100.0 / GAL_L) < 0.0051);
+    assert_int_equal(sscanf(lcd(2), "%lf%7s", &rate, unit), 2);
+    assert_string_equal(unit, "gal/ac");
+    assert_true(fabs(rate - 149.0 * GAL_L / (10000.0 / ACRE_M2) / GAL_L / GAL_L) < 0.2);
+    assert_int_equal(sscanf(lcd(3), "T %dgal", &tank), 1);
+    assert_int_equal(tank, (int)floor(500 / GAL_L + 0.5));
+    assert_true(param_set(P_UNITS, 0));
+}
+
+/* A rate typed in gal/acre reads back unchanged and is the metric value to its last digit
+ * (15.0 gal/acre = 140.3 L/ha); every rate of the range, typed, reads back as typed; the range
+ * message in gal/acre; turf in gal/1000 ft^2. */
+static void test_console_a_rate_typed_in_gal_per_acre_reads_back_unchanged(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_UNITS, 1));
+    to_item(P_RATE);
+    assert_string_equal(lcd(2), "     16.0 gal/ac");    /* 150 L/ha: 16.04 gal/acre */
+    press('D');
+    keys("15#0");
+    press('D');
+    assert_int_equal(param_v[P_RATE], (int)floor(15.0 * GAL_L / ACRE_M2 * 10000.0 * 10.0 + 0.5));
+    assert_int_equal(param_v[P_RATE], 1403);
+    assert_string_equal(lcd(2), "     15.0 gal/ac");
+    /* out of range: the limits in gal/acre, 10..1000 L/ha (1.1..106.9) */
+    press('D');
+    keys("2000");
+    press('D');
+    char want[32];
+    snprintf(want, sizeof want, "Range %.1f..%.1f", 10.0 / GAL_L * ACRE_M2 / 10000.0, 1000.0 / GAL_L * ACRE_M2 / 10000.0);
+    snprintf(want + strlen(want), sizeof want - strlen(want), "%*s", (int)(16 - strlen(want)), "");
+    assert_string_equal(lcd(3), want);
+    press('C');
+    press('C');
+    assert_true(param_set(P_UNITS, 0));
+    to_item(P_RATE);
+    assert_string_equal(lcd(2), "      140.3 L/ha");
+    /* every rate in gal/acre x10 of the range: typed, stored, shown as typed */
+    assert_true(param_set(P_UNITS, 1));
+    int lo = (int)ceil(100 / GAL_L * ACRE_M2 / 10000.0), hi = (int)floor(10000 / GAL_L * ACRE_M2 / 10000.0);
+    for (int g = lo; g <= hi; g++) {
+        uint32_t in = con_unit_in(P_RATE, (uint32_t)g);
+        assert_true(fabs(in - g * GAL_L / ACRE_M2 * 10000.0) <= 0.5);   /* the nearest 0.1 L/ha */
+        assert_int_equal(con_q(in, CON_Q(CU_RATE)), g);
+    }
+    /* turf: gal / 1000 ft^2 with two decimals; 140.3 L/ha = 0.34 */
+    assert_true(param_set(P_UNITS, 2));
+    to_item(P_RATE);
+    snprintf(want, sizeof want, "%.2f gal/M", 140.3 / GAL_L * KFT2_M2 / 10000.0);
+    char w16[32];
+    snprintf(w16, sizeof w16, "%16s", want);
+    assert_string_equal(lcd(2), w16);
+    assert_true(param_set(P_UNITS, 0));
+}
+
+/* In auto 2 / 8 nudge the rate in use by Rate step (the target follows within the control
+ * period), the run screen's bottom line shows it and its offset, 5 goes back to the preset; 0
+ * switches Rate 1 <-> Rate 2, which the bottom line shows. */
+static void test_console_nudge_and_preset_keys(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_RATE_STEP, 10));
+    hal_host_io.adc[HAL_ADC_PRESSURE] = 305;    /* as on the run screen above: no alarm */
+    hal_host_io.adc[HAL_ADC_LEVEL] = 614;
+    hal_host_io.sections = 0x3F;
+    wheel_every_ms = 200;
+    flow_every_ms = 5;
+    run_ms(10000);
+    assert_int_equal(app_status.alarms, 0);
+    double t0 = app_status.in.target_lpm_x100;
+    press('2');
+    press('2');
+    run_ms(100);
+    assert_int_equal(target_rate_x10(), 1800);
+    assert_true(fabs(app_status.in.target_lpm_x100 / t0 - 1.2) < 0.01);
+    assert_string_equal(lcd(3), "180.0L/ha   +20%");
+    press('8');
+    assert_string_equal(lcd(3), "165.0L/ha   +10%");
+    press('5');
+    assert_int_equal(target_rate_x10(), 1500);
+    assert_string_equal(lcd(3), "T  500L    ffmap");
+    press('0');
+    assert_int_equal(param_v[P_PRESET], 1);
+    run_ms(3000);                   /* "Saved", then the line as it is */
+    assert_string_equal(lcd(3), "T  500L   Rate 2");
+    assert_int_equal(target_rate_x10(), 2000);
+    press('0');
+    assert_int_equal(target_rate_x10(), 1500);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_console_run_screen_shows_speed_flow_dose_pressure_tank_mode_controller, setup),
+        cmocka_unit_test_setup(test_console_us_units_on_the_run_screen, setup),
+        cmocka_unit_test_setup(test_console_a_rate_typed_in_gal_per_acre_reads_back_unchanged, setup),
+        cmocka_unit_test_setup(test_console_nudge_and_preset_keys, setup),
         cmocka_unit_test_setup(test_console_first_boot_shows_the_eeprom_notice_until_acknowledged, setup),
         cmocka_unit_test_setup(test_console_an_alarm_wins_the_line_over_the_notice, setup),
         cmocka_unit_test_setup(test_console_one_star_acknowledges_only_the_alarm_shown, setup),

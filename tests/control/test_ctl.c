@@ -672,7 +672,7 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
         ctl_st.fm.brk_extra = FFMAP_BRK_STEP;
         ctl_st.fm.gain = 128;
         ctl_st.fm.cap = 100;
-        assert_int_equal(param_set(P_RATE, 140 + p), 1);
+        assert_int_equal(param_set(P_RATE, 1400 + p), 1);
         ctl_step(&in);
         assert_int_equal(ctl_st.fm.brk_extra, FFMAP_BRK_STEP);
         assert_int_equal(ctl_st.fm.gain, 128);

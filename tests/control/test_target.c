@@ -30,7 +30,7 @@ static void test_target_table3_flows_18_to_36_lpm(void **state)
     (void)state;
     assert_int_equal(target_open_nozzles(), 36);
     for (size_t i = 0; i < sizeof t3 / sizeof t3[0]; i++) {
-        assert_true(param_set(P_RATE, t3[i].rate));
+        assert_true(param_set(P_RATE, t3[i].rate * 10));        /* 0.1 L/ha */
         assert_true(param_set(P_GIVEN_SPEED, t3[i].kmh * 10));
         target_update(0x3F);
         uint16_t v = target_speed_x100(0);      /* the wheel says standing: masked */
@@ -45,7 +45,7 @@ static void test_target_table1_minimum_flow_below_4_kmh(void **state)
     static const struct { uint16_t rate; int16_t lpm_x100; } t1[] = {{100, 1200}, {125, 1500}, {150, 1800}};
     (void)state;
     for (size_t i = 0; i < 3; i++) {
-        assert_true(param_set(P_RATE, t1[i].rate));
+        assert_true(param_set(P_RATE, t1[i].rate * 10));
         target_update(0x3F);
         for (uint16_t v = 1; v < 400; v += 37)
             assert_int_equal(target_flow_x100(v), t1[i].lpm_x100);
@@ -114,7 +114,7 @@ static void test_target_eq1_matches_the_formula_over_the_range(void **state)
     (void)state;
     for (uint16_t rate = 10; rate <= 1000; rate += 33)
         for (uint16_t sp = 10; sp <= 200; sp += 47) {
-            assert_true(param_set(P_RATE, rate));
+            assert_true(param_set(P_RATE, rate * 10));
             assert_true(param_set(P_SPACING, sp));
             target_update(0x3F);
             for (uint16_t v = 400; v <= 3000; v += 123) {
@@ -128,14 +128,14 @@ static void test_target_eq1_matches_the_formula_over_the_range(void **state)
         }
 }
 
-/* A field computer's rate: within Remote win % of Dose and never under 10 L/ha, Dose's least.
- * Dose 10 L/ha, window 50 %: 5.0 .. 15.0 L/ha by the window, 10.0 .. 15.0 taken; Remote off:
+/* A field computer's rate: within Remote win % of the preset in use and never under 10 L/ha,
+ * the presets' least. Rate 1 10 L/ha, window 50 %: 5.0 .. 15.0 L/ha by the window, 10.0 .. 15.0 taken; Remote off:
  * nothing taken; every refusal counted. */
 static void test_target_remote_rate_window_and_its_10_l_ha_floor(void **state)
 {
     (void)state;
     assert_true(param_set(P_REMOTE, 1));
-    assert_true(param_set(P_RATE, 10));
+    assert_true(param_set(P_RATE, 100));
     assert_true(param_set(P_REMOTE_WIN, 50));
     uint8_t r0 = target_remote_refusals();
     assert_int_equal(target_remote_rate(99), 0);       /* 9.9 L/ha: inside the window, under the floor */
@@ -145,8 +145,8 @@ static void test_target_remote_rate_window_and_its_10_l_ha_floor(void **state)
     assert_int_equal(target_remote_rate(151), 0);
     assert_int_equal(target_rate_x10(), 150);
     assert_int_equal(target_remote_refusals(), (uint8_t)(r0 + 2));
-    /* Dose 150, window 10 %: 135.0 .. 165.0 */
-    assert_true(param_set(P_RATE, 150));
+    /* Rate 1 150, window 10 %: 135.0 .. 165.0 */
+    assert_true(param_set(P_RATE, 1500));
     assert_true(param_set(P_REMOTE_WIN, 10));
     assert_int_equal(target_remote_rate(1349), 0);
     assert_int_equal(target_remote_rate(1350), 1);
@@ -186,6 +186,79 @@ static void test_target_flow_saturates_at_32767(void **state)
     assert_int_equal(target_flow_x100(65535), 32767);
 }
 
+/* The nudge: Rate step % of the preset a press, up to +-50 %, back with 0; the target follows
+ * in the same update. 150 L/ha at 8 km/h on 36 nozzles at 50 cm: 36.00 L/min (by hand:
+ * 150 x 8 x 18 / 600); +20 %: 43.20; at the +50 % bound 54.00; -50 %: 18.00. */
+static void test_target_nudge_steps_the_rate_in_use_within_50_pct(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_RATE_STEP, 10));
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(800), 3600);
+    assert_int_equal(target_nudge(1), 10);
+    assert_int_equal(target_nudge(1), 20);
+    assert_int_equal(target_rate_x10(), 1800);
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(800), 4320);
+    for (int i = 0; i < 5; i++)
+        target_nudge(1);
+    assert_int_equal(target_nudge_pct(), 50);          /* bounded */
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(800), 5400);
+    assert_int_equal(target_nudge(0), 0);               /* back to the preset */
+    assert_int_equal(target_rate_x10(), 1500);
+    for (int i = 0; i < 7; i++)
+        target_nudge(-1);
+    assert_int_equal(target_nudge_pct(), -50);
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(800), 1800);
+    /* a step that does not divide 50: the last press stops at the bound */
+    target_nudge(0);
+    assert_true(param_set(P_RATE_STEP, 15));
+    for (int i = 0; i < 4; i++)
+        target_nudge(1);
+    assert_int_equal(target_nudge_pct(), 50);
+    assert_int_equal(target_rate_x10(), 2250);
+    target_nudge(0);
+}
+
+/* Two presets: Preset picks Rate 1 or Rate 2; the nudge, an offset of the rate in use, stays
+ * over a change of preset; a remote rate stands in for the preset in use, its window around
+ * that preset (a change of preset that leaves it outside drops it), the nudge on top of it.
+ * 8 km/h on 18 m: L/ha x 8 x 18 / 600 L/min. */
+static void test_target_presets_and_the_remote_rate_in_their_place(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_RATE2, 2000));
+    assert_true(param_set(P_RATE_STEP, 5));
+    target_update(0x3F);
+    assert_int_equal(target_rate_x10(), 1500);
+    target_nudge(1);
+    assert_int_equal(target_rate_x10(), 1575);
+    assert_true(param_set(P_PRESET, 1));
+    target_update(0x3F);
+    assert_int_equal(target_nudge_pct(), 5);
+    assert_int_equal(target_rate_x10(), 2100);
+    assert_int_equal(target_flow_x100(800), 5040);      /* 210 x 8 x 18 / 600 */
+    target_nudge(0);
+    target_update(0x3F);
+    assert_int_equal(target_flow_x100(800), 4800);
+    /* a remote rate within 50 % of Rate 2 (100.0 .. 300.0) */
+    assert_true(param_set(P_REMOTE, 1));
+    assert_int_equal(target_remote_rate(2900), 1);
+    assert_int_equal(target_rate_x10(), 2900);
+    target_nudge(-1);
+    assert_int_equal(target_rate_x10(), 2755);          /* 290.0 x 0.95 */
+    assert_true(param_set(P_PRESET, 0));                /* Rate 1's window, 75.0 .. 225.0, leaves it out */
+    target_update(0x3F);
+    assert_int_equal(target_rate_remote(), 0);
+    assert_int_equal(target_rate_x10(), 1425);          /* 150.0 x 0.95 */
+    assert_int_equal(target_remote_rate(2900), 0);
+    assert_int_equal(target_remote_rate(2200), 1);      /* inside it */
+    assert_true(param_set(P_REMOTE, 0));
+    target_nudge(0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -197,6 +270,8 @@ int main(void)
         cmocka_unit_test_setup(test_target_remote_rate_window_and_its_10_l_ha_floor, setup),
         cmocka_unit_test_setup(test_target_working_speed_from_minq_speed_up, setup),
         cmocka_unit_test_setup(test_target_flow_saturates_at_32767, setup),
+        cmocka_unit_test_setup(test_target_nudge_steps_the_rate_in_use_within_50_pct, setup),
+        cmocka_unit_test_setup(test_target_presets_and_the_remote_rate_in_their_place, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

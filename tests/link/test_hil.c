@@ -237,7 +237,7 @@ static void test_hil_sets_a_frames_setting_before_its_step(void **state)
     uint8_t seq = 0;
     (void)state;
     assert_int_equal(param_v[P_GIVEN_SPEED], 0);
-    assert_int_equal(param_v[P_RATE], 150);
+    assert_int_equal(param_v[P_RATE], 1500);
     hil_on();
     frame(++seq, 100, 0, 0, MA(4.0));
     link_run_ms(100);
@@ -251,17 +251,17 @@ static void test_hil_sets_a_frames_setting_before_its_step(void **state)
     assert_int_equal(param_v[P_GIVEN_SPEED], 60);
     assert_int_equal(o.speed_kmh_x100, 600);         /* this very step drove at it */
     assert_int_equal(o.target_lpm_x100, 2700);
-    frame_set(++seq, 300, 0, 0, MA(4.0), P_RATE, 100);
+    frame_set(++seq, 300, 0, 0, MA(4.0), P_RATE, 1000);
     link_run_ms(100);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.set_verdict, PARAM_OK);
     assert_int_equal(o.target_lpm_x100, 1800);
-    /* out of the range 10..1000: refused, the rate stays */
+    /* out of the range 10.0..1000.0: refused, the rate stays */
     frame_set(++seq, 400, 0, 0, MA(4.0), P_RATE, 5);
     link_run_ms(100);
     assert_int_equal(take_frames(&o), 1);
     assert_int_equal(o.set_verdict, PARAM_E_RANGE);
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_int_equal(o.target_lpm_x100, 1800);
     /* Tank min at the tank's size: against the cross-check, refused */
     frame_set(++seq, 500, 0, 0, MA(4.0), P_TANK_MIN, param_v[P_TANK_L]);

@@ -74,7 +74,7 @@ static void test_persist_a_set_survives_a_power_cut_without_a_boom_shut(void **s
     (void)state;
     link_run_ms(200);
     memcpy(before, hal_host_eeprom(), sizeof before);
-    assert_string_equal(scmd("SET 0 100"), "OK 0 100");
+    assert_string_equal(scmd("SET 0 1000"), "OK 0 1000");
     uint32_t t_set = (uint32_t)link_t_ms, t_saved = 0;
     while (!t_saved && link_t_ms < t_set + 5000) {
         link_run_ms(1);
@@ -84,14 +84,14 @@ static void test_persist_a_set_survives_a_power_cut_without_a_boom_shut(void **s
     /* measured: 2.1 s (20 periods after the change was seen, then the save's passes) */
     assert_true(t_saved >= t_set + 1900 && t_saved <= t_set + 2500);
     link_power_cycle();
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_int_equal(store_status(), STORE_OK);
     assert_false(!strncmp(line_after_boot(), "EE ", 3));     /* nothing fell back */
     /* cut 1 s after the change: not yet saved, the value before it */
-    assert_string_equal(scmd("SET 0 120"), "OK 0 120");
+    assert_string_equal(scmd("SET 0 1200"), "OK 0 1200");
     link_run_ms(1000);
     link_power_cycle();
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
 }
 
 /* The job and lifetime totals are saved every minute of spraying (counted from the last save:
@@ -135,22 +135,22 @@ static void test_persist_a_reboot_that_fell_back_says_so(void **state)
     link_run_ms(50);
     assert_string_equal(next_line(), "BOOT POWER");
     assert_string_equal(next_line(), "EE DEFAULTS");
-    assert_string_equal(scmd("SET 0 120"), "OK 0 120");
+    assert_string_equal(scmd("SET 0 1200"), "OK 0 1200");
     link_run_ms(3000);                          /* saved */
-    assert_string_equal(scmd("SET 0 100"), "OK 0 100");
+    assert_string_equal(scmd("SET 0 1000"), "OK 0 1000");
     hal_host_eeprom_cut_after(40);              /* the power goes during that save's bytes */
     link_run_ms(3000);
     assert_true(hal_host_eeprom_cut());
     link_power_cycle();
-    assert_int_equal(param_v[P_RATE], 120);
+    assert_int_equal(param_v[P_RATE], 1200);
     assert_int_equal(store_status(), STORE_OLDER);
     assert_string_equal(line_after_boot(), "EE OLDER");
-    assert_string_equal(scmd("SET 0 110"), "OK 0 110");
+    assert_string_equal(scmd("SET 0 1100"), "OK 0 1100");
     link_run_ms(3000);
     assert_int_equal(store_result(), STORE_OK);
     assert_int_equal(store_status(), STORE_OLDER);  /* the good save leaves the notice */
     link_power_cycle();
-    assert_int_equal(param_v[P_RATE], 110);
+    assert_int_equal(param_v[P_RATE], 1100);
     assert_int_equal(store_status(), STORE_OK);
 }
 
@@ -165,7 +165,7 @@ static void test_persist_adversarial_input_stays_within_the_erase_budget(void **
     char c[16];
     int i;
     for (i = 0; link_t_ms < 600000; i++) {
-        snprintf(c, sizeof c, "SET 0 %d", 100 + i % 50);
+        snprintf(c, sizeof c, "SET 0 %d", 1000 + i % 50);
         scmd(c);
         scmd("SAV");
     }
@@ -174,7 +174,7 @@ static void test_persist_adversarial_input_stays_within_the_erase_budget(void **
     assert_true(erases >= 9 && erases <= 600000 / STORE_ERASE_MS);
     link_run_ms(STORE_ERASE_MS + 3000);
     link_power_cycle();
-    assert_int_equal(param_v[P_RATE], 100 + (i - 1) % 50);
+    assert_int_equal(param_v[P_RATE], 1000 + (i - 1) % 50);
 }
 
 int main(void)

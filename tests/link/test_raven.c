@@ -213,7 +213,7 @@ static void test_raven_sends_only_its_own_lines_and_stays_silent(void **state)
     hal_host_io.adc[HAL_ADC_LEVEL] = LINK_MA(20.0);
     assert_int_equal(pc_lines(2000, l, 8), 0);
     assert_int_equal(target_rate_x10(), 1500);
-    assert_int_equal(param_v[P_RATE], 150);                 /* the SET was not taken */
+    assert_int_equal(param_v[P_RATE], 1500);                /* the SET was not taken */
     /* and a good one after all that is answered */
     pc_send("$R,CR\r\n");
     assert_int_equal(pc_lines(300, l, 8), 3);
@@ -287,6 +287,30 @@ static void test_raven_c1_is_never_cut(void **state)
         ;
     pc_send("$R,CR\r\n");
     assert_string_equal(pc_line(300), "$R124F,C1,129,136,19200,0,0,0,0,0,3000.0");
+}
+
+/* Rate 2 in use: switch byte 2 carries REMOTE_SW2_RATE2 (0x80 | 0x10 = 144) in place of RATE1
+ * (0x80 | 0x08 = 136), and C3 the rate in use: Rate 2, 200.0 L/ha, nudged 5 %: 210.0 */
+static void test_raven_c1_shows_the_preset_in_use(void **state)
+{
+    (void)state;
+    raven(1, 0);
+    assert_true(param_set(P_PRESET, 1));
+    target_nudge(1);
+    link_run_ms(1200);
+    while (pc_line(0)[0])
+        ;
+    pc_send("$R,CR\r\n");
+    assert_string_equal(pc_line(300), "$R124F,C1,191,144,300,300,300,300,300,300,392.7");
+    assert_string_equal(pc_line(200), "$R124F,C2,380.0,0");
+    assert_string_equal(pc_line(200), "$R124F,C3,2123,210.0,0");
+    /* manual: neither rate bit */
+    assert_true(param_set(P_MODE, 1));
+    link_run_ms(1200);
+    while (pc_line(0)[0])
+        ;
+    pc_send("$R,CR\r\n");
+    assert_string_equal(pc_line(300), "$R124F,C1,191,128,300,300,300,300,300,300,392.7");
 }
 
 /* The data logger: every Log every seconds AR, D1, D2, D3, TD in that order; a setting changed:
@@ -374,6 +398,7 @@ int main(void)
         cmocka_unit_test_setup(test_raven_multi_product_rate_lines_set_product_1, setup),
         cmocka_unit_test_setup(test_raven_data_lines_carry_the_totals, setup),
         cmocka_unit_test_setup(test_raven_c1_is_never_cut, setup),
+        cmocka_unit_test_setup(test_raven_c1_shows_the_preset_in_use, setup),
         cmocka_unit_test_setup(test_raven_data_logger_pushes_on_its_triggers, setup),
         cmocka_unit_test_setup(test_raven_data_logger_distance_trigger, setup),
     };

@@ -129,11 +129,11 @@ static void test_serial_commands_read_and_set_parameters_strictly(void **state)
 {
     (void)state;
     link_run_ms(200);
-    assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
-    assert_string_equal(scmd("SET 0 120"), "OK 0 120");
-    assert_int_equal(param_v[P_RATE], 120);
+    assert_string_equal(cmd("GET 0\r\n"), "OK 0 1500");
+    assert_string_equal(scmd("SET 0 1200"), "OK 0 1200");
+    assert_int_equal(param_v[P_RATE], 1200);
     assert_string_equal(scmd("SET 0 5"), "ERR RANGE");           /* below 10 L/ha */
-    assert_int_equal(param_v[P_RATE], 120);
+    assert_int_equal(param_v[P_RATE], 1200);
     assert_string_equal(scmd("SET 0 70000"), "ERR NUM");
     assert_string_equal(scmd("SET 99 1"), "ERR ID");
     assert_string_equal(scmd("SET 0  100"), "ERR ARG");
@@ -141,22 +141,22 @@ static void test_serial_commands_read_and_set_parameters_strictly(void **state)
     assert_string_equal(scmd("SET 0 1e2"), "ERR NUM");
     assert_string_equal(cmd("FOO\n"), "ERR CMD");
     assert_string_equal(cmd("set 0 100\n"), "ERR CMD");
-    assert_int_equal(param_v[P_RATE], 120);
-    /* the check: CRC-8 of "SET 0 130", polynomial 0x65, from its definition: 0x12; a
+    assert_int_equal(param_v[P_RATE], 1200);
+    /* the check: CRC-8 of "SET 0 1300", polynomial 0x65, from its definition: 0x1C; a
      * wrong one changes nothing */
-    assert_string_equal(cmd("SET 0 130*12\r\n"), "OK 0 130");
-    assert_string_equal(cmd("SET 0 140*12\r\n"), "ERR CSUM");
-    assert_string_equal(cmd("SET 0 140*4\r\n"), "ERR CSUM");
-    assert_int_equal(param_v[P_RATE], 130);
+    assert_string_equal(cmd("SET 0 1300*1C\r\n"), "OK 0 1300");
+    assert_string_equal(cmd("SET 0 1400*1C\r\n"), "ERR CSUM");
+    assert_string_equal(cmd("SET 0 1400*4\r\n"), "ERR CSUM");
+    assert_int_equal(param_v[P_RATE], 1300);
     /* two bytes wrong, one bit each: "SET 4 110" with the check of "SET 0 150" (0x87), which an
      * XOR of the bytes (0x46 for both) took */
     assert_string_equal(cmd("SET 4 110*87\r\n"), "ERR CSUM");
     assert_string_equal(cmd("SET 4 110*46\r\n"), "ERR CSUM");
     assert_int_equal(param_v[P_WHEEL], 3927);
     /* too long, not ASCII */
-    assert_string_equal(cmd("SET 0 100 0000000000000000000000000000000\n"), "ERR LONG");
+    assert_string_equal(cmd("SET 0 1000 0000000000000000000000000000000\n"), "ERR LONG");
     assert_string_equal(cmd("SET 0 1\x01" "00\n"), "ERR CHAR");
-    assert_int_equal(param_v[P_RATE], 130);
+    assert_int_equal(param_v[P_RATE], 1300);
     /* controller, pulse totals, totals, ack, jog outside manual */
     assert_string_equal(scmd("CTL 0"), "OK CTL 0");
     link_run_ms(200);
@@ -177,7 +177,7 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
 {
     (void)state;
     link_run_ms(200);
-    const char *c = "SET 0 130";
+    const char *c = "SET 0 1300";
     unsigned x = link_crc8(c, strlen(c));
     char l[32];
     for (unsigned k = 0; k < 256; k++) {
@@ -185,7 +185,7 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
             continue;
         snprintf(l, sizeof l, "%s*%02X\r\n", c, k);
         assert_string_equal(cmd(l), "ERR CSUM");
-        assert_int_equal(param_v[P_RATE], 150);
+        assert_int_equal(param_v[P_RATE], 1500);
     }
     /* the hex digits: a letter in either case, 'a' and 'f' too, and no other character. Lines
      * "FO" and two letters: a checksum that passes gets ERR CMD for the word, one refused ERR
@@ -241,10 +241,10 @@ static void test_serial_every_wrong_checksum_is_refused(void **state)
     }
     assert_true(seen_a && seen_f && seen_0 && seen_hf && seen_ff && seen_9);
     snprintf(l, sizeof l, "%s*%02x\r\n", c, x);
-    assert_string_equal(cmd(l), "OK 0 130");
-    assert_string_equal(scmd("SET 0 120"), "OK 0 120");
+    assert_string_equal(cmd(l), "OK 0 1300");
+    assert_string_equal(scmd("SET 0 1200"), "OK 0 1200");
     snprintf(l, sizeof l, "%s*%02X\r\n", c, x);
-    assert_string_equal(cmd(l), "OK 0 130");
+    assert_string_equal(cmd(l), "OK 0 1300");
 }
 
 /* A number is 0..65535 in at most 5 digits: the edges of the overflow check, each digit
@@ -275,7 +275,7 @@ static void test_serial_numbers_up_to_65535_in_five_digits(void **state)
     assert_string_equal(cmd("GET\r\n"), "ERR NUM");
     assert_string_equal(scmd("SET 0"), "ERR NUM");
     assert_string_equal(scmd("SET 0 "), "ERR ARG");
-    assert_string_equal(cmd("GET 00000\r\n"), "OK 0 150");
+    assert_string_equal(cmd("GET 00000\r\n"), "OK 0 1500");
     assert_string_equal(cmd("GET 00001\r\n"), "OK 1 36");
 }
 
@@ -296,7 +296,7 @@ static void test_serial_layout_and_words_letter_by_letter(void **state)
     assert_string_equal(cmd("GXT 0\r\n"), "ERR CMD");
     assert_string_equal(cmd("GEX 0\r\n"), "ERR CMD");
     assert_string_equal(cmd("GETX 0\r\n"), "ERR CMD");
-    assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
+    assert_string_equal(cmd("GET 0\r\n"), "OK 0 1500");
     /* printable ASCII only: 0x1F and 0x7F refused, ' ' and '~' taken */
     assert_string_equal(cmd("GET 0\x1f\r\n"), "ERR CHAR");
     assert_string_equal(cmd("GET 0\x7f\r\n"), "ERR CHAR");
@@ -330,17 +330,17 @@ static void test_serial_a_stalled_line_is_dropped_after_3_s(void **state)
     hal_host_set_time_ns(link_t_ms * 1000000ull);
     link_run_ms(3500);
     assert_string_equal(next_line(), "ERR LOST");
-    assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
+    assert_string_equal(cmd("GET 0\r\n"), "OK 0 1500");
 }
 
 /* Commands that change something are refused without their checksum: a line that lost a
- * digit ("SET 0 150" arriving as "SET 0 10") would otherwise be a valid command. Those that
+ * digit ("SET 0 1500" arriving as "SET 0 10") would otherwise be a valid command. Those that
  * only read need none. Cross-checks between parameters answer with their reason. */
 static void test_serial_changing_commands_require_their_checksum(void **state)
 {
     (void)state;
     link_run_ms(200);
-    static const char *const changing[] = {"SET 0 120", "CTL 0", "SAV", "JOG +", "RST", "ACK"};
+    static const char *const changing[] = {"SET 0 1200", "CTL 0", "SAV", "JOG +", "RST", "ACK"};
     uint8_t before[HAL_EEPROM_SIZE];
     memcpy(before, hal_host_eeprom(), sizeof before);
     for (size_t i = 0; i < sizeof changing / sizeof changing[0]; i++) {
@@ -348,17 +348,17 @@ static void test_serial_changing_commands_require_their_checksum(void **state)
         snprintf(l, sizeof l, "%s\r\n", changing[i]);
         assert_string_equal(cmd(l), "ERR NOCSUM");
     }
-    assert_int_equal(param_v[P_RATE], 150);
+    assert_int_equal(param_v[P_RATE], 1500);
     assert_int_equal(param_v[P_CONTROLLER], 3);
     assert_memory_equal(before, hal_host_eeprom(), sizeof before);
     /* the damaged line with the sender's checksum of the intact one */
     char l[32];
-    strcpy(l, signed_line("SET 0 150"));
-    memmove(l + 7, l + 8, strlen(l + 8) + 1);   /* "SET 0 10*HH" */
+    strcpy(l, signed_line("SET 0 1500"));
+    memmove(l + 7, l + 8, strlen(l + 8) + 1);   /* "SET 0 100*HH" */
     assert_string_equal(cmd(l), "ERR CSUM");
-    assert_int_equal(param_v[P_RATE], 150);
+    assert_int_equal(param_v[P_RATE], 1500);
     /* reading needs no checksum */
-    assert_string_equal(cmd("GET 0\r\n"), "OK 0 150");
+    assert_string_equal(cmd("GET 0\r\n"), "OK 0 1500");
     assert_string_equal(cmd("PUL\r\n"), "OK PUL 0 0");
     /* the cross-checks' reasons */
     assert_string_equal(scmd("SET 11 2000"), "ERR TANKMIN");    /* Tank min above the tank */
@@ -381,16 +381,16 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
         ;
     /* a stall: 21 bytes arrive in 6 ms while the loop is not polled */
     link_send("GET 0\r\n");
-    link_send(signed_line("SET 0 130"));
+    link_send(signed_line("SET 0 1300"));
     link_t_ms += 10;
     hal_host_set_time_ns(link_t_ms * 1000000ull);
     link_run_ms(10);
-    assert_string_equal(next_line(), "OK 0 150");
-    assert_int_equal(param_v[P_RATE], 150);
+    assert_string_equal(next_line(), "OK 0 1500");
+    assert_int_equal(param_v[P_RATE], 1500);
     /* the damaged line's end was lost too: the PC's next line end closes it */
     assert_string_equal(cmd("\r\n"), "ERR LOST");
-    assert_int_equal(param_v[P_RATE], 150);
-    assert_string_equal(scmd("SET 0 130"), "OK 0 130");
+    assert_int_equal(param_v[P_RATE], 1500);
+    assert_string_equal(scmd("SET 0 1300"), "OK 0 1300");
     /* an erase: SAVs until one erases a sector (the log's slots full), a token of the erase
      * budget there (none at power-up: store.h) */
     link_run_ms(STORE_ERASE_MS);
@@ -405,7 +405,7 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
             link_run_ms(100);                        /* a save without one: its reply */
     }
     assert_int_equal(hal_host_io.eeprom_erases, erases + 1);
-    link_send(signed_line("SET 0 140"));             /* arrives during the erase */
+    link_send(signed_line("SET 0 1400"));             /* arrives during the erase */
     link_run_ms(150);
     assert_int_equal(hal_host_io.eeprom_erases, erases + 1);
     /* the SAV's reply comes when its save has ended: before or after the damaged line's */
@@ -426,8 +426,8 @@ static void test_serial_a_line_that_lost_bytes_is_discarded_with_err_lost(void *
     }
     assert_int_equal(saved, 1);
     assert_int_equal(lost, 1);
-    assert_int_equal(param_v[P_RATE], 130);
-    assert_string_equal(scmd("SET 0 140"), "OK 0 140");
+    assert_int_equal(param_v[P_RATE], 1300);
+    assert_string_equal(scmd("SET 0 1400"), "OK 0 1400");
 }
 
 /* SAV answers when its save has ended, the record read back; a SAV while the last one's save
@@ -637,10 +637,30 @@ static void test_serial_a_reply_waits_for_room_and_the_next_line_for_it(void **s
     assert_memory_equal(next_line(), "OK LIF ", 7);
 }
 
+/* NUD nudges the rate in use a Rate step (5 % by default) up or down, 0 back to the preset;
+ * it changes something: its check is required. JOG has no 0. */
+static void test_serial_nud_nudges_the_rate_in_use(void **state)
+{
+    (void)state;
+    link_run_ms(200);
+    assert_string_equal(cmd("NUD +\r\n"), "ERR NOCSUM");
+    assert_string_equal(scmd("NUD +"), "OK NUD 5 1575");
+    assert_string_equal(scmd("NUD +"), "OK NUD 10 1650");
+    assert_string_equal(scmd("NUD -"), "OK NUD 5 1575");
+    assert_string_equal(scmd("NUD 0"), "OK NUD 0 1500");
+    assert_string_equal(scmd("NUD -"), "OK NUD -5 1425");
+    assert_string_equal(scmd("NUD 1"), "ERR ARG");
+    assert_string_equal(scmd("NUD"), "ERR ARG");
+    assert_string_equal(scmd("JOG 0"), "ERR ARG");
+    link_run_ms(200);
+    assert_int_equal(app_status.in.target_lpm_x100, 0);   /* standing: nothing, whatever the rate */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog, setup),
+        cmocka_unit_test_setup(test_serial_nud_nudges_the_rate_in_use, setup),
         cmocka_unit_test_setup(test_serial_logs_every_second_like_the_paper_s_pc_monitor, setup),
         cmocka_unit_test_setup(test_serial_commands_read_and_set_parameters_strictly, setup),
         cmocka_unit_test_setup(test_serial_alarm_messages_and_the_buzzer, setup),

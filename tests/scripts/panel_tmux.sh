@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# panel_tmux.sh: `make panel` under tmux: the run screen's rate against the plant's truth, the boom and section switches, the dose through the menus, an alarm over the notice; the PNG screenshot decodes.
+# panel_tmux.sh: `make panel` under tmux: the run screen's rate against the plant's truth, the boom and section switches, Rate 1 through the menus, an alarm over the notice; the PNG screenshot decodes.
 set -u
 cd "$(dirname "$0")/../.."
 B=${BUILD:-build}
@@ -106,12 +106,12 @@ else
     nok "m opens the boom again (switches '$(switches)', target '$(target)', measured '$(measured)')" "$($T capture-pane -p -t panel | tail -12)"
 fi
 
-keys A                                # menu, entry 1: Dose
-if until_ok 5 line_is 2 "Dose            "; then ok "A opens the menu at Dose"; else nok "A opens the menu at Dose" "$($T capture-pane -p -t panel)"; fi
+keys A                                # menu, entry 1: Rate 1
+if until_ok 5 line_is 2 "Rate 1          "; then ok "A opens the menu at Rate 1"; else nok "A opens the menu at Rate 1" "$($T capture-pane -p -t panel)"; fi
 keys D 1 5 0 0 D                      # out of range: refused
 if until_ok 5 line_is 4 "Range 10..1000  "; then ok "1500 L/ha is refused with 'Range 10..1000'"; else nok "1500 L/ha is refused" "$(lcd_line 4)"; fi
 keys 2 0 0 D                          # 200 L/ha: 48 L/min, 3.8 bar at the nozzles (the relief opens at 5)
-if until_ok 5 line_is 4 "Saved           " && lcd_line 3 | grep -q '200 L/ha'; then ok "200 L/ha is accepted and saved"; else
+if until_ok 5 line_is 4 "Saved           " && lcd_line 3 | grep -q '200.0 L/ha'; then ok "200 L/ha is accepted and saved"; else
     nok "200 L/ha is accepted and saved" "$($T capture-pane -p -t panel | tail -12)"; fi
 keys C                                # back to the run screen
 until_ok 10 ratio_in "$before" 1.31 1.36
@@ -190,7 +190,7 @@ then ok "--screenshot writes a PNG of the LCD that decodes"; else nok "--screens
 shots=$(make -n --no-print-directory screenshots 2>/dev/null | grep -- '--screenshot docs/panel_' | sed "s|docs/|$tmp/|")
 want_run='^ *[0-9.]+km/h.*bar$|^Q .*L/mn$|^Now +[0-9]+L/ha AUTO$|^T +[0-9]+L +ffmap$'
 want_menu='^Menu +[0-9]+/[0-9]+$|^Wheel cal *$'
-want_refused='^Dose *$|^Range 10\.\.1000 *$'
+want_refused='^Rate 1 *$|^Range 10\.\.1000 *$'
 want_iotest='^P *[0-9]+ +[0-9.]+mA R1$|^L *[0-9]+ +[0-9.]+mA B0$|^W *[0-9]+ +[0-9]+Hz V.$|^M *[0-9]+ +[1-9][0-9]*Hz *$'
 for name in run menu refused iotest; do
     cmd=$(echo "$shots" | grep -- "$tmp/panel_$name.png")

@@ -58,7 +58,7 @@ static void test_scenario_good_file(void **state)
     assert_true(s.duration_s == 120.0);
     assert_true(s.seed == 18446744073709551615ull);
     assert_int_equal(s.param[P_CONTROLLER], CTL_PID);
-    assert_int_equal(s.param[P_RATE], 125);
+    assert_int_equal(s.param[P_RATE], 1250);               /* 0.1 L/ha */
     assert_int_equal(s.param[P_NOZZLES], 24);
     assert_int_equal(s.param[P_SPACING], 75);
     assert_int_equal(s.param[P_SECTIONS], 4);
@@ -109,7 +109,7 @@ static void test_scenario_drive_alone_is_the_defaults(void **state)
     assert_int_equal(scenario_parse(&s, "# nothing else\n[drive]\n0 8\n", "one.scn", err, sizeof err), 0);
     assert_true(s.duration_s == 300.0);
     assert_true(s.seed == 7);
-    assert_int_equal(s.param[P_RATE], 150);
+    assert_int_equal(s.param[P_RATE], 1500);
     assert_int_equal(s.param[P_CONTROLLER], CTL_FFMAP);
     assert_true(s.plant.pump_lpm_at_540 == 120.0);
     assert_true(s.plant.valve_travel_s == 4.0);

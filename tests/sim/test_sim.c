@@ -11,6 +11,7 @@
 #include "sim.h"
 #include "hal_host.h"
 #include "params.h"
+#include "target.h"
 #include "ctl.h"
 #include "app.h"
 
@@ -122,11 +123,11 @@ static void test_sim_events_now(void **state)
     assert_int_equal(sim_event_name(&sim, "leak_lpm", 2.5), 0);
     assert_true(sim.plant.leak_lpm == 2.5);
     assert_int_equal(sim_event_name(&sim, "rate_l_ha", 100), 0);
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_int_equal(sim_event_name(&sim, "given_speed_kmh", 6.5), 0);
     assert_int_equal(param_v[P_GIVEN_SPEED], 65);
     assert_int_equal(sim_event_name(&sim, "rate_l_ha", 5), -1);
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_int_equal(sim_event_name(&sim, "meter_fail", 0), 0);
     assert_int_equal(sim.plant.meter_fail, 1);
     assert_int_equal(sim_event_name(&sim, "no_such_event", 0), -1);
@@ -225,7 +226,7 @@ static void test_sim_paper_run_needs_the_bypass_within_055_070(void **state)
         plant_step(pl, &in, 1000000u);
         v = plant_speed_kmh(pl);
         if (v >= 4.0 && i % 100 == 0) {
-            double th = plant_bypass_needed(pl, scn.param[P_RATE] * width_m * v / 600.0);
+            double th = plant_bypass_needed(pl, scn.param[P_RATE] * 0.1 * width_m * v / 600.0);
             lo = th < lo ? th : lo;
             hi = th > hi ? th : hi;
         }
@@ -309,7 +310,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
 {
     static const char text[] =
         "[run]\nduration_s = 40\n[config]\nrate_l_ha = 125\n[drive]\n0 0\n2 0\n10 8\n"
-        "[events]\n15 serial SET 0 100*EA\n17 key #\n20 power_cut 2\n";
+        "[events]\n15 serial SET 0 1000*18\n17 key #\n20 power_cut 2\n";
     static char out[200000];
     uint8_t kicks;
     double theta;
@@ -317,11 +318,11 @@ static void test_sim_key_serial_and_power_cut(void **state)
     if (scenario_parse(&scn, text, "cut.scn", err, sizeof err) != 0)
         fail_msg("%s", err);
     sim_init(&sim, &scn);
-    assert_int_equal(param_v[P_RATE], 125);
+    assert_int_equal(param_v[P_RATE], 1250);
     sim_run(&sim, 14.9);
     assert_int_equal(hal_host_io.spray_on, 1);
     sim_run(&sim, 15.5);
-    assert_int_equal(param_v[P_RATE], 100);
+    assert_int_equal(param_v[P_RATE], 1000);
     assert_true(sim.set_rate == 100);
     sim_run(&sim, 17.05);
     assert_int_not_equal(hal_host_io.keys, 0);              /* '#' held ... */
@@ -331,7 +332,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
     sim_run(&sim, 20.0);
     uart_text(out, sizeof out);
     assert_int_equal(count_of(out, "BOOT POWER"), 1);
-    assert_int_equal(count_of(out, "OK 0 100"), 1);
+    assert_int_equal(count_of(out, "OK 0 1000"), 1);
     sim_run(&sim, 20.5);
     kicks = hal_host_io.wdt_kicks;
     theta = sim.plant.theta;
@@ -348,7 +349,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
     assert_int_not_equal(hal_host_io.wdt_kicks, kicks);
     uart_text(out, sizeof out);
     assert_int_equal(count_of(out, "BOOT POWER"), 1);
-    assert_int_equal(param_v[P_RATE], 100);                 /* saved 2 s after the SET (app.c) */
+    assert_int_equal(param_v[P_RATE], 1000);                 /* saved 2 s after the SET (app.c) */
     assert_true(sim.set_rate == 100);
     sim_free(&sim);
     /* without the SET, the scenario's 125 comes back from the EEPROM (the RAM's defaults are 150) */
@@ -356,8 +357,8 @@ static void test_sim_key_serial_and_power_cut(void **state)
     scn.events[0] = scn.events[2];
     sim_init(&sim, &scn);
     sim_run(&sim, 23.0);
-    assert_int_equal(param_v[P_RATE], 125);
-    assert_int_not_equal(param_info(P_RATE)->def, 125);
+    assert_int_equal(param_v[P_RATE], 1250);
+    assert_int_not_equal(param_info(P_RATE)->def, 1250);
     sim_free(&sim);
 }
 
@@ -370,20 +371,71 @@ static void test_sim_a_set_then_a_power_cut_keeps_the_setting(void **state)
     (void)state;
     for (int cut_s = 8; cut_s >= 6; cut_s -= 2) {
         snprintf(text, sizeof text, "[run]\nduration_s = 20\n[config]\nrate_l_ha = 125\n[drive]\n0 0\n2 0\n4 8\n"
-                 "[events]\n5 serial SET 0 100*EA\n%d power_cut 1\n", cut_s);
+                 "[events]\n5 serial SET 0 1000*18\n%d power_cut 1\n", cut_s);
         if (scenario_parse(&scn, text, "set_cut.scn", err, sizeof err) != 0)
             fail_msg("%s", err);
         sim_init(&sim, &scn);
         sim_run(&sim, 5.5);
-        assert_int_equal(param_v[P_RATE], 100);
+        assert_int_equal(param_v[P_RATE], 1000);
         assert_int_equal(hal_host_io.spray_on, 1);          /* spraying all along: no shut's save */
         sim_run(&sim, cut_s + 1.5);
         uart_text(out, sizeof out);
         assert_int_equal(count_of(out, "BOOT POWER"), 1);  /* the reboot's (the queue went with the power) */
-        assert_int_equal(param_v[P_RATE], cut_s == 8 ? 100 : 125);
+        assert_int_equal(param_v[P_RATE], cut_s == 8 ? 1000 : 1250);
         assert_int_equal(count_of(out, "EE "), 0);          /* a good record loaded either way */
         sim_free(&sim);
     }
+}
+
+/* sim_run with the PC reading the link (the host UART's transmit queue would fill and hold the
+ * commands that come in). */
+static void run_read(double until_s)
+{
+    static char out[20000];
+    while (sim_time_s(&sim) < until_s - 1e-9) {
+        double t = sim_time_s(&sim) + 1.0;
+        sim_run(&sim, t < until_s ? t : until_s);
+        uart_text(out, sizeof out);
+    }
+}
+
+/* The operator's nudge and preset as scenario events (the serial NUD line and the Preset
+ * setting): the metrics score the dose against the rate in use. 8 km/h on 18 m: 150 L/ha is
+ * 36 L/min; two nudges at a 10 % step: 180 L/ha; back, then Rate 2: 200 L/ha. No stretch of a
+ * wrong dose: the rate in use is applied. Bad values are refused when the file is read. */
+static void test_sim_nudge_and_preset_events_score_against_the_rate_in_use(void **state)
+{
+    static const char text[] =
+        "[run]\nduration_s = 180\n[config]\nrate_step_pct = 10\n[drive]\n0 8\n180 8\n"
+        "[events]\n60 rate_nudge 1\n60.5 rate_nudge 1\n120 rate_nudge 0\n121 rate_preset 2\n";
+    metrics_result_t r;
+    (void)state;
+    if (scenario_parse(&scn, text, "nudge.scn", err, sizeof err) != 0)
+        fail_msg("%s", err);
+    sim_init(&sim, &scn);
+    run_read(59.0);
+    assert_true(fabs(sim.set_rate - 150.0) < 1e-9);
+    assert_true(abs(app_status.in.target_lpm_x100 - 3600) <= 2);
+    run_read(61.0);
+    assert_true(fabs(sim.set_rate - 180.0) < 1e-9);
+    assert_true(abs(app_status.in.target_lpm_x100 - 4320) <= 2);
+    run_read(119.0);
+    assert_true(fabs(sim.plant.q_boom - 43.2) < 43.2 * 0.05);    /* the plant applies it */
+    run_read(122.0);
+    assert_true(fabs(sim.set_rate - 200.0) < 1e-9);
+    assert_true(abs(app_status.in.target_lpm_x100 - 4800) <= 2);
+    run_read(180.0);
+    sim_finish(&sim, &r);
+    printf("# dose error %.2f %%, silent wrong %.1f s\n", r.dose_error_pct, r.silent_wrong_s);
+    assert_true(fabs(r.dose_error_pct) < 2.0);
+    assert_true(r.silent_wrong_s == 0.0);
+    sim_free(&sim);
+    static const char *const bad[] = {
+        "[drive]\n0 8\n[events]\n10 rate_nudge 2\n", "[drive]\n0 8\n[events]\n10 rate_preset 3\n",
+        "[drive]\n0 8\n[events]\n10 rate_preset 0\n",
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        assert_int_not_equal(scenario_parse(&scn, bad[i], "bad.scn", err, sizeof err), 0);
 }
 
 int main(void)
@@ -399,6 +451,7 @@ int main(void)
         cmocka_unit_test(test_sim_target_steps_found_where_the_scenario_puts_them),
         cmocka_unit_test(test_sim_fast_mode_keeps_the_grid),
         cmocka_unit_test(test_sim_key_serial_and_power_cut),
+        cmocka_unit_test(test_sim_nudge_and_preset_events_score_against_the_rate_in_use),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -74,10 +74,12 @@ static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t ve
     e[n + 1] = (uint8_t)crc;
 }
 
-/* a copy of this version's or of an older one's table (versions 5 to 8: PARAMS_V8_COUNT values) */
+/* a copy of this version's or of an older one's table (version 9: PARAMS_V9_COUNT values, 5 to 8:
+ * PARAMS_V8_COUNT) */
 static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t version)
 {
-    twin_write_n(sector, seq, v, version, version == PARAMS_VERSION ? P_COUNT : PARAMS_V8_COUNT);
+    twin_write_n(sector, seq, v, version, version == PARAMS_VERSION ? P_COUNT
+                                          : version == 9 ? PARAMS_V9_COUNT : PARAMS_V8_COUNT);
 }
 
 /* v as a version 5-8 record leaves it loaded: the values appended since and the aog peer's
@@ -126,6 +128,22 @@ static void set_all(const uint16_t *v)
 static int equals(const uint16_t *v)
 {
     return memcmp(param_v, v, sizeof param_v) == 0;
+}
+
+/* A copy written by a firmware before version 9, whose Rate 1 (Dose) was whole L/ha: a[]
+ * with such a rate (123 L/ha), and the values it loads as: that rate in 0.1 L/ha, the first
+ * count values, the rest at their defaults. */
+static void old_rate(uint16_t *a)
+{
+    a[P_RATE] = 123;
+}
+
+static int equals_old(const uint16_t *a, int count)
+{
+    for (int i = 0; i < P_COUNT; i++)
+        if (param_v[i] != (i >= count ? param_info((uint8_t)i)->def : i == P_RATE ? 1230 : a[i]))
+            return 0;
+    return 1;
 }
 
 static void scramble(void)
@@ -501,11 +519,11 @@ static void test_store_loads_a_version_3_copy(void **state)
     uint16_t a[P_COUNT];
     (void)state;
     values_k(a, 3);
+    old_rate(a);
     twin_write_n(1, 4, a, 3, PARAMS_V3_COUNT);
     scramble();
     assert_int_equal(store_load(), STORE_OK);
-    for (int i = 0; i < P_COUNT; i++)
-        assert_int_equal(param_v[i], i < PARAMS_V3_COUNT ? a[i] : param_info((uint8_t)i)->def);
+    assert_true(equals_old(a, PARAMS_V3_COUNT));
     hal_host_reset();
     twin_write_n(1, 4, a, 3, PARAMS_V2_COUNT);
     assert_int_equal(store_load(), STORE_DEFAULTS);
@@ -516,6 +534,7 @@ static void test_store_loads_a_version_2_copy(void **state)
     uint16_t a[P_COUNT];
     (void)state;
     values_k(a, 5);
+    old_rate(a);
     twin_life_m2 = 4321u;
     twin_life_ml = 98765u;
     twin_write_n(0, 9, a, 2, PARAMS_V2_COUNT);
@@ -523,15 +542,14 @@ static void test_store_loads_a_version_2_copy(void **state)
     totals_init();
     scramble();
     assert_int_equal(store_load(), STORE_OK);
-    for (int i = 0; i < P_COUNT; i++)
-        assert_int_equal(param_v[i], i < PARAMS_V2_COUNT ? a[i] : param_info((uint8_t)i)->def);
+    assert_true(equals_old(a, PARAMS_V2_COUNT));
     assert_int_equal(totals_get()->life_m2, 4321u);
     assert_int_equal(totals_get()->life_ml, 98765u);
     assert_true(save());
     assert_int_equal(hal_host_eeprom()[slot_at(1) + 1], PARAMS_VERSION);
     assert_int_equal(hal_host_eeprom()[slot_at(1) + 2], P_COUNT);
     assert_int_equal(store_load(), STORE_OK);
-    assert_int_equal(param_v[0], a[0]);
+    assert_int_equal(param_v[0], 1230);                /* saved in 0.1 L/ha, loaded as such */
     assert_int_equal(totals_get()->life_ml, 98765u);
     hal_host_reset();
     twin_write_n(0, 9, a, 2, P_COUNT);
@@ -545,11 +563,11 @@ static void test_store_loads_a_version_4_copy(void **state)
     uint16_t a[P_COUNT];
     (void)state;
     values_k(a, 6);
+    old_rate(a);
     twin_write_n(0, 9, a, 4, PARAMS_V4_COUNT);
     scramble();
     assert_int_equal(store_load(), STORE_OK);
-    for (int i = 0; i < P_COUNT; i++)
-        assert_int_equal(param_v[i], i < PARAMS_V4_COUNT ? a[i] : param_info((uint8_t)i)->def);
+    assert_true(equals_old(a, PARAMS_V4_COUNT));
     assert_int_equal(param_v[P_RAVEN_CAL], 2123);
     assert_int_equal(param_v[P_REMOTE], 0);
     hal_host_reset();
@@ -608,6 +626,23 @@ static void test_store_keeps_the_job_totals(void **state)
     assert_int_equal(store_load(), STORE_OK);
     assert_int_equal(totals_get()->job_dm2, 5000u);
     assert_int_equal(totals_get()->job_ml, 77u);
+    /* version 8: the table up to Remote win, Rate 1 in whole L/ha, the job and the learnt
+     * figures after its own count of values */
+    hal_host_reset();
+    old_rate(a);
+    as_v8(a);
+    twin_learnt[0] = 0x43;
+    twin_job_dm2 = 1234567UL;
+    twin_job_ml = 89012UL;
+    twin_write_n(0, 8, a, 8, PARAMS_V8_COUNT);
+    twin_job_dm2 = twin_job_ml = 0;
+    twin_learnt[0] = 0xFF;
+    totals_init();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals_old(a, PARAMS_V8_COUNT));
+    assert_int_equal(totals_get()->job_dm2, 1234567UL);
+    assert_int_equal(totals_get()->job_ml, 89012UL);
+    assert_int_equal(store_learnt(0), 0x43);
     /* version 7: the same layout less the job */
     hal_host_reset();
     twin_learnt[0] = 0x42;
@@ -617,7 +652,7 @@ static void test_store_keeps_the_job_totals(void **state)
     totals_init();
     totals_set_job(1u, 1u);
     assert_int_equal(store_load(), STORE_OK);
-    assert_true(equals(a));
+    assert_true(equals_old(a, PARAMS_V8_COUNT));
     assert_int_equal(totals_get()->job_dm2, 0);
     assert_int_equal(store_learnt(0), 0x42);
     /* version 8: a shorter table, its learnt figures and job after it; its aog settings (the
@@ -629,18 +664,35 @@ static void test_store_keeps_the_job_totals(void **state)
     twin_learnt[0] = 0x43;
     twin_job_dm2 = 4242u;
     twin_job_ml = 99u;
+    old_rate(w);
     twin_write(0, 8, w, 8);
     twin_learnt[0] = 0xFF;
     twin_job_dm2 = twin_job_ml = 0;
     totals_init();
     assert_int_equal(store_load(), STORE_OK);
     as_v8(w);
-    assert_true(equals(w));
+    assert_true(equals_old(w, PARAMS_V8_COUNT));
     assert_int_equal(param_v[P_AOG_KP], 45);
     assert_int_equal(totals_get()->job_dm2, 4242u);
     assert_int_equal(totals_get()->job_ml, 99u);
     assert_int_equal(store_learnt(0), 0x43);
     assert_int_equal(param_v[P_LOG_EVERY], 1);
+    /* version 9: Raven's settings and the aog peer's kept, Rate 1 whole L/ha (123: 123.0), the
+     * presets, Rate step and Units appended since at their defaults */
+    hal_host_reset();
+    values_k(w, 6);
+    old_rate(w);
+    twin_learnt[0] = 0x44;
+    twin_write(0, 9, w, 9);
+    twin_learnt[0] = 0xFF;
+    totals_init();
+    assert_int_equal(store_load(), STORE_OK);
+    assert_true(equals_old(w, PARAMS_V9_COUNT));
+    assert_int_equal(param_v[P_AOG_KP], w[P_AOG_KP]);
+    assert_int_not_equal(w[P_AOG_KP], param_info(P_AOG_KP)->def);
+    assert_int_equal(param_v[P_LOG_EVERY], w[P_LOG_EVERY]);
+    assert_int_equal(param_v[P_RATE2], 2000);
+    assert_int_equal(store_learnt(0), 0x44);
 }
 
 /* A save that ends well does not take the operator's notice of what the load found (the
@@ -806,10 +858,11 @@ static void test_store_keeps_the_learnt_figures(void **state)
     assert_int_equal(ctl_st.fm.ff_gain, 0);
     /* a version 5 copy: its values, nothing learnt */
     hal_host_reset();
+    old_rate(a);
     as_v8(a);
     twin_write_n(0, 9, a, 5, PARAMS_V8_COUNT);
     assert_int_equal(store_load(), STORE_OK);
-    assert_true(equals(a));
+    assert_true(equals_old(a, PARAMS_V8_COUNT));
     assert_int_equal(store_learnt(0), 0xFF);
     ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
@@ -819,7 +872,7 @@ static void test_store_keeps_the_learnt_figures(void **state)
     twin_write_n(0, 9, a, 6, PARAMS_V8_COUNT);
     memset(twin_learnt, 0xFF, sizeof twin_learnt);
     assert_int_equal(store_load(), STORE_OK);
-    assert_true(equals(a));
+    assert_true(equals_old(a, PARAMS_V8_COUNT));
     assert_int_equal(store_learnt(0), 0xFF);
     ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);
@@ -917,6 +970,7 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
     (void)state;
     uint16_t v[P_COUNT];
     values_k(v, 3);
+    old_rate(v);                    /* 12.3 L/ha in this version, 123 L/ha in the older ones */
     static const struct { uint8_t magic, version; int count; int loads; } h[] = {
         {0x5B, PARAMS_VERSION, P_COUNT, 0}, {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
         {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
@@ -925,7 +979,10 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         {0x5A, 4, PARAMS_V8_COUNT, 0},
         {0x5A, 4, P_COUNT, 0}, {0x5A, 4, PARAMS_V4_COUNT + 1, 0}, {0x5A, 3, PARAMS_V4_COUNT, 0},
         {0x5A, 2, PARAMS_V3_COUNT, 0}, {0x5A, 1, PARAMS_V2_COUNT, 0}, {0x5A, 0, P_COUNT, 0},
-        {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 6, PARAMS_V8_COUNT, 1}, {0x5A, 5, PARAMS_V8_COUNT, 1},
+        {0x5A, 8, P_COUNT, 0}, {0x5A, 5, P_COUNT, 0}, {0x5A, 9, P_COUNT, 0}, {0x5A, 9, PARAMS_V8_COUNT, 0},
+        {0x5A, PARAMS_VERSION, PARAMS_V9_COUNT, 0},
+        {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 9, PARAMS_V9_COUNT, 1}, {0x5A, 7, PARAMS_V8_COUNT, 1},
+        {0x5A, 6, PARAMS_V8_COUNT, 1}, {0x5A, 5, PARAMS_V8_COUNT, 1},
         {0x5A, 4, PARAMS_V4_COUNT, 1}, {0x5A, 3, PARAMS_V3_COUNT, 1}, {0x5A, 2, PARAMS_V2_COUNT, 1},
     };
     for (size_t i = 0; i < sizeof h / sizeof h[0]; i++) {
@@ -948,7 +1005,7 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         printf("# magic %02X version %u count %d: %s\n", h[i].magic, h[i].version, count,
                st == STORE_OK ? "loaded" : "defaults");
         assert_int_equal(st == STORE_OK, h[i].loads);
-        assert_int_equal(param_v[0] == v[0], h[i].loads);
+        assert_int_equal(param_v[0] == (h[i].version < PARAMS_VERSION ? 1230 : v[0]), h[i].loads);
     }
 }
 

@@ -28,7 +28,7 @@ int main(void)
     uint16_t k, v;
     uint32_t a, d, c;
     uint16_t n;
-    static const __code uint16_t rates[] = {100, 125, 150, 10, 1000};
+    static const __code uint16_t rates[] = {1000, 1250, 1500, 100, 10000};     /* Rate 1, 0.1 L/ha */
     static const __code uint8_t switches[] = {0x3F, 0x0F, 0x01, 0x00, 0x3E};
     uint8_t r, s;
 

@@ -27,6 +27,7 @@ from multiprocessing import Pool
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import family  # noqa: E402  (tools/family.py: the family's draw and scenario files)
+import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
 
 FAMILY_N = 200  # plants a seed (make family N=200)
 # the OVERPRESSURE / OFF_RATE plants of the eleventh round's firmware (seeds 1-140 and 221-240)
@@ -105,7 +106,7 @@ def main():
         labels.append(name)
         jobs += [(a.sim, path, a.controller, k) for k in range(a.draws)]
     with Pool(max(1, a.jobs)) as pool:
-        results = pool.map(run_one, jobs, chunksize=1)
+        results = progress.pool_map(pool, run_one, jobs, "redraw")
     bad = [(j, m) for j, m in zip(jobs, results) if "error" in m]
     if bad:
         sys.exit("redraw: %d runs failed, first: %s --seed %d: %s" % (len(bad), bad[0][0][1], bad[0][0][3], bad[0][1]["error"]))
