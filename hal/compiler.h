@@ -40,6 +40,18 @@
 #endif
 #endif
 
+/* FW_PGN: AgOpenGPS and RateControl frames on the serial link (firmware/link/pgn.h), Remote's
+ * value 3: in the host's, the s51 tests' and PIL's builds, not in the chip's images (the field
+ * image's XRAM has no room for them under its floor yet; `make firmware PGN=1` builds it with
+ * them). Their settings are in every image's table (params.h), used only with the frames. */
+#ifndef FW_PGN
+#if defined(HAL_STC12)
+#define FW_PGN 0
+#else
+#define FW_PGN 1
+#endif
+#endif
+
 /* FW_PROBES: accessors only the host's programs, the s51 tests and PIL read (a flag, a learnt
  * byte, a gain, a synchronous save): not in the chip's image, where nothing calls them. */
 #ifndef FW_PROBES

@@ -41,6 +41,12 @@ static const cfg_key_t cfg_keys[] = {
     {"aog_min_pwm", P_AOG_MIN, 1},                  /* ... PWM counts of 255 */
     {"aog_max_pwm", P_AOG_MAX, 1},
     {"raven_valve_cal", P_RAVEN_CAL, 1},            /* raven's four digits */
+    {"remote", P_REMOTE, 1},                        /* 0 off, 1 Raven, 2 AgOpenGPS frames */
+    {"speed_source", P_SPEED_SRC, 1},               /* 0 wheel, 1 GPS, 2 both */
+    {"speed_diff_pct", P_SPEED_DIFF, 1},
+    {"aog_sections", P_AOG_SECT, 1},                /* 1: the sections also from the frames */
+    {"frames_lost_s", P_FRAMES_LOST, 10},           /* stored in 0.1 s */
+    {"rc_module", P_RC_ID, 1},
 };
 #define N_CFG (sizeof cfg_keys / sizeof cfg_keys[0])
 

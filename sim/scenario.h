@@ -35,6 +35,9 @@
     X(EV_LEVEL_OFFSET,       "level_offset_l",          1)  /* the level sensor reads X L high */ \
     X(EV_WHEEL_MULT,         "wheel_pulse_mult",        1)  /* the wheel sensor gives X edges a real one */ \
     X(EV_POWER_CUT,          "power_cut",               1)  /* X s without power, then a boot */ \
+    X(EV_AOG_HZ,             "aog_hz",                  1)  /* AgOpenGPS's 254 and 239 at X Hz (0: stop) */ \
+    X(EV_AOG_SECTIONS,       "aog_sections",            1)  /* ... their sections: N nozzles' worth */ \
+    X(EV_RC_RATE,            "rc_rate_l_ha",            1)  /* RateControl's 32500 for X L/ha (0: stop) */ \
     X(EV_KEY,                "key",                     2)  /* a keypad key held (text: the key) */ \
     X(EV_SERIAL,             "serial",                  2)  /* a line into the UART (text: the line) */ \
     X(EV_PRESET,             "rate_preset",             1)  /* the preset in use: 1 or 2 */ \

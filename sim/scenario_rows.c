@@ -166,6 +166,20 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
         if (v < 0.01 || v > 86400)
             BAD("%g out of range 0.01..86400 s", v);
         break;
+    case EV_AOG_HZ:
+        if (v != 0 && (v < 0.2 || v > 20))
+            BAD("%g out of range 0.2..20 Hz (0: the frames stop)", v);
+        break;
+    case EV_AOG_SECTIONS:
+        if (!is_whole(v) || v < 0 || v > noz)
+            BAD("%g is not a number of nozzles 0..%d", v, noz);
+        if ((int)floor(v + 0.5) % (noz / sec) != 0)
+            BAD("%g nozzles is not a whole number of sections (%d nozzles each)", v, noz / sec);
+        break;
+    case EV_RC_RATE:
+        if (v != 0 && (v < 1 || v > 2000))
+            BAD("%g out of range 1..2000 L/ha (0: the frames stop)", v);
+        break;
     case EV_KEY:
     case EV_SERIAL:
         if (v != 0)

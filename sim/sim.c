@@ -49,12 +49,72 @@ static void apply_params(const scenario_t *s)
         param_put(i, s->param[i]);          /* range- and cross-checked by the reader */
 }
 
+/* The nozzles open: those of the switched-on sections, and once AgOpenGPS sends sections (its
+ * relays in series with the switches) only those it has on too. */
+static void boom_valves(sim_t *sim)
+{
+    int nps = scenario_nozzles_per_section(sim->scn), n = 0;
+    uint8_t on = hal_host_io.sections & (sim->aog_sect_set ? sim->aog_sections : 0xFF);
+    for (; on; on >>= 1)
+        n += on & 1u;
+    sim->plant.open_nozzles = n * nps;
+}
+
 static void set_sections(sim_t *sim, int open_nozzles)
 {
     int nps = scenario_nozzles_per_section(sim->scn);
     int on = open_nozzles / nps;
-    sim->plant.open_nozzles = open_nozzles;
     hal_host_io.sections = (uint8_t)((1u << on) - 1u);
+    boom_valves(sim);
+}
+
+/* ---- AgOpenGPS (AgIO) and RateControl frames into the UART, built as their sources build them */
+static void push_frame(const uint8_t *f, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        hal_host_uart_rx_push(f[i]);
+}
+
+/* 80 81 7F pgn len data.. crc: the low byte of the sum of bytes 2 .. n-2 */
+static void aog_frame(uint8_t pgn, const uint8_t *d, uint8_t len)
+{
+    uint8_t f[32];
+    unsigned sum = 0;
+    size_t i;
+    f[0] = 0x80, f[1] = 0x81, f[2] = 0x7F, f[3] = pgn, f[4] = len;
+    memcpy(f + 5, d, len);
+    for (i = 2; i < 5u + len; i++)
+        sum += f[i];
+    f[5 + len] = (uint8_t)sum;
+    push_frame(f, 6u + len);
+}
+
+/* AgOpenGPS's frames at the true ground speed (what the GPS measures), RateControl's 32500 every
+ * 200 ms: the target units a minute for its rate over the open width at that speed (as the app
+ * computes it), MasterOn and AutoOn, module 0 */
+static void frames_step(sim_t *sim, uint64_t t1)
+{
+    const plant_t *pl = &sim->plant;
+    double kmh = pl->v_mps * 3.6;
+    if (sim->aog_period_ns && t1 >= sim->aog_next_ns) {
+        unsigned v = (unsigned)floor(kmh * 10 + 0.5);
+        uint8_t d254[8] = {(uint8_t)v, (uint8_t)(v >> 8), 1, 0, 0, 0x7D, sim->aog_sections, 0};
+        uint8_t d239[8] = {0, (uint8_t)(v > 255 ? 255 : v), 0, 0, 0, 0, sim->aog_sections, 0};
+        aog_frame(254, d254, 8);
+        aog_frame(239, d239, 8);
+        sim->aog_next_ns += sim->aog_period_ns;
+    }
+    if (sim->rc_rate > 0 && t1 >= sim->rc_next_ns) {
+        uint32_t upm = (uint32_t)floor(sim->rc_rate * kmh * pl->open_nozzles * pl->p.spacing_m / 600.0 * 1000 + 0.5);
+        uint8_t f[14] = {0xF4, 0x7E, 0, (uint8_t)upm, (uint8_t)(upm >> 8), (uint8_t)(upm >> 16), 0, 0, 0, 0x50, 0, 0, 0, 0};
+        unsigned sum = 0, i;
+        for (i = 0; i < 13; i++)
+            sum += f[i];
+        f[13] = (uint8_t)sum;
+        push_frame(f, sizeof f);
+        sim->rc_next_ns += 200000000ull;
+    }
 }
 
 void sim_init(sim_t *sim, const scenario_t *s)
@@ -66,6 +126,7 @@ void sim_init(sim_t *sim, const scenario_t *s)
     sim->tick_ns = SIM_TICK_NS;
     sim->slope_row = -1;
     sim->scn = s;
+    sim->aog_sections = 0xFF;       /* until an aog_sections event: every section */
     sim->end_ns = (uint64_t)(s->duration_s * 1e9 + 0.5);
     hal_host_reset();
     plant_init(&sim->plant, &s->plant, s->seed);
@@ -86,7 +147,8 @@ void sim_init(sim_t *sim, const scenario_t *s)
     app_init();
     apply_params(s);
     for (i = 0; i < s->n_events; i++)
-        sim->scn_input |= s->events[i].kind == EV_KEY || s->events[i].kind == EV_SERIAL;
+        sim->scn_input |= s->events[i].kind == EV_KEY || s->events[i].kind == EV_SERIAL || s->events[i].kind == EV_AOG_HZ
+                          || s->events[i].kind == EV_RC_RATE;
     for (i = 0; i < s->n_events; i++)
         if (s->events[i].kind == EV_POWER_CUT) {
             store_save();           /* the operator's settings saved, so that a reboot finds them */
@@ -164,6 +226,19 @@ int sim_event(sim_t *sim, int kind, double v)
     case EV_LEVEL_OFFSET: pl->level_offset_l = v; break;
     case EV_WHEEL_MULT: pl->wheel_mult = v; break;
     case EV_POWER_CUT: power_cut(sim, v); break;
+    case EV_AOG_HZ:
+        sim->aog_period_ns = v > 0 ? (uint64_t)floor(1e9 / v + 0.5) : 0;
+        sim->aog_next_ns = sim->t_ns + sim->tick_ns;
+        break;
+    case EV_AOG_SECTIONS:
+        sim->aog_sections = (uint8_t)((1u << (int)floor(v + 0.5) / scenario_nozzles_per_section(sim->scn)) - 1u);
+        sim->aog_sect_set = 1;
+        boom_valves(sim);
+        break;
+    case EV_RC_RATE:
+        sim->rc_rate = v;
+        sim->rc_next_ns = sim->t_ns + sim->tick_ns;
+        break;
     default: return -1;
     }
     return 0;
@@ -232,6 +307,13 @@ static double drive_kmh(sim_t *sim, double t)
     return d[i].kmh + sim->drive_slope * (t - d[i].t_s);
 }
 
+/* The rate in force: the operator's, or a field computer's the firmware took (the host's
+ * firmware; its state is not on the host under PIL) */
+static double rate_now(const sim_t *sim)
+{
+    return !sim->pass && target_rate_remote() ? target_rate_x10() * 0.1 : sim->set_rate;
+}
+
 /* The operator is told: an alarm, a warning or a notice active on the firmware's screen (its
  * bits in app_status.alarms), or the screen dark while the power is cut. */
 static int operator_told(const sim_t *sim)
@@ -248,7 +330,7 @@ static void watch(sim_t *sim)
     w.boom_lpm = sim->boom_lpm;
     w.v_kmh = plant_speed_kmh(pl);
     w.width_m = (flowing > 0 ? flowing : 0) * pl->p.spacing_m;
-    w.rate_l_ha = sim->set_rate;
+    w.rate_l_ha = rate_now(sim);
     w.spraying = pl->spray_on;
     w.sections_on = pl->open_nozzles > 0;
     w.told = operator_told(sim);
@@ -274,6 +356,8 @@ void sim_step(sim_t *sim)
     }
     if (sim->n_input || sim->scn_input)
         sim_input_step(sim, t1);
+    if (sim->aog_period_ns || sim->rc_rate > 0)
+        frames_step(sim, t1);
     pl->v_cmd_kmh = drive_kmh(sim, t1_ns * 1e-9);
     in.drive = hal_host_io.valve_dir * duty_frac[hal_host_io.valve_duty];
     in.spray_on = hal_host_io.spray_on;
@@ -316,7 +400,7 @@ void sim_step(sim_t *sim)
     sim->prev_alarms = app_status.alarms;
 
     metrics_add(&sim->metrics, dt, pl->v_mps, pl->q_boom, pl->open_nozzles * pl->p.spacing_m,
-                sim->set_rate, pl->p_bar, pl->spray_on);
+                rate_now(sim), pl->p_bar, pl->spray_on);
     if (pl->spray_on && !sim->spray_on_ns)
         sim->spray_on_ns = t1 + 1;
     metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.in.target_lpm_x100 * 0.01,

@@ -122,6 +122,12 @@ typedef struct sim {
     uint64_t key_release_ns;        /* the key held now is let go at this time (0: none held) */
     int scn_input;                  /* the scenario's [events] hold key or serial input */
     uint64_t power_back_ns;         /* a power cut: the supply comes back at this time (0: on) */
+    /* AgOpenGPS and RateControl on the serial link (events aog_hz, aog_sections, rc_rate_l_ha) */
+    uint64_t aog_period_ns, aog_next_ns;    /* 254 and 239 every period (0: none) */
+    uint8_t aog_sections;           /* the sections they carry (bit 0 = section 1) */
+    int aog_sect_set;               /* an aog_sections event came: the boom's valves follow them */
+    double rc_rate;                 /* L/ha RateControl asks for (0: no frames) */
+    uint64_t rc_next_ns;            /* its next 32500 */
     uint16_t fw_rate;               /* the firmware's rate in use (L/ha x10) the last tick it ran ... */
     double set_rate;                /* ... and the rate the operator last set (a reboot's reload is not one) */
     /* step 5 of sim_step: app_poll() when NULL; the HIL program (sim/hil_main.c) puts a board
@@ -133,14 +139,17 @@ typedef struct sim {
 /* One timed operator input: a key held SIM_KEY_HOLD_MS, or a line sent to the serial link. */
 typedef struct sim_input {
     double t_s;
-    char key;                       /* keypad character, or 0 for a serial line */
+    char key;                       /* keypad character, or 0 for a serial line or frame */
     char line[72];                  /* the line without its end; "\r\n" is added */
+    uint8_t n_bytes;                /* a frame: its bytes in line[], as they are (0: a line) */
 } sim_input_t;
 #define SIM_KEY_HOLD_MS 100
 
 /* Read operator input for the run from a text file, one event a line, times ascending:
  *     t_s key K         hold keypad key K (0-9 A-D * #) for SIM_KEY_HOLD_MS
  *     t_s serial TEXT   the characters of TEXT and "\r\n" arrive at the UART
+ *     t_s frame HEX..   the bytes (two hex digits each, spaces between allowed) arrive at the
+ *                       UART as they are: a PGN frame (docs/PGN.md)
  * ('#' starts a comment where a line starts with it). 0, or -1 with "file:line: reason" in err.
  * Call after sim_init(). */
 int sim_input_load(sim_t *sim, const char *path, char *err, size_t n);

@@ -30,7 +30,7 @@ static void usage(FILE *f)
           "  --samples: the series the step figures are taken from (reference, target, flow every 0.1 s;\n"
           "  build/host/bin/steps reads it back).\n"
           "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n"
-          "  --input: operator input at given times ('t_s key K', 't_s serial TEXT' lines; sim/sim.h).\n"
+          "  --input: operator input at given times ('t_s key K', 't_s serial TEXT', 't_s frame HEX' lines; sim/sim.h).\n"
           "  --drive-log: a line 'tick dir duty spray' whenever the valve drive or the boom valve changes.\n"
           "  --pil: the firmware runs inside s51 from IMAGE (make pil-image: build/pil/sprayer_pil.ihx),\n"
           "         in lock step with the plant; 'pil:' lines give its pass timing and stack.\n"
@@ -316,10 +316,13 @@ int main(int argc, char **argv)
             return 1;
         }
     } else {
-        /* in 1 s slices, the same steps as at once, for the progress line */
+        /* in 0.1 s slices, the same steps as at once, for the progress line; the link with
+         * nobody on it: what the UART sends is gone, as a real line's */
         progress_start(&prog, pil ? "pil" : chip ? "chip" : "sim", s->duration_s);
         while (!sim_done(sim)) {
-            sim_run(sim, sim_time_s(sim) + 1.0);
+            sim_run(sim, sim_time_s(sim) + 0.1);
+            while (hal_host_uart_tx_pop() >= 0)
+                ;
             progress_show(&prog, sim_time_s(sim));
         }
         progress_end(&prog);

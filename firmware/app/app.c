@@ -12,9 +12,11 @@
 #include "target.h"
 #include "valve.h"
 #include "diag.h"
+#include "diag_wheel.h"
 #include "ops.h"
 #include "totals.h"
 #include "serial.h"
+#include "pgn.h"
 #include "hil.h"
 #include "store.h"
 #include "console.h"
@@ -124,6 +126,9 @@ void app_init(void)
     totals_init();
     store_load();                   /* the EEPROM's parameters and lifetime totals, or the defaults and a message */
     serial_init();
+#if FW_PGN
+    pgn_init();
+#endif
 #if FW_HIL
     hil_init();                     /* out of the HIL mode, as at power-on */
 #endif
@@ -168,11 +173,14 @@ static void app_measure(void)
     int16_t q_meter, q_used;
     uint8_t open, meter_lost;
 
-    v_meas = speed_step();
+    v_meas = pgn_speed(speed_step());   /* the wheel's, or the GPS's (Speed src) */
+#if FW_PGN
+    diag_set_frames(pgn_frames());
+#endif
     q_meter = flow_step();
     analog_step();
     p = analog_pressure_kpa();
-    target_update(hal_sections());
+    target_update(pgn_sections(hal_sections()));
     open = target_open_nozzles();
     diag_set_nozzles(open);
     app_status.in.speed_kmh_x100 = target_speed_x100(v_meas);
@@ -338,7 +346,7 @@ static uint8_t app_prepare(void)
     case 3: diag_set_nozzles(target_open_nozzles()); break;
     case 4: valve_prepare(); break;
     default:                        /* (both here: as many passes as before the target's came) */
-        target_update(hal_sections());
+        target_update(pgn_sections(hal_sections()));
         ctl_prepare();
         ap.prep = 0;
         break;

@@ -120,10 +120,21 @@ void con_right_align(uint8_t from)
 
 /* The settings chosen by name (besides Control, named by ctl.h): each one's names in the
  * order of its values, from choice_first[k] in choice_names */
-static const __code uint8_t choice_ids[] = {P_MODE, P_REMOTE, P_LOG_UNIT, P_PRESET, P_UNITS};
-static const __code uint8_t choice_first[] = {0, 2, 5, 7, 9};
+static const __code uint8_t choice_ids[] = {P_MODE, P_LOG_UNIT, P_PRESET, P_UNITS, P_REMOTE
+#if FW_PGN
+    , P_SPEED_SRC, P_AOG_SECT       /* and Remote's AgOpenGPS */
+#endif
+};
+static const __code uint8_t choice_first[] = {0, 2, 4, 6, 9
+#if FW_PGN
+    , 13, 16
+#endif
+};
 static const __code char *const __code choice_names[] = {
-    "Auto", "Manual", "off", "Raven 9600", "Raven 1200", "m", "s", "Rate 1", "Rate 2", "Metric", "US", "Turf",
+    "Auto", "Manual", "m", "s", "Rate 1", "Rate 2", "Metric", "US", "Turf", "off", "Raven 9600", "Raven 1200",
+#if FW_PGN
+    "AgOpenGPS", "wheel", "GPS", "both", "switches", "frames",
+#endif
 };
 
 /* id's row in choice_ids, sizeof choice_ids when it has none */

@@ -149,9 +149,9 @@ void remote_tick(void) __reentrant
 {
     uint8_t sw, n;
     uint16_t every = param_v[P_LOG_EVERY];
-    if (!param_v[P_REMOTE])
+    if (!REMOTE_IS_RAVEN(param_v[P_REMOTE]))
         rv.due = 0;                 /* nothing owed to a Raven console any more */
-    if (!param_v[P_REMOTE] || !every) {
+    if (!REMOTE_IS_RAVEN(param_v[P_REMOTE]) || !every) {
         rv_primed = 0;
         return;
     }

@@ -9,6 +9,7 @@
 #include "fmt.h"
 #include "hil.h"
 #include "remote.h"
+#include "pgn.h"
 #include "target.h"
 #include "linebuf.h"
 #include "linecheck.h"
@@ -25,7 +26,7 @@ static __data uint8_t se_n;         /* bytes in se.buf */
 static __data uint8_t se_tx_i;      /* next byte to send */
 static __data uint8_t se_state;     /* S_* */
 static __data uint8_t se_log_due;   /* log lines asked for and not yet sent */
-static __data uint8_t se_framing;   /* the UART's once switched (HAL_UART_*: Remote's value); not
+static __data uint8_t se_framing;   /* the UART's once switched (HAL_UART_*: REMOTE_FRAMING); not
                                      * HAL_UART_38400_8N1: the link is a Raven console's (remote.h) */
 
 #define S_RX 0                      /* collecting a line */
@@ -380,6 +381,10 @@ static void compose_next(void) __reentrant
         for (bit = 16; bit; bit -= 4)
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
     } else {
+#if FW_PGN
+        if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
+            se_tx_i = 0, se_state = S_TX;   /* a reply frame, as it is */
+#endif
         return;
     }
     tx_end();
@@ -444,13 +449,14 @@ static uint8_t refuse(const __code char *why) __reentrant
 uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
+    PGN_VERDICT(c)
 
     if (se_state == S_TX && !drain())
         return 0;
-    if (se_framing != (uint8_t)param_v[P_REMOTE]) {     /* HAL_UART_* is Remote's value */
-        if (!hal_uart_framing((uint8_t)param_v[P_REMOTE]))
+    if (se_framing != REMOTE_FRAMING(param_v[P_REMOTE])) {
+        if (!hal_uart_framing(REMOTE_FRAMING(param_v[P_REMOTE])))
             return 0;               /* the last bytes still going out at the old framing */
-        se_framing = (uint8_t)param_v[P_REMOTE];
+        se_framing = REMOTE_FRAMING(param_v[P_REMOTE]);
         se_n = 0;                   /* a line half received at the old one is dropped */
         se_state = S_RX;
     }
@@ -466,8 +472,10 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
         se.quiet = 0;
         if (b == HAL_UART_LOST) {
             se_state = S_RX_LOST;   /* the line in progress (or the next one) lost bytes */
+            pgn_drop();             /* ... or the frame */
+        PGN_CHAIN(c, (uint8_t)b)    /* a frame's byte (pgn.h): one frame a pass */
         } else if (b == '\r' || b == '\n') {
-            if (se_state != S_RX)
+            if (se_state != S_RX PGN_NOISY(c))
                 return refuse(se_state == S_RX_LONG ? "LONG" : se_state == S_RX_LOST ? "LOST" : "CHAR");
             if (se_n) {
                 if (!may_take) {
@@ -477,7 +485,7 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
                 return take();
             }
         } else if (se_state == S_RX) {
-            if (b < 0x20 || b > 0x7E)
+            if (b < 0x20 || b > 0x7E PGN_NOISY(c))
                 se_state = S_RX_CHAR;
             else if (se_n >= SERIAL_LINE_MAX)
                 se_state = S_RX_LONG;
@@ -485,11 +493,12 @@ uint8_t serial_poll(uint8_t may_take) __reentrant
                 put_raw((char)b);
         }
     }
-    if (se_n || se_state != S_RX) {
-        /* a line is coming in; one whose bytes stop for 3 s is dropped so the log goes on
-         * (one that lost bytes, its end perhaps among them, is answered ERR LOST then) */
+    if (se_n || se_state != S_RX || pgn_busy()) {
+        /* a line (or a frame) is coming in; one whose bytes stop for 3 s is dropped so the log
+         * goes on (one that lost bytes, its end perhaps among them, is answered ERR LOST then) */
         if (se.quiet < SERIAL_STALL_S)
             return 0;
+        pgn_drop();
         if (se_state == S_RX_LOST)
             return refuse("LOST");
         se_n = 0;

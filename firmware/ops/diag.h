@@ -15,13 +15,13 @@
     X(AL_LEAK,         "LEAK",         "Leak past meter")  /* pressure low for the measured flow */ \
     X(AL_CLOG,         "CLOG",         "Nozzles clogged")  /* pressure high for the measured flow */ \
     X(AL_METER_LOST,   "METER_LOST",   "Flowmeter lost")   /* no meter pulses while the pressure says flow */ \
-    X(AL_SPEED_LOST,   "SPEED_LOST",   "Speed sens lost")  /* wheel pulses stopped at working speed */ \
+    X(AL_SPEED_LOST,   "SPEED_LOST",   "Speed sens lost")  /* wheel pulses stopped at working speed; or the AgOpenGPS frames in use stopped (pgn.h) */ \
     X(AL_PSENS,        "PSENS_FAULT",  "P sensor fault")   /* pressure sensor open or short, or off its zero with the line at rest */ \
     X(AL_LSENS,        "LSENS_FAULT",  "Tank sens fault")  /* level sensor open */ \
     X(AL_OVERPRESSURE, "OVERPRESSURE", "Over-pressure")    /* pressure above P_P_MAX: the valve is opened */ \
     X(AL_OFFRATE,      "OFF_RATE",     "Rate off target")  /* flow off the target by P_OFFRATE % for P_OFFRATE_S */ \
     X(AL_METER_NOISE,  "METER_NOISE",  "Flowmeter noise")  /* meter pulses faster than the meter can make */ \
-    X(AL_WHEEL_NOISE,  "WHEEL_NOISE",  "Wheel noise")      /* wheel pulses faster than 60 km/h */ \
+    X(AL_WHEEL_NOISE,  "WHEEL_NOISE",  "Wheel noise")      /* wheel pulses faster than 60 km/h; or off the GPS's speed (Speed src both) */ \
     X(AL_INTERNAL,     "INTERNAL",     "Internal fault")   /* a parameter out of range in RAM: latched, the watchdog resets */ \
     X(AL_METER_CAL,    "METER_CAL",    "Meter/tank cal.")  /* the metered volume off the tank level's fall: Meter K (or Tank size) is wrong */ \
     X(AL_NOZZLE_WEAR,  "NOZZLE_WEAR",  "Nozzles worn")     /* notice: the held nozzle model passes over 10 % more than the catalog */ \

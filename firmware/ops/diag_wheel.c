@@ -1,4 +1,4 @@
-/* diag_wheel.c: the wheel against the pump (SPEED_LOST at a standstill the wheel reports) and the minimum-flow warning, for diag_step. */
+/* diag_wheel.c: the wheel against the pump (SPEED_LOST at a standstill the wheel reports), the link's frames (SPEED_LOST, WHEEL_NOISE) and the minimum-flow warning, for diag_step. */
 #include "params.h"
 #include "analog.h"
 #include "speed.h"
@@ -12,6 +12,20 @@ static struct {
                                      * the pump is on the wheels (a coupled PTO) */
     uint8_t pump_cnt;               /* periods of the pump's evidence */
 } dw;
+
+#if FW_PGN
+static uint8_t dw_frames;           /* DIAG_FRAMES_* this period */
+
+void diag_set_frames(uint8_t frames)
+{
+    dw_frames = frames;
+}
+
+uint8_t diag_frames(void)
+{
+    return dw_frames;
+}
+#endif
 
 void diag_wheel_init(void)
 {

@@ -12,6 +12,18 @@
 #define DIAG_PUMP_OPEN_Q15 16384u   /* ... through the bypass opened half a stroke (a line trapped
                                      * by the check valves holds with the pump standing) */
 
+/* The link's AgOpenGPS frames this period (the application sets them, FW_PGN): those in use
+ * stopped (SPEED_LOST), Speed src both finding the wheel off the GPS (WHEEL_NOISE), the GPS's
+ * speed in use (a SPEED_LOST clears without wheel pulses). */
+#define DIAG_FRAMES_LOST 1u
+#define DIAG_FRAMES_SPEED_OFF 2u
+#define DIAG_FRAMES_GPS 4u
+#if FW_PGN
+void diag_set_frames(uint8_t frames);
+uint8_t diag_frames(void);
+#define DIAG_FRAMES(bit) (diag_frames() & (bit))
+#endif
+
 void diag_wheel_init(void);
 /* 1 while the pump says the wheels turn at a standstill the wheel reports (SPEED_LOST). */
 uint8_t diag_pump(const __xdata app_status_t *in) __reentrant;

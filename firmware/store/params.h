@@ -45,7 +45,7 @@
     X(P_AOG_MIN,     "AOG minPWM", "",      0,     0,   255,    5)  /* aog: the smallest drive, PWM counts */ \
     X(P_AOG_MAX,     "AOG maxPWM", "",      0,     1,   255,  255)  /* aog: the largest drive, PWM counts */ \
     X(P_RAVEN_CAL,   "Valve cal",  "",      0,    11,  9999, 2123)  /* raven: backlash, speed, brake point, dead band digits */ \
-    X(P_REMOTE,      "Remote",     "",      0,     0,     2,    0)  /* 0 off; the link a Raven console's at 1 9600, 2 1200 baud (remote.h) */ \
+    X(P_REMOTE,      "Remote",     "",      0,     0, P_REMOTE_MAX, 0)  /* 0 off; Raven at 1 9600, 2 1200 baud (remote.h); 3 AgOpenGPS frames (pgn.h) */ \
     X(P_REMOTE_WIN,  "Remote win", "%",     0,     1,   100,   50)  /* a remote rate within this of the preset */ \
     X(P_LOG_EVERY,   "Log every",  "",      0,     0,  9999,    1)  /* Raven's data logger trigger, in Log unit; 0 off */ \
     X(P_LOG_UNIT,    "Log unit",   "",      0,     0,     1,    1)  /* 0 metres, 1 seconds */ \
@@ -53,26 +53,53 @@
     X(P_RATE2,       "Rate 2",     "L/ha",  1,   100, 10000, 2000)  /* the second preset */ \
     X(P_PRESET,      "Preset",     "",      0,     0,     1,    0)  /* 0 Rate 1, 1 Rate 2 in use */ \
     X(P_RATE_STEP,   "Rate step",  "%",     0,     1,    50,    5)  /* a nudge of the rate in use */ \
-    X(P_UNITS,       "Units",      "",      0,     0,     2,    0)  /* 0 metric, 1 US, 2 turf (console_units.c) */
+    X(P_UNITS,       "Units",      "",      0,     0,     2,    0)  /* 0 metric, 1 US, 2 turf (console_units.c) */ \
+    X(P_SPEED_SRC,   "Speed src",  "",      0,     0,     2,    0)  /* 0 wheel, 1 GPS (PGN 254), 2 both cross-checked */ \
+    X(P_SPEED_DIFF,  "Speed diff", "%",     0,     2,    50,    5)  /* both: wheel off GPS by this: WHEEL_NOISE */ \
+    X(P_AOG_SECT,    "AOG sect",   "",      0,     0,     1,    0)  /* 1: sections also from the frames */ \
+    X(P_AOG_REPLY,   "AOG reply",  "",      0,     0,     1,    1)  /* 1: PGN 237 answers each 239, as a machine module */ \
+    X(P_FRAMES_LOST, "Frames lost","s",     1,     3,   100,   26)  /* frames in use stopped this long: boom shut */ \
+    X(P_RC_ID,       "RC module",  "",      0,     0,    15,    0)  /* RateControl module id */
+/* The frame settings are in every image's table (a record loads in any image); an image
+ * without the frames (FW_PGN 0) only stores them, and its Remote stops at Raven */
+#define REMOTE_RAVEN_9600 1         /* P_REMOTE: Raven's strings at 9600 baud (remote.h) */
+#define REMOTE_RAVEN_1200 2         /* ... at 1200 baud */
+#define REMOTE_PGN 3                /* P_REMOTE: AgOpenGPS and RateControl frames (pgn.h) */
+/* Remote's top value; whether it is a Raven console's link; the UART's framing for it (hal.h
+ * HAL_UART_*: a Raven's is Remote's value, the frames ride our own link's) */
+#if FW_PGN
+#define P_REMOTE_MAX REMOTE_PGN
+#define REMOTE_IS_RAVEN(r) ((r) && (r) != REMOTE_PGN)
+#define REMOTE_FRAMING(r) ((uint8_t)((r) == REMOTE_PGN ? HAL_UART_38400_8N1 : (r)))
+#else
+#define P_REMOTE_MAX REMOTE_RAVEN_1200
+#define REMOTE_IS_RAVEN(r) ((r) != 0)
+#define REMOTE_FRAMING(r) ((uint8_t)(r))
+#endif
+#define SPEED_SRC_WHEEL 0           /* P_SPEED_SRC: the wheel sensor */
+#define SPEED_SRC_GPS 1             /* ... PGN 254's speed */
+#define SPEED_SRC_BOTH 2            /* ... PGN 254's, the wheel's cross-checked against it */
 
 #define PARAM_ENUM(id, name, unit, dec, lo, hi, def) id,
 enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #undef PARAM_ENUM
 
-#define PARAMS_VERSION 10           /* bump when the table or the EEPROM record changes (2: lifetime totals,
+#define PARAMS_VERSION 11           /* bump when the table or the EEPROM record changes (2: lifetime totals,
                                      * 3: Min duty and Backlash appended, 4: Wheel p/rev appended, 5: the peers'
                                      * settings and Remote appended, 6: the learnt figures after the totals,
                                      * 7: ffmap's speed feed-forward among them, 8: the job totals after them,
                                      * 9: Raven's data logger trigger and AOG slow appended, the aog peer's
                                      * settings in the current RateControl's units, AOG brake in AOG Kd's
                                      * place, 10: Dose as Rate 1 in 0.1 L/ha, Rate 2, Preset, Rate step and
-                                     * Units appended; a copy of version 2 to 9 still loads, the values
-                                     * appended since and (before 9) the aog settings at their defaults) */
+                                     * Units appended, 11: the speed source and frame settings appended; a
+                                     * copy of version 2 to 10 still loads, the values appended since and
+                                     * (before 9) the aog settings at their defaults) */
 #define PARAMS_V2_COUNT 21          /* P_COUNT of version 2: the table up to P_VALVE_TRAVEL */
 #define PARAMS_V3_COUNT 23          /* P_COUNT of version 3: up to P_VALVE_SLACK */
 #define PARAMS_V4_COUNT 24          /* P_COUNT of version 4: up to P_WHEEL_PPR */
 #define PARAMS_V8_COUNT 32          /* P_COUNT of versions 5 to 8: up to P_REMOTE_WIN */
 #define PARAMS_V9_COUNT 35          /* P_COUNT of version 9: up to P_AOG_SLOW */
+#define PARAMS_V10_COUNT 39         /* P_COUNT of version 10: up to P_UNITS */
 
 typedef struct {
     const __code char *name;
@@ -119,6 +146,8 @@ uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
 const __code char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id (and, for Valve cal, its dead band digit is 1-9). */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
+/* param_in_range, or Remote = AgOpenGPS in an image without the frames (a record from one with them) */
+uint8_t param_stored_ok(uint8_t id, uint16_t v) __reentrant;
 /* Value v of parameter id in a record of version ver, in this version's units: Rate 1 was whole
  * L/ha before version 9 (0, out of every range, for what it cannot have been). */
 uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v) __reentrant;

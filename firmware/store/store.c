@@ -125,8 +125,8 @@ static uint8_t ck_more(uint8_t budget) __reentrant
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
             if (!((sv_lo == PARAMS_VERSION && b == P_COUNT) || (sv_lo >= 5u && sv_lo < 9u && b == PARAMS_V8_COUNT)
-                  || (sv_lo == 9u && b == PARAMS_V9_COUNT) || (sv_lo == 2u && b == PARAMS_V2_COUNT)
-                  || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
+                  || (sv_lo == 9u && b == PARAMS_V9_COUNT) || (sv_lo == 10u && b == PARAMS_V10_COUNT)
+                  || (sv_lo == 2u && b == PARAMS_V2_COUNT) || (sv_lo == 3u && b == PARAMS_V3_COUNT) || (sv_lo == 4u && b == PARAMS_V4_COUNT)))
                 return 0;
             sv.n = b;
             sv.end = (uint8_t)CRC_N(b);
@@ -137,7 +137,7 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (sv_lo >= 8u)
                 sv.end += STORE_JOB_BYTES;      /* the job totals (version 8 on) */
         } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
-            if (!param_in_range((uint8_t)((sv_at - HDR_VALUES) >> 1), param_of_version(hal_eeprom_read(base + 1u),
+            if (!param_stored_ok((uint8_t)((sv_at - HDR_VALUES) >> 1), param_of_version(hal_eeprom_read(base + 1u),
                                 (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8))))
                 return 0;
         } else if (sv_at == sv.end) {

@@ -54,7 +54,7 @@
 #define STORE_LEARN_VERSION 7u      /* the first version whose learnt bytes are this layout's */
 #define STORE_JOB_BYTES 8u          /* the job totals (version 8) */
 #define STORE_COPY_BYTES (5u + 2u * P_COUNT + 8u + STORE_LEARN_BYTES + STORE_JOB_BYTES + 2u)
-#define STORE_SLOT_BYTES 128u         /* a record of 39 values, the learnt figures and the job is 113 bytes */
+#define STORE_SLOT_BYTES 128u       /* a record of 45 values, the learnt figures and the job is 125 bytes */
 #define STORE_SLOTS_PER_SECTOR 4u
 #define STORE_SLOTS 8u
 #define STORE_NO_SLOT 0xFFu

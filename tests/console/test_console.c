@@ -369,8 +369,8 @@ static void test_console_every_parameter_menu_stores_in_range_and_refuses_out_of
     (void)state;
     for (uint8_t id = 0; id < P_COUNT; id++) {
         if (id == P_CONTROLLER || id == P_MODE || id == P_REMOTE || id == P_LOG_UNIT || id == P_PRESET
-            || id == P_UNITS)
-            continue;
+            || id == P_UNITS || id == P_SPEED_SRC || id == P_AOG_SECT)
+            continue;               /* the choices: named, tested below */
         const param_info_t *pi = param_info(id);
         to_item(id);
         assert_string_equal(lcd(1), (snprintf(want, sizeof want, "%-16s", pi->name), want));
@@ -608,7 +608,8 @@ static void test_console_controller_and_mode_are_chosen_by_name(void **state)
     run_ms(300);
     assert_int_equal(param_v[P_MODE], 1);
     assert_non_null(strstr(lcd(2), "  MAN"));
-    /* Remote: off / Raven at 9600 / Raven at 1200 baud, round again to off */
+    /* Remote: off / Raven at 9600 / Raven at 1200 baud / AgOpenGPS (this build has the
+     * frames), round again to off */
     to_item(P_REMOTE);
     assert_string_equal(lcd(2), "             off");
     press('D');
@@ -617,7 +618,11 @@ static void test_console_controller_and_mode_are_chosen_by_name(void **state)
     press('A');
     assert_string_equal(lcd(2), "new   Raven 1200");
     press('A');
+    assert_string_equal(lcd(2), "new    AgOpenGPS");
+    press('A');
     assert_string_equal(lcd(2), "new          off");
+    press('B');
+    assert_string_equal(lcd(2), "new    AgOpenGPS");
     press('B');
     press('D');
     assert_int_equal(param_v[P_REMOTE], 2);

@@ -74,11 +74,11 @@ static void twin_write_n(int sector, uint16_t seq, const uint16_t *v, uint8_t ve
     e[n + 1] = (uint8_t)crc;
 }
 
-/* a copy of this version's or of an older one's table (version 9: PARAMS_V9_COUNT values, 5 to 8:
- * PARAMS_V8_COUNT) */
+/* a copy of this version's or of an older one's table (version 10: PARAMS_V10_COUNT values, 9:
+ * PARAMS_V9_COUNT, 5 to 8: PARAMS_V8_COUNT) */
 static void twin_write(int sector, uint16_t seq, const uint16_t *v, uint8_t version)
 {
-    twin_write_n(sector, seq, v, version, version == PARAMS_VERSION ? P_COUNT
+    twin_write_n(sector, seq, v, version, version == PARAMS_VERSION ? P_COUNT : version == 10 ? PARAMS_V10_COUNT
                                           : version == 9 ? PARAMS_V9_COUNT : PARAMS_V8_COUNT);
 }
 
@@ -643,6 +643,26 @@ static void test_store_keeps_the_job_totals(void **state)
     assert_int_equal(totals_get()->job_dm2, 1234567UL);
     assert_int_equal(totals_get()->job_ml, 89012UL);
     assert_int_equal(store_learnt(0), 0x43);
+    /* version 10: the job after the learnt figures of its 39 values, the frame settings (appended
+     * since) at their defaults */
+    hal_host_reset();
+    uint16_t c[P_COUNT];
+    values_k(c, 6);
+    c[P_SPEED_SRC] = SPEED_SRC_BOTH;    /* not its default: the load must not keep it */
+    twin_job_dm2 = 4242u;
+    twin_job_ml = 99u;
+    twin_learnt[0] = 0x44;
+    twin_write(0, 8, c, 10);
+    twin_job_dm2 = twin_job_ml = 0;
+    twin_learnt[0] = 0xFF;
+    totals_init();
+    assert_int_equal(store_load(), STORE_OK);
+    for (int i = PARAMS_V10_COUNT; i < P_COUNT; i++)
+        c[i] = param_info((uint8_t)i)->def;
+    assert_true(equals(c));
+    assert_int_equal(totals_get()->job_dm2, 4242u);
+    assert_int_equal(totals_get()->job_ml, 99u);
+    assert_int_equal(store_learnt(0), 0x44);
     /* version 7: the same layout less the job */
     hal_host_reset();
     twin_learnt[0] = 0x42;
@@ -976,7 +996,8 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         {0x5A, PARAMS_VERSION + 1, P_COUNT, 0},
         {0x5A, PARAMS_VERSION, P_COUNT - 1, 0}, {0x5A, 5, PARAMS_V8_COUNT - 1, 0},
         {0x5A, PARAMS_VERSION, PARAMS_V8_COUNT, 0}, {0x5A, 8, P_COUNT, 0}, {0x5A, 8, PARAMS_V8_COUNT, 1},
-        {0x5A, 4, PARAMS_V8_COUNT, 0},
+        {0x5A, 4, PARAMS_V8_COUNT, 0}, {0x5A, 9, PARAMS_V9_COUNT, 1}, {0x5A, 9, P_COUNT, 0},
+        {0x5A, PARAMS_VERSION, PARAMS_V9_COUNT, 0}, {0x5A, 9, PARAMS_V8_COUNT, 0}, {0x5A, 10, PARAMS_V10_COUNT, 1}, {0x5A, 10, P_COUNT, 0},
         {0x5A, 4, P_COUNT, 0}, {0x5A, 4, PARAMS_V4_COUNT + 1, 0}, {0x5A, 3, PARAMS_V4_COUNT, 0},
         {0x5A, 2, PARAMS_V3_COUNT, 0}, {0x5A, 1, PARAMS_V2_COUNT, 0}, {0x5A, 0, P_COUNT, 0},
         {0x5A, 8, P_COUNT, 0}, {0x5A, 5, P_COUNT, 0}, {0x5A, 9, P_COUNT, 0}, {0x5A, 9, PARAMS_V8_COUNT, 0},
@@ -1005,7 +1026,7 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         printf("# magic %02X version %u count %d: %s\n", h[i].magic, h[i].version, count,
                st == STORE_OK ? "loaded" : "defaults");
         assert_int_equal(st == STORE_OK, h[i].loads);
-        assert_int_equal(param_v[0] == (h[i].version < PARAMS_VERSION ? 1230 : v[0]), h[i].loads);
+        assert_int_equal(param_v[0] == (h[i].version < 10 ? 1230 : v[0]), h[i].loads);
     }
 }
 

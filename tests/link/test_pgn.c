@@ -1,0 +1,403 @@
+/* test_pgn.c: AgOpenGPS and RateControl PGN frames through the host build: each frame of the sources' layouts decoded, damaged frames refused and counted, replies, text lines among frames at full rate, GPS speed, sections and frames stopping. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+#include "hal_host.h"
+#include "helper_link.h"
+#include "link_crc.h"
+#include "params.h"
+#include "app.h"
+#include "target.h"
+#include "diag.h"
+#include "store.h"
+#include "pgn.h"
+
+/* ---- frames as the sources build them --------------------------------------------------- */
+/* AgOpenGPS (AgIO): 80 81 src pgn len data.. crc, crc = low byte of the sum of bytes 2 .. n-2 */
+static size_t aog(uint8_t *f, uint8_t pgn, const uint8_t *data, uint8_t len)
+{
+    unsigned sum = 0;
+    f[0] = 0x80;
+    f[1] = 0x81;
+    f[2] = 0x7F;                    /* AgIO's source byte */
+    f[3] = pgn;
+    f[4] = len;
+    memcpy(f + 5, data, len);
+    for (size_t i = 2; i < 5u + len; i++)
+        sum += f[i];
+    f[5 + len] = (uint8_t)sum;
+    return 6u + len;
+}
+
+/* RateControl: pgn u16 LE, the fields, crc = low byte of the sum of bytes 0 .. n-2 */
+static size_t rc(uint8_t *f, uint16_t pgn, const uint8_t *fields, size_t n_fields)
+{
+    unsigned sum = 0;
+    f[0] = (uint8_t)pgn;
+    f[1] = (uint8_t)(pgn >> 8);
+    memcpy(f + 2, fields, n_fields);
+    for (size_t i = 0; i < 2u + n_fields; i++)
+        sum += f[i];
+    f[2 + n_fields] = (uint8_t)sum;
+    return 3u + n_fields;
+}
+
+/* 32500 as RateControl's PGN32500.Send lays it out */
+static size_t rc32500(uint8_t *f, uint8_t module, uint32_t upm_x1000, uint32_t cal_x1000, uint8_t cmd, int16_t pwm)
+{
+    uint8_t d[11] = {(uint8_t)(module << 4), (uint8_t)upm_x1000, (uint8_t)(upm_x1000 >> 8), (uint8_t)(upm_x1000 >> 16),
+                     (uint8_t)cal_x1000, (uint8_t)(cal_x1000 >> 8), (uint8_t)(cal_x1000 >> 16), cmd,
+                     (uint8_t)pwm, (uint8_t)((uint16_t)pwm >> 8), 0};
+    return rc(f, 32500, d, sizeof d);
+}
+
+static void send_bytes(const uint8_t *f, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        hal_host_uart_rx_push(f[i]);
+}
+
+/* everything the firmware sent since the last call */
+static size_t tx_all(uint8_t *buf, size_t n)
+{
+    size_t len = 0;
+    int b;
+    while ((b = hal_host_uart_tx_pop()) >= 0)
+        if (len < n)
+            buf[len++] = (uint8_t)b;
+    return len;
+}
+
+/* the first reply frame of `pgn` (AgOpenGPS: its pgn byte; RateControl: its u16) in the bytes
+ * sent, its crc checked by the source's rule; its offset or -1 */
+static int find_reply(const uint8_t *b, size_t n, unsigned pgn)
+{
+    for (size_t i = 0; i + (pgn < 256 ? 14 : 15) <= n; i++) {
+        unsigned sum = 0;
+        if (pgn < 256 && b[i] == 0x80 && b[i + 1] == 0x81 && b[i + 3] == pgn && b[i + 4] == 8) {
+            for (size_t k = i + 2; k < i + 13; k++)
+                sum += b[k];
+            assert_int_equal(b[i + 13], (uint8_t)sum);
+            return (int)i;
+        }
+        if (pgn >= 256 && b[i] == (uint8_t)pgn && b[i + 1] == (uint8_t)(pgn >> 8)) {
+            for (size_t k = i; k < i + 14; k++)
+                sum += b[k];
+            assert_int_equal(b[i + 14], (uint8_t)sum);
+            return (int)i;
+        }
+    }
+    return -1;
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    link_start();
+    store_status_clear();
+    link_run_ms(3000);
+    tx_all(NULL, 0);
+    assert_true(param_set(P_REMOTE, REMOTE_PGN));
+    link_run_ms(200);
+    return 0;
+}
+
+/* ---- the table -------------------------------------------------------------------------------- */
+static void test_pgn_each_frame_of_the_layouts_decoded(void **state)
+{
+    (void)state;
+    uint8_t f[32], out[4096];
+    uint16_t taken = pgn_rx.taken;
+    /* 254 Steer Data: 12.3 km/h as u16 LE, status, steer angle, xte, sections 1-8, 9-16 */
+    const uint8_t d254[8] = {123, 0, 1, 0x10, 0x27, 0x7D, 0xFF, 0xFF};
+    send_bytes(f, aog(f, 254, d254, 8));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.gps_kmh_x10, 123);
+    /* 254 at 30.0 km/h: the u16's high byte */
+    const uint8_t d254b[8] = {0x2C, 0x01, 1, 0, 0, 0x7D, 0, 0};
+    send_bytes(f, aog(f, 254, d254b, 8));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.gps_kmh_x10, 300);
+    /* 239 Machine Data: uturn, speed x10 (one byte), lift, tram, geoStop, -, sections 1-8, 9-16 */
+    const uint8_t d239[8] = {0, 80, 0, 0, 0, 0, 0x15, 0x00};
+    tx_all(out, sizeof out);
+    send_bytes(f, aog(f, 239, d239, 8));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.sections, 0x15);
+    /* ... answered with 237 as a machine module (AOG reply on) */
+    size_t n = tx_all(out, sizeof out);
+    assert_true(find_reply(out, n, 237) >= 0);
+    /* 229 64 sections: sections 1-64, tool left and right speed */
+    const uint8_t d229[10] = {0x2A, 0xFF, 0, 0, 0, 0, 0, 0, 20, 22};
+    send_bytes(f, aog(f, 229, d229, 10));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.sections, 0x2A);
+    /* 32500: module 0 sensor 0, 12.345 UPM, meter cal 380.5, MasterOn and AutoOn, manual PWM -100 */
+    send_bytes(f, rc32500(f, 0, 12345, 380500, 0x50, -100));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.rc_upm_x1000, 12345);
+    assert_int_equal(pgn_rx.rc_cmd, 0x50);
+    link_run_ms(20);
+    n = tx_all(out, sizeof out);
+    /* ... answered with 32400 (module 0 sensor 0, status bit 0: the app heard) and 32401 */
+    int i = find_reply(out, n, 32400);
+    assert_true(i >= 0);
+    assert_int_equal(out[i + 2], 0x00);
+    uint32_t applied = out[i + 3] | (uint32_t)out[i + 4] << 8 | (uint32_t)out[i + 5] << 16;
+    assert_int_equal(applied, (uint32_t)(app_status.in.flow_lpm_x100 > 0 ? app_status.in.flow_lpm_x100 : 0) * 10u);
+    assert_int_equal(out[i + 11] & 1, 1);
+    i = find_reply(out, n, 32401);
+    assert_true(i >= 0);
+    assert_int_equal(out[i + 3] | out[i + 4] << 8, app_status.in.pressure_kpa);
+    /* 32501: module, relays lo, hi, power relays lo, hi, inverted lo, hi, master valve index */
+    const uint8_t d32501[8] = {0, 0x0F, 0x00, 0, 0, 0, 0, 255};
+    send_bytes(f, rc(f, 32501, d32501, 8));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.sections, 0x0F);
+    /* 32502: module<<4|sensor, max PWM %, min PWM %, Kp, Ki, dead band % x10, then the rest */
+    uint8_t d32502[21] = {0, 100, 20, 50, 5, 15, 35, 60};
+    send_bytes(f, rc(f, 32502, d32502, 21));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.taken, taken + 7u);     /* checked and counted (nothing of it applies) */
+    /* another module's 32500 and 32501 are not taken; AgIO's other pgns (238 settings) skipped */
+    send_bytes(f, rc32500(f, 1, 999, 1000, 0x50, 0));
+    link_run_ms(20);
+    const uint8_t d32501m[8] = {3, 0xFF, 0xFF, 0, 0, 0, 0, 255};
+    send_bytes(f, rc(f, 32501, d32501m, 8));
+    link_run_ms(20);
+    const uint8_t d238[8] = {2, 4, 0, 1, 0, 0, 0, 0};
+    send_bytes(f, aog(f, 238, d238, 8));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.rc_upm_x1000, 12345);
+    assert_int_equal(pgn_rx.sections, 0x0F);
+    assert_int_equal(pgn_rx.taken, taken + 7u);
+    assert_int_equal(pgn_rx.bad, 0);
+}
+
+/* One byte changed, one bit flipped, a short length, a lost second sync byte: each frame is
+ * refused and counted, nothing it carried is taken; the next good frame is. */
+static void test_pgn_damaged_frames_refused_and_counted(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
+    send_bytes(f, aog(f, 254, d254, 8));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.gps_kmh_x10, 80);
+    const uint8_t d254x[8] = {99, 0, 1, 0, 0, 0x7D, 0, 0};
+    for (size_t at = 2; at < 14; at++) {
+        for (int kind = 0; kind < 2; kind++) {
+            uint16_t bad = pgn_rx.bad;
+            size_t n = aog(f, 254, d254x, 8);
+            f[at] ^= kind ? 0x04 : 0x5A;        /* one bit, or a byte changed */
+            send_bytes(f, n);
+            link_run_ms(400);                   /* (a frame made longer stalls: dropped) */
+            assert_int_equal(pgn_rx.gps_kmh_x10, 80);
+            assert_int_equal(pgn_rx.bad, bad + 1u);
+        }
+    }
+    /* a short length for a known pgn */
+    uint16_t bad = pgn_rx.bad;
+    size_t n = aog(f, 254, d254x, 8);
+    f[4] = 7;
+    send_bytes(f, n - 1);
+    link_run_ms(400);
+    assert_int_equal(pgn_rx.bad, bad + 1u);
+    /* RateControl's: a bit of the rate */
+    n = rc32500(f, 0, 5000, 1000, 0x50, 0);
+    f[4] ^= 0x01;
+    send_bytes(f, n);
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.bad, bad + 2u);
+    assert_int_not_equal(pgn_rx.rc_upm_x1000, 5000 ^ 0x100);
+    /* the next good one is taken */
+    send_bytes(f, aog(f, 254, d254x, 8));
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.gps_kmh_x10, 99);
+}
+
+/* AgIO's 10 Hz and a text command line between every two frames, the wire full: every command
+ * answered, every frame taken, nothing refused. */
+static void test_pgn_text_commands_among_frames_at_full_rate(void **state)
+{
+    (void)state;
+    uint8_t f[32], out[65536];
+    char line[64];
+    uint16_t taken = pgn_rx.taken;
+    tx_all(out, sizeof out);
+    for (int k = 0; k < 100; k++) {
+        const uint8_t d254[8] = {(uint8_t)(50 + k), 0, 1, 0, 0, 0x7D, 0, 0};
+        send_bytes(f, aog(f, 254, d254, 8));
+        snprintf(line, sizeof line, "GET %d\r\n", k % P_COUNT);
+        link_send(line);
+        const uint8_t d239[8] = {0, 0, 0, 0, 0, 0, 0x3F, 0};
+        send_bytes(f, aog(f, 239, d239, 8));
+    }
+    link_run_ms(3000);
+    size_t n = tx_all(out, sizeof out);
+    int oks = 0;
+    for (size_t i = 0; i + 3 < n; i++)
+        oks += memcmp(out + i, "OK ", 3) == 0;
+    assert_int_equal(oks, 100);
+    assert_int_equal(pgn_rx.taken, taken + 200u);
+    assert_int_equal(pgn_rx.bad, 0);
+    assert_int_equal(pgn_rx.gps_kmh_x10, 149);
+}
+
+/* Speed src GPS: the target's speed is 254's; AOG sect on: the boom's sections the switches'
+ * and the frames'; the frames stopping shut the boom within Frames lost, SPEED_LOST told. */
+static void test_pgn_gps_speed_sections_and_frames_stopping(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_GPS));
+    assert_true(param_set(P_AOG_SECT, 1));
+    assert_true(param_set(P_FRAMES_LOST, 10));     /* 1.0 s */
+    uint64_t last = 0;
+    for (int k = 0; k < 30; k++) {                  /* 3 s at 10 Hz: 8.0 km/h, sections 1-3 */
+        const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
+        const uint8_t d239[8] = {0, 80, 0, 0, 0, 0, 0x07, 0};
+        send_bytes(f, aog(f, 254, d254, 8));
+        send_bytes(f, aog(f, 239, d239, 8));
+        link_run_ms(100);
+        last = link_t_ms;
+    }
+    assert_int_equal(app_status.in.speed_kmh_x100, 800);
+    assert_int_equal(app_status.open_nozzles, 18);  /* 3 of 6 sections of 6 nozzles */
+    assert_true(app_status.spraying);
+    assert_false(app_status.alarms & (1u << AL_SPEED_LOST));
+    /* a frame closes section 3: the boom follows within 0.2 s */
+    const uint8_t d239c[8] = {0, 80, 0, 0, 0, 0, 0x03, 0};
+    send_bytes(f, aog(f, 239, d239c, 8));
+    link_run_ms(200);
+    assert_int_equal(app_status.open_nozzles, 12);
+    last = link_t_ms - 200;
+    /* the frames stop: shut within 1.0 s (and a period), SPEED_LOST */
+    while (app_status.spraying && link_t_ms < last + 3000)
+        link_run_ms(1);
+    assert_false(app_status.spraying);
+    assert_true(link_t_ms - last <= 1000 + 100);
+    assert_true(link_t_ms - last >= 1000);
+    link_run_ms(200);
+    assert_true(app_status.alarms & (1u << AL_SPEED_LOST));
+    /* they come back: the alarm clears */
+    for (int k = 0; k < 20; k++) {
+        const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
+        const uint8_t d239[8] = {0, 80, 0, 0, 0, 0, 0x07, 0};
+        send_bytes(f, aog(f, 254, d254, 8));
+        send_bytes(f, aog(f, 239, d239, 8));
+        link_run_ms(100);
+    }
+    assert_false(app_status.alarms & (1u << AL_SPEED_LOST));
+    assert_true(app_status.spraying);
+}
+
+/* Speed src both: the wheel at a standstill against 8 km/h of GPS raises WHEEL_NOISE after
+ * PGN_OFF_PERIODS; wheel alone (the setting back) clears it. */
+static void test_pgn_both_raises_wheel_noise_when_the_speeds_part(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_BOTH));
+    int raised_at = -1;
+    for (int k = 0; k < 40; k++) {
+        const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
+        send_bytes(f, aog(f, 254, d254, 8));
+        link_run_ms(100);
+        if (raised_at < 0 && (app_status.alarms & (1u << AL_WHEEL_NOISE)))
+            raised_at = k;
+    }
+    assert_int_equal(app_status.in.speed_kmh_x100, 800);   /* the GPS's */
+    assert_true(raised_at >= (int)PGN_OFF_PERIODS - 1 && raised_at <= (int)PGN_OFF_PERIODS + 2);
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_WHEEL));
+    link_run_ms(1500);
+    assert_false(app_status.alarms & (1u << AL_WHEEL_NOISE));
+}
+
+/* RateControl: a target UPM built from a rate by hand (130 L/ha x 8 km/h x 18 m / 600 = 31.2
+ * L/min) gives back that rate; one outside the remote window is refused and the rate holds. */
+static void test_pgn_ratecontrol_target_upm_is_a_rate_in_the_window(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    assert_true(param_set(P_GIVEN_SPEED, 80));
+    link_run_ms(300);
+    send_bytes(f, rc32500(f, 0, 31200, 380000, 0x50, 0));
+    link_run_ms(300);
+    assert_true(target_rate_remote());
+    assert_int_equal(target_rate_x10(), 1300);
+    /* 60 L/ha: under the 50 % window of 150 */
+    send_bytes(f, rc32500(f, 0, 14400, 380000, 0x50, 0));
+    link_run_ms(300);
+    assert_int_equal(target_rate_x10(), 1300);
+    /* AutoOn clear: no rate taken */
+    send_bytes(f, rc32500(f, 0, 36000, 380000, 0x10, 0));
+    link_run_ms(300);
+    assert_int_equal(target_rate_x10(), 1300);
+    /* a module id of its own */
+    assert_true(param_set(P_RC_ID, 3));
+    send_bytes(f, rc32500(f, 3, 36000, 380000, 0x50, 0));
+    link_run_ms(300);
+    assert_int_equal(target_rate_x10(), 1500);
+}
+
+/* A frame inside a text line: the line goes on after it. A start byte no frame follows inside
+ * a line: counted, and the line refused (ERR CHAR) as any byte that is not text. */
+static void test_pgn_a_frame_inside_a_line_and_noise(void **state)
+{
+    (void)state;
+    uint8_t f[32], out[2048];
+    const uint8_t d254[8] = {77, 0, 1, 0, 0, 0x7D, 0, 0};
+    tx_all(out, sizeof out);
+    link_send("GET ");
+    send_bytes(f, aog(f, 254, d254, 8));
+    link_send("0\r\n");
+    link_run_ms(50);
+    size_t n = tx_all(out, sizeof out);
+    out[n < sizeof out ? n : sizeof out - 1] = 0;
+    assert_non_null(strstr((char *)out, "OK 0 1500*"));
+    assert_int_equal(pgn_rx.gps_kmh_x10, 77);
+    uint16_t bad = pgn_rx.bad;
+    const uint8_t noise[] = {'G', 'E', 'T', ' ', 0x80, '0', '\r', '\n'};
+    send_bytes(noise, sizeof noise);
+    link_run_ms(50);
+    n = tx_all(out, sizeof out);
+    out[n < sizeof out ? n : sizeof out - 1] = 0;
+    assert_non_null(strstr((char *)out, "ERR CHAR*"));
+    assert_null(strstr((char *)out, "OK 0"));
+    assert_int_equal(pgn_rx.bad, bad + 1u);
+}
+
+/* Remote off or Raven: a frame's bytes are not frames (ERR CHAR for its line, as ever) */
+static void test_pgn_frames_only_with_remote_agopengps(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    assert_true(param_set(P_REMOTE, 0));
+    uint16_t taken = pgn_rx.taken, bad = pgn_rx.bad;
+    const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
+    send_bytes(f, aog(f, 254, d254, 8));
+    link_send("\r\n");
+    link_run_ms(50);
+    assert_int_equal(pgn_rx.taken, taken);
+    assert_int_equal(pgn_rx.bad, bad);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_pgn_each_frame_of_the_layouts_decoded, setup),
+        cmocka_unit_test_setup(test_pgn_damaged_frames_refused_and_counted, setup),
+        cmocka_unit_test_setup(test_pgn_text_commands_among_frames_at_full_rate, setup),
+        cmocka_unit_test_setup(test_pgn_gps_speed_sections_and_frames_stopping, setup),
+        cmocka_unit_test_setup(test_pgn_both_raises_wheel_noise_when_the_speeds_part, setup),
+        cmocka_unit_test_setup(test_pgn_ratecontrol_target_upm_is_a_rate_in_the_window, setup),
+        cmocka_unit_test_setup(test_pgn_a_frame_inside_a_line_and_noise, setup),
+        cmocka_unit_test_setup(test_pgn_frames_only_with_remote_agopengps, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
