@@ -71,9 +71,8 @@ void diag_init(void)
     dg.nozzles = 0;
     diag_line_init();
     diag_nozzle_relearn();
-    /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the
-     * bytes of diag_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a
-     * calibration opens */
+    /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the bytes
+     * of diag_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a calibration opens */
     dg.kp_kpa = store_learnt(STORE_LEARN_CTL + 2u) | (uint16_t)store_learnt(STORE_LEARN_CTL + 3u) << 8;
     dg.pc_kpa = store_learnt(STORE_LEARN_CTL);
     if (dg.kp_kpa >= 100u && dg.kp_kpa <= 1000u && dg.pc_kpa <= 150u) {   /* what learn_fit gives */
