@@ -10,6 +10,7 @@
 #include "hil.h"
 #include "remote.h"
 #include "pgn.h"
+#include "commands.h"
 #include "target.h"
 #include "linebuf.h"
 #include "linecheck.h"
@@ -141,40 +142,7 @@ static void reply_err(const __code char *why) __reentrant
     tx_s(why);
 }
 
-/* ---- the commands: one table of word, arguments and handler ------------------------------ */
-#define ARG_NONE 0                  /* nothing after the word */
-#define ARG_NUM 1                   /* one number */
-#define ARG_NUM2 2                  /* two numbers */
-#define ARG_SIGN 3                  /* + or - (or 0, for NUD) */
-#define ARG_ON 4                    /* the word ON */
-enum { C_GET, C_SET, C_CTL, C_JOG, C_ACK, C_RST, C_TOT, C_LIF, C_PUL, C_SAV, C_NUD, C_HIL };
-typedef struct {
-    char word[4];                   /* three letters and the end */
-    uint8_t args;                   /* ARG_* */
-    uint8_t handler;                /* C_*: the case of run() (no function pointers: the stack
-                                     * check follows every call, and SDCC's calls stay plain) */
-} command_t;
-static const __code command_t commands[] = {
-    {"GET", ARG_NUM, C_GET},        /* GET <id>          OK <id> <value> */
-    {"SET", ARG_NUM2, C_SET},       /* SET <id> <value>  OK <id> <value> */
-    {"CTL", ARG_NUM, C_CTL},        /* CTL <n>           OK CTL <n> */
-    {"JOG", ARG_SIGN, C_JOG},       /* JOG +|-           OK JOG */
-    {"ACK", ARG_NONE, C_ACK},       /* ACK               OK ACK */
-    {"RST", ARG_NONE, C_RST},       /* RST               OK RST */
-    {"TOT", ARG_NONE, C_TOT},       /* TOT               OK TOT <job dm^2> <job ml> <L/ha x10> */
-    {"LIF", ARG_NONE, C_LIF},       /* LIF               OK LIF <life m^2> <life ml> */
-    {"PUL", ARG_NONE, C_PUL},       /* PUL               OK PUL <wheel pulses> <meter pulses> */
-    {"SAV", ARG_NONE, C_SAV},       /* SAV               OK SAV */
-    {"NUD", ARG_SIGN, C_NUD},       /* NUD +|-|0         OK NUD <offset %> <rate in use L/ha x10> */
-#if FW_HIL
-    {"HIL", ARG_ON, C_HIL},         /* HIL ON*HH         OK HIL, then frames (hil.h); the checksum required */
-#endif
-};
-#define N_COMMANDS (sizeof commands / sizeof commands[0])
-/* The commands that change something: refused without their check, so that a damaged line
- * ("SET 0 150" losing a digit is the valid "SET 0 10") is never acted on. */
-#define CHANGES ((1u << C_SET) | (1u << C_CTL) | (1u << C_JOG) | (1u << C_ACK) | (1u << C_RST) | (1u << C_SAV) \
-                 | (1u << C_NUD) | (1u << C_HIL))
+/* ---- the commands: link_commands[] (commands.c) ------------------------------------------- */
 /* the ERR word of each param_try() verdict (params.h PARAM_*) */
 static const char __code *const __code why_word[] = {"", "RANGE", "TANKMIN", "PSTART", "METERHZ", "FLOWMAX"};
 
@@ -267,7 +235,7 @@ static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
 static uint8_t answer(void) __reentrant
 {
     const __xdata char *p = se.buf + 3;
-    const __code command_t *cmd = commands;
+    const __code command_t *cmd = link_commands;
     uint8_t n = se_n, c;
     uint16_t a = 0, b = 0;
 
@@ -287,11 +255,11 @@ static uint8_t answer(void) __reentrant
         reply_err("REMOTE");
         return 1;
     }
-    for (c = 0; c < N_COMMANDS; c++, cmd++)
+    for (c = 0; c < LINK_N_COMMANDS; c++, cmd++)
         if (se.buf[0] == cmd->word[0] && se.buf[1] == cmd->word[1]
             && se.buf[2] == cmd->word[2] && (se.buf[3] == ' ' || se.buf[3] == 0))
             break;
-    if (c == N_COMMANDS) {
+    if (c == LINK_N_COMMANDS) {
         reply_err(link_e_cmd);
         return 1;
     }
