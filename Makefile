@@ -156,7 +156,7 @@ DEMO_DIR := $(BUILD)/demo
 .SECONDARY:
 .DELETE_ON_ERROR:
 .PHONY: chip ucsim hil hil-host fuzz fuzz-merge firmware memory flash deps test host-tests target-tests mutate sabotage bench sim pil pil-image \
-        sim-progs demo compare family redraw faults report \
+        sim-progs demo compare family faults report \
         bench-sim panel screenshots clean help FORCE
 
 help:
@@ -178,7 +178,7 @@ help:
 	@echo "make family [N=200] [CONTROLLERS=..] [SEED=1] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1]"
 	@echo "               the controllers over N sprayers of the plant family: median and 95th percentile"
 	@echo "make faults [FAULTS_CONTROLLER=ffmap] [ONLY=leak_growing,..]   every fault of issue 51 at two sizes: told or not (build/faults/table.md)"
-	@echo "make redraw [PLANTS=\"28/35/untold ..\"] [SELECT=fast-high|fast-stiff] [SEEDS=1-140] [DRAWS=12]   family plants with more noise draws: runs with an alarm"
+	@echo "make help-research  the research harnesses' targets (tools/research/research.mk)"
 	@echo "make report    docs/RESULTS.md and its plots, the README's headline: the paper's experiments reproduced, the family, the cost (minutes)"
 	@echo "make bench-sim simulated seconds per second (wall, CPU time) of the paper's run, with the machine it ran on"
 	@echo "make panel     the LCD and keypad in the terminal against the simulated sprayer"
@@ -362,7 +362,7 @@ $(UC_DIR)/tests/bench/isr_cycles.rel: tests/bench/isr_cycles.c
 	$(call msg,SDCC,$< [s51])
 	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -DFW_PGN=$(PGN) $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1) -Ihal/stc12 -MMD -c $< -o $@
 
-$(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(STC_DIR)/hal/stc12/hal_stc12.rel $(STC_DIR)/hal/stc12/hal_serial.rel
+$(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
 	$(call msg,LINK,$@ [s51 program])
 	$(Q)$(SDCC) $(SDCC_CFLAGS) $(SDCC_LDFLAGS) $^ -o $@ > $(UC_DIR)/isr_cycles.log 2>&1 || { cat $(UC_DIR)/isr_cycles.log; exit 1; }
 
@@ -402,16 +402,6 @@ KIND ?= both
 EVENTS ?=
 family: $(SIM_BIN) $(VENV)
 	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --kind $(KIND) $(if $(EVENTS),--events) --out $(BUILD)/family
-
-# family plants again with more noise draws (the plant's own seed, then --seed 1..DRAWS-1): the
-# runs with an alarm per plant; PLANTS as SEED/NUMBER/told|untold, or SELECT a class of SEEDS'
-# plants (tools/redraw.py); neither: the alarm plants of docs/CONTROLLERS.md
-PLANTS ?=
-SELECT ?=
-SEEDS ?= 1-140
-DRAWS ?= 12
-redraw: $(SIM_BIN) $(VENV)
-	$(Q)$(PYTHON) tools/redraw.py $(SIM_BIN) $(PLANTS) $(if $(SELECT),--select $(SELECT) --seeds $(SEEDS)) --draws $(DRAWS) --out $(BUILD)/redraw
 
 # every fault of issue 51's first table at two sizes: the alarm or warning, its delay, the dose
 # while untold and silent_wrong_s (tools/faults.py); the table in build/faults/table.md
@@ -516,6 +506,9 @@ deps:
 
 clean:
 	rm -rf $(BUILD)
+
+# ==== research harnesses: their targets apart from the product's ==================================
+include tools/research/research.mk
 
 # ==== header dependencies (written by -MMD) ====================================================================
 # SDCC has no -MP: a header that is gone is no reason to stop, the object is rebuilt

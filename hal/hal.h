@@ -99,8 +99,8 @@ uint8_t hal_hil_active(void);
 /* Switch to framing f: 1 when done, 0 (nothing changed) while bytes still wait to go out at
  * the old one (call again later: it never waits). */
 uint8_t hal_uart_framing(uint8_t f);
-/* The receive queue's size (a power of two; the ring holds one byte less): hal_stc12's
- * hal_serial.c sizes it for the main loop's passes, the host backend models the same. */
+/* The receive queue's size (a power of two; the ring holds one byte less): hal/stc12's
+ * uart.c sizes it for the main loop's passes, the host backend models the same. */
 #define HAL_UART_RXQ 64
 /* Queue one byte; returns 0 when the transmit buffer is full (the byte is not taken). */
 uint8_t hal_uart_put(uint8_t b);

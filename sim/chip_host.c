@@ -21,7 +21,7 @@
 
 #define CHIP_EV_MAX 4096
 #define CHIP_RXQ 256
-#define APP_STATUS_BYTES 27         /* app_status_t as SDCC lays it out: packed, little-endian */
+#define APP_STATUS_BYTES 27         /* app_status_t as SDCC lays it out: packed, little-endian, in first */
 
 struct chip {
     sim_t *sim;
@@ -175,11 +175,11 @@ static void status(chip_t *c, const uint8_t *s, const uint8_t *pv)
 {
     uint16_t rate = (uint16_t)get(pv + 2 * P_RATE, 2), k = (uint16_t)get(pv + 2 * P_METER_K, 2);
     int fresh = 0;
-    app_status.target_lpm_x100 = (int16_t)get(s + 0, 2);
-    app_status.flow_lpm_x100 = (int16_t)get(s + 2, 2);
-    app_status.speed_kmh_x100 = (uint16_t)get(s + 4, 2);
-    app_status.pressure_kpa = (uint16_t)get(s + 6, 2);
-    app_status.valve_limit = s[8];
+    app_status.in.target_lpm_x100 = (int16_t)get(s + 0, 2);
+    app_status.in.flow_lpm_x100 = (int16_t)get(s + 2, 2);
+    app_status.in.speed_kmh_x100 = (uint16_t)get(s + 4, 2);
+    app_status.in.pressure_kpa = (uint16_t)get(s + 6, 2);
+    app_status.in.valve_limit = s[8];
     app_status.tank_l = (uint16_t)get(s + 9, 2);
     app_status.applied_l_ha_x10 = (uint16_t)get(s + 11, 2);
     app_status.drive = (int16_t)get(s + 13, 2);
@@ -335,7 +335,7 @@ static int report(chip_t *c)
                 return -1;
             }
         }
-        c->speeds[c->n_speed++] = app_status.speed_kmh_x100;
+        c->speeds[c->n_speed++] = app_status.in.speed_kmh_x100;
     }
     return 0;
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "args.h"
 #include "sim.h"
 #include "hal_host.h"
 #include "hil.h"
@@ -223,10 +224,10 @@ static void exchange(sim_t *sim, hil_pc_t *h)
     hal_host_io.spray_on = o.relays & 1u;
     hal_host_io.buzzer = (o.relays >> 1) & 1u;
     hal_wheel_min_interval(o.wheel_min);
-    app_status.speed_kmh_x100 = o.speed_kmh_x100;
-    app_status.target_lpm_x100 = o.target_lpm_x100;
-    app_status.flow_lpm_x100 = o.flow_lpm_x100;
-    app_status.pressure_kpa = o.pressure_kpa;
+    app_status.in.speed_kmh_x100 = o.speed_kmh_x100;
+    app_status.in.target_lpm_x100 = o.target_lpm_x100;
+    app_status.in.flow_lpm_x100 = o.flow_lpm_x100;
+    app_status.in.pressure_kpa = o.pressure_kpa;
     h->alarms = o.alarms;
     h->alarms_ms = hal_ms() + HIL_DIAG_MS;
     app_status.spraying = o.relays & 1u;
@@ -283,17 +284,6 @@ static int hil_carries(int kind)
     }
 }
 
-static int num(const char *opt, const char *v, double lo, double hi, double *x)
-{
-    char *end;
-    *x = strtod(v, &end);
-    if (!*v || *end || !(*x >= lo && *x <= hi)) {
-        fprintf(stderr, "hil: %s '%s' is not a number %g..%g\n", opt, v, lo, hi);
-        return -1;
-    }
-    return 0;
-}
-
 int main(int argc, char **argv)
 {
     const char *scn_path = NULL, *port = NULL, *controller = NULL, *csv_path = NULL;
@@ -304,50 +294,31 @@ int main(int argc, char **argv)
     progress_t prog;
     metrics_result_t r;
     FILE *csv = NULL;
-    double x, cut_s = 0;
+    double cut_s = 0;
     int i;
     unsigned lost;
 
     memset(&h, 0, sizeof h);
     h.pace = 1.0;
     h.timeout_s = -1;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (!v) {
-            fprintf(stderr, "hil: %s needs a value\n", a);
-            return 2;
-        }
-        if (!strcmp(a, "--scenario"))
-            scn_path = v;
-        else if (!strcmp(a, "--port"))
-            port = v;
-        else if (!strcmp(a, "--controller"))
-            controller = v;
-        else if (!strcmp(a, "--csv"))
-            csv_path = v;
-        else if (!strcmp(a, "--pace")) {
-            if (num(a, v, 0, 1000, &h.pace) < 0)
-                return 2;
-        } else if (!strcmp(a, "--timeout")) {
-            if (num(a, v, 0.001, 60, &h.timeout_s) < 0)
-                return 2;
-        } else if (!strcmp(a, "--duration")) {
-            if (num(a, v, 0.001, 1e6, &cut_s) < 0)
-                return 2;
-        } else if (!strcmp(a, "--drop-every") || !strcmp(a, "--corrupt-every")) {
-            if (num(a, v, 2, 1e6, &x) < 0)
-                return 2;
-            *(a[2] == 'd' ? &h.drop_every : &h.corrupt_every) = (unsigned)x;
-        } else {
-            fprintf(stderr, "hil: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        }
-        i++;
+    {
+        long drop = 0, corrupt = 0;
+        const arg_opt_t opts[] = {
+            {"--scenario", ARG_TEXT, &scn_path, 0, 0, NULL},
+            {"--port", ARG_TEXT, &port, 0, 0, NULL},
+            {"--controller", ARG_TEXT, &controller, 0, 0, NULL},
+            {"--csv", ARG_TEXT, &csv_path, 0, 0, NULL},
+            {"--pace", ARG_NUM, &h.pace, 0, 1000, NULL},
+            {"--timeout", ARG_NUM, &h.timeout_s, 0.001, 60, NULL},
+            {"--duration", ARG_NUM, &cut_s, 0.001, 1e6, NULL},
+            {"--drop-every", ARG_WHOLE, &drop, 2, 1e6, NULL},
+            {"--corrupt-every", ARG_WHOLE, &corrupt, 2, 1e6, NULL},
+        };
+        i = args_parse("hil", argc, argv, opts, (int)(sizeof opts / sizeof opts[0]), NULL, usage);
+        if (i != ARGS_OK)
+            return i == ARGS_HELP ? 0 : 2;
+        h.drop_every = (unsigned)drop;
+        h.corrupt_every = (unsigned)corrupt;
     }
     if (!scn_path || !port) {
         fprintf(stderr, "hil: --scenario FILE and --port DEV are required\n");

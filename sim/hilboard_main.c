@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "args.h"
 #include "hal_host.h"
 #include "hil.h"
 #include "app.h"
@@ -48,6 +49,14 @@ static void flush_tx(int fd)
         pty_write(fd, buf, k);
 }
 
+static void usage(FILE *f)
+{
+    fputs("usage: hilboard [--wait S]\n"
+          "  the firmware on the host, its serial link on a new pseudo-terminal (the name on stderr):\n"
+          "  build/host/bin/hil --port <it> runs a scenario against it (make hil-host); --wait S: how\n"
+          "  long the PC may take to open it (60 s)\n", f);
+}
+
 int main(int argc, char **argv)
 {
     char name[256];
@@ -58,21 +67,10 @@ int main(int argc, char **argv)
     uint32_t pca_prev = 0;
     uint64_t t_prev = 0;
 
-    for (i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--wait") && i + 1 < argc) {
-            char *end;
-            wait_s = strtod(argv[++i], &end);
-            if (*end || !(wait_s > 0)) {
-                fprintf(stderr, "hilboard: --wait '%s' is not a number of seconds\n", argv[i]);
-                return 2;
-            }
-        } else {
-            fprintf(stderr, "usage: hilboard [--wait S]\n"
-                    "  the firmware on the host, its serial link on a new pseudo-terminal (the name on stderr):\n"
-                    "  build/host/bin/hil --port <it> runs a scenario against it (make hil-host)\n");
-            return 2;
-        }
-    }
+    const arg_opt_t opts[] = {{"--wait", ARG_NUM, &wait_s, 0.001, 1e6, NULL}};
+    i = args_parse("hilboard", argc, argv, opts, 1, NULL, usage);
+    if (i != ARGS_OK)
+        return i == ARGS_HELP ? 0 : 2;
     fd = pty_open(name, sizeof name);
     if (fd < 0) {
         fprintf(stderr, "hilboard: %s\n", name);

@@ -9,6 +9,7 @@
 #include <termios.h>
 #include <time.h>
 #include <unistd.h>
+#include "args.h"
 #include "sim.h"
 #include "hal_host.h"
 #include "st7920_emu.h"
@@ -337,58 +338,28 @@ int main(int argc, char **argv)
     sim_t *sim = malloc(sizeof *sim);
     if (!s || !sim)
         return 1;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        char *end = NULL;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (!strcmp(a, "--text")) {
-            text_only = 1;
-            continue;
-        }
-        if (!v) {
-            fprintf(stderr, "panel: %s needs a value\n", a);
-            usage(stderr);
+    long scale_l = 3;
+    const char *serial_path = NULL;
+    const arg_opt_t opts[] = {
+        {"--scenario", ARG_TEXT, &scn_path, 0, 0, NULL},
+        {"--keys", ARG_TEXT, &keys, 0, 0, NULL},
+        {"--serial", ARG_TEXT, &serial_path, 0, 0, NULL},
+        {"--screenshot", ARG_TEXT, &shot, 0, 0, NULL},
+        {"--text", ARG_FLAG, &text_only, 0, 0, NULL},
+        {"--speed", ARG_NUM, &speed, 0.001, 1000, NULL},
+        {"--time", ARG_NUM, &pre_s, 0, 1e6, NULL},
+        {"--scale", ARG_WHOLE, &scale_l, 1, 16, NULL},
+    };
+    int r = args_parse("panel", argc, argv, opts, (int)(sizeof opts / sizeof opts[0]), NULL, usage);
+    if (r != ARGS_OK)
+        return r == ARGS_HELP ? 0 : 2;
+    scale = (int)scale_l;
+    if (serial_path) {
+        if (!(link_out = fopen(serial_path, "w"))) {
+            fprintf(stderr, "panel: cannot write %s: %s\n", serial_path, strerror(errno));
             return 2;
         }
-        i++;
-        if (!strcmp(a, "--scenario"))
-            scn_path = v;
-        else if (!strcmp(a, "--keys"))
-            keys = v;
-        else if (!strcmp(a, "--serial")) {
-            if (!(link_out = fopen(v, "w"))) {
-                fprintf(stderr, "panel: cannot write %s: %s\n", v, strerror(errno));
-                return 2;
-            }
-            setvbuf(link_out, NULL, _IOLBF, 0);
-        } else if (!strcmp(a, "--screenshot"))
-            shot = v;
-        else if (!strcmp(a, "--speed")) {
-            speed = strtod(v, &end);
-            if (*end || !(speed > 0 && speed <= 1000)) {
-                fprintf(stderr, "panel: --speed '%s' is not a number 0..1000\n", v);
-                return 2;
-            }
-        } else if (!strcmp(a, "--time")) {
-            pre_s = strtod(v, &end);
-            if (*end || !(pre_s >= 0 && pre_s <= 1e6)) {
-                fprintf(stderr, "panel: --time '%s' is not a number of seconds\n", v);
-                return 2;
-            }
-        } else if (!strcmp(a, "--scale")) {
-            scale = (int)strtol(v, &end, 10);
-            if (*end || scale < 1 || scale > 16) {
-                fprintf(stderr, "panel: --scale '%s' is not 1..16\n", v);
-                return 2;
-            }
-        } else {
-            fprintf(stderr, "panel: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        }
+        setvbuf(link_out, NULL, _IOLBF, 0);
     }
     if (scn_path ? scenario_load(s, scn_path, err, sizeof err) < 0
                  : scenario_parse(s, default_scn, "(panel default)", err, sizeof err) < 0) {

@@ -263,10 +263,10 @@ static void pass(void *ctx)
     fresh = rd(p);
     if (!fresh)
         goto timing;
-    app_status.speed_kmh_x100 = (uint16_t)rd16(p);
-    app_status.target_lpm_x100 = (int16_t)rd16(p);
-    app_status.flow_lpm_x100 = (int16_t)rd16(p);
-    app_status.pressure_kpa = (uint16_t)rd16(p);
+    app_status.in.speed_kmh_x100 = (uint16_t)rd16(p);
+    app_status.in.target_lpm_x100 = (int16_t)rd16(p);
+    app_status.in.flow_lpm_x100 = (int16_t)rd16(p);
+    app_status.in.pressure_kpa = (uint16_t)rd16(p);
     app_status.tank_l = (uint16_t)rd16(p);
     app_status.drive = (int16_t)rd16(p);
     ctl_k[0] = (int16_t)rd16(p);    /* the host's copy of the gains (ctl_gain), idle in PIL */

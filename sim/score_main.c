@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "args.h"
 #include "metrics.h"
 #include "scenario.h"
 #include "params.h"
@@ -51,18 +52,6 @@ static void usage(FILE *f)
           "  The settings (rate, nozzles, spacing) come from the scenario, the options, or the defaults.\n", f);
 }
 
-static int num_arg(const char *opt, const char *s, double lo, double hi, double *v)
-{
-    char *end;
-    errno = 0;
-    *v = strtod(s, &end);
-    if (!*s || *end || errno || !(*v >= lo && *v <= hi)) {
-        fprintf(stderr, "score: %s '%s' is not a number %g..%g\n", opt, s, lo, hi);
-        return -1;
-    }
-    return 0;
-}
-
 /* Split a CSV line in place (no quoting: the recorders write none); returns the field count. */
 static int split(char *line, char **f, int max)
 {
@@ -105,45 +94,18 @@ int main(int argc, char **argv)
     double dt_sample, width_set, *gaps;
     unsigned prev_alarms = 0;
 
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (a[0] != '-') {
-            if (path) {
-                fprintf(stderr, "score: one CSV at a time ('%s' and '%s')\n", path, a);
-                return 2;
-            }
-            path = a;
-            continue;
-        }
-        if (!v) {
-            fprintf(stderr, "score: %s needs a value\n", a);
-            return 2;
-        }
-        if (!strcmp(a, "--scenario"))
-            scn_path = v;
-        else if (!strcmp(a, "--zones"))
-            zones_path = v;
-        else if (!strcmp(a, "--name"))
-            name = v;
-        else if (!strcmp(a, "--rate")) {
-            if (num_arg(a, v, 10, 1000, &rate) < 0)
-                return 2;
-        } else if (!strcmp(a, "--nozzles")) {
-            if (num_arg(a, v, 1, 96, &nozzles) < 0)
-                return 2;
-        } else if (!strcmp(a, "--spacing-cm")) {
-            if (num_arg(a, v, 10, 200, &spacing) < 0)
-                return 2;
-        } else {
-            fprintf(stderr, "score: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        }
-        i++;
+    {
+        const arg_opt_t opts[] = {
+            {"--scenario", ARG_TEXT, &scn_path, 0, 0, NULL},
+            {"--zones", ARG_TEXT, &zones_path, 0, 0, NULL},
+            {"--name", ARG_TEXT, &name, 0, 0, NULL},
+            {"--rate", ARG_NUM, &rate, 10, 1000, NULL},
+            {"--nozzles", ARG_NUM, &nozzles, 1, 96, NULL},
+            {"--spacing-cm", ARG_NUM, &spacing, 10, 200, NULL},
+        };
+        i = args_parse("score", argc, argv, opts, (int)(sizeof opts / sizeof opts[0]), &path, usage);
+        if (i != ARGS_OK)
+            return i == ARGS_HELP ? 0 : 2;
     }
     if (!path) {
         usage(stderr);

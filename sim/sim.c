@@ -1,6 +1,5 @@
-/* sim.c: the lock-step loop: scenario events and driver, the plant, the host HAL, app_poll(), metrics and trace. */
+/* sim.c: the lock-step loop: scenario events and driver, the plant, the host HAL, app_poll() and the metrics (the operator's input: sim_input.c; the trace and the JSON: sim_trace.c). */
 #include <math.h>
-#include <ctype.h>
 #include <string.h>
 #include <time.h>
 #include "sim.h"
@@ -187,8 +186,6 @@ static void power_on(sim_t *sim)
     sim->fw_rate = target_rate_x10();   /* what the firmware loaded, not what the operator set */
 }
 
-static void input_apply_n(sim_t *sim, char k, const char *line, uint8_t n_bytes, uint64_t t1);
-
 /* The operator's nudge as the serial command does it (so that PIL runs it in s51 too): NUD
  * +, - or 0 (back to the preset), with its check. */
 static void nudge_line(sim_t *sim, int dir)
@@ -196,7 +193,7 @@ static void nudge_line(sim_t *sim, int dir)
     char line[16];
     snprintf(line, sizeof line, "NUD %c", dir > 0 ? '+' : dir < 0 ? '-' : '0');
     snprintf(line + 5, sizeof line - 5, "*%02X", link_crc8(line, 5));
-    input_apply_n(sim, 0, line, 0, sim->t_ns + sim->tick_ns);
+    sim_event_text(sim, EV_SERIAL, line);
 }
 
 int sim_event(sim_t *sim, int kind, double v)
@@ -265,9 +262,7 @@ static const char *alarm_code(uint8_t bit, char *buf, size_t n)
     return buf;
 }
 
-/* The reference target: what the firmware's settings give for the true wheel speed (slip
- * included), so that the firmware's own measurement noise can neither hide nor invent a hold. */
-static double reference_lpm(const sim_t *sim)
+double sim_reference_lpm(const sim_t *sim)
 {
     const plant_t *pl = &sim->plant;
     double v = plant_speed_kmh(pl) * (1.0 + pl->p.wheel_slip_pct / 100.0) * 100.0;
@@ -288,8 +283,8 @@ static double meter_reads_lpm(sim_t *sim)
 
 static void sample(sim_t *sim, double flow_lpm)
 {
-    metrics_sample(&sim->metrics, reference_lpm(sim), app_status.target_lpm_x100 / 100.0, flow_lpm,
-                   app_status.speed_kmh_x100 / 100.0, hal_host_io.spray_on);
+    metrics_sample(&sim->metrics, sim_reference_lpm(sim), app_status.in.target_lpm_x100 / 100.0, flow_lpm,
+                   app_status.in.speed_kmh_x100 / 100.0, hal_host_io.spray_on);
 }
 
 /* The driver's command at t (time only moves forward): scenario_drive_kmh with a cursor. */
@@ -310,126 +305,6 @@ static double drive_kmh(sim_t *sim, double t)
         sim->drive_slope = (d[i + 1].kmh - d[i].kmh) / (d[i + 1].t_s - d[i].t_s);
     }
     return d[i].kmh + sim->drive_slope * (t - d[i].t_s);
-}
-
-/* "80 81 7F FE .." (or without the spaces) into bytes: their count, 0 for anything else */
-static uint8_t hex_bytes(const char *s, char *out, size_t max)
-{
-    size_t k = 0;
-    unsigned v;
-    while (*s) {
-        if (*s == ' ') {
-            s++;
-            continue;
-        }
-        if (k >= max || !isxdigit((unsigned char)s[0]) || !isxdigit((unsigned char)s[1]) || sscanf(s, "%2x", &v) != 1)
-            return 0;
-        out[k++] = (char)v;
-        s += 2;
-    }
-    return (uint8_t)k;
-}
-
-int sim_input_load(sim_t *sim, const char *path, char *err, size_t n)
-{
-    FILE *f = fopen(path, "r");
-    char buf[256];
-    int line = 0;
-    double last = 0.0;
-    if (!f) {
-        snprintf(err, n, "%s: cannot read", path);
-        return -1;
-    }
-    while (fgets(buf, sizeof buf, f)) {
-        sim_input_t in;
-        char what[16];
-        int used = 0;
-        size_t len;
-        line++;
-        buf[strcspn(buf, "\r\n")] = 0;
-        if (buf[strspn(buf, " \t")] == '#' || buf[strspn(buf, " \t")] == 0)
-            continue;
-        memset(&in, 0, sizeof in);
-        if (sscanf(buf, "%lf %15s %n", &in.t_s, what, &used) < 2 || in.t_s < last) {
-            snprintf(err, n, "%s:%d: expected 't_s key K' or 't_s serial TEXT', times ascending", path, line);
-            fclose(f);
-            return -1;
-        }
-        last = in.t_s;
-        len = strlen(buf + used);
-        if (!strcmp(what, "key") && len == 1 && strchr("0123456789ABCD*#", buf[used]))
-            in.key = buf[used];
-        else if (!strcmp(what, "serial") && len > 0 && len < sizeof in.line)
-            memcpy(in.line, buf + used, len + 1);
-        else if (!strcmp(what, "frame") && (in.n_bytes = hex_bytes(buf + used, in.line, sizeof in.line)) > 0)
-            ;
-        else {
-            snprintf(err, n, "%s:%d: a key is one of 0-9 A-D * #; a serial line 1-%d characters; a frame 1-%d hex bytes",
-                     path, line, (int)sizeof in.line - 1, (int)sizeof in.line);
-            fclose(f);
-            return -1;
-        }
-        sim->input = realloc(sim->input, (size_t)(sim->n_input + 1) * sizeof *sim->input);
-        if (!sim->input) {
-            snprintf(err, n, "out of memory");
-            fclose(f);
-            return -1;
-        }
-        sim->input[sim->n_input++] = in;
-    }
-    fclose(f);
-    return 0;
-}
-
-static int key_bit(char k)
-{
-    uint8_t r, c;
-    for (r = 0; r < 4; r++)
-        for (c = 0; c < 4; c++)
-            if (keypad_char(r, c) == k)
-                return 4 * r + c;
-    return -1;
-}
-
-/* One operator input at t1: key k held SIM_KEY_HOLD_MS (k != 0), n_bytes of a frame as they
- * are (n_bytes != 0), or the line and CR LF into the UART. */
-static void input_apply_n(sim_t *sim, char k, const char *line, uint8_t n_bytes, uint64_t t1)
-{
-    if (n_bytes) {
-        while (n_bytes--)
-            hal_host_uart_rx_push((uint8_t)*line++);
-    } else if (k) {
-        int b = key_bit(k);
-        hal_host_io.keys = b >= 0 ? (uint16_t)(1u << b) : 0;
-        sim->key_release_ns = t1 + SIM_KEY_HOLD_MS * 1000000ull;
-    } else {
-        const char *c;
-        for (c = line; *c; c++)
-            hal_host_uart_rx_push((uint8_t)*c);
-        hal_host_uart_rx_push('\r');
-        hal_host_uart_rx_push('\n');
-    }
-}
-
-/* the operator's inputs due by t1: keys pressed and let go, lines into the UART */
-static void input_step(sim_t *sim, uint64_t t1)
-{
-    if (sim->key_release_ns && t1 >= sim->key_release_ns) {
-        hal_host_io.keys = 0;
-        sim->key_release_ns = 0;
-    }
-    while (sim->next_input < sim->n_input && sim->input[sim->next_input].t_s * 1e9 <= (double)t1) {
-        const sim_input_t *in = &sim->input[sim->next_input++];
-        input_apply_n(sim, in->key, in->line, in->n_bytes, t1);
-    }
-}
-
-int sim_event_text(sim_t *sim, int kind, const char *text)
-{
-    if ((kind != EV_KEY && kind != EV_SERIAL) || scenario_event_text_check(kind, text, NULL, 0) < 0)
-        return -1;
-    input_apply_n(sim, kind == EV_KEY ? text[0] : 0, text, 0, sim->t_ns + sim->tick_ns);
-    return 0;
 }
 
 /* The rate in force: the operator's, or a field computer's the firmware took (the host's
@@ -480,7 +355,7 @@ void sim_step(sim_t *sim)
             sim_event(sim, e->kind, e->value);
     }
     if (sim->n_input || sim->scn_input)
-        input_step(sim, t1);
+        sim_input_step(sim, t1);
     if (sim->aog_period_ns || sim->rc_rate > 0)
         frames_step(sim, t1);
     pl->v_cmd_kmh = drive_kmh(sim, t1_ns * 1e-9);
@@ -528,7 +403,7 @@ void sim_step(sim_t *sim)
                 rate_now(sim), pl->p_bar, pl->spray_on);
     if (pl->spray_on && !sim->spray_on_ns)
         sim->spray_on_ns = t1 + 1;
-    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.target_lpm_x100 * 0.01,
+    metrics_target(&sim->metrics, dt, pl->v_mps, meter_reads_lpm(sim), app_status.in.target_lpm_x100 * 0.01,
                    (pl->theta <= 0.0 || pl->theta >= 1.0 ? METRICS_AT_STOP : 0)
                        | (!sim->spray_on_ns || t1 < sim->spray_on_ns + SIM_START_NS ? METRICS_AT_START : 0));
     metrics_valve(&sim->metrics, dt, (double)pl->valve_reversals, pl->valve_travel, pl->spray_on);
@@ -584,94 +459,6 @@ int sim_done(const sim_t *sim)
 double sim_time_s(const sim_t *sim)
 {
     return sim->t_ns * 1e-9;
-}
-
-void sim_row(const sim_t *sim, sim_row_t *r)
-{
-    const plant_t *pl = &sim->plant;
-    memset(r, 0, sizeof *r);
-    r->t_s = sim->t_ns * 1e-9;
-    r->v_cmd_kmh = pl->v_cmd_kmh;
-    r->v_true_kmh = plant_speed_kmh(pl);
-    r->v_meas_kmh = app_status.speed_kmh_x100 / 100.0;
-    r->target_lpm = app_status.target_lpm_x100 / 100.0;
-    r->flow_meas_lpm = app_status.flow_lpm_x100 / 100.0;
-    r->flow_true_lpm = sim->flow_true_lpm;
-    r->boom_lpm = sim->boom_lpm;
-    r->pump_lpm = pl->q_pump;
-    r->bypass_lpm = pl->q_bypass;
-    r->relief_lpm = pl->q_relief;
-    r->p_bar = pl->p_bar;
-    r->p_meas_kpa = app_status.pressure_kpa;
-    r->adc_pressure = hal_host_io.adc[HAL_ADC_PRESSURE];
-    r->adc_level = hal_host_io.adc[HAL_ADC_LEVEL];
-    r->valve_pos = pl->theta;
-    r->valve_drive = pl->drive;
-    r->ctl_drive = app_status.drive / 32768.0;
-    r->kp = ctl_gain(0) / 4096.0;
-    r->ki = ctl_gain(1) / 4096.0;
-    r->kd = ctl_gain(2) / 4096.0;
-    r->tank_l = pl->tank_v;
-    r->tank_meas_l = app_status.tank_l;
-    r->pto_rpm = pl->pto_now_rpm;
-    r->spray_on = hal_host_io.spray_on;
-    r->open_nozzles = pl->open_nozzles;
-    r->sections = hal_host_io.sections;
-    r->alarms = app_status.alarms;
-    r->ref_lpm = reference_lpm(sim);
-    r->rate_l_ha = sim->set_rate;
-    r->width_m = pl->open_nozzles * pl->p.spacing_m;
-}
-
-void sim_csv_header(FILE *f)
-{
-    fputs("t_s,v_cmd_kmh,v_true_kmh,v_meas_kmh,target_lpm,flow_meas_lpm,flow_true_lpm,boom_lpm,"
-          "pump_lpm,bypass_lpm,relief_lpm,p_bar,p_meas_kpa,adc_pressure,adc_level,valve_pos,valve_drive,"
-          "ctl_drive,kp,ki,kd,tank_l,tank_meas_l,pto_rpm,spray_on,open_nozzles,sections,alarms,ref_lpm,rate_l_ha,"
-          "width_m\n", f);
-}
-
-void sim_csv_row(FILE *f, const sim_row_t *r)
-{
-    fprintf(f, "%.3f,%.4f,%.4f,%.2f,%.2f,%.2f,%.4f,%.4f,%.3f,%.3f,%.3f,%.4f,%.0f,%d,%d,%.5f,%.4f,"
-               "%.5f,%.4f,%.4f,%.4f,%.3f,%.0f,%.1f,%d,%d,%d,0x%04x,%.4f,%.0f,%.3f\n",
-            r->t_s, r->v_cmd_kmh, r->v_true_kmh, r->v_meas_kmh, r->target_lpm, r->flow_meas_lpm,
-            r->flow_true_lpm, r->boom_lpm, r->pump_lpm, r->bypass_lpm, r->relief_lpm, r->p_bar,
-            r->p_meas_kpa, r->adc_pressure, r->adc_level, r->valve_pos, r->valve_drive, r->ctl_drive,
-            r->kp, r->ki, r->kd, r->tank_l, r->tank_meas_l, r->pto_rpm, r->spray_on, r->open_nozzles,
-            r->sections, r->alarms, r->ref_lpm, r->rate_l_ha, r->width_m);
-}
-
-void sim_trace_csv(sim_t *sim, FILE *f, double period_s)
-{
-    sim->csv = f;
-    if (!f)
-        return;
-    sim->csv_period_ns = (uint64_t)((period_s > 0.001 ? period_s : 0.001) * 1e9 + 0.5);
-    sim->next_csv_ns = sim->t_ns + sim->csv_period_ns;
-    sim_csv_header(f);
-}
-
-void sim_finish(sim_t *sim, metrics_result_t *r)
-{
-    metrics_finish(&sim->metrics, r);
-}
-
-void sim_json(const sim_t *sim, const metrics_result_t *r, FILE *f)
-{
-    char extra[512];
-    const char *name = sim->scn->name;
-    char clean[256];
-    size_t i, k = 0;
-    for (i = 0; name[i] && k + 2 < sizeof clean; i++) {
-        if (name[i] == '"' || name[i] == '\\')
-            clean[k++] = '\\';
-        clean[k++] = (char)((unsigned char)name[i] < 32 ? '?' : name[i]);
-    }
-    clean[k] = 0;
-    snprintf(extra, sizeof extra, "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,",
-             clean, ctl_name((uint8_t)param_v[P_CONTROLLER]), (unsigned long long)sim->scn->seed);
-    metrics_json(f, &sim->metrics, r, extra, sim->wall_s, sim->cpu_s);
 }
 
 void sim_free(sim_t *sim)

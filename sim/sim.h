@@ -58,14 +58,14 @@
 typedef struct {
     double t_s;
     double v_cmd_kmh, v_true_kmh;   /* driver's command, true ground speed */
-    double v_meas_kmh;              /* firmware: app_status.speed_kmh_x100 */
+    double v_meas_kmh;              /* firmware: app_status.in.speed_kmh_x100 */
     double target_lpm;              /* firmware: target boom flow */
     double flow_meas_lpm;           /* firmware: measured flow */
     double flow_true_lpm;           /* truth: through the meter (nozzles + leak), mean over the last sample period */
     double boom_lpm;                /* truth: out of the nozzles, mean over the last sample period */
     double pump_lpm, bypass_lpm, relief_lpm;  /* truth, this tick */
     double p_bar;                   /* truth: line pressure at the boom */
-    double p_meas_kpa;              /* firmware: app_status.pressure_kpa */
+    double p_meas_kpa;              /* firmware: app_status.in.pressure_kpa */
     int adc_pressure, adc_level;    /* what the ADC reads now */
     double valve_pos;               /* truth: bypass valve 0 closed .. 1 open */
     double valve_drive;             /* HAL output as the plant takes it: [-1, 1], + opens the bypass */
@@ -153,6 +153,12 @@ typedef struct sim_input {
  * ('#' starts a comment where a line starts with it). 0, or -1 with "file:line: reason" in err.
  * Call after sim_init(). */
 int sim_input_load(sim_t *sim, const char *path, char *err, size_t n);
+/* The operator's inputs due by t1 (ns): keys pressed and let go, lines into the UART
+ * (sim_input.c, for sim_step). */
+void sim_input_step(sim_t *sim, uint64_t t1);
+/* The reference target, L/min: what the firmware's settings give for the true wheel speed (slip
+ * included), so that the firmware's own measurement noise can neither hide nor invent a hold. */
+double sim_reference_lpm(const sim_t *sim);
 
 /* Start a simulation of scenario s at time 0 (resets the host HAL and the firmware). */
 void sim_init(sim_t *sim, const scenario_t *s);

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "args.h"
 #include "sim.h"
 #include "hal_host.h"
 #include "pil_host.h"
@@ -118,16 +119,6 @@ static int run_pty(sim_t *sim, const scenario_t *s, double pace, double wait_s)
     return 0;
 }
 
-static int parse_u64(const char *s, unsigned long long *v)
-{
-    char *end;
-    if (!*s || *s == '-' || *s == '+')
-        return -1;
-    errno = 0;
-    *v = strtoull(s, &end, 10);
-    return (*end || errno) ? -1 : 0;
-}
-
 /* Write one of the metrics' CSV files to path; -1 (said on stderr) when it cannot. */
 static int write_out(const char *path, void (*write)(FILE *, const metrics_t *), const metrics_t *m)
 {
@@ -153,10 +144,12 @@ int main(int argc, char **argv)
     pil_t *pil = NULL;
     progress_t prog;
     chip_t *chip = NULL;
-    struct { double t; int kind; } chip_ev[8];
-    int n_chip_ev = 0;
+    arg_nums_t chip_ev[3] = { { { 0 }, 0 } };   /* the times of --chip-reset, --chip-hang, --chip-wheel-sweep */
+    static const int chip_ev_kind[3] = { STC12_EV_RESET, STC12_EV_HANG, STC12_EV_WHEEL_SWEEP };
+    int j;
     unsigned long long seed = 0;
-    int have_seed = 0, i, tick_ms = 1, idle_ms = 0;
+    int have_seed = 0, i, tick_ms = 1, idle_ms = 0, fast = 0;
+    long tick_l = 0, idle_l = 0;
     double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0, speed;
     int use_pty = 0;
     char err[512];
@@ -165,100 +158,45 @@ int main(int argc, char **argv)
     FILE *csv = NULL;
     metrics_result_t r;
 
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (!strcmp(a, "--pty")) {
-            use_pty = 1;
-            continue;
-        }
-        if (!strcmp(a, "--fast")) {
-            tick_ms = SIM_FAST_TICK_MS;
-            idle_ms = SIM_FAST_IDLE_MS;
-            continue;
-        }
-        if (!v) {
-            fprintf(stderr, "sim: %s needs a value\n", a);
-            usage(stderr);
-            return 2;
-        }
-        if (!strcmp(a, "--scenario"))
-            scn_path = v;
-        else if (!strcmp(a, "--controller"))
-            controller = v;
-        else if (!strcmp(a, "--csv"))
-            csv_path = v;
-        else if (!strcmp(a, "--zones"))
-            zones_path = v;
-        else if (!strcmp(a, "--samples"))
-            samples_path = v;
-        else if (!strcmp(a, "--serial"))
-            serial_path = v;
-        else if (!strcmp(a, "--drive-log"))
-            drive_path = v;
-        else if (!strcmp(a, "--pil"))
-            pil_path = v;
-        else if (!strcmp(a, "--chip"))
-            chip_path = v;
-        else if (!strcmp(a, "--s51"))
-            s51_path = v;
-        else if (!strcmp(a, "--chip-reset") || !strcmp(a, "--chip-hang") || !strcmp(a, "--chip-wheel-sweep")) {
-            if (n_chip_ev == 8) {
-                fprintf(stderr, "sim: at most 8 --chip-* inputs\n");
-                return 2;
-            }
-            chip_ev[n_chip_ev].t = atof(v);
-            chip_ev[n_chip_ev++].kind = !strcmp(a, "--chip-reset") ? STC12_EV_RESET
-                                        : !strcmp(a, "--chip-hang") ? STC12_EV_HANG : STC12_EV_WHEEL_SWEEP;
-        }
-        else if (!strcmp(a, "--input"))
-            input_path = v;
-        else if (!strcmp(a, "--seed")) {
-            if (parse_u64(v, &seed) < 0) {
-                fprintf(stderr, "sim: --seed '%s' is not a whole number 0..2^64-1\n", v);
-                return 2;
-            }
-            have_seed = 1;
-        } else if (!strcmp(a, "--pace") || !strcmp(a, "--wait")) {
-            char *end;
-            double x = strtod(v, &end);
-            if (*end || !*v || !(x >= 0 && x <= 1e6)) {
-                fprintf(stderr, "sim: %s '%s' is not a number 0..1e6\n", a, v);
-                return 2;
-            }
-            *(a[2] == 'p' ? &pace : &wait_s) = x;
-        } else if (!strcmp(a, "--tick-ms") || !strcmp(a, "--idle-tick-ms")) {
-            char *end;
-            long ms = strtol(v, &end, 10);
-            if (*end || !*v || ms < 1 || ms > SIM_TICK_MAX_MS || 100 % ms != 0) {
-                fprintf(stderr, "sim: %s '%s' is not a divisor of 100 from 1 to %d\n", a, v, SIM_TICK_MAX_MS);
-                return 2;
-            }
-            *(a[2] == 't' ? &tick_ms : &idle_ms) = (int)ms;
-        } else if (!strcmp(a, "--duration")) {
-            char *end;
-            cut_s = strtod(v, &end);
-            if (*end || !*v || !(cut_s > 0 && cut_s <= 1e6)) {
-                fprintf(stderr, "sim: --duration '%s' is not a number of seconds (0, 1e6]\n", v);
-                return 2;
-            }
-        } else if (!strcmp(a, "--trace-period")) {
-            char *end;
-            period = strtod(v, &end);
-            if (*end || !(period >= 0.001 && period <= 3600)) {
-                fprintf(stderr, "sim: --trace-period '%s' is not a number of seconds 0.001..3600\n", v);
-                return 2;
-            }
-        } else {
-            fprintf(stderr, "sim: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        }
-        i++;
+    const arg_opt_t opts[] = {
+        {"--scenario", ARG_TEXT, &scn_path, 0, 0, NULL},
+        {"--controller", ARG_TEXT, &controller, 0, 0, NULL},
+        {"--csv", ARG_TEXT, &csv_path, 0, 0, NULL},
+        {"--zones", ARG_TEXT, &zones_path, 0, 0, NULL},
+        {"--samples", ARG_TEXT, &samples_path, 0, 0, NULL},
+        {"--serial", ARG_TEXT, &serial_path, 0, 0, NULL},
+        {"--drive-log", ARG_TEXT, &drive_path, 0, 0, NULL},
+        {"--pil", ARG_TEXT, &pil_path, 0, 0, NULL},
+        {"--chip", ARG_TEXT, &chip_path, 0, 0, NULL},
+        {"--s51", ARG_TEXT, &s51_path, 0, 0, NULL},
+        {"--chip-reset", ARG_NUMS, &chip_ev[0], 0, 1e6, NULL},
+        {"--chip-hang", ARG_NUMS, &chip_ev[1], 0, 1e6, NULL},
+        {"--chip-wheel-sweep", ARG_NUMS, &chip_ev[2], 0, 1e6, NULL},
+        {"--input", ARG_TEXT, &input_path, 0, 0, NULL},
+        {"--pty", ARG_FLAG, &use_pty, 0, 0, NULL},
+        {"--fast", ARG_FLAG, &fast, 0, 0, NULL},
+        {"--seed", ARG_U64, &seed, 0, 0, &have_seed},
+        {"--pace", ARG_NUM, &pace, 0, 1e6, NULL},
+        {"--wait", ARG_NUM, &wait_s, 0, 1e6, NULL},
+        {"--tick-ms", ARG_WHOLE, &tick_l, 1, SIM_TICK_MAX_MS, NULL},
+        {"--idle-tick-ms", ARG_WHOLE, &idle_l, 1, SIM_TICK_MAX_MS, NULL},
+        {"--duration", ARG_NUM, &cut_s, 0.001, 1e6, NULL},
+        {"--trace-period", ARG_NUM, &period, 0.001, 3600, NULL},
+    };
+    i = args_parse("sim", argc, argv, opts, (int)(sizeof opts / sizeof opts[0]), NULL, usage);
+    if (i != ARGS_OK)
+        return i == ARGS_HELP ? 0 : 2;
+    if (fast) {                     /* (a --tick-ms or --idle-tick-ms given too sets its own) */
+        tick_ms = SIM_FAST_TICK_MS;
+        idle_ms = SIM_FAST_IDLE_MS;
+    }
+    if (tick_l)
+        tick_ms = (int)tick_l;
+    if (idle_l)
+        idle_ms = (int)idle_l;
+    if (100 % tick_ms != 0 || (idle_ms && 100 % idle_ms != 0)) {
+        fprintf(stderr, "sim: --tick-ms and --idle-tick-ms must divide 100\n");
+        return 2;
     }
     if (!scn_path) {
         fprintf(stderr, "sim: --scenario FILE is required\n");
@@ -335,9 +273,13 @@ int main(int argc, char **argv)
             fprintf(stderr, "sim: --chip: %s\n", err);
             return 1;
         }
-        for (i = 0; i < n_chip_ev; i++)
-            chip_at(chip, chip_ev[i].t, chip_ev[i].kind, 60);
-    } else if (n_chip_ev) {
+        for (j = 0; j < 3; j++)
+            for (i = 0; i < chip_ev[j].n; i++)
+                if (chip_at(chip, chip_ev[j].v[i], chip_ev_kind[j], 60) < 0) {
+                    fprintf(stderr, "sim: at most 8 --chip-* inputs\n");
+                    return 2;
+                }
+    } else if (chip_ev[0].n + chip_ev[1].n + chip_ev[2].n) {
         fprintf(stderr, "sim: --chip-reset, --chip-hang, --chip-wheel-sweep go with --chip\n");
         return 2;
     }

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "args.h"
 #include "metrics.h"
 
 #define MAX_COLS 64
@@ -56,26 +57,14 @@ int main(int argc, char **argv)
     metrics_series_t s;
     FILE *f;
 
-    for (i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(argv[i], "--flow") && i + 1 < argc) {
-            flow_col = argv[++i];
-        } else if (!strcmp(argv[i], "--delay-samples") && i + 1 < argc) {
-            char *end;
-            delay = strtol(argv[++i], &end, 10);
-            if (*end || delay < 0 || delay > 100000) {
-                fprintf(stderr, "steps: --delay-samples '%s' is not a whole number 0..100000\n", argv[i]);
-                return 2;
-            }
-        } else if (argv[i][0] == '-' || path) {
-            fprintf(stderr, "steps: unexpected argument '%s'\n", argv[i]);
-            usage(stderr);
-            return 2;
-        } else {
-            path = argv[i];
-        }
+    {
+        const arg_opt_t opts[] = {
+            {"--flow", ARG_TEXT, &flow_col, 0, 0, NULL},
+            {"--delay-samples", ARG_WHOLE, &delay, 0, 100000, NULL},
+        };
+        i = args_parse("steps", argc, argv, opts, 2, &path, usage);
+        if (i != ARGS_OK)
+            return i == ARGS_HELP ? 0 : 2;
     }
     if (!path) {
         usage(stderr);

@@ -16,6 +16,9 @@ import sys
 
 LIB_BYTES = 8           # a support routine: return address plus a few pushes (generous)
 HIGH_PRIORITY = {"_stc12_pca_isr"}
+# calls through a function pointer (SDCC: lcall to a local label that pushes the pointer and
+# `ret`s into it), by the function that makes them: every function the pointer may hold
+INDIRECT = {"_store_learnt_now": ["_diag_learnt_byte"]}   # learnt.c: store_learnt_from's
 
 
 def parse(dirname):
@@ -57,13 +60,21 @@ def parse(dirname):
                     cur["depth"] = max(0, cur["depth"] - (256 - n))
             elif op in ("lcall", "acall", "ljmp", "sjmp", "ajmp"):
                 target = s.split()[1].strip()
-                if target.startswith("_") or target.startswith("__"):
+                if op == "lcall" and target.endswith("$"):
+                    if name not in INDIRECT:    # a callee this walk cannot see: no figure
+                        raise SystemExit("stackdepth: %s calls through a function pointer: name "
+                                         "what it may call in INDIRECT (tools/stackdepth.py)" % name)
+                    cur["calls"] += [(t, cur["depth"] + 2) for t in INDIRECT[name]]
+                    cur["trampoline"] = True
+                elif target.startswith("_") or target.startswith("__"):
                     tail = op.endswith("jmp")
                     cur["calls"].append((target, cur["depth"] + (0 if tail else 2)))
             elif s.replace(" ", "").replace("\t", "") == "mov_bp,sp":
                 cur["bp"] = cur["depth"]
             elif s.replace(" ", "").replace("\t", "") == "movsp,_bp":
                 cur["depth"] = cur.get("bp", cur["depth"])
+            elif op == "ret" and cur.pop("trampoline", False):
+                cur["depth"] = max(0, cur["depth"] - 2)     # the pointer's 2 pushes, not a return
             elif op in ("ret", "reti"):
                 cur["depth"] = 0
             pending_sp = False

@@ -104,10 +104,10 @@ static void app_start(void)
     ap.prep = 0;
     ap.prep_gen = param_generation;
     ap.diag = 0;
-    app_status.speed_kmh_x100 = 0;
-    app_status.target_lpm_x100 = 0;
-    app_status.flow_lpm_x100 = 0;
-    app_status.pressure_kpa = 0;
+    app_status.in.speed_kmh_x100 = 0;
+    app_status.in.target_lpm_x100 = 0;
+    app_status.in.flow_lpm_x100 = 0;
+    app_status.in.pressure_kpa = 0;
     app_status.tank_l = 0;
     app_status.applied_l_ha_x10 = 0;
     app_status.drive = 0;
@@ -144,10 +144,10 @@ static void app_hil_answer(void) __reentrant
     o.valve_delay_ms = valve_pending(&o.valve_dir, &o.valve_duty);
     o.relays = (uint8_t)((app_status.spraying ? 1u : 0u) | (app_status.alarms_unacked ? 2u : 0u));
     o.alarms = app_status.alarms;
-    o.speed_kmh_x100 = app_status.speed_kmh_x100;
-    o.target_lpm_x100 = app_status.target_lpm_x100;
-    o.flow_lpm_x100 = app_status.flow_lpm_x100;
-    o.pressure_kpa = app_status.pressure_kpa;
+    o.speed_kmh_x100 = app_status.in.speed_kmh_x100;
+    o.target_lpm_x100 = app_status.in.target_lpm_x100;
+    o.flow_lpm_x100 = app_status.in.flow_lpm_x100;
+    o.pressure_kpa = app_status.in.pressure_kpa;
     serial_hil_send(&o);
 }
 #endif
@@ -183,8 +183,8 @@ static void app_measure(void)
     target_update(pgn_sections(hal_sections()));
     open = target_open_nozzles();
     diag_set_nozzles(open);
-    app_status.speed_kmh_x100 = target_speed_x100(v_meas);
-    app_status.target_lpm_x100 = open ? target_flow_x100(app_status.speed_kmh_x100) : 0;
+    app_status.in.speed_kmh_x100 = target_speed_x100(v_meas);
+    app_status.in.target_lpm_x100 = open ? target_flow_x100(app_status.in.speed_kmh_x100) : 0;
     app_status.manual = param_v[P_MODE] != 0;
     /* the flow the loop follows: the meter while it pulses; the nozzle model (from the pressure)
      * once its pulses have stopped while the pressure says liquid flows (the alarm waits to be
@@ -195,8 +195,8 @@ static void app_measure(void)
     ap.q_model = diag_nozzle_flow_x100(p, open);
     if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok())
         q_used = ap.q_model;
-    app_status.flow_lpm_x100 = q_used;
-    app_status.pressure_kpa = p;
+    app_status.in.flow_lpm_x100 = q_used;
+    app_status.in.pressure_kpa = p;
     app_status.open_nozzles = open;
 }
 
@@ -209,7 +209,7 @@ static void app_spray(void)
     uint8_t manual = app_status.manual;
     uint8_t want = app_status.open_nozzles
                    && !(diag_alarms() & ((1u << AL_TANK_LOW) | (1u << AL_PUMP_DRY)))
-                   && app_status.speed_kmh_x100 > 0 && !ap.internal && !IO_ON;
+                   && app_status.in.speed_kmh_x100 > 0 && !ap.internal && !IO_ON;
     /* after power-up the boom does not open into a line over P max (a fixed PTO's pump against a
      * bypass still opening) where the nozzles would spray over twice the target: it waits, shown,
      * until the pressure is under P max, the target over half the nozzle model's flow there, or
@@ -217,7 +217,7 @@ static void app_spray(void)
      * falls as the bypass opens (a 10-12 s valve from closed needs 5-7 s to get under P max,
      * and those metres got nothing) */
     app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp()
-                           && (uint16_t)ap.q_model > ((uint16_t)app_status.target_lpm_x100 << 1);
+                           && (uint16_t)ap.q_model > ((uint16_t)app_status.in.target_lpm_x100 << 1);
     want &= !app_status.boom_wait;
     if (want != app_status.spraying) {
         app_status.spraying = want;
@@ -282,9 +282,9 @@ static void app_account(void)
     /* every period since the last step, a late step's missed ones too (the same figures for
      * each: nothing in the loop changes them) */
     if (on) {
-        v = app_status.speed_kmh_x100;
+        v = app_status.in.speed_kmh_x100;
         w = target_width_cm();
-        q = app_status.flow_lpm_x100;
+        q = app_status.in.flow_lpm_x100;
     }
     do
         totals_step(v, w, q);

@@ -50,9 +50,9 @@ void drive_init(void)
 void drive_spray_on(uint8_t manual)
 {
     dv.prime = (!manual && !dv.p_hold && analog_pressure_ok()
-                && app_status.pressure_kpa < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
+                && app_status.in.pressure_kpa < param_v[P_P_MIN]) ? APP_PRIME_MAX_PERIODS : 0;
     if (dv.prime)
-        prime_flow_last = app_status.flow_lpm_x100;
+        prime_flow_last = app_status.in.flow_lpm_x100;
     flowed = 0;
     ctl_reset(0);
 }
@@ -70,7 +70,7 @@ uint8_t drive_parked(void)
 /* The pressure above P max (the sensor working). */
 uint8_t drive_overp(void)
 {
-    return analog_pressure_ok() && app_status.pressure_kpa > param_v[P_P_MAX];
+    return analog_pressure_ok() && app_status.in.pressure_kpa > param_v[P_P_MAX];
 }
 
 /* The pump stopped under a spraying boom: a pump on the wheels of a tractor that halts while the
@@ -82,18 +82,13 @@ uint8_t drive_overp(void)
  * bypass held at a low pressure, a start at a crawl) needs the loop to close. */
 static uint8_t drive_starved(void)
 {
-    int16_t half = app_status.target_lpm_x100 >> 1;
-    if (app_status.flow_lpm_x100 >= half)
+    int16_t half = app_status.in.target_lpm_x100 >> 1;
+    if (app_status.in.flow_lpm_x100 >= half)
         flowed = 1;
-    return flowed && app_status.flow_lpm_x100 < half && analog_pressure_ok()
-           && app_status.pressure_kpa < param_v[P_P_MIN]
-           && !target_working_speed(app_status.speed_kmh_x100);
+    return flowed && app_status.in.flow_lpm_x100 < half && analog_pressure_ok()
+           && app_status.in.pressure_kpa < param_v[P_P_MIN]
+           && !target_working_speed(app_status.in.speed_kmh_x100);
 }
-
-/* The control step's inputs are app_status's first fields (ops.h): their layout checked here */
-#define APP_IN_AT(f) (offsetof(app_status_t, f) == offsetof(ctl_in_t, f))
-typedef char app_in_layout[(APP_IN_AT(target_lpm_x100) && APP_IN_AT(flow_lpm_x100) && APP_IN_AT(speed_kmh_x100)
-                            && APP_IN_AT(pressure_kpa) && APP_IN_AT(valve_limit)) ? 1 : -1];
 
 /* Over P max soon: the pressure rising so fast that APP_P_AHEAD periods more of this period's
  * rise would take it over P max. A fast valve closing toward a target near P max turns once the
@@ -103,7 +98,7 @@ typedef char app_in_layout[(APP_IN_AT(target_lpm_x100) && APP_IN_AT(flow_lpm_x10
  * the closing stops that far ahead, as over P max; the loop may still open. */
 static uint8_t drive_overp_soon(void)
 {
-    uint16_t p = app_status.pressure_kpa;
+    uint16_t p = app_status.in.pressure_kpa;
     int16_t dp = (int16_t)(p - p_last);
     p_last = p;
     return dp > 0 && analog_pressure_ok()
@@ -121,13 +116,13 @@ static q15_t drive_auto(uint8_t overp)
     int16_t rise;
     if (dv.prime) {
         dv.prime--;
-        rise = app_status.flow_lpm_x100 - prime_flow_last;
-        prime_flow_last = app_status.flow_lpm_x100;
+        rise = app_status.in.flow_lpm_x100 - prime_flow_last;
+        prime_flow_last = app_status.in.flow_lpm_x100;
         if (rise < 0)
             rise = 0;
-        if (app_status.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok()
-            || app_status.flow_lpm_x100
-                   >= app_status.target_lpm_x100 - (app_status.target_lpm_x100 >> APP_PRIME_SHIFT) - rise)
+        if (app_status.in.pressure_kpa >= param_v[P_P_MIN] || (valve_limit() & CTL_AT_CLOSED) || !analog_pressure_ok()
+            || app_status.in.flow_lpm_x100
+                   >= app_status.in.target_lpm_x100 - (app_status.in.target_lpm_x100 >> APP_PRIME_SHIFT) - rise)
             dv.prime = 0;
         else
             drive = Q15_MAX;
@@ -135,8 +130,8 @@ static q15_t drive_auto(uint8_t overp)
             ctl_reset(drive);           /* (p_hold: 0 since the boom opened, drive_spray_on) */
     }
     if (!dv.prime) {
-        app_status.valve_limit = valve_limit() | (overp || drive_starved() ? CTL_NO_CLOSE : 0);
-        drive = ctl_step((const __xdata ctl_in_t *)&app_status);   /* its first fields (ops.h) */
+        app_status.in.valve_limit = valve_limit() | (overp || drive_starved() ? CTL_NO_CLOSE : 0);
+        drive = ctl_step(&app_status.in);
     }
     return drive;
 }
@@ -145,9 +140,9 @@ static q15_t drive_auto(uint8_t overp)
  * done: what a shut boom holds the bypass to. */
 static void drive_hold_learn(void)
 {
-    int16_t d = (int16_t)(app_status.pressure_kpa - dv.p_hold);
+    int16_t d = (int16_t)(app_status.in.pressure_kpa - dv.p_hold);
     if (!dv.prime)
-        dv.p_hold = dv.p_hold ? (uint16_t)(dv.p_hold + ((d + 4) >> 3)) : app_status.pressure_kpa;
+        dv.p_hold = dv.p_hold ? (uint16_t)(dv.p_hold + ((d + 4) >> 3)) : app_status.in.pressure_kpa;
 }
 
 /* A shut boom: the bypass opens until the pressure is no higher than the boom sprayed at (the
@@ -165,7 +160,7 @@ static q15_t drive_park(void)
         /* held within h/16 + APP_HOLD_KPA of the spraying pressure; once held, opened again
          * beyond twice that (the pump sped up) */
         h = (h >> 4) + APP_HOLD_KPA;
-        dv.parked = app_status.pressure_kpa <= dv.p_hold + (dv.parked ? 2 * h : h);
+        dv.parked = app_status.in.pressure_kpa <= dv.p_hold + (dv.parked ? 2 * h : h);
     }
     return dv.parked ? 0 : -Q15_MAX;
 }
@@ -208,7 +203,7 @@ void drive_step(void)
      * the rule above could stop it (a target at 4.5 bar). Min
      * duty, not a fixed duty: a valve stiffer than the cap would never close there. */
     if (!manual && !IO_ON && app_status.spraying && drive > 0 && analog_pressure_ok()
-        && app_status.pressure_kpa > param_v[P_P_MAX] - (param_v[P_P_MAX] >> APP_NEAR_P_SHIFT)
+        && app_status.in.pressure_kpa > param_v[P_P_MAX] - (param_v[P_P_MAX] >> APP_NEAR_P_SHIFT)
         && (drive >> 1) > ctl_stiction)
         drive = ctl_stiction << 1;          /* (Min duty under a half here: no overflow) */
     if (overp && drive > -APP_RELIEVE_DRIVE)

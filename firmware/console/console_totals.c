@@ -63,7 +63,7 @@ void con_draw_totals(void)
             break;
         case 2:                     /* m^2 an hour: km/h x100 x cm / 10 */
             con_start("Work");
-            v = app_status.spraying ? UMUL(app_status.speed_kmh_x100, target_width_cm()) / 10u : 0;
+            v = app_status.spraying ? UMUL(app_status.in.speed_kmh_x100, target_width_cm()) / 10u : 0;
             cat_area(v, 7);
             con_cat("/h");
             break;

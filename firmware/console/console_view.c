@@ -342,17 +342,17 @@ static void draw_run(void)
     int16_t q;
     /* " 7.2km/h 4.40bar": ground speed, boom pressure (US: " 4.5mph  63.8PSI") */
     con_at = 0;
-    con_cat_q(st->speed_kmh_x100, 4, 1 | CON_DROP(1) | CON_Q(CU_SPEED));
+    con_cat_q(st->in.speed_kmh_x100, 4, 1 | CON_DROP(1) | CON_Q(CU_SPEED));
     con_cat_unit(CU_SPEED);
-    con_cat_q(st->pressure_kpa, 5, 2 | CON_Q(CU_PRESS));
+    con_cat_q(st->in.pressure_kpa, 5, 2 | CON_Q(CU_PRESS));
     con_cat_unit(CU_PRESS);
     con_show(0);
     /* "Q 49.5> 49.3L/mn": target flow > measured flow (US: "Q13.08>13.02gpm") */
     con_start("Q");
-    q = st->target_lpm_x100;
+    q = st->in.target_lpm_x100;
     con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
     con_cat(">");
-    q = st->flow_lpm_x100;
+    q = st->in.flow_lpm_x100;
     con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
     con_cat_unit(CU_FLOW);
     con_show(1);

@@ -39,9 +39,7 @@ int16_t ctl_backlash = CTL_BACKLASH_DEF;     /* P_VALVE_SLACK in Q15 */
 __data q15_t ctl_carry;
 q15_t ctl_last;
 __data uint8_t ctl_sat;
-#if !defined(__SDCC)
-const ctl_in_t *ctl_in;
-#endif
+const __xdata ctl_in_t *__data ctl_in;
 int16_t ctl_k[3];
 
 /* ---- per-controller states, overlaid (only one runs) ---------------------------------- */
@@ -99,12 +97,7 @@ static void ctl_derive(void)
     s = (int16_t)um_scaled_div(param_v[P_VALVE_BRK], 32768u, 100u);       /* (v 2^15 + 50) / 100 */
     b = (int16_t)um_scaled_div(param_v[P_VALVE_SLACK], 32768u, 1000u);    /* (v 2^15 + 500) / 1000 */
     if ((s != ctl_stiction || b != ctl_backlash || t != ctl_travel) && t && ctl_id == CTL_FFMAP) {
-        ctl_st.fm.brk_extra = 0;
-        ctl_st.fm.brk_age = 0;
-        ctl_st.fm.gain = FFMAP_G_INIT;
-        ctl_st.fm.rev_min = FFMAP_REV_MIN;
-        ctl_st.fm.ff_gain = 0;
-        ctl_st.fm.cap = 255;
+        ffmap_forget();
     }
     ctl_stiction = s;
     ctl_backlash = b;
@@ -149,7 +142,7 @@ uint8_t ctl_select(uint8_t id)
         return 0;                   /* the field image: ffmap only (FW_PEERS) */
 #endif
     ctl_id = id;
-    speed_plain = 0;                /* (ffmap sets it from what it learnt, each step) */
+    speed_set_plain(0);             /* (ffmap sets it from what it learnt, each step) */
     ctl_kf = 0;                     /* the reset below derives this controller's constants */
     ctl_k[0] = ctl_k[1] = ctl_k[2] = 0;
     switch (id) {
@@ -186,7 +179,7 @@ uint8_t ctl_learnt_byte(uint8_t i)
         return store_learnt(i);
     if (ctl_gen != param_generation)
         ctl_derive();               /* valve parameters told anew: what was learnt goes first */
-    return ((const uint8_t *)&ctl_st.fm.gain)[i];
+    return ffmap_learnt_byte(i);
 }
 
 #if FW_PROBES
@@ -204,11 +197,7 @@ void ctl_prepare(void)
 
 q15_t ctl_step(const __xdata ctl_in_t *step_in)
 {
-#if defined(__SDCC)
-    (void)step_in;              /* &ctl_src (ctl.h) */
-#else
     ctl_in = step_in;
-#endif
     if (ctl_gen != param_generation || ctl_kf == 0)
         ctl_derive();
     switch (ctl_id) {

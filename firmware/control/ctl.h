@@ -42,20 +42,15 @@ void ctl_reset(q15_t drive_now);
  * controller that estimates the valve's position (ffmap) integrates this drive, not its own
  * demand, and calibrates at the stops; without the call it assumes its demand was applied. */
 void ctl_applied(q15_t drive, uint8_t limit) __reentrant;
-/* One control step; `in` in XRAM (the large model's default for a non-reentrant function's
- * locals and for globals). On the host the controllers read it through a pointer; on the chip
- * `in` must be &ctl_src, which they read at its fixed address (3 bytes of code an access where a
- * pointer in the direct RAM costs 6-12): the application's status (ops.c makes ctl_src the
- * address of app_status, whose first fields are a ctl_in_t), or a test's own ctl_src (tt_ctl).
+/* One control step on the inputs `in` (in XRAM: the application's status block, ops.h
+ * app_status.in, or a test's own); the controllers read them through this pointer on every
+ * target, and nothing else of the caller's.
  * The budget of any controller: ctl_step plus ctl_applied in at most
  * CTL_STEP_BUDGET_CYCLES machine cycles of classic 12-clock timing as s51 counts them (the 1T
  * STC12 runs this code about six times faster: about 5.4 ms of the 100 ms period); tt_ctl fails
  * a controller over it, `make bench` prints each one's worst. */
 #ifndef CTL_STEP_BUDGET_CYCLES          /* a lower one on the command line proves the check fails */
 #define CTL_STEP_BUDGET_CYCLES 30000UL
-#endif
-#if defined(__SDCC)
-extern __xdata ctl_in_t ctl_src;
 #endif
 q15_t ctl_step(const __xdata ctl_in_t *in);
 /* Derive the constants of changed parameters now, so that the next step need not. */

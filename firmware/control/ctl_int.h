@@ -213,12 +213,8 @@ extern const __code int8_t fz_tab[3][7][7];
 #define CTL_STEP static inline
 #endif
 
-/* the inputs of the step in progress (ctl.h ctl_step: on the chip at ctl_src's address) */
-#if defined(__SDCC)
-#define ctl_in (&ctl_src)
-#else
-extern const ctl_in_t *ctl_in;
-#endif
+/* the inputs of the step in progress: ctl_step's argument (direct RAM: read at every input) */
+extern const __xdata ctl_in_t *__data ctl_in;
 /* ffmap: the last reversal sent was under 1.5 times the smallest one (rev_min) and at most one pulse
  * followed it the same way: what the half cycle swung is the valve's resolution, not the loop
  * gain (ffmap.c ffmap_out); ffmap_rl1: a pulse followed it */
@@ -276,6 +272,10 @@ void bp_init(void);
 q15_t bp_step(void) CTL_SHARED;
 void ffmap_init(void);
 q15_t ffmap_step(void) CTL_SHARED;
+/* ffmap's learnt figures: forgotten (the valve told anew: a new valve's starting point), and
+ * byte i of their EEPROM image (store.h STORE_LEARN_CTL bytes; ffmap_init reads it back). */
+void ffmap_forget(void);
+uint8_t ffmap_learnt_byte(uint8_t i) __reentrant;
 q15_t ag_step(void) CTL_SHARED;
 void ag_derive(void) CTL_SHARED;
 q15_t rv_step(void) CTL_SHARED;

@@ -33,15 +33,26 @@ void ffmap_init(void)
      * firmware) or, without one, 0xFF bytes */
     for (i = 0; i < STORE_LEARN_CTL; i++)
         ((uint8_t *)&M->gain)[i] = store_learnt(i);
-    if (M->gain <= 0) {
-        M->gain = FFMAP_G_INIT;
-        M->brk_extra = 0;
-        M->rev_min = FFMAP_REV_MIN;
-        M->ff_gain = 0;
-    }
+    if (M->gain <= 0)
+        ffmap_forget();
     M->slow_n = 0;
     M->cap = 255;
     /* (the errors, the deadband, the start's counters: the first step sets them, ctl_first) */
+}
+
+void ffmap_forget(void)
+{
+    M->brk_extra = 0;
+    M->brk_age = 0;
+    M->gain = FFMAP_G_INIT;
+    M->rev_min = FFMAP_REV_MIN;
+    M->ff_gain = 0;
+    M->cap = 255;
+}
+
+uint8_t ffmap_learnt_byte(uint8_t i) __reentrant
+{
+    return ((const uint8_t *)&M->gain)[i];
 }
 
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
@@ -122,7 +133,7 @@ static __data union {
 
 static void ffmap_ff(void)
 {
-    speed_plain = M->ff_gain < FFMAP_FF_LEAD;
+    speed_set_plain(M->ff_gain < FFMAP_FF_LEAD);
     ffmap_w.ff.speed = ctl_in->speed_kmh_x100;
     ffmap_w.ff.dq = ctl_in->target_lpm_x100 - M->target_last;
     if (!M->speed_last || (ffmap_w.ff.speed > M->speed_last ? ffmap_w.ff.dq <= 0
@@ -390,7 +401,7 @@ static int16_t ffmap_gain_at_p(void) CTL_SHARED
     return (int16_t)(MUL((uint16_t)UMUL(ffmap_w.gp.root, target_noz_q) >> 2, M->gain) >> 8);
 }
 
-/* The hold. When the number of nozzles open changes (target.c target_noz_new), the target steps
+/* The hold. When the number of nozzles open changes (target.c target_noz_take), the target steps
  * at once and the boom's flow steps by itself a period or two later, as the nozzles open or shut
  * and the meter follows. The proportional and derivative terms would read the flow's own step
  * as the valve's answer and turn the valve with the error still a fifth of the target; the
@@ -420,13 +431,11 @@ q15_t ffmap_step(void) CTL_SHARED
         M->cap_run = 0;
         M->gain_start = M->gain;
         M->hold = 0;
-        target_noz_new = 0;
+        (void)target_noz_take();        /* a change before the start needs no hold */
         ctl_first = 0;
     }
-    if (target_noz_new) {               /* the hold (above) */
-        target_noz_new = 0;
+    if (target_noz_take())              /* the hold (above) */
         M->hold = FFMAP_P_WAIT;
-    }
     if (M->hold) {
         M->hold--;
         M->e1 = M->e2 = ffmap_e;

@@ -17,6 +17,14 @@ static __bit tg_valid;              /* tg derived from the sections and settings
 __data uint8_t target_noz_q = 4;
 __bit target_noz_new;               /* the nozzles open changed (ffmap.c's hold) */
 
+uint8_t target_noz_take(void) __reentrant
+{
+    if (!target_noz_new)
+        return 0;
+    target_noz_new = 0;
+    return 1;
+}
+
 uint8_t target_section_nozzles(uint8_t s) __reentrant
 {
     uint8_t n = (uint8_t)param_v[P_NOZZLES], ns = (uint8_t)param_v[P_SECTIONS];

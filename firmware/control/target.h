@@ -32,7 +32,9 @@ uint8_t target_open_nozzles(void);
  * and TARGET_NOZ_MAX with none open (ffmap.c ffmap_gain_at_p says why). */
 #define TARGET_NOZ_MAX 16u
 extern __data uint8_t target_noz_q;
-extern __bit target_noz_new;        /* 1: the nozzles open changed (ffmap.c clears it) */
+extern __bit target_noz_new;        /* 1: the nozzles open changed (read only: target_noz_take) */
+/* 1 once after the nozzles open changed (ffmap.c's hold), and the change taken. */
+uint8_t target_noz_take(void) __reentrant;
 /* Nozzles of section s (0-based), for the console. */
 uint8_t target_section_nozzles(uint8_t s) __reentrant;
 /* Working width of the open sections, cm. */

@@ -57,9 +57,9 @@ static uint32_t le24(uint8_t i) __reentrant
  * window decides); a change under 1/128 is not handed on (the speed's noise) */
 static void rc_rate(void) __reentrant
 {
-    uint32_t d = UMUL(app_status.speed_kmh_x100, target_width_cm());
+    uint32_t d = UMUL(app_status.in.speed_kmh_x100, target_width_cm());
     uint16_t r, last = pg.rc_rate_x10;
-    if (!pgn_rx.rc_upm_x1000 || !(pgn_rx.rc_cmd & 0x40u) || app_status.speed_kmh_x100 < 100u || !d)
+    if (!pgn_rx.rc_upm_x1000 || !(pgn_rx.rc_cmd & 0x40u) || app_status.in.speed_kmh_x100 < 100u || !d)
         return;
     r = (uint16_t)um_muldiv(pgn_rx.rc_upm_x1000, 60000u, d);    /* L/min x1000 -> L/ha x10 */
     if (((uint32_t)(r > last ? r - last : last - r) << 7) > last || !last) {
@@ -229,7 +229,7 @@ static void put_le(__xdata uint8_t *buf, uint8_t i, uint32_t v, uint8_t n) __ree
 uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
 {
     uint8_t i, n = 14, s = 0, from = 0;
-    int16_t q = app_status.flow_lpm_x100;
+    int16_t q = app_status.in.flow_lpm_x100;
     if (!pg.due)
         return 0;
     for (i = 0; i < PGN_OUT_MAX; i++)
@@ -259,7 +259,7 @@ uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
         } else {                    /* module info: pressure, the boom spraying */
             pg.due = 0;
             buf[0] = 145;
-            put_le(buf, 3, app_status.pressure_kpa, 2);
+            put_le(buf, 3, app_status.in.pressure_kpa, 2);
             buf[13] = app_status.spraying;
         }
     }

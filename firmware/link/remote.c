@@ -85,10 +85,10 @@ static const __code uint8_t rv_lines[8][2 + RV_FIELDS] = {
 static uint32_t actual_x10(void) __reentrant
 {
     uint16_t w = target_width_cm();
-    uint32_t d = UMUL(app_status.speed_kmh_x100, w) / 100u;
-    if (!app_status.spraying || app_status.flow_lpm_x100 <= 0 || d == 0)
+    uint32_t d = UMUL(app_status.in.speed_kmh_x100, w) / 100u;
+    if (!app_status.spraying || app_status.in.flow_lpm_x100 <= 0 || d == 0)
         return 0;
-    return UMUL(app_status.flow_lpm_x100, 6000u) / d;     /* flow > 0 */
+    return UMUL(app_status.in.flow_lpm_x100, 6000u) / d;     /* flow > 0 */
 }
 
 /* the distance since power-up, m */

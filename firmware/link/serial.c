@@ -341,10 +341,10 @@ static void compose_next(void) __reentrant
         se_log_due = 0;
         tx_s("LOG ");
         tx_u32(hal_ms());
-        tx_sp_u32(app_status.speed_kmh_x100);
-        tx_sp_u32(app_status.pressure_kpa);
-        tx_sp_i16(app_status.target_lpm_x100);
-        tx_sp_i16(app_status.flow_lpm_x100);
+        tx_sp_u32(app_status.in.speed_kmh_x100);
+        tx_sp_u32(app_status.in.pressure_kpa);
+        tx_sp_i16(app_status.in.target_lpm_x100);
+        tx_sp_i16(app_status.in.flow_lpm_x100);
         tx_c(' ');
         for (bit = 16; bit; bit -= 4)
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);

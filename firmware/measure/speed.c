@@ -312,9 +312,7 @@ static void speed_track(void) __reentrant
  * whole way it runs ahead when the tractor levels off, and the boom's flow itself follows the
  * pump a little late); at most 1/2^SPEED_AHEAD_MAX of the speed either way. Not while
  * speed_plain (speed.h): where the pump is on the wheels the boom's flow follows the true speed
- * by itself, and a target run ahead at a level-off is a bump the loop chases. */
-__bit speed_plain;
-
+ * by itself, and a target run ahead at a level-off is a bump the loop chases (speed_plain.c). */
 static void speed_ahead(void) __reentrant
 {
     uint16_t meas = (uint16_t)wk.v_x100, lead;

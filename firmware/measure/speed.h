@@ -85,9 +85,11 @@ void speed_init(void);
 /* One control period: take the wheel edges, return the speed in km/h x100. */
 uint16_t speed_step(void) __reentrant;
 /* 1: the speed without speed_ahead's lead on a change (speed.c), for a flow that follows the
- * speed by itself. The flow controller sets it (ffmap.c: a pump on the wheels learns no speed
- * feed-forward); 0 after power-up and when another controller is selected (ctl.c). */
+ * speed by itself. Read only: the flow controller asks for it through speed_set_plain
+ * (speed_plain.c; ffmap.c: a pump on the wheels learns no speed feed-forward); 0 after power-up
+ * and when another controller is selected (ctl.c). */
 extern __bit speed_plain;
+void speed_set_plain(uint8_t plain) __reentrant;
 /* 1: the wheel's spacing errors are learnt: the speed no longer steps by them at each pulse
  * (ffmap.c: until then a small change of the target teaches the feed-forward nothing while it is off) */
 extern __bit speed_learnt;

@@ -71,9 +71,8 @@ void diag_init(void)
     dg.nozzles = 0;
     diag_line_init();
     diag_nozzle_relearn();
-    /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the
-     * bytes of store_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a
-     * calibration opens */
+    /* the model held before: the EEPROM's record (CRC-checked, written by this firmware; the bytes
+     * of diag_learnt_byte) or, without one (0xFF bytes, or out of what a fit gives), a calibration opens */
     dg.kp_kpa = store_learnt(STORE_LEARN_CTL + 2u) | (uint16_t)store_learnt(STORE_LEARN_CTL + 3u) << 8;
     dg.pc_kpa = store_learnt(STORE_LEARN_CTL);
     if (dg.kp_kpa >= 100u && dg.kp_kpa <= 1000u && dg.pc_kpa <= 150u) {   /* what learn_fit gives */
@@ -85,12 +84,13 @@ void diag_init(void)
         model_told();
     dg.q3 = param_v[P_NOZZLE_Q3];
     dg.gen = (uint8_t)(param_generation - 1u);
+    store_learnt_from(diag_learnt_byte);    /* a save writes what is learnt as this module says */
 }
 
 /* The held model's bytes: check valves (kPa, at most 150), then xm / 2 with its lowest bit set
  * for a model learnt near one flow (0 for one learnt over the range), then kp little endian;
  * 0xFF each without a model. */
-uint8_t store_learnt_byte(uint8_t i) __reentrant
+uint8_t diag_learnt_byte(uint8_t i) __reentrant
 {
     if (i < STORE_LEARN_CTL)
         return ctl_learnt_byte(i);
@@ -285,7 +285,7 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t
 {
     uint16_t tmin = param_v[P_TANK_MIN];
     uint16_t tank = in->tank_l;
-    uint16_t p = in->pressure_kpa;
+    uint16_t p = in->in.pressure_kpa;
     uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
     uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
@@ -309,11 +309,11 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t
  * (a headland's low pressures are where a model is least sure); clean spraying teaches it. */
 static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
-    uint16_t p = in->pressure_kpa;
+    uint16_t p = in->in.pressure_kpa;
     int16_t meter = flow_lpm_x100();
     int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
-    int16_t target = in->target_lpm_x100;
-    uint8_t working = target_working_speed(in->speed_kmh_x100);
+    int16_t target = in->in.target_lpm_x100;
+    uint8_t working = target_working_speed(in->in.speed_kmh_x100);
     uint8_t judge = settled && analog_pressure_ok(), g;
     uint16_t pexp, x, d;
     uint32_t a, lo, hi;
@@ -383,9 +383,9 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
  * rule's too: the rate off target is what the operator must hear, whatever holds it there. */
 static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
-    int16_t target = in->target_lpm_x100;
-    int16_t qp = in->flow_lpm_x100 - target;
-    uint8_t off = settled && target > 0 && (in->manual || target_working_speed(in->speed_kmh_x100))
+    int16_t target = in->in.target_lpm_x100;
+    int16_t qp = in->in.flow_lpm_x100 - target;
+    uint8_t off = settled && target > 0 && (in->manual || target_working_speed(in->in.speed_kmh_x100))
                   && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);
     if (dg.alarms & (1u << AL_OFFRATE))
         rule(AL_OFFRATE, 0, !off);
@@ -413,7 +413,7 @@ static void diag_speed(const __xdata app_status_t *in) __reentrant
     rule(AL_SPEED_LOST, !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()))),
          g || x < DIAG_SPEED_PERIODS / 2u);
 #endif
-    x = in->speed_kmh_x100;
+    x = in->in.speed_kmh_x100;
     g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
 }

@@ -76,9 +76,10 @@ uint16_t diag_alarms(void);
  * from the next clean spraying, then hold it. */
 void diag_nozzle_relearn(void);
 uint8_t diag_nozzle_learnt(void);
-/* The EEPROM's learnt figures (store_learnt_byte, store.h) are given from here: ffmap's valve, then
- * the nozzle model learnt over the range (check valves, kPa at the rated flow; 0xFF while there
- * is none). diag_init restores the record's model. */
+/* Byte i of the EEPROM's learnt figures (store.h store_learnt_from; diag_init registers it):
+ * ffmap's valve, then the nozzle model learnt over the range (check valves, kPa at the rated
+ * flow; 0xFF while there is none). diag_init restores the record's model. */
+uint8_t diag_learnt_byte(uint8_t i) __reentrant;
 /* The flow the nozzles pass at this pressure, q = n Q3 / sqrt(3 bar) * sqrt(P - P_check), L/min x100. */
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant;
 /* The pressure the nozzle model needs for this flow, kPa (0 with no nozzles). */

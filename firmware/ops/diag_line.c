@@ -48,11 +48,11 @@ void diag_line_init(void)
  * so nothing else can tell. */
 uint8_t diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
-    uint16_t p = in->pressure_kpa, pmin = param_v[P_P_MIN];
+    uint16_t p = in->in.pressure_kpa, pmin = param_v[P_P_MIN];
     int16_t meter = flow_lpm_x100();
     uint8_t psens = analog_pressure_ok();
-    if (settled && psens && p < pmin && target_working_speed(in->speed_kmh_x100)
-        && UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->target_lpm_x100) {
+    if (settled && psens && p < pmin && target_working_speed(in->in.speed_kmh_x100)
+        && UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->in.target_lpm_x100) {
         if (++dl.dry_cnt >= DIAG_DRY_PERIODS && !dl.dry_line) {
             dl.dry_line = 1;
             dl.dry_l = in->tank_l;
@@ -75,13 +75,13 @@ uint8_t diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentra
  * at rest again. */
 uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
-    uint16_t p = in->pressure_kpa;
+    uint16_t p = in->in.pressure_kpa;
     if (in->manual || !analog_pressure_ok())
         dl.p_spray = 0;             /* the valve moved by hand: no spraying pressure to go by */
-    else if (settled && target_working_speed(in->speed_kmh_x100))
+    else if (settled && target_working_speed(in->in.speed_kmh_x100))
         dl.p_spray = dl.p_spray ? dl.p_spray + ((int16_t)(p - dl.p_spray + 32) >> 6) : p;  /* over 6.4 s: not a slow-down's */
     uint16_t pos = valve_position();
-    if (in->spraying || in->speed_kmh_x100 || !dl.p_spray
+    if (in->spraying || in->in.speed_kmh_x100 || !dl.p_spray
         || !((valve_limit() & CTL_AT_OPEN) || (pos != VALVE_POS_UNKNOWN && pos >= DIAG_ZERO_OPEN_Q15))) {
         dl.z_n = 0;
         return dl.zero_off;

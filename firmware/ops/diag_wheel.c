@@ -43,9 +43,9 @@ void diag_wheel_init(void)
  * learnt.) */
 uint8_t diag_pump(const __xdata app_status_t *in) __reentrant
 {
-    uint16_t p = in->pressure_kpa;
+    uint16_t p = in->in.pressure_kpa;
     uint8_t run = p >= DIAG_PUMP_RUN_KPA && valve_opened_by(DIAG_PUMP_OPEN_Q15), still = p < DIAG_PUMP_STOP_KPA;
-    if (in->speed_kmh_x100 || in->spraying || target_speed_given() || !analog_pressure_ok()
+    if (in->in.speed_kmh_x100 || in->spraying || target_speed_given() || !analog_pressure_ok()
         || !(still || (run && dw.pump_stops && in->open_nozzles && speed_at_last_pulse_x100()))) {
         dw.pump_cnt = 0;
         return 0;

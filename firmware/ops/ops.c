@@ -6,17 +6,6 @@
 #include "ops.h"
 
 app_status_t app_status;
-#if defined(__SDCC)
-/* ctl.h's ctl_src, the control step's inputs, at app_status's address: its first fields are laid
- * out as a ctl_in_t (drive.c checks it). An assembler equate: no code, no RAM. */
-void ops_ctl_src(void) __naked
-{
-    __asm
-    .globl _ctl_src
-    _ctl_src = _app_status
-    __endasm;
-}
-#endif
 ops_jog_t ops_jog_req;
 __data uint8_t ops_io;
 

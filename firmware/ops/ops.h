@@ -3,18 +3,16 @@
 #define OPS_H
 
 #include "compiler.h"
+#include "ctl.h"
 
 /* What the application measured and decided in its last control step: the console, the
  * serial log and the simulator's trace read it; app.c writes it (and ops.c, for the
- * operator's acknowledgement and totals reset). Its first fields are laid out as ctl.h's
- * ctl_in_t (app.c checks it): the control step reads its inputs here, not from a copy. The
+ * operator's acknowledgement and totals reset). The control step's inputs are its block `in`
+ * (ctl.h ctl_in_t: target and measured flow, ground speed used for the target, boom line
+ * pressure, the valve's CTL_AT_* and CTL_NO_CLOSE), passed to ctl_step, not copied. The
  * totals are totals_get()'s, the gains ctl_gain()'s (no copies here). */
 typedef struct {
-    int16_t target_lpm_x100;        /* target boom flow, eq. (1) and Table 1 */
-    int16_t flow_lpm_x100;          /* measured boom flow */
-    uint16_t speed_kmh_x100;        /* ground speed used for the target (measured or given) */
-    uint16_t pressure_kpa;          /* boom line pressure */
-    uint8_t valve_limit;            /* the control step's CTL_AT_* (and CTL_NO_CLOSE) */
+    ctl_in_t in;                    /* the control step's inputs (ctl.h) */
     uint16_t tank_l;                /* tank contents from the level sensor */
     uint16_t applied_l_ha_x10;      /* dose applied over the job so far */
     int16_t drive;                  /* Q15 valve drive from the controller (+ = more flow) */

@@ -1,4 +1,4 @@
-/* learnt.c: the figures learnt from the sprayer as the newest EEPROM record holds them (store.h), read where they lie. */
+/* learnt.c: the figures learnt from the sprayer: as the newest EEPROM record holds them (store.h), read where they lie, and where a save takes them from. */
 #include "hal.h"
 #include "params.h"
 #include "store.h"
@@ -10,6 +10,17 @@
 
 typedef char learnt_after_values[(STORE_AT_LEARNT == 13u + 2u * P_COUNT) ? 1 : -1];
 uint8_t store_newest;               /* slot of the record loaded or saved last, STORE_NO_SLOT */
+static store_learnt_fn learnt_fn;           /* store_learnt_from's */
+
+void store_learnt_from(store_learnt_fn fn) __reentrant
+{
+    learnt_fn = fn;
+}
+
+uint8_t store_learnt_now(uint8_t i) __reentrant
+{
+    return learnt_fn ? learnt_fn(i) : 0xFFu;
+}
 
 uint16_t store_slot_base(uint8_t slot)
 {

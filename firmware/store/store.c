@@ -297,7 +297,7 @@ static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
     if (i >= HDR_JOB)               /* job_dm2, then job_ml (totals_t) */
         return ((const __xdata uint8_t *)&totals.job_dm2)[i - HDR_JOB];
     if (i >= HDR_LEARN)
-        return store_learnt_byte((uint8_t)(i - HDR_LEARN));
+        return store_learnt_now((uint8_t)(i - HDR_LEARN));
     if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
         return ((const __xdata uint8_t *)&totals.life_m2)[i - HDR_LIFE];
     return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];

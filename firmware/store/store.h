@@ -96,9 +96,13 @@ uint8_t store_save(void) __reentrant;
 uint8_t store_learnt(uint8_t i);
 extern uint8_t store_newest;
 uint16_t store_slot_base(uint8_t slot);
-/* Byte i of the learnt figures a save writes: provided by the layer that owns them (ops/diag.c:
- * ffmap's valve through ctl.h, then the nozzle model), as the HAL's functions are by the HAL. */
-uint8_t store_learnt_byte(uint8_t i);
+/* Where a save takes byte i of the learnt figures: the layer that owns them registers it at its
+ * init (ops/diag.c diag_init: ffmap's valve through ctl.h, then the nozzle model); the store
+ * calls nothing above it by name. None registered: 0xFF bytes, nothing learnt. */
+typedef uint8_t (*store_learnt_fn)(uint8_t i) __reentrant;
+void store_learnt_from(store_learnt_fn fn) __reentrant;
+/* Byte i of the learnt figures a save writes now: the registered source's (learnt.c). */
+uint8_t store_learnt_now(uint8_t i) __reentrant;
 /* The notice of the last load, or of a save that failed since; store_status_clear() once the
  * operator has seen it (a save that succeeds does not clear it). */
 uint8_t store_status(void);

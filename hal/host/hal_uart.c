@@ -164,7 +164,7 @@ uint8_t hal_uart_put(uint8_t b)
     return 1;
 }
 
-/* a byte into the chip's queue, or the loss marked (as hal_stc12.c's RX_TAKE) */
+/* a byte into the chip's queue, or the loss marked (as hal/stc12/uart.c's RX_TAKE) */
 static void rx_take(uint8_t b)
 {
     uint32_t n = (rx_head + 1) % HAL_HOST_UART_RXQ;
@@ -178,7 +178,7 @@ static void rx_take(uint8_t b)
 
 /* The bytes that have arrived by now, in order. Those arriving while an erase held the CPU
  * are a gap (SBUF keeps one, drops the rest; the chip cannot tell how many came, so it drops
- * that one too and marks the loss), as hal_stc12.c's iap_cmd does. */
+ * that one too and marks the loss), as hal/stc12/iap.c's iap_cmd does. */
 static void uart_deliver(void)
 {
     uint8_t b;

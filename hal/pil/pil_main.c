@@ -80,10 +80,10 @@ int main(void)
         pil_put(pil_measured ? 3 : generation != param_generation ? 1 : 4);
         generation = param_generation;
         alarms = app_status.alarms; /* (the pass after a step finds them: app_diag) */
-        status(app_status.speed_kmh_x100);
-        status((uint16_t)app_status.target_lpm_x100);
-        status((uint16_t)app_status.flow_lpm_x100);
-        status(app_status.pressure_kpa);
+        status(app_status.in.speed_kmh_x100);
+        status((uint16_t)app_status.in.target_lpm_x100);
+        status((uint16_t)app_status.in.flow_lpm_x100);
+        status(app_status.in.pressure_kpa);
         status(app_status.tank_l);
         status((uint16_t)app_status.drive);
         status((uint16_t)ctl_gain(0));

@@ -46,7 +46,7 @@
 #define PIL_EE_ERASE 'E'    /* addr(2) */
 #define PIL_EE_WRITE 'W'    /* addr(2) byte(1) -> ok(1) */
 
-/* PIL_DONE's status after the cycles, 2 bytes each: app_status.speed_kmh_x100, target_lpm_x100,
+/* PIL_DONE's status after the cycles, 2 bytes each: app_status.in.speed_kmh_x100, target_lpm_x100,
  * flow_lpm_x100, pressure_kpa, tank_l, drive, ctl_gain(0..2), alarms, then param_v[P_RATE],
  * param_v[P_METER_K] (settings the console or the serial link may change) */
 #define PIL_STATUS_WORDS 12

@@ -3,7 +3,7 @@
 #define PCA_CLOCK_H
 
 /*
- * The includer defines how to reach the hardware (hal_stc12.c: the SFRs; the host test
+ * The includer defines how to reach the hardware (hal/stc12/pca.c: the SFRs; the host test
  * tests/hal/test_pca_clock.c: a model of the counter with interrupts it can inject):
  *   PCA_CH, PCA_CL   the counter's bytes        PCA_CF, PCA_CF_CLEAR()  its overflow flag
  *   PCA_IRQ_OFF(s)   s = interrupts on?, all off    PCA_IRQ_RESTORE(s)  back as they were

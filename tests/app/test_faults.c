@@ -264,10 +264,10 @@ static void test_faults_most_nozzles_clogged_is_a_clog_not_a_lost_meter(void **s
     run_init(&r, 40);
     run_to(&r, 60);
     printf("# 30 nozzles clogged: CLOG after %.2f s, meter %.2f L/min, shown %.2f L/min\n", detect_s(&r, AL_CLOG),
-           flow_lpm_x100() / 100.0, app_status.flow_lpm_x100 / 100.0);
+           flow_lpm_x100() / 100.0, app_status.in.flow_lpm_x100 / 100.0);
     assert_true(detect_s(&r, AL_CLOG) <= 4.0);
     assert_true(detect_s(&r, AL_METER_LOST) > 100);
-    assert_int_equal(app_status.flow_lpm_x100, flow_lpm_x100());
+    assert_int_equal(app_status.in.flow_lpm_x100, flow_lpm_x100());
 }
 
 /* A leak of a tenth of the flow, and 3 of 36 nozzles clogged, on the nozzle model learnt from

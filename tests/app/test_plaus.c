@@ -75,17 +75,17 @@ static void test_plaus_min_flow_warning_at_its_period_count(void **state)
     (void)state;
     in.spraying = 1;
     in.open_nozzles = 36;
-    in.speed_kmh_x100 = 200;
-    in.target_lpm_x100 = 1800;
-    in.flow_lpm_x100 = 1800;
+    in.in.speed_kmh_x100 = 200;
+    in.in.target_lpm_x100 = 1800;
+    in.in.flow_lpm_x100 = 1800;
     assert_false(periods(DIAG_MIN_FLOW_PERIODS - 1, 1) & (1u << AL_MIN_FLOW));
     assert_true(periods(1, 1) & (1u << AL_MIN_FLOW));
     assert_true(DIAG_QUIET_BITS & (1u << AL_MIN_FLOW));                  /* a warning: never sounded */
-    in.speed_kmh_x100 = 370;                                            /* 4 / 3.7 = 1.08 */
+    in.in.speed_kmh_x100 = 370;                                            /* 4 / 3.7 = 1.08 */
     assert_true(periods(DIAG_CLEAR_PERIODS - 1, 1) & (1u << AL_MIN_FLOW));
     assert_false(periods(1, 1) & (1u << AL_MIN_FLOW));
     assert_false(periods(100, 1) & (1u << AL_MIN_FLOW));
-    in.speed_kmh_x100 = 200;
+    in.in.speed_kmh_x100 = 200;
     in.manual = 1;
     assert_false(periods(100, 1) & (1u << AL_MIN_FLOW));
     assert_int_equal(strlen(diag_text(AL_MIN_FLOW)) <= 16, 1);
@@ -101,23 +101,23 @@ static void test_plaus_manual_rate_off_is_told(void **state)
     in.spraying = 1;
     in.manual = 1;
     in.open_nozzles = 36;
-    in.speed_kmh_x100 = 1100;
-    in.target_lpm_x100 = 4950;
-    in.flow_lpm_x100 = 3600;                                            /* -27 % */
+    in.in.speed_kmh_x100 = 1100;
+    in.in.target_lpm_x100 = 4950;
+    in.in.flow_lpm_x100 = 3600;                                            /* -27 % */
     assert_false(periods(DIAG_MANUAL_PERIODS - 1, 1) & (1u << AL_OFFRATE));
     assert_true(periods(1, 1) & (1u << AL_OFFRATE));
-    in.flow_lpm_x100 = 4950;
+    in.in.flow_lpm_x100 = 4950;
     assert_false(periods(DIAG_CLEAR_PERIODS, 1) & (1u << AL_OFFRATE));
-    in.speed_kmh_x100 = 200;
-    in.target_lpm_x100 = 1800;
-    in.flow_lpm_x100 = 3600;
+    in.in.speed_kmh_x100 = 200;
+    in.in.target_lpm_x100 = 1800;
+    in.in.flow_lpm_x100 = 3600;
     assert_false(periods(DIAG_MANUAL_PERIODS - 1, 1) & (1u << AL_OFFRATE));
     assert_true(periods(1, 1) & (1u << AL_OFFRATE));
     in.manual = 0;                                                      /* auto */
     assert_false(periods(DIAG_CLEAR_PERIODS, 1) & (1u << AL_OFFRATE));
     assert_false(periods(200, 1) & (1u << AL_OFFRATE));
-    in.speed_kmh_x100 = 1100;
-    in.target_lpm_x100 = 4950;
+    in.in.speed_kmh_x100 = 1100;
+    in.in.target_lpm_x100 = 4950;
     uint16_t n = (uint16_t)(param_v[P_OFFRATE_S] * 10u);
     assert_false(periods(n - 1, 1) & (1u << AL_OFFRATE));
     assert_true(periods(1, 1) & (1u << AL_OFFRATE));
@@ -133,7 +133,7 @@ static void test_plaus_speed_lost_when_the_coupled_pump_runs_at_a_wheel_standsti
 {
     (void)state;
     in.open_nozzles = 36;
-    in.pressure_kpa = 150;
+    in.in.pressure_kpa = 150;
     for (int i = 1; i <= 3; i++) {                  /* the wheel has measured a speed */
         hal_host_wheel_edge((uint64_t)i * 100000000u);
         hal_host_set_time_ns((uint64_t)i * 100000000u + 50000000u);
@@ -141,9 +141,9 @@ static void test_plaus_speed_lost_when_the_coupled_pump_runs_at_a_wheel_standsti
     }
     assert_true(speed_at_last_pulse_x100() > 0);
     assert_false(periods(200, 0) & (1u << AL_SPEED_LOST));            /* not learnt: a fixed PTO */
-    in.pressure_kpa = 5;
+    in.in.pressure_kpa = 5;
     assert_false(periods(DIAG_PUMP_PERIODS, 0) & (1u << AL_SPEED_LOST));  /* learnt: it stops */
-    in.pressure_kpa = 120;
+    in.in.pressure_kpa = 120;
     in.open_nozzles = 0;
     assert_false(periods(200, 0) & (1u << AL_SPEED_LOST));            /* sections off */
     in.open_nozzles = 36;

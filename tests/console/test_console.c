@@ -940,10 +940,10 @@ static void test_console_us_units_on_the_run_screen(void **state)
     printf("# [%s] [%s] [%s] [%s]\n", lcd(0), lcd(1), lcd(2), lcd(3));
     assert_int_equal(sscanf(lcd(0), "%lfmph %lfPSI", &v, &psi), 2);
     assert_true(fabs(v - 0.3927 / 0.2 * 3.6 / (MILE_M / 1000.0)) < 0.051);
-    assert_true(fabs(psi - app_status.pressure_kpa / PSI_KPA) < 0.051);
+    assert_true(fabs(psi - app_status.in.pressure_kpa / PSI_KPA) < 0.051);
     assert_int_equal(sscanf(lcd(1), "Q%lf>%lfgpm", &qt, &qm), 2);
-    assert_true(fabs(qt - app_status.target_lpm_x100 / 100.0 / GAL_L) < 0.0051);
-    assert_true(fabs(qm - app_status.flow_lpm_x100 / 100.0 / GAL_L) < 0.0051);
+    assert_true(fabs(qt - app_status.in.target_lpm_x100 / 100.0 / GAL_L) < 0.0051);
+    assert_true(fabs(qm - app_status.in.flow_lpm_x100 / 100.0 / GAL_L) < 0.0051);
     assert_int_equal(sscanf(lcd(2), "%lf%7s", &rate, unit), 2);
     assert_string_equal(unit, "gal/ac");
     assert_true(fabs(rate - 149.0 * GAL_L / (10000.0 / ACRE_M2) / GAL_L / GAL_L) < 0.2);
@@ -1014,12 +1014,12 @@ static void test_console_nudge_and_preset_keys(void **state)
     flow_every_ms = 5;
     run_ms(10000);
     assert_int_equal(app_status.alarms, 0);
-    double t0 = app_status.target_lpm_x100;
+    double t0 = app_status.in.target_lpm_x100;
     press('2');
     press('2');
     run_ms(100);
     assert_int_equal(target_rate_x10(), 1800);
-    assert_true(fabs(app_status.target_lpm_x100 / t0 - 1.2) < 0.01);
+    assert_true(fabs(app_status.in.target_lpm_x100 / t0 - 1.2) < 0.01);
     assert_string_equal(lcd(3), "180.0L/ha   +20%");
     press('8');
     assert_string_equal(lcd(3), "165.0L/ha   +10%");

@@ -148,11 +148,11 @@ static void test_pgn_each_frame_of_the_layouts_decoded(void **state)
     assert_true(i >= 0);
     assert_int_equal(out[i + 2], 0x00);
     uint32_t applied = out[i + 3] | (uint32_t)out[i + 4] << 8 | (uint32_t)out[i + 5] << 16;
-    assert_int_equal(applied, (uint32_t)(app_status.flow_lpm_x100 > 0 ? app_status.flow_lpm_x100 : 0) * 10u);
+    assert_int_equal(applied, (uint32_t)(app_status.in.flow_lpm_x100 > 0 ? app_status.in.flow_lpm_x100 : 0) * 10u);
     assert_int_equal(out[i + 11] & 1, 1);
     i = find_reply(out, n, 32401);
     assert_true(i >= 0);
-    assert_int_equal(out[i + 3] | out[i + 4] << 8, app_status.pressure_kpa);
+    assert_int_equal(out[i + 3] | out[i + 4] << 8, app_status.in.pressure_kpa);
     /* 32501: module, relays lo, hi, power relays lo, hi, inverted lo, hi, master valve index */
     const uint8_t d32501[8] = {0, 0x0F, 0x00, 0, 0, 0, 0, 255};
     send_bytes(f, rc(f, 32501, d32501, 8));
@@ -266,7 +266,7 @@ static void test_pgn_gps_speed_sections_and_frames_stopping(void **state)
         link_run_ms(100);
         last = link_t_ms;
     }
-    assert_int_equal(app_status.speed_kmh_x100, 800);
+    assert_int_equal(app_status.in.speed_kmh_x100, 800);
     assert_int_equal(app_status.open_nozzles, 18);  /* 3 of 6 sections of 6 nozzles */
     assert_true(app_status.spraying);
     assert_false(app_status.alarms & (1u << AL_SPEED_LOST));
@@ -311,7 +311,7 @@ static void test_pgn_both_raises_wheel_noise_when_the_speeds_part(void **state)
         if (raised_at < 0 && (app_status.alarms & (1u << AL_WHEEL_NOISE)))
             raised_at = k;
     }
-    assert_int_equal(app_status.speed_kmh_x100, 800);   /* the GPS's */
+    assert_int_equal(app_status.in.speed_kmh_x100, 800);   /* the GPS's */
     assert_true(raised_at >= (int)PGN_OFF_PERIODS - 1 && raised_at <= (int)PGN_OFF_PERIODS + 2);
     assert_true(param_set(P_SPEED_SRC, SPEED_SRC_WHEEL));
     link_run_ms(1500);

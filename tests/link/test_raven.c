@@ -251,7 +251,7 @@ static void test_raven_multi_product_rate_lines_set_product_1(void **state)
     /* the target flow follows: 75 L/ha x 8 km/h (given) x 18 m / 600 = 18.0 L/min */
     assert_true(param_set(P_GIVEN_SPEED, 80));
     link_run_ms(200);
-    assert_int_equal(app_status.target_lpm_x100, 1800);
+    assert_int_equal(app_status.in.target_lpm_x100, 1800);
 }
 
 /* DR's lines carry the totals in hectares and litres with the decimal point sent */

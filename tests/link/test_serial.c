@@ -653,7 +653,7 @@ static void test_serial_nud_nudges_the_rate_in_use(void **state)
     assert_string_equal(scmd("NUD"), "ERR ARG");
     assert_string_equal(scmd("JOG 0"), "ERR ARG");
     link_run_ms(200);
-    assert_int_equal(app_status.target_lpm_x100, 0);   /* standing: nothing, whatever the rate */
+    assert_int_equal(app_status.in.target_lpm_x100, 0);   /* standing: nothing, whatever the rate */
 }
 
 int main(void)

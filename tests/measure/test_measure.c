@@ -709,9 +709,9 @@ static void test_speed_plain_takes_no_lead(void **state)
 {
     double lag, over;
     (void)state;
-    speed_plain = 1;
+    speed_set_plain(1);
     ramp_5_to_10(&lag, &over);
-    speed_plain = 0;
+    speed_set_plain(0);
     printf("# plain, 0.5 m/s2 from 5 to 10 km/h: mean lag %.3f km/h over the ramp, %.2f %% over the hold after\n",
            lag / 100, over / 10);
     assert_true(lag >= 31.0 && lag <= 40.0);

@@ -80,14 +80,14 @@ static uint16_t period(int spraying, double target_lpm, double kmh)
     }
     hal_host_set_time_ns(w.now_ns);
     speed_step();
-    st.flow_lpm_x100 = flow_step();
+    st.in.flow_lpm_x100 = flow_step();
     analog_step();
-    st.pressure_kpa = analog_pressure_kpa();
+    st.in.pressure_kpa = analog_pressure_kpa();
     st.tank_l = analog_tank_l();
-    st.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
+    st.in.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
     st.open_nozzles = sections_nozzles;
     st.spraying = (uint8_t)spraying;
-    st.target_lpm_x100 = spraying ? (int16_t)lround(target_lpm * 100) : 0;
+    st.in.target_lpm_x100 = spraying ? (int16_t)lround(target_lpm * 100) : 0;
     diag_set_nozzles(36);
     return diag_step(&st, (uint8_t)spraying, (uint8_t)spraying);
 }
@@ -134,7 +134,7 @@ static void test_diag_model_is_held_and_a_slow_leak_is_told(void **state)
         w.p_kpa = p;
         for (int i = 0; i < 200 && raised < 0; i++, n++) {
             a = spray(1);
-            if (first_low < 0 && st.pressure_kpa - 30 < 0.85 * (held - 30))
+            if (first_low < 0 && st.in.pressure_kpa - 30 < 0.85 * (held - 30))
                 first_low = n;
             if (on(a, AL_LEAK))
                 raised = n;

@@ -108,7 +108,7 @@ static uint16_t period(void)
         sy.meter_next += sy.meter_ns;
     }
     speed_step();
-    sy.st.flow_lpm_x100 = flow_step();
+    sy.st.in.flow_lpm_x100 = flow_step();
     analog_step();
     diag_set_nozzles(sy.nozzles);
     valve_set(sy.drive);
@@ -142,9 +142,9 @@ static void spraying(double kmh, double lpm, int periods)
 {
     wheel(kmh);
     meter(lpm);
-    sy.st.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
-    sy.st.target_lpm_x100 = (int16_t)lround(lpm * 100);
-    sy.st.pressure_kpa = told_kpa(lpm);
+    sy.st.in.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
+    sy.st.in.target_lpm_x100 = (int16_t)lround(lpm * 100);
+    sy.st.in.pressure_kpa = told_kpa(lpm);
     for (int i = 0; i < periods; i++)
         assert_int_equal(period(), 0);
 }
@@ -183,18 +183,18 @@ static void test_overpressure_after_3_periods_over_p_max_cleared_under_95_percen
 {
     (void)state;
     setup(NULL);
-    sy.st.pressure_kpa = param_v[P_P_MAX];                          /* at P max: not over */
+    sy.st.in.pressure_kpa = param_v[P_P_MAX];                          /* at P max: not over */
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 20), 21);
-    sy.st.pressure_kpa++;
+    sy.st.in.pressure_kpa++;
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 3);  /* 0.3 s */
     /* 5 % hysteresis: 456 kPa is 95 % of 480, not under it; 455 is */
-    sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MAX] * 95u / 100u);
+    sy.st.in.pressure_kpa = (uint16_t)(param_v[P_P_MAX] * 95u / 100u);
     assert_int_equal(periods_until(AL_OVERPRESSURE, 0, 20), 21);
-    sy.st.pressure_kpa--;
+    sy.st.in.pressure_kpa--;
     assert_int_equal(periods_until(AL_OVERPRESSURE, 0, 20), 10);
     /* not watched (the bypass not parked, nothing sprayed): no alarm */
     sy.p_watch = 0;
-    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    sy.st.in.pressure_kpa = 2 * param_v[P_P_MAX];
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 11);
 }
 
@@ -237,10 +237,10 @@ static void test_overpressure_needs_the_pressure_sensor(void **state)
     for (int i = 0; i < 3; i++)
         period();
     assert_false(analog_pressure_ok());
-    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    sy.st.in.pressure_kpa = 2 * param_v[P_P_MAX];
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 20), 21);
     setup(NULL);
-    sy.st.pressure_kpa = 2 * param_v[P_P_MAX];
+    sy.st.in.pressure_kpa = 2 * param_v[P_P_MAX];
     assert_int_equal(periods_until(AL_OVERPRESSURE, 1, 10), 3);
     adc_counts[0] = 179;
     int n = periods_until(AL_OVERPRESSURE, 0, 30);
@@ -361,15 +361,15 @@ static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void 
     setup(NULL);
     spraying(8.0, 30.0, 30);
     meter(0);
-    sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - 1u);
+    sy.st.in.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - 1u);
     assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
-    sy.st.pressure_kpa = param_v[P_P_MIN];
+    sy.st.in.pressure_kpa = param_v[P_P_MIN];
     assert_true(periods_until(AL_METER_LOST, 1, 40) <= 10);
     /* below working speed */
     setup(NULL);
     spraying(8.0, 30.0, 30);
     meter(0);
-    sy.st.speed_kmh_x100 = (uint16_t)(param_v[P_MINF_SPEED] * 10u - 1u);
+    sy.st.in.speed_kmh_x100 = (uint16_t)(param_v[P_MINF_SPEED] * 10u - 1u);
     assert_int_equal(periods_until(AL_METER_LOST, 1, 40), 41);
     /* the boom not settled (starting up) */
     setup(NULL);
@@ -384,8 +384,8 @@ static void test_meter_lost_needs_p_start_working_speed_and_a_settled_boom(void 
         assert_true(param_set(P_P_MIN, 0));
         spraying(8.0, 30.0, 30);
         meter(0);
-        sy.st.pressure_kpa = told_kpa(k ? 5.6 : 4.9);
-        assert_int_equal(diag_nozzle_flow_x100(sy.st.pressure_kpa, NOZZLES) < 500, !k);
+        sy.st.in.pressure_kpa = told_kpa(k ? 5.6 : 4.9);
+        assert_int_equal(diag_nozzle_flow_x100(sy.st.in.pressure_kpa, NOZZLES) < 500, !k);
         assert_int_equal(periods_until(AL_METER_LOST, 1, 40) <= 40, k);
     }
 }
@@ -429,8 +429,8 @@ static void test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost(void **s
         assert_true(param_set(P_P_MIN, 0));
         spraying(8.0, 5.0, 1);
         sy.meter_ns = k ? 31312934.0 : 31250000.0;
-        sy.st.target_lpm_x100 = 500;
-        sy.st.pressure_kpa = 200;
+        sy.st.in.target_lpm_x100 = 500;
+        sy.st.in.pressure_kpa = 200;
         int n = periods_until(AL_CLOG, 1, 40);
         printf("# meter %d x 0.01 L/min at 200 kPa: CLOG after %d periods\n", flow_lpm_x100(), n);
         assert_int_equal(flow_lpm_x100(), k ? 499 : 500);
@@ -443,7 +443,7 @@ static void test_clog_judged_from_5_lpm_and_not_while_the_meter_is_lost(void **s
     meter(0);
     assert_true(periods_until(AL_METER_LOST, 1, 20) <= 20);
     meter(30.0);
-    sy.st.pressure_kpa = 330;                   /* the told model's 180 kPa and 120 more */
+    sy.st.in.pressure_kpa = 330;                   /* the told model's 180 kPa and 120 more */
     int n = periods_until(AL_CLOG, 1, 60);
     printf("# the meter back at a clog's pressure: CLOG after %d periods\n", n);
     assert_int_equal(n, 10 + 20 - 1);
@@ -462,7 +462,7 @@ static void test_nozzle_model_learns_within_5_percent_of_the_target_only(void **
         assert_true(param_set(P_METER_K, 3840));
         spraying(8.0, 31.25, 1);
         sy.meter_ns = 5000000.0;
-        sy.st.target_lpm_x100 = e[i].t;
+        sy.st.in.target_lpm_x100 = e[i].t;
         for (int n = 0; n < 64 * 4 + 20; n++)
             period();
         assert_int_equal(flow_lpm_x100(), 3125);
@@ -477,14 +477,14 @@ static void test_off_rate_at_its_set_time_and_percentage(void **state)
     setup(NULL);
     spraying(8.0, 30.0, 20);
     /* the flow the diag reads is the status's: 10 % off exactly is not off, 10.01 % is */
-    sy.st.target_lpm_x100 = 3000;
+    sy.st.in.target_lpm_x100 = 3000;
     meter(0);
     sy.meter_ns = 0;
     for (int k = 0; k < 2; k++) {
         uint16_t need = param_v[P_OFFRATE_S] * 10u;     /* 5 s: 50 periods */
         int n;
         for (n = 1; n <= 100; n++) {
-            sy.st.flow_lpm_x100 = k ? 3301 : 3300;
+            sy.st.in.flow_lpm_x100 = k ? 3301 : 3300;
             uint16_t a = diag_step(&sy.st, 1, 1);
             if (on(a, AL_OFFRATE))
                 break;
@@ -494,14 +494,14 @@ static void test_off_rate_at_its_set_time_and_percentage(void **state)
     /* cleared after 10 periods back on target */
     int n;
     for (n = 1; n <= 30; n++) {
-        sy.st.flow_lpm_x100 = 3000;
+        sy.st.in.flow_lpm_x100 = 3000;
         if (!on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
             break;
     }
     assert_int_equal(n, 10);
     /* low by as much counts too; one period on target starts the count again */
     for (n = 1; n <= 100; n++) {
-        sy.st.flow_lpm_x100 = n == 30 ? 3000 : 2699;
+        sy.st.in.flow_lpm_x100 = n == 30 ? 3000 : 2699;
         if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
             break;
     }
@@ -510,9 +510,9 @@ static void test_off_rate_at_its_set_time_and_percentage(void **state)
     setup(NULL);
     assert_true(param_set(P_OFFRATE_S, 2));
     for (n = 1; n <= 100; n++) {
-        sy.st.target_lpm_x100 = 3000;
-        sy.st.flow_lpm_x100 = 2000;
-        sy.st.speed_kmh_x100 = 800;
+        sy.st.in.target_lpm_x100 = 3000;
+        sy.st.in.flow_lpm_x100 = 2000;
+        sy.st.in.speed_kmh_x100 = 800;
         if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
             break;
     }
@@ -527,9 +527,9 @@ static void test_off_rate_not_in_manual_unsettled_nor_below_working_speed(void *
     static const int want[5] = {50, 20, 101, 101, 20};
     for (int c = 0; c < 5; c++) {
         setup(NULL);
-        sy.st.target_lpm_x100 = 3000;
-        sy.st.flow_lpm_x100 = 1500;
-        sy.st.speed_kmh_x100 = c == 2 || c == 4 ? param_v[P_MINF_SPEED] * 10u - 1u : param_v[P_MINF_SPEED] * 10u;
+        sy.st.in.target_lpm_x100 = 3000;
+        sy.st.in.flow_lpm_x100 = 1500;
+        sy.st.in.speed_kmh_x100 = c == 2 || c == 4 ? param_v[P_MINF_SPEED] * 10u - 1u : param_v[P_MINF_SPEED] * 10u;
         sy.st.manual = c == 1 || c == 4;
         int n;
         for (n = 1; n <= 100; n++)
@@ -560,18 +560,18 @@ static void test_leak_and_clog_after_20_periods_off_the_learnt_model(void **stat
     uint16_t p = told_kpa(30.0);
     /* the fine band: P_PDEV / 2 = 15 % of the pressure above the check valves */
     uint16_t lo = (uint16_t)(30 + (p - 30) * 0.85 - 3), hi = (uint16_t)(30 + (p - 30) * 1.15 + 3);
-    sy.st.pressure_kpa = lo;
+    sy.st.in.pressure_kpa = lo;
     assert_int_equal(periods_until(AL_LEAK, 1, 40), 20);
-    sy.st.pressure_kpa = p;
+    sy.st.in.pressure_kpa = p;
     assert_int_equal(periods_until(AL_LEAK, 0, 30), 10);
-    sy.st.pressure_kpa = hi;
+    sy.st.in.pressure_kpa = hi;
     assert_int_equal(periods_until(AL_CLOG, 1, 40), 20);
-    sy.st.pressure_kpa = p;
+    sy.st.in.pressure_kpa = p;
     assert_int_equal(periods_until(AL_CLOG, 0, 30), 10);
     /* inside the band: nothing */
-    sy.st.pressure_kpa = (uint16_t)(lo + 6);
+    sy.st.in.pressure_kpa = (uint16_t)(lo + 6);
     assert_int_equal(periods_until(AL_LEAK, 1, 40), 41);
-    sy.st.pressure_kpa = (uint16_t)(hi - 6);
+    sy.st.in.pressure_kpa = (uint16_t)(hi - 6);
     assert_int_equal(periods_until(AL_CLOG, 1, 40), 41);
 }
 
@@ -583,12 +583,12 @@ static void test_leak_not_judged_while_the_target_moves(void **state)
     setup(NULL);
     learn_model();
     spraying(8.0, 30.0, 10);
-    sy.st.pressure_kpa = (uint16_t)(told_kpa(30.0) * 0.6);
+    sy.st.in.pressure_kpa = (uint16_t)(told_kpa(30.0) * 0.6);
     /* the target falls, then rises, by 1/100 of itself a period (over 1/128, under twice that) */
     double t = 3000;
     for (int i = 0; i < 80; i++) {
         t *= i < 40 ? 0.99 : 1.01;
-        sy.st.target_lpm_x100 = (int16_t)lround(t);
+        sy.st.in.target_lpm_x100 = (int16_t)lround(t);
         assert_false(on(period(), AL_LEAK));
     }
     /* rising by exactly 1/128 of the new target (its >> 7) a period: judged */
@@ -598,7 +598,7 @@ static void test_leak_not_judged_while_the_target_moves(void **state)
         while (((ti + d) >> 7) != d)
             d++;
         ti += d;
-        sy.st.target_lpm_x100 = (int16_t)ti;
+        sy.st.in.target_lpm_x100 = (int16_t)ti;
         if (on(period(), AL_LEAK))
             break;
     }
@@ -689,9 +689,9 @@ static void test_meter_cal_on_the_10th_period_of_the_balance_off(void **state)
     setup(NULL);
     wheel(8.0);
     meter(30.0);
-    sy.st.speed_kmh_x100 = 800;
-    sy.st.target_lpm_x100 = 3000;
-    sy.st.pressure_kpa = told_kpa(30.0);
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 3000;
+    sy.st.in.pressure_kpa = told_kpa(30.0);
     sy.st.tank_l = 800;
     int n;
     for (n = 1; n <= 200; n++) {
@@ -720,9 +720,9 @@ static void test_meter_cal_cleared_after_10_periods_of_the_balance_on(void **sta
     setup(NULL);
     wheel(8.0);
     meter(30.0);
-    sy.st.speed_kmh_x100 = 800;
-    sy.st.target_lpm_x100 = 3000;
-    sy.st.pressure_kpa = told_kpa(30.0);
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 3000;
+    sy.st.in.pressure_kpa = told_kpa(30.0);
     sy.st.tank_l = 900;
     int n;
     for (n = 1; n <= 200; n++) {
@@ -764,9 +764,9 @@ static void steady(double kmh, double lpm, uint16_t kpa)
 {
     wheel(kmh);
     meter(lpm);
-    sy.st.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
-    sy.st.target_lpm_x100 = (int16_t)lround(lpm * 100);
-    sy.st.pressure_kpa = kpa;
+    sy.st.in.speed_kmh_x100 = (uint16_t)lround(kmh * 100);
+    sy.st.in.target_lpm_x100 = (int16_t)lround(lpm * 100);
+    sy.st.in.pressure_kpa = kpa;
 }
 
 static void test_model_learnt_at_the_64th_sample_of_clean_periods(void **state)
@@ -908,7 +908,7 @@ static void test_gross_band_edges_before_a_model(void **state)
         period();
         uint16_t pexp = diag_nozzle_pressure_kpa(3000, NOZZLES);
         assert_in_range(pexp, 175, 185);        /* 30 + 300 (30 / 42.48)^2 = 179.6 */
-        sy.st.pressure_kpa = (uint16_t)(pexp + e[i].dp);
+        sy.st.in.pressure_kpa = (uint16_t)(pexp + e[i].dp);
         int n = 1 + periods_until(e[i].bit, 1, 39);
         assert_int_equal(flow_lpm_x100(), 3000);
         assert_int_equal(n, e[i].at);
@@ -936,7 +936,7 @@ static void test_leak_and_clog_judged_settled_at_working_speed_and_held(void **s
         for (int i = 0; i < 40; i++)
             assert_true(on(period(), bit));
         sy.settled = 0;
-        sy.st.pressure_kpa = told_kpa(30.0);
+        sy.st.in.pressure_kpa = told_kpa(30.0);
         for (int i = 0; i < 40; i++)
             assert_true(on(period(), bit));
         sy.settled = 1;
@@ -973,7 +973,7 @@ static void test_fine_band_not_under_50_kpa_above_the_check_valves(void **state)
         period();
     uint16_t pexp = diag_nozzle_pressure_kpa(flow_lpm_x100(), NOZZLES);
     assert_true(pexp < 30 + 50);
-    sy.st.pressure_kpa = (uint16_t)lround(30 + (pexp - 30) * 1.3);
+    sy.st.in.pressure_kpa = (uint16_t)lround(30 + (pexp - 30) * 1.3);
     assert_int_equal(periods_until(AL_CLOG, 1, 60), 61);
 }
 
@@ -995,8 +995,8 @@ static void test_model_learnt_at_one_flow_is_trusted_near_it(void **state)
         for (int i = 0; i < 5; i++)
             period();
         uint16_t pexp = diag_nozzle_pressure_kpa(flow_lpm_x100(), NOZZLES);
-        sy.st.pressure_kpa = (uint16_t)lround(30 + (pexp - 30) * 1.25);
-        assert_true(sy.st.pressure_kpa < pexp + 120);
+        sy.st.in.pressure_kpa = (uint16_t)lround(30 + (pexp - 30) * 1.25);
+        assert_true(sy.st.in.pressure_kpa < pexp + 120);
         assert_int_equal(periods_until(AL_CLOG, 1, 60), 61);
     }
     for (int k = 0; k < 2; k++) {
@@ -1007,7 +1007,7 @@ static void test_model_learnt_at_one_flow_is_trusted_near_it(void **state)
         for (int i = 0; i < 5; i++)
             period();
         uint16_t pexp = diag_nozzle_pressure_kpa(flow_lpm_x100(), NOZZLES);
-        sy.st.pressure_kpa = (uint16_t)(pexp + 120 + k);
+        sy.st.in.pressure_kpa = (uint16_t)(pexp + 120 + k);
         assert_int_equal(periods_until(AL_CLOG, 1, 60), k ? 20 : 61);
     }
 }
@@ -1045,7 +1045,7 @@ static void test_meter_lost_from_a_model_flow_of_5_lpm(void **state)
         sy.nozzles = 4;
         spraying(8.0, 4.0, 30);
         meter(0);
-        sy.st.pressure_kpa = (uint16_t)(p500 - 1 + k);
+        sy.st.in.pressure_kpa = (uint16_t)(p500 - 1 + k);
         assert_int_equal(periods_until(AL_METER_LOST, 1, 40) <= 40, k);
     }
 }
@@ -1063,7 +1063,7 @@ static void test_gross_band_at_least_120_kpa(void **state)
         steady(8.0, 30.0, 0);
         period();
         assert_int_equal(diag_nozzle_pressure_kpa(3000, NOZZLES), 180);
-        sy.st.pressure_kpa = (uint16_t)(300 + k);
+        sy.st.in.pressure_kpa = (uint16_t)(300 + k);
         assert_int_equal(1 + periods_until(AL_CLOG, 1, 39), k ? 21 : 41);
     }
 }
@@ -1091,13 +1091,13 @@ static void test_fine_band_from_50_kpa_above_the_check_valves(void **state)
         int16_t q = (int16_t)((lo + hi) / 2);
         printf("# %d kPa above the check valves (%u) at %d x 0.01 L/min\n", want, pc, q);
         assert_true(param_set(P_METER_K, 1000));
-        sy.st.target_lpm_x100 = q;
+        sy.st.in.target_lpm_x100 = q;
         sy.meter_ns = 6e10 / (q + 0.25);
-        sy.st.pressure_kpa = (uint16_t)(pc + want);
+        sy.st.in.pressure_kpa = (uint16_t)(pc + want);
         for (int i = 0; i < 5; i++)
             assert_int_equal(period(), 0);
         assert_int_equal(flow_lpm_x100(), q);
-        sy.st.pressure_kpa = (uint16_t)(pc + want * 13 / 10);
+        sy.st.in.pressure_kpa = (uint16_t)(pc + want * 13 / 10);
         assert_int_equal(periods_until(AL_CLOG, 1, 40), want == 50 ? 20 : 41);
     }
 }
@@ -1109,9 +1109,9 @@ static void test_off_rate_needs_a_target(void **state)
     (void)state;
     for (int k = 0; k < 2; k++) {
         setup(NULL);
-        sy.st.speed_kmh_x100 = 800;
-        sy.st.target_lpm_x100 = (int16_t)k;
-        sy.st.flow_lpm_x100 = k ? 3 : 3000;
+        sy.st.in.speed_kmh_x100 = 800;
+        sy.st.in.target_lpm_x100 = (int16_t)k;
+        sy.st.in.flow_lpm_x100 = k ? 3 : 3000;
         int n;
         for (n = 1; n <= 100; n++)
             if (on(diag_step(&sy.st, 1, 1), AL_OFFRATE))
@@ -1232,7 +1232,7 @@ static void test_model_not_learnt_against_a_negative_target(void **state)
     setup(NULL);
     steady(8.0, 30.0, told_kpa(30.0));
     for (int n = 1; n <= 400; n++) {
-        sy.st.target_lpm_x100 = (int16_t)(n % 2 ? -1 : -129);
+        sy.st.in.target_lpm_x100 = (int16_t)(n % 2 ? -1 : -129);
         period();
         assert_int_equal(diag_nozzle_learnt(), 0);
     }
@@ -1256,8 +1256,8 @@ static uint16_t x_of_meter(int m)
 static void metered(int m, uint16_t kpa)
 {
     sy.meter_ns = 6e10 / (m + 0.25);
-    sy.st.target_lpm_x100 = (int16_t)m;
-    sy.st.pressure_kpa = kpa;
+    sy.st.in.target_lpm_x100 = (int16_t)m;
+    sy.st.in.pressure_kpa = kpa;
 }
 
 /* Nothing is learnt above twice the rated pressure's flow: r (Q12) over 5792 (the square root
@@ -1304,7 +1304,7 @@ static void test_nozzle_wear_under_242_kpa(void **state)
         int n = periods_to_learn(400);
         assert_int_equal(n, 257);
         assert_int_equal(diag_nozzle_learnt(), 1);
-        assert_int_equal(store_learnt_byte(STORE_LEARN_CTL + 2u) | store_learnt_byte(STORE_LEARN_CTL + 3u) << 8,
+        assert_int_equal(store_learnt_now(STORE_LEARN_CTL + 2u) | store_learnt_now(STORE_LEARN_CTL + 3u) << 8,
                          242 - k);
         for (int i = 0; i < 20; i++)
             assert_int_equal(on(period(), AL_NOZZLE_WEAR), k);
@@ -1340,8 +1340,8 @@ static void test_model_learnt_at_one_flow_judged_at_7_8_and_8_7_of_it(void **sta
             assert_int_equal(period(), 0);
         assert_int_equal(flow_lpm_x100(), judge_at);
         uint16_t pc = diag_nozzle_pressure_kpa(1, NOZZLES);
-        sy.st.pressure_kpa = (uint16_t)(pc + (pexp - pc) * 13 / 10);
-        assert_true(sy.st.pressure_kpa < pexp + 120);
+        sy.st.in.pressure_kpa = (uint16_t)(pc + (pexp - pc) * 13 / 10);
+        assert_true(sy.st.in.pressure_kpa < pexp + 120);
         assert_int_equal(periods_until(AL_CLOG, 1, 40), 20);
     }
 }

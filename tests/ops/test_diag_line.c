@@ -101,9 +101,9 @@ static void dry_line_raised(uint16_t tank)
 {
     setup(NULL);
     sy.st.spraying = 1;
-    sy.st.speed_kmh_x100 = 800;
-    sy.st.target_lpm_x100 = 3000;
-    sy.st.pressure_kpa = 0;
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 3000;
+    sy.st.in.pressure_kpa = 0;
     sy.st.tank_l = tank;
     for (int n = 1; n <= 9; n++)
         assert_int_equal(dry(), 0);
@@ -117,9 +117,9 @@ static void test_dry_line_under_p_start_on_the_10th_period(void **state)
     for (int k = 0; k < 2; k++) {
         setup(NULL);
         sy.st.spraying = 1;
-        sy.st.speed_kmh_x100 = 800;
-        sy.st.target_lpm_x100 = 3000;
-        sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - k);
+        sy.st.in.speed_kmh_x100 = 800;
+        sy.st.in.target_lpm_x100 = 3000;
+        sy.st.in.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - k);
         int n;
         for (n = 1; n <= 30; n++)
             if (dry())
@@ -129,8 +129,8 @@ static void test_dry_line_under_p_start_on_the_10th_period(void **state)
     /* a failed pressure sensor says nothing of the line (its last reading was 0) */
     setup(NULL);
     sy.st.spraying = 1;
-    sy.st.speed_kmh_x100 = 800;
-    sy.st.target_lpm_x100 = 3000;
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 3000;
     adc_counts[0] = 179;
     for (int n = 1; n <= 30; n++)
         assert_int_equal(dry(), 0);
@@ -145,8 +145,8 @@ static void test_dry_line_under_a_quarter_of_the_target_metered(void **state)
     for (int k = 0; k < 2; k++) {
         setup(NULL);
         sy.st.spraying = 1;
-        sy.st.speed_kmh_x100 = 800;
-        sy.st.target_lpm_x100 = e[k].target;
+        sy.st.in.speed_kmh_x100 = 800;
+        sy.st.in.target_lpm_x100 = e[k].target;
         meter_every(80000000u);                 /* 7.50 L/min */
         for (int i = 0; i < 5; i++)
             dry();
@@ -159,8 +159,8 @@ static void test_dry_line_under_a_quarter_of_the_target_metered(void **state)
     }
     setup(NULL);
     sy.st.spraying = 1;
-    sy.st.speed_kmh_x100 = 800;
-    sy.st.target_lpm_x100 = 4;
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 4;
     for (int n = 1; n <= 9; n++)
         assert_int_equal(dry(), 0);
     assert_int_equal(dry(), 1);
@@ -170,11 +170,11 @@ static void test_dry_line_under_a_quarter_of_the_target_metered(void **state)
     assert_true(param_set(P_NOZZLES, 1));         /* (the meter's pulse rate in its range) */
     assert_true(param_set(P_METER_K, 60000));
     sy.st.spraying = 1;
-    sy.st.target_lpm_x100 = 4;
+    sy.st.in.target_lpm_x100 = 4;
     meter_every(1000000000u);
     for (int n = 1; n <= 25; n++)
         dry();                                  /* standing: the meter's first two pulses */
-    sy.st.speed_kmh_x100 = 800;
+    sy.st.in.speed_kmh_x100 = 800;
     for (int n = 1; n <= 40; n++) {
         assert_int_equal(dry(), 0);
         assert_int_equal(flow_lpm_x100(), 1);
@@ -187,12 +187,12 @@ static void test_dry_line_held_until_the_pump_pushes_a_refill_or_the_sections_of
 {
     (void)state;
     dry_line_raised(100);
-    sy.st.pressure_kpa = param_v[P_P_MIN];          /* pushing, but still spraying */
+    sy.st.in.pressure_kpa = param_v[P_P_MIN];          /* pushing, but still spraying */
     assert_int_equal(dry(), 1);
     sy.st.spraying = 0;
-    sy.st.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - 1u);
+    sy.st.in.pressure_kpa = (uint16_t)(param_v[P_P_MIN] - 1u);
     assert_int_equal(dry(), 1);
-    sy.st.pressure_kpa = param_v[P_P_MIN];          /* the boom shut, P start: it pushes */
+    sy.st.in.pressure_kpa = param_v[P_P_MIN];          /* the boom shut, P start: it pushes */
     assert_int_equal(dry(), 0);
     /* the boom shut at P start on a failed sensor: its reading says nothing */
     dry_line_raised(100);
@@ -201,7 +201,7 @@ static void test_dry_line_held_until_the_pump_pushes_a_refill_or_the_sections_of
         dry();
     assert_false(analog_pressure_ok());
     sy.st.spraying = 0;
-    sy.st.pressure_kpa = 2u * param_v[P_P_MIN];
+    sy.st.in.pressure_kpa = 2u * param_v[P_P_MIN];
     for (int i = 0; i < 20; i++)
         assert_int_equal(dry(), 1);
     /* a refill: 115 L is 15 over the 100 L it ran dry at, 116 clears */
@@ -245,18 +245,18 @@ static void sprayed_then_at_rest(void)
     }
     assert_int_equal(valve_limit(), CTL_AT_OPEN);
     sy.st.spraying = 1;
-    sy.st.speed_kmh_x100 = 800;
-    sy.st.pressure_kpa = 300;
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.pressure_kpa = 300;
     for (int i = 0; i < 20; i++)
         assert_int_equal(zero(), 0);
     sy.st.spraying = 0;
-    sy.st.speed_kmh_x100 = 0;
+    sy.st.in.speed_kmh_x100 = 0;
 }
 
 /* periods at rest with this reading until the zero is judged off (max + 1: never) */
 static int zero_after(uint16_t kpa, int max)
 {
-    sy.st.pressure_kpa = kpa;
+    sy.st.in.pressure_kpa = kpa;
     for (int n = 1; n <= max; n++)
         if (zero())
             return n;
@@ -272,7 +272,7 @@ static void test_zero_off_over_25_kpa_after_50_periods_at_rest(void **state)
     assert_int_equal(zero_after(DIAG_ZERO_KPA, 120), 121);
     sprayed_then_at_rest();
     assert_int_equal(zero_after(DIAG_ZERO_KPA + 1u, 120), 50);
-    sy.st.pressure_kpa = 0;
+    sy.st.in.pressure_kpa = 0;
     for (int n = 1; n <= 49; n++)
         assert_int_equal(zero(), 1);
     assert_int_equal(zero(), 0);
@@ -287,14 +287,14 @@ static void test_zero_needs_a_reading_steady_within_12_kpa(void **state)
         sprayed_then_at_rest();
         int n;
         for (n = 1; n <= 120; n++) {
-            sy.st.pressure_kpa = (uint16_t)(n % 2 ? 20 : 32 + k);
+            sy.st.in.pressure_kpa = (uint16_t)(n % 2 ? 20 : 32 + k);
             if (zero())
                 break;
         }
         assert_int_equal(n, k ? 121 : 50);
     }
     sprayed_then_at_rest();
-    sy.st.pressure_kpa = 20;
+    sy.st.in.pressure_kpa = 20;
     assert_int_equal(zero(), 0);
     assert_int_equal(zero_after(26, 60), 49);
 }
@@ -317,12 +317,12 @@ static void test_zero_spraying_pressure_at_working_speed_in_auto_only(void **sta
     (void)state;
     sprayed_then_at_rest();
     sy.st.spraying = 1;
-    sy.st.speed_kmh_x100 = 200;
-    sy.st.pressure_kpa = 40;
+    sy.st.in.speed_kmh_x100 = 200;
+    sy.st.in.pressure_kpa = 40;
     for (int i = 0; i < 400; i++)
         assert_int_equal(zero(), 0);
     sy.st.spraying = 0;
-    sy.st.speed_kmh_x100 = 0;
+    sy.st.in.speed_kmh_x100 = 0;
     assert_int_equal(zero_after(30, 60), 50);
     /* manual at rest */
     sprayed_then_at_rest();
@@ -331,7 +331,7 @@ static void test_zero_spraying_pressure_at_working_speed_in_auto_only(void **sta
     /* the sensor failed for a while, then good again, at rest */
     sprayed_then_at_rest();
     adc_counts[0] = 179;
-    sy.st.pressure_kpa = 30;
+    sy.st.in.pressure_kpa = 30;
     for (int i = 0; i < 5; i++)
         assert_int_equal(zero(), 0);
     adc_counts[0] = 614;
@@ -347,17 +347,17 @@ static void test_zero_needs_the_boom_shut_and_the_bypass_known_open(void **state
     sy.st.spraying = 1;
     assert_int_equal(zero_after(30, 120), 121);
     sprayed_then_at_rest();
-    sy.st.speed_kmh_x100 = 1;
+    sy.st.in.speed_kmh_x100 = 1;
     assert_int_equal(zero_after(30, 120), 121);
     /* the position unknown: no stop found since power-up */
     setup(NULL);
     sy.st.spraying = 1;
-    sy.st.speed_kmh_x100 = 800;
-    sy.st.pressure_kpa = 300;
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.pressure_kpa = 300;
     for (int i = 0; i < 20; i++)
         zero();
     sy.st.spraying = 0;
-    sy.st.speed_kmh_x100 = 0;
+    sy.st.in.speed_kmh_x100 = 0;
     assert_int_equal(valve_position(), VALVE_POS_UNKNOWN);
     assert_int_equal(zero_after(30, 120), 121);
     /* from the closed stop, 3276 open (4 x 819: valve.c's full period at the defaults) is not a

@@ -89,10 +89,10 @@ static void wheel_measured_bypass_open(void)
  * a line that went from under 10 to 50 kPa in one period would carry the count over). */
 static void pump_learnt_on_the_wheels(void)
 {
-    sy.st.pressure_kpa = DIAG_PUMP_STOP_KPA - 1u;
+    sy.st.in.pressure_kpa = DIAG_PUMP_STOP_KPA - 1u;
     for (int i = 0; i < 40; i++)
         assert_int_equal(pump(), 0);
-    sy.st.pressure_kpa = 30;
+    sy.st.in.pressure_kpa = 30;
     assert_int_equal(pump(), 0);
 }
 
@@ -105,7 +105,7 @@ static void test_pump_runs_at_50_kpa_on_the_30th_period(void **state)
         setup(NULL);
         wheel_measured_bypass_open();
         pump_learnt_on_the_wheels();
-        sy.st.pressure_kpa = (uint16_t)(DIAG_PUMP_RUN_KPA - 1u + k);
+        sy.st.in.pressure_kpa = (uint16_t)(DIAG_PUMP_RUN_KPA - 1u + k);
         assert_int_equal(pump_after(60), k ? 30 : 61);
     }
 }
@@ -117,12 +117,12 @@ static void test_pump_learnt_under_10_kpa(void **state)
     for (int k = 0; k < 2; k++) {
         setup(NULL);
         wheel_measured_bypass_open();
-        sy.st.pressure_kpa = (uint16_t)(DIAG_PUMP_STOP_KPA - 1u + k);
+        sy.st.in.pressure_kpa = (uint16_t)(DIAG_PUMP_STOP_KPA - 1u + k);
         for (int i = 0; i < 40; i++)
             assert_int_equal(pump(), 0);
-        sy.st.pressure_kpa = 30;
+        sy.st.in.pressure_kpa = 30;
         assert_int_equal(pump(), 0);
-        sy.st.pressure_kpa = 60;
+        sy.st.in.pressure_kpa = 60;
         assert_int_equal(pump_after(60), k ? 61 : 30);
     }
 }
@@ -136,8 +136,8 @@ static void test_pump_learns_and_says_only_at_a_reported_standstill(void **state
     for (int c = 0; c < 4; c++) {
         setup(NULL);
         wheel_measured_bypass_open();
-        sy.st.pressure_kpa = 0;
-        sy.st.speed_kmh_x100 = c == 0 ? 1 : 0;
+        sy.st.in.pressure_kpa = 0;
+        sy.st.in.speed_kmh_x100 = c == 0 ? 1 : 0;
         sy.st.spraying = c == 1;
         if (c == 2)
             assert_true(param_set(P_GIVEN_SPEED, 80));
@@ -148,11 +148,11 @@ static void test_pump_learns_and_says_only_at_a_reported_standstill(void **state
         if (c == 3)
             assert_false(analog_pressure_ok());
         /* everything back as a standstill wants it: nothing was learnt */
-        sy.st.speed_kmh_x100 = 0;
+        sy.st.in.speed_kmh_x100 = 0;
         sy.st.spraying = 0;
         assert_true(param_set(P_GIVEN_SPEED, 0));
         adc_counts[0] = 614;
-        sy.st.pressure_kpa = 60;
+        sy.st.in.pressure_kpa = 60;
         assert_int_equal(pump_after(60), 61);
     }
     /* the sections off */
@@ -160,7 +160,7 @@ static void test_pump_learns_and_says_only_at_a_reported_standstill(void **state
     wheel_measured_bypass_open();
     pump_learnt_on_the_wheels();
     sy.st.open_nozzles = 0;
-    sy.st.pressure_kpa = 60;
+    sy.st.in.pressure_kpa = 60;
     assert_int_equal(pump_after(60), 61);
     sy.st.open_nozzles = 36;
     assert_int_equal(pump_after(60), 30);
@@ -172,7 +172,7 @@ static void test_pump_learns_and_says_only_at_a_reported_standstill(void **state
     }
     pump_learnt_on_the_wheels();
     assert_int_equal(speed_at_last_pulse_x100(), 0);
-    sy.st.pressure_kpa = 60;
+    sy.st.in.pressure_kpa = 60;
     assert_int_equal(pump_after(60), 61);
 }
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# family_smoke.sh: tools/family.py (and tools/redraw.py) on a few plants: the same seed gives the same table, every run scored, the files written.
+# family_smoke.sh: tools/family.py (and tools/research/redraw.py) on a few plants: the same seed gives the same table, every run scored, the files written.
 . "$(dirname "$0")/tap.sh" family
 
 make -s --no-print-directory "$SIM" BUILD="$B" > "$tmp/build.log" 2>&1 || { nok "the simulator builds" "$(cat "$tmp/build.log")"; exit 0; }
@@ -65,20 +65,20 @@ part = sum(1 for r in rows if float(r["dose_ctl_start_pct"]) != 0
 assert part > len(rows) // 2, (part, len(rows))
 PYEOF
 then ok "runs.csv splits the loop's share into the start's and the rest"; else nok "runs.csv splits the loop's share into the start's and the rest"; fi
-if $PY tools/ctl_tail.py "$tmp/a" "$tmp/b" > "$tmp/t.out" 2>&1 \
+if $PY tools/research/ctl_tail.py "$tmp/a" "$tmp/b" > "$tmp/t.out" 2>&1 \
    && grep -Eq "^ffmap: 24 runs; 95th percentile of abs\(dose_ctl_pct\) [0-9.]+ %, past the start [0-9.]+ %$" "$tmp/t.out" \
    && grep -Eq "^the start over half of the run's share: [0-9]+ of 2 " "$tmp/t.out"; then
     ok "ctl_tail sorts the runs above the 95th percentile of the loop's share by their start"
 else
     nok "ctl_tail sorts the runs above the 95th percentile of the loop's share by their start" "$(cat "$tmp/t.out")"
 fi
-$PY tools/ctl_tail.py "$tmp/nonexistent" > /dev/null 2> "$tmp/err" && nok "ctl_tail refuses a directory without runs.csv" \
+$PY tools/research/ctl_tail.py "$tmp/nonexistent" > /dev/null 2> "$tmp/err" && nok "ctl_tail refuses a directory without runs.csv" \
     || { grep -q "^ctl_tail: .*runs.csv: No such file" "$tmp/err" && ok "ctl_tail refuses a directory without runs.csv in one line" \
          || nok "ctl_tail refuses a directory without runs.csv in one line" "$(cat "$tmp/err")"; }
 $PY tools/family.py /nonexistent --n 1 > /dev/null 2> "$tmp/err" && nok "a missing simulator is refused" \
     || { grep -q "not an executable" "$tmp/err" && ok "a missing simulator is refused in one line" || nok "a missing simulator is refused in one line" "$(cat "$tmp/err")"; }
 # redraw.py: a plant of the family again with more noise draws, the scenario the family wrote
-if $PY tools/redraw.py "$SIM" 1/3/told 1/3/untold --draws 2 --out "$tmp/r" > "$tmp/r.out" 2>&1 \
+if $PY tools/research/redraw.py "$SIM" 1/3/told 1/3/untold --draws 2 --out "$tmp/r" > "$tmp/r.out" 2>&1 \
    && diff -q "$tmp/a/scn/plant_003_told.scn" "$tmp/r/scn/seed1_plant_003_told.scn" > /dev/null \
    && diff -q "$tmp/a/scn/plant_003_untold.scn" "$tmp/r/scn/seed1_plant_003_untold.scn" > /dev/null \
    && grep -Eq "^1/3/told +[0-9]+ of 2 +median CV [0-9.]+ %" "$tmp/r.out" && grep -q "^alarm runs: [0-9]* of 4$" "$tmp/r.out"; then
@@ -86,15 +86,15 @@ if $PY tools/redraw.py "$SIM" 1/3/told 1/3/untold --draws 2 --out "$tmp/r" > "$t
 else
     nok "redraw runs a family plant (the same scenario) with more noise draws and counts the alarm runs" "$(tail -3 "$tmp/r.out")"
 fi
-$PY tools/redraw.py "$SIM" 28/35 > /dev/null 2> "$tmp/err" && nok "redraw refuses a plant without told/untold" \
+$PY tools/research/redraw.py "$SIM" 28/35 > /dev/null 2> "$tmp/err" && nok "redraw refuses a plant without told/untold" \
     || { grep -q "a plant is SEED/NUMBER/told" "$tmp/err" && ok "redraw refuses a bad plant name in one line" || nok "redraw refuses a bad plant name in one line" "$(cat "$tmp/err")"; }
-$PY tools/redraw.py "$SIM" --select fast-high --seeds 1-1 > "$tmp/r1.out" 2> "$tmp/err" && nok "redraw refuses a class with no plant" \
+$PY tools/research/redraw.py "$SIM" --select fast-high --seeds 1-1 > "$tmp/r1.out" 2> "$tmp/err" && nok "redraw refuses a class with no plant" \
     || { grep -q "no plant of seeds 1-1 is fast-high" "$tmp/err" && ! grep -q "alarm runs" "$tmp/r1.out" \
          && ok "redraw refuses a class with no plant, rather than run the default plants" \
          || nok "redraw refuses a class with no plant, rather than run the default plants" "$(cat "$tmp/err")"; }
 if $PY - <<'PYEOF'
 import sys
-sys.path.insert(0, "tools")
+sys.path[:0] = ["tools", "tools/research"]
 import family, redraw
 sel = redraw.select("fast-high", 1, 2)
 assert sel and all(n.split("/")[2] in ("told", "untold") for n in sel)

@@ -60,6 +60,17 @@ out=$("$SIM" --scenario "$tmp/short.scn" --seed -3 2>&1); rc=$?
 if [ $rc -ne 0 ] && echo "$out" | grep -q "seed"; then ok "a bad --seed is refused"; else nok "bad --seed refused" "$out"; fi
 out=$("$SIM" --scenario "$tmp/none.scn" 2>&1); rc=$?
 if [ $rc -ne 0 ] && echo "$out" | grep -q "none.scn: cannot open"; then ok "a missing scenario is named"; else nok "missing scenario" "$out"; fi
+# the model's own inputs: a time each, no more than 8 in all, with --chip only
+out=$("$SIM" --scenario "$tmp/short.scn" --chip-reset soon 2>&1); rc=$?
+out2=$("$SIM" --scenario "$tmp/short.scn" --chip-hang 2 2>&1); rc2=$?
+out3=$("$SIM" --scenario "$tmp/short.scn" $(for k in 1 2 3 4 5 6 7 8 9; do echo --chip-reset $k; done) 2>&1); rc3=$?
+if [ $rc -eq 2 ] && echo "$out" | grep -q "chip-reset 'soon' is not a number" \
+   && [ $rc2 -eq 2 ] && echo "$out2" | grep -q "go with --chip" \
+   && [ $rc3 -eq 2 ] && echo "$out3" | grep -q "more than 8 times" && ! echo "$out$out2$out3" | grep -q '^{'; then
+    ok "--chip-reset/--chip-hang: a bad time, one without --chip, a ninth are refused"
+else
+    nok "chip inputs refused" "rc $rc $rc2 $rc3: $out | $out2 | $out3"
+fi
 
 # make sim with a controller and a CSV
 out=$(make -s --no-print-directory sim BUILD="$B" SCENARIO="$tmp/short.scn" CONTROLLER=pid CSV="$tmp/m.csv" 2>&1); rc=$?
@@ -150,10 +161,10 @@ else
     nok "plot.py flow marks the section switches changed" "$out"
 fi
 
-# tools/bound.py: the step scorer on the trace reproduces the sim's figures (start_s too), and the ideal
+# tools/research/bound.py: the step scorer on the trace reproduces the sim's figures (start_s too), and the ideal
 # follower gets worse as it sees the pump later (0, 0.1, 0.2, 0.3 s), never better than flow = target;
 # its start from parked open takes longer once it sees the pump 0.3 s late
-out=$($PY tools/bound.py --run "$SIM" scenarios/paper_dynamic_150.scn 2>&1)
+out=$($PY tools/research/bound.py --run "$SIM" scenarios/paper_dynamic_150.scn 2>&1)
 if echo "$out" | $PY -c '
 import re, sys
 t = sys.stdin.read()
@@ -171,16 +182,16 @@ assert rows[0][2] == 0.0 and rows[-1][2] > rows[1][2] > 0.0, "the start: none fo
 trace, js = row("the run'"'"'s own controller (trace)"), row("the run'"'"'s own controller (sim JSON)")
 assert abs(trace[2] - js[2]) < 0.05, "start_s: trace vs sim"
 '; then
-    ok "tools/bound.py: the trace scores as the sim; the ideal follower worsens as it sees the pump later"
+    ok "tools/research/bound.py: the trace scores as the sim; the ideal follower worsens as it sees the pump later"
 else
-    nok "tools/bound.py" "$(echo "$out" | tail -12)"
+    nok "tools/research/bound.py" "$(echo "$out" | tail -12)"
 fi
 
-# tools/robust.py on issue 14's rough sprayer (8 % pump pulsation, 3 % wheel bounce, noisy pressure,
+# tools/research/robust.py on issue 14's rough sprayer (8 % pump pulsation, 3 % wheel bounce, noisy pressure,
 # the paper's 125 L/ha run on a fixed PTO; then with a 1.5 s valve the firmware is told is 4 s),
 # where ffmap once gave CV 4.6-5.2 % and 171-190 reversals a minute: ffmap now under CV 1.5 % and 20
 # reversals a minute, and under bp_pid's on both; an unknown scenario is refused
-out=$($PY tools/robust.py "$SIM" --seeds 1-4 --only issue14,issue14_fast --scenarios paper_dynamic_125_fixed_pto 2>&1)
+out=$($PY tools/research/robust.py "$SIM" --seeds 1-4 --only issue14,issue14_fast --scenarios paper_dynamic_125_fixed_pto 2>&1)
 if echo "$out" | $PY -c '
 import re, sys
 rows = re.findall(r"paper_dynamic_125_fixed_pto .*cv% (\S+)/(\S+);.*rev/min (\S+)/(\S+)", sys.stdin.read())
@@ -189,9 +200,9 @@ for cb, cp, rb, rp in rows:
     cb, cp, rb, rp = map(float, (cb.rstrip(";"), cp.rstrip(";"), rb, rp))
     assert cb < 1.5 and rb < 20 and cb < cp and rb < rp, (cb, cp, rb, rp)
 '; then
-    ok "tools/robust.py: ffmap holds the rate on issue 14's rough sprayer, told its valve or not"
+    ok "tools/research/robust.py: ffmap holds the rate on issue 14's rough sprayer, told its valve or not"
 else
-    nok "tools/robust.py issue14" "$out"
+    nok "tools/research/robust.py issue14" "$out"
 fi
-out=$($PY tools/robust.py "$SIM" --only issue14 --scenarios nope 2>&1); rc=$?
-if [ $rc -ne 0 ] && echo "$out" | grep -q "no scenarios/nope.scn"; then ok "tools/robust.py refuses an unknown scenario"; else nok "robust.py unknown scenario" "$out"; fi
+out=$($PY tools/research/robust.py "$SIM" --only issue14 --scenarios nope 2>&1); rc=$?
+if [ $rc -ne 0 ] && echo "$out" | grep -q "no scenarios/nope.scn"; then ok "tools/research/robust.py refuses an unknown scenario"; else nok "robust.py unknown scenario" "$out"; fi

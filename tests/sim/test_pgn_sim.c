@@ -61,7 +61,7 @@ static void test_pgn_sim_agopengps_speed_sections_and_frames_stopping(void **sta
     printf("# WHEEL_NOISE at %.1f s\n", raised);
     assert_true(raised > 0 && raised < 10.0);
     double truth = sim.plant.v_mps * 3.6;
-    assert_true(fabs(app_status.speed_kmh_x100 * 0.01 - truth) <= 0.1);
+    assert_true(fabs(app_status.in.speed_kmh_x100 * 0.01 - truth) <= 0.1);
     assert_true(app_status.spraying);
     assert_int_equal(app_status.open_nozzles, 36);
     /* 30 s: AgOpenGPS closes two sections; the first frame carrying it goes at t_f; the

@@ -338,7 +338,7 @@ static void test_sim_key_serial_and_power_cut(void **state)
     theta = sim.plant.theta;
     assert_int_equal(hal_host_io.spray_on, 0);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);
-    assert_int_equal(app_status.target_lpm_x100, 0);
+    assert_int_equal(app_status.in.target_lpm_x100, 0);
     assert_true(sim.plant.v_mps > 7.9 / 3.6);               /* the tractor drives on */
     sim_run(&sim, 21.9);
     assert_int_equal(hal_host_io.wdt_kicks, kicks);
@@ -415,15 +415,15 @@ static void test_sim_nudge_and_preset_events_score_against_the_rate_in_use(void 
     sim_init(&sim, &scn);
     run_read(59.0);
     assert_true(fabs(sim.set_rate - 150.0) < 1e-9);
-    assert_true(abs(app_status.target_lpm_x100 - 3600) <= 2);
+    assert_true(abs(app_status.in.target_lpm_x100 - 3600) <= 2);
     run_read(61.0);
     assert_true(fabs(sim.set_rate - 180.0) < 1e-9);
-    assert_true(abs(app_status.target_lpm_x100 - 4320) <= 2);
+    assert_true(abs(app_status.in.target_lpm_x100 - 4320) <= 2);
     run_read(119.0);
     assert_true(fabs(sim.plant.q_boom - 43.2) < 43.2 * 0.05);    /* the plant applies it */
     run_read(122.0);
     assert_true(fabs(sim.set_rate - 200.0) < 1e-9);
-    assert_true(abs(app_status.target_lpm_x100 - 4800) <= 2);
+    assert_true(abs(app_status.in.target_lpm_x100 - 4800) <= 2);
     run_read(180.0);
     sim_finish(&sim, &r);
     printf("# dose error %.2f %%, silent wrong %.1f s\n", r.dose_error_pct, r.silent_wrong_s);

@@ -798,12 +798,19 @@ static void test_store_keeps_the_learnt_figures(void **state)
     uint16_t a[P_COUNT];
     (void)state;
     assert_int_equal(store_load(), STORE_DEFAULTS);
+    diag_init();                    /* as at power-up: it registers the figures' source (store_learnt_from) */
     ctl_select(CTL_FFMAP);
     assert_int_equal(ctl_st.fm.gain, FFMAP_G_INIT);           /* nothing in the EEPROM: where a new valve starts */
     ctl_st.fm.gain = 150;
     ctl_st.fm.brk_extra = FFMAP_BRK_STEP;
     ctl_st.fm.rev_min = FFMAP_REV_MIN - 1000;
     ctl_st.fm.ff_gain = 120;
+    /* no source registered: the record says nothing was learnt */
+    store_learnt_from(0);
+    assert_true(save());
+    assert_int_equal(store_learnt(0), 0xFF);
+    assert_int_equal(store_learnt(STORE_LEARN_BYTES - 1u), 0xFF);
+    diag_init();
     assert_true(save());
     ctl_st.fm.gain = ctl_st.fm.brk_extra = ctl_st.fm.rev_min = ctl_st.fm.ff_gain = 0;   /* power cycle */
     assert_int_equal(store_load(), STORE_OK);

@@ -30,13 +30,10 @@ static void plant(q15_t drive, ctl_in_t *in)
 
 static uint32_t cyc_max, cyc_sum;
 
-/* the step's inputs: on the chip the controllers read them at ctl_src's address (ctl.h) */
+/* the step's inputs, passed to ctl_step (in XRAM on the chip, ctl.h) */
+static __xdata ctl_in_t step_in;
 #if defined(__SDCC)
-__xdata ctl_in_t ctl_src;
-__bit speed_plain;              /* speed.h's, which ffmap sets: here without the wheel's module and its HAL */
-__bit speed_learnt;             /* ... and reads: 0, a wheel not learnt */
-#else
-static ctl_in_t ctl_src;
+__bit speed_learnt;             /* speed.h's, which ffmap reads: 0, a wheel not learnt (no wheel module here) */
 #endif
 
 static q15_t timed_step(const __xdata ctl_in_t *in)
@@ -105,7 +102,7 @@ static const __code char *const bench_names[CTL_COUNT] = {
 static void run_ctl(uint8_t id, const char *bench)
 {
     uint16_t k, n_long;
-    __xdata ctl_in_t *in = &ctl_src;
+    __xdata ctl_in_t *in = &step_in;
     q15_t d;
     uint16_t r;
 

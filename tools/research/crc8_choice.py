@@ -11,7 +11,7 @@ chosen one the share of two-byte substitutions (any printable bytes at any two p
 command) it misses: no 8-bit check catches them all (65,025 changes a pair of places, 256
 check values).
 
-    .venv/bin/python tools/crc8_choice.py [--top N]
+    .venv/bin/python tools/research/crc8_choice.py [--top N]
 """
 import argparse
 import itertools

@@ -1,12 +1,9 @@
-/* hal_serial.c: the STC12C5A60S2's UART 1 and its IAP EEPROM (one file: an IAP operation holds the CPU and the UART loses bytes meanwhile). */
+/* uart.c: UART 1: its framings (38400 8N1, a Raven console's 9600 or 1200 8N2) and its queues. */
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #include <stc12.h>
 #include "hal.h"
+#include "stc12_int.h"
 #include "isr.h"
-
-/* interrupts off, then back as they were (they nest) */
-#define IRQ_OFF(s) do { (s) = EA; EA = 0; } while (0)
-#define IRQ_RESTORE(s) do { EA = (s); } while (0)
 
 /* ---- UART 1 from the BRT generator (framings: hal_uart_framing) ----------------------------- */
 /* powers of two: the index wraps with a mask, not a divide. The transmit queue holds what a
@@ -27,17 +24,17 @@ static volatile uint8_t rxq[UART_RXQ];
 static volatile uint8_t rx_head, rx_tail;
 /* A byte was lost: nothing more is queued until the queue has been read empty, where
  * hal_uart_get reports HAL_UART_LOST, so the reader knows exactly where the gap is. */
-static volatile __bit rx_lost;
+volatile __bit stc12_rx_lost;
 
 /* the received byte in SBUF into the queue, or the loss marked (interrupts off) */
 #define RX_TAKE() do {                                                      \
         uint8_t n_ = (uint8_t)((rx_head + 1) & (UART_RXQ - 1));             \
         RI = 0;                                                             \
-        if (!rx_lost && n_ != rx_tail) {                                    \
+        if (!stc12_rx_lost && n_ != rx_tail) {                                    \
             rxq[rx_head] = SBUF;                                            \
             rx_head = n_;                                                   \
         } else {                                                            \
-            rx_lost = 1;                                                    \
+            stc12_rx_lost = 1;                                                    \
         }                                                                   \
     } while (0)
 
@@ -106,8 +103,8 @@ int16_t hal_uart_get(void)
 {
     int16_t b;
     if (rx_tail == rx_head) {
-        if (rx_lost) {
-            rx_lost = 0;
+        if (stc12_rx_lost) {
+            stc12_rx_lost = 0;
             return HAL_UART_LOST;
         }
         return -1;
@@ -115,68 +112,4 @@ int16_t hal_uart_get(void)
     b = rxq[rx_tail];
     rx_tail = (uint8_t)((rx_tail + 1) & (UART_RXQ - 1));
     return b;
-}
-
-/* ---- IAP EEPROM: 1 KB at IAP addresses 0x0000-0x03FF, two 512-byte sectors ------------------ */
-#define IAP_EN_WT 0x83              /* IAPEN, wait time for SYSCLK < 12 MHz */
-#define IAP_READ 1
-#define IAP_PROGRAM 2
-#define IAP_ERASE 3
-
-/*
- * One IAP operation; returns IAP_DATA (a read's byte). The CPU is held until the operation
- * ends (a sector erase about 21 ms, a byte program about 55 us, datasheet's IAP timing):
- * no interrupt is served meanwhile. The UART keeps one received byte in SBUF and, in mode 1,
- * drops the next while RI is still set. So a byte waiting after an erase, or after any
- * operation that found one already waiting, may have had others lost before it: it is
- * dropped and the loss marked there, and the serial link discards that line with ERR LOST.
- */
-static uint8_t iap_cmd(uint8_t cmd, uint16_t addr)
-{
-    uint8_t d;
-    uint8_t ea, ri0;
-    IAP_CONTR = IAP_EN_WT;
-    IAP_CMD = cmd;
-    IAP_ADDRL = (uint8_t)addr;
-    IAP_ADDRH = (uint8_t)(addr >> 8);
-    IRQ_OFF(ea);                    /* the trigger pair must not be split */
-    ri0 = RI;
-    IAP_TRIG = 0x5A;
-    IAP_TRIG = 0xA5;
-    NOP();
-    d = IAP_DATA;                   /* before the unit is idled, as STC's examples read it */
-    IAP_CONTR = 0;                  /* leave IAP disabled and pointing outside the EEPROM */
-    IAP_CMD = 0;
-    IAP_TRIG = 0;
-    IAP_ADDRH = 0x80;
-    IAP_ADDRL = 0;
-    if (RI && (ri0 || cmd == IAP_ERASE)) {
-        RI = 0;                     /* that byte and any before it since the hold: a gap */
-        rx_lost = 1;
-    }
-    IRQ_RESTORE(ea);
-    return d;
-}
-
-uint8_t hal_eeprom_read(uint16_t addr)
-{
-    if (addr >= HAL_EEPROM_SIZE)
-        return 0xFF;
-    return iap_cmd(IAP_READ, addr);
-}
-
-void hal_eeprom_erase(uint16_t addr)
-{
-    if (addr >= HAL_EEPROM_SIZE)
-        return;
-    iap_cmd(IAP_ERASE, addr & (uint16_t)~(HAL_EEPROM_SECTOR - 1));
-}
-
-uint8_t hal_eeprom_write(uint16_t addr, uint8_t b) __reentrant
-{
-    if (addr >= HAL_EEPROM_SIZE)
-        return 0;
-    IAP_DATA = b;
-    iap_cmd(IAP_PROGRAM, addr);
-    return hal_eeprom_read(addr) == b;
 }

@@ -16,7 +16,8 @@ import csv
 import os
 import sys
 
-from family import pct      # (the family table's percentile: the same cut as its 95th)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from family import pct  # noqa: E402      # (the family table's percentile: the same cut as its 95th)
 
 
 def main():

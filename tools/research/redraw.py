@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """redraw.py: plants of the family run again with more noise draws (docs/CONTROLLERS.md, the twelfth round).
 
-Usage: tools/redraw.py SIM [SEED/PLANT/told|untold ...] [--select fast-high|fast-stiff [--seeds 1-140]]
+Usage: tools/research/redraw.py SIM [SEED/PLANT/told|untold ...] [--select fast-high|fast-stiff [--seeds 1-140]]
                        [--draws 12] [--controller ffmap] [--jobs N] [--out build/redraw]
 
 A family run is one noise draw of its plant: the pump's pulsation, the meter's blades, the
@@ -25,7 +25,7 @@ import os
 import sys
 from multiprocessing import Pool
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import family  # noqa: E402  (tools/family.py: the family's draw and scenario files)
 import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
 

@@ -19,7 +19,8 @@ import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
-from seeds import sim_and_seeds
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from seeds import sim_and_seeds  # noqa: E402  (tools/seeds.py)
 
 # name: ([plant] lines, [config] lines, what it shows)
 CASES = [
