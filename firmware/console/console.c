@@ -183,7 +183,7 @@ static uint8_t typing(uint8_t decimals)
 /* A number typed in the units chosen (console_units.c), back in the parameter's. */
 static void key_edit(void)
 {
-    const __code con_unit_t *u = con_unit(con_id_class(con_item));
+    const __code unit_t *u = unit_of(unit_class(con_item));
     uint8_t dec = u ? u->dec : param_info(con_item)->decimals;
     uint32_t v;
     if (typing(dec))
@@ -199,8 +199,8 @@ static void key_edit(void)
             return;
         }
         v = con_entry_value(dec);
-        if (u && v != ENTRY_TOO_BIG)
-            v = con_unit_in(con_item, v);
+        if (v != ENTRY_TOO_BIG)
+            v = unit_in(con_item, v);
         if (!dec && entry_point() != 0xFF) {
             con_say("Whole numbers");
         } else if (v >= ENTRY_TOO_BIG) {

@@ -4,6 +4,7 @@
 
 #include "compiler.h"
 #include "screen.h"
+#include "units.h"
 
 enum { S_RUN, S_TOTALS, S_MENU, S_EDIT, S_CHOICE, S_CAL_SPEED, S_CAL_TANK, S_IOTEST };
 
@@ -98,19 +99,9 @@ void con_entry_key(uint8_t decimals) __reentrant;
 uint16_t con_entry_value(uint8_t decimals) __reentrant;
 uint32_t con_cal_now(void) __reentrant;
 void con_draw(void) __reentrant;
-/* units (console_units.c): the quantities that have a US and a turf unit (at most 7: CON_Q) */
-enum { CU_NONE, CU_RATE, CU_SPEED, CU_PRESS, CU_VOL, CU_FLOW, CU_AREA, CU_ML, CU_COUNT };
-typedef struct {
-    const __code char *unit;
-    uint8_t dec;                    /* decimals shown */
-    uint16_t m, d;                  /* shown = the firmware's value x m / d */
-} con_unit_t;
-const __code con_unit_t *con_unit(uint8_t cls) __reentrant;
-uint8_t con_id_class(uint8_t id) __reentrant;
+/* units (console_units.c; the classes and their ratios: units.h) */
 const __code char *con_unit_text(uint8_t cls, const __code char *metric) __reentrant;
 void con_cat_unit(uint8_t cls) __reentrant;
-uint32_t con_unit_in(uint8_t id, uint32_t shown) __reentrant;
-uint32_t con_q(uint32_t v, uint8_t form) __reentrant;
 uint8_t con_q_form(uint8_t form) __reentrant;
 void con_iotest_start(void) __reentrant;
 void con_draw_iotest(void) __reentrant;     /* console_io.c */

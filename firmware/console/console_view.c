@@ -97,7 +97,7 @@ void con_cat_num(uint32_t v, uint8_t width, uint8_t form)
  * before con_cat_num runs, not inside it (the console's deepest stack path goes through it) */
 void con_cat_q(uint32_t v, uint8_t width, uint8_t form)
 {
-    con_cat_num(con_q(v, form), width, con_q_form(form));
+    con_cat_num(unit_q(v, (uint8_t)(form >> 5)), width, con_q_form(form));
 }
 
 /* move line[from..] to the right end of the row, spaces in between */
@@ -158,7 +158,7 @@ const __code char *con_choice_name(uint8_t id, uint16_t v)
 }
 
 /* The form of parameter id's values, CON_Q of its class; a speed setting (km/h x10) goes to
- * con_q as the class's km/h x100 (pvalue) in US or turf units. */
+ * unit_q as the class's km/h x100 (pvalue) in US or turf units. */
 static uint8_t pform(uint8_t id, uint8_t cls) __reentrant
 {
     return (uint8_t)(param_info(id)->decimals | CON_Q(cls));
@@ -172,7 +172,7 @@ static uint32_t pvalue(uint8_t cls, uint16_t v) __reentrant
 /* append parameter id's unit in the units chosen after a space, none when it has none */
 static void cat_param_unit(uint8_t id) __reentrant
 {
-    const __code char *unit = con_unit_text(con_id_class(id), param_info(id)->unit);
+    const __code char *unit = con_unit_text(unit_class(id), param_info(id)->unit);
     if (unit[0]) {
         con_cat(" ");
         con_cat(unit);
@@ -182,12 +182,12 @@ static void cat_param_unit(uint8_t id) __reentrant
 /* append a parameter's value and unit in the units chosen, "150.0 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)
 {
-    uint8_t cls = con_id_class(id);
+    uint8_t cls = unit_class(id);
     if (con_is_choice(id)) {
         con_cat(con_choice_name(id, v));
         return;
     }
-    con_cat_num(con_q(pvalue(cls, v), pform(id, cls)), 0, con_q_form(pform(id, cls)));
+    con_cat_num(unit_q(pvalue(cls, v), cls), 0, con_q_form(pform(id, cls)));
     cat_param_unit(id);
 }
 
@@ -217,13 +217,13 @@ void con_draw_msg(void)
         con_cat(b == CON_SHOWN_EE ? store_status_text(store_status()) : diag_text(b));
     } else {
         pi = param_info(m);
-        c = con_id_class(m);
+        c = unit_class(m);
         f = (uint8_t)(pform(m, c) | CON_TRIM);
         for (b = 0; b < 2; b++) {   /* the word when the limits leave room for it */
             con_start(b ? "Range " : "");
-            con_cat_num(con_q(pvalue(c, pi->min), f), 0, con_q_form(f));
+            con_cat_num(unit_q(pvalue(c, pi->min), c), 0, con_q_form(f));
             con_cat("..");
-            con_cat_num(con_q(pvalue(c, pi->max), f), 0, con_q_form(f));
+            con_cat_num(unit_q(pvalue(c, pi->max), c), 0, con_q_form(f));
             if (con_at > SCREEN_COLS - 6u)
                 break;
         }

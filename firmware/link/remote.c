@@ -9,6 +9,7 @@
 #include "remote.h"
 #include "mul.h"
 #include "linecheck.h"
+#include "units.h"
 
 /* the lines queued, sent lowest bit first: so a trigger's AR, D1, D2, D3, TD and a switch
  * change's D1, D2, D3, TD, C1, C2, C3 go in the manuals' order */
@@ -51,7 +52,7 @@ uint8_t remote_command(const __xdata char *line) __reentrant
     }
     if (!given)
         return 1;
-    if (!target_remote_rate(v))
+    if (!target_remote_rate(unit_in(P_RATE, v)))    /* in the console's units (gal/acre x10 ..) */
         return 0;
     if (param_v[P_LOG_EVERY])
         rv.due |= RV_C;             /* rate 1's cal changed */
@@ -66,19 +67,25 @@ enum { S_END, S_AR, S_SW1, S_SW2, S_RATE, S_TANK, S_DIST, S_ZERO, S_TD, S_WHEEL,
 #define F_WHOLE 0x00
 #define F_TENTH 0x20                /* x10 values with their decimal point: 150.0 */
 #define F_HA_M2 0x40                /* m^2 as ha, one decimal (truncated) */
-#define F_HA_DM2 0x60               /* dm^2 as ha, one decimal */
-#define F_L_ML 0x80                 /* ml as whole litres */
-static const __code uint32_t rv_div[5] = {1u, 1u, 1000u, 100000UL, 1000u};
+#define F_L_ML 0x60                 /* ml as whole litres */
+static const __code uint32_t rv_div[4] = {1u, 1u, 1000u, 1000u};
 #define RV_FIELDS 9
 static const __code uint8_t rv_lines[8][2 + RV_FIELDS] = {
     {'A', 'R', F_TENTH | S_AR},
-    {'D', '1', F_HA_M2 | S_LIFE_A, F_HA_DM2 | S_JOB_A},
+    {'D', '1', F_HA_M2 | S_LIFE_A, F_HA_M2 | S_JOB_A},
     {'D', '2', F_L_ML | S_LIFE_V, F_L_ML | S_JOB_V},
     {'D', '3', S_TANK, S_DIST},
     {'T', 'D', S_TD},
     {'C', '1', S_SW1, S_SW2, S_B1, S_B1 + 1, S_B1 + 2, S_B1 + 3, S_B1 + 4, S_B1 + 5, F_TENTH | S_WHEEL},
     {'C', '2', F_TENTH | S_METER, S_ZERO},
     {'C', '3', S_VALVE, F_TENTH | S_RATE, S_ZERO},
+};
+
+/* Each source's unit class in US and turf units (units.h; the booms' share S_B1's): the
+ * calibration numbers too in the console's own units, as a Raven console's */
+static const __code uint8_t rv_class[S_B1 + 1] = {
+    CU_NONE, CU_RATE, CU_NONE, CU_NONE, CU_RATE, CU_VOL, CU_FEET, CU_NONE, CU_NONE, CU_INCH100,
+    CU_PER_GAL, CU_NONE, CU_AREA, CU_ML, CU_AREA, CU_ML, CU_INCH,
 };
 
 /* the actual rate, L/ha x10: flow x 6000 / (speed x width / 100), 0 when not spraying */
@@ -121,6 +128,8 @@ static uint32_t value(uint8_t k) __reentrant
     case S_ZERO:
     case S_TD:
         return 0;
+    case S_JOB_A:                   /* m^2, as the lifetime's */
+        return totals_job_m2();
     default:
         if (k < S_B1)               /* the totals */
             return (&totals.job_dm2)[k - S_JOB_A];
@@ -132,12 +141,14 @@ static uint32_t value(uint8_t k) __reentrant
  * 8605's emulation of a Raven 450 documents) */
 static void put_field(uint8_t k) __reentrant
 {
-    uint8_t f = k >> 5;
+    uint8_t f = k >> 5, c;
     k &= 0x1Fu;
     if (k == S_TD)                  /* no clock and no field reference (docs/REMOTE.md) */
         serial_put_s("00:00,00/00/00,0");
+    else if (unit_of(c = rv_class[k < S_B1 ? k : S_B1]))    /* US or turf: the console's units */
+        serial_put_num(unit_q(value(k), c), unit_of(c)->dec);
     else
-        serial_put_num(value(k) / rv_div[f], f && f < 4u);
+        serial_put_num(value(k) / rv_div[f], f && f < 3u);
 }
 
 /* ---- the data logger ------------------------------------------------------------------------ */

@@ -53,7 +53,7 @@
     X(P_RATE2,       "Rate 2",     "L/ha",  1,   100, 10000, 2000)  /* the second preset */ \
     X(P_PRESET,      "Preset",     "",      0,     0,     1,    0)  /* 0 Rate 1, 1 Rate 2 in use */ \
     X(P_RATE_STEP,   "Rate step",  "%",     0,     1,    50,    5)  /* a nudge of the rate in use */ \
-    X(P_UNITS,       "Units",      "",      0,     0,     2,    0)  /* 0 metric, 1 US, 2 turf (console_units.c) */ \
+    X(P_UNITS,       "Units",      "",      0,     0,     2,    0)  /* 0 metric, 1 US, 2 turf (ops/units.c) */ \
     X(P_SPEED_SRC,   "Speed src",  "",      0,     0,     2,    0)  /* 0 wheel, 1 GPS (PGN 254), 2 both cross-checked */ \
     X(P_SPEED_DIFF,  "Speed diff", "%",     0,     2,    50,    5)  /* both: wheel off GPS by this: WHEEL_NOISE */ \
     X(P_AOG_SECT,    "AOG sect",   "",      0,     0,     1,    0)  /* 1: sections also from the frames */ \

@@ -985,9 +985,9 @@ static void test_console_a_rate_typed_in_gal_per_acre_reads_back_unchanged(void 
     assert_true(param_set(P_UNITS, 1));
     int lo = (int)ceil(100 / GAL_L * ACRE_M2 / 10000.0), hi = (int)floor(10000 / GAL_L * ACRE_M2 / 10000.0);
     for (int g = lo; g <= hi; g++) {
-        uint32_t in = con_unit_in(P_RATE, (uint32_t)g);
+        uint32_t in = unit_in(P_RATE, (uint32_t)g);
         assert_true(fabs(in - g * GAL_L / ACRE_M2 * 10000.0) <= 0.5);   /* the nearest 0.1 L/ha */
-        assert_int_equal(con_q(in, CON_Q(CU_RATE)), g);
+        assert_int_equal(unit_q(in, CU_RATE), g);
     }
     /* turf: gal / 1000 ft^2 with two decimals; 140.3 L/ha = 0.34 */
     assert_true(param_set(P_UNITS, 2));
