@@ -1,10 +1,12 @@
-/* test_raven.c: the link as a Raven console's through the host build, on a line run bit by bit at 9600 (or 1200) 8N2: requests and their lines, multi-product rates, silence, the data logger. */
+/* test_raven.c: the link as a Raven console's through the host build, on a line run bit by bit at 9600 (or 1200) 8N2: requests and their lines, multi-product rates, silence, the data logger, US and turf units. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <setjmp.h>
 #include <stdio.h>
 #include <string.h>
+#include <stdlib.h>
+#include <math.h>
 #include <cmocka.h>
 #include "hal_host.h"
 #include "helper_link.h"
@@ -388,6 +390,125 @@ static void test_raven_data_logger_distance_trigger(void **state)
     }
 }
 
+/* ---- the console's Units: US and turf ---------------------------------------------------- */
+/* The conversions from their definitions, not from the firmware's table */
+#define GAL_L 3.785411784
+#define ACRE_M2 4046.8564224
+#define KFT2_M2 92.90304                    /* 1000 ft^2 */
+#define IN_CM 2.54
+#define FT_M 0.3048
+
+/* the next line the PC reads within 300 ms equals the printf-built want */
+static void expect_line(const char *fmt, ...)
+{
+    char want[96];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(want, sizeof want, fmt, ap);
+    va_end(ap);
+    assert_string_equal(pc_line(300), want);
+}
+
+/* Units = US: C1-C3 and D1-D3 as a Raven console set to US units sends them: the booms in
+ * inches, the wheel's cal in inches a pulse, the meter's pulses a gallon, the rate in gal/acre,
+ * areas in acres, volumes in gallons; each field worked out here from the metric settings. */
+static void test_raven_us_units_lines(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_UNITS, 1));
+    raven(1, 0);
+    totals_set_life(123456u, 9876543u);     /* 12.3456 ha, 9876.543 L */
+    totals_set_job(4567890u, 654321u);      /* 4.567890 ha, 654.321 L */
+    pc_send("$R,CR\r\n");
+    int b = (int)floor(300 / IN_CM + 0.5);  /* 6 nozzles of 50 cm: 300 cm = 118.1 in */
+    expect_line("$R124F,C1,191,136,%d,%d,%d,%d,%d,%d,%.2f", b, b, b, b, b, b, 392.7 / (10 * IN_CM));
+    expect_line("$R124F,C2,%.1f,0", 380.0 * GAL_L);                     /* 1438.5 a gallon */
+    expect_line("$R124F,C3,2123,%.1f,0", 150.0 / GAL_L * ACRE_M2 / 1e4);   /* 16.0 gal/acre */
+    pc_send("$R,DR\r\n");
+    expect_line("$R124F,D1,%.2f,%.2f", 123456 / ACRE_M2, 45678.9 / ACRE_M2);  /* 30.51, 11.29 */
+    expect_line("$R124F,D2,%.1f,%.1f", 9876.543 / GAL_L, 654.321 / GAL_L);   /* 2609.1, 172.9 */
+    expect_line("$R124F,D3,%d,0", (int)floor(app_status.tank_l / GAL_L + 0.5));
+    assert_string_equal(pc_line(200), "$R124F,TD,00:00,00/00/00,0");
+    /* turf: the rate in gal / 1000 ft^2 (0.37) and the areas in 1000 ft^2, the rest as US */
+    assert_true(param_set(P_UNITS, 2));
+    link_run_ms(1200);
+    while (pc_line(0)[0])
+        ;
+    pc_send("$R,CR\r\n");
+    pc_line(300);
+    pc_line(300);
+    expect_line("$R124F,C3,2123,%.2f,0", 150.0 / GAL_L * KFT2_M2 / 1e4);
+    pc_send("$R,DR\r\n");
+    expect_line("$R124F,D1,%.1f,%.1f", 123456 / KFT2_M2, 45678.9 / KFT2_M2);  /* 1328.9, 491.7 */
+}
+
+/* A field computer's rate in the console's units: 15.0 gal/acre (RC 150) is 140.3 L/ha, the
+ * target flow follows, C3 reads it back as sent; 0.34 gal / 1000 ft^2 (RC 34) in turf units is
+ * 138.5 L/ha. A number whose L/ha passes 16 bits is refused, not wrapped into the window. */
+static void test_raven_rc_in_the_consoles_units(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_UNITS, 1));
+    assert_true(param_set(P_GIVEN_SPEED, 80));
+    raven(1, 0);
+    pc_send("$R,RC,150\r\n");
+    link_run_ms(300);
+    assert_int_equal(target_rate_x10(), (int)floor(15.0 * GAL_L / ACRE_M2 * 1e4 * 10 + 0.5));
+    assert_int_equal(target_rate_x10(), 1403);
+    /* 140.3 L/ha x 8 km/h x 18 m / 600 = 33.67 L/min */
+    assert_int_equal(app_status.in.target_lpm_x100, (int)floor(140.3 * 8 * 18 / 600 * 100 + 0.5));
+    pc_send("$R,CR\r\n");
+    pc_line(300);
+    pc_line(300);
+    assert_string_equal(pc_line(300), "$R124F,C3,2123,15.0,0");
+    /* 716.7 gal/acre = 6703.9 L/ha: 67039 in 0.1 L/ha, 1503 (150.3, in the window) if cut to
+     * 16 bits */
+    uint8_t n0 = target_remote_refusals();
+    pc_send("$R,RC,7167\r\n");
+    link_run_ms(300);
+    assert_int_equal(target_rate_x10(), 1403);
+    assert_int_equal(target_remote_refusals(), (uint8_t)(n0 + 1));
+    /* turf */
+    assert_true(param_set(P_UNITS, 2));
+    pc_send("$R,RC,34\r\n");
+    link_run_ms(300);
+    assert_int_equal(target_rate_x10(), (int)floor(0.34 * GAL_L / KFT2_M2 * 1e4 * 10 + 0.5));
+    assert_int_equal(target_rate_x10(), 1385);
+}
+
+/* The actual rate and the distance in US units from the pulses: a wheel pulse (392.7 mm) every
+ * 100 ms is 14.14 km/h, a meter pulse (380 a litre) every 2 ms is 78.95 L/min: over 18 m,
+ * 186.1 L/ha = 19.9 gal/acre (by hand); 100 wheel pulses are 39.27 m, 128.8 ft (D3's distance
+ * is the whole metres counted in feet: within 3.3 ft). */
+static void test_raven_us_units_actual_rate_and_distance(void **state)
+{
+    (void)state;
+    char l[16][64];
+    assert_true(param_set(P_UNITS, 1));
+    raven(1, 1);
+    hal_host_io.adc[HAL_ADC_PRESSURE] = LINK_MA(8.0);
+    double ar = -1;
+    for (int t = 1; t <= 10000; t++) {
+        if (t % 100 == 0 && t <= 10000)
+            hal_host_wheel_edge(hal_host_io.time_ns);
+        if (t % 2 == 0)
+            hal_host_flow_edge(hal_host_io.time_ns);
+        int n = pc_lines(1, l, 16);
+        for (int i = 0; i < n; i++)
+            if (!memcmp(l[i], "$R124F,AR,", 10))
+                ar = atof(l[i] + 10);
+    }
+    double want = 500.0 / 380 * 60 / (0.3927 / 0.1 * 3.6 * 18) * 600 / GAL_L * ACRE_M2 / 1e4;
+    printf("# AR %.1f gal/acre, %.2f by hand\n", ar, want);
+    assert_true(fabs(ar - want) <= 0.15);
+    pc_send("$R,DR\r\n");
+    unsigned tank, ft;
+    for (int i = 0; i < 4 && sscanf(pc_line(300), "$R124F,D3,%u,%u", &tank, &ft) != 2; i++)
+        ;
+    printf("# D3 distance %u ft, %.1f by hand\n", ft, 100 * 0.3927 / FT_M);
+    assert_true(fabs(ft - 100 * 0.3927 / FT_M) <= 1 / FT_M);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -401,6 +522,9 @@ int main(void)
         cmocka_unit_test_setup(test_raven_c1_shows_the_preset_in_use, setup),
         cmocka_unit_test_setup(test_raven_data_logger_pushes_on_its_triggers, setup),
         cmocka_unit_test_setup(test_raven_data_logger_distance_trigger, setup),
+        cmocka_unit_test_setup(test_raven_us_units_lines, setup),
+        cmocka_unit_test_setup(test_raven_rc_in_the_consoles_units, setup),
+        cmocka_unit_test_setup(test_raven_us_units_actual_rate_and_distance, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
