@@ -270,10 +270,10 @@ static void key_cal(void)
             }
         }
     } else if (con_step == 2) {
-        v = con_entry_value(1);             /* litres x10 */
+        v = unit_in(P_TANK_L, con_entry_value(1));  /* litres x10 (typed in gallons in US units) */
         con_entry_clear();
         if (!v || v == ENTRY_TOO_BIG) {
-            con_say("Litres? >0");
+            con_say("Volume? >0");
             return;
         }
         /* P_METER_K in 0.1 pulse a litre: pulses * 10 / litres = pulses * 100 / litres_x10 */

@@ -455,10 +455,11 @@ static void draw_cal(void)
     if (con_step == 1) {
         screen_line(tank ? "Spray; D: stop" : "At 100 m: D", 2);
         draw_bottom("C:cancel");
-    } else if (con_step == 2) {             /* tank: litres sprayed */
-        con_start("Litres ");
+    } else if (con_step == 2) {             /* tank: the volume sprayed, in the units chosen */
+        con_start("Sprayed ");
         con_cat_ram(con.u.entry);
         con_cat("_");
+        con_cat_unit(CU_VOL);
         con_show(2);
         draw_bottom("D:ok C:clear");
     } else {                            /* the new value, to save */

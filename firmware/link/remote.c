@@ -68,7 +68,7 @@ enum { S_END, S_AR, S_SW1, S_SW2, S_RATE, S_TANK, S_DIST, S_ZERO, S_TD, S_WHEEL,
 #define F_TENTH 0x20                /* x10 values with their decimal point: 150.0 */
 #define F_HA_M2 0x40                /* m^2 as ha, one decimal (truncated) */
 #define F_L_ML 0x60                 /* ml as whole litres */
-static const __code uint32_t rv_div[4] = {1u, 1u, 1000u, 1000u};
+static const __code uint16_t rv_div[4] = {1u, 1u, 1000u, 1000u};
 #define RV_FIELDS 9
 static const __code uint8_t rv_lines[8][2 + RV_FIELDS] = {
     {'A', 'R', F_TENTH | S_AR},
@@ -81,11 +81,12 @@ static const __code uint8_t rv_lines[8][2 + RV_FIELDS] = {
     {'C', '3', S_VALVE, F_TENTH | S_RATE, S_ZERO},
 };
 
-/* Each source's unit class in US and turf units (units.h; the booms' share S_B1's): the
- * calibration numbers too in the console's own units, as a Raven console's */
-static const __code uint8_t rv_class[S_B1 + 1] = {
+/* Each source's unit class in US and turf units (units.h): the calibration numbers too in the
+ * console's own units, as a Raven console's */
+static const __code uint8_t rv_class[S_B1 + 6] = {
     CU_NONE, CU_RATE, CU_NONE, CU_NONE, CU_RATE, CU_VOL, CU_FEET, CU_NONE, CU_NONE, CU_INCH100,
-    CU_PER_GAL, CU_NONE, CU_AREA, CU_ML, CU_AREA, CU_ML, CU_INCH,
+    CU_PER_GAL, CU_NONE, CU_AREA, CU_ML, CU_AREA, CU_ML,
+    CU_INCH, CU_INCH, CU_INCH, CU_INCH, CU_INCH, CU_INCH,       /* the booms */
 };
 
 /* the actual rate, L/ha x10: flow x 6000 / (speed x width / 100), 0 when not spraying */
@@ -145,7 +146,7 @@ static void put_field(uint8_t k) __reentrant
     k &= 0x1Fu;
     if (k == S_TD)                  /* no clock and no field reference (docs/REMOTE.md) */
         serial_put_s("00:00,00/00/00,0");
-    else if (unit_of(c = rv_class[k < S_B1 ? k : S_B1]))    /* US or turf: the console's units */
+    else if (unit_of(c = rv_class[k]))      /* US or turf: the console's units */
         serial_put_num(unit_q(value(k), c), unit_of(c)->dec);
     else
         serial_put_num(value(k) / rv_div[f], f && f < 3u);

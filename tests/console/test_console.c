@@ -695,10 +695,10 @@ static void test_console_meter_calibration_by_the_tank_method(void **state)
     run_ms(300);
     uint32_t n = flow_sent - f0;
     press('D');
-    assert_string_equal(lcd(2), "Litres _        ");
+    assert_string_equal(lcd(2), "Sprayed _L      ");
     keys("0");
     press('D');
-    assert_string_equal(lcd(3), "Litres? >0      ");
+    assert_string_equal(lcd(3), "Volume? >0      ");
     keys("999");                    /* K would be about 4 p/L: refused */
     press('D');
     assert_string_equal(lcd(3), "Range 10..6000  ");
@@ -999,6 +999,35 @@ static void test_console_a_rate_typed_in_gal_per_acre_reads_back_unchanged(void 
     assert_true(param_set(P_UNITS, 0));
 }
 
+/* The tank method in US units: the volume sprayed is typed in gallons (2.8 gal = 10.6 L, to
+ * the 0.1 L the entry keeps), Meter K stays pulses a litre. */
+static void test_console_meter_calibration_in_gallons(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_UNITS, 1));
+    to_item(MENU_CAL_TANK);
+    press('D');
+    press('D');
+    flow_every_ms = 2;              /* 500 pulses a second */
+    uint32_t f0 = flow_sent;
+    run_ms(8000);
+    flow_every_ms = 0;
+    run_ms(300);
+    uint32_t n = flow_sent - f0;
+    press('D');
+    assert_string_equal(lcd(2), "Sprayed _gal    ");
+    keys("2#8");
+    press('D');
+    double litres = 2.8 * GAL_L;    /* 10.599 L */
+    uint16_t k = (uint16_t)((uint64_t)n * 100u / (uint32_t)floor(litres * 10 + 0.5));
+    printf("# %u pulses in %.3f L: %u (%.1f p/L by hand)\n", (unsigned)n, litres, k, n / litres);
+    assert_true(fabs(k / 10.0 - n / litres) <= n / litres * 0.001);    /* the 0.1 L and the 0.1 p/L kept */
+    press('D');
+    assert_int_equal(param_v[P_METER_K], k);
+    assert_true(param_set(P_UNITS, 0));
+}
+
 /* In auto 2 / 8 nudge the rate in use by Rate step (the target follows within the control
  * period), the run screen's bottom line shows it and its offset, 5 goes back to the preset; 0
  * switches Rate 1 <-> Rate 2, which the bottom line shows. */
@@ -1055,6 +1084,7 @@ int main(void)
         cmocka_unit_test_setup(test_console_controller_and_mode_are_chosen_by_name, setup),
         cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),
+        cmocka_unit_test_setup(test_console_meter_calibration_in_gallons, setup),
         cmocka_unit_test_setup(test_console_totals_show_and_reset_the_job, setup),
         cmocka_unit_test_setup(test_console_run_screen_rate_is_the_applied_rate_now, setup),
         cmocka_unit_test_setup(test_console_nozzles_relearn_from_the_menu, setup),
