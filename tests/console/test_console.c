@@ -999,6 +999,34 @@ static void test_console_a_rate_typed_in_gal_per_acre_reads_back_unchanged(void 
     assert_true(param_set(P_UNITS, 0));
 }
 
+/* A speed typed in mph: 10.0 mph is 16.09 km/h, kept as 16.1 (Given spd in 0.1 km/h), and
+ * reads back as 10.0 mph; the range message in mph (0..30.0 km/h: 0..18.6). */
+static void test_console_a_speed_typed_in_mph(void **state)
+{
+    (void)state;
+    store_status_clear();
+    assert_true(param_set(P_UNITS, 1));
+    to_item(P_GIVEN_SPEED);
+    press('D');
+    keys("10#0");
+    press('D');
+    assert_int_equal(param_v[P_GIVEN_SPEED], (int)floor(10.0 * MILE_M / 1000.0 * 10 + 0.5));
+    assert_int_equal(param_v[P_GIVEN_SPEED], 161);
+    assert_string_equal(lcd(2), "        10.0 mph");
+    press('D');
+    keys("20");
+    press('D');
+    char want[32];
+    snprintf(want, sizeof want, "Range 0..%.1f", 30.0 / (MILE_M / 1000.0));
+    snprintf(want + strlen(want), sizeof want - strlen(want), "%*s", (int)(16 - strlen(want)), "");
+    assert_string_equal(lcd(3), want);
+    press('C');
+    press('C');
+    assert_true(param_set(P_UNITS, 0));
+    to_item(P_GIVEN_SPEED);
+    assert_string_equal(lcd(2), "       16.1 km/h");
+}
+
 /* The tank method in US units: the volume sprayed is typed in gallons (2.8 gal = 10.6 L, to
  * the 0.1 L the entry keeps), Meter K stays pulses a litre. */
 static void test_console_meter_calibration_in_gallons(void **state)
@@ -1085,6 +1113,7 @@ int main(void)
         cmocka_unit_test_setup(test_console_speed_calibration_over_100_m, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_by_the_tank_method, setup),
         cmocka_unit_test_setup(test_console_meter_calibration_in_gallons, setup),
+        cmocka_unit_test_setup(test_console_a_speed_typed_in_mph, setup),
         cmocka_unit_test_setup(test_console_totals_show_and_reset_the_job, setup),
         cmocka_unit_test_setup(test_console_run_screen_rate_is_the_applied_rate_now, setup),
         cmocka_unit_test_setup(test_console_nozzles_relearn_from_the_menu, setup),
