@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# panel_everyday.sh: `make panel` under tmux: the rate nudge and its return, Rate 2 on its key (the target and Raven's C1 line), US units on the run screen and a rate typed in gal/acre.
+# panel_everyday.sh: `make panel` under tmux: the rate nudge and its return, Rate 2 on its key (the target and Raven's C1 line), US units on the run screen, a rate typed in gal/acre and Raven's C3 line in the units.
 set -u
 cd "$(dirname "$0")/../.."
 B=${BUILD:-build}
@@ -113,6 +113,10 @@ if until_ok 5 line_is 4 "Saved           " && until_ok 5 line_is 3 "     15.0 ga
 else
     nok "15.0 gal/acre reads back" "$($T capture-pane -p -t panel | tail -14)"
 fi
+# the field computer's C3 line carries it in the console's units too (docs/REMOTE.md)
+c3_rate() { grep -a '^\$R124F,C3,' "$tmp/link.txt" 2>/dev/null | tail -n 1 | cut -d, -f4; }
+c3_is() { [ "$(c3_rate)" = "$1" ]; }
+if until_ok 10 c3_is 15.0; then ok "Raven's C3 line in US units: rate 15.0 (gal/acre)"; else nok "C3 in US units" "$(c3_rate)"; fi
 want=$(awk 'BEGIN{printf "%.1f L/ha", 15.0 * 3.785411784 / (4046.8564224 / 10000)}')
 for ((i = 0; i < 60; i++)); do line_is 2 "Units           " && break; keys A; done
 keys D B D
@@ -123,4 +127,5 @@ if until_ok 5 line_is 2 "Rate 1          " && until_ok 5 line_has 3 "^ +$want$";
 else
     nok "in metric it is $want" "$($T capture-pane -p -t panel | tail -14)"
 fi
+if until_ok 10 c3_is 140.3; then ok "Raven's C3 line in metric: rate 140.3 (L/ha)"; else nok "C3 in metric" "$(c3_rate)"; fi
 keys q
