@@ -61,7 +61,7 @@ uint8_t remote_command(const __xdata char *line) __reentrant
 
 /* ---- the lines and their values ----------------------------------------------------------- */
 /* Each line: its two letters and its fields, each a source (S_*, its value: value()) and how it
- * is written (F_*: the value's decimals and the decimals sent, rv_dec) */
+ * is written in metric units (F_*: the divisor, rv_div, and the decimals sent) */
 enum { S_END, S_AR, S_SW1, S_SW2, S_RATE, S_TANK, S_DIST, S_ZERO, S_TD, S_WHEEL, S_METER, S_VALVE,
        S_JOB_A, S_JOB_V, S_LIFE_A, S_LIFE_V, S_B1 };      /* S_JOB_A..S_LIFE_V: totals_t's order */
 #define F_WHOLE 0x00
@@ -138,8 +138,9 @@ static uint32_t value(uint8_t k) __reentrant
     }
 }
 
-/* A field as it is written (rates, areas and the cal numbers with one decimal, as the Hiniker
- * 8605's emulation of a Raven 450 documents) */
+/* A field as it is written, its decimal point sent as the Hiniker 8605's emulation of a Raven
+ * 450 documents: in metric units rates, areas and the cal numbers with one decimal; in US or
+ * turf units each in the console's unit and decimals (units.c) */
 static void put_field(uint8_t k) __reentrant
 {
     uint8_t f = k >> 5, c;

@@ -12,8 +12,10 @@
  * use. As the Hiniker 8605 emulating a Raven 450 (docs/REMOTE.md: the sources, and what we chose
  * where they are silent):
  *   from the computer              the console
- *   $R,RC,<rate_1>[,<rate_2>..]    rate 1, L/ha with the decimal point not sent (1300 = 130.0),
- *                                  taken within the operator's window around Dose (P_REMOTE_WIN);
+ *   $R,RC,<rate_1>[,<rate_2>..]    rate 1, L/ha with the decimal point not sent (1300 = 130.0;
+ *                                  in US units gal/acre, 150 = 15.0; turf gal/1000 ft^2, 34 =
+ *                                  0.34), taken within the operator's window around the preset
+ *                                  in use (P_REMOTE_WIN);
  *                                  an empty field changes nothing, the other products' are
  *                                  checked and not used; no reply (a refusal shows on the LCD)
  *   $R,CR                          C1, C2, C3
@@ -26,7 +28,8 @@
  *   TD,<hr:min>,<month/day/year>,<field_reference>
  * The data logger (on while Log every is not 0): every Log every metres or seconds (Log unit)
  * AR, D1, D2, D3, TD; after a value of the C lines changes C1, C2, C3; after a switch byte
- * changes D1, D2, D3, TD, C1, C2, C3. README has the units.
+ * changes D1, D2, D3, TD, C1, C2, C3. The fields are in the console's units (P_UNITS: metric,
+ * or as a Raven console set to US units sends them; docs/REMOTE.md has each).
  */
 #define RAVEN_ID "$R124F,"
 /* switch byte 2's rate bits (bit 7 always set): rate 1 or rate 2 in use; neither: manual */
