@@ -421,6 +421,7 @@ static void test_sim_nudge_and_preset_events_score_against_the_rate_in_use(void 
     assert_true(abs(app_status.in.target_lpm_x100 - 4320) <= 2);
     run_read(119.0);
     assert_true(fabs(sim.plant.q_boom - 43.2) < 43.2 * 0.05);    /* the plant applies it */
+    assert_int_equal(app_status.alarms, 0);     /* 20 % over the preset: no OFF_RATE, judged by the rate in use */
     run_read(122.0);
     assert_true(fabs(sim.set_rate - 200.0) < 1e-9);
     assert_true(abs(app_status.in.target_lpm_x100 - 4800) <= 2);
