@@ -345,6 +345,15 @@ cl_stc12hw::init(void)
           exit(2);
         }
     }
+  const char *prof= getenv("STC12_PROFILE");
+  prof_out= prof ? fopen(prof, "w") : NULL;
+  prof_cur= prof_keep[0]= prof_keep[1]= prof_keep[2]= prof_keep[3]= NULL;
+  const char *at= getenv("STC12_PROFILE_AT");
+  prof_at= at ? strtol(at, NULL, 0) : -1;
+  prof_hit= false;
+  prof_n= prof_cap= 0;
+  memset(prof_keep_n, 0, sizeof prof_keep_n);
+  memset(prof_keep_len, 0, sizeof prof_keep_len);
   stall= 0;
   reset_due= false;
   resets= 0;
@@ -577,10 +586,65 @@ cl_stc12hw::inst_begin(t_addr pc, int depth)
             }
           if (pass_adc >= 8 && d > step_max)
             step_max= (uint32_t)d;
+          if (prof_out)
+            prof_pass_end((uint32_t)d);
         }
       pass_start= now;
       pass_adc= pass_iap= 0;
+      prof_n= 0;
+      prof_hit= false;
     }
+  if ((long)pc == prof_at)
+    prof_hit= true;
+  if (prof_out && pass_start && prof_n < (1u << 22))
+    {
+      if (prof_n == prof_cap)
+        {
+          prof_cap= prof_cap ? 2 * prof_cap : 65536;
+          prof_cur= (struct prof_rec *)realloc(prof_cur, prof_cap * sizeof *prof_cur);
+        }
+      prof_cur[prof_n].pc= (uint16_t)pc;
+      prof_cur[prof_n].sp= (uint8_t)sp;
+      prof_cur[prof_n].t= (uint32_t)(now - pass_start);
+      prof_n++;
+    }
+}
+
+/* a pass ended after d clocks: kept when it is the longest, the longest control step (8
+ * conversions or more), the longest other pass begun from the first second on, or the longest
+ * that ran the code at prof_at */
+void
+cl_stc12hw::prof_pass_end(uint32_t d)
+{
+  for (int k= 0; k < 4; k++)
+    if (d > prof_keep_len[k]
+        && (k == 0 || (k == 1 && pass_adc >= 8) || (k == 2 && pass_adc < 8 && pass_start >= STC12_SYSCLK_HZ)
+            || (k == 3 && prof_hit)))
+      {
+        prof_keep[k]= (struct prof_rec *)realloc(prof_keep[k], (prof_n + 1) * sizeof *prof_cur);
+        memcpy(prof_keep[k], prof_cur, prof_n * sizeof *prof_cur);
+        prof_keep_n[k]= prof_n;
+        prof_keep_len[k]= d;
+        prof_keep_start[k]= pass_start;
+        prof_keep_adc[k]= pass_adc;
+      }
+}
+
+/* the kept passes, each instruction as PC, SP and its start clock in the pass (hex) */
+void
+cl_stc12hw::prof_write(void)
+{
+  static const char *name[4]= { "longest", "step", "other", "at" };
+  for (int k= 0; k < 4; k++)
+    {
+      fprintf(prof_out, "pass %s start %llu clocks %u adc %u instructions %u\n", name[k],
+              (unsigned long long)prof_keep_start[k], prof_keep_len[k], prof_keep_adc[k],
+              prof_keep_n[k]);
+      for (uint32_t i= 0; i < prof_keep_n[k]; i++)
+        fprintf(prof_out, "%x %x %x\n", prof_keep[k][i].pc, prof_keep[k][i].sp, prof_keep[k][i].t);
+    }
+  fclose(prof_out);
+  prof_out= NULL;
 }
 
 void
@@ -851,6 +915,8 @@ cl_stc12hw::link_end(void)
       wr(vec[v].sum, 8);
     }
   fflush(fout);
+  if (prof_out)
+    prof_write();
   exit(0);
 }
 

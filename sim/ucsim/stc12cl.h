@@ -127,6 +127,19 @@ class cl_stc12hw: public cl_hw
   uint32_t sweep_off, sweep_k;
   uint16_t early;
   uint8_t sp_max;               /* the highest SP since the first pass */
+  /* the pass profile (STC12_PROFILE names its file): each instruction of the pass running, its
+   * PC, SP and start clock in the pass; kept for the longest pass [0], control step [1],
+   * other pass from the first second on [2], and pass that ran the code at STC12_PROFILE_AT [3] */
+  struct prof_rec { uint16_t pc; uint8_t sp; uint32_t t; };
+  FILE *prof_out;
+  struct prof_rec *prof_cur, *prof_keep[4];
+  uint32_t prof_n, prof_cap, prof_keep_n[4], prof_keep_len[4];
+  uint64_t prof_keep_start[4];
+  uint8_t prof_keep_adc[4];
+  long prof_at;                 /* -1: none */
+  bool prof_hit;                /* the pass running reached prof_at */
+  void prof_pass_end(uint32_t d);
+  void prof_write(void);
   uint16_t strong(void);
   unsigned pwm1(void);
   void advance(uint64_t to);
