@@ -7,7 +7,7 @@
  * ST7920 basic instruction set (RE = 0), as used here:
  *   0x30  function set: 8-bit interface (serial mode ignores it), basic set
  *   0x0C  display on, cursor off, blink off
- *   0x01  clear DDRAM to spaces, address 0 (1.6 ms: hal_lcd_write waits)
+ *   0x01  clear DDRAM to spaces, address 0 (over 10 ms: the next byte waits for it)
  *   0x06  entry mode: address increments, no shift
  *   0x80 | a  set DDRAM word address a
  * Text mode shows 4 lines of 16 half-width characters from 32 DDRAM words of 2 characters:
@@ -18,23 +18,25 @@
 static __code const uint8_t line_word[4] = {0x00, 0x10, 0x08, 0x18};
 static __code const uint8_t init_seq[5] = {0x30, 0x30, 0x0C, 0x01, 0x06};
 
-static uint8_t ready;               /* init sequence sent */
+static uint8_t init_sent;           /* bytes of init_seq sent (all: the display is ready) */
 
 void lcd_init(void)
 {
-    ready = 0;
+    init_sent = 0;
 }
 
 void lcd_poll(void) __reentrant
 {
     uint8_t row, pair, d, half, budget = LCD_WORDS_PER_POLL;
-    if (!ready) {
+    if (init_sent < sizeof init_seq) {
+        /* the init sequence's bytes while the display is ready for them; the passes go on while
+         * it executes one (the clear takes over 10 ms), then the whole screen */
         if (hal_ms() < LCD_POWERUP_MS)
             return;
-        for (d = 0; d < sizeof init_seq; d++)
-            hal_lcd_write(0, init_seq[d]);
-        ready = 1;
-        screen_touch_all();
+        while (init_sent < sizeof init_seq && !hal_lcd_busy())
+            hal_lcd_write(0, init_seq[init_sent++]);
+        if (init_sent == sizeof init_seq)
+            screen_touch_all();
         return;
     }
     if (!screen_any_dirty())
