@@ -20,11 +20,11 @@
 
 /* The simulator's firmware passes its main loop once a millisecond. After a settings change
  * its next step waits for the modules' constants, one a pass (app.c's app_prepare: 6 passes);
- * its alarms come in the pass after its step. The PC keeps both instants, so that the figures
- * are the simulator's: a frame after a change goes at the step's instant, and the answer's
- * alarms count from the next millisecond. */
+ * its alarms come in the third pass of its step (app.c: the step, its second pass, the alarms).
+ * The PC keeps both instants, so that the figures are the simulator's: a frame after a change
+ * goes at the step's instant, and the answer's alarms count from two milliseconds later. */
 #define HIL_PREP_MS 6
-#define HIL_DIAG_MS 1
+#define HIL_DIAG_MS 2
 
 /*
  * The simulator's loop (sim.c) with the firmware replaced by a board on the serial link

@@ -23,7 +23,8 @@
 #include "drive.h"
 
 /*
- * One control step (app_step) every APP_PERIOD_MS from hal_ms():
+ * One control step every APP_PERIOD_MS from hal_ms(), in passes of its own: app_step (measure
+ * to drive), then app_after, app_diag and diag_after_fit in the passes after it:
  *   measure: wheel speed, meter flow, pressure and level (speed.c, flow.c, analog.c)
  *   target:  eq. (1) with Table 1's minimum flow, the given speed when set (target.c)
  *   spray:   the master valve is open when sections are on, the tank is above its minimum,
@@ -32,7 +33,8 @@
  *            parked, over-pressure, manual jogs; with the flow meter lost the controller
  *            gets the nozzle model's flow from the pressure (diag.c)
  *   diagnose, totals, a log line every 1000 ms (serial.c), the buzzer while alarms are unacked.
- * The watchdog is kicked after a step that ran on time while no internal fault is latched; a
+ * The watchdog is kicked after a step that ran on time and the RAM check, while no internal
+ * fault is latched; a
  * step late by a period or more does not kick, and the schedule skips the periods it missed
  * (staying on its grid: the totals count them). The I/O test (ops_io) hands the relay, the buzzer and the jog
  * to the technician: the boom's own control is off meanwhile.
@@ -66,9 +68,12 @@ static struct {
     uint8_t prep;                   /* next module app_prepare derives for ... */
     uint8_t prep_gen;               /* ... this param_generation (all done when it is current) */
     uint8_t periods;                /* periods this step covers (more than 1: it was late) */
-    uint8_t diag;                   /* APP_DIAG_*: the step's alarms are due (app_diag) */
+    uint8_t after;                  /* APP_AFTER_*: the step's second pass is due (app_after) */
+    uint8_t diag;                   /* APP_DIAG_*: flags app_account leaves for app_diag */
     int16_t q_model;                /* the nozzle model's flow at the pressure (app_measure) */
 } ap;
+#define APP_AFTER_DUE 1u
+#define APP_AFTER_KICK 2u           /* the step ran on time: the watchdog is fed after the RAM check */
 #define APP_DIAG_DUE 1u
 #define APP_DIAG_SETTLED 2u         /* diag_step's settled */
 #define APP_DIAG_P_WATCH 4u         /* and p_watch */
@@ -103,6 +108,7 @@ static void app_start(void)
     ap.save = 0;
     ap.prep = 0;
     ap.prep_gen = param_generation;
+    ap.after = 0;
     ap.diag = 0;
     app_status.in.speed_kmh_x100 = 0;
     app_status.in.target_lpm_x100 = 0;
@@ -271,8 +277,8 @@ static void app_save(void)
         ap.save_wait = APP_SAVE_WAIT_PERIODS;
 }
 
-/* Totals, the rest of the status; the alarms (app_diag) asked for the pass after; once a
- * second the display's divisions and a log line. */
+/* Totals and saves, the alarms' flags (app_diag); once a second the display's divisions and a
+ * log line. */
 static void app_account(void)
 {
     uint8_t on = app_status.spraying;
@@ -290,8 +296,6 @@ static void app_account(void)
         totals_step(v, w, q);
     while (--ap.periods);
     app_save_when_due();
-    app_status.tank_l = analog_tank_l();
-    app_status.drive = valve_applied();
 
     /* over-pressure is an alarm while spraying or parked open, once the pressure was under P max
      * there after power-up (or after APP_P_WAIT) */
@@ -375,12 +379,9 @@ static uint8_t app_after_step(void)
     return 1;
 }
 
+/* The step's first pass: from the inputs to the valve's drive, and the status. */
 static void app_step(void)
 {
-    if (!params_sane()) {
-        ap.internal = 1;
-        diag_internal_fault();
-    }
     if ((uint8_t)param_v[P_CONTROLLER] != ap.ctl_id) {     /* the controller the operator chose */
         ap.ctl_id = (uint8_t)param_v[P_CONTROLLER];
         ctl_select(ap.ctl_id);
@@ -389,19 +390,53 @@ static void app_step(void)
     app_measure();
     app_spray();
     drive_step();
+    app_status.tank_l = analog_tank_l();
+    app_status.drive = valve_applied();
+}
+
+/* The step's second pass, first thing in the pass after it: what no output of the step waits
+ * for (the wheel's learning, the totals and saves), the RAM check (every parameter in its
+ * range: else the internal fault, and the next step sprays nothing), then the watchdog. */
+static void app_after(void)
+{
+    uint8_t kick = ap.after & APP_AFTER_KICK;
+    ap.after = 0;
+    speed_learn_now();
     app_account();
+    if (!params_sane()) {
+        ap.internal = 1;
+        diag_internal_fault();
+    }
+    if (kick && !ap.internal)
+        hal_wdt_kick();
+}
+
+/* The step's later passes, one a pass, first thing in it: app_after; the alarms (app_diag,
+ * before the valve's poll: they read what the step left, the next step sees them); the nozzle
+ * model's constant after a fit. The serial link in each, before the alarms (only the step's
+ * pass goes without it). Returns 1 when one ran. */
+static uint8_t app_step_rest(void)
+{
+    uint8_t diag = ap.diag && !ap.after;
+    if (ap.after)
+        app_after();
+    else if (!diag && !diag_after_fit())
+        return 0;
+    serial_poll(1);
+    if (diag)
+        app_diag();
+    return 1;
 }
 
 void app_poll(void)
 {
     uint32_t now = hal_ms();
-    uint8_t late, due, diag = ap.diag;
+    uint8_t late, due, rest;
 
-    if (diag) {
-        serial_poll(1);             /* before the alarms: only the step's pass goes without it */
-        app_diag();
-    }
+    rest = app_step_rest();
     valve_poll(now);
+    if (rest)
+        return;
 #if FW_HIL
     if (hil_active()) {
         /* one step a sensor frame, on its inputs; none without one (never on stale inputs:
@@ -418,6 +453,8 @@ void app_poll(void)
         while (app_prepare())
             ;
         app_step();
+        ap.after = APP_AFTER_DUE;
+        app_after();
         app_diag();
         if (ap.save)
             app_save();
@@ -438,8 +475,6 @@ void app_poll(void)
      * serial link composed a line, or in odd ms a save's part while one runs. The serial link
      * runs in every pass but the step's (the UART's queue), one command line at most. */
     due = (int32_t)(now - ap.next_ms) >= 0;
-    if (diag && !due)
-        return;                     /* (a late step, due at once, goes on in this pass) */
     if (app_prepare()) {
         serial_poll(!due);
         return;
@@ -463,8 +498,7 @@ void app_poll(void)
     if (late)
         ap.overruns++;
     app_step();
-    if (!late && !ap.internal)
-        hal_wdt_kick();
+    ap.after = late ? APP_AFTER_DUE : APP_AFTER_DUE | APP_AFTER_KICK;
 }
 
 #if FW_PROBES

@@ -41,6 +41,9 @@ static __bit have_edge, t0_ok, steady;
 
 /* the newest span, measured by speed_step (speed_learn checks it) */
 static uint32_t sl_dt;
+/* the learning from the newest span waits (speed_learn_now): its pulses and first element */
+static __bit learn_due;
+static uint8_t learn_count, learn_old;
 
 /* Until the offsets are learnt: a tracker of the wheel's position (speed_track). The spacing
  * errors of one turn are independent of each other, so the edges' positions carry white noise,
@@ -86,6 +89,7 @@ static void speed_derive(void) __reentrant
         sp.n = (uint8_t)param_v[P_WHEEL_PPR];
         sp.idx = 0;
         speed_forget_offsets();
+        learn_due = 0;      /* (what it would learn, the forgetting undoes) */
     }
     sp.gen = param_generation;
 }
@@ -201,6 +205,17 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         sp.off[sp.idx] += e;
     else
         sp.off[old] -= e;
+}
+
+/* The learning speed_step left: what it learns is read by the next step alone, so it runs in a
+ * pass of its own (app.c), or else first thing in the next step; a change of the pulses a turn
+ * drops it (speed_derive: the offsets are forgotten). (The gain's constant it does not read.) */
+void speed_learn_now(void) __reentrant
+{
+    if (learn_due) {
+        learn_due = 0;
+        speed_learn(learn_count, learn_old);
+    }
 }
 
 /* The step's working values in the direct RAM (the cheapest addressing; the step never nests) */
@@ -392,6 +407,7 @@ static void speed_bounce_filter(void) __reentrant
 
 uint16_t speed_step(void) __reentrant
 {
+    speed_learn_now();
     if (sp.gen != param_generation)
         speed_derive();
     hal_wheel_capture_take(&wk.edges);
@@ -430,8 +446,11 @@ uint16_t speed_step(void) __reentrant
         }
         sp.idx = nw;
         sp.last_pca = wk.edges.last;
-        if (sp.n > 1 && have_edge && wk.edges.count < 15u)
-            speed_learn((uint8_t)wk.edges.count, old);
+        if (sp.n > 1 && have_edge && wk.edges.count < 15u) {
+            learn_due = 1;      /* speed_learn_now */
+            learn_count = (uint8_t)wk.edges.count;
+            learn_old = old;
+        }
         have_edge = 1;
         sp.v_pulse_x100 = sp.v_x100;
     } else {

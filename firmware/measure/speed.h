@@ -84,6 +84,10 @@
 void speed_init(void);
 /* One control period: take the wheel edges, return the speed in km/h x100. */
 uint16_t speed_step(void) __reentrant;
+/* The wheel's spacing errors learnt from the step's newest span: in the pass after the step
+ * (app.c), as nothing of this step reads them; the next speed_step runs it first when no one
+ * has. */
+void speed_learn_now(void) __reentrant;
 /* 1: the speed without speed_ahead's lead on a change (speed.c), for a flow that follows the
  * speed by itself. Read only: the flow controller asks for it through speed_set_plain
  * (speed_plain.c; ffmap.c: a pump on the wheels learns no speed feed-forward); 0 after power-up

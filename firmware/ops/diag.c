@@ -47,6 +47,8 @@ static struct {
     uint16_t q3;                                /* P_NOZZLE_Q3 the model was learnt for */
 } dg;
 
+static __bit fitted;                /* a fit left the model's constant to diag_after_fit */
+
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
  * at the rated flow */
 static void model_told(void)
@@ -440,7 +442,7 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     if (dg.ln >= DIAG_LEARN_N) {    /* the samples are in: the nozzle model */
         learn_fit();
         dg.gen = (uint8_t)(param_generation - 1u);
-        diag_set_nozzles(dg.nozzles);
+        fitted = 1;                 /* its constant: diag_after_fit */
     }
     diag_speed(in);
     diag_offrate(in, settled);
@@ -477,6 +479,17 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || speed_jumped(), dg.wheel_noise == 0 && !speed_jumped());
 #endif
     return dg.alarms;
+}
+
+/* The nozzle model's constant for the nozzles open after a fit: in a pass of its own (app.c),
+ * else by the next diag_set_nozzles (the same value). Returns 1 when it derived it. */
+uint8_t diag_after_fit(void)
+{
+    if (!fitted)
+        return 0;
+    fitted = 0;
+    diag_set_nozzles(dg.nozzles);
+    return 1;
 }
 
 uint16_t diag_alarms(void)

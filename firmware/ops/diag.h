@@ -71,6 +71,9 @@ void diag_init(void);
  * ok flags, the pulse modules' quiet counters and glitch counts, the valve's refusals. Returns
  * the active alarm bits. */
 uint16_t diag_step(const __xdata app_status_t *st, uint8_t settled, uint8_t p_watch) __reentrant;
+/* The nozzle model's constant derived again after a fit (diag_step leaves it to this, in a pass
+ * of its own, or to its next use); 1 when it did. */
+uint8_t diag_after_fit(void);
 uint16_t diag_alarms(void);
 /* Forget the held nozzle model (new nozzles, a meter calibration, the menu): learn it again
  * from the next clean spraying, then hold it. */

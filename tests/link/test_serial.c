@@ -83,12 +83,14 @@ static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **sta
 {
     (void)state;
     uint8_t k0 = hal_host_io.wdt_kicks;
-    link_run_ms(1000);
+    link_run_ms(1002);              /* the 10th step at 1000 ms: its kick in its second pass,
+                                       its alarms in the third */
     assert_int_equal((uint8_t)(hal_host_io.wdt_kicks - k0), 10);
-    /* a stall of the loop (time jumps 500 ms): that step is late and does not feed */
+    /* a stall of the loop (time jumps 500 ms): that step is late and does not feed (neither in
+     * its pass nor in its second) */
     k0 = hal_host_io.wdt_kicks;
     link_t_ms += 500;
-    link_run_ms(1);
+    link_run_ms(2);
     assert_int_equal(hal_host_io.wdt_kicks, k0);
     assert_int_equal(app_overruns(), 1);
     link_run_ms(300);
@@ -105,9 +107,10 @@ static void test_serial_loop_runs_every_100_ms_and_feeds_the_watchdog(void **sta
 static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **state)
 {
     (void)state;
-    link_run_ms(1002);                               /* the 10th step at 1000 ms, its alarms in the next
-                                                   pass, the once-a-second work and the line in the
-                                                   one after (app_poll does one heavy job a pass) */
+    link_run_ms(1003);                               /* the 10th step at 1000 ms, its second pass and its
+                                                   alarms in the next two, the once-a-second work and
+                                                   the line in the one after (app_poll does one heavy
+                                                   job a pass) */
     unsigned long t;
     unsigned v, p, al;
     int q1, q3;
@@ -115,13 +118,13 @@ static void test_serial_logs_every_second_like_the_paper_s_pc_monitor(void **sta
     assert_string_equal(next_line(), "EE DEFAULTS");   /* an erased EEPROM: the settings are the defaults */
     const char *l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu %u %u %d %d %4X", &t, &v, &p, &q1, &q3, &al), 6);
-    assert_int_equal(t, 1002);
+    assert_int_equal(t, 1003);
     assert_int_equal(v, 0);
     assert_true(p <= 1);                        /* 4 mA = 204.6 counts; 205 reads 0.8 kPa */
     link_run_ms(1000);
     l = next_line();
     assert_int_equal(sscanf(l, "LOG %lu", &t), 1);
-    assert_int_equal(t, 2002);
+    assert_int_equal(t, 2003);
     assert_string_equal(next_line(), "");
 }
 
