@@ -106,17 +106,14 @@ uint32_t um_scaled_div(uint32_t num, uint16_t m, uint32_t d) __reentrant
 
 uint16_t um_sqrt32(uint32_t x) __reentrant
 {
-    uint32_t r = 0, b = 0x40000000UL;
-    while (b > x)
-        b >>= 2;
-    while (b) {
-        if (x >= r + b) {
-            x -= r + b;
-            r = (r >> 1) + b;
-        } else {
-            r >>= 1;
-        }
-        b >>= 2;
-    }
-    return (uint16_t)r;
+    /* the root's bits from the top, each kept while its square stays within x: a 16 x 16
+     * product a bit (MUL AB) where the shift-and-subtract form moved 32-bit values on the stack */
+    uint16_t r = 0, b = 0x8000u, t;
+    do {
+        t = r | b;
+        if (UMUL(t, t) <= x)
+            r = t;
+        b >>= 1;
+    } while (b);
+    return r;
 }

@@ -19,7 +19,7 @@ uint32_t um_muldiv(uint32_t a, uint16_t n, uint32_t d) __reentrant;
  * (flow.c's meter constant, target.c's eq. (1) constant, ctl.c's and valve.c's duties in Q15),
  * one copy for all. */
 uint32_t um_scaled_div(uint32_t num, uint16_t m, uint32_t d) __reentrant;
-/* floor(sqrt(x)), bit by bit: shifts, adds and compares only. */
+/* floor(sqrt(x)), bit by bit: a 16 x 16 product and a compare each. */
 uint16_t um_sqrt32(uint32_t x) __reentrant;
 
 #endif
