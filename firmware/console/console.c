@@ -393,6 +393,7 @@ void console_init(void)
     con.rate_ms = con.next_draw_ms;
     con.rate_l_ha = CON_RATE_NONE;
     con.rate_at = 0;
+    con.top_drawn = 0;
 }
 
 void console_poll(void)
@@ -421,8 +422,8 @@ void console_poll(void)
         con.next_draw_ms = now + 1u;    /* the new screen in the next pass: a key's work (a save,
                                            perhaps) and a redraw are a pass each */
     } else if ((int16_t)(now - con.next_draw_ms) >= 0) {
-        con_draw();
-        con.next_draw_ms = now + CONSOLE_REDRAW_MS;
+        if (con_draw())
+            con.next_draw_ms = now + CONSOLE_REDRAW_MS;
         return;                     /* its LCD bytes in the next pass: a pass each */
     }
     lcd_poll();

@@ -59,6 +59,7 @@ typedef struct {
     uint8_t rate_at;                /* the oldest of the job totals' snapshots */
     uint16_t rate_ms;               /* hal_ms() low 16 bits of the newest snapshot */
     uint16_t rate_l_ha;             /* applied rate over the snapshots' window, CON_RATE_* */
+    uint8_t top_drawn;              /* 1: a two-pass screen's top rows are drawn, the rest is due */
     struct {
         uint32_t ml, dm2;           /* the job's volume and area, a second apart */
     } rate_snap[CON_RATE_N];
@@ -98,13 +99,14 @@ void con_entry_clear(void) __reentrant;
 void con_entry_key(uint8_t decimals) __reentrant;
 uint16_t con_entry_value(uint8_t decimals) __reentrant;
 uint32_t con_cal_now(void) __reentrant;
-void con_draw(void) __reentrant;
+uint8_t con_draw(void) __reentrant;   /* 1: the screen is drawn whole (run, totals: in two calls) */
 /* units (console_units.c; the classes and their ratios: units.h) */
 const __code char *con_unit_text(uint8_t cls, const __code char *metric) __reentrant;
 void con_cat_unit(uint8_t cls) __reentrant;
 uint8_t con_q_form(uint8_t form) __reentrant;
 void con_iotest_start(void) __reentrant;
 void con_draw_iotest(void) __reentrant;     /* console_io.c */
-void con_draw_totals(void) __reentrant;     /* console_totals.c */
+void con_draw_totals_top(void) __reentrant; /* console_totals.c: rows 0-1 */
+void con_draw_totals(void) __reentrant;     /* ... rows 2-3 */
 
 #endif

@@ -28,11 +28,9 @@ static void cat_area(uint32_t m2, uint8_t width)
     con_cat_unit(CU_AREA);
 }
 
-/* The job's area, volume and average rate; the work rate now (the speed times the open
- * width), the area left, the lifetime's volume and area take turns every 2 s. */
-void con_draw_totals(void)
+/* The job's area and volume (con_draw: the rest in the next pass) */
+void con_draw_totals_top(void)
 {
-    uint32_t v;
     con_start("Job ");
     cat_area(app_status.job_area_m2, 9);
     con_show(0);
@@ -41,6 +39,13 @@ void con_draw_totals(void)
     con_cat(" ");
     con_cat_unit(CU_ML);
     con_show(1);
+}
+
+/* The job's average rate; the work rate now (the speed times the open width), the area left,
+ * the lifetime's volume and area take turns every 2 s. */
+void con_draw_totals(void)
+{
+    uint32_t v;
     con_start(param_v[P_UNITS] ? "Avg" : "Job avg");
     con_cat_q(app_status.applied_l_ha_x10, 5, CON_DROP(1) | CON_Q(CU_RATE));
     con_cat_unit(CU_RATE);

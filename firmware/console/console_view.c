@@ -335,10 +335,10 @@ static void draw_run_bottom(void)
     }
 }
 
-static void draw_run(void)
+/* The run screen's top two lines (con_draw: the rest in the next pass) */
+static void draw_run_top(void)
 {
     const __xdata app_status_t *st = &app_status;
-    uint8_t at;
     int16_t q;
     /* " 7.2km/h 4.40bar": ground speed, boom pressure (US: " 4.5mph  63.8PSI") */
     con_at = 0;
@@ -356,6 +356,12 @@ static void draw_run(void)
     con_cat_q(q > 0 ? (uint16_t)q : 0, 5, 1 | CON_DROP(1) | CON_Q(CU_FLOW));
     con_cat_unit(CU_FLOW);
     con_show(1);
+}
+
+static void draw_run(void)
+{
+    const __xdata app_status_t *st = &app_status;
+    uint8_t at;
     /* "Now 150L/ha AUTO": the rate applied over the last seconds, the mode (HIL: the inputs
      * come from the PC's plant); US: "15.0gal/ac  AUTO" */
     con_start(param_v[P_UNITS] ? "" : "Now");
@@ -471,10 +477,21 @@ static void draw_cal(void)
     }
 }
 
-void con_draw(void)
+uint8_t con_draw(void)
 {
     char line[SCREEN_COLS + 1];
     con_line = (__idata char *)line;
+    if (!con.top_drawn && (con_state == S_RUN || con_state == S_TOTALS)) {
+        /* these screens' numbers take over a pass's time: the top rows in this pass, the
+         * rest in the next */
+        if (con_state == S_RUN)
+            draw_run_top();
+        else
+            con_draw_totals_top();
+        con.top_drawn = 1;
+        return 0;
+    }
+    con.top_drawn = 0;
     if (con_msg_on() && (int16_t)((uint16_t)hal_ms() - con.msg_until_ms) >= 0)
         con_say_none();
     con.shown = CON_SHOWN_NONE;     /* the screen drawn says what it shows */
@@ -491,5 +508,6 @@ void con_draw(void)
         break;
     default: draw_cal(); break;
     }
+    return 1;
 }
 
