@@ -23,21 +23,12 @@
 #include "drive.h"
 
 /*
- * One control step every APP_PERIOD_MS from hal_ms(), in passes of its own: app_step (measure
- * to drive), then app_after, app_diag and diag_after_fit in the passes after it:
- *   measure: wheel speed, meter flow, pressure and level (speed.c, flow.c, analog.c)
- *   target:  eq. (1) with Table 1's minimum flow, the given speed when set (target.c)
- *   spray:   the master valve is open when sections are on, the tank is above its minimum,
- *            and (auto) the machine moves; it shuts at standstill, on an empty tank
- *   drive:   drive.c: the start-up closing, the controller, the shut boom's bypass held or
- *            parked, over-pressure, manual jogs; with the flow meter lost the controller
- *            gets the nozzle model's flow from the pressure (diag.c)
- *   diagnose, totals, a log line every 1000 ms (serial.c), the buzzer while alarms are unacked.
- * The watchdog is kicked after a step that ran on time and the RAM check, while no internal
- * fault is latched; a
- * step late by a period or more does not kick, and the schedule skips the periods it missed
- * (staying on its grid: the totals count them). The I/O test (ops_io) hands the relay, the buzzer and the jog
- * to the technician: the boom's own control is off meanwhile.
+ * One control step every APP_PERIOD_MS, in passes of its own: app_step (measure: speed.c,
+ * flow.c, analog.c; target: target.c; spray: sections on, tank above its minimum, moving;
+ * drive: drive.c), then app_after (totals, the RAM check, the watchdog), app_diag (alarms,
+ * buzzer) and diag_after_fit; a log line every 1000 ms (serial.c). A step late by a period or
+ * more does not kick the watchdog and skips the periods it missed (the totals count them).
+ * The I/O test (ops_io) hands the relay, the buzzer and the jog to the technician.
  */
 #define APP_LOG_PERIODS (1000u / APP_PERIOD_MS)
 /* periods after power-up before over-pressure is an alarm even if the pressure never fell under
@@ -192,10 +183,8 @@ static void app_measure(void)
     app_status.in.speed_kmh_x100 = target_speed_x100(v_meas);
     app_status.in.target_lpm_x100 = open ? target_flow_x100(app_status.in.speed_kmh_x100) : 0;
     app_status.manual = param_v[P_MODE] != 0;
-    /* the flow the loop follows: the meter while it pulses; the nozzle model (from the pressure)
-     * once its pulses have stopped while the pressure says liquid flows (the alarm waits to be
-     * sure; a dead meter read as no flow would close the bypass and take the line to the relief
-     * valve). A live meter that reads low is a clog (diag.c), and the loop stays on the meter. */
+    /* the flow the loop follows (above); a live meter that reads low is a clog (diag.c), and
+     * the loop stays on the meter */
     meter_lost = (diag_alarms() >> AL_METER_LOST) & 1u;
     q_used = q_meter;
     ap.q_model = diag_nozzle_flow_x100(p, open);
@@ -216,12 +205,9 @@ static void app_spray(void)
     uint8_t want = app_status.open_nozzles
                    && !(diag_alarms() & ((1u << AL_TANK_LOW) | (1u << AL_PUMP_DRY)))
                    && app_status.in.speed_kmh_x100 > 0 && !ap.internal && !IO_ON;
-    /* after power-up the boom does not open into a line over P max (a fixed PTO's pump against a
-     * bypass still opening) where the nozzles would spray over twice the target: it waits, shown,
-     * until the pressure is under P max, the target over half the nozzle model's flow there, or
-     * APP_P_WAIT. Under twice the target is no further from it than a shut boom, and the flow
-     * falls as the bypass opens (a 10-12 s valve from closed needs 5-7 s to get under P max,
-     * and those metres got nothing) */
+    /* after power-up the boom waits, shown, while the line is over P max (a fixed PTO's pump
+     * against a bypass still opening) and the nozzles would spray over twice the target there,
+     * until APP_P_WAIT (under twice the target is no further from it than a shut boom) */
     app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp()
                            && (uint16_t)ap.q_model > ((uint16_t)app_status.in.target_lpm_x100 << 1);
     want &= !app_status.boom_wait;
@@ -243,10 +229,9 @@ static void app_spray(void)
     }
 }
 
-/* The saves (each in a pass of its own, app_poll: app_save): the totals APP_SAVE_WAIT_PERIODS
- * after the boom shut (spraying again cancels it: the next shut saves) and every
- * APP_TOTALS_SAVE_PERIODS of spraying; settings that differ from the newest record's
- * APP_SET_SAVE_PERIODS after the difference was first seen. */
+/* The saves (each in a pass of its own: app_save): the totals APP_SAVE_WAIT_PERIODS after a shut
+ * (spraying again cancels it) and every APP_TOTALS_SAVE_PERIODS of spraying; changed settings
+ * APP_SET_SAVE_PERIODS after the change was first seen. */
 static void app_save_when_due(void)
 {
     if (app_status.spraying) {
@@ -411,10 +396,9 @@ static void app_after(void)
         hal_wdt_kick();
 }
 
-/* The step's later passes, one a pass, first thing in it: app_after; the alarms (app_diag,
- * before the valve's poll: they read what the step left, the next step sees them); the nozzle
- * model's constant after a fit. The serial link in each, before the alarms (only the step's
- * pass goes without it). Returns 1 when one ran. */
+/* The step's later passes, one a pass, first thing in it, each with the serial link: app_after;
+ * the alarms (before the valve's poll: they read what the step left, the next step sees them);
+ * the nozzle model's constant after a fit. Returns 1 when one ran. */
 static uint8_t app_step_rest(void)
 {
     uint8_t diag = ap.diag && !ap.after;
@@ -468,12 +452,9 @@ void app_poll(void)
         return;
     }
 #endif
-    /* One heavy job a pass: after a settings change the modules' constants, one a pass (a due
-     * step waits for them, and meanwhile the serial link takes no command, which could change
-     * a setting and start them over: a flood of changes never holds the step); the control
-     * step alone; a save it asked for, then the once-a-second work; else the console unless the
-     * serial link composed a line, or in odd ms a save's part while one runs. The serial link
-     * runs in every pass but the step's (the UART's queue), one command line at most. */
+    /* One heavy job a pass: the modules' constants after a change (no command taken meanwhile:
+     * a flood of changes never holds a due step); the step; a save, the second's work; else the
+     * console, or in odd ms a save's part. The serial link in every pass but the step's. */
     due = (int32_t)(now - ap.next_ms) >= 0;
     if (app_prepare()) {
         serial_poll(!due);

@@ -118,45 +118,6 @@ void con_right_align(uint8_t from)
         con_line[from + shift] = ' ';
 }
 
-/* The settings chosen by name (besides Control, named by ctl.h): each one's names in the
- * order of its values, from choice_first[k] in choice_names */
-static const __code uint8_t choice_ids[] = {P_MODE, P_LOG_UNIT, P_PRESET, P_UNITS, P_REMOTE
-#if FW_PGN
-    , P_SPEED_SRC, P_AOG_SECT       /* and Remote's AgOpenGPS */
-#endif
-};
-static const __code uint8_t choice_first[] = {0, 2, 4, 6, 9
-#if FW_PGN
-    , 13, 16
-#endif
-};
-static const __code char *const __code choice_names[] = {
-    "Auto", "Manual", "m", "s", "Rate 1", "Rate 2", "Metric", "US", "Turf", "off", "Raven 9600", "Raven 1200",
-#if FW_PGN
-    "AgOpenGPS", "wheel", "GPS", "both", "switches", "frames",
-#endif
-};
-
-/* id's row in choice_ids, sizeof choice_ids when it has none */
-static uint8_t choice_row(uint8_t id) __reentrant
-{
-    uint8_t k;
-    for (k = 0; k < sizeof choice_ids && choice_ids[k] != id; k++)
-        ;
-    return k;
-}
-
-uint8_t con_is_choice(uint8_t id)
-{
-    return id == P_CONTROLLER || choice_row(id) < sizeof choice_ids;
-}
-
-const __code char *con_choice_name(uint8_t id, uint16_t v)
-{
-    uint8_t k = choice_row(id);
-    return k < sizeof choice_ids ? choice_names[choice_first[k] + v] : ctl_name((uint8_t)v);
-}
-
 /* The form of parameter id's values, CON_Q of its class; a speed setting (km/h x10) goes to
  * unit_q as the class's km/h x100 (pvalue) in US or turf units. */
 static uint8_t pform(uint8_t id, uint8_t cls) __reentrant

@@ -41,22 +41,17 @@ static __bit have_edge, t0_ok, steady;
 
 /* the newest span, measured by speed_step (speed_learn checks it) */
 static uint32_t sl_dt;
-/* the learning from the newest span waits (speed_learn_now): its pulses and first element */
-static __bit learn_due;
-static uint8_t learn_count, learn_old;
+static __bit learn_due;             /* speed_learn_now: the newest span's (wk.edges) learning waits */
+static uint8_t learn_old;           /* ... and its first element */
 
-/* Until the offsets are learnt: a tracker of the wheel's position (speed_track). The spacing
- * errors of one turn are independent of each other, so the edges' positions carry white noise,
- * which a filter on the position averages; a span's speed carries two elements' errors and the
- * next span the same one again, and a window of spans lags by half its length. v: the pulse
- * rate at the newest edge, 1/4096 pulse per 512 PCA/256 ticks (SPEED_TK_V_MAX: over the range,
- * not used); e: the estimate's position there less the pulses counted, 1/4096 pulse; a: the
- * rate's change, v's units per PCA/256 tick x8192; n: edges tracked. */
+/* Until the offsets are learnt: a tracker of the wheel's position (speed_track): the spacing
+ * errors put white noise on the edges' positions, which a filter on the position averages (a
+ * span's speed carries two elements' errors; a window of spans lags by half its length). */
 static struct {
-    uint16_t v;
-    int16_t e;
-    int16_t a;
-    uint8_t n;
+    uint16_t v;     /* the pulse rate at the newest edge, 1/4096 pulse per 512 PCA/256 ticks */
+    int16_t e;      /* the estimate's position there less the pulses counted, 1/4096 pulse */
+    int16_t a;      /* the rate's change, v's units per PCA/256 tick x8192 */
+    uint8_t n;      /* edges tracked */
 } tk;
 
 /* the learnt offsets back to nothing (the turn's timing is kept) */
@@ -120,12 +115,9 @@ void speed_init(void)
     speed_derive();
 }
 
-/* Element 0's edges time the wheel's turns (t_rev, and d_rev how much the last turn's time
- * changed from the one before). At a steady speed (the turn's time changed by at most
- * 1/2^SPEED_STEADY_SH) and within a turn of that measurement, the span of `count` pulses just
- * measured (sl_dt) should be (count + off[new] - off[old]) t_rev / n: what it differs by moves
- * the new element's offset (element 0 is the zero; when it is the new one, the old one's moves
- * instead). */
+/* Element 0's edges time the turns (t_rev; d_rev its change). At a steady speed (the turn's
+ * time within 1/2^SPEED_STEADY_SH), a span of `count` pulses (sl_dt) should be (count + off[new]
+ * - off[old]) t_rev / n: the difference moves the new element's offset (element 0's: the old's). */
 /* where an edge `count` pulses after another one sits against it, from the span dt between
  * them, in 1/4096 of a spacing past the even place: dt n 4096 / T - count 4096 */
 static int32_t spans(uint32_t dt, uint8_t count) __reentrant
@@ -152,11 +144,9 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         m = 0;
         err = sp.d_rev < 0 ? -sp.d_rev : sp.d_rev;
         steady = sp.t_rev && err <= (int32_t)(sp.t_rev >> SPEED_STEADY_SH);
-        /* The first turn's offsets are taken whole: if the speed changed in the turn they were
-         * learnt in (or it could not be timed), they hold the change, not the wheel: learning
-         * starts again. Edges off their learnt places through SPEED_BAD_TURNS turns in a row,
-         * each as long as the one before, are no speed change either: the offsets are wrong
-         * (an element bent, a change the turn's time did not show): learning starts again. */
+        /* Learning starts again when the first turn's offsets (taken whole) were learnt while
+         * the speed changed, or when edges leave their places through SPEED_BAD_TURNS steady
+         * turns in a row: the offsets are wrong (an element bent, a change the turn hid). */
         c = sp.drift;
         sp.drift = 0;
         if (!steady) {
@@ -207,17 +197,6 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
         sp.off[old] -= e;
 }
 
-/* The learning speed_step left: what it learns is read by the next step alone, so it runs in a
- * pass of its own (app.c), or else first thing in the next step; a change of the pulses a turn
- * drops it (speed_derive: the offsets are forgotten). (The gain's constant it does not read.) */
-void speed_learn_now(void) __reentrant
-{
-    if (learn_due) {
-        learn_due = 0;
-        speed_learn(learn_count, learn_old);
-    }
-}
-
 /* The step's working values in the direct RAM (the cheapest addressing; the step never nests) */
 static __data struct {
     hal_capture_t edges;    /* the period's wheel edges */
@@ -229,6 +208,16 @@ static __data struct {
  * after this step's speed: until then they may hold a speed change, not the wheel); speed.h */
 __bit speed_learnt;
 static __bit tk_slipped;    /* 1: the tracker's last edge was a whole pulse off its place */
+
+/* The learning speed_step left, read by the next step alone: in a pass of its own (app.c), else
+ * first thing in the next step; a new Pulses/turn drops it (the offsets forgotten). */
+void speed_learn_now(void) __reentrant
+{
+    if (learn_due) {
+        learn_due = 0;
+        speed_learn((uint8_t)wk.edges.count, learn_old);
+    }
+}
 
 /* x / 4096, rounded */
 static uint32_t r12(uint32_t x) __reentrant
@@ -248,11 +237,9 @@ static uint16_t speed_tk_clip(int32_t rate) __reentrant
     return rate < 0 ? 0 : rate > (int32_t)SPEED_TK_V_MAX ? SPEED_TK_V_MAX : (uint16_t)rate;
 }
 
-/* The tracker's gains by the edges it has tracked (tk.n, 1 .. SPEED_TK_FILL_N): for its first
- * edges after the two that set it going, those of the expanding-memory polynomial filter (the
- * least-squares quadratic through every edge so far), g 3 (3n^2 + 3n + 2) / N, h 18 (2n + 1) / N,
- * k 30 / N with N = (n + 1)(n + 2)(n + 3) for n = 2 .. 6; then the steady ones (speed.h). g and h
- * x256, k x16384. */
+/* The tracker's gains by tk.n: first the expanding-memory quadratic filter's, g 3 (3n^2 + 3n +
+ * 2) / N, h 18 (2n + 1) / N, k 30 / N, N = (n + 1)(n + 2)(n + 3), n = 2 .. 6; then the steady
+ * ones (speed.h). g and h x256, k x16384. */
 static __code const int16_t tk_gain[SPEED_TK_FILL_N][3] = {
     {256, 384, 8192}, {243, 269, 4096}, {227, 197, 2341}, {210, 151, 1463}, {195, 119, 975},
     {SPEED_TK_ALPHA, SPEED_TK_BETA, SPEED_TK_GAMMA},
@@ -321,13 +308,9 @@ static void speed_track(void) __reentrant
         tk.n++;
 }
 
-/* A span's speed is the speed at its middle, half a span before its newest edge. While the
- * offsets are learnt, a quarter of the change from the span before (about as long) is added:
- * carried on over half of that way it takes most of the lag out of a speed change (over the
- * whole way it runs ahead when the tractor levels off, and the boom's flow itself follows the
- * pump a little late); at most 1/2^SPEED_AHEAD_MAX of the speed either way. Not while
- * speed_plain (speed.h): where the pump is on the wheels the boom's flow follows the true speed
- * by itself, and a target run ahead at a level-off is a bump the loop chases (speed_plain.c). */
+/* A span's speed is its middle's. Once the offsets are learnt, a quarter of the change from the
+ * span before is added (most of the lag out; all of it runs ahead at a level-off), at most
+ * 1/2^SPEED_AHEAD_MAX; not while speed_plain (a pump on the wheels follows the speed itself). */
 static void speed_ahead(void) __reentrant
 {
     uint16_t meas = (uint16_t)wk.v_x100, lead;
@@ -448,7 +431,6 @@ uint16_t speed_step(void) __reentrant
         sp.last_pca = wk.edges.last;
         if (sp.n > 1 && have_edge && wk.edges.count < 15u) {
             learn_due = 1;      /* speed_learn_now */
-            learn_count = (uint8_t)wk.edges.count;
             learn_old = old;
         }
         have_edge = 1;

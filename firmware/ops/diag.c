@@ -14,13 +14,6 @@
 #include "ctl.h"
 #include "diag_wheel.h"
 
-#define DIAG_AL_CODE(bit, code, text) code,
-#define DIAG_AL_TEXT(bit, code, text) text,
-static const char __code *const __code codes[AL_COUNT] = { DIAG_ALARMS(DIAG_AL_CODE) };
-static const char __code *const __code texts[AL_COUNT] = { DIAG_ALARMS(DIAG_AL_TEXT) };
-#undef DIAG_AL_CODE
-#undef DIAG_AL_TEXT
-
 static struct {
     uint32_t knoz;                  /* Q16: L/min x100 per 256 sqrt(kPa): n Q3 / sqrt(300) / 256 */
     uint32_t nq;                    /* n * Q3 (L/min x100 at 3 bar) */
@@ -495,16 +488,6 @@ uint8_t diag_after_fit(void)
 uint16_t diag_alarms(void)
 {
     return dg.alarms;
-}
-
-const __code char *diag_code(uint8_t bit) __reentrant
-{
-    return bit < AL_COUNT ? codes[bit] : "";
-}
-
-const __code char *diag_text(uint8_t bit) __reentrant
-{
-    return bit < AL_COUNT ? texts[bit] : "";
 }
 
 uint8_t diag_meter_suspect(void)
