@@ -76,7 +76,7 @@ def controllers_known(sim):
     """The controllers this simulator accepts (the peers exist only once built in)."""
     have = []
     probe = tempfile.NamedTemporaryFile("w", suffix=".scn", delete=False)
-    probe.write("[run]\nduration_s = 1\n")
+    probe.write("[run]\nduration_s = 1\n[drive]\n0 0\n")
     probe.close()
     for c in ALL_CONTROLLERS:
         r = subprocess.run([sim, "--scenario", probe.name, "--controller", c], capture_output=True, text=True)
