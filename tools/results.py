@@ -250,7 +250,7 @@ def section_accuracy(R, ctl):
     for r in RATES:
         for v in (6, 7, 8):
             text = ("# Table 3 analogue: given speed %d km/h at %d L/ha, tractor still (bench)\n"
-                    "[run]\nduration_s = 60\n%sgiven_speed_kmh = %d\n[plant]\npto_coupled = 0\n" % (v, r, base_config(r), v))
+                    "[run]\nduration_s = 60\n%sgiven_speed_kmh = %d\n[plant]\npto_coupled = 0\n[drive]\n0 0\n" % (v, r, base_config(r), v))
             path = R.scenario("t3_given_%d_%d" % (r, v), text)
             jobs.append((path, ctl, 1, ["--csv", path[:-4] + ".csv"]))
             keys.append(("given", r, v))
