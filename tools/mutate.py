@@ -40,13 +40,17 @@ from concurrent.futures import ThreadPoolExecutor
 # ---- what is mutated: file -> the functions whose bodies hold its rules ------------------------
 SITES = {
     # alarms and their timing
-    "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_step", "x_of"],
+    "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_speed",
+                            "diag_step", "x_of"],
     "firmware/ops/diag_line.c": ["diag_dry_line", "diag_zero", "diag_balance"],
     "firmware/ops/diag_wheel.c": ["diag_pump"],
     # the link's checksum, layout and refusals; Raven's strings and their refusals
     "firmware/link/linecheck.c": ["line_crc8", "hexval", "line_check", "line_number"],
     "firmware/link/serial.c": ["answer", "run", "take", "serial_poll"],
     "firmware/link/remote.c": ["remote_command"],
+    # the AgOpenGPS and RateControl frames: their checks and refusals, stopping, the speeds apart
+    "firmware/link/pgn.c": ["pgn_byte", "pgn_drop", "take", "rc_rate", "stale", "pgn_lost", "pgn_frames",
+                            "pgn_speed", "pgn_sections"],
     # the EEPROM record checks; the settings' ranges and cross-checks
     "firmware/store/store.c": ["ck_more", "store_load"],
     "firmware/store/params.c": ["param_in_range", "param_put", "params_cross", "param_try"],
@@ -62,12 +66,13 @@ SITES = {
 
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
-    "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_plaus", "test_faults"],
+    "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_pgn", "test_plaus", "test_faults"],
     "firmware/ops/diag_line.c": ["test_diag_line", "test_diag", "test_diag_edges", "test_slow_faults"],
     "firmware/ops/diag_wheel.c": ["test_diag_wheel", "test_plaus", "test_diag", "test_faults"],
     "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
-    "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
+    "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil", "test_pgn"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
+    "firmware/link/pgn.c": ["test_pgn", "test_pgn_sim"],
     "firmware/store/store.c": ["test_store"],
     "firmware/store/params.c": ["test_store", "test_serial", "test_console"],
     "firmware/control/valve.c": ["test_valve", "test_plaus", "test_drive", "test_faults"],
@@ -85,8 +90,13 @@ DIR = "dir is set to 1 or -1 just above (d > 0 ? 1 : -1): dir >= 0 is dir > 0"
 AT_END = "at t == 32767 both ways leave t at 32767 with nothing added over the end"
 FAR = ("the constant moved in the test only: a hi of 120 (or under) leaves with 120 either way, "
        "the assignment writes DIAG_PDEV_FAR_KPA")
-SIGNED = ("JOG and HIL need their checksum (CHANGES): past the word, p[0] is a space or the '*' that "
-          "line_check ended the line at, and then p[1] is a hex digit of the checksum: refused either way")
+SIGNED = ("JOG, NUD and HIL need their checksum (CHANGES): past the word, p[0] is a space or the '*' that "
+          "line_check ended the line at, and then p[1] and p[2] are the checksum's hex digits: p[2] is "
+          "not the end, refused either way")
+RAVEN_ONLY = ("remote_command acts only on '$R,' with letters, digits and commas up to the line's end (each "
+              "of its paths reads to the end or refuses): a line line_check refuses holds a space "
+              "(LINE_E_ARG: leading, trailing, doubled) or a '*' (LINE_E_CSUM) before its end, refused there too")
+RAVEN_IF = "if (c < LINE_E_ARG && se.buf[0] == '$')"
 PAST_END = ("slot STORE_SLOTS starts at 2 x HAL_EEPROM_SECTOR = HAL_EEPROM_SIZE, past the EEPROM: both "
             "HALs read 0xFF there (hal.h), no magic, no record")
 FLOW8 = "30001 / 8 and 30000 / 8 are both 3750 (integer division): the same bound"
@@ -139,8 +149,16 @@ EQUIVALENT = [
     ("firmware/ops/diag.c", "diag_supply", "rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));",
      "!dry -> 1", "dry needs a working level sensor at 1 % of Tank size or less, where refill (over Tank min "
      "+ Tank size / 64) cannot hold: with dry 1 the rest of the clear is 0 either way"),
-    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
+    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-' || p[1] == '0')))",
      "p[0] == ' ' -> 1", SIGNED),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "< -> <=", RAVEN_ONLY),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "LINE_E_ARG -> (LINE_E_ARG + 1)", RAVEN_ONLY),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "c < LINE_E_ARG -> 1", RAVEN_ONLY),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "LINE_E_ARG -> (LINE_E_ARG - 1)",
+     "a good line's value is its length (SERIAL_LINE_MAX at most) with LINE_CHECKED: 0x9F at most"),
+    ("firmware/ops/diag.c", "diag_speed",
+     "!DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !wheel)));",
+     "DIAG_SPEED_PERIODS -> (DIAG_SPEED_PERIODS + 1)", "21 / 2 and 20 / 2 are both 10 (integer division)"),
     ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N'))", "p[0] == ' ' -> 1",
      SIGNED),
     ("firmware/store/store.c", "ck_more",
@@ -250,8 +268,6 @@ EQUIVALENT = [
     ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 101u", DIGIT),
     ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 99u", DIGIT),
     ("firmware/store/params.c", "param_in_range", "while (v >= 10u)", "10u -> 9u", DIGIT),
-    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
-     "p[2] == 0 -> 1", "p moves past the sign and the next test, if (*p), refuses what follows it"),
     ("firmware/measure/analog.c", "judge", "if (c->bad < 255)", "255 -> 254",
      "the count is compared with ANALOG_FAULT_PERIODS (3) only"),
     ("firmware/measure/analog.c", "judge", "if (c->good < 255)", "255 -> 254",

@@ -284,6 +284,10 @@ static void test_pgn_gps_speed_sections_and_frames_stopping(void **state)
     assert_true(link_t_ms - last >= 1000);
     link_run_ms(200);
     assert_true(app_status.alarms & (1u << AL_SPEED_LOST));
+    /* held while they stay away (the wheel, never turned, says nothing against it) */
+    link_run_ms(3000);
+    assert_true(app_status.alarms & (1u << AL_SPEED_LOST));
+    assert_false(app_status.spraying);
     /* they come back: the alarm clears */
     for (int k = 0; k < 20; k++) {
         const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
@@ -372,6 +376,26 @@ static void test_pgn_a_frame_inside_a_line_and_noise(void **state)
     assert_int_equal(pgn_rx.bad, bad + 1u);
 }
 
+/* A frame whose bytes stop half way is dropped and counted once they have stopped for 3 s (as a
+ * text line is): the next frame is read from its own first byte and taken. */
+static void test_pgn_a_stalled_frame_is_dropped_after_3_s(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    const uint8_t d254[8] = {66, 0, 1, 0, 0, 0x7D, 0, 0};
+    uint16_t bad = pgn_rx.bad, taken = pgn_rx.taken;
+    size_t n = aog(f, 254, d254, 8);
+    send_bytes(f, 7);
+    link_run_ms(2000);
+    assert_int_equal(pgn_rx.bad, bad);              /* (under 3 s: still coming) */
+    link_run_ms(2000);
+    assert_int_equal(pgn_rx.bad, bad + 1u);
+    send_bytes(f, n);
+    link_run_ms(20);
+    assert_int_equal(pgn_rx.taken, taken + 1u);
+    assert_int_equal(pgn_rx.gps_kmh_x10, 66);
+}
+
 /* Remote off or Raven: a frame's bytes are not frames (ERR CHAR for its line, as ever) */
 static void test_pgn_frames_only_with_remote_agopengps(void **state)
 {
@@ -397,6 +421,7 @@ int main(void)
         cmocka_unit_test_setup(test_pgn_both_raises_wheel_noise_when_the_speeds_part, setup),
         cmocka_unit_test_setup(test_pgn_ratecontrol_target_upm_is_a_rate_in_the_window, setup),
         cmocka_unit_test_setup(test_pgn_a_frame_inside_a_line_and_noise, setup),
+        cmocka_unit_test_setup(test_pgn_a_stalled_frame_is_dropped_after_3_s, setup),
         cmocka_unit_test_setup(test_pgn_frames_only_with_remote_agopengps, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

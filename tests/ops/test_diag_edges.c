@@ -19,6 +19,7 @@
 #include "analog.h"
 #include "umath.h"
 #include "store.h"
+#include "diag_wheel.h"
 
 #define PERIOD_NS 100000000ull
 #define NOZZLES 36u                 /* params' default: every section open */
@@ -265,9 +266,62 @@ static void test_speed_lost_20_periods_after_the_last_pulse_at_working_speed(voi
     assert_int_equal(speed_quiet_periods(), 1);
     assert_int_equal(periods_until(AL_SPEED_LOST, 1, 40), 20 - 1);
     assert_int_equal(speed_quiet_periods(), 20);
+    /* held while the wheel stays quiet */
+    for (int i = 0; i < 100; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    /* a given speed lets the operator go on: cleared after 10 periods of it; taken back, the
+     * wheel still quiet, raised again in its first period (the 20 quiet periods long past) */
+    assert_true(param_set(P_GIVEN_SPEED, 80));
+    assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+    assert_true(param_set(P_GIVEN_SPEED, 0));
+    assert_int_equal(periods_until(AL_SPEED_LOST, 1, 30), 1);
     /* pulses again: cleared once fewer than 10 periods are quiet, for 10 periods */
     wheel(8.0);
     assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+}
+
+/* SPEED_LOST clears on periods with fewer than 10 quiet ones (DIAG_SPEED_PERIODS / 2), 10 such
+ * periods in a row. A lone pulse after it: quiet 0 .. 9, cleared on the 10th. Raised by the
+ * frames in use stopping (diag_set_frames, as app.c sets them) at 16 km/h (a pulse every 88 ms:
+ * each period has one), the wheel stopping as the frames come back: quiet 1 .. 9 are 9
+ * periods, the 10th quiet one breaks the run: held. With the GPS's speed in use the wheel's own
+ * verdict (pulses stopped at working speed) still raises and holds it. */
+static void test_speed_lost_clears_on_10_periods_under_10_quiet(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    for (int i = 0; i < 40; i++)
+        period();
+    wheel(0);
+    assert_true(periods_until(AL_SPEED_LOST, 1, 40) <= 21);
+    hal_host_wheel_edge(sy.now_ns + PERIOD_NS / 2);
+    assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+    assert_int_equal(speed_quiet_periods(), 9);
+    /* the frames */
+    setup(NULL);
+    wheel(16.0);
+    for (int i = 0; i < 40; i++)
+        assert_false(on(period(), AL_SPEED_LOST));
+    diag_set_frames(DIAG_FRAMES_LOST);
+    assert_true(on(period(), AL_SPEED_LOST));
+    assert_int_equal(speed_quiet_periods(), 0);
+    wheel(0);
+    diag_set_frames(0);
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    assert_int_equal(speed_quiet_periods(), 40);
+    /* the GPS's speed in use */
+    setup(NULL);
+    diag_set_frames(DIAG_FRAMES_GPS);
+    wheel(8.0);
+    for (int i = 0; i < 40; i++)
+        period();
+    wheel(0);
+    assert_true(periods_until(AL_SPEED_LOST, 1, 40) <= 21);
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    diag_set_frames(0);
 }
 
 static void test_speed_lost_not_below_working_speed_nor_with_a_given_speed(void **state)
@@ -1374,6 +1428,7 @@ int main(void)
         cmocka_unit_test(test_tank_rules_need_the_level_sensor_and_a_real_refill),
         cmocka_unit_test(test_overpressure_needs_the_pressure_sensor),
         cmocka_unit_test(test_speed_lost_20_periods_after_the_last_pulse_at_working_speed),
+        cmocka_unit_test(test_speed_lost_clears_on_10_periods_under_10_quiet),
         cmocka_unit_test(test_speed_lost_not_below_working_speed_nor_with_a_given_speed),
         cmocka_unit_test(test_meter_lost_after_10_suspect_periods),
         cmocka_unit_test(test_meter_lost_needs_p_start_working_speed_and_a_settled_boom),
