@@ -101,7 +101,22 @@ PAST_END = ("slot STORE_SLOTS starts at 2 x HAL_EEPROM_SECTOR = HAL_EEPROM_SIZE,
             "HALs read 0xFF there (hal.h), no magic, no record")
 FLOW8 = "30001 / 8 and 30000 / 8 are both 3750 (integer division): the same bound"
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
+AGE = "stale() compares an age with Frames lost, 100 periods at most: 254 and 255 alike"
+RC_HEARD = ("age_rc is read only by 32400's status bit (pgn_next), and a 32400 goes out only in answer to a "
+            "32500, which set age_rc to 0 that pass: the bit reads an age of 0 or 1 however it counts on")
+RC_AGE = "if (pg.age_rc < 255u)"
 EQUIVALENT = [
+    ("firmware/link/pgn.c", "rc_rate", "if (((uint32_t)(r > last ? r - last : last - r) << 7) > last || !last) {",
+     "> -> >=", "at r == last both ways give 0"),
+    ("firmware/link/pgn.c", "pgn_speed", "d = wheel_x100 > gps ? wheel_x100 - gps : gps - wheel_x100;", "> -> >=",
+     "at wheel_x100 == gps both ways give 0"),
+    ("firmware/link/pgn.c", "pgn_speed", "if (pg.age_speed < 255u)", "255u -> 254u", AGE),
+    ("firmware/link/pgn.c", "pgn_speed", "if (pg.age_sect < 255u)", "255u -> 254u", AGE),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "pg.age_rc < 255u -> 0", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "< -> >=", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "< -> <=", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "255u -> 256u", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "255u -> 254u", RC_HEARD),
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0 #2", COUNTED),
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0 #3", COUNTED),
@@ -208,12 +223,12 @@ EQUIVALENT = [
     ("firmware/control/valve.c", "valve_set", "va.want_dir = drive > 0 ? HAL_VALVE_CLOSE : HAL_VALVE_OPEN;", "> -> >=",
      "in the drive != 0 branch: drive >= 0 is drive > 0"),
     ("firmware/ops/diag_line.c", "diag_dry_line",
-     "&& UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->target_lpm_x100) {", "> -> >=",
+     "&& UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->in.target_lpm_x100) {", "> -> >=",
      "at meter == 0 both ways give 0"),
     ("firmware/ops/diag_line.c", "diag_dry_line",
      "if (dl.dry_line && (!in->open_nozzles || (!in->spraying && psens && p >= pmin)", "dl.dry_line -> 1",
      "the branch clears dry_line: clearing it when it is 0 changes nothing"),
-    ("firmware/ops/diag_line.c", "diag_zero", "if (in->spraying || in->speed_kmh_x100 || !dl.p_spray",
+    ("firmware/ops/diag_line.c", "diag_zero", "if (in->spraying || in->in.speed_kmh_x100 || !dl.p_spray",
      "!dl.p_spray -> 0", "with p_spray 0 the window's test z_hi << 1 >= p_spray holds: it returns zero_off "
      "with z_n 0 a few lines on, and z_lo, z_hi are set anew at the next window's first period"),
     ("firmware/ops/diag_line.c", "diag_zero",

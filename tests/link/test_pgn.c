@@ -15,6 +15,7 @@
 #include "diag.h"
 #include "store.h"
 #include "pgn.h"
+#include "diag_wheel.h"
 
 /* ---- frames as the sources build them --------------------------------------------------- */
 /* AgOpenGPS (AgIO): 80 81 src pgn len data.. crc, crc = low byte of the sum of bytes 2 .. n-2 */
@@ -284,10 +285,13 @@ static void test_pgn_gps_speed_sections_and_frames_stopping(void **state)
     assert_true(link_t_ms - last >= 1000);
     link_run_ms(200);
     assert_true(app_status.alarms & (1u << AL_SPEED_LOST));
-    /* held while they stay away (the wheel, never turned, says nothing against it) */
-    link_run_ms(3000);
-    assert_true(app_status.alarms & (1u << AL_SPEED_LOST));
-    assert_false(app_status.spraying);
+    /* held while they stay away, every period of it (the wheel, never turned, says nothing
+     * against it) */
+    for (int ms = 0; ms < 3000; ms++) {
+        link_run_ms(1);
+        assert_true(app_status.alarms & (1u << AL_SPEED_LOST));
+        assert_false(app_status.spraying);
+    }
     /* they come back: the alarm clears */
     for (int k = 0; k < 20; k++) {
         const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
@@ -411,6 +415,216 @@ static void test_pgn_frames_only_with_remote_agopengps(void **state)
     assert_int_equal(pgn_rx.bad, bad);
 }
 
+/* ---- pgn.c's rules called directly, a call of pgn_speed a period (as app.c makes it) ---------- */
+/* a frame's bytes through pgn_byte: the last byte's verdict */
+static uint8_t feed(const uint8_t *f, size_t n)
+{
+    uint8_t v = PGN_NO;
+    for (size_t i = 0; i < n; i++)
+        v = pgn_byte(f[i]);
+    return v;
+}
+
+static void feed_254(uint16_t kmh_x10)
+{
+    uint8_t f[32];
+    const uint8_t d[8] = {(uint8_t)kmh_x10, (uint8_t)(kmh_x10 >> 8), 1, 0, 0, 0x7D, 0, 0};
+    assert_int_equal(feed(f, aog(f, 254, d, 8)), PGN_END);
+}
+
+static void feed_239(uint8_t sections)
+{
+    uint8_t f[32];
+    const uint8_t d[8] = {0, 80, 0, 0, 0, 0, sections, 0};
+    assert_int_equal(feed(f, aog(f, 239, d, 8)), PGN_END);
+}
+
+/* Frames lost (1.0 s: 10 periods) after the last frame in use: on the 11th period lost, not on
+ * the 10th; the sections' frames with AOG sect, the speed's with Speed src GPS or both. Nothing
+ * of the frames is in use with the wheel and AOG sect off, or with Remote not AgOpenGPS. */
+static void test_pgn_rules_frames_lost_on_the_period_after_frames_lost(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_FRAMES_LOST, 10));
+    for (int k = 0; k < 30; k++)
+        assert_int_equal(pgn_speed(1234), 1234);
+    assert_int_equal(pgn_lost(), 0);
+    assert_int_equal(pgn_frames(), 0);
+    assert_int_equal(pgn_sections(0x2A), 0x2A);
+    /* AOG sect: the sections' frames stopped long ago: lost, no section */
+    assert_true(param_set(P_AOG_SECT, 1));
+    assert_int_equal(pgn_lost(), 1);
+    assert_int_equal(pgn_frames(), DIAG_FRAMES_LOST);
+    assert_int_equal(pgn_sections(0x3F), 0);
+    /* and 300 periods on (the frames' ages stop at 255, they do not wrap) */
+    for (int k = 0; k < 300; k++)
+        pgn_speed(0);
+    assert_int_equal(pgn_lost(), 1);
+    feed_239(0x15);
+    for (int k = 1; k <= 10; k++) {
+        pgn_speed(0);
+        assert_int_equal(pgn_lost(), 0);
+        assert_int_equal(pgn_sections(0x3F), 0x15);
+        assert_int_equal(pgn_sections(0x0C), 0x04);
+    }
+    pgn_speed(0);
+    assert_int_equal(pgn_lost(), 1);
+    assert_int_equal(pgn_sections(0x3F), 0);
+    /* RateControl's master off (32500's command bit 4): no section, frames or not */
+    uint8_t f[32];
+    feed_239(0x15);
+    assert_int_equal(feed(f, rc32500(f, 0, 0, 380000, 0x40, 0)), PGN_END);
+    assert_int_equal(pgn_sections(0x3F), 0);
+    assert_int_equal(feed(f, rc32500(f, 0, 0, 380000, 0x50, 0)), PGN_END);
+    assert_int_equal(pgn_sections(0x3F), 0x15);
+    /* Speed src GPS, AOG sect off: the GPS bit; the speed's frames stopped: lost, speed 0 */
+    assert_true(param_set(P_AOG_SECT, 0));
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_GPS));
+    for (int k = 0; k < 300; k++)
+        assert_int_equal(pgn_speed(1234), 0);
+    assert_int_equal(pgn_frames(), DIAG_FRAMES_LOST | DIAG_FRAMES_GPS);
+    feed_254(80);
+    for (int k = 1; k <= 10; k++) {
+        assert_int_equal(pgn_speed(1234), 800);
+        assert_int_equal(pgn_lost(), 0);
+        assert_int_equal(pgn_frames(), DIAG_FRAMES_GPS);
+    }
+    assert_int_equal(pgn_speed(1234), 0);
+    assert_int_equal(pgn_lost(), 1);
+    /* both: the wheel's speed while the GPS's is lost */
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_BOTH));
+    assert_int_equal(pgn_speed(1234), 1234);
+    assert_int_equal(pgn_lost(), 1);
+    assert_int_equal(pgn_frames(), DIAG_FRAMES_LOST | DIAG_FRAMES_GPS);
+    feed_254(80);
+    assert_int_equal(pgn_speed(1234), 800);
+    assert_int_equal(pgn_lost(), 0);
+    /* the wheel again: the speed frames are not in use */
+    for (int k = 0; k < 20; k++)
+        pgn_speed(0);
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_WHEEL));
+    assert_int_equal(pgn_speed(1234), 1234);
+    assert_int_equal(pgn_lost(), 0);
+    assert_int_equal(pgn_frames(), 0);
+    /* Remote not AgOpenGPS, every frame setting on and every frame stopped: nothing in use */
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_GPS));
+    assert_true(param_set(P_AOG_SECT, 1));
+    assert_true(param_set(P_REMOTE, 0));
+    for (int k = 0; k < 20; k++)
+        assert_int_equal(pgn_speed(1234), 1234);
+    assert_int_equal(pgn_lost(), 0);
+    assert_int_equal(pgn_frames(), 0);
+    assert_int_equal(pgn_sections(0x2A), 0x2A);
+}
+
+/* Speed src both at 30.0 km/h of GPS, Speed diff 10 %: the wheel 3.00 km/h off (10 % of it) is
+ * together, 3.01 apart (x 100 against 10 x 3000: 30000 and 30100). 20 periods apart more than
+ * together raise the flag (WHEEL_NOISE), on the 20th, not the 19th; the count stops at 20, and
+ * 20 periods together clear it on the 20th. Not judged under 2.00 km/h of GPS, nor with Speed
+ * src GPS. */
+static void test_pgn_rules_speeds_apart_counted_to_20(void **state)
+{
+    (void)state;
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_BOTH));
+    assert_true(param_set(P_SPEED_DIFF, 10));
+    for (int k = 0; k < 60; k++) {
+        feed_254(300);
+        assert_int_equal(pgn_speed(k & 1 ? 3300 : 2700), 3000);
+        assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, 0);
+    }
+    for (int k = 1; k <= 20; k++) {
+        feed_254(300);
+        pgn_speed(3301);
+        assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, k == 20 ? DIAG_FRAMES_SPEED_OFF : 0);
+    }
+    for (int k = 0; k < 10; k++) {
+        feed_254(300);
+        pgn_speed(2699);
+    }
+    for (int k = 1; k <= 20; k++) {
+        feed_254(300);
+        pgn_speed(2700);
+        assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, k == 20 ? 0 : DIAG_FRAMES_SPEED_OFF);
+    }
+    for (int k = 0; k < 10; k++) {             /* together: the count stays at 0 */
+        feed_254(300);
+        pgn_speed(3000);
+    }
+    feed_254(300);
+    pgn_speed(3301);
+    assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, 0);
+    feed_254(300);
+    pgn_speed(3000);                            /* (the count back to 0) */
+    /* 1.9 km/h of GPS and the wheel standing: not judged; 2.0: judged */
+    for (int k = 0; k < 40; k++) {
+        feed_254(19);
+        assert_int_equal(pgn_speed(0), 190);
+        assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, 0);
+    }
+    for (int k = 1; k <= 19; k++) {
+        feed_254(20);
+        pgn_speed(0);
+    }
+    assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, 0);
+    feed_254(20);
+    pgn_speed(0);
+    assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, DIAG_FRAMES_SPEED_OFF);
+    /* the wheel in use: no flag; then Speed src GPS: the wheel is not judged */
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_WHEEL));
+    assert_int_equal(pgn_speed(0), 0);
+    assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, 0);
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_GPS));
+    for (int k = 0; k < 40; k++) {
+        feed_254(300);
+        assert_int_equal(pgn_speed(0), 3000);
+    }
+    assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, 0);
+}
+
+/* RateControl's target flow as a rate: at 1.00 km/h over the 18 m boom, r = UPM x 60000 /
+ * (100 x 1800) = UPM / 3 (L/ha x10). Not under 1.00 km/h; a change of 1/128 or less of the
+ * rate last handed on is not handed on, up or down (1300 -> 1310: 10 x 128 = 1280, not over
+ * 1300; 1311: 1408). The first one is handed on whatever it is (0: refused by the window, counted); none
+ * with the boom shut (no width). */
+static void test_pgn_rules_ratecontrol_rate_handed_on(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    assert_int_equal(target_width_cm(), 1800);
+    app_status.in.speed_kmh_x100 = 100;
+    uint8_t refused = target_remote_refusals();
+    feed(f, rc32500(f, 0, 1, 380000, 0x50, 0));          /* r = 0 */
+    assert_int_equal(target_remote_refusals(), (uint8_t)(refused + 1));
+    assert_int_equal(target_rate_x10(), 1500);
+    app_status.in.speed_kmh_x100 = 99;
+    feed(f, rc32500(f, 0, 3900, 380000, 0x50, 0));
+    assert_int_equal(target_rate_x10(), 1500);
+    app_status.in.speed_kmh_x100 = 100;
+    feed(f, rc32500(f, 0, 3900, 380000, 0x50, 0));
+    assert_int_equal(target_rate_x10(), 1300);
+    feed(f, rc32500(f, 0, 3930, 380000, 0x50, 0));
+    assert_int_equal(target_rate_x10(), 1300);
+    feed(f, rc32500(f, 0, 3885, 380000, 0x50, 0));      /* 5 down: 640 */
+    assert_int_equal(target_rate_x10(), 1300);
+    feed(f, rc32500(f, 0, 3933, 380000, 0x50, 0));
+    assert_int_equal(target_rate_x10(), 1311);
+    feed(f, rc32500(f, 0, 3900, 380000, 0x50, 0));      /* 11 down: 1408 over 1311 */
+    assert_int_equal(target_rate_x10(), 1300);
+    feed(f, rc32500(f, 0, 3840, 380000, 0x50, 0));
+    assert_int_equal(target_rate_x10(), 1280);
+    feed(f, rc32500(f, 0, 3870, 380000, 0x50, 0));      /* 10 x 128 = 1280: not over 1280 */
+    assert_int_equal(target_rate_x10(), 1280);
+    /* the boom shut: no width, nothing handed on, nothing refused */
+    hal_host_io.sections = 0;
+    link_run_ms(300);
+    assert_int_equal(target_width_cm(), 0);
+    app_status.in.speed_kmh_x100 = 100;
+    refused = target_remote_refusals();
+    feed(f, rc32500(f, 0, 4500, 380000, 0x50, 0));
+    assert_int_equal(target_rate_x10(), 1280);
+    assert_int_equal(target_remote_refusals(), refused);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -423,6 +637,9 @@ int main(void)
         cmocka_unit_test_setup(test_pgn_a_frame_inside_a_line_and_noise, setup),
         cmocka_unit_test_setup(test_pgn_a_stalled_frame_is_dropped_after_3_s, setup),
         cmocka_unit_test_setup(test_pgn_frames_only_with_remote_agopengps, setup),
+        cmocka_unit_test_setup(test_pgn_rules_frames_lost_on_the_period_after_frames_lost, setup),
+        cmocka_unit_test_setup(test_pgn_rules_speeds_apart_counted_to_20, setup),
+        cmocka_unit_test_setup(test_pgn_rules_ratecontrol_rate_handed_on, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
