@@ -110,6 +110,9 @@ EQUIVALENT = [
      "> -> >=", "at r == last both ways give 0"),
     ("firmware/link/pgn.c", "pgn_speed", "d = wheel_x100 > gps ? wheel_x100 - gps : gps - wheel_x100;", "> -> >=",
      "at wheel_x100 == gps both ways give 0"),
+    ("firmware/link/pgn.c", "pgn_speed", "if (src == SPEED_SRC_BOTH && gps >= PGN_CHECK_X100) {",
+     "PGN_CHECK_X100 -> (PGN_CHECK_X100 - 1)", "the GPS's speed is whole tenths of km/h (254's x10 field "
+     "times 10): 199 and 200 part them alike"),
     ("firmware/link/pgn.c", "pgn_speed", "if (pg.age_speed < 255u)", "255u -> 254u", AGE),
     ("firmware/link/pgn.c", "pgn_speed", "if (pg.age_sect < 255u)", "255u -> 254u", AGE),
     ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "pg.age_rc < 255u -> 0", RC_HEARD),

@@ -517,6 +517,127 @@ static void test_pgn_rules_frames_lost_on_the_period_after_frames_lost(void **st
     assert_int_equal(pgn_sections(0x2A), 0x2A);
 }
 
+/* A frame starts at 0x80 (AgOpenGPS) or 0xF4..0xF6 (RateControl's 32500..32502) only, and only
+ * with Remote AgOpenGPS; every other byte is the text parser's. A start byte whose second is
+ * not its own sync byte (0x81 after 0x80, 0x7E after 0xF4..0xF6) was noise: counted. */
+static void test_pgn_rules_frame_start_and_sync_bytes(void **state)
+{
+    (void)state;
+    for (int r = 0; r < 2; r++) {
+        for (unsigned b = 0; b < 256; b++) {
+            uint16_t bad = pgn_rx.bad;
+            int start = r == 0 && (b == 0x80 || (b >= 0xF4 && b <= 0xF6));
+            assert_int_equal(pgn_byte((uint8_t)b), start ? PGN_IN : PGN_NO);
+            assert_int_equal(pgn_busy(), start);
+            if (start) {
+                assert_int_equal(pgn_byte(b == 0x80 ? 0x7E : 0x81), PGN_NOISE);
+                assert_int_equal(pgn_busy(), 0);
+                assert_int_equal(pgn_rx.bad, bad + 1u);
+                assert_int_equal(pgn_byte((uint8_t)b), PGN_IN);
+                assert_int_equal(pgn_byte(b == 0x80 ? 0x81 : 0x7E), PGN_IN);
+                pgn_drop();
+            }
+            assert_int_equal(pgn_rx.bad, bad + 2u * (unsigned)start);
+        }
+        assert_true(param_set(P_REMOTE, 0));
+    }
+}
+
+/* The lengths: 254 and 239 carry 8 bytes, 229 10: another length is refused at the length byte
+ * and counted. Another pgn with a good check is skipped, uncounted, whatever its length up to
+ * 249 (its 255 bytes: a byte's count); 250 and over are refused and counted. */
+static void test_pgn_rules_frame_lengths(void **state)
+{
+    (void)state;
+    uint8_t f[300], d[256];
+    memset(d, 0x11, sizeof d);
+    static const struct { uint8_t pgn, len; int ok; } c[] = {
+        {254, 8, 1}, {254, 7, 0}, {254, 9, 0}, {239, 8, 1}, {239, 7, 0}, {239, 9, 0}, {239, 10, 0},
+        {229, 10, 1}, {229, 8, 0}, {229, 9, 0}, {229, 11, 0},
+        {238, 3, 1}, {240, 3, 1}, {228, 3, 1}, {230, 3, 1}, {228, 10, 1}, {230, 8, 1},
+        {200, 249, 1}, {200, 250, 0}, {200, 251, 0}, {200, 255, 0},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        uint16_t bad = pgn_rx.bad, taken = pgn_rx.taken;
+        size_t n = aog(f, c[i].pgn, d, c[i].len);
+        uint8_t v = PGN_IN;
+        size_t at = 0;
+        while (at < n && v == PGN_IN)
+            v = pgn_byte(f[at++]);
+        assert_int_equal(v, PGN_END);
+        assert_int_equal(at, c[i].ok ? n : 5u);         /* refused at its length byte */
+        assert_int_equal(pgn_busy(), 0);
+        assert_int_equal(pgn_rx.bad, bad + (c[i].ok ? 0u : 1u));
+        int known = c[i].pgn == 254 || c[i].pgn == 239 || c[i].pgn == 229;
+        assert_int_equal(pgn_rx.taken, taken + (c[i].ok && known ? 1u : 0u));
+    }
+    /* the longest with a wrong check: counted */
+    uint16_t bad = pgn_rx.bad;
+    size_t n = aog(f, 200, d, 249);
+    f[n - 1] ^= 1;
+    assert_int_equal(n, 255u);
+    assert_int_equal(feed(f, n), PGN_END);
+    assert_int_equal(pgn_rx.bad, bad + 1u);
+}
+
+/* The frames taken and answered: a 239 answered with a 237 while AOG reply is on, nothing else
+ * of AgOpenGPS's; RateControl's 32500 and 32502 of this module's sensor 0 only (module << 4 |
+ * sensor), 32501 of this module (its byte the module alone). */
+static void test_pgn_rules_modules_sensors_and_replies(void **state)
+{
+    (void)state;
+    uint8_t f[32], out[PGN_OUT_MAX + 1];
+    uint8_t d[11] = {0}, d2[21] = {0};
+    while (pgn_next(out))
+        ;
+    feed_239(0x15);
+    assert_int_equal(pgn_next(out), 14);
+    assert_int_equal(out[3], 237);
+    assert_int_equal(pgn_next(out), 0);
+    const uint8_t d229[10] = {0x2A, 0, 0, 0, 0, 0, 0, 0, 20, 22};
+    assert_int_equal(feed(f, aog(f, 229, d229, 10)), PGN_END);
+    assert_int_equal(pgn_rx.sections, 0x2A);
+    feed_254(80);
+    assert_int_equal(pgn_next(out), 0);
+    assert_true(param_set(P_AOG_REPLY, 0));
+    feed_239(0x15);
+    assert_int_equal(pgn_rx.sections, 0x15);
+    assert_int_equal(pgn_next(out), 0);
+    /* RateControl, module 3 */
+    assert_true(param_set(P_RC_ID, 3));
+    uint16_t taken = pgn_rx.taken;
+    feed(f, rc32500(f, 3, 4242, 380000, 0x50, 0));
+    assert_int_equal(pgn_rx.taken, taken + 1u);
+    assert_int_equal(pgn_rx.rc_upm_x1000, 4242);
+    assert_int_equal(pgn_next(out), 15);            /* 32400, then 32401 */
+    assert_int_equal(out[0] | out[1] << 8, 32400);
+    assert_int_equal(out[2], 0x30);
+    assert_int_equal(pgn_next(out), 15);
+    assert_int_equal(out[0] | out[1] << 8, 32401);
+    assert_int_equal(pgn_next(out), 0);
+    for (int m = 0; m < 3; m++) {                   /* sensor 1 of module 3; module 0; module 4 */
+        feed(f, rc32500(f, 3, 5000, 380000, 0x50, 0));
+        uint8_t b = m == 0 ? 0x31 : m == 1 ? 0x00 : 0x40;
+        memcpy(d, f + 2, sizeof d);
+        d[0] = b;
+        taken = pgn_rx.taken;
+        d2[0] = b;
+        assert_int_equal(feed(f, rc(f, 32500, d, sizeof d)), PGN_END);
+        assert_int_equal(feed(f, rc(f, 32502, d2, sizeof d2)), PGN_END);
+        assert_int_equal(pgn_rx.taken, taken);
+        assert_int_equal(pgn_rx.rc_upm_x1000, 5000);
+    }
+    const uint8_t s3[8] = {3, 0x0C, 0, 0, 0, 0, 0, 255}, s0[8] = {0, 0x33, 0, 0, 0, 0, 0, 255};
+    feed(f, rc(f, 32501, s3, 8));
+    assert_int_equal(pgn_rx.sections, 0x0C);
+    feed(f, rc(f, 32501, s0, 8));
+    assert_int_equal(pgn_rx.sections, 0x0C);
+    d2[0] = 0x30;
+    taken = pgn_rx.taken;
+    assert_int_equal(feed(f, rc(f, 32502, d2, sizeof d2)), PGN_END);
+    assert_int_equal(pgn_rx.taken, taken + 1u);
+}
+
 /* Speed src both at 30.0 km/h of GPS, Speed diff 10 %: the wheel 3.00 km/h off (10 % of it) is
  * together, 3.01 apart (x 100 against 10 x 3000: 30000 and 30100). 20 periods apart more than
  * together raise the flag (WHEEL_NOISE), on the 20th, not the 19th; the count stops at 20, and
@@ -614,6 +735,11 @@ static void test_pgn_rules_ratecontrol_rate_handed_on(void **state)
     assert_int_equal(target_rate_x10(), 1280);
     feed(f, rc32500(f, 0, 3870, 380000, 0x50, 0));      /* 10 x 128 = 1280: not over 1280 */
     assert_int_equal(target_rate_x10(), 1280);
+    /* no target (0 UPM): nothing handed on, nothing refused */
+    refused = target_remote_refusals();
+    feed(f, rc32500(f, 0, 0, 380000, 0x50, 0));
+    assert_int_equal(target_rate_x10(), 1280);
+    assert_int_equal(target_remote_refusals(), refused);
     /* the boom shut: no width, nothing handed on, nothing refused */
     hal_host_io.sections = 0;
     link_run_ms(300);
@@ -638,6 +764,9 @@ int main(void)
         cmocka_unit_test_setup(test_pgn_a_stalled_frame_is_dropped_after_3_s, setup),
         cmocka_unit_test_setup(test_pgn_frames_only_with_remote_agopengps, setup),
         cmocka_unit_test_setup(test_pgn_rules_frames_lost_on_the_period_after_frames_lost, setup),
+        cmocka_unit_test_setup(test_pgn_rules_frame_start_and_sync_bytes, setup),
+        cmocka_unit_test_setup(test_pgn_rules_frame_lengths, setup),
+        cmocka_unit_test_setup(test_pgn_rules_modules_sensors_and_replies, setup),
         cmocka_unit_test_setup(test_pgn_rules_speeds_apart_counted_to_20, setup),
         cmocka_unit_test_setup(test_pgn_rules_ratecontrol_rate_handed_on, setup),
     };
