@@ -321,6 +321,15 @@ static void test_pgn_both_raises_wheel_noise_when_the_speeds_part(void **state)
     }
     assert_int_equal(app_status.in.speed_kmh_x100, 800);   /* the GPS's */
     assert_true(raised_at >= (int)PGN_OFF_PERIODS - 1 && raised_at <= (int)PGN_OFF_PERIODS + 2);
+    /* held every period while they stay apart */
+    for (int ms = 0; ms < 2000; ms++) {
+        if (ms % 100 == 0) {
+            const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
+            send_bytes(f, aog(f, 254, d254, 8));
+        }
+        link_run_ms(1);
+        assert_true(app_status.alarms & (1u << AL_WHEEL_NOISE));
+    }
     assert_true(param_set(P_SPEED_SRC, SPEED_SRC_WHEEL));
     link_run_ms(1500);
     assert_false(app_status.alarms & (1u << AL_WHEEL_NOISE));

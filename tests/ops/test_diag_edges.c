@@ -57,6 +57,7 @@ static int setup(void **state)
     valve_init();
     target_init();
     diag_init();
+    diag_set_frames(0);             /* no frames in use (app.c sets them each period) */
     adc_counts[0] = adc_counts[1] = 614;
     hal_host_adc_source(adc);
     memset(&sy, 0, sizeof sy);
@@ -729,6 +730,25 @@ static void test_wheel_noise_in_the_period_its_score_passes_60(void **state)
     assert_int_equal(periods_until(AL_WHEEL_NOISE, 0, 20), 10 - 1);   /* the period at 0 is the first of 10 */
     printf("# wheel noise cleared %d periods after the bounce stopped\n", k);
     assert_int_equal(score, 0);
+}
+
+/* Speed src both finding the wheel off the GPS (the frames' flag, diag_set_frames as app.c sets
+ * it): WHEEL_NOISE in the period it is set, held every period while it stays, cleared 10
+ * periods after it goes (the score 0, no jump). */
+static void test_wheel_noise_while_the_frames_find_the_speeds_apart(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    for (int i = 0; i < 30; i++)
+        assert_int_equal(period(), 0);
+    diag_set_frames(DIAG_FRAMES_SPEED_OFF | DIAG_FRAMES_GPS);
+    assert_true(on(period(), AL_WHEEL_NOISE));
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_WHEEL_NOISE));
+    diag_set_frames(DIAG_FRAMES_GPS);
+    assert_int_equal(periods_until(AL_WHEEL_NOISE, 0, 20), 10);
+    diag_set_frames(0);
 }
 
 /* ---- the tank balance: METER_CAL ------------------------------------------------------------- */
@@ -1443,6 +1463,7 @@ int main(void)
         cmocka_unit_test(test_meter_noise_on_the_fourth_glitching_period),
         cmocka_unit_test(test_sensor_faults_in_the_period_the_input_is_judged_faulty),
         cmocka_unit_test(test_wheel_noise_in_the_period_its_score_passes_60),
+        cmocka_unit_test(test_wheel_noise_while_the_frames_find_the_speeds_apart),
         cmocka_unit_test(test_meter_cal_on_the_10th_period_of_the_balance_off),
         cmocka_unit_test(test_meter_cal_cleared_after_10_periods_of_the_balance_on),
         cmocka_unit_test(test_model_learnt_at_the_64th_sample_of_clean_periods),
