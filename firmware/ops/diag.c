@@ -400,10 +400,11 @@ static void diag_speed(const __xdata app_status_t *in) __reentrant
 {
     uint8_t g = target_speed_given(), pump = diag_pump(in);
     uint16_t x = speed_quiet_periods();
-    /* ... or the frames in use stopped (diag_wheel.h) */
-    uint8_t wheel = !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())));
-    rule(AL_SPEED_LOST, DIAG_FRAMES(DIAG_FRAMES_LOST) || wheel,
-         !DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !wheel)));
+    /* ... or the frames in use stopped (diag_wheel.h); the GPS's speed in use clears it unless
+     * the wheel's verdict holds */
+    rule(AL_SPEED_LOST, DIAG_FRAMES(DIAG_FRAMES_LOST) || (!g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())))),
+         !DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u
+                                            || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !pump && (x < DIAG_SPEED_PERIODS || !target_working_speed(speed_at_last_pulse_x100())))));
     x = in->in.speed_kmh_x100;
     g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);

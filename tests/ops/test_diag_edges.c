@@ -322,6 +322,59 @@ static void test_speed_lost_clears_on_10_periods_under_10_quiet(void **state)
     assert_true(periods_until(AL_SPEED_LOST, 1, 40) <= 21);
     for (int i = 0; i < 40; i++)
         assert_true(on(period(), AL_SPEED_LOST));
+    /* ... raised by the frames stopping at 16 km/h, the wheel stopping with them: back at the
+     * 10th quiet period, the GPS's speed clears it on the 10th period of the wheel's own count
+     * under 20 (quiet 19), and the wheel's verdict raises it again at 20; back at the 11th,
+     * 9 periods under 20: held */
+    for (int late = 0; late < 2; late++) {
+        setup(NULL);
+        diag_set_frames(DIAG_FRAMES_GPS);
+        wheel(16.0);
+        for (int i = 0; i < 40; i++)
+            assert_false(on(period(), AL_SPEED_LOST));
+        diag_set_frames(DIAG_FRAMES_GPS | DIAG_FRAMES_LOST);
+        assert_true(on(period(), AL_SPEED_LOST));
+        wheel(0);
+        while (speed_quiet_periods() < 9 + late)
+            assert_true(on(period(), AL_SPEED_LOST));
+        diag_set_frames(DIAG_FRAMES_GPS);
+        for (int q = 10 + late; q <= 60; q++) {
+            uint16_t a = period();
+            assert_int_equal(speed_quiet_periods(), q);
+            assert_int_equal(on(a, AL_SPEED_LOST), late || q != 19);
+        }
+    }
+    diag_set_frames(0);
+}
+
+/* With the GPS's speed in use, SPEED_LOST from the pump (the wheel's last speed 3 km/h, under
+ * working speed: its own verdict says nothing) is held while the pump says the wheels turn: the
+ * line under 10 kPa for 30 periods at the standstill (learnt), then at 60 kPa with the bypass
+ * opened and the sections on, 30 periods. */
+static void test_speed_lost_from_the_pump_held_with_the_gps_speed(void **state)
+{
+    (void)state;
+    setup(NULL);
+    diag_set_frames(DIAG_FRAMES_GPS);
+    wheel(3.0);
+    for (int i = 0; i < 40; i++)
+        period();
+    wheel(0);
+    sy.drive = -Q15_MAX;            /* the bypass opened by the stroke */
+    for (int i = 0; i < 40; i++)
+        period();
+    sy.drive = 0;
+    sy.st.open_nozzles = 36;
+    sy.st.in.pressure_kpa = 5;
+    for (int i = 0; i < 40; i++)
+        assert_false(on(period(), AL_SPEED_LOST));
+    sy.st.in.pressure_kpa = 60;
+    assert_int_equal(periods_until(AL_SPEED_LOST, 1, 60), 30);
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    /* the line back under 10 kPa: the pump stands, cleared after 10 periods */
+    sy.st.in.pressure_kpa = 5;
+    assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
     diag_set_frames(0);
 }
 
@@ -1449,6 +1502,7 @@ int main(void)
         cmocka_unit_test(test_overpressure_needs_the_pressure_sensor),
         cmocka_unit_test(test_speed_lost_20_periods_after_the_last_pulse_at_working_speed),
         cmocka_unit_test(test_speed_lost_clears_on_10_periods_under_10_quiet),
+        cmocka_unit_test(test_speed_lost_from_the_pump_held_with_the_gps_speed),
         cmocka_unit_test(test_speed_lost_not_below_working_speed_nor_with_a_given_speed),
         cmocka_unit_test(test_meter_lost_after_10_suspect_periods),
         cmocka_unit_test(test_meter_lost_needs_p_start_working_speed_and_a_settled_boom),
