@@ -40,13 +40,17 @@ from concurrent.futures import ThreadPoolExecutor
 # ---- what is mutated: file -> the functions whose bodies hold its rules ------------------------
 SITES = {
     # alarms and their timing
-    "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_step", "x_of"],
+    "firmware/ops/diag.c": ["need_periods", "rule", "diag_supply", "diag_model", "diag_offrate", "diag_speed",
+                            "diag_step", "x_of"],
     "firmware/ops/diag_line.c": ["diag_dry_line", "diag_zero", "diag_balance"],
     "firmware/ops/diag_wheel.c": ["diag_pump"],
     # the link's checksum, layout and refusals; Raven's strings and their refusals
     "firmware/link/linecheck.c": ["line_crc8", "hexval", "line_check", "line_number"],
     "firmware/link/serial.c": ["answer", "run", "take", "serial_poll"],
     "firmware/link/remote.c": ["remote_command"],
+    # the AgOpenGPS and RateControl frames: their checks and refusals, stopping, the speeds apart
+    "firmware/link/pgn.c": ["pgn_byte", "pgn_drop", "take", "rc_rate", "stale", "pgn_lost", "pgn_frames",
+                            "pgn_speed", "pgn_sections"],
     # the EEPROM record checks; the settings' ranges and cross-checks
     "firmware/store/store.c": ["ck_more", "store_load"],
     "firmware/store/params.c": ["param_in_range", "param_put", "params_cross", "param_try"],
@@ -62,12 +66,13 @@ SITES = {
 
 # ---- which host tests cover a file (build/host-test/<name>), the fastest killers first --------
 TESTS = {
-    "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_plaus", "test_faults"],
+    "firmware/ops/diag.c": ["test_diag_edges", "test_diag", "test_pgn", "test_plaus", "test_faults"],
     "firmware/ops/diag_line.c": ["test_diag_line", "test_diag", "test_diag_edges", "test_slow_faults"],
     "firmware/ops/diag_wheel.c": ["test_diag_wheel", "test_plaus", "test_diag", "test_faults"],
     "firmware/link/linecheck.c": ["test_serial", "test_raven", "test_hil"],
-    "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil"],
+    "firmware/link/serial.c": ["test_serial", "test_raven", "test_hil", "test_pgn"],
     "firmware/link/remote.c": ["test_raven", "test_serial"],
+    "firmware/link/pgn.c": ["test_pgn", "test_pgn_sim"],
     "firmware/store/store.c": ["test_store"],
     "firmware/store/params.c": ["test_store", "test_serial", "test_console"],
     "firmware/control/valve.c": ["test_valve", "test_plaus", "test_drive", "test_faults"],
@@ -85,13 +90,36 @@ DIR = "dir is set to 1 or -1 just above (d > 0 ? 1 : -1): dir >= 0 is dir > 0"
 AT_END = "at t == 32767 both ways leave t at 32767 with nothing added over the end"
 FAR = ("the constant moved in the test only: a hi of 120 (or under) leaves with 120 either way, "
        "the assignment writes DIAG_PDEV_FAR_KPA")
-SIGNED = ("JOG and HIL need their checksum (CHANGES): past the word, p[0] is a space or the '*' that "
-          "line_check ended the line at, and then p[1] is a hex digit of the checksum: refused either way")
+SIGNED = ("JOG, NUD and HIL need their checksum (CHANGES): past the word, p[0] is a space or the '*' that "
+          "line_check ended the line at, and then p[1] and p[2] are the checksum's hex digits: p[2] is "
+          "not the end, refused either way")
+RAVEN_ONLY = ("remote_command acts only on '$R,' with letters, digits and commas up to the line's end (each "
+              "of its paths reads to the end or refuses): a line line_check refuses holds a space "
+              "(LINE_E_ARG: leading, trailing, doubled) or a '*' (LINE_E_CSUM) before its end, refused there too")
+RAVEN_IF = "if (c < LINE_E_ARG && se.buf[0] == '$')"
 PAST_END = ("slot STORE_SLOTS starts at 2 x HAL_EEPROM_SECTOR = HAL_EEPROM_SIZE, past the EEPROM: both "
             "HALs read 0xFF there (hal.h), no magic, no record")
 FLOW8 = "30001 / 8 and 30000 / 8 are both 3750 (integer division): the same bound"
 COUNTED = "rule() counts the period before it compares: a count of at least 1 is at least 0"
+AGE = "stale() compares an age with Frames lost, 100 periods at most: 254 and 255 alike"
+RC_HEARD = ("age_rc is read only by 32400's status bit (pgn_next), and a 32400 goes out only in answer to a "
+            "32500, which set age_rc to 0 that pass: the bit reads an age of 0 or 1 however it counts on")
+RC_AGE = "if (pg.age_rc < 255u)"
 EQUIVALENT = [
+    ("firmware/link/pgn.c", "rc_rate", "if (((uint32_t)(r > last ? r - last : last - r) << 7) > last || !last) {",
+     "> -> >=", "at r == last both ways give 0"),
+    ("firmware/link/pgn.c", "pgn_speed", "d = wheel_x100 > gps ? wheel_x100 - gps : gps - wheel_x100;", "> -> >=",
+     "at wheel_x100 == gps both ways give 0"),
+    ("firmware/link/pgn.c", "pgn_speed", "if (src == SPEED_SRC_BOTH && gps >= PGN_CHECK_X100) {",
+     "PGN_CHECK_X100 -> (PGN_CHECK_X100 - 1)", "the GPS's speed is whole tenths of km/h (254's x10 field "
+     "times 10): 199 and 200 part them alike"),
+    ("firmware/link/pgn.c", "pgn_speed", "if (pg.age_speed < 255u)", "255u -> 254u", AGE),
+    ("firmware/link/pgn.c", "pgn_speed", "if (pg.age_sect < 255u)", "255u -> 254u", AGE),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "pg.age_rc < 255u -> 0", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "< -> >=", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "< -> <=", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "255u -> 256u", RC_HEARD),
+    ("firmware/link/pgn.c", "pgn_speed", RC_AGE, "255u -> 254u", RC_HEARD),
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0", COUNTED),
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0 #2", COUNTED),
     ("firmware/ops/diag.c", "need_periods", NP, "1 -> 0 #3", COUNTED),
@@ -139,8 +167,15 @@ EQUIVALENT = [
     ("firmware/ops/diag.c", "diag_supply", "rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));",
      "!dry -> 1", "dry needs a working level sensor at 1 % of Tank size or less, where refill (over Tank min "
      "+ Tank size / 64) cannot hold: with dry 1 the rest of the clear is 0 either way"),
-    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
+    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-' || p[1] == '0')))",
      "p[0] == ' ' -> 1", SIGNED),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "< -> <=", RAVEN_ONLY),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "LINE_E_ARG -> (LINE_E_ARG + 1)", RAVEN_ONLY),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "c < LINE_E_ARG -> 1", RAVEN_ONLY),
+    ("firmware/link/serial.c", "answer", RAVEN_IF, "LINE_E_ARG -> (LINE_E_ARG - 1)",
+     "a good line's value is its length (SERIAL_LINE_MAX at most) with LINE_CHECKED: 0x9F at most"),
+    ("firmware/ops/diag.c", "diag_speed", "!DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u",
+     "DIAG_SPEED_PERIODS -> (DIAG_SPEED_PERIODS + 1)", "21 / 2 and 20 / 2 are both 10 (integer division)"),
     ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && p[1] == 'O' && p[2] == 'N'))", "p[0] == ' ' -> 1",
      SIGNED),
     ("firmware/store/store.c", "ck_more",
@@ -190,12 +225,12 @@ EQUIVALENT = [
     ("firmware/control/valve.c", "valve_set", "va.want_dir = drive > 0 ? HAL_VALVE_CLOSE : HAL_VALVE_OPEN;", "> -> >=",
      "in the drive != 0 branch: drive >= 0 is drive > 0"),
     ("firmware/ops/diag_line.c", "diag_dry_line",
-     "&& UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->target_lpm_x100) {", "> -> >=",
+     "&& UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->in.target_lpm_x100) {", "> -> >=",
      "at meter == 0 both ways give 0"),
     ("firmware/ops/diag_line.c", "diag_dry_line",
      "if (dl.dry_line && (!in->open_nozzles || (!in->spraying && psens && p >= pmin)", "dl.dry_line -> 1",
      "the branch clears dry_line: clearing it when it is 0 changes nothing"),
-    ("firmware/ops/diag_line.c", "diag_zero", "if (in->spraying || in->speed_kmh_x100 || !dl.p_spray",
+    ("firmware/ops/diag_line.c", "diag_zero", "if (in->spraying || in->in.speed_kmh_x100 || !dl.p_spray",
      "!dl.p_spray -> 0", "with p_spray 0 the window's test z_hi << 1 >= p_spray holds: it returns zero_off "
      "with z_n 0 a few lines on, and z_lo, z_hi are set anew at the next window's first period"),
     ("firmware/ops/diag_line.c", "diag_zero",
@@ -250,8 +285,6 @@ EQUIVALENT = [
     ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 101u", DIGIT),
     ("firmware/store/params.c", "param_in_range", "while (v >= 100u)", "100u -> 99u", DIGIT),
     ("firmware/store/params.c", "param_in_range", "while (v >= 10u)", "10u -> 9u", DIGIT),
-    ("firmware/link/serial.c", "answer", "if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-') && p[2] == 0))",
-     "p[2] == 0 -> 1", "p moves past the sign and the next test, if (*p), refuses what follows it"),
     ("firmware/measure/analog.c", "judge", "if (c->bad < 255)", "255 -> 254",
      "the count is compared with ANALOG_FAULT_PERIODS (3) only"),
     ("firmware/measure/analog.c", "judge", "if (c->good < 255)", "255 -> 254",

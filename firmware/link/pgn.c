@@ -135,8 +135,8 @@ uint8_t pgn_byte(uint8_t b) __reentrant
     pg.n = ++n;
     if (n == 5 && !pg.total) {      /* AgOpenGPS: its pgn and length known */
         k = pg.f[3];
-        pg.total = (uint8_t)(b + 6u);
-        if ((k == 254 || k == 239) ? b != 8 : k == 229 ? b != 10 : b > 250)
+        pg.total = (uint8_t)(b + 6u);   /* (a length over 249 would not fit the count) */
+        if ((k == 254 || k == 239) ? b != 8 : k == 229 ? b != 10 : b > 249)
             goto bad;
     }
     if (n != pg.total) {

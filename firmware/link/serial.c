@@ -277,8 +277,8 @@ static uint8_t answer(void) __reentrant
         }
         break;
     case ARG_SIGN:
-        if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-' || p[1] == '0') && p[2] == 0))
-            goto bad_arg;
+        if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-' || p[1] == '0')))
+            goto bad_arg;           /* (what follows the sign: the end's test below) */
         a = p[1] == '+' ? 1 : p[1] == '-' ? (uint16_t)-1 : 0;
         p += 2;
         break;

@@ -400,14 +400,11 @@ static void diag_speed(const __xdata app_status_t *in) __reentrant
 {
     uint8_t g = target_speed_given(), pump = diag_pump(in);
     uint16_t x = speed_quiet_periods();
-#if FW_PGN                          /* or the frames in use stopped (diag_wheel.h) */
-    uint8_t wheel = !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())));
-    rule(AL_SPEED_LOST, DIAG_FRAMES(DIAG_FRAMES_LOST) || wheel,
-         !DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !wheel)));
-#else
-    rule(AL_SPEED_LOST, !g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100()))),
-         g || x < DIAG_SPEED_PERIODS / 2u);
-#endif
+    /* ... or the frames in use stopped (diag_wheel.h); the GPS's speed in use clears it unless
+     * the wheel's verdict holds */
+    rule(AL_SPEED_LOST, DIAG_FRAMES(DIAG_FRAMES_LOST) || (!g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())))),
+         !DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u
+                                            || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !pump && (x < DIAG_SPEED_PERIODS || !target_working_speed(speed_at_last_pulse_x100())))));
     x = in->in.speed_kmh_x100;
     g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
@@ -465,12 +462,8 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
     dg.wheel_noise = (uint8_t)(x > 255u ? 255u : x);
     /* ... or a rise a tractor cannot make (speed.h SPEED_JUMP_PERIODS), held until a standstill;
      * or, Speed src both, the wheel off the GPS (diag_wheel.h) */
-#if FW_PGN
     rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || speed_jumped() || DIAG_FRAMES(DIAG_FRAMES_SPEED_OFF),
          dg.wheel_noise == 0 && !speed_jumped() && !DIAG_FRAMES(DIAG_FRAMES_SPEED_OFF));
-#else
-    rule(AL_WHEEL_NOISE, dg.wheel_noise > 60 || speed_jumped(), dg.wheel_noise == 0 && !speed_jumped());
-#endif
     return dg.alarms;
 }
 

@@ -10,7 +10,8 @@
 static struct {
     uint8_t pump_stops;             /* the line fell under DIAG_PUMP_STOP_KPA at a wheel standstill:
                                      * the pump is on the wheels (a coupled PTO) */
-    uint8_t pump_cnt;               /* periods of the pump's evidence */
+    uint8_t pump_cnt;               /* periods of the pump's evidence, of one kind ... */
+    uint8_t pump_still;             /* ... that kind: 1 the line standing, 0 the pump delivering */
 } dw;
 
 #if FW_PGN
@@ -30,7 +31,7 @@ uint8_t diag_frames(void)
 void diag_wheel_init(void)
 {
     dw.pump_stops = 0;
-    dw.pump_cnt = 0;
+    dw.pump_cnt = dw.pump_still = 0;
 }
 
 /* The pump against the wheel. At a standstill the wheel reports (no given speed), the boom
@@ -49,6 +50,10 @@ uint8_t diag_pump(const __xdata app_status_t *in) __reentrant
         || !(still || (run && dw.pump_stops && in->open_nozzles && speed_at_last_pulse_x100()))) {
         dw.pump_cnt = 0;
         return 0;
+    }
+    if (still != dw.pump_still) {   /* the other kind of evidence: its own count */
+        dw.pump_still = still;
+        dw.pump_cnt = 0;
     }
     if (++dw.pump_cnt < DIAG_PUMP_PERIODS)
         return 0;

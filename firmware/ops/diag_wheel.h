@@ -22,6 +22,8 @@
 void diag_set_frames(uint8_t frames);
 uint8_t diag_frames(void);
 #define DIAG_FRAMES(bit) (diag_frames() & (bit))
+#else
+#define DIAG_FRAMES(bit) 0          /* no frames: the rules' frame terms drop out at compile time */
 #endif
 
 void diag_wheel_init(void);

@@ -88,6 +88,30 @@ static void test_plaus_min_flow_warning_at_its_period_count(void **state)
     in.in.speed_kmh_x100 = 200;
     in.manual = 1;
     assert_false(periods(100, 1) & (1u << AL_MIN_FLOW));
+    /* the edge, MinQ speed / 1.1 = 3.636 km/h: 3.63 under it (x 11 = 3993 < 4000), 3.64 not (4004) */
+    in.manual = 0;
+    in.in.speed_kmh_x100 = 364;
+    assert_false(periods(100, 1) & (1u << AL_MIN_FLOW));
+    in.in.speed_kmh_x100 = 363;
+    assert_false(periods(DIAG_MIN_FLOW_PERIODS - 1, 1) & (1u << AL_MIN_FLOW));
+    assert_true(periods(1, 1) & (1u << AL_MIN_FLOW));
+    in.in.speed_kmh_x100 = 364;
+    assert_false(periods(DIAG_CLEAR_PERIODS, 1) & (1u << AL_MIN_FLOW));
+    /* at a standstill nothing creeps: no warning, whatever the boom does */
+    in.in.speed_kmh_x100 = 0;
+    assert_false(periods(100, 1) & (1u << AL_MIN_FLOW));
+    /* the boom shut: nothing goes on the ground */
+    in.spraying = 0;
+    in.in.speed_kmh_x100 = 200;
+    assert_false(periods(100, 1) & (1u << AL_MIN_FLOW));
+    /* MinQ speed 4.4 km/h: 4.00 km/h is its / 1.1 exactly (x 11 = 4400): not under it, 3.99 is */
+    in.spraying = 1;
+    assert_true(param_set(P_MINF_SPEED, 44));
+    in.in.speed_kmh_x100 = 400;
+    assert_false(periods(100, 1) & (1u << AL_MIN_FLOW));
+    in.in.speed_kmh_x100 = 399;
+    assert_false(periods(DIAG_MIN_FLOW_PERIODS - 1, 1) & (1u << AL_MIN_FLOW));
+    assert_true(periods(1, 1) & (1u << AL_MIN_FLOW));
     assert_int_equal(strlen(diag_text(AL_MIN_FLOW)) <= 16, 1);
 }
 

@@ -206,6 +206,7 @@ static void test_raven_sends_only_its_own_lines_and_stays_silent(void **state)
         "$R,XX\r\n", "$r,rc,1300\r\n", "$X,RC,1300\r\n", "$R\r\n", "$R,RC 1300\r\n", "$R,RC,1\x01\r\n",
         "$R,RC,1300,0,1027,0,0,0,0,0,0,0,0\r\n", "\r\n", "$R,CX\r\n", "$R,XR\r\n", "$R,RX,1300\r\n",
         "$R,XC,1300\r\n", "$RXRC,1300\r\n", "$R,RC,13:0\r\n",      /* ':' is one past '9' */
+        "#R,RC,1300\r\n", "AR,RC,1300\r\n", " $R,RC,1300\r\n",   /* Raven's strings begin with '$' */
     };
     for (size_t i = 0; i < sizeof unusable / sizeof unusable[0]; i++)
         pc_send(unusable[i]);

@@ -574,14 +574,19 @@ static void test_serial_manual_jog_drives_the_valve_for_a_jog(void **state)
     }
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OPEN);
     assert_true(off_ms >= 20);
-    /* JOG - through the link: the bypass opens; anything but a lone + or - is refused */
+    /* JOG - through the link: the bypass opens; anything but a lone + or - is refused (JOG 0
+     * too, here in manual mode where a jog would run) */
     link_run_ms(600);
     assert_string_equal(scmd("JOG -"), "OK JOG");
     link_run_ms(100);
     assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OPEN);
-    static const char *const bad[] = {"JOG", "JOG x", "JOG ++", "JOG +-", "JOG -0", "JOG +x", "JOGX+"};
+    link_run_ms(600);
+    assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);    /* the jog ended */
+    static const char *const bad[] = {"JOG", "JOG x", "JOG ++", "JOG +-", "JOG -0", "JOG +x", "JOGX+", "JOG 0"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         assert_string_equal(scmd(bad[i]), i == 6 ? "ERR CMD" : "ERR ARG");
+    link_run_ms(100);
+    assert_int_equal(hal_host_io.valve_dir, HAL_VALVE_OFF);     /* none of them jogged */
     /* back to auto: the controller takes over from rest */
     assert_true(param_set(P_MODE, 0));
     link_run_ms(500);

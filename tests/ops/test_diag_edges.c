@@ -19,6 +19,7 @@
 #include "analog.h"
 #include "umath.h"
 #include "store.h"
+#include "diag_wheel.h"
 
 #define PERIOD_NS 100000000ull
 #define NOZZLES 36u                 /* params' default: every section open */
@@ -56,6 +57,7 @@ static int setup(void **state)
     valve_init();
     target_init();
     diag_init();
+    diag_set_frames(0);             /* no frames in use (app.c sets them each period) */
     adc_counts[0] = adc_counts[1] = 614;
     hal_host_adc_source(adc);
     memset(&sy, 0, sizeof sy);
@@ -265,9 +267,115 @@ static void test_speed_lost_20_periods_after_the_last_pulse_at_working_speed(voi
     assert_int_equal(speed_quiet_periods(), 1);
     assert_int_equal(periods_until(AL_SPEED_LOST, 1, 40), 20 - 1);
     assert_int_equal(speed_quiet_periods(), 20);
+    /* held while the wheel stays quiet */
+    for (int i = 0; i < 100; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    /* a given speed lets the operator go on: cleared after 10 periods of it; taken back, the
+     * wheel still quiet, raised again in its first period (the 20 quiet periods long past) */
+    assert_true(param_set(P_GIVEN_SPEED, 80));
+    assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+    assert_true(param_set(P_GIVEN_SPEED, 0));
+    assert_int_equal(periods_until(AL_SPEED_LOST, 1, 30), 1);
     /* pulses again: cleared once fewer than 10 periods are quiet, for 10 periods */
     wheel(8.0);
     assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+}
+
+/* SPEED_LOST clears on periods with fewer than 10 quiet ones (DIAG_SPEED_PERIODS / 2), 10 such
+ * periods in a row. A lone pulse after it: quiet 0 .. 9, cleared on the 10th. Raised by the
+ * frames in use stopping (diag_set_frames, as app.c sets them) at 16 km/h (a pulse every 88 ms:
+ * each period has one), the wheel stopping as the frames come back: quiet 1 .. 9 are 9
+ * periods, the 10th quiet one breaks the run: held. With the GPS's speed in use the wheel's own
+ * verdict (pulses stopped at working speed) still raises and holds it. */
+static void test_speed_lost_clears_on_10_periods_under_10_quiet(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    for (int i = 0; i < 40; i++)
+        period();
+    wheel(0);
+    assert_true(periods_until(AL_SPEED_LOST, 1, 40) <= 21);
+    hal_host_wheel_edge(sy.now_ns + PERIOD_NS / 2);
+    assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+    assert_int_equal(speed_quiet_periods(), 9);
+    /* the frames */
+    setup(NULL);
+    wheel(16.0);
+    for (int i = 0; i < 40; i++)
+        assert_false(on(period(), AL_SPEED_LOST));
+    diag_set_frames(DIAG_FRAMES_LOST);
+    assert_true(on(period(), AL_SPEED_LOST));
+    assert_int_equal(speed_quiet_periods(), 0);
+    wheel(0);
+    diag_set_frames(0);
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    assert_int_equal(speed_quiet_periods(), 40);
+    /* the GPS's speed in use */
+    setup(NULL);
+    diag_set_frames(DIAG_FRAMES_GPS);
+    wheel(8.0);
+    for (int i = 0; i < 40; i++)
+        period();
+    wheel(0);
+    assert_true(periods_until(AL_SPEED_LOST, 1, 40) <= 21);
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    /* ... raised by the frames stopping at 16 km/h, the wheel stopping with them: back at the
+     * 10th quiet period, the GPS's speed clears it on the 10th period of the wheel's own count
+     * under 20 (quiet 19), and the wheel's verdict raises it again at 20; back at the 11th,
+     * 9 periods under 20: held */
+    for (int late = 0; late < 2; late++) {
+        setup(NULL);
+        diag_set_frames(DIAG_FRAMES_GPS);
+        wheel(16.0);
+        for (int i = 0; i < 40; i++)
+            assert_false(on(period(), AL_SPEED_LOST));
+        diag_set_frames(DIAG_FRAMES_GPS | DIAG_FRAMES_LOST);
+        assert_true(on(period(), AL_SPEED_LOST));
+        wheel(0);
+        while (speed_quiet_periods() < 9 + late)
+            assert_true(on(period(), AL_SPEED_LOST));
+        diag_set_frames(DIAG_FRAMES_GPS);
+        for (int q = 10 + late; q <= 60; q++) {
+            uint16_t a = period();
+            assert_int_equal(speed_quiet_periods(), q);
+            assert_int_equal(on(a, AL_SPEED_LOST), late || q != 19);
+        }
+    }
+    diag_set_frames(0);
+}
+
+/* With the GPS's speed in use, SPEED_LOST from the pump (the wheel's last speed 3 km/h, under
+ * working speed: its own verdict says nothing) is held while the pump says the wheels turn: the
+ * line under 10 kPa for 30 periods at the standstill (learnt), then at 60 kPa with the bypass
+ * opened and the sections on, 30 periods. */
+static void test_speed_lost_from_the_pump_held_with_the_gps_speed(void **state)
+{
+    (void)state;
+    setup(NULL);
+    diag_set_frames(DIAG_FRAMES_GPS);
+    wheel(3.0);
+    for (int i = 0; i < 40; i++)
+        period();
+    wheel(0);
+    sy.drive = -Q15_MAX;            /* the bypass opened by the stroke */
+    for (int i = 0; i < 40; i++)
+        period();
+    sy.drive = 0;
+    sy.st.open_nozzles = 36;
+    sy.st.in.pressure_kpa = 5;
+    for (int i = 0; i < 40; i++)
+        assert_false(on(period(), AL_SPEED_LOST));
+    sy.st.in.pressure_kpa = 60;
+    assert_int_equal(periods_until(AL_SPEED_LOST, 1, 60), 30);
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_SPEED_LOST));
+    /* the line back under 10 kPa: the pump stands, cleared after 10 periods */
+    sy.st.in.pressure_kpa = 5;
+    assert_int_equal(periods_until(AL_SPEED_LOST, 0, 30), 10);
+    diag_set_frames(0);
 }
 
 static void test_speed_lost_not_below_working_speed_nor_with_a_given_speed(void **state)
@@ -675,6 +783,25 @@ static void test_wheel_noise_in_the_period_its_score_passes_60(void **state)
     assert_int_equal(periods_until(AL_WHEEL_NOISE, 0, 20), 10 - 1);   /* the period at 0 is the first of 10 */
     printf("# wheel noise cleared %d periods after the bounce stopped\n", k);
     assert_int_equal(score, 0);
+}
+
+/* Speed src both finding the wheel off the GPS (the frames' flag, diag_set_frames as app.c sets
+ * it): WHEEL_NOISE in the period it is set, held every period while it stays, cleared 10
+ * periods after it goes (the score 0, no jump). */
+static void test_wheel_noise_while_the_frames_find_the_speeds_apart(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel(8.0);
+    for (int i = 0; i < 30; i++)
+        assert_int_equal(period(), 0);
+    diag_set_frames(DIAG_FRAMES_SPEED_OFF | DIAG_FRAMES_GPS);
+    assert_true(on(period(), AL_WHEEL_NOISE));
+    for (int i = 0; i < 40; i++)
+        assert_true(on(period(), AL_WHEEL_NOISE));
+    diag_set_frames(DIAG_FRAMES_GPS);
+    assert_int_equal(periods_until(AL_WHEEL_NOISE, 0, 20), 10);
+    diag_set_frames(0);
 }
 
 /* ---- the tank balance: METER_CAL ------------------------------------------------------------- */
@@ -1374,6 +1501,8 @@ int main(void)
         cmocka_unit_test(test_tank_rules_need_the_level_sensor_and_a_real_refill),
         cmocka_unit_test(test_overpressure_needs_the_pressure_sensor),
         cmocka_unit_test(test_speed_lost_20_periods_after_the_last_pulse_at_working_speed),
+        cmocka_unit_test(test_speed_lost_clears_on_10_periods_under_10_quiet),
+        cmocka_unit_test(test_speed_lost_from_the_pump_held_with_the_gps_speed),
         cmocka_unit_test(test_speed_lost_not_below_working_speed_nor_with_a_given_speed),
         cmocka_unit_test(test_meter_lost_after_10_suspect_periods),
         cmocka_unit_test(test_meter_lost_needs_p_start_working_speed_and_a_settled_boom),
@@ -1388,6 +1517,7 @@ int main(void)
         cmocka_unit_test(test_meter_noise_on_the_fourth_glitching_period),
         cmocka_unit_test(test_sensor_faults_in_the_period_the_input_is_judged_faulty),
         cmocka_unit_test(test_wheel_noise_in_the_period_its_score_passes_60),
+        cmocka_unit_test(test_wheel_noise_while_the_frames_find_the_speeds_apart),
         cmocka_unit_test(test_meter_cal_on_the_10th_period_of_the_balance_off),
         cmocka_unit_test(test_meter_cal_cleared_after_10_periods_of_the_balance_on),
         cmocka_unit_test(test_model_learnt_at_the_64th_sample_of_clean_periods),

@@ -85,8 +85,7 @@ static void wheel_measured_bypass_open(void)
 }
 
 /* At a standstill with the boom shut the line under 10 kPa for 30 periods: the pump stands with
- * the wheels. Then a period at 30 kPa (neither standing nor delivering: the count starts again;
- * a line that went from under 10 to 50 kPa in one period would carry the count over). */
+ * the wheels. Then a period at 30 kPa (neither standing nor delivering: the count starts again). */
 static void pump_learnt_on_the_wheels(void)
 {
     sy.st.in.pressure_kpa = DIAG_PUMP_STOP_KPA - 1u;
@@ -108,6 +107,39 @@ static void test_pump_runs_at_50_kpa_on_the_30th_period(void **state)
         sy.st.in.pressure_kpa = (uint16_t)(DIAG_PUMP_RUN_KPA - 1u + k);
         assert_int_equal(pump_after(60), k ? 30 : 61);
     }
+}
+
+/* The line straight from under 10 kPa (the pump learnt standing, 40 periods of it) to 50 kPa and
+ * more: the pump's delivery is its own evidence, 30 periods of it from the first at 50 kPa, none
+ * carried over from the standing. The same when the line falls back under 10 kPa for a period
+ * inside the 30 (the count of the delivery starts again after it). */
+static void test_pump_counts_its_30_periods_afresh_when_the_line_jumps(void **state)
+{
+    (void)state;
+    setup(NULL);
+    wheel_measured_bypass_open();
+    sy.st.in.pressure_kpa = DIAG_PUMP_STOP_KPA - 1u;
+    for (int i = 0; i < 40; i++)
+        assert_int_equal(pump(), 0);
+    sy.st.in.pressure_kpa = DIAG_PUMP_RUN_KPA;
+    assert_int_equal(pump_after(60), 30);
+    /* said once, it holds while the line does */
+    assert_int_equal(pump(), 1);
+    /* under 10 kPa for a period, then 50 kPa again: 30 periods more */
+    sy.st.in.pressure_kpa = DIAG_PUMP_STOP_KPA - 1u;
+    assert_int_equal(pump(), 0);
+    sy.st.in.pressure_kpa = DIAG_PUMP_RUN_KPA;
+    assert_int_equal(pump_after(60), 30);
+    /* 20 periods at 50 kPa, one under 10, then 50 again: 30 from there */
+    sy.st.in.pressure_kpa = DIAG_PUMP_STOP_KPA - 1u;
+    for (int i = 0; i < 40; i++)
+        assert_int_equal(pump(), 0);
+    sy.st.in.pressure_kpa = DIAG_PUMP_RUN_KPA;
+    assert_int_equal(pump_after(20), 21);
+    sy.st.in.pressure_kpa = DIAG_PUMP_STOP_KPA - 1u;
+    assert_int_equal(pump(), 0);
+    sy.st.in.pressure_kpa = DIAG_PUMP_RUN_KPA;
+    assert_int_equal(pump_after(60), 30);
 }
 
 /* Learnt under 10 kPa: 9 kPa is under it, 10 is not (nothing learnt, nothing said after). */
@@ -181,6 +213,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pump_runs_at_50_kpa_on_the_30th_period),
         cmocka_unit_test(test_pump_learnt_under_10_kpa),
+        cmocka_unit_test(test_pump_counts_its_30_periods_afresh_when_the_line_jumps),
         cmocka_unit_test(test_pump_learns_and_says_only_at_a_reported_standstill),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1005,6 +1005,9 @@ static void test_store_a_right_crc_over_a_wrong_header_is_not_loaded(void **stat
         {0x5A, PARAMS_VERSION, P_COUNT, 1}, {0x5A, 9, PARAMS_V9_COUNT, 1}, {0x5A, 7, PARAMS_V8_COUNT, 1},
         {0x5A, 6, PARAMS_V8_COUNT, 1}, {0x5A, 5, PARAMS_V8_COUNT, 1},
         {0x5A, 4, PARAMS_V4_COUNT, 1}, {0x5A, 3, PARAMS_V3_COUNT, 1}, {0x5A, 2, PARAMS_V2_COUNT, 1},
+        /* version 10's count under another version */
+        {0x5A, 9, PARAMS_V10_COUNT, 0}, {0x5A, 8, PARAMS_V10_COUNT, 0}, {0x5A, PARAMS_VERSION, PARAMS_V10_COUNT, 0},
+        {0x5A, 10, PARAMS_V9_COUNT, 0},
     };
     for (size_t i = 0; i < sizeof h / sizeof h[0]; i++) {
         hal_host_reset();
