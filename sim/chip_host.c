@@ -1,15 +1,12 @@
 /* chip_host.c: chip in the loop, host side: the STC12C5A60S2 model in uCsim in lock step with the plant, one 1 ms slot a tick. */
-#define _GNU_SOURCE
 #include <errno.h>
-#include <fcntl.h>
-#include <signal.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 #include "chip_host.h"
+#include "chip_timing.h"
+#include "lockstep.h"
 #include "ucsim/stc12_link.h"
 #include "hal_host.h"
 #include "link_crc.h"
@@ -25,11 +22,7 @@
 
 struct chip {
     sim_t *sim;
-    pid_t pid;
-    int to_m, from_m, console;
-    FILE *in;
-    char dir[64];
-    int failed;
+    lockstep_t link;                /* the model's process and its frames */
     uint64_t slot_start;            /* clock the current slot began */
     uint8_t ev[CHIP_EV_MAX * 13];
     unsigned n_ev;
@@ -41,82 +34,27 @@ struct chip {
     uint16_t sent[P_COUNT];         /* the settings the image was given or reported */
     uint16_t fw_rate, fw_k;         /* P_RATE, P_METER_K as the image last reported them */
     uint16_t a_status, a_param;     /* XRAM addresses */
-    unsigned resets;
-    uint8_t cause;
-    /* pass timing */
-    uint64_t passes, pass_sum;
-    uint32_t pass_max, step_max;
-    uint64_t pass_max_tick, step_max_tick;
-    uint8_t max_adc, max_iap;
-    uint32_t *slot_max;
-    size_t n_slot, cap_slot;
-    struct { unsigned v; uint32_t count, max, own_max; uint64_t sum; } vec[8];
-    int n_vec;
-    uint8_t sp_max;                 /* the stack's high-water mark (SP), from the model */
+    chip_timing_t time;             /* the image's passes, handlers, stack, resets */
     struct { uint64_t ns; uint8_t kind; uint32_t value; } at[8];  /* chip_at's inputs */
     int n_at, next_at;
-    uint16_t early;                 /* output pins driven high between a reset and its first pass */
     uint64_t sweep_from;            /* the sweep's speeds are taken from here (ns; 0: no sweep) */
-    uint16_t *speeds;
-    size_t n_speed, cap_speed;
 };
 
 static chip_t *active;              /* the plant's edge callbacks take no context */
-
-static void put(uint8_t *b, uint64_t v, int n)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        b[i] = (uint8_t)(v >> (8 * i));
-}
-
-static uint64_t get(const uint8_t *b, int n)
-{
-    uint64_t v = 0;
-    int i;
-    for (i = 0; i < n; i++)
-        v |= (uint64_t)b[i] << (8 * i);
-    return v;
-}
-
-static void wr(chip_t *c, const uint8_t *b, size_t n)
-{
-    while (n && !c->failed) {
-        ssize_t w = write(c->to_m, b, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0) {
-            c->failed = 1;
-            return;
-        }
-        b += w;
-        n -= (size_t)w;
-    }
-}
-
-static int rd(chip_t *c, uint8_t *b, size_t n)
-{
-    if (c->failed || fread(b, 1, n, c->in) != n) {
-        c->failed = 1;
-        memset(b, 0, n);
-        return -1;
-    }
-    return 0;
-}
 
 static void event(chip_t *c, uint64_t clock, uint8_t kind, uint32_t value)
 {
     uint8_t *e;
     if (c->n_ev == CHIP_EV_MAX) {
-        c->failed = 1;
+        c->link.failed = 1;
         return;
     }
     if (clock < c->slot_start)
         clock = c->slot_start;
     e = c->ev + 13 * c->n_ev++;
-    put(e, clock, 8);
+    lockstep_put(e, clock, 8);
     e[8] = kind;
-    put(e + 9, value, 4);
+    lockstep_put(e + 9, value, 4);
 }
 
 static void wheel_edge(uint64_t t_ns)
@@ -173,23 +111,23 @@ static void settings(chip_t *c)
 
 static void status(chip_t *c, const uint8_t *s, const uint8_t *pv)
 {
-    uint16_t rate = (uint16_t)get(pv + 2 * P_RATE, 2), k = (uint16_t)get(pv + 2 * P_METER_K, 2);
+    uint16_t rate = (uint16_t)lockstep_get(pv + 2 * P_RATE, 2), k = (uint16_t)lockstep_get(pv + 2 * P_METER_K, 2);
     int fresh = 0;
-    app_status.in.target_lpm_x100 = (int16_t)get(s + 0, 2);
-    app_status.in.flow_lpm_x100 = (int16_t)get(s + 2, 2);
-    app_status.in.speed_kmh_x100 = (uint16_t)get(s + 4, 2);
-    app_status.in.pressure_kpa = (uint16_t)get(s + 6, 2);
+    app_status.in.target_lpm_x100 = (int16_t)lockstep_get(s + 0, 2);
+    app_status.in.flow_lpm_x100 = (int16_t)lockstep_get(s + 2, 2);
+    app_status.in.speed_kmh_x100 = (uint16_t)lockstep_get(s + 4, 2);
+    app_status.in.pressure_kpa = (uint16_t)lockstep_get(s + 6, 2);
     app_status.in.valve_limit = s[8];
-    app_status.tank_l = (uint16_t)get(s + 9, 2);
-    app_status.applied_l_ha_x10 = (uint16_t)get(s + 11, 2);
-    app_status.drive = (int16_t)get(s + 13, 2);
-    app_status.alarms = (uint16_t)get(s + 15, 2);
-    app_status.alarms_unacked = (uint16_t)get(s + 17, 2);
+    app_status.tank_l = (uint16_t)lockstep_get(s + 9, 2);
+    app_status.applied_l_ha_x10 = (uint16_t)lockstep_get(s + 11, 2);
+    app_status.drive = (int16_t)lockstep_get(s + 13, 2);
+    app_status.alarms = (uint16_t)lockstep_get(s + 15, 2);
+    app_status.alarms_unacked = (uint16_t)lockstep_get(s + 17, 2);
     app_status.spraying = s[19];
     app_status.manual = s[20];
     app_status.open_nozzles = s[21];
     app_status.boom_wait = s[22];
-    app_status.job_area_m2 = (uint32_t)get(s + 23, 4);
+    app_status.job_area_m2 = (uint32_t)lockstep_get(s + 23, 4);
     /* a setting the image changed (keys, link) into the host's copy, which the reference reads */
     if (rate != c->fw_rate) {
         c->fw_rate = rate;
@@ -245,7 +183,7 @@ static void inputs(chip_t *c, uint64_t end)
     {
         unsigned a, z;
         for (a = 1; a < c->n_ev; a++)
-            for (z = a; z > 0 && get(c->ev + 13 * (z - 1), 8) > get(c->ev + 13 * z, 8); z--) {
+            for (z = a; z > 0 && lockstep_get(c->ev + 13 * (z - 1), 8) > lockstep_get(c->ev + 13 * z, 8); z--) {
                 uint8_t t[13];
                 memcpy(t, c->ev + 13 * z, 13);
                 memcpy(c->ev + 13 * z, c->ev + 13 * (z - 1), 13);
@@ -254,88 +192,63 @@ static void inputs(chip_t *c, uint64_t end)
     }
 }
 
+/* the pins the board's drivers see into the host's outputs (report's first bytes) */
+static void pins(const uint8_t *r)
+{
+    uint8_t p1 = r[0], p3 = r[1];
+    unsigned pwm = (unsigned)lockstep_get(r + 4, 2);
+    int dir = (p1 & 0x20) && !(p1 & 0x40) ? HAL_VALVE_OPEN : (p1 & 0x40) && !(p1 & 0x20) ? HAL_VALVE_CLOSE : 0;
+    /* the bridge runs only while its enable (P1.4) drives: the PWM on a push-pull pin */
+    hal_host_io.valve_dir = (int8_t)((p1 & 0x10) ? dir : 0);
+    hal_host_io.valve_duty = (uint8_t)((p1 & 0x10) && dir ? (pwm > 255 ? 255 : pwm) : 0);
+    if (!hal_host_io.valve_duty)
+        hal_host_io.valve_dir = 0;
+    hal_host_io.spray_on = (p3 & 0x10) ? 1 : 0;
+    hal_host_io.buzzer = (p3 & 0x20) ? 1 : 0;
+}
+
 /* the slot's report: the pins into the host's outputs, resets, passes, the UART's frames, the
  * status; 0, or -1 when the model did not answer */
 static int report(chip_t *c)
 {
     uint8_t r[28], *b;
     unsigned n_tx, i;
-    if (rd(c, r, 1) < 0 || r[0] != 'R' || rd(c, r, 27) < 0) {
-        c->failed = 1;
+    if (lockstep_read(&c->link, r, 1) < 0 || r[0] != 'R' || lockstep_read(&c->link, r, 27) < 0) {
+        c->link.failed = 1;
         return -1;
     }
-    {
-        uint8_t p1 = r[0], p3 = r[1];
-        unsigned pwm = (unsigned)get(r + 4, 2);
-        int dir = (p1 & 0x20) && !(p1 & 0x40) ? HAL_VALVE_OPEN : (p1 & 0x40) && !(p1 & 0x20) ? HAL_VALVE_CLOSE : 0;
-        /* the bridge runs only while its enable (P1.4) drives: the PWM on a push-pull pin */
-        hal_host_io.valve_dir = (int8_t)((p1 & 0x10) ? dir : 0);
-        hal_host_io.valve_duty = (uint8_t)((p1 & 0x10) && dir ? (pwm > 255 ? 255 : pwm) : 0);
-        if (!hal_host_io.valve_duty)
-            hal_host_io.valve_dir = 0;
-        hal_host_io.spray_on = (p3 & 0x10) ? 1 : 0;
-        hal_host_io.buzzer = (p3 & 0x20) ? 1 : 0;
-    }
+    pins(r);
     if (r[6]) {
-        c->resets += r[6];
-        c->cause = r[7];
+        c->time.resets += r[6];
+        c->time.cause = r[7];
     }
-    {
-        unsigned np = (unsigned)get(r + 8, 2);
-        uint32_t mx = (uint32_t)get(r + 10, 4), st = (uint32_t)get(r + 20, 4);
-        uint64_t tick = c->sim->t_ns / SIM_TICK_NS;
-        c->passes += np;
-        c->pass_sum += get(r + 14, 4);
-        if (mx > c->pass_max) {
-            c->pass_max = mx;
-            c->pass_max_tick = tick;
-            c->max_adc = r[18];
-            c->max_iap = r[19];
-        }
-        if (st > c->step_max) {
-            c->step_max = st;
-            c->step_max_tick = tick;
-        }
-        if (c->n_slot == c->cap_slot) {
-            c->cap_slot = c->cap_slot ? 2 * c->cap_slot : 65536;
-            c->slot_max = realloc(c->slot_max, c->cap_slot * sizeof *c->slot_max);
-            if (!c->slot_max) {
-                c->failed = 1;
-                return -1;
-            }
-        }
-        if (np)
-            c->slot_max[c->n_slot++] = mx;
+    if (chip_timing_slot(&c->time, r, c->sim->t_ns / SIM_TICK_NS) < 0) {
+        c->link.failed = 1;
+        return -1;
     }
-    c->early |= (uint16_t)get(r + 24, 2);
+    c->time.early |= (uint16_t)lockstep_get(r + 24, 2);
     n_tx = r[26];
     for (i = 0; i < n_tx; i++) {
         uint8_t t[12];
         int d;
-        if (rd(c, t, 12) < 0)
+        if (lockstep_read(&c->link, t, 12) < 0)
             return -1;
-        d = decode((unsigned)get(t + 9, 2), t[8]);
+        d = decode((unsigned)lockstep_get(t + 9, 2), t[8]);
         if (d >= 0)
             hal_uart_put((uint8_t)d);
     }
     b = malloc(APP_STATUS_BYTES + 2 * P_COUNT);
-    if (!b || rd(c, b, APP_STATUS_BYTES + 2 * P_COUNT) < 0) {
+    if (!b || lockstep_read(&c->link, b, APP_STATUS_BYTES + 2 * P_COUNT) < 0) {
         free(b);
-        c->failed = 1;
+        c->link.failed = 1;
         return -1;
     }
     status(c, b, b + APP_STATUS_BYTES);
     free(b);
-    if (c->sweep_from && c->sim->t_ns >= c->sweep_from && c->sim->t_ns % 100000000u == 0) {
-        if (c->n_speed == c->cap_speed) {
-            c->cap_speed = c->cap_speed ? 2 * c->cap_speed : 1024;
-            c->speeds = realloc(c->speeds, c->cap_speed * sizeof *c->speeds);
-            if (!c->speeds) {
-                c->failed = 1;
-                return -1;
-            }
-        }
-        c->speeds[c->n_speed++] = app_status.in.speed_kmh_x100;
+    if (c->sweep_from && c->sim->t_ns >= c->sweep_from && c->sim->t_ns % 100000000u == 0
+        && chip_timing_speed(&c->time, app_status.in.speed_kmh_x100) < 0) {
+        c->link.failed = 1;
+        return -1;
     }
     return 0;
 }
@@ -346,14 +259,14 @@ static void pass(void *ctx)
     chip_t *c = ctx;
     uint64_t end = STC12_CLK_OF_NS(c->sim->t_ns);
     uint8_t hdr[11];
-    if (c->failed)
+    if (c->link.failed)
         return;
     inputs(c, end);
     hdr[0] = 'S';
-    put(hdr + 1, end, 8);
-    put(hdr + 9, c->n_ev, 2);
-    wr(c, hdr, sizeof hdr);
-    wr(c, c->ev, 13u * c->n_ev);
+    lockstep_put(hdr + 1, end, 8);
+    lockstep_put(hdr + 9, c->n_ev, 2);
+    lockstep_write(&c->link, hdr, sizeof hdr);
+    lockstep_write(&c->link, c->ev, 13u * c->n_ev);
     c->n_ev = 0;
     c->slot_start = end;
     report(c);
@@ -392,21 +305,41 @@ static int map_addr(const char *map, const char *sym, uint16_t *a)
     return -1;
 }
 
+/* the operator's set-up: the scenario's settings saved by the host build, the image's EEPROM at
+ * power-on; the addresses of app_poll and of what each slot's report copies (app_status,
+ * param_v) */
+static void configure(chip_t *c, uint16_t a_poll)
+{
+    uint8_t cfg[1 + HAL_EEPROM_SIZE + 3 + 2 * 3];
+    size_t k = 0;
+    lockstep_erase_eeprom();
+    store_save();
+    cfg[k++] = 'C';
+    memcpy(cfg + k, hal_host_eeprom(), HAL_EEPROM_SIZE);
+    k += HAL_EEPROM_SIZE;
+    k += lockstep_put(cfg + k, a_poll, 2);
+    cfg[k++] = 2;
+    lockstep_put(cfg + k, c->a_status, 2);
+    cfg[k + 2] = APP_STATUS_BYTES;
+    k += 3;
+    lockstep_put(cfg + k, c->a_param, 2);
+    cfg[k + 2] = 2 * P_COUNT;
+    k += 3;
+    lockstep_write(&c->link, cfg, k);
+}
+
 chip_t *chip_start(sim_t *sim, const char *ihx, const char *s51, char *err, size_t n)
 {
     chip_t *c = calloc(1, sizeof *c);
-    char fin[96], fout[96], map[512];
+    char map[512];
+    char *argv[] = { (char *)s51, "-t", "STC12", "-X", "11.0592M", (char *)ihx, NULL };
     uint16_t a_poll;
-    uint8_t cfg[1 + HAL_EEPROM_SIZE + 3 + 2 * 3];
-    size_t k;
-    int cons[2];
     if (!c) {
         snprintf(err, n, "out of memory");
         return NULL;
     }
     c->sim = sim;
-    c->pid = -1;
-    c->to_m = c->from_m = c->console = -1;
+    lockstep_init(&c->link);
     c->sections = -1;
     snprintf(map, sizeof map, "%.*s.map", (int)(strlen(ihx) > 4 ? strlen(ihx) - 4 : strlen(ihx)), ihx);
     if (access(ihx, R_OK) != 0 || access(s51, X_OK) != 0) {
@@ -420,73 +353,18 @@ chip_t *chip_start(sim_t *sim, const char *ihx, const char *s51, char *err, size
         free(c);
         return NULL;
     }
-    snprintf(c->dir, sizeof c->dir, "/tmp/chip.XXXXXX");
-    if (!mkdtemp(c->dir)) {
-        snprintf(err, n, "mkdtemp: %s", strerror(errno));
-        free(c);
-        return NULL;
-    }
-    snprintf(fin, sizeof fin, "%s/to_model", c->dir);
-    snprintf(fout, sizeof fout, "%s/from_model", c->dir);
-    if (mkfifo(fin, 0600) < 0 || mkfifo(fout, 0600) < 0 || pipe(cons) < 0) {
-        snprintf(err, n, "fifo: %s", strerror(errno));
+    if (lockstep_fifos(&c->link, "/tmp/chip.XXXXXX", err, n) < 0) {
         chip_free(c);
         return NULL;
     }
-    c->pid = fork();
-    if (c->pid == 0) {
-        char log[96];
-        int fd;
-        snprintf(log, sizeof log, "%s/s51.log", c->dir);
-        fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        dup2(cons[0], 0);
-        if (fd >= 0) {
-            dup2(fd, 1);
-            dup2(fd, 2);
-        }
-        close(cons[1]);
-        setenv("STC12_LINK_IN", fin, 1);
-        setenv("STC12_LINK_OUT", fout, 1);
-        execl(s51, "s51", "-t", "STC12", "-X", "11.0592M", ihx, (char *)NULL);
-        _exit(127);
-    }
-    close(cons[0]);
-    c->console = cons[1];
-    if (c->pid < 0) {
-        snprintf(err, n, "fork: %s", strerror(errno));
+    if (lockstep_spawn(&c->link, argv, 1) < 0) {
+        snprintf(err, n, "the model did not open its link (%s/s51.log)", c->link.dir);
         chip_free(c);
         return NULL;
     }
-    /* the model opens its input first, then its output */
-    c->to_m = open(fin, O_WRONLY);
-    c->from_m = c->to_m >= 0 ? open(fout, O_RDONLY) : -1;
-    c->in = c->from_m >= 0 ? fdopen(c->from_m, "rb") : NULL;
-    if (!c->in || write(c->console, "run\n", 4) != 4) {
-        snprintf(err, n, "the model did not open its link (%s/s51.log)", c->dir);
-        chip_free(c);
-        return NULL;
-    }
-    /* the operator's set-up: the scenario's settings saved by the host build, the image's
-     * EEPROM at power-on; then the host's queues as the image finds the machine */
-    memset(hal_host_eeprom(), 0xFF, HAL_EEPROM_SIZE);
-    hal_host_eeprom_cut_after(-1);
-    store_save();
-    k = 0;
-    cfg[k++] = 'C';
-    memcpy(cfg + k, hal_host_eeprom(), HAL_EEPROM_SIZE);
-    k += HAL_EEPROM_SIZE;
-    put(cfg + k, a_poll, 2);
-    k += 2;
-    cfg[k++] = 2;
-    put(cfg + k, c->a_status, 2);
-    cfg[k + 2] = APP_STATUS_BYTES;
-    k += 3;
-    put(cfg + k, c->a_param, 2);
-    cfg[k + 2] = 2 * P_COUNT;
-    k += 3;
-    wr(c, cfg, k);
-    while (hal_host_uart_tx_pop() >= 0)
-        ;
+    configure(c, a_poll);
+    /* then the host's queues as the image finds the machine */
+    lockstep_drop_uart();
     memcpy(c->sent, param_v, sizeof c->sent);
     c->fw_rate = param_v[P_RATE];
     c->fw_k = param_v[P_METER_K];
@@ -501,127 +379,40 @@ chip_t *chip_start(sim_t *sim, const char *ihx, const char *s51, char *err, size
 int chip_finish(chip_t *c)
 {
     uint8_t q = 'Q', h[3];
-    int st = 0, i;
+    int i, n_vec;
     c->sim->pass = NULL;
-    if (!c->failed) {
-        wr(c, &q, 1);
-        if (rd(c, h, 3) == 0 && h[0] == 'X') {
-            c->sp_max = h[1];
-            c->n_vec = h[2] > 8 ? 8 : h[2];
-            for (i = 0; i < c->n_vec; i++) {
+    if (!c->link.failed) {
+        lockstep_write(&c->link, &q, 1);
+        if (lockstep_read(&c->link, h, 3) == 0 && h[0] == 'X') {
+            c->time.sp_max = h[1];
+            n_vec = h[2] > 8 ? 8 : h[2];
+            for (i = 0; i < n_vec; i++) {
                 uint8_t v[22];
-                if (rd(c, v, 22) < 0)
+                if (lockstep_read(&c->link, v, 22) < 0)
                     break;
-                c->vec[i].v = (unsigned)get(v, 2);
-                c->vec[i].count = (uint32_t)get(v + 2, 4);
-                c->vec[i].max = (uint32_t)get(v + 6, 4);
-                c->vec[i].own_max = (uint32_t)get(v + 10, 4);
-                c->vec[i].sum = get(v + 14, 8);
+                chip_timing_handler(&c->time, v);
             }
         } else {
-            c->failed = 1;
+            c->link.failed = 1;
         }
     }
-    if (c->pid > 0) {
-        waitpid(c->pid, &st, 0);
-        c->pid = -1;
-    }
-    return c->failed || !WIFEXITED(st) || WEXITSTATUS(st) != 0 ? -1 : 0;
+    if (lockstep_wait(&c->link, 0) < 0)
+        return -1;
+    return c->link.failed ? -1 : 0;
 }
-
-unsigned chip_resets(const chip_t *c)
-{
-    return c->resets;
-}
-
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-static int cmp_u16(const void *a, const void *b)
-{
-    uint16_t x = *(const uint16_t *)a, y = *(const uint16_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-#define US(clk) ((clk) * 1e6 / STC12_SYSCLK_HZ)
 
 void chip_report(const chip_t *c, FILE *f)
 {
-    static const char *const name[8] = { "INT0 (wheel)", "timer 0 (tick)", "INT1", "timer 1", "UART", "ADC",
-                                         "LVD", "PCA (meter, overflow)" };
-    int i;
-    fprintf(f, "chip: %llu passes, 1T clocks at 11.0592 MHz: mean %.0f (%.1f us)",
-            (unsigned long long)c->passes, c->passes ? (double)c->pass_sum / c->passes : 0.0,
-            c->passes ? US((double)c->pass_sum / c->passes) : 0.0);
-    if (c->n_slot) {
-        uint32_t *s = malloc(c->n_slot * sizeof *s);
-        if (s) {
-            memcpy(s, c->slot_max, c->n_slot * sizeof *s);
-            qsort(s, c->n_slot, sizeof *s, cmp_u32);
-            fprintf(f, ", a millisecond's longest p99 %u (%.0f us)", s[(size_t)(0.99 * (c->n_slot - 1))],
-                    US((double)s[(size_t)(0.99 * (c->n_slot - 1))]));
-            free(s);
-        }
-    }
-    fprintf(f, "\nchip: worst pass %u clocks = %.3f ms at tick %llu (%.3f s); it started %u conversions, %u IAP operations\n",
-            c->pass_max, US((double)c->pass_max) / 1000, (unsigned long long)c->pass_max_tick, c->pass_max_tick * 1e-3,
-            c->max_adc, c->max_iap);
-    fprintf(f, "chip: worst control step pass (8 conversions) %u clocks = %.3f ms at %.3f s\n", c->step_max,
-            US((double)c->step_max) / 1000, c->step_max_tick * 1e-3);
-    for (i = 0; i < c->n_vec; i++)
-        if (c->vec[i].count)
-            fprintf(f, "chip: handler %-22s vector 0x%02x: %u times, its own time max %u clocks = %.1f us, "
-                       "mean %.0f; with the handlers preempting it max %u = %.1f us\n",
-                    name[i], c->vec[i].v, c->vec[i].count, c->vec[i].own_max, US((double)c->vec[i].own_max),
-                    (double)c->vec[i].sum / c->vec[i].count, c->vec[i].max, US((double)c->vec[i].max));
-    if (c->sp_max)
-        fprintf(f, "chip: stack high-water mark 0x%02x (SP, with the handlers' pushes): %d B below the top (0xff)\n",
-                c->sp_max, 0xFF - c->sp_max);
-    fprintf(f, "chip: %u resets (cause WDT_CONTR 0x%02x after the last); board driver pins driven high "
-               "between a reset and its first pass: 0x%04x (P3 high byte, P1 low; 0x3070 the bridge, relay, buzzer)\n",
-            c->resets, c->cause, c->early & 0x3070);
-    if (c->n_speed) {
-        uint16_t *s = malloc(c->n_speed * sizeof *s);
-        if (s) {
-            memcpy(s, c->speeds, c->n_speed * sizeof *s);
-            qsort(s, c->n_speed, sizeof *s, cmp_u16);
-            fprintf(f, "chip: wheel sweep: %zu speeds every 0.1 s, km/h x100 min %u median %u max %u\n", c->n_speed,
-                    s[0], s[c->n_speed / 2], s[c->n_speed - 1]);
-            free(s);
-        }
-    }
+    chip_timing_report(&c->time, f);
 }
 
 void chip_free(chip_t *c)
 {
-    char f[128];
     if (!c)
         return;
     if (active == c)
         active = NULL;
-    if (c->console >= 0)
-        close(c->console);
-    if (c->pid > 0) {
-        kill(c->pid, SIGTERM);
-        waitpid(c->pid, NULL, 0);
-    }
-    if (c->to_m >= 0)
-        close(c->to_m);
-    if (c->in)
-        fclose(c->in);
-    else if (c->from_m >= 0)
-        close(c->from_m);
-    snprintf(f, sizeof f, "%s/to_model", c->dir);
-    unlink(f);
-    snprintf(f, sizeof f, "%s/from_model", c->dir);
-    unlink(f);
-    snprintf(f, sizeof f, "%s/s51.log", c->dir);
-    unlink(f);
-    rmdir(c->dir);
-    free(c->slot_max);
-    free(c->speeds);
+    lockstep_close(&c->link);
+    chip_timing_free(&c->time);
     free(c);
 }

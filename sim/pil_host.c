@@ -1,14 +1,10 @@
 /* pil_host.c: processor in the loop, host side: s51 driven through its console, frames through its simulator interface. */
-#define _GNU_SOURCE
 #include <errno.h>
-#include <fcntl.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 #include "pil_host.h"
+#include "lockstep.h"
 #include "pil_proto.h"
 #include "hal_host.h"
 #include "params.h"
@@ -40,11 +36,7 @@ typedef struct {
 
 struct pil {
     sim_t *sim;
-    pid_t pid;
-    int to_fw, from_fw, console;
-    char dir[64];
-    uint8_t rbuf[4096];
-    size_t rn, ri;
+    lockstep_t link;                /* s51's process and the simulator interface's frames */
     uint16_t sent[P_COUNT];         /* the settings the firmware was given */
     uint32_t *cycles;               /* of each pass */
     size_t n_pass, cap;
@@ -52,7 +44,6 @@ struct pil {
     unsigned k[K_COUNT];            /* this pass's HAL calls */
     uint16_t keys_prev;
     int stack_hwm, stack_start;
-    int failed;
     pil_every_t steps, kicks;       /* control steps, watchdog kicks */
 };
 
@@ -68,53 +59,27 @@ static void every(pil_every_t *e, uint64_t tick)
 
 static int rd(pil_t *p)
 {
-    if (p->ri == p->rn) {
-        ssize_t r;
-        do
-            r = read(p->from_fw, p->rbuf, sizeof p->rbuf);
-        while (r < 0 && errno == EINTR);
-        if (r <= 0) {
-            p->failed = 1;
-            return -1;
-        }
-        p->rn = (size_t)r;
-        p->ri = 0;
-    }
-    return p->rbuf[p->ri++];
+    return lockstep_byte(&p->link);
 }
 
 static unsigned rd16(pil_t *p)
 {
-    unsigned lo = (unsigned)rd(p) & 0xFF;
-    return lo | ((unsigned)rd(p) & 0xFF) << 8;
+    return lockstep_u16(&p->link);
 }
 
 static void wr(pil_t *p, const uint8_t *b, size_t n)
 {
-    while (n && !p->failed) {
-        ssize_t w = write(p->to_fw, b, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0) {
-            p->failed = 1;
-            return;
-        }
-        b += w;
-        n -= (size_t)w;
-    }
+    lockstep_write(&p->link, b, n);
 }
 
 static size_t put16(uint8_t *b, unsigned v)
 {
-    b[0] = (uint8_t)v;
-    b[1] = (uint8_t)(v >> 8);
-    return 2;
+    return lockstep_put(b, v, 2);
 }
 
 static size_t put32(uint8_t *b, uint32_t v)
 {
-    put16(b, v & 0xFFFF);
-    return 2 + put16(b + 2, v >> 16);
+    return lockstep_put(b, v, 4);
 }
 
 /* the settings that differ from what the firmware was last given (all of them: every one) */
@@ -133,97 +98,106 @@ static size_t settings(pil_t *p, uint8_t *b, int every)
     return n;
 }
 
+/* A HAL call that drives an output or changes a setting of the machine (no answer): 0, or -1
+ * when c is none of them. */
+static int serve_out(pil_t *p, int c)
+{
+    unsigned a, v;
+    switch (c) {
+    case PIL_VALVE:
+        a = (unsigned)rd(p);
+        v = (unsigned)rd(p);
+        hal_valve_out((int8_t)a, (uint8_t)v);
+        p->k[K_VALVE]++;
+        break;
+    case PIL_SPRAY: hal_spray_enable((uint8_t)rd(p)); break;
+    case PIL_BUZZER: hal_buzzer((uint8_t)rd(p)); break;
+    case PIL_WDT:
+        hal_wdt_kick();
+        p->k[K_WDT]++;
+        break;
+    case PIL_LCD:
+        a = (unsigned)rd(p);
+        v = (unsigned)rd(p);
+        hal_lcd_write((uint8_t)a, (uint8_t)v);
+        p->k[K_LCD]++;
+        break;
+    case PIL_WHEEL_MIN:
+        a = rd16(p);
+        hal_wheel_min_interval(a | (uint32_t)rd16(p) << 16);
+        break;
+    case PIL_EE_ERASE:
+        hal_eeprom_erase((uint16_t)rd16(p));
+        p->k[K_EE_ERASE]++;
+        break;
+    default:
+        return -1;
+    }
+    return 0;
+}
+
+/* A HAL call the host answers (a conversion, a capture, a byte): 0, or -1 when c is none of them. */
+static int serve_in(pil_t *p, int c)
+{
+    uint8_t out[8];
+    unsigned a;
+    hal_capture_t cap;
+    switch (c) {
+    case PIL_ADC:
+        wr(p, out, put16(out, hal_adc_read((uint8_t)rd(p))));
+        p->k[K_ADC]++;
+        return 0;
+    case PIL_FLOW:
+    case PIL_WHEEL:
+        if (c == PIL_FLOW)
+            hal_flow_capture_take(&cap);
+        else
+            hal_wheel_capture_take(&cap);
+        put16(out, cap.count);
+        put32(out + 2, cap.last);
+        out[6] = cap.rejected;
+        wr(p, out, 7);
+        return 0;
+    case PIL_UART_GET: {
+        int16_t b = hal_uart_get();
+        wr(p, out, put16(out, (uint16_t)b));
+        p->k[K_RX] += b >= 0;
+        return 0;
+    }
+    case PIL_RESET_CAUSE: out[0] = hal_reset_cause(); break;
+    case PIL_SUPPLY_LOW: out[0] = hal_supply_low(); break;
+    case PIL_UART_PUT:
+        out[0] = hal_uart_put((uint8_t)rd(p));
+        p->k[K_TX]++;
+        break;
+    case PIL_UART_FRAMING: out[0] = hal_uart_framing((uint8_t)rd(p)); break;
+    case PIL_EE_READ:
+        out[0] = hal_eeprom_read((uint16_t)rd16(p));
+        p->k[K_EE_READ]++;
+        break;
+    case PIL_EE_WRITE:
+        a = rd16(p);
+        out[0] = hal_eeprom_write((uint16_t)a, (uint8_t)rd(p));
+        p->k[K_EE_WRITE]++;
+        break;
+    default:
+        return -1;
+    }
+    wr(p, out, 1);
+    return 0;
+}
+
 /* Serve the firmware's HAL calls until `until` arrives (PIL_READY, PIL_DONE, PIL_REPORT). */
 static int serve(pil_t *p, int until)
 {
-    uint8_t out[8];
     for (;;) {
         int c = rd(p);
-        unsigned a, v;
-        hal_capture_t cap;
         if (c < 0)
             return -1;
         if (c == until)
             return 0;
-        switch (c) {
-        case PIL_VALVE:
-            a = (unsigned)rd(p);
-            v = (unsigned)rd(p);
-            hal_valve_out((int8_t)a, (uint8_t)v);
-            p->k[K_VALVE]++;
-            break;
-        case PIL_SPRAY: hal_spray_enable((uint8_t)rd(p)); break;
-        case PIL_BUZZER: hal_buzzer((uint8_t)rd(p)); break;
-        case PIL_WDT:
-            hal_wdt_kick();
-            p->k[K_WDT]++;
-            break;
-        case PIL_LCD:
-            a = (unsigned)rd(p);
-            v = (unsigned)rd(p);
-            hal_lcd_write((uint8_t)a, (uint8_t)v);
-            p->k[K_LCD]++;
-            break;
-        case PIL_ADC:
-            v = hal_adc_read((uint8_t)rd(p));
-            wr(p, out, put16(out, v));
-            p->k[K_ADC]++;
-            break;
-        case PIL_FLOW:
-        case PIL_WHEEL:
-            if (c == PIL_FLOW)
-                hal_flow_capture_take(&cap);
-            else
-                hal_wheel_capture_take(&cap);
-            put16(out, cap.count);
-            put32(out + 2, cap.last);
-            out[6] = cap.rejected;
-            wr(p, out, 7);
-            break;
-        case PIL_RESET_CAUSE:
-            out[0] = hal_reset_cause();
-            wr(p, out, 1);
-            break;
-        case PIL_SUPPLY_LOW:
-            out[0] = hal_supply_low();
-            wr(p, out, 1);
-            break;
-        case PIL_WHEEL_MIN:
-            a = rd16(p);
-            hal_wheel_min_interval(a | (uint32_t)rd16(p) << 16);
-            break;
-        case PIL_UART_PUT:
-            out[0] = hal_uart_put((uint8_t)rd(p));
-            wr(p, out, 1);
-            p->k[K_TX]++;
-            break;
-        case PIL_UART_FRAMING:
-            out[0] = hal_uart_framing((uint8_t)rd(p));
-            wr(p, out, 1);
-            break;
-        case PIL_UART_GET: {
-            int16_t b = hal_uart_get();
-            wr(p, out, put16(out, (uint16_t)b));
-            p->k[K_RX] += b >= 0;
-            break;
-        }
-        case PIL_EE_READ:
-            out[0] = hal_eeprom_read((uint16_t)rd16(p));
-            wr(p, out, 1);
-            p->k[K_EE_READ]++;
-            break;
-        case PIL_EE_ERASE:
-            hal_eeprom_erase((uint16_t)rd16(p));
-            p->k[K_EE_ERASE]++;
-            break;
-        case PIL_EE_WRITE:
-            a = rd16(p);
-            out[0] = hal_eeprom_write((uint16_t)a, (uint8_t)rd(p));
-            wr(p, out, 1);
-            p->k[K_EE_WRITE]++;
-            break;
-        default:
-            p->failed = 1;
+        if (serve_out(p, c) < 0 && serve_in(p, c) < 0) {
+            p->link.failed = 1;
             return -1;
         }
     }
@@ -245,7 +219,7 @@ static void pass(void *ctx)
     size_t n = 0;
     uint32_t cyc;
     int fresh = 0;
-    if (p->failed)
+    if (p->link.failed)
         return;
     b[n++] = PIL_TICK;
     n += put32(b + n, hal_ms());
@@ -280,13 +254,9 @@ static void pass(void *ctx)
     if (fresh & 2)
         target_update(hal_sections());
 timing:
-    if (p->n_pass == p->cap) {
-        p->cap = p->cap ? 2 * p->cap : 65536;
-        p->cycles = realloc(p->cycles, p->cap * sizeof *p->cycles);
-        if (!p->cycles) {
-            p->failed = 1;
-            return;
-        }
+    if (lockstep_grow((void **)&p->cycles, &p->cap, p->n_pass, sizeof *p->cycles) < 0) {
+        p->link.failed = 1;
+        return;
     }
     p->cycles[p->n_pass++] = cyc;
     if (p->k[K_ADC] >= PIL_STEP_ADC)
@@ -308,11 +278,19 @@ timing:
     p->keys_prev = hal_host_io.keys;
 }
 
+/* NULL with the message in err, the run's traces removed */
+static pil_t *pil_fail(pil_t *p, char *err, size_t n, const char *what)
+{
+    snprintf(err, n, "%s (%s/s51.log)", what, p->link.dir);
+    pil_free(p);
+    return NULL;
+}
+
 pil_t *pil_start(sim_t *sim, const char *ihx, char *err, size_t n)
 {
     pil_t *p = calloc(1, sizeof *p);
-    char fin[96], fout[96], iface[256];
-    int cons[2];
+    char iface[256];
+    char *argv[] = { "s51", "-t", "C52", "-X", "11.0592M", "-I", iface, (char *)ihx, NULL };
     uint8_t b[8 + 3 * P_COUNT];
     size_t k;
     if (!p) {
@@ -320,71 +298,28 @@ pil_t *pil_start(sim_t *sim, const char *ihx, char *err, size_t n)
         return NULL;
     }
     p->sim = sim;
-    p->pid = -1;
-    p->to_fw = p->from_fw = p->console = -1;
-    snprintf(p->dir, sizeof p->dir, "/tmp/pil.XXXXXX");
-    if (access(ihx, R_OK) != 0 || !mkdtemp(p->dir)) {
-        snprintf(err, n, "%s: %s", access(ihx, R_OK) != 0 ? ihx : "mkdtemp", strerror(errno));
+    lockstep_init(&p->link);
+    if (access(ihx, R_OK) != 0) {
+        snprintf(err, n, "%s: %s", ihx, strerror(errno));
         free(p);
         return NULL;
     }
-    snprintf(fin, sizeof fin, "%s/to_fw", p->dir);
-    snprintf(fout, sizeof fout, "%s/from_fw", p->dir);
-    snprintf(iface, sizeof iface, "if=xram[0xffff],in=%s,out=%s", fin, fout);
-    if (mkfifo(fin, 0600) < 0 || mkfifo(fout, 0600) < 0 || pipe(cons) < 0) {
-        snprintf(err, n, "fifo: %s", strerror(errno));
+    if (lockstep_fifos(&p->link, "/tmp/pil.XXXXXX", err, n) < 0) {
         pil_free(p);
         return NULL;
     }
-    p->pid = fork();
-    if (p->pid == 0) {
-        char log[96];
-        int fd;
-        snprintf(log, sizeof log, "%s/s51.log", p->dir);
-        fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        dup2(cons[0], 0);
-        if (fd >= 0) {
-            dup2(fd, 1);
-            dup2(fd, 2);
-        }
-        close(cons[1]);
-        execlp("s51", "s51", "-t", "C52", "-X", "11.0592M", "-I", iface, ihx, (char *)NULL);
-        _exit(127);
-    }
-    close(cons[0]);
-    p->console = cons[1];
-    if (p->pid < 0) {
-        snprintf(err, n, "fork: %s", strerror(errno));
-        pil_free(p);
-        return NULL;
-    }
-    /* s51 opens its input file first, then its output file */
-    p->to_fw = open(fin, O_WRONLY);
-    p->from_fw = p->to_fw >= 0 ? open(fout, O_RDONLY) : -1;
-    if (p->from_fw < 0 || write(p->console, "run\n", 4) != 4) {
-        snprintf(err, n, "s51 did not open the simulator interface (%s/s51.log)", p->dir);
-        pil_free(p);
-        return NULL;
-    }
-    /* the host build's own start (sim_init) left its traces in the shared HAL: the firmware
-     * in s51 starts from the same erased EEPROM and an empty UART queue */
-    memset(hal_host_eeprom(), 0xFF, HAL_EEPROM_SIZE);
-    hal_host_eeprom_cut_after(-1);
-    while (hal_host_uart_tx_pop() >= 0)
-        ;
-    if (rd(p) != PIL_HELLO) {
-        snprintf(err, n, "the firmware in s51 did not say hello (%s/s51.log)", p->dir);
-        pil_free(p);
-        return NULL;
-    }
+    snprintf(iface, sizeof iface, "if=xram[0xffff],in=%s,out=%s", p->link.fifo_in, p->link.fifo_out);
+    if (lockstep_spawn(&p->link, argv, 0) < 0)
+        return pil_fail(p, err, n, "s51 did not open the simulator interface");
+    lockstep_erase_eeprom();
+    lockstep_drop_uart();
+    if (rd(p) != PIL_HELLO)
+        return pil_fail(p, err, n, "the firmware in s51 did not say hello");
     b[0] = PIL_CONFIG;
     k = 1 + settings(p, b + 1, 1);
     wr(p, b, k);
-    if (serve(p, PIL_READY) < 0) {
-        snprintf(err, n, "the firmware in s51 did not start (%s/s51.log)", p->dir);
-        pil_free(p);
-        return NULL;
-    }
+    if (serve(p, PIL_READY) < 0)
+        return pil_fail(p, err, n, "the firmware in s51 did not start");
     k = 1 + settings(p, b + 1, 1);
     wr(p, b, k);
     sim->pass = pass;
@@ -395,67 +330,31 @@ pil_t *pil_start(sim_t *sim, const char *ihx, char *err, size_t n)
 int pil_finish(pil_t *p)
 {
     uint8_t q = PIL_QUIT;
-    int st = 0;
     p->sim->pass = NULL;
-    if (!p->failed) {
+    if (!p->link.failed) {
         wr(p, &q, 1);
         if (serve(p, PIL_REPORT) == 0) {
             p->stack_hwm = rd(p);
             p->stack_start = rd(p);
         }
     }
-    if (p->console >= 0) {
-        if (write(p->console, "quit\n", 5) != 5)
-            p->failed = 1;
-        close(p->console);
-        p->console = -1;
+    if (p->link.console >= 0) {
+        if (write(p->link.console, "quit\n", 5) != 5)
+            p->link.failed = 1;
+        close(p->link.console);
+        p->link.console = -1;
     }
-    if (p->pid > 0) {
-        waitpid(p->pid, &st, 0);
-        p->pid = -1;
-    }
-    return p->failed || !WIFEXITED(st) ? -1 : 0;
+    if (lockstep_wait(&p->link, 1) < 0)
+        return -1;
+    return p->link.failed ? -1 : 0;
 }
 
-static int cmp_u32(const void *a, const void *b)
+/* the worst passes, worst first, and what each did */
+static void report_worst(const pil_t *p, FILE *f)
 {
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-void pil_report(const pil_t *p, FILE *f)
-{
-    uint32_t *s;
-    size_t i, n = p->n_pass, per = 100, periods;
-    double sum = 0, share_max = 0, share_sum = 0, period_cycles = PIL_CYCLES_PER_MS * per;
-    if (!n) {
-        fprintf(f, "pil: no passes\n");
-        return;
-    }
-    s = malloc(n * sizeof *s);
-    if (!s)
-        return;
-    memcpy(s, p->cycles, n * sizeof *s);
-    for (i = 0; i < n; i++)
-        sum += s[i];
-    /* the control period's share: a period's passes (one a millisecond) against its cycles */
-    periods = n / per;
-    for (i = 0; i < periods; i++) {
-        double c = 0;
-        size_t j;
-        for (j = 0; j < per; j++)
-            c += p->cycles[i * per + j];
-        share_sum += c / period_cycles;
-        if (c / period_cycles > share_max)
-            share_max = c / period_cycles;
-    }
-    qsort(s, n, sizeof *s, cmp_u32);
-    fprintf(f, "pil: %zu passes, machine cycles (classic 12T) mean %.0f, p99 %u, max %u "
-               "(the 1T chip's own: make chip, docs/PIL.md)\n",
-            n, sum / n, s[(size_t)(0.99 * (n - 1))], s[n - 1]);
+    size_t i, j;
     for (i = 0; i < PIL_TOP && p->top[i].cycles; i++) {
         const pil_pass_t *w = &p->top[i];
-        size_t j;
         int any = 0;
         if (i == 0)
             fprintf(f, "pil: worst pass at tick %llu (%.3f s): %u cycles = %.2f ms at 12T; it did:",
@@ -474,6 +373,37 @@ void pil_report(const pil_t *p, FILE *f)
             fprintf(f, "%s a settings change", any || w->key ? "," : "");
         fprintf(f, "%s\n", any || w->key || w->setting ? "" : " no HAL calls");
     }
+}
+
+void pil_report(const pil_t *p, FILE *f)
+{
+    uint32_t *s;
+    size_t i, n = p->n_pass, per = 100, periods;
+    double sum = 0, share_max = 0, share_sum = 0, period_cycles = PIL_CYCLES_PER_MS * per;
+    if (!n) {
+        fprintf(f, "pil: no passes\n");
+        return;
+    }
+    s = lockstep_sorted_u32(p->cycles, n);
+    if (!s)
+        return;
+    for (i = 0; i < n; i++)
+        sum += p->cycles[i];
+    /* the control period's share: a period's passes (one a millisecond) against its cycles */
+    periods = n / per;
+    for (i = 0; i < periods; i++) {
+        double c = 0;
+        size_t j;
+        for (j = 0; j < per; j++)
+            c += p->cycles[i * per + j];
+        share_sum += c / period_cycles;
+        if (c / period_cycles > share_max)
+            share_max = c / period_cycles;
+    }
+    fprintf(f, "pil: %zu passes, machine cycles (classic 12T) mean %.0f, p99 %u, max %u "
+               "(the 1T chip's own: make chip, docs/PIL.md)\n",
+            n, sum / n, s[(size_t)(0.99 * (n - 1))], s[n - 1]);
+    report_worst(p, f);
     if (periods)
         fprintf(f, "pil: control period (%zu ms) used: mean %.1f %%, max %.1f %% at 12T\n",
                 per, 100 * share_sum / periods, 100 * share_max);
@@ -489,26 +419,9 @@ void pil_report(const pil_t *p, FILE *f)
 
 void pil_free(pil_t *p)
 {
-    char f[128];
     if (!p)
         return;
-    if (p->console >= 0)
-        close(p->console);
-    if (p->pid > 0) {
-        kill(p->pid, SIGTERM);
-        waitpid(p->pid, NULL, 0);
-    }
-    if (p->to_fw >= 0)
-        close(p->to_fw);
-    if (p->from_fw >= 0)
-        close(p->from_fw);
-    snprintf(f, sizeof f, "%s/to_fw", p->dir);
-    unlink(f);
-    snprintf(f, sizeof f, "%s/from_fw", p->dir);
-    unlink(f);
-    snprintf(f, sizeof f, "%s/s51.log", p->dir);
-    unlink(f);
-    rmdir(p->dir);
+    lockstep_close(&p->link);
     free(p->cycles);
     free(p);
 }

@@ -3,9 +3,10 @@
 #include <stdio.h>
 #include <string.h>
 #include "scenario.h"
+#include "scenario_int.h"
 #include "ctl.h"
 
-static int is_whole(double v)
+int scn_is_whole(double v)
 {
     return fabs(v - floor(v + 0.5)) < 1e-9 * (fabs(v) > 1 ? fabs(v) : 1);
 }
@@ -92,21 +93,50 @@ int scenario_event_text_check(int kind, const char *text, char *msg, size_t n)
     return 0;
 }
 
-int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, size_t n)
+/* The events whose value is a number in a fixed range (the message's unit after it). */
+static const struct { int kind; double lo, hi; const char *unit; } ev_ranges[] = {
+    {EV_PTO_RPM, 0, 1500, "rpm"},
+    {EV_BOUNCE, 0, 100, "%"},
+    {EV_LEAK, 0, 200, "L/min"},
+    {EV_METER_K, 1, 10000, "pulses/L"},
+    {EV_P_OFFSET, -16, 16, "bar"},
+    {EV_P_DRIFT, -10, 10, "bar a minute"},
+    {EV_WHEEL_MULT, 0.1, 16, "edges a real one"},
+    {EV_POWER_CUT, 0.01, 86400, "s"},
+};
+
+#define BAD(...) do { if (msg && n) snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
+
+/* A number of nozzles the boom holds; whole sections of them when sections is set. */
+static int nozzles_check(const scenario_t *s, double v, int sections, char *msg, size_t n)
 {
     int noz = s->param[P_NOZZLES], sec = s->param[P_SECTIONS];
-#define BAD(...) do { if (msg && n) snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
+    if (!scn_is_whole(v) || v < 0 || v > noz)
+        BAD("%g is not a number of nozzles 0..%d", v, noz);
+    if (sections && (int)floor(v + 0.5) % (noz / sec) != 0)
+        BAD("%g nozzles is not a whole number of sections (%d nozzles each)", v, noz / sec);
+    return 0;
+}
+
+int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, size_t n)
+{
+    size_t i;
     if (kind < 0 || kind >= EV_COUNT)
         BAD("unknown event");
+    for (i = 0; i < sizeof ev_ranges / sizeof ev_ranges[0]; i++)
+        if (ev_ranges[i].kind == kind) {
+            if (v < ev_ranges[i].lo || v > ev_ranges[i].hi)
+                BAD("%g out of range %g..%g %s", v, ev_ranges[i].lo, ev_ranges[i].hi, ev_ranges[i].unit);
+            return 0;
+        }
     switch (kind) {
     case EV_SECTIONS_OPEN:
-        if (!is_whole(v) || v < 0 || v > noz)
-            BAD("%g is not a number of nozzles 0..%d", v, noz);
-        if ((int)floor(v + 0.5) % (noz / sec) != 0)
-            BAD("%g nozzles is not a whole number of sections (%d nozzles each)", v, noz / sec);
-        break;
+    case EV_AOG_SECTIONS:
+        return nozzles_check(s, v, 1, msg, n);
+    case EV_CLOG:
+        return nozzles_check(s, v, 0, msg, n);
     case EV_RATE:
-        if (!is_whole(v * 10) || v < 0 || v > 6553 || !param_in_range(P_RATE, (uint16_t)floor(v * 10 + 0.5)))
+        if (!scn_is_whole(v * 10) || v < 0 || v > 6553 || !param_in_range(P_RATE, (uint16_t)floor(v * 10 + 0.5)))
             BAD("%g out of the firmware's range %g..%g L/ha in steps of 0.1", v,
                 param_info(P_RATE)->min / 10.0, param_info(P_RATE)->max / 10.0);
         break;
@@ -119,62 +149,20 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
             BAD("%g is not a nudge (+1 up, -1 down, 0 back to the preset)", v);
         break;
     case EV_GIVEN_SPEED:
-        if (v < 0 || v > 6553 || !is_whole(v * 10) || !param_in_range(P_GIVEN_SPEED, (uint16_t)floor(v * 10 + 0.5)))
+        if (v < 0 || v > 6553 || !scn_is_whole(v * 10) || !param_in_range(P_GIVEN_SPEED, (uint16_t)floor(v * 10 + 0.5)))
             BAD("%g out of the firmware's range 0..%g km/h in steps of 0.1", v, param_info(P_GIVEN_SPEED)->max / 10.0);
-        break;
-    case EV_PTO_RPM:
-        if (v < 0 || v > 1500)
-            BAD("%g out of range 0..1500 rpm", v);
-        break;
-    case EV_BOUNCE:
-        if (v < 0 || v > 100)
-            BAD("%g out of range 0..100 %%", v);
-        break;
-    case EV_LEAK:
-        if (v < 0 || v > 200)
-            BAD("%g out of range 0..200 L/min", v);
-        break;
-    case EV_CLOG:
-        if (!is_whole(v) || v < 0 || v > noz)
-            BAD("%g is not a number of nozzles 0..%d", v, noz);
         break;
     case EV_TANK:
         if (v < 0 || v > s->plant.tank_l)
             BAD("%g out of range 0..%g L (tank_l)", v, s->plant.tank_l);
         break;
-    case EV_METER_K:
-        if (v < 1 || v > 10000)
-            BAD("%g out of range 1..10000 pulses/L", v);
-        break;
-    case EV_P_OFFSET:
-        if (v < -16 || v > 16)
-            BAD("%g out of range -16..16 bar", v);
-        break;
-    case EV_P_DRIFT:
-        if (v < -10 || v > 10)
-            BAD("%g out of range -10..10 bar a minute", v);
-        break;
     case EV_LEVEL_OFFSET:
         if (v < -s->plant.tank_l || v > s->plant.tank_l)
             BAD("%g out of range -%g..%g L (tank_l)", v, s->plant.tank_l, s->plant.tank_l);
         break;
-    case EV_WHEEL_MULT:
-        if (v < 0.1 || v > 16)
-            BAD("%g out of range 0.1..16 edges a real one", v);
-        break;
-    case EV_POWER_CUT:
-        if (v < 0.01 || v > 86400)
-            BAD("%g out of range 0.01..86400 s", v);
-        break;
     case EV_AOG_HZ:
         if (v != 0 && (v < 0.2 || v > 20))
             BAD("%g out of range 0.2..20 Hz (0: the frames stop)", v);
-        break;
-    case EV_AOG_SECTIONS:
-        if (!is_whole(v) || v < 0 || v > noz)
-            BAD("%g is not a number of nozzles 0..%d", v, noz);
-        if ((int)floor(v + 0.5) % (noz / sec) != 0)
-            BAD("%g nozzles is not a whole number of sections (%d nozzles each)", v, noz / sec);
         break;
     case EV_RC_RATE:
         if (v != 0 && (v < 1 || v > 2000))
@@ -190,9 +178,9 @@ int scenario_event_check(const scenario_t *s, int kind, double v, char *msg, siz
             BAD("takes no value");
         break;
     }
-#undef BAD
     return 0;
 }
+#undef BAD
 
 /* ---- controllers ------------------------------------------------------------------------------ */
 /* Old names still accepted on the command line and in scenario files: the alias table. */
