@@ -101,20 +101,6 @@ static void app_start(void)
     ap.prep_gen = param_generation;
     ap.after = 0;
     ap.diag = 0;
-    app_status.in.speed_kmh_x100 = 0;
-    app_status.in.target_lpm_x100 = 0;
-    app_status.in.flow_lpm_x100 = 0;
-    app_status.in.pressure_kpa = 0;
-    app_status.tank_l = 0;
-    app_status.applied_l_ha_x10 = 0;
-    app_status.drive = 0;
-    app_status.alarms = 0;
-    app_status.alarms_unacked = 0;
-    app_status.spraying = 0;
-    app_status.manual = 0;
-    app_status.open_nozzles = 0;
-    app_status.boom_wait = 0;
-    app_status.job_area_m2 = 0;
     ap.next_ms = hal_ms() + APP_PERIOD_MS;
 }
 
@@ -180,9 +166,9 @@ static void app_measure(void)
     target_update(pgn_sections(hal_sections()));
     open = target_open_nozzles();
     diag_set_nozzles(open);
-    app_status.in.speed_kmh_x100 = target_speed_x100(v_meas);
-    app_status.in.target_lpm_x100 = open ? target_flow_x100(app_status.in.speed_kmh_x100) : 0;
-    app_status.manual = param_v[P_MODE] != 0;
+    ops_set_speed(target_speed_x100(v_meas));
+    ops_set_target(open ? target_flow_x100(app_status.in.speed_kmh_x100) : 0);
+    ops_set_manual(param_v[P_MODE] != 0);
     /* the flow the loop follows (above); a live meter that reads low is a clog (diag.c), and
      * the loop stays on the meter */
     meter_lost = (diag_alarms() >> AL_METER_LOST) & 1u;
@@ -190,9 +176,9 @@ static void app_measure(void)
     ap.q_model = diag_nozzle_flow_x100(p, open);
     if ((meter_lost || diag_meter_suspect()) && analog_pressure_ok())
         q_used = ap.q_model;
-    app_status.in.flow_lpm_x100 = q_used;
-    app_status.in.pressure_kpa = p;
-    app_status.open_nozzles = open;
+    ops_set_flow(q_used);
+    ops_set_pressure(p);
+    ops_set_open_nozzles(open);
 }
 
 /* Spray or not: sections on, the tank above its minimum, the machine moving (in manual mode
@@ -208,11 +194,11 @@ static void app_spray(void)
     /* after power-up the boom waits, shown, while the line is over P max (a fixed PTO's pump
      * against a bypass still opening) and the nozzles would spray over twice the target there,
      * until APP_P_WAIT (under twice the target is no further from it than a shut boom) */
-    app_status.boom_wait = want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp()
-                           && (uint16_t)ap.q_model > ((uint16_t)app_status.in.target_lpm_x100 << 1);
+    ops_set_boom_wait(want && !app_status.spraying && !manual && ap.p_watch < APP_P_WAIT && drive_overp()
+                      && (uint16_t)ap.q_model > ((uint16_t)app_status.in.target_lpm_x100 << 1));
     want &= !app_status.boom_wait;
     if (want != app_status.spraying) {
-        app_status.spraying = want;
+        ops_set_spraying(want);
         hal_spray_enable(want);
         if (!want)
             ap.save_wait = APP_SAVE_WAIT_PERIODS;   /* keep the lifetime totals, a while later */
@@ -225,7 +211,7 @@ static void app_spray(void)
         ap.was_manual = manual;
         if (!manual)
             ctl_reset(app_status.drive);    /* bumpless: the loop starts from the drive now */
-        ops_jog_req.periods = 0;
+        ops_jog_cancel();
     }
 }
 
@@ -294,18 +280,6 @@ static void app_account(void)
         ap.log_div = APP_LOG_PERIODS;
 }
 
-/* The alarms diag_step left into the status: the newly raised ones unacknowledged but the quiet
- * bits (DIAG_QUIET_BITS, and OFF_RATE in manual mode, where the operator sets the valve), which
- * show without the buzzer; the buzzer while any is unacked. A function of its own: its figures
- * stay off the alarms' deep call chain. */
-static void app_alarms(void)
-{
-    uint16_t g = diag_alarms(), quiet = DIAG_QUIET_BITS | (app_status.manual ? 1u << AL_OFFRATE : 0u);
-    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms & (uint16_t)~quiet;
-    app_status.alarms = g;
-    hal_buzzer(IO_ON ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
-}
-
 /* The alarms of the step just run (diag.c, with its figures): the step's longest part, in the
  * pass after it, before anything else of that pass (the valve's poll included), so that they
  * read what the step left. */
@@ -313,7 +287,7 @@ static void app_diag(void)
 {
     diag_step(&app_status, (ap.diag & APP_DIAG_SETTLED) != 0, (ap.diag & APP_DIAG_P_WATCH) != 0);
     ap.diag = 0;
-    app_alarms();
+    ops_alarms_step();              /* (a call of its own: off diag_step's deep call chain) */
 }
 
 /* After a settings change every module derives its constants again (divides, some thousands
@@ -347,8 +321,7 @@ static uint8_t app_prepare(void)
 static void app_second(void)
 {
     ap.log_div = 0;
-    app_status.job_area_m2 = totals_job_m2();
-    app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
+    ops_show_totals();
     serial_log_request();
 }
 
@@ -375,8 +348,7 @@ static void app_step(void)
     app_measure();
     app_spray();
     drive_step();
-    app_status.tank_l = analog_tank_l();
-    app_status.drive = valve_applied();
+    ops_show_step();
 }
 
 /* The step's second pass, first thing in the pass after it: what no output of the step waits

@@ -130,7 +130,7 @@ static q15_t drive_auto(uint8_t overp)
             ctl_reset(drive);           /* (p_hold: 0 since the boom opened, drive_spray_on) */
     }
     if (!dv.prime) {
-        app_status.in.valve_limit = valve_limit() | (overp || drive_starved() ? CTL_NO_CLOSE : 0);
+        ops_set_valve_limit(valve_limit() | (overp || drive_starved() ? CTL_NO_CLOSE : 0));
         drive = ctl_step(&app_status.in);
     }
     return drive;
@@ -174,10 +174,9 @@ void drive_step(void)
     uint8_t overp = drive_overp(), soon = drive_overp_soon();   /* (the pressure's rise: every period) */
     q15_t drive = 0;
     if (manual || IO_ON) {
-        if (ops_jog_req.periods) {
-            ops_jog_req.periods--;
-            drive = ops_jog_req.dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
-        }
+        int8_t dir = ops_jog_take();
+        if (dir)
+            drive = dir > 0 ? APP_JOG_DRIVE : -APP_JOG_DRIVE;
     } else if (app_status.spraying) {
         drive = drive_auto(overp | soon);
         drive_hold_learn();

@@ -61,7 +61,7 @@ CTL_STEP void bp_forward(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_
     x[3] = n;
     wp = &b->w[0][0];
     for (i = 0; i < BP_HID; i++) {
-        mul_acc = 2048;             /* rounding of the >> 12 */
+        ACC_START(12);
         DOT(wp, x, BP_IN);
         wp += BP_IN;
         o[i] = fx_tanh(fx_sat16(ACC_SHR12()));
@@ -69,7 +69,7 @@ CTL_STEP void bp_forward(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_
     }
     wp = &b->v[0][0];
     for (i = 0; i < BP_OUT; i++) {
-        mul_acc = 16384;
+        ACC_START(15);
         DOT(wp, o, BP_HID);
         wp += BP_HID;
         /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined): (32769 + t) >> 1 in 16 bits */
@@ -119,7 +119,7 @@ CTL_STEP void bp_learn(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_SH
     }
     for (i = 0; i < BP_HID; i++) {
         one_m = (int16_t)(32767 - MUL_R15(o[i], o[i]));
-        mul_acc = 2048;
+        ACC_START(12);
         for (l = 0; l < BP_OUT; l++)
             MAC(dl[l], b->v[l][i]);
         eg = fx_sat16(MUL_R15(fx_sat16(ACC_SHR12()), one_m));

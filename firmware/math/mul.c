@@ -4,6 +4,16 @@
 #if !defined(__SDCC)
 int32_t mul_acc;
 
+void acc_start(uint8_t hi)
+{
+    mul_acc = (int32_t)hi << 8;
+}
+
+void mac_c(int16_t a, int16_t b)
+{
+    mul_acc += (int32_t)a * b;
+}
+
 void dot_c(const int16_t *w, const int16_t *x, uint8_t n)
 {
     while (n--)

@@ -20,6 +20,8 @@
  * 8 acc_shr15, 9 acc_shr12 (hal/mcs51/mul.c, mul_round.c), 10 fx_sat16 (hal/mcs51/sat16.c), 11 fx_tanh (fixed.c),
  * 12 um_mul32x16_shr16, 13 um_muldiv, 14 um_scaled_div (umath.c).
  *   MUL(a, b)     a * b, int16 operands, int32 product
+ *   ACC_START(r)  mul_acc = 2^(r-1): the rounding of the sum's >> r (r = 12 or 15), where a
+ *                 MAC or DOT sum starts
  *   MAC(a, b)     mul_acc += a * b
  *   DOT(w, x, n)  mul_acc += w[0] * x[0] + ... + w[n-1] * x[n-1], int16 arrays: w in xdata, x in
  *                 idata (a reentrant caller's locals, on the stack)
@@ -41,6 +43,7 @@ extern __data int16_t mul_a, mul_b;
 extern __data int32_t mul_r;
 extern __data int32_t mul_acc;
 int32_t mul_ab(void) __naked;
+void acc_start(uint8_t hi) __naked;
 void mac_ab(void) __naked;
 void dot_ab(uint8_t n) __naked;
 extern __data int16_t upd_eg, upd_lim;
@@ -70,6 +73,7 @@ uint32_t umul_ab(void) __naked;
     } while (0)
 #else
 extern int32_t mul_acc;
+void acc_start(uint8_t hi);
 void dot_c(const int16_t *w, const int16_t *x, uint8_t n);
 #define DOT(w, x, n) dot_c(w, x, n)
 void upd_c(int16_t *w, int8_t *dw, const int16_t *x, int16_t eg, int16_t lim, uint8_t n, uint8_t s);
@@ -80,8 +84,11 @@ void upd_c(int16_t *w, int8_t *dw, const int16_t *x, int16_t eg, int16_t lim, ui
 #define MUL_R12(a, b) ((MUL(a, b) + 2048) >> 12)
 #define ACC_SHR15() (mul_acc >> 15)
 #define ACC_SHR12() (mul_acc >> 12)
-#define MAC(a, b) (mul_acc += (int32_t)(int16_t)(a) * (int16_t)(b))
+void mac_c(int16_t a, int16_t b);
+#define MAC(a, b) mac_c((int16_t)(a), (int16_t)(b))
 #endif
+
+#define ACC_START(r) acc_start((uint8_t)(1u << ((r) - 9)))   /* 2^(r-1): its byte 1 */
 
 /* The full 16x16 -> 32 product as a function (MUL through a call): the target tests' vectors. */
 int32_t fx_mul32(int16_t a, int16_t b);

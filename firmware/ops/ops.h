@@ -6,9 +6,10 @@
 #include "ctl.h"
 
 /* What the application measured and decided in its last control step: the console, the
- * serial log and the simulator's trace read it; app.c writes it (and ops.c, for the
- * operator's acknowledgement and totals reset). The control step's inputs are its block `in`
- * (ctl.h ctl_in_t: target and measured flow, ground speed used for the target, boom line
+ * serial log and the simulator's trace read it. ops owns it and alone writes it: its reset
+ * (ops_init), the alarms raised and acknowledged, the totals shown, and the figures the
+ * application publishes through the ops_set_* below. The control step's inputs are its block
+ * `in` (ctl.h ctl_in_t: target and measured flow, ground speed used for the target, boom line
  * pressure, the valve's CTL_AT_* and CTL_NO_CLOSE), passed to ctl_step, not copied. The
  * totals are totals_get()'s, the gains ctl_gain()'s (no copies here). */
 typedef struct {
@@ -29,13 +30,32 @@ extern app_status_t app_status;
 /* Bits of app_status.alarms (diag.h names them; codes and texts from diag_code/_text). */
 #define OPS_ALARM_BITS 16
 
-/* A jog asked for (manual mode): the control step drives it, OPS_JOG_PERIODS periods. */
+/* The application's figures of its control step, each into its field of app_status. */
+void ops_set_speed(uint16_t kmh_x100) __reentrant;         /* in.speed_kmh_x100 */
+void ops_set_target(int16_t lpm_x100) __reentrant;         /* in.target_lpm_x100 */
+void ops_set_flow(int16_t lpm_x100) __reentrant;           /* in.flow_lpm_x100 */
+void ops_set_pressure(uint16_t kpa) __reentrant;           /* in.pressure_kpa */
+void ops_set_valve_limit(uint8_t limit) __reentrant;       /* in.valve_limit */
+void ops_set_manual(uint8_t manual) __reentrant;
+void ops_set_open_nozzles(uint8_t open) __reentrant;
+void ops_set_spraying(uint8_t spraying) __reentrant;
+void ops_set_boom_wait(uint8_t wait) __reentrant;
+/* The tank's contents and the valve's applied drive into the status (each control step). */
+void ops_show_step(void);
+/* The job's area and dose into the status (once a second: a divide). */
+void ops_show_totals(void);
+/* The alarms diag_step left into the status: the newly raised ones unacknowledged but the quiet
+ * bits (DIAG_QUIET_BITS, and OFF_RATE in manual mode, where the operator sets the valve), which
+ * show without the buzzer; the buzzer while any is unacked (the I/O test's otherwise). */
+void ops_alarms_step(void);
+
+/* A jog asked for (manual mode, the I/O test): the control step drives it, OPS_JOG_PERIODS periods. */
 #define OPS_JOG_PERIODS 3u
-typedef struct {
-    uint8_t periods;                /* periods of jog left (0: none) */
-    int8_t dir;                     /* +1 more boom flow, -1 less */
-} ops_jog_t;
-extern ops_jog_t ops_jog_req;
+/* The control step's jog: +1 more boom flow, -1 less, 0 none; each call takes one period of the
+ * jog asked for. */
+int8_t ops_jog_take(void);
+/* A jog not yet driven dropped (the mode changed). */
+void ops_jog_cancel(void);
 
 /* The I/O test (console): OPS_IO_ON hands the outputs to the technician: the boom's control
  * stops, the spray relay and the buzzer follow OPS_IO_RELAY and OPS_IO_BUZZER, ops_jog drives
@@ -46,6 +66,7 @@ extern ops_jog_t ops_jog_req;
 extern __data uint8_t ops_io;       /* OPS_IO_*, app.c follows it */
 void ops_io_test(uint8_t flags);
 
+/* The status cleared, no jog, no I/O test (power-up). */
 void ops_init(void);
 /* Manual mode or the I/O test: drive the valve for one jog (+1 more boom flow, -1 less);
  * ignored otherwise. */

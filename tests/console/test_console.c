@@ -882,7 +882,7 @@ static void test_console_jog_only_in_manual_mode(void **state)
     run_ms(1500);
     press('2');                     /* in auto: the rate nudged, the valve left to the loop */
     assert_int_equal(target_nudge_pct(), 5);
-    assert_int_equal(ops_jog_req.periods, 0);
+    assert_int_equal(ops_jog_take(), 0);
     press('5');
     assert_int_equal(target_nudge_pct(), 0);
     press('#');
