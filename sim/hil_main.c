@@ -132,39 +132,103 @@ static void pick_setting(hil_pc_t *h, hil_in_t *in)
         h->settings_waited++;
 }
 
+/* The sensor frame of this period: the pulses' running counts and last stamps, the conversions,
+ * the sections, a setting to send. */
+static void sensor_frame(hil_pc_t *h, hil_in_t *in)
+{
+    hal_capture_t c;
+    memset(in, 0, sizeof *in);
+    in->seq = ++h->seq;
+    in->pca_now = hal_pca_now();
+    hal_wheel_capture_take(&c);
+    h->wheel_total = (uint16_t)(h->wheel_total + c.count);
+    h->rejected_total = (uint8_t)(h->rejected_total + c.rejected);
+    in->wheel_count = h->wheel_total;
+    in->wheel_last = c.last;
+    in->wheel_rejected = h->rejected_total;
+    hal_flow_capture_take(&c);
+    h->meter_total = (uint16_t)(h->meter_total + c.count);
+    in->meter_count = h->meter_total;
+    in->meter_last = c.last;
+    /* the four conversions of each channel the controller's period takes (analog.c), in its
+     * order, summed: the board's HAL gives them back as quarters of the sum */
+    in->adc_pressure = 0;
+    in->adc_level = 0;
+    for (int i = 0; i < 4; i++)
+        in->adc_pressure = (uint16_t)(in->adc_pressure + hal_adc_read(HAL_ADC_PRESSURE));
+    for (int i = 0; i < 4; i++)
+        in->adc_level = (uint16_t)(in->adc_level + hal_adc_read(HAL_ADC_LEVEL));
+    in->sections = hal_sections();
+    pick_setting(h, in);
+}
+
+/* The answer to frame seq within the timeout: 1, 0 when none came, -1 when the link failed. */
+static int await_answer(hil_pc_t *h, uint8_t seq, hil_out_t *o)
+{
+    uint8_t buf[64];
+    double end = wall_now() + h->timeout_s;
+    int got, i, ok = 0;
+    while (!ok && wall_now() < end) {
+        got = link_read(h->fd, buf, sizeof buf, end - wall_now() > 0 ? end - wall_now() : 0);
+        if (got < 0)
+            return -1;
+        for (i = 0; i < got; i++)
+            if (hil_rx_byte(&h->rx, buf[i])) {
+                hil_out_decode(h->rx.buf, o);
+                if (o->seq == seq)
+                    ok = 1;         /* an answer to an older frame (late) is dropped */
+            }
+    }
+    return ok;
+}
+
+/* The board's answer: the setting's verdict, the outputs as the firmware's HAL would have set
+ * them, the status it reports. */
+static void apply_answer(sim_t *sim, hil_pc_t *h, const hil_in_t *in, const hil_out_t *o)
+{
+    h->answered++;
+    h->board_lost = o->lost;
+    if (h->set_id >= 0 && o->set_verdict == PARAM_OK) {
+        h->board_param[h->set_id] = in->set_value;
+        h->settings_sent++;
+    } else if (h->set_id >= 0 && o->set_verdict != HIL_NO_SETTING) {
+        fprintf(stderr, "hil: at %.1f s the controller refused %s = %u (parameter %d): %s\n", sim_time_s(sim),
+                param_info((uint8_t)h->set_id)->name, in->set_value, h->set_id, param_why_text(o->set_verdict));
+        h->failed = 2;
+    }
+    h->pend = 0;
+    if (o->valve_delay_ms == 0) {
+        hal_host_io.valve_dir = o->valve_dir;
+        hal_host_io.valve_duty = o->valve_dir ? o->valve_duty : 0;
+    } else {
+        hal_host_io.valve_dir = HAL_VALVE_OFF;
+        hal_host_io.valve_duty = 0;
+        h->pend = 1;
+        h->pend_dir = o->valve_dir;
+        h->pend_duty = o->valve_duty;
+        h->pend_ms = hal_ms() + o->valve_delay_ms;
+    }
+    hal_host_io.spray_on = o->relays & 1u;
+    hal_host_io.buzzer = (o->relays >> 1) & 1u;
+    hal_wheel_min_interval(o->wheel_min);
+    app_status.in.speed_kmh_x100 = o->speed_kmh_x100;
+    app_status.in.target_lpm_x100 = o->target_lpm_x100;
+    app_status.in.flow_lpm_x100 = o->flow_lpm_x100;
+    app_status.in.pressure_kpa = o->pressure_kpa;
+    h->alarms = o->alarms;
+    h->alarms_ms = hal_ms() + HIL_DIAG_MS;
+    app_status.spraying = o->relays & 1u;
+}
+
 /* One sensor frame out, its answer in (or a count of why not). */
 static void exchange(sim_t *sim, hil_pc_t *h)
 {
     hil_in_t in;
-    hal_capture_t c;
-    uint8_t f[HIL_IN_BYTES], buf[64];
     hil_out_t o;
-    double end;
-    int got, i, ok = 0;
+    uint8_t f[HIL_IN_BYTES];
+    int got;
 
-    memset(&in, 0, sizeof in);
-    in.seq = ++h->seq;
-    in.pca_now = hal_pca_now();
-    hal_wheel_capture_take(&c);
-    h->wheel_total = (uint16_t)(h->wheel_total + c.count);
-    h->rejected_total = (uint8_t)(h->rejected_total + c.rejected);
-    in.wheel_count = h->wheel_total;
-    in.wheel_last = c.last;
-    in.wheel_rejected = h->rejected_total;
-    hal_flow_capture_take(&c);
-    h->meter_total = (uint16_t)(h->meter_total + c.count);
-    in.meter_count = h->meter_total;
-    in.meter_last = c.last;
-    /* the four conversions of each channel the controller's period takes (analog.c), in its
-     * order, summed: the board's HAL gives them back as quarters of the sum */
-    in.adc_pressure = 0;
-    in.adc_level = 0;
-    for (int i = 0; i < 4; i++)
-        in.adc_pressure = (uint16_t)(in.adc_pressure + hal_adc_read(HAL_ADC_PRESSURE));
-    for (int i = 0; i < 4; i++)
-        in.adc_level = (uint16_t)(in.adc_level + hal_adc_read(HAL_ADC_LEVEL));
-    in.sections = hal_sections();
-    pick_setting(h, &in);
+    sensor_frame(h, &in);
     hil_in_encode(&in, f);
     h->frames++;
     if (h->drop_every && h->frames % h->drop_every == 0) {
@@ -180,57 +244,13 @@ static void exchange(sim_t *sim, hil_pc_t *h)
         h->failed = 1;
         return;
     }
-    end = wall_now() + h->timeout_s;
-    while (!ok && wall_now() < end) {
-        got = link_read(h->fd, buf, sizeof buf, end - wall_now() > 0 ? end - wall_now() : 0);
-        if (got < 0) {
-            h->failed = 1;
-            return;
-        }
-        for (i = 0; i < got; i++)
-            if (hil_rx_byte(&h->rx, buf[i])) {
-                hil_out_decode(h->rx.buf, &o);
-                if (o.seq == in.seq)
-                    ok = 1;         /* an answer to an older frame (late) is dropped */
-            }
-    }
-    if (!ok) {
+    got = await_answer(h, in.seq, &o);
+    if (got < 0)
+        h->failed = 1;
+    else if (!got)
         h->no_answer++;
-        return;
-    }
-    h->answered++;
-    h->board_lost = o.lost;
-    if (h->set_id >= 0 && o.set_verdict == PARAM_OK) {
-        h->board_param[h->set_id] = in.set_value;
-        h->settings_sent++;
-    } else if (h->set_id >= 0 && o.set_verdict != HIL_NO_SETTING) {
-        fprintf(stderr, "hil: at %.1f s the controller refused %s = %u (parameter %d): %s\n", sim_time_s(sim),
-                param_info((uint8_t)h->set_id)->name, in.set_value, h->set_id, param_why_text(o.set_verdict));
-        h->failed = 2;
-    }
-    /* the outputs, as the firmware's HAL would have set them */
-    h->pend = 0;
-    if (o.valve_delay_ms == 0) {
-        hal_host_io.valve_dir = o.valve_dir;
-        hal_host_io.valve_duty = o.valve_dir ? o.valve_duty : 0;
-    } else {
-        hal_host_io.valve_dir = HAL_VALVE_OFF;
-        hal_host_io.valve_duty = 0;
-        h->pend = 1;
-        h->pend_dir = o.valve_dir;
-        h->pend_duty = o.valve_duty;
-        h->pend_ms = hal_ms() + o.valve_delay_ms;
-    }
-    hal_host_io.spray_on = o.relays & 1u;
-    hal_host_io.buzzer = (o.relays >> 1) & 1u;
-    hal_wheel_min_interval(o.wheel_min);
-    app_status.in.speed_kmh_x100 = o.speed_kmh_x100;
-    app_status.in.target_lpm_x100 = o.target_lpm_x100;
-    app_status.in.flow_lpm_x100 = o.flow_lpm_x100;
-    app_status.in.pressure_kpa = o.pressure_kpa;
-    h->alarms = o.alarms;
-    h->alarms_ms = hal_ms() + HIL_DIAG_MS;
-    app_status.spraying = o.relays & 1u;
+    else
+        apply_answer(sim, h, &in, &o);
 }
 
 /* sim_step's step 5: the board instead of app_poll() */
@@ -284,93 +304,157 @@ static int hil_carries(int kind)
     }
 }
 
+/* The board given the scenario's settings, then HIL mode; -1 (said on stderr) when it refused. */
+static int board_set_up(hil_pc_t *h, const scenario_t *s, const char *port)
+{
+    char reply[128], cmd[48];
+    int i;
+    for (i = 0; i < P_COUNT; i++) {
+        char want[32];
+        snprintf(cmd, sizeof cmd, "SET %d %u", i, s->param[i]);
+        snprintf(want, sizeof want, "OK %d %u", i, s->param[i]);
+        if (command(h, cmd, want, reply, sizeof reply) < 0) {
+            fprintf(stderr, "hil: %s: '%s' got '%s' (a controller with this firmware, freshly reset?)\n", port,
+                    cmd, reply);
+            return -1;
+        }
+    }
+    if (command(h, "HIL ON", "OK HIL", reply, sizeof reply) < 0) {
+        fprintf(stderr, "hil: %s: 'HIL ON' got '%s'\n", port, reply);
+        return -1;
+    }
+    return 0;
+}
+
+/* The link's figures, the warnings a run with lost frames or late settings gets, the metrics. */
+static void report(const hil_pc_t *h, sim_t *sim, const scenario_t *s, const char *port, const metrics_result_t *r)
+{
+    char extra[768], name[256];
+    size_t k;
+    unsigned lost = h->no_answer;
+    printf("hil: %s on %s: %u frames, %u answered, %u without a good answer (%u not sent, %u sent damaged), "
+           "%u damaged answers; the controller counted %u lost or damaged; %u setting changes carried\n",
+           s->name, port, h->frames, h->answered, lost, h->dropped, h->corrupted, h->rx.damaged, h->board_lost,
+           h->settings_sent);
+    if (h->settings_waited)
+        printf("hil: SETTINGS LATE: %u frames had more than one setting change to carry (one a frame): the rest "
+               "came a period later than in the simulator\n", h->settings_waited);
+    if (lost || h->board_lost)
+        printf("hil: FRAMES LOST: the plant held the last outputs %u times; the figures below are not those "
+               "of a clean run\n", lost);
+    snprintf(name, sizeof name, "%s", s->name);
+    for (k = 0; name[k]; k++)
+        if (name[k] == '"' || name[k] == '\\' || (unsigned char)name[k] < 32)
+            name[k] = '?';
+    snprintf(extra, sizeof extra,
+             "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,\"hil_frames\":%u,\"hil_answered\":%u,"
+             "\"hil_lost\":%u,\"hil_lost_controller\":%u,\"hil_settings\":%u,",
+             name, ctl_name((uint8_t)s->param[P_CONTROLLER]), (unsigned long long)s->seed, h->frames,
+             h->answered, lost, h->board_lost, h->settings_sent);
+    metrics_json(stdout, &sim->metrics, r, extra, sim->wall_s, sim->cpu_s);
+}
+
+/* The program's options (the link's go into h). */
+typedef struct {
+    const char *scn_path, *port, *controller, *csv_path;
+    double cut_s;
+} hil_opt_t;
+
+/* The command line into o and h: -1 to run, or the exit status (help, a usage error). */
+static int options(int argc, char **argv, hil_opt_t *o, hil_pc_t *h)
+{
+    long drop = 0, corrupt = 0;
+    int i;
+    const arg_opt_t opts[] = {
+        {"--scenario", ARG_TEXT, &o->scn_path, 0, 0, NULL},
+        {"--port", ARG_TEXT, &o->port, 0, 0, NULL},
+        {"--controller", ARG_TEXT, &o->controller, 0, 0, NULL},
+        {"--csv", ARG_TEXT, &o->csv_path, 0, 0, NULL},
+        {"--pace", ARG_NUM, &h->pace, 0, 1000, NULL},
+        {"--timeout", ARG_NUM, &h->timeout_s, 0.001, 60, NULL},
+        {"--duration", ARG_NUM, &o->cut_s, 0.001, 1e6, NULL},
+        {"--drop-every", ARG_WHOLE, &drop, 2, 1e6, NULL},
+        {"--corrupt-every", ARG_WHOLE, &corrupt, 2, 1e6, NULL},
+    };
+    memset(o, 0, sizeof *o);
+    memset(h, 0, sizeof *h);
+    h->pace = 1.0;
+    h->timeout_s = -1;
+    i = args_parse("hil", argc, argv, opts, (int)(sizeof opts / sizeof opts[0]), NULL, usage);
+    if (i != ARGS_OK)
+        return i == ARGS_HELP ? 0 : 2;
+    h->drop_every = (unsigned)drop;
+    h->corrupt_every = (unsigned)corrupt;
+    if (!o->scn_path || !o->port) {
+        fprintf(stderr, "hil: --scenario FILE and --port DEV are required\n");
+        usage(stderr);
+        return 2;
+    }
+    /* the answer comes within the period in real time: 38400 baud, 50 bytes, the step */
+    if (h->timeout_s < 0)
+        h->timeout_s = h->pace > 0 ? 0.08 / h->pace : 2.0;
+    return -1;
+}
+
+/* The scenario, its controller and duration as asked; -1 (said on stderr) when it cannot run
+ * on a board. */
+static int load(const hil_opt_t *o, scenario_t *s)
+{
+    char err[512];
+    int i;
+    if (scenario_load(s, o->scn_path, err, sizeof err) < 0) {
+        fprintf(stderr, "hil: %s\n", err);
+        return -1;
+    }
+    if (o->controller && scenario_set_controller(s, o->controller, err, sizeof err) < 0) {
+        fprintf(stderr, "hil: --controller: %s\n", err);
+        return -1;
+    }
+    if (o->cut_s > 0)
+        scenario_cut(s, o->cut_s, NULL, 0);
+    for (i = 0; i < s->n_events; i++)
+        if (!hil_carries(s->events[i].kind)) {
+            fprintf(stderr, "hil: %s:%d: event '%s' is not one a HIL run carries (the plant's and the settings' "
+                    "are; a key, a serial line, a power cut act on the board itself): run it with sim\n", o->scn_path,
+                    s->events[i].line, scenario_event_name(s->events[i].kind));
+            return -1;
+        }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    const char *scn_path = NULL, *port = NULL, *controller = NULL, *csv_path = NULL;
-    char err[512], reply[128], cmd[48];
+    hil_opt_t o;
+    const char *port, *csv_path;
+    char err[512];
     scenario_t *s;
     sim_t *sim;
     hil_pc_t h;
     progress_t prog;
     metrics_result_t r;
     FILE *csv = NULL;
-    double cut_s = 0;
-    int i;
+    int rc = options(argc, argv, &o, &h);
     unsigned lost;
 
-    memset(&h, 0, sizeof h);
-    h.pace = 1.0;
-    h.timeout_s = -1;
-    {
-        long drop = 0, corrupt = 0;
-        const arg_opt_t opts[] = {
-            {"--scenario", ARG_TEXT, &scn_path, 0, 0, NULL},
-            {"--port", ARG_TEXT, &port, 0, 0, NULL},
-            {"--controller", ARG_TEXT, &controller, 0, 0, NULL},
-            {"--csv", ARG_TEXT, &csv_path, 0, 0, NULL},
-            {"--pace", ARG_NUM, &h.pace, 0, 1000, NULL},
-            {"--timeout", ARG_NUM, &h.timeout_s, 0.001, 60, NULL},
-            {"--duration", ARG_NUM, &cut_s, 0.001, 1e6, NULL},
-            {"--drop-every", ARG_WHOLE, &drop, 2, 1e6, NULL},
-            {"--corrupt-every", ARG_WHOLE, &corrupt, 2, 1e6, NULL},
-        };
-        i = args_parse("hil", argc, argv, opts, (int)(sizeof opts / sizeof opts[0]), NULL, usage);
-        if (i != ARGS_OK)
-            return i == ARGS_HELP ? 0 : 2;
-        h.drop_every = (unsigned)drop;
-        h.corrupt_every = (unsigned)corrupt;
-    }
-    if (!scn_path || !port) {
-        fprintf(stderr, "hil: --scenario FILE and --port DEV are required\n");
-        usage(stderr);
-        return 2;
-    }
-    /* the answer comes within the period in real time: 38400 baud, 50 bytes, the step */
-    if (h.timeout_s < 0)
-        h.timeout_s = h.pace > 0 ? 0.08 / h.pace : 2.0;
+    if (rc >= 0)
+        return rc;
+    port = o.port;
+    csv_path = o.csv_path;
     s = malloc(sizeof *s);
     sim = malloc(sizeof *sim);
     if (!s || !sim) {
         fprintf(stderr, "hil: out of memory\n");
         return 1;
     }
-    if (scenario_load(s, scn_path, err, sizeof err) < 0) {
-        fprintf(stderr, "hil: %s\n", err);
+    if (load(&o, s) < 0)
         return 1;
-    }
-    if (controller && scenario_set_controller(s, controller, err, sizeof err) < 0) {
-        fprintf(stderr, "hil: --controller: %s\n", err);
-        return 1;
-    }
-    if (cut_s > 0)
-        scenario_cut(s, cut_s, NULL, 0);
-    for (i = 0; i < s->n_events; i++)
-        if (!hil_carries(s->events[i].kind)) {
-            fprintf(stderr, "hil: %s:%d: event '%s' is not one a HIL run carries (the plant's and the settings' "
-                    "are; a key, a serial line, a power cut act on the board itself): run it with sim\n", scn_path,
-                    s->events[i].line, scenario_event_name(s->events[i].kind));
-            return 1;
-        }
     h.fd = tty_open(port, err, sizeof err);
     if (h.fd < 0) {
         fprintf(stderr, "hil: %s\n", err);
         return 1;
     }
-    /* the board: the scenario's settings, then the mode */
-    for (i = 0; i < P_COUNT; i++) {
-        char want[32];
-        snprintf(cmd, sizeof cmd, "SET %d %u", i, s->param[i]);
-        snprintf(want, sizeof want, "OK %d %u", i, s->param[i]);
-        if (command(&h, cmd, want, reply, sizeof reply) < 0) {
-            fprintf(stderr, "hil: %s: '%s' got '%s' (a controller with this firmware, freshly reset?)\n", port,
-                    cmd, reply);
-            return 1;
-        }
-    }
-    if (command(&h, "HIL ON", "OK HIL", reply, sizeof reply) < 0) {
-        fprintf(stderr, "hil: %s: 'HIL ON' got '%s'\n", port, reply);
+    if (board_set_up(&h, s, port) < 0)
         return 1;
-    }
     if (csv_path && !(csv = fopen(csv_path, "w"))) {
         fprintf(stderr, "hil: cannot write %s: %s\n", csv_path, strerror(errno));
         return 1;
@@ -404,30 +488,7 @@ int main(int argc, char **argv)
         return 1;
     }
     lost = h.no_answer;
-    printf("hil: %s on %s: %u frames, %u answered, %u without a good answer (%u not sent, %u sent damaged), "
-           "%u damaged answers; the controller counted %u lost or damaged; %u setting changes carried\n",
-           s->name, port, h.frames, h.answered, lost, h.dropped, h.corrupted, h.rx.damaged, h.board_lost,
-           h.settings_sent);
-    if (h.settings_waited)
-        printf("hil: SETTINGS LATE: %u frames had more than one setting change to carry (one a frame): the rest "
-               "came a period later than in the simulator\n", h.settings_waited);
-    if (lost || h.board_lost)
-        printf("hil: FRAMES LOST: the plant held the last outputs %u times; the figures below are not those "
-               "of a clean run\n", lost);
-    {
-        char extra[768], name[256];
-        size_t k;
-        snprintf(name, sizeof name, "%s", s->name);
-        for (k = 0; name[k]; k++)
-            if (name[k] == '"' || name[k] == '\\' || (unsigned char)name[k] < 32)
-                name[k] = '?';
-        snprintf(extra, sizeof extra,
-                 "\"scenario\":\"%s\",\"controller\":\"%s\",\"seed\":%llu,\"hil_frames\":%u,\"hil_answered\":%u,"
-                 "\"hil_lost\":%u,\"hil_lost_controller\":%u,\"hil_settings\":%u,",
-                 name, ctl_name((uint8_t)s->param[P_CONTROLLER]), (unsigned long long)s->seed, h.frames,
-                 h.answered, lost, h.board_lost, h.settings_sent);
-        metrics_json(stdout, &sim->metrics, &r, extra, sim->wall_s, sim->cpu_s);
-    }
+    report(&h, sim, s, port, &r);
     sim_free(sim);
     close(h.fd);
     return lost || h.board_lost ? 3 : 0;

@@ -247,29 +247,12 @@ static void num(FILE *f, const char *key, double v, int comma)
 }
 
 /* ---- the figures -------------------------------------------------------------------------------- */
-void metrics_finish(metrics_t *m, metrics_result_t *r)
+/* The zones' figures: the ratio applied / expected, so a change of rate or width does not count
+ * as spread; the zones driven at METRICS_MIN_KMH or faster, and all of them. */
+static void zones_finish(const metrics_t *m, metrics_result_t *r)
 {
     int i, n4 = 0, nall = 0;
     double s4 = 0, ss4 = 0, sall = 0, ssall = 0;
-    memset(r, 0, sizeof *r);
-    r->volume_l = m->vol_l;
-    r->area_ha = m->area_m2 / 10000.0;
-    r->sim_s = m->sim_s;
-    r->applied_l_ha = m->area_m2 > 0 ? m->vol_l / r->area_ha : NAN;
-    r->dose_error_pct = m->expect4_l > 0 ? (m->vol4_l / m->expect4_l - 1.0) * 100.0 : NAN;
-    r->dose_error_all_pct = m->expect_l > 0 ? (m->vol_l / m->expect_l - 1.0) * 100.0 : NAN;
-    r->dose_target_pct = m->expect4_l > 0 ? (m->target4_l / m->expect4_l - 1.0) * 100.0 : NAN;
-    r->dose_meter_pct = m->expect4_l > 0 ? (m->vol4_l - m->meter4_l) / m->expect4_l * 100.0 : NAN;
-    r->dose_ctl_pct = m->expect4_l > 0 ? (m->meter4_l - m->target4_l) / m->expect4_l * 100.0 : NAN;
-    r->dose_ctl_stop_pct = m->expect4_l > 0 ? (m->stop_meter4_l - m->stop_target4_l) / m->expect4_l * 100.0 : NAN;
-    r->dose_ctl_start_pct = m->expect4_l > 0 ? (m->start_meter4_l - m->start_target4_l) / m->expect4_l * 100.0 : NAN;
-    r->valve_reversals = m->valve_reversals;
-    r->valve_reversals_per_min = m->spray_s > 0 ? m->valve_reversals_spray / (m->spray_s / 60.0) : NAN;
-    r->valve_travel_strokes = m->valve_travel;
-    r->pressure_min_bar = m->p_seen ? m->p_min : m->p_seen_any ? m->p_min_any : NAN;
-    r->pressure_max_bar = m->p_seen ? m->p_max : m->p_seen_any ? m->p_max_any : NAN;
-
-    /* zones: the ratio applied / expected, so a change of rate or width does not count as spread */
     r->zone_error_min_pct = r->zone_error_max_pct = NAN;
     r->zone_error_all_min_pct = r->zone_error_all_max_pct = NAN;
     for (i = 0; i < m->n_zones; i++) {
@@ -303,6 +286,29 @@ void metrics_finish(metrics_t *m, metrics_result_t *r)
     r->cv_pct = CV(n4, s4, ss4);
     r->cv_all_pct = CV(nall, sall, ssall);
 #undef CV
+}
+
+void metrics_finish(metrics_t *m, metrics_result_t *r)
+{
+    memset(r, 0, sizeof *r);
+    r->volume_l = m->vol_l;
+    r->area_ha = m->area_m2 / 10000.0;
+    r->sim_s = m->sim_s;
+    r->applied_l_ha = m->area_m2 > 0 ? m->vol_l / r->area_ha : NAN;
+    r->dose_error_pct = m->expect4_l > 0 ? (m->vol4_l / m->expect4_l - 1.0) * 100.0 : NAN;
+    r->dose_error_all_pct = m->expect_l > 0 ? (m->vol_l / m->expect_l - 1.0) * 100.0 : NAN;
+    r->dose_target_pct = m->expect4_l > 0 ? (m->target4_l / m->expect4_l - 1.0) * 100.0 : NAN;
+    r->dose_meter_pct = m->expect4_l > 0 ? (m->vol4_l - m->meter4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_ctl_pct = m->expect4_l > 0 ? (m->meter4_l - m->target4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_ctl_stop_pct = m->expect4_l > 0 ? (m->stop_meter4_l - m->stop_target4_l) / m->expect4_l * 100.0 : NAN;
+    r->dose_ctl_start_pct = m->expect4_l > 0 ? (m->start_meter4_l - m->start_target4_l) / m->expect4_l * 100.0 : NAN;
+    r->valve_reversals = m->valve_reversals;
+    r->valve_reversals_per_min = m->spray_s > 0 ? m->valve_reversals_spray / (m->spray_s / 60.0) : NAN;
+    r->valve_travel_strokes = m->valve_travel;
+    r->pressure_min_bar = m->p_seen ? m->p_min : m->p_seen_any ? m->p_min_any : NAN;
+    r->pressure_max_bar = m->p_seen ? m->p_max : m->p_seen_any ? m->p_max_any : NAN;
+
+    zones_finish(m, r);
 
     free(m->steps);
     m->steps = NULL;

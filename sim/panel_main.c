@@ -328,6 +328,46 @@ static int tick(sim_t *sim)
     return 1;
 }
 
+/* Batch: the keys done, the screen settled, its PNG at scale and its text; the exit status. */
+static int screenshot(sim_t *sim, const char *shot, int scale)
+{
+    char line[17];
+    while (keys_busy() && tick(sim))
+        ;
+    for (int i = 0; i < 600 && tick(sim); i++)
+        ;
+    if (st7920_emu_png(shot, scale) < 0) {
+        fprintf(stderr, "panel: cannot write %s: %s\n", shot, strerror(errno));
+        return 1;
+    }
+    for (int y = 0; y < 4; y++) {
+        st7920_emu_line((uint8_t)y, line);
+        printf("%s\n", line);
+    }
+    return 0;
+}
+
+/* The panel in the terminal at speed x real time, drawn every 0.1 s, until q. */
+static void interactive(sim_t *sim, double speed, int text_only)
+{
+    double w0 = wall_s(), t0 = sim_time_s(sim), next_draw = 0;
+    for (;;) {
+        double w = wall_s() - w0;
+        int steps = 0;
+        if (read_keys())
+            break;
+        while (sim_time_s(sim) - t0 < w * speed && steps < 200000 && tick(sim))
+            steps++;
+        if (sim_done(sim))
+            keys_tick(sim);
+        if (w >= next_draw) {
+            draw(sim, text_only);
+            next_draw = w + 0.1;
+        }
+        usleep(2000);
+    }
+}
+
 int main(int argc, char **argv)
 {
     const char *scn_path = NULL, *keys = NULL, *shot = NULL;
@@ -371,49 +411,17 @@ int main(int argc, char **argv)
     st7920_emu_reset();
     hal_host_lcd_sink(st7920_emu_write);
     section_sw = sections_given = hal_host_io.sections;     /* the scenario's: all on */
-    if (shot) {                     /* batch: time, keys, settle, PNG, text */
-        char line[17];
-        while (sim_time_s(sim) < pre_s && tick(sim))
-            ;
-        keys_push(keys);
-        while (keys_busy() && tick(sim))
-            ;
-        for (int i = 0; i < 600 && tick(sim); i++)
-            ;
-        if (st7920_emu_png(shot, scale) < 0) {
-            fprintf(stderr, "panel: cannot write %s: %s\n", shot, strerror(errno));
-            return 1;
-        }
-        for (int y = 0; y < 4; y++) {
-            st7920_emu_line((uint8_t)y, line);
-            printf("%s\n", line);
-        }
-        return 0;
-    }
-
+    /* (batch: the time, the keys, the screen settled, PNG and text) */
     while (sim_time_s(sim) < pre_s && tick(sim))
         ;
     keys_push(keys);
+    if (shot)
+        return screenshot(sim, shot, scale);
     if (!isatty(0) || raw_start() < 0) {
         fprintf(stderr, "panel: stdin is not a terminal (use --screenshot for batch runs)\n");
         return 1;
     }
-    double w0 = wall_s(), t0 = sim_time_s(sim), next_draw = 0;
-    for (;;) {
-        double w = wall_s() - w0;
-        int steps = 0;
-        if (read_keys())
-            break;
-        while (sim_time_s(sim) - t0 < w * speed && steps < 200000 && tick(sim))
-            steps++;
-        if (sim_done(sim))
-            keys_tick(sim);
-        if (w >= next_draw) {
-            draw(sim, text_only);
-            next_draw = w + 0.1;
-        }
-        usleep(2000);
-    }
+    interactive(sim, speed, text_only);
     raw_off();
     sim_free(sim);
     free(s);

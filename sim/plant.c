@@ -352,6 +352,41 @@ static const plant_tick_t *tick_of(plant_t *pl, uint32_t dt_ns)
     return k;
 }
 
+/* The flows at the line's new pressure. The square roots there: to first order from the last
+ * evaluation when Newton's last step there was short against the pressure (the second-order
+ * term is then below (dp/p)^2/8 of the root: rounding), else anew; they also start the next
+ * tick's guess, with 1 / f'. */
+static void line_flows(plant_t *pl, const line_eq_t *e, const line_pt_t *at)
+{
+    double P = pl->p_bar, dp = P - at->p, slip = 1.0 - e->ks * P, s, sc;
+    s = at->s > 0.0 && fabs(dp) < 1e-7 * at->p ? at->s + dp * at->hs : sqrt(P);
+    sc = P > e->pc ? (at->sc > 0.0 && fabs(dp) < 1e-7 * (at->p - e->pc) ? at->sc + dp * at->hc : sqrt(P - e->pc)) : 0.0;
+    pl->root_p = P;
+    pl->root_s = s;
+    pl->root_sc = sc;
+    pl->root_d = 1.0 / at->d;
+    pl->q_pump = e->qp0 * (slip > 0.0 ? slip : 0.0);
+    pl->q_relief = P > e->ps ? e->kr * (P - e->ps) : 0.0;
+    pl->q_bypass = e->cb * s;
+    pl->q_leak = e->kl * s;
+    pl->q_boom = e->a * sc;
+    pl->q_meter = pl->q_boom + pl->q_leak;
+}
+
+/* The 4-20 mA loops of the pressure and level sensors, into the 10-bit ADC. */
+static void loops_step(plant_t *pl, const plant_tick_t *k)
+{
+    double ma, lv;
+    pl->psens_offset_bar += pl->psens_drift_bar_per_min * k->dt_min;
+    ma = 4.0 + 16.0 * (pl->p_bar + pl->psens_offset_bar) / PLANT_PSENS_BAR;
+    ma = ma > PLANT_MA_MAX ? PLANT_MA_MAX : ma < PLANT_MA_MIN ? PLANT_MA_MIN : ma;
+    if (pl->psens_open)
+        ma = 0.0;
+    pl->ma_pressure = ma;
+    lv = 4.0 + (pl->tank_v + pl->level_offset_l) * k->level_ma_per_l;
+    pl->ma_level = lv > PLANT_MA_MAX ? PLANT_MA_MAX : lv < PLANT_MA_MIN ? PLANT_MA_MIN : lv;
+}
+
 void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
 {
     const plant_params_t *p = &pl->p;
@@ -414,25 +449,7 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
         e.guess = 2.0 * e.p0 - pl->p_last;
     pl->p_last = e.p0;
     pl->p_bar = line_solve(&e, &at);
-    {
-        /* the square roots at the new pressure: to first order from the last evaluation when
-         * Newton's last step there was short against the pressure (the second-order term is
-         * then below (dp/p)^2/8 of the root: rounding), else anew; they also start the next
-         * tick's guess, with 1 / f' */
-        double P = pl->p_bar, dp = P - at.p, slip = 1.0 - e.ks * P, s, sc;
-        s = at.s > 0.0 && fabs(dp) < 1e-7 * at.p ? at.s + dp * at.hs : sqrt(P);
-        sc = P > e.pc ? (at.sc > 0.0 && fabs(dp) < 1e-7 * (at.p - e.pc) ? at.sc + dp * at.hc : sqrt(P - e.pc)) : 0.0;
-        pl->root_p = P;
-        pl->root_s = s;
-        pl->root_sc = sc;
-        pl->root_d = 1.0 / at.d;
-        pl->q_pump = e.qp0 * (slip > 0.0 ? slip : 0.0);
-        pl->q_relief = P > e.ps ? e.kr * (P - e.ps) : 0.0;
-        pl->q_bypass = e.cb * s;
-        pl->q_leak = e.kl * s;
-        pl->q_boom = e.a * sc;
-        pl->q_meter = pl->q_boom + pl->q_leak;
-    }
+    line_flows(pl, &e, &at);
     pl->tank_v -= pl->q_meter * k->dt_min;
     if (pl->tank_v < 0.0)
         pl->tank_v = 0.0;
@@ -441,18 +458,7 @@ void plant_step(plant_t *pl, const plant_in_t *in, uint32_t dt_ns)
 
     meter_step(pl, pl->q_meter, t0, dt_ns, dt, k->dt_min);
     wheel_step(pl, pl->v_mps, t0, dt_ns, k->wheel_per_mps);
-    /* 4-20 mA loops into the 10-bit ADC */
-    {
-        double ma, lv;
-        pl->psens_offset_bar += pl->psens_drift_bar_per_min * k->dt_min;
-        ma = 4.0 + 16.0 * (pl->p_bar + pl->psens_offset_bar) / PLANT_PSENS_BAR;
-        ma = ma > PLANT_MA_MAX ? PLANT_MA_MAX : ma < PLANT_MA_MIN ? PLANT_MA_MIN : ma;
-        if (pl->psens_open)
-            ma = 0.0;
-        pl->ma_pressure = ma;
-        lv = 4.0 + (pl->tank_v + pl->level_offset_l) * k->level_ma_per_l;
-        pl->ma_level = lv > PLANT_MA_MAX ? PLANT_MA_MAX : lv < PLANT_MA_MIN ? PLANT_MA_MIN : lv;
-    }
+    loops_step(pl, k);
 }
 
 uint16_t plant_adc_ideal(const plant_t *pl, int ch)

@@ -337,49 +337,26 @@ static void watch(sim_t *sim)
     metrics_watch(&sim->metrics, SIM_SAMPLE_S, &w);
 }
 
-void sim_step(sim_t *sim)
+/* The firmware's pass of this tick (none while the power is off), and the rate it took. */
+static void sim_firmware(sim_t *sim)
 {
-    const scenario_t *s = sim->scn;
+    if (sim->pass)
+        sim->pass(sim->pass_ctx);
+    else if (sim->poll)
+        sim->poll(sim);
+    else
+        app_poll();
+    if (target_rate_x10() != sim->fw_rate) {
+        sim->fw_rate = target_rate_x10();   /* the operator set a rate (event, key or link) */
+        sim->set_rate = sim->fw_rate * 0.1;
+    }
+}
+
+/* What the tick ending at t1 (dt s long) left: the drive log, the alarms raised, the metrics,
+ * the samples, the trace. */
+static void sim_record(sim_t *sim, uint64_t t1, double dt)
+{
     plant_t *pl = &sim->plant;
-    uint32_t tick = sim->idle_tick_ns && sim_idle(sim) ? sim->idle_tick_ns : sim->tick_ns;
-    uint64_t t1 = sim->t_ns + tick;
-    double t1_ns = (double)(int64_t)t1;     /* t1 < 2^63: the signed conversion is exact and cheaper */
-    plant_in_t in;
-    double dt = tick * 1e-9;
-
-    while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= t1_ns) {
-        const scn_event_t *e = &s->events[sim->next_event++];
-        if (e->kind == EV_KEY || e->kind == EV_SERIAL)
-            sim_event_text(sim, e->kind, e->text);  /* checked when the file was read */
-        else
-            sim_event(sim, e->kind, e->value);
-    }
-    if (sim->n_input || sim->scn_input)
-        sim_input_step(sim, t1);
-    if (sim->aog_period_ns || sim->rc_rate > 0)
-        frames_step(sim, t1);
-    pl->v_cmd_kmh = drive_kmh(sim, t1_ns * 1e-9);
-    in.drive = hal_host_io.valve_dir * duty_frac[hal_host_io.valve_duty];
-    in.spray_on = hal_host_io.spray_on;
-
-    hal_host_set_time_ns(t1);
-    plant_step(pl, &in, tick);
-    sim->t_ns = t1;
-
-    if (sim->power_back_ns && t1 >= sim->power_back_ns)
-        power_on(sim);
-    if (!sim->power_back_ns) {              /* a dead chip runs nothing; what arrives is gone at power_on */
-        if (sim->pass)
-            sim->pass(sim->pass_ctx);
-        else if (sim->poll)
-            sim->poll(sim);
-        else
-            app_poll();
-        if (target_rate_x10() != sim->fw_rate) {
-            sim->fw_rate = target_rate_x10();   /* the operator set a rate (event, key or link) */
-            sim->set_rate = sim->fw_rate * 0.1;
-        }
-    }
     if (sim->drive_log && (hal_host_io.valve_dir != sim->log_dir || hal_host_io.valve_duty != sim->log_duty ||
                            hal_host_io.spray_on != sim->log_spray)) {
         sim->log_dir = hal_host_io.valve_dir;
@@ -425,6 +402,42 @@ void sim_step(sim_t *sim)
         sim_csv_row(sim->csv, &r);
         sim->next_csv_ns += sim->csv_period_ns;
     }
+}
+
+void sim_step(sim_t *sim)
+{
+    const scenario_t *s = sim->scn;
+    plant_t *pl = &sim->plant;
+    uint32_t tick = sim->idle_tick_ns && sim_idle(sim) ? sim->idle_tick_ns : sim->tick_ns;
+    uint64_t t1 = sim->t_ns + tick;
+    double t1_ns = (double)(int64_t)t1;     /* t1 < 2^63: the signed conversion is exact and cheaper */
+    plant_in_t in;
+    double dt = tick * 1e-9;
+
+    while (sim->next_event < s->n_events && s->events[sim->next_event].t_s * 1e9 <= t1_ns) {
+        const scn_event_t *e = &s->events[sim->next_event++];
+        if (e->kind == EV_KEY || e->kind == EV_SERIAL)
+            sim_event_text(sim, e->kind, e->text);  /* checked when the file was read */
+        else
+            sim_event(sim, e->kind, e->value);
+    }
+    if (sim->n_input || sim->scn_input)
+        sim_input_step(sim, t1);
+    if (sim->aog_period_ns || sim->rc_rate > 0)
+        frames_step(sim, t1);
+    pl->v_cmd_kmh = drive_kmh(sim, t1_ns * 1e-9);
+    in.drive = hal_host_io.valve_dir * duty_frac[hal_host_io.valve_duty];
+    in.spray_on = hal_host_io.spray_on;
+
+    hal_host_set_time_ns(t1);
+    plant_step(pl, &in, tick);
+    sim->t_ns = t1;
+
+    if (sim->power_back_ns && t1 >= sim->power_back_ns)
+        power_on(sim);
+    if (!sim->power_back_ns)                /* a dead chip runs nothing; what arrives is gone at power_on */
+        sim_firmware(sim);
+    sim_record(sim, t1, dt);
 }
 
 void sim_run(sim_t *sim, double until_s)

@@ -135,231 +135,265 @@ static int write_out(const char *path, void (*write)(FILE *, const metrics_t *),
     return 0;
 }
 
-int main(int argc, char **argv)
-{
-    const char *scn_path = NULL, *controller = NULL, *csv_path = NULL, *zones_path = NULL, *samples_path = NULL;
-    const char *serial_path = NULL, *drive_path = NULL, *pil_path = NULL;
-    const char *input_path = NULL, *chip_path = NULL, *s51_path = "build/ucsim/s51";
-    FILE *serial = NULL, *drive_log = NULL;
-    pil_t *pil = NULL;
-    progress_t prog;
-    chip_t *chip = NULL;
-    arg_nums_t chip_ev[3] = { { { 0 }, 0 } };   /* the times of --chip-reset, --chip-hang, --chip-wheel-sweep */
-    static const int chip_ev_kind[3] = { STC12_EV_RESET, STC12_EV_HANG, STC12_EV_WHEEL_SWEEP };
-    int j;
-    unsigned long long seed = 0;
-    int have_seed = 0, i, tick_ms = 1, idle_ms = 0, fast = 0;
-    long tick_l = 0, idle_l = 0;
-    double period = 0.1, pace = 1.0, wait_s = 60.0, cut_s = 0, speed;
-    int use_pty = 0;
-    char err[512];
-    scenario_t *s;
-    sim_t *sim;
-    FILE *csv = NULL;
-    metrics_result_t r;
+/* The program's options, what it opened and the firmware it runs. */
+typedef struct {
+    const char *scn_path, *controller, *csv_path, *zones_path, *samples_path;
+    const char *serial_path, *drive_path, *pil_path, *input_path, *chip_path, *s51_path;
+    arg_nums_t chip_ev[3];          /* the times of --chip-reset, --chip-hang, --chip-wheel-sweep */
+    unsigned long long seed;
+    int have_seed, tick_ms, idle_ms, fast, use_pty;
+    long tick_l, idle_l;
+    double period, pace, wait_s, cut_s;
+    FILE *serial, *drive_log, *csv;
+    pil_t *pil;
+    chip_t *chip;
+} opt_t;
 
+/* The command line into o: -1 to run, or the exit status (help, a usage error). */
+static int options(int argc, char **argv, opt_t *o)
+{
+    int i;
     const arg_opt_t opts[] = {
-        {"--scenario", ARG_TEXT, &scn_path, 0, 0, NULL},
-        {"--controller", ARG_TEXT, &controller, 0, 0, NULL},
-        {"--csv", ARG_TEXT, &csv_path, 0, 0, NULL},
-        {"--zones", ARG_TEXT, &zones_path, 0, 0, NULL},
-        {"--samples", ARG_TEXT, &samples_path, 0, 0, NULL},
-        {"--serial", ARG_TEXT, &serial_path, 0, 0, NULL},
-        {"--drive-log", ARG_TEXT, &drive_path, 0, 0, NULL},
-        {"--pil", ARG_TEXT, &pil_path, 0, 0, NULL},
-        {"--chip", ARG_TEXT, &chip_path, 0, 0, NULL},
-        {"--s51", ARG_TEXT, &s51_path, 0, 0, NULL},
-        {"--chip-reset", ARG_NUMS, &chip_ev[0], 0, 1e6, NULL},
-        {"--chip-hang", ARG_NUMS, &chip_ev[1], 0, 1e6, NULL},
-        {"--chip-wheel-sweep", ARG_NUMS, &chip_ev[2], 0, 1e6, NULL},
-        {"--input", ARG_TEXT, &input_path, 0, 0, NULL},
-        {"--pty", ARG_FLAG, &use_pty, 0, 0, NULL},
-        {"--fast", ARG_FLAG, &fast, 0, 0, NULL},
-        {"--seed", ARG_U64, &seed, 0, 0, &have_seed},
-        {"--pace", ARG_NUM, &pace, 0, 1e6, NULL},
-        {"--wait", ARG_NUM, &wait_s, 0, 1e6, NULL},
-        {"--tick-ms", ARG_WHOLE, &tick_l, 1, SIM_TICK_MAX_MS, NULL},
-        {"--idle-tick-ms", ARG_WHOLE, &idle_l, 1, SIM_TICK_MAX_MS, NULL},
-        {"--duration", ARG_NUM, &cut_s, 0.001, 1e6, NULL},
-        {"--trace-period", ARG_NUM, &period, 0.001, 3600, NULL},
+        {"--scenario", ARG_TEXT, &o->scn_path, 0, 0, NULL},
+        {"--controller", ARG_TEXT, &o->controller, 0, 0, NULL},
+        {"--csv", ARG_TEXT, &o->csv_path, 0, 0, NULL},
+        {"--zones", ARG_TEXT, &o->zones_path, 0, 0, NULL},
+        {"--samples", ARG_TEXT, &o->samples_path, 0, 0, NULL},
+        {"--serial", ARG_TEXT, &o->serial_path, 0, 0, NULL},
+        {"--drive-log", ARG_TEXT, &o->drive_path, 0, 0, NULL},
+        {"--pil", ARG_TEXT, &o->pil_path, 0, 0, NULL},
+        {"--chip", ARG_TEXT, &o->chip_path, 0, 0, NULL},
+        {"--s51", ARG_TEXT, &o->s51_path, 0, 0, NULL},
+        {"--chip-reset", ARG_NUMS, &o->chip_ev[0], 0, 1e6, NULL},
+        {"--chip-hang", ARG_NUMS, &o->chip_ev[1], 0, 1e6, NULL},
+        {"--chip-wheel-sweep", ARG_NUMS, &o->chip_ev[2], 0, 1e6, NULL},
+        {"--input", ARG_TEXT, &o->input_path, 0, 0, NULL},
+        {"--pty", ARG_FLAG, &o->use_pty, 0, 0, NULL},
+        {"--fast", ARG_FLAG, &o->fast, 0, 0, NULL},
+        {"--seed", ARG_U64, &o->seed, 0, 0, &o->have_seed},
+        {"--pace", ARG_NUM, &o->pace, 0, 1e6, NULL},
+        {"--wait", ARG_NUM, &o->wait_s, 0, 1e6, NULL},
+        {"--tick-ms", ARG_WHOLE, &o->tick_l, 1, SIM_TICK_MAX_MS, NULL},
+        {"--idle-tick-ms", ARG_WHOLE, &o->idle_l, 1, SIM_TICK_MAX_MS, NULL},
+        {"--duration", ARG_NUM, &o->cut_s, 0.001, 1e6, NULL},
+        {"--trace-period", ARG_NUM, &o->period, 0.001, 3600, NULL},
     };
+    memset(o, 0, sizeof *o);
+    o->s51_path = "build/ucsim/s51";
+    o->tick_ms = 1;
+    o->period = 0.1;
+    o->pace = 1.0;
+    o->wait_s = 60.0;
     i = args_parse("sim", argc, argv, opts, (int)(sizeof opts / sizeof opts[0]), NULL, usage);
     if (i != ARGS_OK)
         return i == ARGS_HELP ? 0 : 2;
-    if (fast) {                     /* (a --tick-ms or --idle-tick-ms given too sets its own) */
-        tick_ms = SIM_FAST_TICK_MS;
-        idle_ms = SIM_FAST_IDLE_MS;
+    if (o->fast) {                  /* (a --tick-ms or --idle-tick-ms given too sets its own) */
+        o->tick_ms = SIM_FAST_TICK_MS;
+        o->idle_ms = SIM_FAST_IDLE_MS;
     }
-    if (tick_l)
-        tick_ms = (int)tick_l;
-    if (idle_l)
-        idle_ms = (int)idle_l;
-    if (100 % tick_ms != 0 || (idle_ms && 100 % idle_ms != 0)) {
+    if (o->tick_l)
+        o->tick_ms = (int)o->tick_l;
+    if (o->idle_l)
+        o->idle_ms = (int)o->idle_l;
+    if (100 % o->tick_ms != 0 || (o->idle_ms && 100 % o->idle_ms != 0)) {
         fprintf(stderr, "sim: --tick-ms and --idle-tick-ms must divide 100\n");
         return 2;
     }
-    if (!scn_path) {
+    if (!o->scn_path) {
         fprintf(stderr, "sim: --scenario FILE is required\n");
         usage(stderr);
         return 2;
     }
-    s = malloc(sizeof *s);
-    sim = malloc(sizeof *sim);
-    if (!s || !sim) {
-        fprintf(stderr, "sim: out of memory\n");
-        return 1;
+    return -1;
+}
+
+/* path opened for writing into *f (none asked: NULL); -1 (said on stderr) when it cannot */
+static int open_out(const char *path, FILE **f)
+{
+    if (!path)
+        return 0;
+    *f = fopen(path, "w");
+    if (!*f) {
+        fprintf(stderr, "sim: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
     }
-    if (scenario_load(s, scn_path, err, sizeof err) < 0) {
-        fprintf(stderr, "sim: %s\n", err);
-        return 1;
-    }
-    if (controller && scenario_set_controller(s, controller, err, sizeof err) < 0) {
-        fprintf(stderr, "sim: --controller: %s\n", err);
-        return 1;
-    }
-    if (have_seed)
-        s->seed = seed;
-    if (cut_s > 0)
-        scenario_cut(s, cut_s, NULL, 0);        /* (checked above) */
-    if (csv_path) {
-        csv = fopen(csv_path, "w");
-        if (!csv) {
-            fprintf(stderr, "sim: cannot write %s: %s\n", csv_path, strerror(errno));
-            return 1;
-        }
-    }
-    if (serial_path) {
-        serial = fopen(serial_path, "w");
-        if (!serial) {
-            fprintf(stderr, "sim: cannot write %s: %s\n", serial_path, strerror(errno));
-            return 1;
-        }
-    }
-    if (drive_path) {
-        drive_log = fopen(drive_path, "w");
-        if (!drive_log) {
-            fprintf(stderr, "sim: cannot write %s: %s\n", drive_path, strerror(errno));
-            return 1;
-        }
-    }
-    if ((tick_ms != 1 || idle_ms) && (pil_path || chip_path)) {
-        fprintf(stderr, "sim: --fast/--tick-ms and --pil or --chip do not go together (s51 runs a millisecond a step)\n");
-        return 2;
-    }
-    if (pil_path && chip_path) {
-        fprintf(stderr, "sim: --pil and --chip: one firmware at a time\n");
-        return 2;
-    }
-    sim_init(sim, s);
-    if (sim_set_tick_ms(sim, tick_ms, idle_ms) < 0) {
-        fprintf(stderr, "sim: ticks of %d ms, %d ms while idle: the idle tick must be a longer multiple of the tick\n",
-                tick_ms, idle_ms);
-        return 2;
-    }
-    sim->drive_log = drive_log;
-    if (input_path && sim_input_load(sim, input_path, err, sizeof err) < 0) {
-        fprintf(stderr, "sim: --input: %s\n", err);
-        return 1;
-    }
-    for (i = 0; (pil_path || chip_path) && i < s->n_events; i++)
+    return 0;
+}
+
+/* The firmware in s51 or in the STC12 model when asked: 0, or the exit status. */
+static int start_firmware(opt_t *o, sim_t *sim, const scenario_t *s)
+{
+    char err[512];
+    static const int chip_ev_kind[3] = { STC12_EV_RESET, STC12_EV_HANG, STC12_EV_WHEEL_SWEEP };
+    int i, j;
+    for (i = 0; (o->pil_path || o->chip_path) && i < s->n_events; i++)
         if (s->events[i].kind == EV_POWER_CUT) {
-            fprintf(stderr, "sim: %s: %s:%d: power_cut runs on the host build only\n", pil_path ? "--pil" : "--chip",
+            fprintf(stderr, "sim: %s: %s:%d: power_cut runs on the host build only\n", o->pil_path ? "--pil" : "--chip",
                     s->name, s->events[i].line);
             return 1;
         }
-    if (chip_path) {
-        chip = chip_start(sim, chip_path, s51_path, err, sizeof err);
-        if (!chip) {
+    if (o->chip_path) {
+        o->chip = chip_start(sim, o->chip_path, o->s51_path, err, sizeof err);
+        if (!o->chip) {
             fprintf(stderr, "sim: --chip: %s\n", err);
             return 1;
         }
         for (j = 0; j < 3; j++)
-            for (i = 0; i < chip_ev[j].n; i++)
-                if (chip_at(chip, chip_ev[j].v[i], chip_ev_kind[j], 60) < 0) {
+            for (i = 0; i < o->chip_ev[j].n; i++)
+                if (chip_at(o->chip, o->chip_ev[j].v[i], chip_ev_kind[j], 60) < 0) {
                     fprintf(stderr, "sim: at most 8 --chip-* inputs\n");
                     return 2;
                 }
-    } else if (chip_ev[0].n + chip_ev[1].n + chip_ev[2].n) {
+    } else if (o->chip_ev[0].n + o->chip_ev[1].n + o->chip_ev[2].n) {
         fprintf(stderr, "sim: --chip-reset, --chip-hang, --chip-wheel-sweep go with --chip\n");
         return 2;
     }
-    if (pil_path) {
-        pil = pil_start(sim, pil_path, err, sizeof err);
-        if (!pil) {
+    if (o->pil_path) {
+        o->pil = pil_start(sim, o->pil_path, err, sizeof err);
+        if (!o->pil) {
             fprintf(stderr, "sim: --pil: %s\n", err);
             return 1;
         }
     }
-    if (csv)
-        sim_trace_csv(sim, csv, period);
-    if (use_pty && serial) {
+    return 0;
+}
+
+/* The run to its end: on a pseudo-terminal, into --serial's file, or with nobody on the link;
+ * 0, or the exit status. */
+static int run(opt_t *o, sim_t *sim, const scenario_t *s)
+{
+    progress_t prog;
+    int b;
+    if (o->use_pty && o->serial) {
         fprintf(stderr, "sim: --pty and --serial: one link at a time\n");
         return 2;
     }
-    if (use_pty) {
-        if (run_pty(sim, s, pace, wait_s) < 0)
-            return 1;
-    } else if (serial) {
-        /* run in 0.1 s slices and take what the UART sent in each (the host queue holds 4 KB) */
+    if (o->use_pty)
+        return run_pty(sim, s, o->pace, o->wait_s) < 0 ? 1 : 0;
+    /* in 0.1 s slices, the same steps as at once: what the UART sent in each into --serial's
+     * file (the host queue holds 4 KB), or gone as on a line with nobody on it; the progress line */
+    progress_start(&prog, o->pil ? "pil" : o->chip ? "chip" : "sim", s->duration_s);
+    if (o->serial) {
         double t;
-        int b;
-        progress_start(&prog, pil ? "pil" : chip ? "chip" : "sim", s->duration_s);
         for (t = 0.1; !sim_done(sim); t += 0.1) {
             sim_run(sim, t < s->duration_s ? t : s->duration_s);
             while ((b = hal_host_uart_tx_pop()) >= 0)
-                fputc(b, serial);
+                fputc(b, o->serial);
             progress_show(&prog, sim_time_s(sim));
         }
-        progress_end(&prog);
-        if (fclose(serial) != 0) {
-            fprintf(stderr, "sim: error writing %s: %s\n", serial_path, strerror(errno));
-            return 1;
-        }
     } else {
-        /* in 0.1 s slices, the same steps as at once, for the progress line; the link with
-         * nobody on it: what the UART sends is gone, as a real line's */
-        progress_start(&prog, pil ? "pil" : chip ? "chip" : "sim", s->duration_s);
         while (!sim_done(sim)) {
             sim_run(sim, sim_time_s(sim) + 0.1);
             while (hal_host_uart_tx_pop() >= 0)
                 ;
             progress_show(&prog, sim_time_s(sim));
         }
-        progress_end(&prog);
     }
-    if (chip && chip_finish(chip) < 0) {
+    progress_end(&prog);
+    if (o->serial && fclose(o->serial) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", o->serial_path, strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
+/* The firmware stopped, the files closed, the summary, the timing lines and the JSON printed;
+ * 0, or the exit status. */
+static int finish(opt_t *o, sim_t *sim, const scenario_t *s)
+{
+    metrics_result_t r;
+    double speed;
+    if (o->chip && chip_finish(o->chip) < 0) {
         fprintf(stderr, "sim: --chip: the model stopped answering\n");
         return 1;
     }
-    if (pil && pil_finish(pil) < 0) {
+    if (o->pil && pil_finish(o->pil) < 0) {
         fprintf(stderr, "sim: --pil: the firmware in s51 stopped answering\n");
         return 1;
     }
     sim_finish(sim, &r);
-    if (drive_log && fclose(drive_log) != 0) {
-        fprintf(stderr, "sim: error writing %s: %s\n", drive_path, strerror(errno));
+    if (o->drive_log && fclose(o->drive_log) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", o->drive_path, strerror(errno));
         return 1;
     }
-    if (csv && fclose(csv) != 0) {
-        fprintf(stderr, "sim: error writing %s: %s\n", csv_path, strerror(errno));
+    if (o->csv && fclose(o->csv) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", o->csv_path, strerror(errno));
         return 1;
     }
-    if ((zones_path && write_out(zones_path, metrics_zones_csv, &sim->metrics) < 0)
-        || (samples_path && write_out(samples_path, metrics_samples_csv, &sim->metrics) < 0))
+    if ((o->zones_path && write_out(o->zones_path, metrics_zones_csv, &sim->metrics) < 0)
+        || (o->samples_path && write_out(o->samples_path, metrics_samples_csv, &sim->metrics) < 0))
         return 1;
     sim_summary(sim, &r, stdout);
     speed = sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0;
     printf("sim: %s: %.1f s simulated in %.3f s of wall time (%.*fx real time)\n", s->name, r.sim_s,
            sim->wall_s, speed < 10 ? 2 : 0, speed);
-    if (pil) {
-        pil_report(pil, stdout);
-        pil_free(pil);
+    if (o->pil) {
+        pil_report(o->pil, stdout);
+        pil_free(o->pil);
     }
-    if (chip) {
-        chip_report(chip, stdout);
-        chip_free(chip);
+    if (o->chip) {
+        chip_report(o->chip, stdout);
+        chip_free(o->chip);
     }
     sim_json(sim, &r, stdout);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    opt_t o;
+    char err[512];
+    scenario_t *s;
+    sim_t *sim;
+    int rc = options(argc, argv, &o);
+    if (rc >= 0)
+        return rc;
+    s = malloc(sizeof *s);
+    sim = malloc(sizeof *sim);
+    if (!s || !sim) {
+        fprintf(stderr, "sim: out of memory\n");
+        return 1;
+    }
+    if (scenario_load(s, o.scn_path, err, sizeof err) < 0) {
+        fprintf(stderr, "sim: %s\n", err);
+        return 1;
+    }
+    if (o.controller && scenario_set_controller(s, o.controller, err, sizeof err) < 0) {
+        fprintf(stderr, "sim: --controller: %s\n", err);
+        return 1;
+    }
+    if (o.have_seed)
+        s->seed = o.seed;
+    if (o.cut_s > 0)
+        scenario_cut(s, o.cut_s, NULL, 0);      /* (checked above) */
+    if (open_out(o.csv_path, &o.csv) < 0 || open_out(o.serial_path, &o.serial) < 0
+        || open_out(o.drive_path, &o.drive_log) < 0)
+        return 1;
+    if ((o.tick_ms != 1 || o.idle_ms) && (o.pil_path || o.chip_path)) {
+        fprintf(stderr, "sim: --fast/--tick-ms and --pil or --chip do not go together (s51 runs a millisecond a step)\n");
+        return 2;
+    }
+    if (o.pil_path && o.chip_path) {
+        fprintf(stderr, "sim: --pil and --chip: one firmware at a time\n");
+        return 2;
+    }
+    sim_init(sim, s);
+    if (sim_set_tick_ms(sim, o.tick_ms, o.idle_ms) < 0) {
+        fprintf(stderr, "sim: ticks of %d ms, %d ms while idle: the idle tick must be a longer multiple of the tick\n",
+                o.tick_ms, o.idle_ms);
+        return 2;
+    }
+    sim->drive_log = o.drive_log;
+    if (o.input_path && sim_input_load(sim, o.input_path, err, sizeof err) < 0) {
+        fprintf(stderr, "sim: --input: %s\n", err);
+        return 1;
+    }
+    if ((rc = start_firmware(&o, sim, s)) != 0)
+        return rc;
+    if (o.csv)
+        sim_trace_csv(sim, o.csv, o.period);
+    if ((rc = run(&o, sim, s)) != 0 || (rc = finish(&o, sim, s)) != 0)
+        return rc;
     sim_free(sim);
     free(sim);
     free(s);

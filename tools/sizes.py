@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
-"""sizes.py [ROOT] [--file-max N] [--func-max N]: files and functions of firmware/ over their size.
+"""sizes.py [ROOT ...] [--file-max N] [--func-max N]: files and functions over their size.
 
-A file over FILE_MAX lines or a function over FUNC_MAX lines (from the line of its name to its
-closing brace, the project's style: a definition's `{` and `}` in column 0) is listed and the
-exit status is 1. An assembly routine (a __naked function: one __asm block) is instructions, not
-C, and is not counted. --list prints the longest functions as well.
+A C file or header under a ROOT (default firmware/; tests/scripts/structure.sh gives firmware,
+hal and sim) over FILE_MAX lines, or a function over FUNC_MAX lines (from the line of its name
+to its closing brace, the project's style: a definition's `{` and `}` in column 0), is listed
+and the exit status is 1. An assembly routine (a __naked function: one __asm block) is
+instructions, not C, and is not counted; nor is a class, struct, union or enum body (a C++
+header's). --list prints the longest functions as well.
 """
 import os
 import re
@@ -12,6 +14,7 @@ import sys
 
 FILE_MAX = 500
 FUNC_MAX = 80
+TYPE_BODY = re.compile(r"^\s*(typedef\s+)?(class|struct|union|enum)\b")
 
 
 def functions(path):
@@ -21,10 +24,16 @@ def functions(path):
     i = 0
     while i < len(lines):
         if lines[i].startswith("{"):
-            # the name: the nearest line above that opens a parameter list
+            # the name: the nearest line above that opens a parameter list (a type's body: none)
             j = i - 1
-            while j > 0 and "(" not in lines[j]:
+            while j > 0 and "(" not in lines[j] and not TYPE_BODY.match(lines[j]):
                 j -= 1
+            if TYPE_BODY.match(lines[j]):
+                k = i + 1
+                while k < len(lines) and not lines[k].startswith("}"):
+                    k += 1
+                i = k + 1
+                continue
             m = re.search(r"(\w+)\s*\(", lines[j])
             k = i + 1
             while k < len(lines) and not lines[k].startswith("}"):
@@ -49,9 +58,9 @@ def main():
         i = args.index("--func-max")
         func_max = int(args[i + 1])
         del args[i:i + 2]
-    root = args[0] if args else "firmware"
+    roots = args or ["firmware"]
     bad, longest, nfiles, nfuncs = 0, [], 0, 0
-    for folder, _, files in sorted(os.walk(root)):
+    for folder, _, files in sorted(w for root in roots for w in os.walk(root)):
         for f in sorted(files):
             if not f.endswith((".c", ".h")):
                 continue
