@@ -411,15 +411,6 @@ void metrics_steps_json(FILE *f, const metrics_series_t *s)
     free(st);
 }
 
-void metrics_samples_csv(FILE *f, const metrics_t *m)
-{
-    int k;
-    fputs("t_s,ref_lpm,target_lpm,flow_lpm,work,spray\n", f);
-    for (k = 0; k < m->n_samples; k++)
-        fprintf(f, "%.1f,%.17g,%.17g,%.17g,%d,%d\n", k * m->sample_dt_s, m->ref[k], m->target[k], m->flow[k],
-                m->work[k], m->spray[k]);
-}
-
 void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s,
                   double cpu_s)
 {
@@ -470,19 +461,4 @@ void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const 
     num(f, "cpu_s", cpu_s, 1);
     num(f, "speed_x_realtime", wall_s > 0 ? r->sim_s / wall_s : NAN, 0);
     fputs("}\n", f);
-}
-
-void metrics_zones_csv(FILE *f, const metrics_t *m)
-{
-    int i;
-    fputs("zone,start_m,vol_l,expect_l,time_s,mean_kmh,error_pct\n", f);
-    for (i = 0; i < m->n_zones; i++) {
-        const metrics_zone_t *z = &m->zones[i];
-        fprintf(f, "%d,%.0f,%.5f,%.5f,%.3f,%.3f,", i, i * METRICS_ZONE_M, z->vol_l, z->expect_l, z->time_s,
-                z->time_s > 0 ? METRICS_ZONE_M / z->time_s * 3.6 : 0.0);
-        if (z->expect_l > 0)
-            fprintf(f, "%.3f\n", (z->vol_l / z->expect_l - 1.0) * 100.0);
-        else
-            fputs("\n", f);
-    }
 }

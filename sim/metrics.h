@@ -180,6 +180,10 @@ void metrics_samples_csv(FILE *f, const metrics_t *m);
 void metrics_steps_json(FILE *f, const metrics_series_t *s);
 /* The finished zones as CSV: zone, start_m, vol_l, expect_l, time_s, mean_kmh, error_pct. */
 void metrics_zones_csv(FILE *f, const metrics_t *m);
+/* One of those CSVs (write: metrics_samples_csv or metrics_zones_csv) into the file path; -1,
+ * said on stderr after "prog: ", when it cannot be written. */
+int metrics_write_csv(const char *prog, const char *path, void (*write)(FILE *, const metrics_t *),
+                      const metrics_t *m);
 /* The result as one JSON object on one line (keys as in docs/SCENARIOS.md; NaN prints as null).
  * extra (may be NULL) is inserted verbatim after the opening brace, e.g. "\"scenario\":\"x\",". */
 void metrics_json(FILE *f, const metrics_t *m, const metrics_result_t *r, const char *extra, double wall_s,

@@ -270,22 +270,6 @@ static void score_row(metrics_t *m, const run_t *run, int i, double dt_sample, d
     *prev_alarms = rw->alarms;
 }
 
-/* The zones' CSV to path; -1 (said on stderr) when it cannot be written. */
-static int write_zones(const char *path, const metrics_t *m)
-{
-    FILE *z = fopen(path, "w");
-    if (!z) {
-        fprintf(stderr, "score: cannot write %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    metrics_zones_csv(z, m);
-    if (fclose(z) != 0) {
-        fprintf(stderr, "score: error writing %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    return 0;
-}
-
 int main(int argc, char **argv)
 {
     const char *scn_path = NULL, *name = NULL, *zones_path = NULL;
@@ -350,7 +334,7 @@ int main(int argc, char **argv)
     snprintf(extra, sizeof extra,
              "\"scenario\":\"%s\",\"score_source\":\"%s\",\"score_rows\":%d,\"score_sample_s\":%.3f,",
              clean, run.col[C_VTRUE] >= 0 && run.col[C_BOOM] >= 0 ? "truth" : "measured", run.n_rows, dt_sample);
-    if (zones_path && write_zones(zones_path, &m) < 0)
+    if (zones_path && metrics_write_csv("score", zones_path, metrics_zones_csv, &m) < 0)
         return 1;
     metrics_json(stdout, &m, &r, extra, 0.0, 0.0);
     metrics_free(&m);

@@ -119,22 +119,6 @@ static int run_pty(sim_t *sim, const scenario_t *s, double pace, double wait_s)
     return 0;
 }
 
-/* Write one of the metrics' CSV files to path; -1 (said on stderr) when it cannot. */
-static int write_out(const char *path, void (*write)(FILE *, const metrics_t *), const metrics_t *m)
-{
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "sim: cannot write %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    write(f, m);
-    if (fclose(f) != 0) {
-        fprintf(stderr, "sim: error writing %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    return 0;
-}
-
 /* The program's options, what it opened and the firmware it runs. */
 typedef struct {
     const char *scn_path, *controller, *csv_path, *zones_path, *samples_path;
@@ -320,8 +304,8 @@ static int finish(opt_t *o, sim_t *sim, const scenario_t *s)
         fprintf(stderr, "sim: error writing %s: %s\n", o->csv_path, strerror(errno));
         return 1;
     }
-    if ((o->zones_path && write_out(o->zones_path, metrics_zones_csv, &sim->metrics) < 0)
-        || (o->samples_path && write_out(o->samples_path, metrics_samples_csv, &sim->metrics) < 0))
+    if ((o->zones_path && metrics_write_csv("sim", o->zones_path, metrics_zones_csv, &sim->metrics) < 0)
+        || (o->samples_path && metrics_write_csv("sim", o->samples_path, metrics_samples_csv, &sim->metrics) < 0))
         return 1;
     sim_summary(sim, &r, stdout);
     speed = sim->wall_s > 0 ? r.sim_s / sim->wall_s : 0.0;
