@@ -2,7 +2,8 @@
 # symbol_graph.sh: firmware/'s objects call and read only down the layers and write only their
 # own layer's globals (tools/symgraph.py over the host objects, its allow file); and the check
 # fails on each defect planted alone in a copy of the tree, where no include shows it: an upward
-# call (store -> ops, the prototype written in place) and a foreign write (control -> store).
+# call (store -> ops, the prototype written in place) and foreign writes (control -> store; app
+# -> the status block ops owns).
 . "$(dirname "$0")/tap.sh" "symbol graph"
 allow=tools/symgraph_allow.txt
 if out=$(python3 tools/symgraph.py firmware --allow $allow 2>&1); then
@@ -29,3 +30,5 @@ plant "a planted upward call (learnt.c -> diag_learnt_byte)" "upward call: store
 plant "a planted foreign write (target.c -> totals)" "foreign write: control/target.c -> totals" \
     control/target.c '#include "totals.h"
 void target_planted(void) { totals.life_m2 = 0; }'
+plant "a planted write of the status from above (app.c -> app_status)" "foreign write: app/app.c -> app_status" \
+    app/app.c 'void app_planted(void) { app_status.tank_l = 0; }'
