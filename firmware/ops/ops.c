@@ -6,7 +6,6 @@
 #include "analog.h"
 #include "valve.h"
 #include "ops.h"
-#include "diag.h"
 
 app_status_t app_status;
 static struct {
@@ -84,19 +83,28 @@ void ops_show_totals(void)
     app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
 }
 
-void ops_alarms_step(void)
+void ops_alarms_raise(uint16_t bits) __reentrant
 {
-    uint16_t g = diag_alarms(), quiet = DIAG_QUIET_BITS | (app_status.manual ? 1u << AL_OFFRATE : 0u);
-    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms & (uint16_t)~quiet;
-    app_status.alarms = g;
+    app_status.alarms_unacked |= bits;
+}
+
+/* the buzzer: the I/O test's switch, else while an alarm is unacknowledged */
+static void ops_buzzer(void)
+{
     hal_buzzer((ops_io & OPS_IO_ON) ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
+}
+
+void ops_alarms_show(uint16_t active) __reentrant
+{
+    app_status.alarms = active;
+    ops_buzzer();
 }
 
 void ops_io_test(uint8_t flags) __reentrant
 {
     ops_io = (flags & OPS_IO_ON) ? flags : 0;
     hal_spray_enable((ops_io & OPS_IO_ON) ? (ops_io & OPS_IO_RELAY) : app_status.spraying);
-    hal_buzzer((ops_io & OPS_IO_ON) ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
+    ops_buzzer();
     if (!(ops_io & OPS_IO_ON))
         jog.periods = 0;
 }

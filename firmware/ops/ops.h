@@ -44,10 +44,11 @@ void ops_set_boom_wait(uint8_t wait) __reentrant;
 void ops_show_step(void);
 /* The job's area and dose into the status (once a second: a divide). */
 void ops_show_totals(void);
-/* The alarms diag_step left into the status: the newly raised ones unacknowledged but the quiet
- * bits (DIAG_QUIET_BITS, and OFF_RATE in manual mode, where the operator sets the valve), which
- * show without the buzzer; the buzzer while any is unacked (the I/O test's otherwise). */
-void ops_alarms_step(void);
+/* Alarm bits raised: unacknowledged until ops_alarm_ack_bits. */
+void ops_alarms_raise(uint16_t bits) __reentrant;
+/* The alarms active now (diag_alarms) into the status; the buzzer while any is unacknowledged
+ * (the I/O test's switch otherwise). */
+void ops_alarms_show(uint16_t active) __reentrant;
 
 /* A jog asked for (manual mode, the I/O test): the control step drives it, OPS_JOG_PERIODS periods. */
 #define OPS_JOG_PERIODS 3u

@@ -1,4 +1,4 @@
-/* test_ops.c: what ops owns: the status block's reset, the jog the control step takes a period at a time, the alarms raised against their acknowledgement. */
+/* test_ops.c: what ops owns: the status block's reset, the jog the control step takes a period at a time, the alarms raised and acknowledged, the buzzer. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -67,40 +67,45 @@ static void test_ops_jog_dropped(void **state)
     assert_int_equal(ops_jog_take(), 0);
 }
 
-/* a raised alarm is unacknowledged and sounds the buzzer; acknowledged it stays shown and
- * silent, and the next period's update does not raise it again while it lasts */
+/* a raised alarm is unacknowledged and sounds the buzzer once shown; acknowledged it stays shown
+ * and silent until raised again */
 static void test_ops_alarms_raised_and_acknowledged(void **state)
 {
-    const uint16_t bit = 1u << AL_INTERNAL;
+    const uint16_t bit = 1u << AL_INTERNAL, other = 1u << AL_TANK_LOW;
     (void)state;
-    ops_alarms_step();
+    ops_alarms_show(0);
     assert_int_equal(app_status.alarms, 0);
     assert_int_equal(hal_host_io.buzzer, 0);
-    diag_internal_fault();
-    ops_alarms_step();
+    ops_alarms_raise(bit);
+    ops_alarms_show(bit);
     assert_int_equal(app_status.alarms, bit);
     assert_int_equal(app_status.alarms_unacked, bit);
     assert_int_equal(hal_host_io.buzzer, 1);
     ops_alarm_ack_bits(bit);
     assert_int_equal(app_status.alarms_unacked, 0);
     assert_int_equal(hal_host_io.buzzer, 0);
-    ops_alarms_step();
+    ops_alarms_show(bit);
     assert_int_equal(app_status.alarms, bit);
-    assert_int_equal(app_status.alarms_unacked, 0);
     assert_int_equal(hal_host_io.buzzer, 0);
+    ops_alarms_raise(other);        /* another one: unacked beside the acknowledged one */
+    ops_alarms_show(bit | other);
+    assert_int_equal(app_status.alarms_unacked, other);
+    assert_int_equal(hal_host_io.buzzer, 1);
 }
 
 /* the I/O test holds the buzzer to the technician's switch, whatever is unacknowledged */
 static void test_ops_alarms_io_test_buzzer(void **state)
 {
     (void)state;
-    diag_internal_fault();
+    ops_alarms_raise(1u << AL_INTERNAL);
     ops_io_test(OPS_IO_ON);
-    ops_alarms_step();
+    ops_alarms_show(1u << AL_INTERNAL);
     assert_int_equal(app_status.alarms_unacked, 1u << AL_INTERNAL);
     assert_int_equal(hal_host_io.buzzer, 0);
     ops_io_test(OPS_IO_ON | OPS_IO_BUZZER);
-    ops_alarms_step();
+    ops_alarms_show(1u << AL_INTERNAL);
+    assert_int_equal(hal_host_io.buzzer, 1);
+    ops_io_test(0);                 /* back to the alarms: still unacknowledged */
     assert_int_equal(hal_host_io.buzzer, 1);
 }
 

@@ -6,7 +6,7 @@ doc=docs/SCENARIOS.md
 ok() { echo "ok - scenario_doc: $1"; }
 nok() { echo "not ok - scenario_doc: $1"; }
 plant=$(sed -n 's/^ *X(\([a-z0-9_]*\), .*/\1/p' sim/plant.h)
-config=$(sed -n 's/^ *{"\([a-z0-9_]*\)", P_.*/\1/p' sim/scenario.c)
+config=$(sed -n 's/^ *{"\([a-z0-9_]*\)", P_.*/\1/p' sim/scenario_keys.c)
 events=$(sed -n 's/^ *X(EV_[A-Z_]*, *"\([a-z_]*\)".*/\1/p' sim/scenario.h)
 for kind in plant config events; do
     list=${!kind}
