@@ -280,17 +280,6 @@ static void app_account(void)
         ap.log_div = APP_LOG_PERIODS;
 }
 
-/* The alarms diag_step left into the status: the newly raised ones unacknowledged but the quiet
- * bits (DIAG_QUIET_BITS, and OFF_RATE in manual mode, where the operator sets the valve), which
- * show without the buzzer; the buzzer while any is unacked. A function of its own: its figures
- * stay off the alarms' deep call chain. */
-static void app_alarms(void)
-{
-    uint16_t g = diag_alarms(), quiet = DIAG_QUIET_BITS | (app_status.manual ? 1u << AL_OFFRATE : 0u);
-    ops_alarms_raise(g & (uint16_t)~app_status.alarms & (uint16_t)~quiet);
-    ops_alarms_show(g);
-}
-
 /* The alarms of the step just run (diag.c, with its figures): the step's longest part, in the
  * pass after it, before anything else of that pass (the valve's poll included), so that they
  * read what the step left. */
@@ -298,7 +287,7 @@ static void app_diag(void)
 {
     diag_step(&app_status, (ap.diag & APP_DIAG_SETTLED) != 0, (ap.diag & APP_DIAG_P_WATCH) != 0);
     ap.diag = 0;
-    app_alarms();
+    ops_alarms_step();              /* (a call of its own: off diag_step's deep call chain) */
 }
 
 /* After a settings change every module derives its constants again (divides, some thousands

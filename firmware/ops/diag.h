@@ -3,7 +3,7 @@
 #define DIAG_H
 
 #include "compiler.h"
-#include "ops.h"
+#include "status.h"
 
 /* The alarms, one row each: bit name, serial code, LCD text. The text fits the LCD line after
  * its mark ("!" not yet acknowledged): at most DIAG_TEXT_MAX characters (test_console checks

@@ -3,7 +3,7 @@
 #define DIAG_LINE_H
 
 #include "compiler.h"
-#include "ops.h"
+#include "status.h"
 
 #define DIAG_DRY_PERIODS 10u        /* pump dry from the line: under P start, under a quarter of the target metered (then PUMP_DRY's own periods: 1.9 s) */
 #define DIAG_ZERO_PERIODS 50u       /* pressure zero: 5 s shut and standing with the reading steady ... */

@@ -3,7 +3,7 @@
 #define DIAG_WHEEL_H
 
 #include "compiler.h"
-#include "ops.h"
+#include "status.h"
 
 #define DIAG_PUMP_PERIODS 30u       /* 3 s of line pressure at a wheel standstill on a sprayer
                                      * whose pump stops with the wheels: SPEED_LOST */

@@ -6,6 +6,7 @@
 #include "analog.h"
 #include "valve.h"
 #include "ops.h"
+#include "diag.h"
 
 app_status_t app_status;
 static struct {
@@ -83,20 +84,17 @@ void ops_show_totals(void)
     app_status.applied_l_ha_x10 = totals_applied_l_ha_x10();
 }
 
-void ops_alarms_raise(uint16_t bits) __reentrant
-{
-    app_status.alarms_unacked |= bits;
-}
-
 /* the buzzer: the I/O test's switch, else while an alarm is unacknowledged */
 static void ops_buzzer(void)
 {
     hal_buzzer((ops_io & OPS_IO_ON) ? (ops_io & OPS_IO_BUZZER) : app_status.alarms_unacked != 0);
 }
 
-void ops_alarms_show(uint16_t active) __reentrant
+void ops_alarms_step(void)
 {
-    app_status.alarms = active;
+    uint16_t g = diag_alarms(), quiet = DIAG_QUIET_BITS | (app_status.manual ? 1u << AL_OFFRATE : 0u);
+    app_status.alarms_unacked |= g & (uint16_t)~app_status.alarms & (uint16_t)~quiet;
+    app_status.alarms = g;
     ops_buzzer();
 }
 
@@ -134,7 +132,7 @@ void ops_jog_cancel(void)
 void ops_alarm_ack_bits(uint16_t bits) __reentrant
 {
     app_status.alarms_unacked &= (uint16_t)~bits;
-    hal_buzzer(app_status.alarms_unacked != 0);
+    ops_buzzer();
 }
 
 void ops_totals_reset(void)

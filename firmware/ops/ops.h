@@ -4,29 +4,8 @@
 
 #include "compiler.h"
 #include "ctl.h"
+#include "status.h"
 
-/* What the application measured and decided in its last control step: the console, the
- * serial log and the simulator's trace read it. ops owns it and alone writes it: its reset
- * (ops_init), the alarms raised and acknowledged, the totals shown, and the figures the
- * application publishes through the ops_set_* below. The control step's inputs are its block
- * `in` (ctl.h ctl_in_t: target and measured flow, ground speed used for the target, boom line
- * pressure, the valve's CTL_AT_* and CTL_NO_CLOSE), passed to ctl_step, not copied. The
- * totals are totals_get()'s, the gains ctl_gain()'s (no copies here). */
-typedef struct {
-    ctl_in_t in;                    /* the control step's inputs (ctl.h) */
-    uint16_t tank_l;                /* tank contents from the level sensor */
-    uint16_t applied_l_ha_x10;      /* dose applied over the job so far */
-    int16_t drive;                  /* Q15 valve drive from the controller (+ = more flow) */
-    uint16_t alarms;                /* active alarm bits */
-    uint16_t alarms_unacked;        /* alarm bits raised and not yet acknowledged */
-    uint8_t spraying;               /* master boom valve open */
-    uint8_t manual;                 /* manual mode (operator jogs the valve) */
-    uint8_t open_nozzles;           /* nozzles in the switched-on sections */
-    uint8_t boom_wait;              /* the boom kept shut after power-up: the line over P max */
-    uint32_t job_area_m2;           /* the job's area, taken once a second (a divide) */
-} app_status_t;
-
-extern app_status_t app_status;
 /* Bits of app_status.alarms (diag.h names them; codes and texts from diag_code/_text). */
 #define OPS_ALARM_BITS 16
 
@@ -44,11 +23,10 @@ void ops_set_boom_wait(uint8_t wait) __reentrant;
 void ops_show_step(void);
 /* The job's area and dose into the status (once a second: a divide). */
 void ops_show_totals(void);
-/* Alarm bits raised: unacknowledged until ops_alarm_ack_bits. */
-void ops_alarms_raise(uint16_t bits) __reentrant;
-/* The alarms active now (diag_alarms) into the status; the buzzer while any is unacknowledged
- * (the I/O test's switch otherwise). */
-void ops_alarms_show(uint16_t active) __reentrant;
+/* The alarms diag_step left into the status: the newly raised ones unacknowledged but the quiet
+ * bits (DIAG_QUIET_BITS, and OFF_RATE in manual mode, where the operator sets the valve), which
+ * show without the buzzer; the buzzer while any is unacked (the I/O test's switch otherwise). */
+void ops_alarms_step(void);
 
 /* A jog asked for (manual mode, the I/O test): the control step drives it, OPS_JOG_PERIODS periods. */
 #define OPS_JOG_PERIODS 3u

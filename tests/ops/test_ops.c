@@ -67,46 +67,46 @@ static void test_ops_jog_dropped(void **state)
     assert_int_equal(ops_jog_take(), 0);
 }
 
-/* a raised alarm is unacknowledged and sounds the buzzer once shown; acknowledged it stays shown
- * and silent until raised again */
+/* a raised alarm is unacknowledged and sounds the buzzer; acknowledged it stays shown and
+ * silent, and the next period's update does not raise it again while it lasts */
 static void test_ops_alarms_raised_and_acknowledged(void **state)
 {
-    const uint16_t bit = 1u << AL_INTERNAL, other = 1u << AL_TANK_LOW;
+    const uint16_t bit = 1u << AL_INTERNAL;
     (void)state;
-    ops_alarms_show(0);
+    ops_alarms_step();
     assert_int_equal(app_status.alarms, 0);
     assert_int_equal(hal_host_io.buzzer, 0);
-    ops_alarms_raise(bit);
-    ops_alarms_show(bit);
+    diag_internal_fault();
+    ops_alarms_step();
     assert_int_equal(app_status.alarms, bit);
     assert_int_equal(app_status.alarms_unacked, bit);
     assert_int_equal(hal_host_io.buzzer, 1);
     ops_alarm_ack_bits(bit);
     assert_int_equal(app_status.alarms_unacked, 0);
     assert_int_equal(hal_host_io.buzzer, 0);
-    ops_alarms_show(bit);
+    ops_alarms_step();
     assert_int_equal(app_status.alarms, bit);
+    assert_int_equal(app_status.alarms_unacked, 0);
     assert_int_equal(hal_host_io.buzzer, 0);
-    ops_alarms_raise(other);        /* another one: unacked beside the acknowledged one */
-    ops_alarms_show(bit | other);
-    assert_int_equal(app_status.alarms_unacked, other);
-    assert_int_equal(hal_host_io.buzzer, 1);
 }
 
-/* the I/O test holds the buzzer to the technician's switch, whatever is unacknowledged */
+/* the I/O test holds the buzzer to the technician's switch, whatever is unacknowledged, an
+ * acknowledgement included; after it the buzzer follows the alarms again */
 static void test_ops_alarms_io_test_buzzer(void **state)
 {
     (void)state;
-    ops_alarms_raise(1u << AL_INTERNAL);
+    diag_internal_fault();
     ops_io_test(OPS_IO_ON);
-    ops_alarms_show(1u << AL_INTERNAL);
+    ops_alarms_step();
     assert_int_equal(app_status.alarms_unacked, 1u << AL_INTERNAL);
     assert_int_equal(hal_host_io.buzzer, 0);
     ops_io_test(OPS_IO_ON | OPS_IO_BUZZER);
-    ops_alarms_show(1u << AL_INTERNAL);
+    ops_alarms_step();
     assert_int_equal(hal_host_io.buzzer, 1);
-    ops_io_test(0);                 /* back to the alarms: still unacknowledged */
+    ops_alarm_ack_bits(1u << AL_INTERNAL);
     assert_int_equal(hal_host_io.buzzer, 1);
+    ops_io_test(0);
+    assert_int_equal(hal_host_io.buzzer, 0);
 }
 
 int main(void)
