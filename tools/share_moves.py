@@ -250,6 +250,9 @@ ROUTINES = {
     "carry_dpl": (False, ["clr a", "rlc a", "mov dpl,a"]),
     "mul_b2": (False, ["mov b,#0x02", "mul ab"]),
     "r67_0": (True, ["mov r6,#0x00", "mov r7,#0x00"]),
+    # a reentrant function's end: SP back to its frame pointer, the caller's frame pointer
+    # popped; then the routine's RET returns for the function (TAIL_ONLY: jumped to, never called)
+    "ret_frame": (False, ["mov sp,_bp", "pop _bp"]),
     "inc_dptr5": (True, ["inc dptr"] * 5),
     "sext_r67": (True, ["rlc a", "subb a,acc", "mov r6,a", "mov r7,a"]),
     # shifts
@@ -300,6 +303,10 @@ for _off in (0x03, 0x04, 0x05, 0x06, 0x07, 0x09, 0x0b, 0x0d, 0x11, 0x13, 0x15, 0
 for _off in (0x0a, 0x0f, 0xfa):
     ROUTINES["fp_r0_%02x" % _off] = (False, _fp("r0", _off))
 ROUTINES["fp_r1_05"] = (True, _fp("r1", 0x05))
+
+# the routines only a jump may reach, where the function returns right after the sequence (a
+# call's return address would sit where they pop)
+TAIL_ONLY = {"ret_frame"}
 
 CALL_BYTES = 3          # LCALL addr16
 
@@ -360,6 +367,13 @@ def matches(lines, i, seq):
     return (j, kept) if k == len(seq) else None
 
 
+def returns_at(lines, j):
+    """the index of the RET that follows line j with only comments between, or None"""
+    while j < len(lines) and (not lines[j].strip() or lines[j].strip().startswith(";")):
+        j += 1
+    return j if j < len(lines) and norm(lines[j]) == "ret" else None
+
+
 def share(lines, hot=()):
     """lines rewritten: each function's instructions covered at the fewest bytes"""
     firsts = {}
@@ -386,6 +400,8 @@ def share(lines, hot=()):
             if is_hot and not h:
                 continue
             m = matches(lines, i, seq)
+            if m and name in TAIL_ONLY and not returns_at(lines, m[0]):
+                continue
             if m and CALL_BYTES + cost[m[0]] < cost[i]:
                 cost[i] = CALL_BYTES + cost[m[0]]
                 choice[i] = (name, m[0], m[1])
@@ -393,10 +409,8 @@ def share(lines, hot=()):
     while i < n:
         if choice[i]:
             name, j, kept = choice[i]
-            k = j                                # a RET right after it, no label between:
-            while k < n and (not lines[k].strip() or lines[k].strip().startswith(";")):
-                k += 1                           # the routine's own RET returns for the function
-            if k < n and norm(lines[k]) == "ret":
+            k = returns_at(lines, j)             # a RET right after it, no label between: the
+            if k is not None:                    # routine's own RET returns for the function
                 out.append("\tljmp\t_mv_%s\n" % name)
                 out.extend(kept + lines[j:k])
                 j = k + 1

@@ -128,3 +128,17 @@ if [ "$(sed -n '/^_f:/,/^_g:/p' "$tmp/d.asm" | grep -c 'ret')" -eq 0 ] \
 else
     echo "not ok - share_moves: tail jump"; sed 's/^/#   /' "$tmp/d.asm"
 fi
+
+# a reentrant function's end (SP back to the frame pointer, the caller's popped, RET): a jump to
+# ret_frame, whose RET returns for the function; never a call (the return address would be
+# popped into _bp), so not where a label stands before the RET or something else follows
+printf '_f:\n\tmov\tsp,_bp\n\tpop\t_bp\n\tret\n_g:\n\tmov\tsp,_bp\n\tpop\t_bp\n00107$:\n\tret\n_h:\n\tmov\tsp,_bp\n\tpop\t_bp\n\tmov\tr7,a\n\tret\n' > "$tmp/e.asm"
+python3 tools/share_moves.py "$tmp/e.asm"
+if sed -n '/^_f:/,/^_g:/p' "$tmp/e.asm" | grep -q 'ljmp	_mv_ret_frame' \
+    && [ "$(sed -n '/^_f:/,/^_g:/p' "$tmp/e.asm" | grep -c 'ret$')" -eq 0 ] \
+    && ! sed -n '/^_g:/,$p' "$tmp/e.asm" | grep -q '_mv_ret_frame' \
+    && [ "$(sed -n '/^_g:/,$p' "$tmp/e.asm" | grep -c 'pop	_bp')" -eq 2 ]; then
+    echo "ok - share_moves: a frame's end becomes a jump to ret_frame, never a call"
+else
+    echo "not ok - share_moves: ret_frame"; sed 's/^/#   /' "$tmp/e.asm"
+fi
