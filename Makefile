@@ -70,7 +70,9 @@ SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTR
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 # Shared sequences (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
 # replaces the sequences of its table by calls of the routines it generates from the same table
-# (one module each in DIR/moves/, the archive links those called), sdas assembles it. The 8051
+# (one module each in DIR/moves/, the archive links those called), sdas assembles it; from its
+# listing, the long jumps the sharing brought within reach are made short (--relax), and sdas
+# assembles it again. The 8051
 # port's own assembly (hal/mcs51/) is left as written. SHARE_HOT_<file>: the functions whose
 # cycles count (`*` the whole file): only the table's hot routines there. bp_pid's step takes
 # 84 % of the step budget (make bench); the other controllers' steps under 21 % share all.
@@ -81,7 +83,8 @@ SHARE_HOT_firmware/control/ctl.c := ctl_step ctl_applied
 sdcc_rel = $(if $(filter firmware/%,$<),\
     $(SDCC) $(1) -MMD -S $< -o $(@:.rel=.asm) && sed -i '1s|\.asm:|.rel:|' $(@:.rel=.d) \
     && $(PYTHON) tools/share_moves.py $(foreach f,$(SHARE_HOT_$<),'--hot=$(f)') $(@:.rel=.asm) \
-    && $(SDAS) -plosgffw $@ $(@:.rel=.asm),\
+    && $(SDAS) -plosgffw $@ $(@:.rel=.asm) \
+    && n=$$($(PYTHON) tools/share_moves.py --relax $(@:.rel=.asm)) && { [ "$$n" = 0 ] || $(SDAS) -plosgffw $@ $(@:.rel=.asm); },\
     $(SDCC) $(1) -MMD -c $< -o $@)
 # $(1)/moves/: the shared routines, generated from the table and assembled, one module each
 define moves_rule

@@ -449,10 +449,91 @@ def gen(folder):
                 f.writelines(text)
 
 
+INVERSE = {"jz": "jnz", "jnz": "jz", "jc": "jnc", "jnc": "jc", "jb": "jnb", "jnb": "jb"}
+LOCAL = re.compile(r"\d+\$$")
+
+
+def listing(path):
+    """{.asm line number (1-based): (area, scope, address)} and {(scope, local label): (area,
+    address)} from sdas's listing of that .asm; a scope (where a local label n$ means one place)
+    runs from one ordinary label to the next"""
+    at, labels, area, scope = {}, {}, None, 0
+    for line in open(path, encoding="latin-1"):
+        m = re.match(r"(?:\[\s*\d+\])?\s*(\d+)(?:\s|$)", line[30:])
+        if not m:
+            continue
+        num, src, addr = int(m.group(1)), line[30 + m.end():].strip(), line[6:12].strip()
+        a = re.match(r"\.area\s+(\w+)", src)
+        if a:
+            area = a.group(1)
+        lab = re.match(r"([A-Za-z_.$][\w.$]*|\d+\$)::?(\s|$)", src)
+        if lab and not LOCAL.match(lab.group(1)):
+            scope += 1
+        if not addr:
+            continue
+        at[num] = (area, scope, int(addr, 16))
+        if lab and LOCAL.match(lab.group(1)):
+            labels[(scope, lab.group(1))] = (area, int(addr, 16))
+    return at, labels
+
+
+def relax(lines, at, labels):
+    """lines with each LJMP to a label of the same function in reach made short: SJMP, or a
+    conditional jump over it (J<c> skip / LJMP far / skip:) turned into J<not c> far. Code only
+    shrinks, so every distance measured before stays in reach after. Returns (lines, bytes)."""
+    out, saved, i = list(lines), 0, 0
+    prev = None                                  # the instruction line before, its index
+    for i, line in enumerate(lines):
+        ins = norm(line)
+        if ins is None:
+            if line.strip() and not line.strip().startswith(";"):
+                prev = None                      # a label or directive between
+            continue
+        op, _, arg = ins.partition(" ")
+        if op == "ljmp" and LOCAL.match(arg) and (i + 1) in at \
+                and labels.get((at[i + 1][1], arg), (None,))[0] == at[i + 1][0]:
+            area, scope, here = at[i + 1]
+            target = labels[(scope, arg)][1]
+            if prev is not None:
+                p_ins = norm(lines[prev])
+                p_op, _, p_arg = p_ins.partition(" ")
+                p_args = p_arg.split(",")
+                skip = p_args[-1]
+                j = i + 1                        # the label right after the LJMP
+                while j < len(lines) and (not lines[j].strip() or lines[j].strip().startswith(";")):
+                    j += 1
+                if p_op in INVERSE and j < len(lines) and lines[j].strip() == skip + ":" \
+                        and (prev + 1) in at:
+                    p_at = at[prev + 1][2]
+                    p_size = 3 if p_op in ("jb", "jnb") else 2
+                    if -128 <= target - (p_at + p_size) <= 127:
+                        out[prev] = "\t%s\t%s\n" % (INVERSE[p_op], ",".join(p_args[:-1] + [arg]))
+                        out[i] = ""
+                        saved += 3
+                        prev = None
+                        continue
+            if -128 <= target - (here + 2) <= 127:
+                out[i] = "\tsjmp\t%s\n" % arg
+                saved += 1
+        prev = i if op not in ("ljmp", "sjmp", "ret", "reti") else None
+    return out, saved
+
+
 def main():
     args = sys.argv[1:]
     if args[:1] == ["--gen"] and len(args) == 2:
         gen(args[1])
+        return
+    if args[:1] == ["--relax"] and len(args) == 2:
+        path = args[1]
+        at, labels = listing(path[:-4] + ".lst")
+        with open(path, encoding="latin-1") as f:
+            lines = f.readlines()
+        out, saved = relax(lines, at, labels)
+        if saved:
+            with open(path, "w", encoding="latin-1") as f:
+                f.writelines(out)
+        print(saved)
         return
     stats = "--stats" in args
     hot = [p for a in args if a.startswith("--hot=") for p in a.split("=", 1)[1].split(",") if p]
