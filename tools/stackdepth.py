@@ -26,6 +26,7 @@ def parse(dirname):
     for path in glob.glob(os.path.join(dirname, "**", "*.asm"), recursive=True):
         cur = None
         pending_sp = False
+        frame_a = None
         for line in open(path, errors="replace"):
             s = line.split(";")[0].strip()
             if line.startswith(";\t function ") or line.startswith(";\tfunction "):
@@ -36,6 +37,9 @@ def parse(dirname):
             if cur is None or not s:
                 continue
             op = s.split()[0]
+            a = re.match(r"mov\s+a,#(0x[0-9a-fA-F]+|\d+)$", s)
+            if a:
+                frame_a = int(a.group(1), 0)     # A's value for a _mv_enter_a that follows
             if op == "push":
                 cur["depth"] += 1
                 cur["max"] = max(cur["max"], cur["depth"])
@@ -58,6 +62,15 @@ def parse(dirname):
                     cur["max"] = max(cur["max"], cur["depth"])
                 else:
                     cur["depth"] = max(0, cur["depth"] - (256 - n))
+            elif op == "lcall" and s.split()[1] in ("_mv_enter", "_mv_enter_a"):
+                # a function's entry (tools/share_moves.py ENTRIES): _bp pushed, then the frame
+                # of A's bytes (enter_a), the routine's return address pushed back above them
+                cur["depth"] += 1
+                cur["bp"] = cur["depth"]
+                if s.split()[1] == "_mv_enter_a":
+                    cur["frame"] = cur.get("frame", 0) + frame_a
+                    cur["depth"] += frame_a
+                cur["max"] = max(cur["max"], cur["depth"] + 2)
             elif op in ("lcall", "acall", "ljmp", "sjmp", "ajmp"):
                 target = s.split()[1].strip()
                 if op == "lcall" and target.endswith("$"):

@@ -17,10 +17,12 @@ for f in "$tmp"/gen/*.asm; do "$SDAS" -plosgffw "${f%.asm}.rel" "$f" || echo "sd
 if out=$(python3 - "$tmp/gen" <<'EOF' 2>&1
 import glob, os, re, sys
 sys.path.insert(0, "tools")
-from share_moves import ROUTINES, norm, body_size
+from share_moves import ROUTINES, ENTRIES, norm, body_size
 gen = sys.argv[1]
 bad = []
-for name, (_, seq) in ROUTINES.items():
+table = dict(ROUTINES)
+table.update({k: (False, v) for k, v in ENTRIES.items()})
+for name, (_, seq) in table.items():
     asm = os.path.join(gen, "mv_%s.asm" % name)
     body, cur = [], False
     for line in open(asm):
@@ -34,11 +36,11 @@ for name, (_, seq) in ROUTINES.items():
     m = re.search(r"^A CSEG size (\w+)", rel, re.M)
     if not m or int(m.group(1), 16) != body_size(seq) + 1:
         bad.append(name + " (size)")
-if len(glob.glob(os.path.join(gen, "*.asm"))) != len(ROUTINES):
+if len(glob.glob(os.path.join(gen, "*.asm"))) != len(table):
     bad.append("stray modules")
 if bad:
     sys.exit("differ from the table: " + ", ".join(sorted(bad)))
-print("%d routines" % len(ROUTINES))
+print("%d routines" % len(table))
 EOF
 ); then
     echo "ok - share_moves: --gen makes one module a routine, exactly its sequence then RET, of the size counted ($out)"
@@ -164,4 +166,30 @@ if [ "$n" = 5 ] && sed -n '/^_f:/,/^00101/p' "$tmp/r.asm" | grep -q 'jnz	00102\$
     echo "ok - share_moves: --relax shortens the long jumps within reach, 5 B here, not the others"
 else
     echo "not ok - share_moves: --relax ($n)"; sed 's/^/#   /' "$tmp/r.asm" | grep -v nop
+fi
+
+# a reentrant function's entry: "push _bp / mov _bp,sp" a call of enter, "push _bp / mov a,sp /
+# mov _bp,a / add a,#N / mov sp,a" A = N and a call of enter_a (comments between kept); only at
+# the function's first instructions, not in a --hot function, not past a label
+printf '_f:\n\tpush\t_bp\n;\tc.c:2: x\n\tmov\t_bp,sp\n\tmov\tr7,dpl\n\tret\n_g:\n\tpush\t_bp\n\tmov\ta,sp\n\tmov\t_bp,a\n\tadd\ta,#0x05\n\tmov\tsp,a\n\tret\n_h:\n\tpush\t_bp\n\tmov\t_bp,sp\n\tret\n_k:\n\tmov\tr7,dpl\n\tpush\t_bp\n\tmov\t_bp,sp\n\tret\n_m:\n00101$:\n\tpush\t_bp\n\tmov\t_bp,sp\n\tret\n' > "$tmp/n.asm"
+python3 tools/share_moves.py --hot=h "$tmp/n.asm"
+if sed -n '/^_f:/,/^_g:/p' "$tmp/n.asm" | grep -q 'lcall	_mv_enter$' \
+    && sed -n '/^_f:/,/^_g:/p' "$tmp/n.asm" | grep -q 'c.c:2: x' \
+    && [ "$(sed -n '/^_f:/,/^_g:/p' "$tmp/n.asm" | grep -c '_bp')" -eq 0 ] \
+    && [ "$(sed -n '/^_g:/,/^_h:/p' "$tmp/n.asm" | tr '\n' ' ')" = "$(printf '_g:\n\tmov\ta,#0x05\n\tlcall\t_mv_enter_a\n\tret\n_h:\n' | tr '\n' ' ')" ] \
+    && [ "$(sed -n '/^_h:/,$p' "$tmp/n.asm" | grep -c '_mv_enter')" -eq 0 ]; then
+    echo "ok - share_moves: a function's entry a call of enter or enter_a, only at its start"
+else
+    echo "not ok - share_moves: entries"; sed 's/^/#   /' "$tmp/n.asm"
+fi
+
+# tools/stackdepth.py counts an entry routine's frame as the sequence's it stands for, and the
+# return address the routine pushes back above it: the reset's call 2 B, main's _bp, 5 B of frame,
+# f's call 2 B, f's _bp and its routine's return address 2 B
+mkdir -p "$tmp/sd"
+printf ';\t function main\n_main:\n\tmov\ta,#0x05\n\tlcall\t_mv_enter_a\n\tlcall\t_f\n\tmov\tsp,_bp\n\tpop\t_bp\n\tret\n;\t function f\n_f:\n\tlcall\t_mv_enter\n\tpush\tar7\n\tpop\tar7\n\tpop\t_bp\n\tret\n' > "$tmp/sd/a.asm"
+if python3 tools/stackdepth.py "$tmp/sd" | grep -q "worst case 13 B"; then
+    echo "ok - share_moves: stackdepth counts the entry routines' frames (13 B here)"
+else
+    echo "not ok - share_moves: stackdepth of the entries"; python3 tools/stackdepth.py "$tmp/sd" | sed 's/^/#   /'
 fi
