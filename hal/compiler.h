@@ -52,6 +52,17 @@
 #endif
 #endif
 
+/* FW_IOTEST: the console's I/O test (console_io.c), the wiring checked at bring-up on the
+ * bench: in the bench image (HIL=1), the host's, the s51 tests' and PIL's builds; not in the
+ * field image nor the research image, whose flash goes to the sprayer's own work (docs/MEMORY.md). */
+#ifndef FW_IOTEST
+#if defined(HAL_STC12)
+#define FW_IOTEST FW_HIL
+#else
+#define FW_IOTEST 1
+#endif
+#endif
+
 /* FW_PROBES: accessors only the host's programs, the s51 tests and PIL read (a flag, a learnt
  * byte, a gain, a synchronous save): not in the chip's image, where nothing calls them. */
 #ifndef FW_PROBES

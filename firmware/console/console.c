@@ -154,10 +154,12 @@ static void key_menu(void)
             go(S_CAL_TANK);
         else if (con_item == MENU_TOTALS)
             go(S_TOTALS);
+#if FW_IOTEST
         else if (con_item == MENU_IOTEST) {
             go(S_IOTEST);
             con_iotest_start();
         }
+#endif
         else if (con_item == MENU_NOZZLES) {
             diag_nozzle_relearn();
             con_say("Learning nozzles");
@@ -296,6 +298,7 @@ static void key_cal(void)
     }
 }
 
+#if FW_IOTEST
 /* The I/O test: 1 the relay, 3 the buzzer, 2 / 8 jog the valve, C back (outputs returned). */
 static void key_iotest(void)
 {
@@ -310,6 +313,7 @@ static void key_iotest(void)
         go(S_MENU);
     }
 }
+#endif
 
 /* `*` acknowledges what the bottom line shows, and only that: an alarm not yet acknowledged,
  * or the EEPROM's notice. Something to acknowledge that is not shown is shown first. */
@@ -348,7 +352,9 @@ static void key(void)
     case S_MENU: key_menu(); break;
     case S_EDIT: key_edit(); break;
     case S_CHOICE: key_choice(); break;
+#if FW_IOTEST
     case S_IOTEST: key_iotest(); break;
+#endif
     default: key_cal(); break;
     }
 }

@@ -31,9 +31,11 @@
 #define MENU_CAL_SPEED (P_COUNT + 0)
 #define MENU_CAL_TANK (P_COUNT + 1)
 #define MENU_TOTALS (P_COUNT + 2)
-#define MENU_IOTEST (P_COUNT + 3)
-#define MENU_NOZZLES (P_COUNT + 4)  /* D: the nozzle model is learnt again (diag.h) */
-#define MENU_COUNT (P_COUNT + 5)
+#if FW_IOTEST
+#define MENU_IOTEST (P_COUNT + 3)   /* the bench's images only (FW_IOTEST, hal/compiler.h) */
+#endif
+#define MENU_NOZZLES (P_COUNT + 3 + FW_IOTEST)  /* D: the nozzle model is learnt again (diag.h) */
+#define MENU_COUNT (P_COUNT + 4 + FW_IOTEST)
 
 void console_init(void);
 /* From the main loop: keypad scan, key handling, screen refresh, LCD update. */

@@ -10,6 +10,8 @@
 #include "umath.h"
 #include "mul.h"
 
+#if FW_IOTEST                       /* the bench's images only (hal/compiler.h) */
+
 /*
  * The I/O test, for checking every wire from the keypad (docs/bringup.md):
  *   "P 512 10.01mA R0"   pressure input: raw ADC counts, loop current; spray relay (key 1)
@@ -74,3 +76,4 @@ void con_draw_iotest(void)
     cat_pulses('M', ops_flow_pulses(), con_io.meter_hz);
     con_show(3);
 }
+#endif

@@ -346,8 +346,10 @@ static const char *menu_name(uint8_t i)
         return "Speed cal 100 m";
     if (i == MENU_CAL_TANK)
         return "Meter cal tank";
+#if FW_IOTEST
     if (i == MENU_IOTEST)
         return "I/O test";
+#endif
     if (i == MENU_TOTALS)
         return "Totals";
     if (i == MENU_NOZZLES)
@@ -462,11 +464,13 @@ uint8_t con_draw(void)
     case S_MENU: draw_menu(); break;
     case S_EDIT: draw_edit(); break;
     case S_CHOICE: draw_choice(); break;
+#if FW_IOTEST
     case S_IOTEST:                  /* its message drawn here, not under its frame (the stack) */
         con_draw_iotest();
         if (con_msg_on())
             con_draw_msg();
         break;
+#endif
     default: draw_cal(); break;
     }
     return 1;

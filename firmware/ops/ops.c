@@ -98,6 +98,7 @@ void ops_alarms_step(void)
     ops_buzzer();
 }
 
+#if FW_IOTEST
 void ops_io_test(uint8_t flags) __reentrant
 {
     ops_io = (flags & OPS_IO_ON) ? flags : 0;
@@ -106,6 +107,7 @@ void ops_io_test(uint8_t flags) __reentrant
     if (!(ops_io & OPS_IO_ON))
         jog.periods = 0;
 }
+#endif
 
 void ops_jog(int8_t dir) __reentrant
 {
