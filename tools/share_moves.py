@@ -172,6 +172,7 @@ ROUTINES = {
     "arg_r564": (False, _arg("564")),
     "arg_i4": (True, ["mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0", "inc r0",
                       "mov a,@r0"]),
+    "ctl_in_dptr": (False, ["mov dpl,_ctl_in", "mov dph,(_ctl_in+1)"]),   # the step's inputs (ctl.h)
     "dptr_a_r67": (False, ["add a,r6", "mov dpl,a", "clr a", "addc a,r7", "mov dph,a"]),
     "dptr_a_plus_i2": (False, ["add a,@r0", "mov dpl,a", "clr a", "inc r0", "addc a,@r0",
                                "mov dph,a"]),
