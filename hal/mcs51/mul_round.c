@@ -1,4 +1,4 @@
-/* mul_round.c: the unsigned product UMUL (whose first part mul_ab shares) and the controllers' rounded products and shifts MUL_R15 / MUL_R12 / ACC_SHR15 / ACC_SHR12 (mul.h), in assembly on the 8051 (the host's are C macros). */
+/* mul_round.c: the unsigned product UMUL (whose first part mul_ab shares) and the controllers' rounded products MUL_R15 / MUL_R12 (mul.h; the sum's shifts are acc.c's), in assembly on the 8051 (the host's are C macros). */
 #include "mul.h"
 
 /* Like mul_ab these touch only A, B, DPTR and PSW (and mul_r), so a caller keeps R0-R7; each
@@ -84,26 +84,6 @@ int32_t mul_r15(void) __naked
         ret
     __endasm;
 }
-/* mul_acc >> 15 (its rounding added beforehand) */
-int32_t acc_shr15(void) __naked
-{
-    __asm
-        mov a,(_mul_acc + 1)
-        rlc a                   ; C = bit 15
-        mov a,(_mul_acc + 2)
-        rlc a
-        mov dpl,a
-        mov a,(_mul_acc + 3)
-        rlc a
-        mov dph,a
-        subb a,acc
-        mov b,a
-#if FX_SABOTAGE == 8
-        orl dpl,#1              ; the result made odd (wrong bits on purpose)
-#endif
-        ret
-    __endasm;
-}
 /* (mul_a * mul_b + 2^11) >> 12 */
 int32_t mul_r12(void) __naked
 {
@@ -144,41 +124,6 @@ int32_t mul_r12(void) __naked
         rlc a
         subb a,acc
 #if FX_SABOTAGE == 7
-        orl dpl,#1              ; the result made odd (wrong bits on purpose)
-#endif
-        ret
-    __endasm;
-}
-/* mul_acc >> 12 (its rounding added beforehand) */
-int32_t acc_shr12(void) __naked
-{
-    __asm
-        mov a,(_mul_acc + 1)
-        swap a
-        anl a,#0x0f
-        mov dpl,a
-        mov a,(_mul_acc + 2)
-        swap a
-        mov b,a
-        anl a,#0xf0
-        orl dpl,a
-        mov a,b
-        anl a,#0x0f
-        mov dph,a
-        mov a,(_mul_acc + 3)
-        swap a
-        mov b,a
-        anl a,#0xf0
-        orl dph,a
-        mov a,b
-        anl a,#0x0f
-        jnb acc.3,00041$
-        orl a,#0xf0
-00041$:
-        mov b,a
-        rlc a
-        subb a,acc
-#if FX_SABOTAGE == 9
         orl dpl,#1              ; the result made odd (wrong bits on purpose)
 #endif
         ret
