@@ -1,4 +1,4 @@
-/* ctl_out.c: the output stage the controllers share: error clamp, du to drive, pulse accumulation, limits. */
+/* ctl_out.c: the output stage pid, fuzzy_pid, bp_pid and the peers share: pulse accumulation, limits, their clamps. */
 #if defined(__SDCC)
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
@@ -11,17 +11,9 @@
  * pulse when they add up (pulse accumulation, as floating-valve controllers do): the valve gets
  * the movement the law asked for, later. Requests beyond full duty are cut (anti-windup: the
  * valve is the integrator, the excess is dropped, never stored), and nothing is asked or
- * accumulated against an end stop that valve_limit reports.
+ * accumulated against an end stop that valve_limit reports. The error clamp and du to drive,
+ * which ffmap uses too, are ctl_drive.c's: an image with ffmap alone links none of this module.
  */
-
-int16_t ctl_clamp_e(int16_t e)
-{
-    if (e > CTL_E_MAX)
-        return CTL_E_MAX;
-    if (e < -CTL_E_MAX)
-        return -CTL_E_MAX;
-    return e;
-}
 
 int16_t ctl_of_target(int16_t frac)
 {
@@ -31,12 +23,6 @@ int16_t ctl_of_target(int16_t frac)
 int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi)
 {
     return x < lo ? lo : x > hi ? hi : x;
-}
-
-int32_t ctl_du_to_drive(int32_t du)
-{
-    int16_t s4 = fx_sat16((du + 128) >> 8);        /* du in Q4 */
-    return (MUL(s4, ctl_kf) + 128) >> 8;
 }
 
 q15_t ctl_out(int32_t d, uint8_t limit)
