@@ -1,6 +1,7 @@
-/* acc.c: the sum of products on the 8051 (MUL AB): the accumulate, the dot product, the learning
- * row and the sum's shifts (mul.h MAC, DOT, UPD, ACC_SHR15, ACC_SHR12), bp_pid's alone: a module
- * of its own, so that an image without bp_pid links none of it; the host's C is firmware/math/mul.c. */
+/* acc.c: the products only bp_pid takes, on the 8051 (MUL AB): the accumulate, the dot product,
+ * the learning row, the sum's shifts and the rounded Q12 product (mul.h MAC, DOT, UPD, ACC_SHR15,
+ * ACC_SHR12, MUL_R12): a module of their own, so that an image without bp_pid links none of them;
+ * the host's C is firmware/math/mul.c. */
 #include "mul.h"
 
 __data int32_t mul_acc;
@@ -455,6 +456,51 @@ int32_t acc_shr12(void) __naked
         rlc a
         subb a,acc
 #if FX_SABOTAGE == 9
+        orl dpl,#1              ; the result made odd (wrong bits on purpose)
+#endif
+        ret
+    __endasm;
+}
+/* (mul_a * mul_b + 2^11) >> 12 */
+int32_t mul_r12(void) __naked
+{
+    __asm
+        lcall _mul_ab
+        mov a,(_mul_r + 1)
+        add a,#0x08
+        mov (_mul_r + 1),a
+        clr a
+        addc a,(_mul_r + 2)
+        mov (_mul_r + 2),a
+        clr a
+        addc a,(_mul_r + 3)
+        mov (_mul_r + 3),a
+        mov a,(_mul_r + 1)
+        swap a
+        anl a,#0x0f
+        mov dpl,a
+        mov a,(_mul_r + 2)
+        swap a
+        mov b,a
+        anl a,#0xf0
+        orl dpl,a               ; bits 12..19
+        mov a,b
+        anl a,#0x0f
+        mov dph,a
+        mov a,(_mul_r + 3)
+        swap a
+        mov b,a
+        anl a,#0xf0
+        orl dph,a               ; bits 20..27
+        mov a,b
+        anl a,#0x0f
+        jnb acc.3,00040$
+        orl a,#0xf0             ; bits 28..35, the sign extended
+00040$:
+        mov b,a
+        rlc a
+        subb a,acc
+#if FX_SABOTAGE == 7
         orl dpl,#1              ; the result made odd (wrong bits on purpose)
 #endif
         ret

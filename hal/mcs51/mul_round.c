@@ -1,4 +1,4 @@
-/* mul_round.c: the unsigned product UMUL (whose first part mul_ab shares) and the controllers' rounded products MUL_R15 / MUL_R12 (mul.h; the sum's shifts are acc.c's), in assembly on the 8051 (the host's are C macros). */
+/* mul_round.c: the unsigned product UMUL (whose first part mul_ab shares) and the rounded Q15 product MUL_R15 (mul.h; the Q12 one and the sum's shifts, bp_pid's, are acc.c's), in assembly on the 8051 (the host's are C macros). */
 #include "mul.h"
 
 /* Like mul_ab these touch only A, B, DPTR and PSW (and mul_r), so a caller keeps R0-R7; each
@@ -79,51 +79,6 @@ int32_t mul_r15(void) __naked
         subb a,acc              ; 0x00 or 0xff
         mov b,a
 #if FX_SABOTAGE == 6
-        orl dpl,#1              ; the result made odd (wrong bits on purpose)
-#endif
-        ret
-    __endasm;
-}
-/* (mul_a * mul_b + 2^11) >> 12 */
-int32_t mul_r12(void) __naked
-{
-    __asm
-        lcall _mul_ab
-        mov a,(_mul_r + 1)
-        add a,#0x08
-        mov (_mul_r + 1),a
-        clr a
-        addc a,(_mul_r + 2)
-        mov (_mul_r + 2),a
-        clr a
-        addc a,(_mul_r + 3)
-        mov (_mul_r + 3),a
-        mov a,(_mul_r + 1)
-        swap a
-        anl a,#0x0f
-        mov dpl,a
-        mov a,(_mul_r + 2)
-        swap a
-        mov b,a
-        anl a,#0xf0
-        orl dpl,a               ; bits 12..19
-        mov a,b
-        anl a,#0x0f
-        mov dph,a
-        mov a,(_mul_r + 3)
-        swap a
-        mov b,a
-        anl a,#0xf0
-        orl dph,a               ; bits 20..27
-        mov a,b
-        anl a,#0x0f
-        jnb acc.3,00040$
-        orl a,#0xf0             ; bits 28..35, the sign extended
-00040$:
-        mov b,a
-        rlc a
-        subb a,acc
-#if FX_SABOTAGE == 7
         orl dpl,#1              ; the result made odd (wrong bits on purpose)
 #endif
         ret
