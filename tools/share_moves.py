@@ -170,6 +170,11 @@ ROUTINES = {
     "arg_r56": (False, _arg("56")),
     "arg_r76": (False, _arg("76")),
     "arg_r564": (False, _arg("564")),
+    "arg_r6754": (False, _arg("6754")),
+    "arg_r456": (False, _arg("456")),
+    "xld_arg_r456a": (False, _xld("456", True) + _arg("456")),     # XRAM at DPTR to DPL, DPH, B, A
+    "xld_arg_r67": (False, _xld("67") + _arg("67")),
+    "res_r2345": (False, _res("2345")),
     "arg_i4": (True, ["mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0", "inc r0",
                       "mov a,@r0"]),
     "ctl_in_dptr": (False, ["mov dpl,_ctl_in", "mov dph,(_ctl_in+1)"]),   # the step's inputs (ctl.h)
@@ -182,6 +187,10 @@ ROUTINES = {
     "fp_r0_05_keep_a": (False, ["xch a,r0", "mov a,_bp", "add a,#0x05", "xch a,r0"]),
     "fp1_dptr": (True, ["mov r0,_bp", "inc r0", "mov dpl,@r0", "inc r0", "mov dph,@r0"]),
     "fp1_a": (True, ["mov r0,_bp", "inc r0", "mov a,@r0"]),
+    "fp1_res_i4": (False, ["mov r0,_bp", "inc r0", "mov @r0,dpl", "inc r0", "mov @r0,dph", "inc r0",
+                           "mov @r0,b", "inc r0", "mov @r0,a"]),
+    "fp_r0_fd_a": (False, _fp("r0", 0xfd) + ["mov a,@r0"]),
+    "fp_r0_03_dptr": (False, _fp("r0", 0x03) + ["mov dpl,@r0", "inc r0", "mov dph,@r0"]),
     "fp1_st00": (False, ["mov r0,_bp", "inc r0", "clr a", "mov @r0,a", "inc r0", "mov @r0,a"]),
     "fp1_after_r7a": (False, ["mov r7,a", "mov r0,_bp", "inc r0"]),
     # sums, differences and compares
@@ -241,6 +250,8 @@ ROUTINES = {
     "cmp_r67_100": (False, ["clr c", "mov a,r6", "subb a,#0x64", "mov a,r7", "subb a,#0x00"]),
     "cmp_r67_r45": (False, ["clr c", "mov a,r6", "subb a,r4", "mov a,r7", "subb a,r5"]),
     "scmp_b": (True, ["xrl b,#0x80", "subb a,b"]),
+    "scmp_b_r7": (False, ["mov b,r7", "xrl b,#0x80", "subb a,b"]),
+    "scmp_r7": (False, ["xrl a,#0x80", "mov b,r7", "xrl b,#0x80", "subb a,b"]),
     "scmp_0_r2": (False, ["clr c", "mov a,#(0x00^0x80)", "mov b,r2"]),
     "neg_scmp_r23": (False, ["clr c", "clr a", "subb a,r2", "mov a,#(0x00^0x80)", "mov b,r3"]),
     "neg_scmp_r45": (False, ["clr c", "clr a", "subb a,r4", "mov a,#(0x00^0x80)", "mov b,r5"]),
