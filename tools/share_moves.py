@@ -171,6 +171,10 @@ ROUTINES = {
     "arg_r76": (False, _arg("76")),
     "arg_r564": (False, _arg("564")),
     "arg_r6754": (False, _arg("6754")),
+    "arg_r2345": (False, _arg("2345")),
+    "arg_r2367": (False, _arg("2367")),
+    "param_at_a": (False, ["mov b,#0x02", "mul ab", "add a,#_param_v", "mov dpl,a",
+                           "mov a,#(_param_v>>8)", "addc a,b", "mov dph,a"]),    # DPTR = &param_v[A]
     "arg_r456": (False, _arg("456")),
     "xld_arg_r456a": (False, _xld("456", True) + _arg("456")),     # XRAM at DPTR to DPL, DPH, B, A
     "xld_arg_r67": (False, _xld("67") + _arg("67")),
@@ -250,6 +254,12 @@ ROUTINES = {
     "cmp_r67_100": (False, ["clr c", "mov a,r6", "subb a,#0x64", "mov a,r7", "subb a,#0x00"]),
     "cmp_r67_r45": (False, ["clr c", "mov a,r6", "subb a,r4", "mov a,r7", "subb a,r5"]),
     "scmp_b": (True, ["xrl b,#0x80", "subb a,b"]),
+    "scmp_next_i": (False, ["inc r0", "mov b,@r0", "xrl b,#0x80", "subb a,b"]),
+    "neg_scmp_b_r45": (False, ["clr c", "clr a", "subb a,r4", "mov a,#(0x00^0x80)", "mov b,r5",
+                               "xrl b,#0x80", "subb a,b"]),
+    "cmp_r45_r67": (False, ["clr c", "mov a,r4", "subb a,r6", "mov a,r5", "subb a,r7"]),
+    "ist_r23_sext": (False, _ist("23") + ["mov a,r3", "rlc a", "subb a,acc", "inc r0", "mov @r0,a",
+                                          "inc r0", "mov @r0,a"]),
     "scmp_b_r7": (False, ["mov b,r7", "xrl b,#0x80", "subb a,b"]),
     "scmp_r7": (False, ["xrl a,#0x80", "mov b,r7", "xrl b,#0x80", "subb a,b"]),
     "scmp_0_r2": (False, ["clr c", "mov a,#(0x00^0x80)", "mov b,r2"]),
