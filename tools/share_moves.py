@@ -179,6 +179,9 @@ ROUTINES = {
     "xld_arg_r456a": (False, _xld("456", True) + _arg("456")),     # XRAM at DPTR to DPL, DPH, B, A
     "xld_arg_r67": (False, _xld("67") + _arg("67")),
     "res_r2345": (False, _res("2345")),
+    "res_r236": (False, _res("23") + ["mov r6,b"]),
+    "xst_r23_sext": (False, _xst("23") + ["mov a,r3", "rlc a", "subb a,acc", "inc dptr", "movx @dptr,a",
+                                          "inc dptr", "movx @dptr,a"]),
     "arg_i4": (True, ["mov dpl,@r0", "inc r0", "mov dph,@r0", "inc r0", "mov b,@r0", "inc r0",
                       "mov a,@r0"]),
     "ctl_in_dptr": (False, ["mov dpl,_ctl_in", "mov dph,(_ctl_in+1)"]),   # the step's inputs (ctl.h)
@@ -193,6 +196,7 @@ ROUTINES = {
     "fp1_a": (True, ["mov r0,_bp", "inc r0", "mov a,@r0"]),
     "fp1_res_i4": (False, ["mov r0,_bp", "inc r0", "mov @r0,dpl", "inc r0", "mov @r0,dph", "inc r0",
                            "mov @r0,b", "inc r0", "mov @r0,a"]),
+    "fp_r0_fc_a": (False, _fp("r0", 0xfc) + ["mov a,@r0"]),
     "fp_r0_fd_a": (False, _fp("r0", 0xfd) + ["mov a,@r0"]),
     "fp_r0_03_dptr": (False, _fp("r0", 0x03) + ["mov dpl,@r0", "inc r0", "mov dph,@r0"]),
     "fp1_st00": (False, ["mov r0,_bp", "inc r0", "clr a", "mov @r0,a", "inc r0", "mov @r0,a"]),
@@ -278,6 +282,9 @@ ROUTINES = {
     "inc_dptr5": (True, ["inc dptr"] * 5),
     "sext_r67": (True, ["rlc a", "subb a,acc", "mov r6,a", "mov r7,a"]),
     # shifts
+    "shr1_i4": (False, ["inc r0", "inc r0", "inc r0", "mov a,@r0", "clr c", "rrc a", "mov @r0,a",
+                        "dec r0", "mov a,@r0", "rrc a", "mov @r0,a", "dec r0", "mov a,@r0", "rrc a",
+                        "mov @r0,a", "dec r0", "mov a,@r0", "rrc a", "mov @r0,a"]),
     "rrc_i3": (True, ["rrc a", "mov @r0,a", "dec r0", "mov a,@r0", "rrc a", "mov @r0,a",
                       "dec r0", "mov a,@r0", "rrc a", "mov @r0,a"]),
     "rrc_r67": (False, ["rrc a", "xch a,r6", "rrc a", "xch a,r6", "mov r7,a"]),
