@@ -63,9 +63,6 @@ SDCC_MODEL := --model-large
 # HIL=1: hardware in the loop built into the chip's image (docs/HIL.md): held to the chip's size and
 # the stack margin floor, not to the code and XRAM headroom floors (a bench image, not the field's)
 HIL ?= 0
-# PGN=1: the field image with AgOpenGPS and RateControl frames (FW_PGN, hal/compiler.h): its XRAM
-# has no room for them under the floor yet (the HIL image none at all)
-PGN ?= 0
 SDCC_CFLAGS := -mmcs51 $(SDCC_MODEL) -Ihal $(FW_INC) -DFW_HIL=$(HIL) $(SDCC_EXTRA)
 SDCC_LDFLAGS := --code-size $(CODE_SIZE) --iram-size $(IRAM_SIZE) --xram-size $(XRAM_SIZE) --xram-loc 0x0000
 # Shared sequences (docs/MEMORY.md): SDCC writes a firmware module's assembly, tools/share_moves.py
@@ -105,7 +102,7 @@ OPT_CFLAGS := $(HOST_WARN) $(HOST_INC) -DHAL_HOST -O3 -fno-tree-slp-vectorize -f
 
 # ==== build folders and products =====================================================================
 # each image its own folder: the objects of one are compiled with other flags than another's
-STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(HIL)),-hil)$(if $(filter 1,$(PGN)),-pgn)
+STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(HIL)),-hil)
 # the image links main and the chip's HAL (the interrupt handlers) by name and pulls from the
 # firmware's archive only the modules something calls
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
@@ -166,8 +163,7 @@ help:
 	@echo "make demo      the main job: firmware image + the paper's run in the simulator, its figures beside the paper's, plots"
 	@echo "make test      every test (host unit tests, s51 target tests, firmware build, fuzz corpus, scripts): \"N passed, N failed\" last"
 	@echo "make firmware  (default) the STC12C5A60S2 image in $(STC_DIR), with its memory use and headroom floors;"
-	@echo "               FW_PEERS=1 the research image with the peers, HIL=1 with hardware in the loop,"
-	@echo "               PGN=1 with AgOpenGPS and RateControl frames (docs/PGN.md)"
+	@echo "               FW_PEERS=1 the research image with the peers, HIL=1 the bench image with hardware in the loop"
 	@echo "make memory    the 20 largest users of each memory region of the image, the deepest call chain"
 	@echo "make deps      install what the build needs (apt: sdcc sdcc-ucsim libcmocka-dev tmux, clang for fuzz; the .venv)"
 	@echo "make flash PORT=/dev/ttyUSB0   write the image with stcgal"
@@ -210,7 +206,7 @@ memory: $(FW_HEX) $(VENV)
 $(STC_DIR)/%.rel: %.c tools/share_moves.py | $(VENV)
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$<)
-	$(Q)$(call sdcc_rel,$(SDCC_CFLAGS) -DHAL_STC12 -DFW_PGN=$(PGN) $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1))
+	$(Q)$(call sdcc_rel,$(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1))
 
 $(eval $(call moves_rule,$(STC_DIR)))
 $(STC_LIB): $(STC_LIB_REL) $(STC_DIR)/moves/.stamp
@@ -363,7 +359,7 @@ ISR_IHX := $(UC_DIR)/isr_cycles.ihx
 $(UC_DIR)/tests/bench/isr_cycles.rel: tests/bench/isr_cycles.c
 	@mkdir -p $(dir $@)
 	$(call msg,SDCC,$< [s51])
-	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 -DFW_PGN=$(PGN) $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1) -Ihal/stc12 -MMD -c $< -o $@
+	$(Q)$(SDCC) $(SDCC_CFLAGS) -DHAL_STC12 $(if $(filter 1,$(FW_PEERS)),-DFW_PEERS=1) -Ihal/stc12 -MMD -c $< -o $@
 
 $(ISR_IHX): $(UC_DIR)/tests/bench/isr_cycles.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
 	$(call msg,LINK,$@ [s51 program])

@@ -41,12 +41,12 @@
 #endif
 
 /* FW_PGN: AgOpenGPS and RateControl frames on the serial link (firmware/link/pgn.h), Remote's
- * value 3: in the host's, the s51 tests' and PIL's builds, not in the chip's images (the field
- * image's XRAM has no room for them under its floor yet; `make firmware PGN=1` builds it with
- * them). Their settings are in every image's table (params.h), used only with the frames. */
+ * value 3: in every build but the chip's bench (HIL=1) and research (FW_PEERS=1) images, which
+ * have no room for them (docs/MEMORY.md). Their settings are in every image's table (params.h),
+ * used only with the frames. */
 #ifndef FW_PGN
 #if defined(HAL_STC12)
-#define FW_PGN 0
+#define FW_PGN (!FW_HIL && !FW_PEERS)
 #else
 #define FW_PGN 1
 #endif
