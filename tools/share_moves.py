@@ -149,6 +149,9 @@ ROUTINES = {
     "ist_r45": (False, _ist("45")),
     "ist_r67": (True, _ist("67")),
     "ist_00": (False, ["inc r0", "mov @r0,#0x00", "inc r0", "mov @r0,#0x00"]),
+    "copy_i4_r0_r1": (False, ["mov a,@r0", "mov @r1,a", "inc r0", "mov a,@r0", "inc r1", "mov @r1,a",
+                              "inc r0", "mov a,@r0", "inc r1", "mov @r1,a", "inc r0", "mov a,@r0",
+                              "inc r1", "mov @r1,a"]),
     "copy_i2_r0_r1": (True, ["mov @r1,a", "inc r0", "mov a,@r0", "inc r1", "mov @r1,a"]),
     "ild_dptr": (False, ["mov dpl,@r0", "inc r0", "mov dph,@r0"]),
     # a call's result and arguments (DPL, DPH, B, A)
@@ -171,6 +174,7 @@ ROUTINES = {
     "arg_r76": (False, _arg("76")),
     "arg_r564": (False, _arg("564")),
     "arg_r6754": (False, _arg("6754")),
+    "arg_r67_dptr2": (False, _arg("67") + ["inc dptr", "inc dptr"]),     # DPTR = R6:R7 + 2
     "arg_r2345": (False, _arg("2345")),
     "arg_r2367": (False, _arg("2367")),
     "param_at_a": (False, ["mov b,#0x02", "mul ab", "add a,#_param_v", "mov dpl,a",
