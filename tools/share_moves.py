@@ -348,12 +348,18 @@ TAIL_ONLY = {"ret_frame"}
 #   enter     for  push _bp / mov _bp,sp                                      (5 B -> 3 B)
 #   enter_a   for  push _bp / mov a,sp / mov _bp,a / add a,#N / mov sp,a       (10 B -> 5 B:
 #             mov a,#N / lcall _mv_enter_a; A = the new SP after either)
+#   enter_2   for  push _bp / mov _bp,sp / inc sp / inc sp                       (9 B -> 3 B)
+#   enter_dptr for push _bp / mov _bp,sp / push dpl / push dph (the first argument kept) (9 B -> 3 B)
 # tools/stackdepth.py counts their frames as those of the sequences they stand for.
 _CARRY_RET = (["pop ar7", "pop ar6", "push _bp", "mov _bp,sp"], ["push ar6", "push ar7"])
 ENTRIES = {
     "enter": _CARRY_RET[0] + _CARRY_RET[1],
     "enter_a": _CARRY_RET[0] + ["add a,sp", "mov sp,a"] + _CARRY_RET[1],
+    "enter_2": _CARRY_RET[0] + ["inc sp", "inc sp"] + _CARRY_RET[1],
+    "enter_dptr": _CARRY_RET[0] + ["push dpl", "push dph"] + _CARRY_RET[1],
 }
+ENTRY_2 = ["push _bp", "mov _bp,sp", "inc sp", "inc sp"]
+ENTRY_DPTR = ["push _bp", "mov _bp,sp", "push dpl", "push dph"]
 ENTRY_A = ["push _bp", "mov a,sp", "mov _bp,a", None, "mov sp,a"]    # None: add a,#N
 ENTRY = ["push _bp", "mov _bp,sp"]
 
@@ -444,6 +450,10 @@ def entries(lines, hot=()):
         add = re.match(r"add a,#(0x[0-9a-f]{2})$", names[3]) if len(names) == 5 else None
         if add and names[:3] == ENTRY_A[:3] and names[4] == ENTRY_A[4]:
             name, last, call = "enter_a", ins[4][1], "\tmov\ta,#%s\n\tlcall\t_mv_enter_a\n" % add.group(1)
+        elif names[:4] == ENTRY_2:
+            name, last, call = "enter_2", ins[3][1], "\tlcall\t_mv_enter_2\n"
+        elif names[:4] == ENTRY_DPTR:
+            name, last, call = "enter_dptr", ins[3][1], "\tlcall\t_mv_enter_dptr\n"
         elif names[:2] == ENTRY:
             name, last, call = "enter", ins[1][1], "\tlcall\t_mv_enter\n"
         else:

@@ -62,14 +62,17 @@ def parse(dirname):
                     cur["max"] = max(cur["max"], cur["depth"])
                 else:
                     cur["depth"] = max(0, cur["depth"] - (256 - n))
-            elif op == "lcall" and s.split()[1] in ("_mv_enter", "_mv_enter_a"):
+            elif op == "lcall" and s.split()[1] in ("_mv_enter", "_mv_enter_a", "_mv_enter_2", "_mv_enter_dptr"):
                 # a function's entry (tools/share_moves.py ENTRIES): _bp pushed, then the frame
-                # of A's bytes (enter_a), the routine's return address pushed back above them
+                # of A's bytes (enter_a) or 2 bytes (enter_2, enter_dptr), the routine's return
+                # address pushed back above them
                 cur["depth"] += 1
                 cur["bp"] = cur["depth"]
                 if s.split()[1] == "_mv_enter_a":
                     cur["frame"] = cur.get("frame", 0) + frame_a
                     cur["depth"] += frame_a
+                elif s.split()[1] != "_mv_enter":
+                    cur["depth"] += 2
                 cur["max"] = max(cur["max"], cur["depth"] + 2)
             elif op in ("lcall", "acall", "ljmp", "sjmp", "ajmp"):
                 target = s.split()[1].strip()

@@ -193,3 +193,15 @@ if python3 tools/stackdepth.py "$tmp/sd" | grep -q "worst case 13 B"; then
 else
     echo "not ok - share_moves: stackdepth of the entries"; python3 tools/stackdepth.py "$tmp/sd" | sed 's/^/#   /'
 fi
+
+# ... and the entries that make 2 bytes of frame (inc sp twice, or the first argument's DPL, DPH
+# pushed): one call each, counted by stackdepth as the pushes they stand for
+printf ';\t function main\n_main:\n\tpush\t_bp\n\tmov\t_bp,sp\n\tinc\tsp\n\tinc\tsp\n\tlcall\t_f\n\tmov\tsp,_bp\n\tpop\t_bp\n\tret\n;\t function f\n_f:\n\tpush\t_bp\n\tmov\t_bp,sp\n\tpush\tdpl\n\tpush\tdph\n\tmov\tsp,_bp\n\tpop\t_bp\n\tret\n' > "$tmp/sd/a.asm"
+python3 tools/share_moves.py "$tmp/sd/a.asm"
+if grep -q 'lcall	_mv_enter_2' "$tmp/sd/a.asm" && grep -q 'lcall	_mv_enter_dptr' "$tmp/sd/a.asm" \
+    && [ "$(grep -c 'push	_bp\|inc	sp\|push	dp' "$tmp/sd/a.asm")" -eq 0 ] \
+    && python3 tools/stackdepth.py "$tmp/sd" | grep -q "worst case 12 B"; then
+    echo "ok - share_moves: enter_2 and enter_dptr, their frames counted (12 B here)"
+else
+    echo "not ok - share_moves: enter_2, enter_dptr"; sed 's/^/#   /' "$tmp/sd/a.asm"; python3 tools/stackdepth.py "$tmp/sd" | sed 's/^/#   /'
+fi
