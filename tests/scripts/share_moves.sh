@@ -17,33 +17,40 @@ for f in "$tmp"/gen/*.asm; do "$SDAS" -plosgffw "${f%.asm}.rel" "$f" || echo "sd
 if out=$(python3 - "$tmp/gen" <<'EOF' 2>&1
 import glob, os, re, sys
 sys.path.insert(0, "tools")
-from share_moves import ROUTINES, ENTRIES, norm, body_size
+from share_moves import ROUTINES, ENTRIES, norm, body_size, tails
 gen = sys.argv[1]
 bad = []
 table = dict(ROUTINES)
 table.update({k: (False, v) for k, v in ENTRIES.items()})
-for name, (_, seq) in table.items():
-    asm = os.path.join(gen, "mv_%s.asm" % name)
-    body, cur = [], False
+into = tails()
+heads = set(table) - set(into.values())
+body = {}                           # each label's instructions to the RET that ends its module
+for asm in glob.glob(os.path.join(gen, "*.asm")):
+    cur = []
     for line in open(asm):
-        if re.match(r"_mv_%s::\s*$" % name, line):
-            cur = True
-        elif cur and norm(line) is not None:
-            body.append(norm(line))
-    if body != seq + ["ret"]:
+        m = re.match(r"_mv_(\w+)::\s*$", line)
+        if m:
+            cur.append(m.group(1))
+            body[m.group(1)] = []
+        elif norm(line) is not None:
+            for c in cur:
+                body[c].append(norm(line))
+for name, (_, seq) in table.items():
+    if body.get(name) != seq + ["ret"]:
         bad.append(name + " (instructions)")
+for name in heads:                  # a chain's module: its first routine's size, then RET
     rel = open(os.path.join(gen, "mv_%s.rel" % name)).read()
     m = re.search(r"^A CSEG size (\w+)", rel, re.M)
-    if not m or int(m.group(1), 16) != body_size(seq) + 1:
+    if not m or int(m.group(1), 16) != body_size(table[name][1]) + 1:
         bad.append(name + " (size)")
-if len(glob.glob(os.path.join(gen, "*.asm"))) != len(table):
-    bad.append("stray modules")
+if len(glob.glob(os.path.join(gen, "*.asm"))) != len(heads) or not into:
+    bad.append("stray modules, or no chain")
 if bad:
     sys.exit("differ from the table: " + ", ".join(sorted(bad)))
-print("%d routines" % len(table))
+print("%d routines in %d modules" % (len(table), len(heads)))
 EOF
 ); then
-    echo "ok - share_moves: --gen makes one module a routine, exactly its sequence then RET, of the size counted ($out)"
+    echo "ok - share_moves: --gen makes one module a routine (a chain where one ends with another), each label exactly its sequence then RET, of the size counted ($out)"
 else
     echo "not ok - share_moves: --gen"; echo "$out" | sed 's/^/#   /'; sed 's/^/#   /' "$tmp/sdas.log"
 fi
