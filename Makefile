@@ -303,7 +303,7 @@ target-tests: $(TT_IHX) $(TT_HOST)
 # make sabotage SAB=n: tt_ops for s51 with routine n of mul.h's FX_SABOTAGE list built wrong (its
 # file alone compiled with the switch, linked ahead of the s51 library) in $(UC_DIR)/sabotage-n/;
 # tools/run_tests.sh shows the s51 comparison catching each of them
-SAB_FILES := $(addprefix hal/mcs51/,mul acc acc acc mul_round mul_round acc acc acc sat16) firmware/math/fixed \
+SAB_FILES := $(addprefix hal/mcs51/,mul acc acc upd mul_round mul_round acc acc acc sat16) firmware/math/fixed \
              $(addprefix firmware/math/,umath umath umath)
 SAB ?= 1
 sabotage: $(UC_DIR)/fw.lib $(UC_TT_REL) $(UC_DIR)/tests/target/tt_ops.rel

@@ -9,7 +9,7 @@
 #endif
 
 /*
- * On the 8051 (hal/mcs51/mul.c, acc.c, mul_round.c: assembly): four MUL AB (about 60 machine cycles against about 230 for
+ * On the 8051 (hal/mcs51/mul.c, acc.c, upd.c, mul_round.c: assembly): four MUL AB (about 60 machine cycles against about 230 for
  * SDCC's general 32-bit multiply), the operands, product and sum in direct RAM. The routines
  * are __naked and touch only A, B, DPTR and PSW (dot_ab saves what else it uses), and their
  * declarations say so: a caller keeps its live values in R0-R7 across the call. On the host the
@@ -17,7 +17,7 @@
  * -DFX_SABOTAGE=n (tools/run_tests.sh only, never a real build) gives one routine the
  * controllers compute with wrong bits on the 8051 only, so that the s51 comparison is shown to
  *  catch each: 1 mul_ab, 2 mac_ab, 3 dot_ab, 4 upd_ab, 5 umul_ab, 6 mul_r15, 7 mul_r12,
- * 8 acc_shr15, 9 acc_shr12 (hal/mcs51/mul.c, acc.c, mul_round.c), 10 fx_sat16 (hal/mcs51/sat16.c), 11 fx_tanh (fixed.c),
+ * 8 acc_shr15, 9 acc_shr12 (hal/mcs51/mul.c, acc.c, upd.c, mul_round.c), 10 fx_sat16 (hal/mcs51/sat16.c), 11 fx_tanh (fixed.c),
  * 12 um_mul32x16_shr16, 13 um_muldiv, 14 um_scaled_div (umath.c).
  *   MUL(a, b)     a * b, int16 operands, int32 product
  *   ACC_START(r)  mul_acc = 2^(r-1): the rounding of the sum's >> r (r = 12 or 15), where a

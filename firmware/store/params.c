@@ -114,6 +114,11 @@ const __code char *param_why_text(uint8_t why)
     return why <= PARAM_X_FLOW ? why_texts[why] : "";
 }
 
+const __code uint8_t params_version_count[PARAMS_VERSION - 1u] = {
+    PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT, PARAMS_V8_COUNT, PARAMS_V8_COUNT, PARAMS_V8_COUNT,
+    PARAMS_V8_COUNT, PARAMS_V9_COUNT, PARAMS_V10_COUNT, P_COUNT};
+typedef char params_version_counts[(PARAMS_VERSION == 11) ? 1 : -1];   /* a new version: its count here */
+
 uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v)
 {
     if (id == P_RATE && ver < 10u)

@@ -100,6 +100,8 @@ enum { PARAM_TABLE(PARAM_ENUM) P_COUNT };
 #define PARAMS_V8_COUNT 32          /* P_COUNT of versions 5 to 8: up to P_REMOTE_WIN */
 #define PARAMS_V9_COUNT 35          /* P_COUNT of version 9: up to P_AOG_SLOW */
 #define PARAMS_V10_COUNT 39         /* P_COUNT of version 10: up to P_UNITS */
+/* the count of values each known version's record holds, from version 2 (params.c) */
+extern const __code uint8_t params_version_count[PARAMS_VERSION - 1u];
 
 typedef struct {
     const __code char *name;

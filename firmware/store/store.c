@@ -106,12 +106,6 @@ static __data uint8_t sv_lo;        /* the low byte of the value being checked *
  * CRC and every value in range; 0 otherwise. Known: this version's table, or version 2's, 3's
  * or 4's (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended
  * since: they keep their defaults). */
-/* the count of values each known version's record holds, from version 2 */
-static const __code uint8_t version_count[PARAMS_VERSION - 1u] = {
-    PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT, PARAMS_V8_COUNT, PARAMS_V8_COUNT, PARAMS_V8_COUNT,
-    PARAMS_V8_COUNT, PARAMS_V9_COUNT, PARAMS_V10_COUNT, P_COUNT};
-typedef char store_version_counts[(PARAMS_VERSION == 11) ? 1 : -1];    /* a new version: its count here */
-
 static void ck_begin(uint8_t slot)
 {
     sv_slot = slot;
@@ -130,7 +124,7 @@ static uint8_t ck_more(uint8_t budget) __reentrant
             if (b != STORE_MAGIC)
                 return 0;
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (sv_lo < 2u || sv_lo > PARAMS_VERSION || b != version_count[sv_lo - 2u])
+            if (sv_lo < 2u || sv_lo > PARAMS_VERSION || b != params_version_count[sv_lo - 2u])
                 return 0;
             sv.n = b;
             sv.end = (uint8_t)CRC_N(b);
