@@ -12,6 +12,14 @@ void upd_ab(uint16_t n_s) __naked
 {
     (void)n_s;
     __asm
+        ar0 = 0x00              ; bank 0 register addresses for push / pop
+        ar1 = 0x01
+        ar2 = 0x02
+        ar3 = 0x03
+        ar4 = 0x04
+        ar5 = 0x05
+        ar6 = 0x06
+        ar7 = 0x07
 #if FX_SABOTAGE == 4
         xrl (_upd_eg + 1),#1    ; the error 256 off (wrong bits on purpose)
 #endif
