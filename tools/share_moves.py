@@ -603,13 +603,19 @@ def relax(lines, at, labels):
     shrinks, so every distance measured before stays in reach after. Returns (lines, bytes)."""
     out, saved, i = list(lines), 0, 0
     prev = None                                  # the instruction line before, its index
-    for i, line in enumerate(lines):
+    tables = {n.split("#", 1)[1] for n in map(norm, lines) if n and re.match(r"mov dptr,#\d+\$$", n)}
+    in_table = False                             # a switch's jump table (JMP @A+DPTR): its
+    for i, line in enumerate(lines):             # LJMPs are 3 bytes apart, left as they are
         ins = norm(line)
         if ins is None:
             if line.strip() and not line.strip().startswith(";"):
                 prev = None                      # a label or directive between
+                in_table = in_table or line.strip()[:-1] in tables
             continue
         op, _, arg = ins.partition(" ")
+        in_table = in_table and op == "ljmp"
+        if in_table:
+            continue
         if op == "ljmp" and LOCAL.match(arg) and (i + 1) in at \
                 and labels.get((at[i + 1][1], arg), (None,))[0] == at[i + 1][0]:
             area, scope, here = at[i + 1]

@@ -154,12 +154,14 @@ fi
 
 # --relax, from sdas's listing: a long jump within reach of its label (the same function's: a
 # local label reused by the next is another place) becomes SJMP; "J<c> skip / LJMP far / skip:"
-# becomes "J<not c> far" where far is within reach; one out of reach stays long
+# becomes "J<not c> far" where far is within reach; one out of reach stays long, and so do a
+# switch's jump table's (JMP @A+DPTR into LJMPs 3 bytes apart)
 {
     printf '\t.area CSEG (CODE)\n_f:\n\tjz\t00101$\n\tljmp\t00102$\n00101$:\n\tinc\ta\n\tljmp\t00102$\n'
     printf '\tjb\tacc.0,00103$\n\tljmp\t00104$\n00103$:\n\tinc\ta\n00102$:\n\tljmp\t00104$\n'
     for i in $(seq 140); do printf '\tnop\n'; done
     printf '00104$:\n\tret\n_g:\n\tljmp\t00101$\n00101$:\n\tret\n'
+    printf '_t:\n\tmov\tdptr,#00110$\n\tjmp\t@a+dptr\n00110$:\n\tljmp\t00111$\n\tljmp\t00112$\n00111$:\n\tret\n00112$:\n\tret\n'
 } > "$tmp/r.asm"
 cp "$tmp/r.asm" "$tmp/r0.asm"
 "$SDAS" -plosgffw "$tmp/r.rel" "$tmp/r.asm" && n=$(python3 tools/share_moves.py --relax "$tmp/r.asm") \
@@ -167,8 +169,9 @@ cp "$tmp/r.asm" "$tmp/r0.asm"
 size() { grep "^A CSEG size" "$1" | awk '{print $4}'; }
 "$SDAS" -plosgffw "$tmp/r0.rel" "$tmp/r0.asm"
 if [ "$n" = 5 ] && sed -n '/^_f:/,/^00101/p' "$tmp/r.asm" | grep -q 'jnz	00102\$' \
-    && [ "$(grep -c 'ljmp' "$tmp/r.asm")" -eq 2 ] && grep -q 'jb	acc.0,00103\$' "$tmp/r.asm" \
-    && [ "$(sed -n '/^_g:/,$p' "$tmp/r.asm" | grep -c 'sjmp	00101\$')" -eq 1 ] \
+    && [ "$(sed -n '/^_f:/,/^_g:/p' "$tmp/r.asm" | grep -c 'ljmp')" -eq 2 ] && grep -q 'jb	acc.0,00103\$' "$tmp/r.asm" \
+    && [ "$(sed -n '/^_g:/,/^_t:/p' "$tmp/r.asm" | grep -c 'sjmp	00101\$')" -eq 1 ] \
+    && [ "$(sed -n '/^_t:/,$p' "$tmp/r.asm" | grep -c 'ljmp')" -eq 2 ] \
     && [ $((16#$(size "$tmp/r0.rel") - 16#$(size "$tmp/r.rel"))) -eq 5 ]; then
     echo "ok - share_moves: --relax shortens the long jumps within reach, 5 B here, not the others"
 else
