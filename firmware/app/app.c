@@ -190,11 +190,7 @@ static void app_spray(void)
     uint8_t manual = app_status.manual;
     uint8_t want = app_status.open_nozzles
                    && !(diag_alarms() & ((1u << AL_TANK_LOW) | (1u << AL_PUMP_DRY)))
-                   && app_status.in.speed_kmh_x100 > 0 && !ap.internal
-#if FW_IOTEST
-                   && !IO_ON                /* the outputs the I/O test's */
-#endif
-                   ;
+                   && app_status.in.speed_kmh_x100 > 0 && !ap.internal && !IO_ON;
     /* after power-up the boom waits, shown, while the line is over P max (a fixed PTO's pump
      * against a bypass still opening) and the nozzles would spray over twice the target there,
      * until APP_P_WAIT (under twice the target is no further from it than a shut boom) */
@@ -209,10 +205,8 @@ static void app_spray(void)
         if (want)
             drive_spray_on(manual);
     }
-#if FW_IOTEST
     if (IO_ON)
         hal_spray_enable((ops_io & OPS_IO_RELAY) && !ap.internal);   /* never against an internal fault */
-#endif
     if (manual != ap.was_manual) {
         ap.was_manual = manual;
         if (!manual)

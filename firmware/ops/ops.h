@@ -42,11 +42,9 @@ void ops_jog_cancel(void);
 #define OPS_IO_ON 1
 #define OPS_IO_RELAY 2
 #define OPS_IO_BUZZER 4
+extern __data uint8_t ops_io;       /* OPS_IO_*, app.c follows it (0 without FW_IOTEST) */
 #if FW_IOTEST
-extern __data uint8_t ops_io;       /* OPS_IO_*, app.c follows it */
 void ops_io_test(uint8_t flags);
-#else
-#define ops_io 0                    /* no I/O test in this image (hal/compiler.h FW_IOTEST) */
 #endif
 
 /* The status cleared, no jog, no I/O test (power-up). */
