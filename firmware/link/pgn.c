@@ -8,7 +8,6 @@
 #include "mul.h"
 #include "diag_wheel.h"
 #include "pgn.h"
-#include "linebuf.h"
 
 #if FW_PGN
 
@@ -26,7 +25,6 @@ static __xdata struct {
     uint8_t age_sect;               /* ... since the last 239, 229 or 32501 */
     uint8_t age_rc;                 /* ... since the last 32500 of this module */
     uint16_t rc_rate_x10;           /* the rate last handed to the target (L/ha x10) */
-    uint8_t out_sum;                /* the sum of the reply's bytes so far (pgn_next) */
 } pg;
 
 #define Q_237 1u
@@ -219,68 +217,55 @@ uint8_t pgn_sections(uint8_t switches) __reentrant
     return switches & pgn_rx.sections;
 }
 
-/* A reply frame's bytes, appended to the link's line (linebuf.h) and summed for its check;
- * multi-byte fields little-endian */
-static void put8(uint8_t b) __reentrant
+/* Little-endian fields into a reply: the low n bytes of v at buf[i]. */
+static void put_le(__xdata uint8_t *buf, uint8_t i, uint32_t v, uint8_t n) __reentrant
 {
-    pg.out_sum += b;
-    serial_put_c((char)b);
+    while (n--) {
+        buf[i++] = (uint8_t)v;
+        v >>= 8;
+    }
 }
 
-static void put16(uint16_t v) __reentrant
+uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
 {
-    put8((uint8_t)v);
-    put8((uint8_t)(v >> 8));
-}
-
-static void put24(uint32_t v) __reentrant
-{
-    put16((uint16_t)v);
-    put8((uint8_t)(v >> 16));
-}
-
-static void put_zeros(uint8_t n) __reentrant
-{
-    while (n--)
-        put8(0);
-}
-
-uint8_t pgn_next(void) __reentrant
-{
+    uint8_t i, n = 14, s = 0, from = 0;
     int16_t q = app_status.in.flow_lpm_x100;
     if (!pg.due)
         return 0;
+    for (i = 0; i < PGN_OUT_MAX; i++)
+        buf[i] = 0;
     if (pg.due & Q_237) {           /* a machine module's answer: the sections spraying */
         pg.due &= (uint8_t)~Q_237;
-        put16(0x8180u);
-        pg.out_sum = 0;             /* AgOpenGPS's check leaves out 80 81 */
-        put8(0x7F);
-        put8(237);
-        put8(8);
-        put8(app_status.spraying ? pgn_sections(hal_sections()) : 0);
-        put_zeros(7);
-    } else if (pg.due & Q_32400) {  /* the rate applied and the meter */
-        pg.due &= (uint8_t)~Q_32400;
-        pg.out_sum = 0;
-        put16(32400u);
-        put8((uint8_t)((uint8_t)param_v[P_RC_ID] << 4));
-        if (q < 0)
-            q = 0;
-        put24(UMUL(q, 10u));
-        put24(totals.job_ml / 100u);
-        put16((uint16_t)(app_status.drive >> 7));
-        put8(pg.age_rc < RC_COMM_PERIODS);
-        put16((uint16_t)(UMUL(q, param_v[P_METER_K]) / 6000u));     /* meter pulses a second x10 */
-    } else {                        /* module info: pressure, the boom spraying */
-        pg.due = 0;
-        pg.out_sum = 0;
-        put16(32401u);
-        put8((uint8_t)param_v[P_RC_ID]);
-        put16(app_status.in.pressure_kpa);
-        put_zeros(8);
-        put8(app_status.spraying);
+        put_le(buf, 0, 0x7F8180UL, 3);
+        buf[3] = 237;
+        buf[4] = 8;
+        buf[5] = app_status.spraying ? pgn_sections(hal_sections()) : 0;
+        from = 2;
+        n = 13;
+    } else {
+        buf[1] = 126;
+        buf[2] = (uint8_t)param_v[P_RC_ID];
+        if (pg.due & Q_32400) {     /* the rate applied and the meter */
+            pg.due &= (uint8_t)~Q_32400;
+            buf[0] = 144;
+            buf[2] <<= 4;
+            if (q < 0)
+                q = 0;
+            put_le(buf, 3, UMUL(q, 10u), 3);
+            put_le(buf, 6, totals.job_ml / 100u, 3);
+            put_le(buf, 9, (uint16_t)(app_status.drive >> 7), 2);
+            buf[11] = pg.age_rc < RC_COMM_PERIODS;
+            put_le(buf, 12, UMUL(q, param_v[P_METER_K]) / 6000u, 2);     /* meter pulses a second x10 */
+        } else {                    /* module info: pressure, the boom spraying */
+            pg.due = 0;
+            buf[0] = 145;
+            put_le(buf, 3, app_status.in.pressure_kpa, 2);
+            buf[13] = app_status.spraying;
+        }
     }
-    serial_put_c((char)pg.out_sum);
-    return 1;
+    for (i = from; i < n; i++)
+        s += buf[i];
+    buf[n] = s;
+    return (uint8_t)(n + 1u);
 }
 #endif

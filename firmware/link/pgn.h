@@ -61,9 +61,8 @@ uint8_t pgn_sections(uint8_t switches) __reentrant;
 uint8_t pgn_lost(void) __reentrant;
 /* The frames' state for the alarms: diag.h DIAG_FRAMES_* (lost, speeds apart, GPS in use). */
 uint8_t pgn_frames(void) __reentrant;
-/* A reply frame due, appended to the link's empty line (linebuf.h, PGN_OUT_MAX bytes): 1, 0
- * when none is due. */
-uint8_t pgn_next(void) __reentrant;
+/* A reply frame due, into buf (PGN_OUT_MAX bytes): its length, 0 when none. */
+uint8_t pgn_next(__xdata uint8_t *buf) __reentrant;
 /* 1 while a frame is coming in (the lines to send wait, as for a line coming in). */
 uint8_t pgn_busy(void);
 #else

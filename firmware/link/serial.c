@@ -350,7 +350,7 @@ static void compose_next(void) __reentrant
             tx_c(hexd[(app_status.alarms >> (bit - 4)) & 15]);
     } else {
 #if FW_PGN
-        if (pgn_next())
+        if ((se_n = pgn_next((__xdata uint8_t *)se.buf)) != 0)
             se_tx_i = 0, se_state = S_TX;   /* a reply frame, as it is */
 #endif
         return;
