@@ -37,7 +37,6 @@ check build-host-tests make -j"$JOBS" host-tests
 check build-target-tests make -j"$JOBS" target-tests
 check firmware-builds-within-memory make -j"$JOBS" firmware
 grep -E '^(memory|stack):' "$log/firmware-builds-within-memory.log" | sed 's/^/# /'
-check research-image-fits-the-chip make -j"$JOBS" firmware FW_PEERS=1
 check bench-image-fits-the-chip make -j"$JOBS" firmware HIL=1
 
 echo "# host unit tests"
