@@ -187,10 +187,12 @@ uint16_t pgn_speed(uint16_t wheel_x100) __reentrant
         pg.age_sect++;
     if (pg.age_rc < 255u)
         pg.age_rc++;
-    if (param_v[P_REMOTE] != REMOTE_PGN || src == SPEED_SRC_WHEEL) {
-        pg.off = pg.off_flag = 0;
+    if (param_v[P_REMOTE] != REMOTE_PGN)
+        src = SPEED_SRC_WHEEL;
+    if (src != SPEED_SRC_BOTH)
+        pg.off = pg.off_flag = 0;   /* judged with "both" only: a flag left from it goes */
+    if (src == SPEED_SRC_WHEEL)
         return wheel_x100;
-    }
     if (stale(pg.age_speed))
         return src == SPEED_SRC_GPS ? 0 : wheel_x100;     /* both: the wheel, SPEED_LOST tells */
     if (src == SPEED_SRC_BOTH && gps >= PGN_CHECK_X100) {

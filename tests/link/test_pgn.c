@@ -335,6 +335,28 @@ static void test_pgn_both_raises_wheel_noise_when_the_speeds_part(void **state)
     assert_false(app_status.alarms & (1u << AL_WHEEL_NOISE));
 }
 
+/* Speed src both, the speeds apart (WHEEL_NOISE up), then the setting to GPS: the wheel is no
+ * longer judged, so the alarm goes as it does with the wheel alone (no stale alarm stays on). */
+static void test_pgn_both_to_gps_clears_wheel_noise(void **state)
+{
+    (void)state;
+    uint8_t f[32];
+    const uint8_t d254[8] = {80, 0, 1, 0, 0, 0x7D, 0, 0};
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_BOTH));
+    for (int k = 0; k < 40; k++) {
+        send_bytes(f, aog(f, 254, d254, 8));
+        link_run_ms(100);
+    }
+    assert_true(app_status.alarms & (1u << AL_WHEEL_NOISE));
+    assert_true(param_set(P_SPEED_SRC, SPEED_SRC_GPS));
+    for (int k = 0; k < 15; k++) {
+        send_bytes(f, aog(f, 254, d254, 8));
+        link_run_ms(100);
+    }
+    assert_int_equal(app_status.in.speed_kmh_x100, 800);
+    assert_false(app_status.alarms & (1u << AL_WHEEL_NOISE));
+}
+
 /* RateControl: a target UPM built from a rate by hand (130 L/ha x 8 km/h x 18 m / 600 = 31.2
  * L/min) gives back that rate; one outside the remote window is refused and the rate holds. */
 static void test_pgn_ratecontrol_target_upm_is_a_rate_in_the_window(void **state)
@@ -699,6 +721,22 @@ static void test_pgn_rules_speeds_apart_counted_to_20(void **state)
     feed_254(20);
     pgn_speed(0);
     assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, DIAG_FRAMES_SPEED_OFF);
+    /* the flag up, then Speed src GPS: gone on the next period, frames coming or stopped */
+    for (int stop = 0; stop < 2; stop++) {
+        assert_true(param_set(P_SPEED_SRC, SPEED_SRC_BOTH));
+        for (int k = 0; k < 20; k++) {
+            feed_254(300);
+            pgn_speed(0);
+        }
+        assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, DIAG_FRAMES_SPEED_OFF);
+        assert_true(param_set(P_SPEED_SRC, SPEED_SRC_GPS));
+        for (int k = 0; stop && k <= param_v[P_FRAMES_LOST]; k++)
+            pgn_speed(0);
+        if (!stop)
+            feed_254(300);
+        assert_int_equal(pgn_speed(0), stop ? 0 : 3000);
+        assert_int_equal(pgn_frames() & DIAG_FRAMES_SPEED_OFF, 0);
+    }
     /* the wheel in use: no flag; then Speed src GPS: the wheel is not judged */
     assert_true(param_set(P_SPEED_SRC, SPEED_SRC_WHEEL));
     assert_int_equal(pgn_speed(0), 0);
@@ -768,6 +806,7 @@ int main(void)
         cmocka_unit_test_setup(test_pgn_text_commands_among_frames_at_full_rate, setup),
         cmocka_unit_test_setup(test_pgn_gps_speed_sections_and_frames_stopping, setup),
         cmocka_unit_test_setup(test_pgn_both_raises_wheel_noise_when_the_speeds_part, setup),
+        cmocka_unit_test_setup(test_pgn_both_to_gps_clears_wheel_noise, setup),
         cmocka_unit_test_setup(test_pgn_ratecontrol_target_upm_is_a_rate_in_the_window, setup),
         cmocka_unit_test_setup(test_pgn_a_frame_inside_a_line_and_noise, setup),
         cmocka_unit_test_setup(test_pgn_a_stalled_frame_is_dropped_after_3_s, setup),
