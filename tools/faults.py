@@ -12,6 +12,11 @@ LCD text) and its delay, the dose error while the operator was not told, silent_
 note where the fault is about the link or the EEPROM more than the dose. The table goes to
 OUT/table.md (Markdown), every figure to OUT/summary.json.
 
+A wrong meter calibration is one that only the tank balance may tell (issue 51: told before 15 %
+of the tank is sprayed): for those rows the note gives the share of the tank sprayed from the
+fault's start to the first METER_CAL, from the trace's true tank volume at the two instants over
+the tank's size (the scenario's `tank_l`, full at the start), and whether it is under 15 %.
+
 The dose error while silent: over the 0.1 s trace rows from the fault's start with no alarm
 active, the nozzles' volume against what the operator's rate asks for over the true speed and
 the width of the open nozzles that are not clogged (sections on, 0.5 km/h or more; the boom
@@ -35,6 +40,8 @@ import progress  # noqa: E402  (tools/progress.py: the progress line on a termin
 PARAMS_H = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "firmware", "store", "params.h")
 T0 = 90.0                       # the fault's start, unless the fault is there from the start
 RATE, NOZZLES, SPACING_M, KMH = 150, 36, 0.5, 8.0
+TANK_L = 1000                   # the meter rows' tank, full at the start
+BALANCE_CODE, BALANCE_MAX_PCT = "METER_CAL", 15.0   # the tank balance's alarm; issue 51's bound
 
 
 def param_id(name):
@@ -91,7 +98,8 @@ def clog_growing(size):
 
 
 def meter_k(k):
-    return dict(text=scenario("meter K %g" % k, ["0 meter_k_ppl %g" % k]), start=0.0)
+    plant = "pto_coupled = 1\ntank_l = %d\ntank_start_l = %d\n" % (TANK_L, TANK_L)
+    return dict(text=scenario("meter K %g" % k, ["0 meter_k_ppl %g" % k], plant=plant), start=0.0, tank_l=TANK_L)
 
 
 def creep(kmh):
@@ -244,7 +252,31 @@ def silent_dose(csv_path, spec):
     return (None if expected <= 0 else (applied / expected - 1.0) * 100.0), still
 
 
-def note_of(spec, serial_path, still_l):
+def tank_share(csv_path, start, t_alarm, tank_l):
+    """The share of the tank sprayed from `start` to `t_alarm`, %: the true volume at the first
+    0.1 s trace row at or after each instant, their difference over the tank's size."""
+    v0 = v1 = None
+    with open(csv_path) as f:
+        for r in csv.DictReader(f):
+            t = float(r["t_s"])
+            if v0 is None and t >= start - 1e-9:
+                v0 = float(r["tank_l"])
+            if t >= t_alarm - 1e-9:
+                v1 = float(r["tank_l"])
+                break
+    return None if v0 is None or v1 is None else (v0 - v1) / tank_l * 100.0
+
+
+def balance_note(share):
+    if share is None:
+        return "no %s in the run: the %g %% bound is not met" % (BALANCE_CODE, BALANCE_MAX_PCT)
+    return "%s after %.1f %% of the tank sprayed: %s the %g %% bound" % (
+        BALANCE_CODE, share, "within" if share < BALANCE_MAX_PCT else "over", BALANCE_MAX_PCT)
+
+
+def note_of(spec, serial_path, still_l, share=None):
+    if spec.get("tank_l"):
+        return balance_note(share)
     if still_l >= 0.1:
         return "%.1f L sprayed at a standstill, untold" % still_l
     if spec.get("note"):
@@ -281,6 +313,11 @@ def run_one(job):
     told = [a for a in m["alarms"] if a["t_s"] >= spec["start"] - 1e-9]
     first = told[0] if told else None
     dose, still = silent_dose(base + ".csv", spec)
+    share = t_cal = None
+    if spec.get("tank_l"):
+        cal = [a["t_s"] for a in told if a["code"] == BALANCE_CODE]
+        t_cal = cal[0] if cal else None
+        share = None if t_cal is None else tank_share(base + ".csv", spec["start"], t_cal, spec["tank_l"])
     return {"fault": name, "size": label, "start_s": spec["start"],
             "alarm": None if first is None else first["code"],
             "alarm_text": None if first is None else first.get("text", ""),
@@ -288,7 +325,8 @@ def run_one(job):
             "later": [a["code"] for a in told[1:]],
             "silent_dose_pct": dose, "standstill_untold_l": still,
             "silent_wrong_s": m["silent_wrong_s"], "silent_wrong_total_s": m["silent_wrong_total_s"],
-            "dose_error_all_pct": m["dose_error_all_pct"], "note": note_of(spec, base + ".serial", still),
+            "dose_error_all_pct": m["dose_error_all_pct"], "balance_t_s": t_cal, "tank_share_pct": share,
+            "note": note_of(spec, base + ".serial", still, share),
             "scenario": base + ".scn"}
 
 

@@ -534,7 +534,10 @@ def section_faults(sim, jobs_n):
             "from 90 s (or from the start). The first alarm or warning at or after the fault's start and its "
             "delay; the dose while the operator was not told (the nozzles' volume against the operator's rate "
             "over the true speed and the flowing width, the boom shut at 2 km/h or more counting as nothing); "
-            "`silent_wrong_s` (docs/SCENARIOS.md). \"none\" is what the firmware tells today, not a goal.\n\n"
+            "`silent_wrong_s` (docs/SCENARIOS.md). \"none\" is what the firmware tells today, not a goal. "
+            "A meter off its calibration is what the tank balance tells (issue 51: before 15 % of the tank is "
+            "sprayed): its rows' note gives the share of the tank (full at the start) sprayed before "
+            "the first METER_CAL (the trace's true volume at the two instants).\n\n"
             + table_md + "\n")
 
 

@@ -29,9 +29,34 @@ assert [(float(t), int(v)) for t, _, v in leaks] == [(90 + 20 * k, k + 1) for k 
 assert faults.csum("SET 0 100") == "SET 0 100*EA"          # the CRC-8 (poly 0x65) of docs/SCENARIOS.md's example line
 assert faults.xor_check("SET 0 150") == "46"                # the issue's collision: 'SET 4 110*46'
 assert all(len(s) == 2 for _, _, _, s in faults.FAULTS) and len(faults.FAULTS) == 17
+# the tank's share: 990 L at the fault's start (100.0 s), 877.5 L at 100.3 s, of 750 L: 15 %, over
+with open(sys.argv[1], "w") as f:
+    f.write("t_s,tank_l\n99.9,995\n100.0,990\n100.1,950\n100.2,900\n100.3,877.5\n100.4,870\n")
+share = faults.tank_share(sys.argv[1], 100.0, 100.25, 750)
+assert abs(share - 15.0) < 1e-9, share
+assert faults.balance_note(share).endswith("over the 15 % bound"), faults.balance_note(share)
+assert faults.balance_note(14.9).endswith("within the 15 % bound")
+assert "not met" in faults.balance_note(None)
 PYEOF
-then ok "the dose while silent of a hand-made trace: -30 %, -16 % with 6 clogged, -12.5 % at a SET rate; the leak's steps"
-else nok "the dose while silent of a hand-made trace: -30 %, -16 % with 6 clogged, -12.5 % at a SET rate; the leak's steps" "$(cat "$tmp/hand.out")"; fi
+then ok "the dose while silent of a hand-made trace: -30 %, -16 % with 6 clogged, -12.5 % at a SET rate; the leak's steps; the tank's share"
+else nok "the dose while silent of a hand-made trace: -30 %, -16 % with 6 clogged, -12.5 % at a SET rate; the leak's steps; the tank's share" "$(cat "$tmp/hand.out")"; fi
+
+# a meter reading low: the share of the tank sprayed before METER_CAL, again as the nozzles' volume
+# from the fault's start to the alarm (the trace's boom flow, no leak: what left the tank)
+if $PY tools/faults.py "$SIM" --only meter_low --out "$tmp/m" > "$tmp/m.out" 2>&1 && $PY - "$tmp/m/summary.json" <<'PYEOF'
+import csv, json, sys
+rows = json.load(open(sys.argv[1]))["rows"]
+assert len(rows) == 2
+for r in rows:
+    trace = list(csv.DictReader(open(r["scenario"][:-4] + ".csv")))
+    assert "tank_l = 1000" in open(r["scenario"]).read() and r["balance_t_s"] is not None, r
+    sprayed = sum(float(x["boom_lpm"]) * 0.1 / 60.0 for x in trace
+                  if r["start_s"] <= float(x["t_s"]) < r["balance_t_s"])
+    assert abs(sprayed / 10.0 - r["tank_share_pct"]) < 0.05, (r["size"], sprayed, r["tank_share_pct"])
+    assert ("within" in r["note"]) == (r["tank_share_pct"] < 15), r["note"]
+PYEOF
+then ok "a meter reading low: the tank's share before METER_CAL is the nozzles' volume to the alarm"
+else nok "a meter reading low: the tank's share before METER_CAL is the nozzles' volume to the alarm" "$(tail -3 "$tmp/m.out")"; fi
 
 if $PY tools/faults.py "$SIM" --only leak_growing,set_then_cut --out "$tmp/f" > "$tmp/f.out" 2>&1; then
     ok "two faults at two sizes run"
