@@ -351,6 +351,8 @@ static void test_sim_key_serial_and_power_cut(void **state)
     assert_int_equal(count_of(out, "BOOT POWER"), 1);
     assert_int_equal(param_v[P_RATE], 1000);                 /* saved 2 s after the SET (app.c) */
     assert_true(sim.set_rate == 100);
+    assert_int_equal(param_v[P_MODE], 0);                   /* the '#' did not survive: AUTO */
+    assert_false(app_status.manual);
     sim_free(&sim);
     /* without the SET, the scenario's 125 comes back from the EEPROM (the RAM's defaults are 150) */
     scn.n_events = 1;
