@@ -179,6 +179,53 @@ static void test_pgn_each_frame_of_the_layouts_decoded(void **state)
     assert_int_equal(pgn_rx.bad, 0);
 }
 
+/* The replies' fields from the meter's pulses: one every 2 ms is 500 Hz, 500 / 380 x 60 = 78.95
+ * L/min (by hand) against a target of 36 L/min (150 L/ha, 8 km/h given, 18 m): 32400 carries the
+ * applied UPM x1000 (within the meter's 1 %), the job's litres x10 (the pulses counted while
+ * spraying over 380, within 0.1 L), a closing PWM (the flow twice the target; the Q15 drive >> 7, so full closing
+ * is -256, one count past the module's 255), status bit
+ * 0, 5000 for 500.0 Hz (within 1 %); 32401 the pressure, six zero bytes, InoID 0, the boom
+ * spraying. */
+static void test_pgn_replies_carry_their_fields(void **state)
+{
+    (void)state;
+    uint8_t f[32], out[4096];
+    assert_true(param_set(P_GIVEN_SPEED, 80));
+    unsigned pulses = 0;
+    for (int t = 1; t <= 10000; t++) {
+        if (t % 2 == 0) {
+            hal_host_flow_edge(hal_host_io.time_ns);
+            pulses += app_status.spraying;
+        }
+        link_run_ms(1);
+    }
+    assert_true(app_status.spraying);
+    tx_all(out, sizeof out);
+    send_bytes(f, rc32500(f, 0, 36000, 380000, 0x50, 0));
+    link_run_ms(40);
+    size_t n = tx_all(out, sizeof out);
+    int i = find_reply(out, n, 32400);
+    assert_true(i >= 0);
+    uint32_t upm = out[i + 3] | (uint32_t)out[i + 4] << 8 | (uint32_t)out[i + 5] << 16;
+    uint32_t qty = out[i + 6] | (uint32_t)out[i + 7] << 8 | (uint32_t)out[i + 8] << 16;
+    int16_t pwm = (int16_t)(out[i + 9] | out[i + 10] << 8);
+    unsigned hz = out[i + 12] | out[i + 13] << 8;
+    printf("# 32400: %u UPM x1000, %u L x10 (%u pulses: %.1f), PWM %d, %u Hz x10\n", upm, qty, pulses,
+           pulses / 38.0, pwm, hz);                 /* (L x10 = pulses x 10 / 380) */
+    assert_true(upm * 100 >= 78947u * 99 && upm * 100 <= 78947u * 101);
+    assert_true(qty * 38 + 38 >= pulses && qty * 38 <= pulses + 38);
+    assert_true(pwm < 0 && pwm >= -256);
+    assert_int_equal(out[i + 11] & 1, 1);
+    assert_true(hz * 100 >= 5000u * 99 && hz * 100 <= 5000u * 101);
+    i = find_reply(out, n, 32401);
+    assert_true(i >= 0);
+    assert_int_equal(out[i + 2], 0);
+    assert_int_equal(out[i + 3] | out[i + 4] << 8, app_status.in.pressure_kpa);
+    for (int k = 5; k < 13; k++)
+        assert_int_equal(out[i + k], 0);
+    assert_int_equal(out[i + 13], 1);
+}
+
 /* One byte changed, one bit flipped, a short length, a lost second sync byte: each frame is
  * refused and counted, nothing it carried is taken; the next good frame is. */
 static void test_pgn_damaged_frames_refused_and_counted(void **state)
@@ -802,6 +849,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_pgn_each_frame_of_the_layouts_decoded, setup),
+        cmocka_unit_test_setup(test_pgn_replies_carry_their_fields, setup),
         cmocka_unit_test_setup(test_pgn_damaged_frames_refused_and_counted, setup),
         cmocka_unit_test_setup(test_pgn_text_commands_among_frames_at_full_rate, setup),
         cmocka_unit_test_setup(test_pgn_gps_speed_sections_and_frames_stopping, setup),
