@@ -28,6 +28,7 @@ static const cfg_key_t cfg_keys[] = {
     {"min_flow_speed_kmh", P_MINF_SPEED, 10},
     {"given_speed_kmh", P_GIVEN_SPEED, 10},
     {"tank_min_l", P_TANK_MIN, 1},
+    {"tank_size_l", P_TANK_L, 1},                   /* what the firmware believes the level's span is */
     {"valve_travel_s", P_VALVE_TRAVEL, 10},         /* what the firmware believes */
     {"valve_stiction_duty", P_VALVE_BRK, 100},      /* ... its Min duty, stored in % */
     {"valve_backlash", P_VALVE_SLACK, 1000},        /* ... its Backlash, stored in 0.1 % */

@@ -30,6 +30,7 @@ static const char good[] =
     "wheel_m_per_pulse = 0.4012\n"
     "min_flow_speed_kmh = 3.5\n"
     "given_speed_kmh = 6.5\n"
+    "tank_size_l = 400\n"
     "[plant]\n"
     "  valve_travel_s = 12   \n"
     "pto_coupled = 0\n"
@@ -66,6 +67,7 @@ static void test_scenario_good_file(void **state)
     assert_int_equal(s.param[P_WHEEL], 4012);
     assert_int_equal(s.param[P_MINF_SPEED], 35);
     assert_int_equal(s.param[P_GIVEN_SPEED], 65);
+    assert_int_equal(s.param[P_TANK_L], 400);               /* the firmware's Tank size, as the plant's */
     assert_true(s.plant.valve_travel_s == 12.0);
     assert_true(s.plant.pto_coupled == 0.0);
     assert_true(s.plant.pto_rpm == 1000.0);
@@ -79,7 +81,7 @@ static void test_scenario_good_file(void **state)
     assert_int_equal(s.n_events, 4);
     assert_int_equal(s.events[0].kind, EV_SECTIONS_OPEN);
     assert_true(s.events[0].value == 12.0);
-    assert_int_equal(s.events[0].line, 29);
+    assert_int_equal(s.events[0].line, 30);
     assert_int_equal(s.events[1].kind, EV_METER_FAIL);
     assert_true(s.events[3].value == 2.5);
     assert_int_equal(scenario_nozzles_per_section(&s), 6);
@@ -173,6 +175,8 @@ static void test_scenario_cross_checks_name_their_line(void **state)
     /* Tank min at the firmware's tank size, 1000 L */
     bad("[config]\nrate_l_ha = 100\ntank_min_l = 1000\n[drive]\n0 5\n",
         "bad.scn:3: key 'tank_min_l': the firmware refuses this value with the others: Tank min>=size");
+    bad("[config]\ntank_min_l = 30\ntank_size_l = 30\n[drive]\n0 5\n",
+        "bad.scn:3: key 'tank_size_l': the firmware refuses this value with the others: Tank min>=size");
     /* the meter's pulses with every nozzle open at P max (480 kPa): 2000 p/L x 96 x 2 L/min
      * / 60 = 6400 Hz at 3 bar, over the 5 kHz budget; named by the last of its three lines */
     bad("[config]\nmeter_cal_ppl = 2000\nnozzles = 96\nnozzle_lpm_at_3bar = 2\nrate_l_ha = 100\n[drive]\n0 5\n",
