@@ -153,79 +153,73 @@ static void ok(const __code char *word) __reentrant
     tx_s(word);
 }
 
-/* The handlers, after the arguments were parsed as the table says. */
-static void run(uint8_t handler, uint16_t a, uint16_t b) __reentrant
+/* The handlers, after the arguments were parsed as the table says. A command answers "OK", its
+ * word (GET and SET: the id) and its numbers; a refusal writes its ERR over it (reply_err). */
+static void run(const __code command_t *cmd, __idata uint16_t *num) __reentrant
 {
+    uint8_t handler = cmd->handler, v;
+    if (handler == C_SAV) {         /* its reply once its save has ended (compose_next) */
+        if (store_asked(STORE_BY_SERIAL))
+            reply_err("BUSY");      /* the last SAV's save has not ended */
+        else
+            store_save_start(STORE_BY_SERIAL);
+        return;
+    }
+    if (handler > C_SET)
+        ok(cmd->word);
     switch (handler) {
     case C_GET:
     case C_SET:
-        if (a >= P_COUNT) {
+        if (num[0] >= P_COUNT) {
             reply_err("ID");
-        } else if (handler == C_SET && (b = param_try((uint8_t)a, b)) != PARAM_OK) {
-            reply_err(why_word[b]);     /* out of range, or against another setting */
+        } else if (handler == C_SET && (v = param_try((uint8_t)num[0], num[1])) != PARAM_OK) {
+            reply_err(why_word[v]);     /* out of range, or against another setting */
         } else {
             tx_s("OK ");
-            tx_u32(a);
-            tx_sp_u32(param_v[a]);
+            tx_u32(num[0]);
+            tx_sp_u32(param_v[num[0]]);
         }
         break;
     case C_CTL:
-        if (param_try(P_CONTROLLER, a) != PARAM_OK) {
+        if (param_try(P_CONTROLLER, num[0]) != PARAM_OK)
             reply_err("RANGE");
-        } else {
-            ok("CTL ");
-            tx_u32(a);
-        }
+        else
+            tx_sp_u32(num[0]);
         break;
     case C_NUD:                     /* the rate in use nudged a step, or back to the preset */
-        ok("NUD");
-        tx_sp_i16(target_nudge((int8_t)a));
+        tx_sp_i16(target_nudge((int8_t)num[0]));
         tx_sp_u32(target_rate_x10());
         break;
     case C_JOG:
-        if (!a || !app_status.manual) {     /* JOG has no 0 */
-            reply_err(a ? "MODE" : link_e_arg);
-        } else {
-            ops_jog((int8_t)a);
-            ok("JOG");
-        }
+        if (!num[0] || !app_status.manual)       /* JOG has no 0 */
+            reply_err(num[0] ? "MODE" : link_e_arg);
+        else
+            ops_jog((int8_t)num[0]);
         break;
     case C_ACK:
         ops_alarm_ack();
-        ok("ACK");
         break;
     case C_RST:
         ops_totals_reset();
-        ok("RST");
         break;
     case C_TOT:
-        ok("TOT");
         tx_sp_u32(totals.job_dm2);
         tx_sp_u32(totals.job_ml);
         tx_sp_u32(totals_applied_l_ha_x10());
         break;
     case C_LIF:
-        ok("LIF");
         tx_sp_u32(totals.life_m2);
         tx_sp_u32(totals.life_ml);
         break;
     case C_PUL:
-        ok("PUL");
         tx_sp_u32(ops_wheel_pulses());
         tx_sp_u32(ops_flow_pulses());
         break;
 #if FW_HIL
-    case C_HIL:                     /* never by accident: the exact line with its checksum (CHANGES) */
-        ok("HIL");
+    default:                        /* HIL: never by accident: the exact line with its checksum (CHANGES) */
         hil_begin();                /* its reply goes out first (serial_poll drains before frames) */
         break;
 #endif
-    default:                        /* SAV: its reply once its save has ended (compose_next) */
-        if (store_asked(STORE_BY_SERIAL))
-            reply_err("BUSY");      /* the last SAV's save has not ended */
-        else
-            store_save_start(STORE_BY_SERIAL);
-        break;
     }
 }
 
@@ -237,7 +231,7 @@ static uint8_t answer(void) __reentrant
     const __xdata char *p = se.buf + 3;
     const __code command_t *cmd = link_commands;
     uint8_t n = se_n, c;
-    uint16_t a = 0, b = 0;
+    uint16_t num[2];                /* the numbers (ARG_SIGN: the first, its sign) */
 
     se_n = 0;                       /* the reply is written over the line once it is parsed */
     c = line_check(se.buf, n);      /* (linecheck.h) */
@@ -269,17 +263,17 @@ static uint8_t answer(void) __reentrant
     }
     switch (cmd->args) {
     case ARG_NUM:
-    case ARG_NUM2:
-        if (*p != ' ' || !(p = line_number(p + 1, (__idata uint16_t *)&a, ' '))
-            || (cmd->args == ARG_NUM2 && (*p != ' ' || !(p = line_number(p + 1, (__idata uint16_t *)&b, ' '))))) {
-            reply_err(link_e_num);
-            return 1;
-        }
+    case ARG_NUM2:                  /* (ARG_NUM and ARG_NUM2: the count of numbers) */
+        for (c = 0; c < cmd->args; c++)
+            if (*p != ' ' || !(p = line_number(p + 1, (__idata uint16_t *)&num[c], ' '))) {
+                reply_err(link_e_num);
+                return 1;
+            }
         break;
     case ARG_SIGN:
         if (!(p[0] == ' ' && (p[1] == '+' || p[1] == '-' || p[1] == '0')))
             goto bad_arg;           /* (what follows the sign: the end's test below) */
-        a = p[1] == '+' ? 1 : p[1] == '-' ? (uint16_t)-1 : 0;
+        num[0] = p[1] == '+' ? 1 : p[1] == '-' ? (uint16_t)-1 : 0;
         p += 2;
         break;
     case ARG_ON:                    /* the word ON */
@@ -292,7 +286,7 @@ static uint8_t answer(void) __reentrant
     }
     if (*p)
         goto bad_arg;
-    run(cmd->handler, a, b);
+    run(cmd, (__idata uint16_t *)num);
     return se_n != 0;               /* (SAV answers later) */
 bad_arg:                            /* (one copy of the refusal) */
     reply_err(link_e_arg);
