@@ -140,15 +140,21 @@ static void cat_param_unit(uint8_t id) __reentrant
     }
 }
 
+/* append a value v of parameter id in the units chosen, its decimals | trim (0 or CON_TRIM) */
+static void cat_pvalue(uint8_t id, uint16_t v, uint8_t trim) __reentrant
+{
+    uint8_t cls = unit_class(id);
+    con_cat_num(unit_q(pvalue(cls, v), cls), 0, con_q_form((uint8_t)(pform(id, cls) | trim)));
+}
+
 /* append a parameter's value and unit in the units chosen, "150.0 L/ha" */
 void con_cat_value(uint8_t id, uint16_t v)
 {
-    uint8_t cls = unit_class(id);
     if (con_is_choice(id)) {
         con_cat(con_choice_name(id, v));
         return;
     }
-    con_cat_num(unit_q(pvalue(cls, v), cls), 0, con_q_form(pform(id, cls)));
+    cat_pvalue(id, v, 0);
     cat_param_unit(id);
 }
 
@@ -163,7 +169,7 @@ void con_say_range(uint8_t id)
 void con_draw_msg(void)
 {
     const __code param_info_t *pi;
-    uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT), c, f;
+    uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT);
     if (m == NO_RANGE) {
         screen_line(con.msg, 3);
         return;
@@ -178,13 +184,11 @@ void con_draw_msg(void)
         con_cat(b == CON_SHOWN_EE ? store_status_text(store_status()) : diag_text(b));
     } else {
         pi = param_info(m);
-        c = unit_class(m);
-        f = (uint8_t)(pform(m, c) | CON_TRIM);
         for (b = 0; b < 2; b++) {   /* the word when the limits leave room for it */
             con_start(b ? "Range " : "");
-            con_cat_num(unit_q(pvalue(c, pi->min), c), 0, con_q_form(f));
+            cat_pvalue(m, pi->min, CON_TRIM);
             con_cat("..");
-            con_cat_num(unit_q(pvalue(c, pi->max), c), 0, con_q_form(f));
+            cat_pvalue(m, pi->max, CON_TRIM);
             if (con_at > SCREEN_COLS - 6u)
                 break;
         }
