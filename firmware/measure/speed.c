@@ -44,6 +44,14 @@ static uint32_t sl_dt;
 static __bit learn_due;             /* speed_learn_now: the newest span's (wk.edges) learning waits */
 static uint8_t learn_old;           /* ... and its first element */
 
+/* The step's working values in the direct RAM (the cheapest addressing; the step never nests) */
+static __data struct {
+    hal_capture_t edges;    /* the period's wheel edges */
+    uint32_t v_x100;        /* the newest span's speed, km/h x100: measured, led, slewed */
+    uint16_t ceil_x100;     /* the tracker's speed may not pass it (speed_track_out): where no edge
+                             * came, the speed at which the next would have come; 0x7FFF: one came */
+} wk;
+
 /* Until the offsets are learnt: a tracker of the wheel's position (speed_track): the spacing
  * errors put white noise on the edges' positions, which a filter on the position averages (a
  * span's speed carries two elements' errors; a window of spans lags by half its length). */
@@ -125,11 +133,18 @@ static int32_t spans(uint32_t dt, uint8_t count) __reentrant
     return (int32_t)(um_muldiv(dt, (uint16_t)sp.n * 2048u, sp.t_rev) << 1) - ((int32_t)count << 12);
 }
 
-static void speed_learn(uint8_t count, uint8_t old) __reentrant
+/* The learning speed_step left (the newest span, wk.edges, from element learn_old), read by the
+ * next step alone: in a pass of its own (app.c), else first thing in the next step; a new
+ * Pulses/turn drops it (the offsets forgotten). */
+void speed_learn_now(void) __reentrant
 {
-    uint8_t m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp), neg, c;
+    uint8_t m, neg, c;
     int32_t err;
     int16_t e;
+    if (!learn_due)
+        return;
+    learn_due = 0;
+    m = (uint8_t)((uint8_t)sp.pulses - sp.t0_stamp);
     if (sp.idx == 0) {
         if (t0_ok && m == sp.n) {
             /* the change needs two turns in a row; until then it reads as too fast to learn */
@@ -165,13 +180,13 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
     /* later turns: an edge away from where its learnt offset puts it against element 0's (which
      * opened this turn) says the speed changed since the turn was timed: nothing is learnt */
     err = spans(sp.last_pca - sp.t0, m) - sp.off[sp.idx];
-    if (sp.shift && (err > SPEED_LEARN_DRIFT || err < -SPEED_LEARN_DRIFT)) {
+    if (sp.shift && (uint32_t)err + SPEED_LEARN_DRIFT > 2u * SPEED_LEARN_DRIFT) {     /* |err| over it */
         sp.drift |= 1;
         return;
     }
     /* where the new edge sits against the old one */
-    err = spans(sl_dt, count) - ((int32_t)sp.off[sp.idx] - sp.off[old]);
-    if (err > SPEED_SPAN_MAX || err < -SPEED_SPAN_MAX)
+    err = spans(sl_dt, (uint8_t)wk.edges.count) - ((int32_t)sp.off[sp.idx] - sp.off[learn_old]);
+    if ((uint32_t)err + SPEED_SPAN_MAX > 2u * SPEED_SPAN_MAX)     /* |err| over it */
         return;                 /* a missed or an extra pulse, not the wheel */
     /* the first turn takes what it sees, then a mean growing to about 16 turns: halved for
      * every doubling of the turns learnt (on the magnitude: shifts, no divide) */
@@ -194,30 +209,13 @@ static void speed_learn(uint8_t count, uint8_t old) __reentrant
     if (sp.idx != 0)
         sp.off[sp.idx] += e;
     else
-        sp.off[old] -= e;
+        sp.off[learn_old] -= e;
 }
 
-/* The step's working values in the direct RAM (the cheapest addressing; the step never nests) */
-static __data struct {
-    hal_capture_t edges;    /* the period's wheel edges */
-    uint32_t v_x100;        /* the newest span's speed, km/h x100: measured, led, slewed */
-    uint16_t ceil_x100;     /* the tracker's speed may not pass it (speed_track_out): where no edge
-                             * came, the speed at which the next would have come; 0x7FFF: one came */
-} wk;
 /* 1: the offsets are learnt and judged (a first turn's are judged at the edge that ends it,
  * after this step's speed: until then they may hold a speed change, not the wheel); speed.h */
 __bit speed_learnt;
 static __bit tk_slipped;    /* 1: the tracker's last edge was a whole pulse off its place */
-
-/* The learning speed_step left, read by the next step alone: in a pass of its own (app.c), else
- * first thing in the next step; a new Pulses/turn drops it (the offsets forgotten). */
-void speed_learn_now(void) __reentrant
-{
-    if (learn_due) {
-        learn_due = 0;
-        speed_learn((uint8_t)wk.edges.count, learn_old);
-    }
-}
 
 /* x / 4096, rounded */
 static uint32_t r12(uint32_t x) __reentrant
@@ -395,8 +393,7 @@ uint16_t speed_step(void) __reentrant
         speed_derive();
     hal_wheel_capture_take(&wk.edges);
     speed_learnt = sp.shift && !(sp.drift & SPEED_FIRST_TURN);
-    if (wk.edges.rejected)
-        sp.glitches += wk.edges.rejected;
+    sp.glitches += wk.edges.rejected;
     speed_age();
     if (wk.edges.count) {
         uint8_t old = sp.idx, nw;
@@ -407,16 +404,19 @@ uint16_t speed_step(void) __reentrant
         sp.pulses += wk.edges.count;
         sp.quiet = 0;
         wk.ceil_x100 = 0x7FFF;
-        if (!have_edge)
-            tk.n = 0;               /* the tracker starts again from this edge */
         if (have_edge) {
             sl_dt = wk.edges.last - sp.last_pca;
-            /* the distance the span covers, in 1/4096 of a pulse spacing: each element's
-             * learnt offset takes the wheel's spacing error out of the period */
-            w = wk.edges.count < 15u ? (uint16_t)(((uint16_t)wk.edges.count << 12) + sp.off[nw] - sp.off[old]) : wk.edges.count;
-            wk.v_x100 = um_muldiv(sp.k, w, sl_dt);
-            if (wk.edges.count < 15u)
-                wk.v_x100 = r12(wk.v_x100);
+            if (wk.edges.count < 15u) {
+                /* the distance the span covers, in 1/4096 of a pulse spacing: each element's
+                 * learnt offset takes the wheel's spacing error out of the period */
+                wk.v_x100 = r12(um_muldiv(sp.k, (uint16_t)(((uint16_t)wk.edges.count << 12) + sp.off[nw] - sp.off[old]), sl_dt));
+                if (sp.n > 1) {
+                    learn_due = 1;      /* speed_learn_now */
+                    learn_old = old;
+                }
+            } else {
+                wk.v_x100 = um_muldiv(sp.k, wk.edges.count, sl_dt);
+            }
             if (wk.edges.last == sp.last_pca || wk.v_x100 > SPEED_MAX_X100) {
                 sp.glitches++;
             } else {
@@ -426,13 +426,11 @@ uint16_t speed_step(void) __reentrant
                 if (sp.n > 1)
                     speed_track();
             }
+        } else {
+            tk.n = 0;               /* the tracker starts again from this edge */
         }
         sp.idx = nw;
         sp.last_pca = wk.edges.last;
-        if (sp.n > 1 && have_edge && wk.edges.count < 15u) {
-            learn_due = 1;      /* speed_learn_now */
-            learn_old = old;
-        }
         have_edge = 1;
         sp.v_pulse_x100 = sp.v_x100;
     } else {
