@@ -25,6 +25,7 @@ static __xdata struct {
     uint8_t age_sect;               /* ... since the last 239, 229 or 32501 */
     uint8_t age_rc;                 /* ... since the last 32500 of this module */
     uint16_t rc_rate_x10;           /* the rate last handed to the target (L/ha x10) */
+    __xdata uint8_t *out;           /* where pgn_next's reply takes its next byte */
 } pg;
 
 #define Q_237 1u
@@ -219,13 +220,15 @@ uint8_t pgn_sections(uint8_t switches) __reentrant
     return switches & pgn_rx.sections;
 }
 
-/* Little-endian fields into a reply: the low n bytes of v at buf[i]. */
-static void put_le(__xdata uint8_t *buf, uint8_t i, uint32_t v, uint8_t n) __reentrant
+/* The reply's next n bytes: v little-endian, at pg.out (then past them). */
+static void put_le(uint32_t v, uint8_t n) __reentrant
 {
+    __xdata uint8_t *p = pg.out;
     while (n--) {
-        buf[i++] = (uint8_t)v;
+        *p++ = (uint8_t)v;
         v >>= 8;
     }
+    pg.out = p;
 }
 
 uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
@@ -236,34 +239,28 @@ uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
         return 0;
     for (i = 0; i < PGN_OUT_MAX; i++)
         buf[i] = 0;
+    pg.out = buf;
     if (pg.due & Q_237) {           /* a machine module's answer: the sections spraying */
         pg.due &= (uint8_t)~Q_237;
-        put_le(buf, 0, 0x7F8180UL, 3);
-        buf[3] = 237;
-        buf[4] = 8;
-        buf[5] = app_status.spraying ? pgn_sections(hal_sections()) : 0;
+        put_le(0xED7F8180UL, 4);    /* 80 81 7F 237, then the length 8 */
+        put_le(8u | (uint16_t)(app_status.spraying ? pgn_sections(hal_sections()) : 0) << 8, 2);
         from = 2;
         n = 13;
-    } else {
-        buf[1] = 126;
-        buf[2] = (uint8_t)param_v[P_RC_ID];
-        if (pg.due & Q_32400) {     /* the rate applied and the meter */
-            pg.due &= (uint8_t)~Q_32400;
-            buf[0] = 144;
-            buf[2] <<= 4;
-            if (q < 0)
-                q = 0;
-            put_le(buf, 3, UMUL(q, 10u), 3);
-            put_le(buf, 6, totals.job_ml / 100u, 3);
-            put_le(buf, 9, (uint16_t)(app_status.drive >> 7), 2);
-            buf[11] = pg.age_rc < RC_COMM_PERIODS;
-            put_le(buf, 12, UMUL(q, param_v[P_METER_K]) / 6000u, 2);     /* meter pulses a second x10 */
-        } else {                    /* module info: pressure, the boom spraying */
-            pg.due = 0;
-            buf[0] = 145;
-            put_le(buf, 3, app_status.in.pressure_kpa, 2);
-            buf[13] = app_status.spraying;
-        }
+    } else if (pg.due & Q_32400) {  /* the rate applied and the meter */
+        pg.due &= (uint8_t)~Q_32400;
+        if (q < 0)
+            q = 0;
+        put_le(0x7E90UL | (uint32_t)(uint8_t)(param_v[P_RC_ID] << 4) << 16, 3);
+        put_le(UMUL(q, 10u), 3);
+        put_le(totals.job_ml / 100u, 3);
+        put_le((uint16_t)(app_status.drive >> 7), 2);
+        put_le(pg.age_rc < RC_COMM_PERIODS, 1);
+        put_le(UMUL(q, param_v[P_METER_K]) / 6000u, 2);     /* meter pulses a second x10 */
+    } else {                        /* module info: pressure, the boom spraying */
+        pg.due = 0;
+        put_le(0x7E91UL | (uint32_t)(uint8_t)param_v[P_RC_ID] << 16, 3);
+        put_le(app_status.in.pressure_kpa, 2);
+        buf[13] = app_status.spraying;
     }
     for (i = from; i < n; i++)
         s += buf[i];
