@@ -17,13 +17,13 @@ uint8_t line_crc8(const __xdata char *p, uint8_t n) __reentrant
     return c;
 }
 
-/* a hex digit's value, either case; -1 for any other byte */
-static int8_t hexval(char c) __reentrant
+/* a hex digit's value, either case; 0xFF for any other byte */
+static uint8_t hexval(char c) __reentrant
 {
     if (c >= '0' && c <= '9')
-        return (int8_t)(c - '0');
+        return (uint8_t)(c - '0');
     c |= 0x20;
-    return c >= 'a' && c <= 'f' ? (int8_t)(c - 'a' + 10) : -1;
+    return c >= 'a' && c <= 'f' ? (uint8_t)(c - 'a' + 10) : 0xFF;
 }
 
 const __xdata char *line_number(const __xdata char *p, __idata uint16_t *v, char sep) __reentrant
@@ -44,23 +44,27 @@ const __xdata char *line_number(const __xdata char *p, __idata uint16_t *v, char
 
 uint8_t line_check(__xdata char *p, uint8_t n) __reentrant
 {
-    uint8_t i, checked = 0;
-    int8_t h1, h2;
+    uint8_t i, checked = 0, h1, h2;
+    char last;
     for (i = 0; i < n && p[i] != '*'; i++)
         ;
     if (i < n) {
-        h1 = i + 3 == n ? hexval(p[i + 1]) : -1;
-        h2 = i + 3 == n ? hexval(p[i + 2]) : -1;
-        if (h1 < 0 || h2 < 0 || (uint8_t)(h1 << 4 | h2) != line_crc8(p, i))
+        /* "*HH" ends the line (a digit not hex: 0xFF, over 15 either way) */
+        if ((uint8_t)(n - i) != 3u || ((h1 = hexval(p[i + 1])) | (h2 = hexval(p[i + 2]))) > 15u
+            || (uint8_t)(h1 << 4 | h2) != line_crc8(p, i))
             return LINE_E_CSUM;
         n = i;
         checked = LINE_CHECKED;
     }
     p[n] = 0;
-    if (n == 0 || p[0] == ' ' || p[n - 1] == ' ')
-        return LINE_E_ARG;
-    for (i = 1; i < n; i++)
-        if (p[i] == ' ' && p[i - 1] == ' ')
+    /* words single-spaced: no space first (one after the start's "space"), last or after another */
+    last = ' ';
+    for (i = 0; i < n; i++) {
+        if (p[i] == ' ' && last == ' ')
             return LINE_E_ARG;
+        last = p[i];
+    }
+    if (last == ' ')
+        return LINE_E_ARG;          /* (an empty line too) */
     return (uint8_t)(n | checked);
 }
