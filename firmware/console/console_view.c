@@ -168,7 +168,6 @@ void con_say_range(uint8_t id)
 /* The message on the bottom line (an acknowledgement: on the two bottom lines). */
 void con_draw_msg(void)
 {
-    const __code param_info_t *pi;
     uint8_t m = con.msg_range, b = (uint8_t)(m & CON_MSG_BIT);
     if (m == NO_RANGE) {
         screen_line(con.msg, 3);
@@ -183,12 +182,11 @@ void con_draw_msg(void)
         con_start("!");
         con_cat(b == CON_SHOWN_EE ? store_status_text(store_status()) : diag_text(b));
     } else {
-        pi = param_info(m);
         for (b = 0; b < 2; b++) {   /* the word when the limits leave room for it */
             con_start(b ? "Range " : "");
-            cat_pvalue(m, pi->min, CON_TRIM);
+            cat_pvalue(m, param_info(m)->min, CON_TRIM);
             con_cat("..");
-            cat_pvalue(m, pi->max, CON_TRIM);
+            cat_pvalue(m, param_info(m)->max, CON_TRIM);
             if (con_at > SCREEN_COLS - 6u)
                 break;
         }
