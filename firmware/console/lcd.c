@@ -27,7 +27,7 @@ void lcd_init(void)
 
 void lcd_poll(void) __reentrant
 {
-    uint8_t row, pair, d, half, budget = LCD_WORDS_PER_POLL;
+    uint8_t row, pair, d, prev, half, budget = LCD_WORDS_PER_POLL;
     if (init_sent < sizeof init_seq) {
         /* the init sequence's bytes while the display is ready for them; the passes go on while
          * it executes one (the clear takes over 10 ms), then the whole screen */
@@ -44,14 +44,14 @@ void lcd_poll(void) __reentrant
     /* a word (3 bytes) while the LCD is ready: the rest of the screen in the next passes, so
      * that a pass waits at most for the bytes within a word (hal_lcd_busy, time-paced) */
     for (row = 0; row < 4 && budget && !hal_lcd_busy(); row++) {
+        /* d: the row's dirty pairs from `pair` on (an unchanged row costs one test); prev: the
+         * pair before was dirty */
         d = screen_dirty(row);
-        if (!d)
-            continue;               /* an unchanged row costs one test */
-        for (pair = 0; pair < 8 && budget && !hal_lcd_busy(); pair++) {
-            if (!(d & (1u << pair)))
+        for (pair = 0, prev = 0; d && budget && !hal_lcd_busy(); pair++, prev = d & 1u, d >>= 1) {
+            if (!(d & 1u))
                 continue;
             /* consecutive pairs need no new address: the counter steps after each word */
-            if (pair == 0 || !(d & (1u << (pair - 1))) || budget == LCD_WORDS_PER_POLL)
+            if (!prev || budget == LCD_WORDS_PER_POLL)
                 hal_lcd_write(0, (uint8_t)(0x80 | (line_word[row] + pair)));
             for (half = 0; half < 2u; half++)   /* the word's two characters, left first */
                 hal_lcd_write(1, (uint8_t)screen_char(row, (uint8_t)(2 * pair + half)));
