@@ -411,14 +411,16 @@ static uint8_t refuse(const __code char *why) __reentrant
 uint8_t serial_poll(uint8_t may_take) __reentrant
 {
     int16_t b;
+    uint8_t framing;
     PGN_VERDICT(c)
 
     if (se_state == S_TX && !drain())
         return 0;
-    if (se_framing != REMOTE_FRAMING(param_v[P_REMOTE])) {
-        if (!hal_uart_framing(REMOTE_FRAMING(param_v[P_REMOTE])))
+    framing = REMOTE_FRAMING(param_v[P_REMOTE]);
+    if (se_framing != framing) {
+        if (!hal_uart_framing(framing))
             return 0;               /* the last bytes still going out at the old framing */
-        se_framing = REMOTE_FRAMING(param_v[P_REMOTE]);
+        se_framing = framing;
         se_n = 0;                   /* a line half received at the old one is dropped */
         se_state = S_RX;
     }
