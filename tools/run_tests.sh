@@ -38,6 +38,7 @@ check build-target-tests make -j"$JOBS" target-tests
 check firmware-builds-within-memory make -j"$JOBS" firmware
 grep -E '^(memory|stack):' "$log/firmware-builds-within-memory.log" | sed 's/^/# /'
 check bench-image-fits-the-chip make -j"$JOBS" firmware HIL=1
+check research-image-fits-the-chip make -j"$JOBS" firmware FW_PEERS=1
 
 echo "# host unit tests"
 for t in $B/host-test/test_*; do
