@@ -209,8 +209,6 @@ static void key_edit(void)
             con_say_range(con_item);
         } else if (con_apply(con_item, (uint16_t)v)) {
             con_state = S_MENU;
-            con_entry_clear();
-            return;
         }
         con_entry_clear();
     }
