@@ -144,11 +144,12 @@ static uint32_t value(uint8_t k) __reentrant
 static void put_field(uint8_t k) __reentrant
 {
     uint8_t f = k >> 5, c;
+    const __code unit_t *u;
     k &= 0x1Fu;
     if (k == S_TD)                  /* no clock and no field reference (docs/REMOTE.md) */
         serial_put_s("00:00,00/00/00,0");
-    else if (unit_of(c = rv_class[k]))      /* US or turf: the console's units */
-        serial_put_num(unit_q(value(k), c), unit_of(c)->dec);
+    else if ((u = unit_of(c = rv_class[k])) != 0)      /* US or turf: the console's units */
+        serial_put_num(unit_q(value(k), c), u->dec);
     else
         serial_put_num(value(k) / rv_div[f], f && f < 3u);
 }
