@@ -1,5 +1,6 @@
 /* linecheck.c: the serial link's CRC-8 and a command line's check and layout (linecheck.h). */
 #include "linecheck.h"
+#include "mul.h"
 
 /* the CRC a nibble at a time: the same bits as bit by bit at a fraction of the cycles */
 static const __code uint8_t crc8_nibble[16] = {
@@ -33,7 +34,7 @@ const __xdata char *line_number(const __xdata char *p, __idata uint16_t *v, char
     while ((d = (uint8_t)(*p - '0')) <= 9u) {
         if (++n > 5 || x > 6553u || (x == 6553u && d > 5))
             return 0;               /* above 65535 */
-        x = (uint16_t)(x * 10u + d);
+        x = (uint16_t)(UMUL(x, 10u) + d);
         p++;
     }
     if (n == 0 || (*p != sep && *p != 0))
