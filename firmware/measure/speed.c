@@ -105,22 +105,13 @@ void speed_prepare(void)
 
 void speed_init(void)
 {
-    sp.last_pca = 0;
-    sp.pulses = 0;
-    sp.v_x100 = 0;
-    sp.v_pulse_x100 = 0;
-    sp.v_meas = 0;
+    uint8_t i;
+    for (i = 0; i < sizeof sp; i++)     /* all as at power-up (what speed_derive sets, it sets) */
+        ((__xdata uint8_t *)&sp)[i] = 0;
+    sp.quiet = 0xFFFF;                  /* no pulse yet */
     tk.n = 0;
-    sp.quiet = 0xFFFF;
-    sp.glitches = 0;
     have_edge = 0;
-    sp.since = 0;
-    sp.rises = 0;
-    sp.v_base = 0;
-    sp.base_age = 0;
-    sp.jumped = 0;
-    sp.n = 0;
-    speed_derive();
+    speed_derive();                     /* (n 0: Pulses/turn taken anew, the offsets forgotten) */
 }
 
 /* Element 0's edges time the turns (t_rev; d_rev its change). At a steady speed (the turn's
