@@ -35,10 +35,11 @@ static __xdata struct {
 
 void pgn_init(void)
 {
-    pg.n = pg.due = pg.off = pg.off_flag = 0;
-    pg.age_speed = pg.age_sect = 0;  /* Frames lost counts from power-up */
+    uint8_t i;
+    for (i = 0; i < sizeof pg; i++)     /* all as at power-up: no frame, nothing due, the ages 0
+                                         * (Frames lost counts from power-up) */
+        ((__xdata uint8_t *)&pg)[i] = 0;
     pg.age_rc = 255;
-    pg.rc_rate_x10 = 0;
     pgn_rx.sections = 0xFF;
     pgn_rx.rc_cmd = 0x50;           /* MasterOn, AutoOn until a 32500 says otherwise */
     pgn_rx.taken = pgn_rx.bad = 0;

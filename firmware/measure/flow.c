@@ -34,12 +34,10 @@ void flow_prepare(void)
 
 void flow_init(void)
 {
-    fl.last_pca = 0;
-    fl.pulses = 0;
-    fl.q_x100 = 0;
-    fl.quiet = 0xFFFF;
-    fl.glitches = 0;
-    fl.have_edge = 0;
+    uint8_t i;
+    for (i = 0; i < sizeof fl; i++)     /* all as at power-up (what flow_derive sets, it sets) */
+        ((__xdata uint8_t *)&fl)[i] = 0;
+    fl.quiet = 0xFFFF;                  /* no pulse yet */
     flow_derive();
 }
 
