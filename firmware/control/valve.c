@@ -72,20 +72,16 @@ static void apply(uint16_t now) __reentrant
     }
 }
 
+/* valve_init's cleared state is the bridge off */
+typedef char valve_off_is_zero[(HAL_VALVE_OFF == 0) ? 1 : -1];
+
 void valve_init(void)
 {
-    va.oneway = 0;
-    va.over = 0;
+    uint8_t i;
+    for (i = 0; i < sizeof va; i++)     /* all as at power-up: the bridge off, no drive, no stop
+                                         * found (what valve_derive sets, it sets) */
+        ((__xdata uint8_t *)&va)[i] = 0;
     va.pos = VALVE_POS_UNKNOWN;
-    va.applied = 0;
-    va.off_ms = 0;
-    va.out_dir = HAL_VALVE_OFF;
-    va.last_dir = HAL_VALVE_OFF;
-    va.want_dir = HAL_VALVE_OFF;
-    va.want_duty = 0;
-    va.limit = 0;
-    va.blocked = 0;
-    va.mv_dir = 0;
     hal_valve_out(HAL_VALVE_OFF, 0);
     valve_derive();
 }
