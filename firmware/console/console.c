@@ -318,6 +318,7 @@ static void key_iotest(void)
 static void key_ack(void)
 {
     uint8_t s = con.shown, b;
+    uint16_t m;
     if (s < OPS_ALARM_BITS && (app_status.alarms_unacked & (1u << s))) {
         ops_alarm_ack_bits(1u << s);
         con_say(0);
@@ -326,8 +327,8 @@ static void key_ack(void)
         store_status_clear();
         con_say("EE: seen");
     } else if (app_status.alarms_unacked) {
-        for (b = 0; !(app_status.alarms_unacked & (1u << b)); b++)
-            ;
+        for (b = 0, m = app_status.alarms_unacked; !(m & 1u); b++)
+            m >>= 1;                /* the first not yet acknowledged */
         con_say(0);
         con.msg_range = CON_MSG_PEEK | b;
     } else if (store_status() != STORE_OK) {
