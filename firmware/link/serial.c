@@ -107,13 +107,13 @@ static void tx_sp_u32(uint32_t v) __reentrant
 
 static void tx_sp_i16(int16_t v) __reentrant
 {
+    uint16_t m = (uint16_t)v;       /* |v| (unsigned: -32768's too) */
     tx_c(' ');
     if (v < 0) {
         tx_c('-');
-        tx_u32((uint32_t)(-(int32_t)v));
-    } else {
-        tx_u32((uint32_t)v);
+        m = (uint16_t)(0u - m);
     }
+    tx_u32(m);
 }
 
 /* the line's end, and the line to be sent */
