@@ -44,7 +44,7 @@ void flow_init(void)
 int16_t flow_step(void) __reentrant
 {
     hal_capture_t c;
-    uint32_t q;
+    uint32_t q, dt;
 
     if (fl.gen != param_generation)
         flow_derive();
@@ -53,8 +53,9 @@ int16_t flow_step(void) __reentrant
         fl.pulses += c.count;
         fl.quiet = 0;
         if (fl.have_edge) {
-            q = um_muldiv(fl.k, c.count, c.last - fl.last_pca);
-            if (c.last == fl.last_pca || q > FLOW_MAX_X100)
+            dt = c.last - fl.last_pca;
+            q = um_muldiv(fl.k, c.count, dt);
+            if (!dt || q > FLOW_MAX_X100)
                 fl.glitches++;
             else
                 fl.q_x100 = (uint16_t)q;

@@ -408,7 +408,7 @@ uint16_t speed_step(void) __reentrant
             } else {
                 wk.v_x100 = um_muldiv(sp.k, wk.edges.count, sl_dt);
             }
-            if (wk.edges.last == sp.last_pca || wk.v_x100 > SPEED_MAX_X100) {
+            if (!sl_dt || wk.v_x100 > SPEED_MAX_X100) {
                 sp.glitches++;
             } else {
                 sp.idx = nw;
