@@ -248,13 +248,15 @@ uint8_t pgn_next(__xdata uint8_t *buf) __reentrant
         from = 2;
         n = 13;
     } else if (pg.due & Q_32400) {  /* the rate applied and the meter */
+        int16_t pwm;
         pg.due &= (uint8_t)~Q_32400;
         if (q < 0)
             q = 0;
         put_le(0x7E90UL | (uint32_t)(uint8_t)(param_v[P_RC_ID] << 4) << 16, 3);
         put_le(UMUL(q, 10u), 3);
         put_le(totals.job_ml / 100u, 3);
-        put_le((uint16_t)(app_status.drive >> 7), 2);
+        pwm = app_status.drive >> 7;                        /* the module's PWM: -255..255 */
+        put_le((uint16_t)(pwm < -255 ? -255 : pwm), 2);
         put_le(pg.age_rc < RC_COMM_PERIODS, 1);
         put_le(UMUL(q, param_v[P_METER_K]) / 6000u, 2);     /* meter pulses a second x10 */
     } else {                        /* module info: pressure, the boom spraying */

@@ -182,8 +182,8 @@ static void test_pgn_each_frame_of_the_layouts_decoded(void **state)
 /* The replies' fields from the meter's pulses: one every 2 ms is 500 Hz, 500 / 380 x 60 = 78.95
  * L/min (by hand) against a target of 36 L/min (150 L/ha, 8 km/h given, 18 m): 32400 carries the
  * applied UPM x1000 (within the meter's 1 %), the job's litres x10 (the pulses counted while
- * spraying over 380, within 0.1 L), a closing PWM (the flow twice the target; the Q15 drive >> 7, so full closing
- * is -256, one count past the module's 255), status bit
+ * spraying over 380, within 0.1 L), a closing PWM (the flow twice the target: full closing, the module's -255 and
+ * not the Q15 drive's -256), status bit
  * 0, 5000 for 500.0 Hz (within 1 %); 32401 the pressure, six zero bytes, InoID 0, the boom
  * spraying. */
 static void test_pgn_replies_carry_their_fields(void **state)
@@ -214,7 +214,7 @@ static void test_pgn_replies_carry_their_fields(void **state)
            pulses / 38.0, pwm, hz);                 /* (L x10 = pulses x 10 / 380) */
     assert_true(upm * 100 >= 78947u * 99 && upm * 100 <= 78947u * 101);
     assert_true(qty * 38 + 38 >= pulses && qty * 38 <= pulses + 38);
-    assert_true(pwm < 0 && pwm >= -256);
+    assert_int_equal(pwm, -255);
     assert_int_equal(out[i + 11] & 1, 1);
     assert_true(hz * 100 >= 5000u * 99 && hz * 100 <= 5000u * 101);
     i = find_reply(out, n, 32401);
