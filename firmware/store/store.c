@@ -50,14 +50,19 @@ static uint16_t crc_byte(uint16_t crc, uint8_t b)
     return (uint16_t)(crc << 4) ^ crc_nibble[(uint8_t)(crc >> 12) ^ (b & 0x0F)];
 }
 
-static uint16_t read16(uint16_t a)
+/* The load reads a record front to back: the next byte at ee_at, then ee_at moves on */
+static __data uint16_t ee_at;
+
+static uint16_t ee_u16(void)
 {
-    return (uint16_t)(hal_eeprom_read(a) | ((uint16_t)hal_eeprom_read(a + 1u) << 8));
+    uint8_t lo = hal_eeprom_read(ee_at++);
+    return (uint16_t)(lo | ((uint16_t)hal_eeprom_read(ee_at++) << 8));
 }
 
-static uint32_t read32(uint16_t a)
+static uint32_t ee_u32(void)
 {
-    return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
+    uint16_t lo = ee_u16();
+    return (uint32_t)lo | ((uint32_t)ee_u16() << 16);
 }
 
 /*
@@ -164,20 +169,40 @@ static uint8_t record_valid(uint8_t slot) __reentrant
     return r;
 }
 
-/* 1 when the slot after `slot` (the newest) begins as the next save writes a record: the
- * magic, then this version, its count and the sequence after seq, each byte as written or
- * still erased (a cut leaves the rest unprogrammed) */
+/* Byte i of the record of the values and totals now, sequence next (the values and totals
+ * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
+static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
+{
+    if (i == 0)
+        return STORE_MAGIC;
+    if (i == 1)
+        return PARAMS_VERSION;
+    if (i == 2)
+        return P_COUNT;
+    if (i == HDR_SEQ)
+        return (uint8_t)next;
+    if (i == HDR_SEQ + 1u)
+        return (uint8_t)(next >> 8);
+    if (i >= HDR_JOB)               /* job_dm2, then job_ml (totals_t) */
+        return ((const __xdata uint8_t *)&totals.job_dm2)[i - HDR_JOB];
+    if (i >= HDR_LEARN)
+        return store_learnt_now((uint8_t)(i - HDR_LEARN));
+    if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
+        return ((const __xdata uint8_t *)&totals.life_m2)[i - HDR_LIFE];
+    return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];
+}
+
+/* 1 when the slot after `slot` (the newest) begins as the next save writes a record
+ * (record_byte's header with the sequence after seq), each byte as written or, after the
+ * magic, still erased (a cut leaves the rest unprogrammed) */
 static uint8_t started_after(uint8_t slot) __reentrant
 {
     uint16_t base = slot_base((uint8_t)((slot + 1u) % STORE_SLOTS));
     uint16_t next = (uint16_t)(seq + 1u);
-    uint8_t i, b, want;
-    if (hal_eeprom_read(base) != STORE_MAGIC)
-        return 0;
-    for (i = 1; i < HDR_VALUES; i++) {
+    uint8_t i, b;
+    for (i = 0; i < HDR_VALUES; i++) {
         b = hal_eeprom_read(base + i);
-        want = i == 1 ? PARAMS_VERSION : i == 2 ? P_COUNT : i == HDR_SEQ ? (uint8_t)next : (uint8_t)(next >> 8);
-        if (b != want && b != 0xFFu)
+        if (b != record_byte(i, next) && (i == 0 || b != 0xFFu))
             return 0;
     }
     return 1;
@@ -186,7 +211,7 @@ static uint8_t started_after(uint8_t slot) __reentrant
 uint8_t store_load(void) __reentrant
 {
     uint8_t s, newest_slot = NO_SLOT, n, ver;
-    uint16_t q, newest_q = 0, base;
+    uint16_t q, newest_q = 0;
     sv_state = SV_IDLE;             /* no save runs from before */
     sv.flags = 0;
     result = STORE_OK;
@@ -195,7 +220,8 @@ uint8_t store_load(void) __reentrant
     for (s = 0; s < STORE_SLOTS; s++) {
         if (!record_valid(s))
             continue;
-        q = read16(slot_base(s) + HDR_SEQ);
+        ee_at = slot_base(s) + HDR_SEQ;
+        q = ee_u16();
         if (newest_slot == NO_SLOT || (int16_t)(q - newest_q) > 0) {
             newest_slot = s;
             newest_q = q;
@@ -210,25 +236,35 @@ uint8_t store_load(void) __reentrant
         return status;
     }
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
-    base = slot_base(newest_slot);
     n = record_valid(newest_slot);
-    ver = hal_eeprom_read(base + 1u);
+    ee_at = slot_base(newest_slot) + 1u;
+    ver = hal_eeprom_read(ee_at);
+    ee_at = ee_at + (HDR_VALUES - 1u);
     params_defaults();
-    for (s = 0; s < n; s++)         /* (before version 9 the aog settings were another loop's) */
+    for (s = 0; s < n; s++) {       /* (before version 9 the aog settings were another loop's) */
+        q = ee_u16();
         if (ver >= 9u || s < P_AOG_KP || s > P_AOG_MAX)
-            param_put(s, param_of_version(ver, s, read16(base + HDR_VALUES + 2u * s)));
-    totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (ver >= 8u)                  /* the job after the learnt figures */
-        totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
-    else
-        totals_set_job(0, 0);       /* an older copy has none */
+            param_put(s, param_of_version(ver, s, q));
+    }
+    {
+        uint32_t life_m2 = ee_u32(), life_ml = ee_u32();
+        totals_set_life(life_m2, life_ml);
+    }
+    if (ver >= 8u) {                /* the job after the learnt figures */
+        uint32_t job_dm2, job_ml;
+        ee_at += STORE_LEARN_BYTES;
+        job_dm2 = ee_u32();
+        job_ml = ee_u32();
+        totals_set_job(job_dm2, job_ml);
+    } else
+        totals_job_reset();         /* an older copy has none */
     n = params_cross();
     if (n != PARAM_OK) {
         /* written by a firmware without the cross-checks: its set cannot run (a tank minimum
          * above the tank stops the boom for good); the defaults, and the reason shown */
         params_defaults();
         totals_set_life(0, 0);
-        totals_set_job(0, 0);
+        totals_job_reset();
         status = (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
         saved_gen = param_generation;
         return status;
@@ -276,29 +312,6 @@ static void sv_end(uint8_t st)
         sv.flags |= (uint8_t)((f >> 2) & STORE_BY_ALL);
         sv_start();
     }
-}
-
-/* Byte i of the record of the values and totals now, sequence next (the values and totals
- * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
-static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
-{
-    if (i == 0)
-        return STORE_MAGIC;
-    if (i == 1)
-        return PARAMS_VERSION;
-    if (i == 2)
-        return P_COUNT;
-    if (i == HDR_SEQ)
-        return (uint8_t)next;
-    if (i == HDR_SEQ + 1u)
-        return (uint8_t)(next >> 8);
-    if (i >= HDR_JOB)               /* job_dm2, then job_ml (totals_t) */
-        return ((const __xdata uint8_t *)&totals.job_dm2)[i - HDR_JOB];
-    if (i >= HDR_LEARN)
-        return store_learnt_now((uint8_t)(i - HDR_LEARN));
-    if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
-        return ((const __xdata uint8_t *)&totals.life_m2)[i - HDR_LIFE];
-    return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];
 }
 
 /* The free slot: STORE_BYTES_PER_POLL bytes of the one looked at. A written byte passes
