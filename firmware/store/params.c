@@ -40,11 +40,12 @@ uint8_t param_in_range(uint8_t id, uint16_t v)
     return 1;
 }
 
-/* a value a record may hold: in its range, or Remote = AgOpenGPS, which an image without the
- * frames refuses to set (the record loads all the same there, Remote at its default, off) */
-uint8_t param_stored_ok(uint8_t id, uint16_t v) __reentrant
+/* a value a record of version ver may hold: in its range in this version's units, or Remote =
+ * AgOpenGPS, which an image without the frames refuses to set (the record loads all the same
+ * there, Remote at its default, off) */
+uint8_t param_stored_ok(uint8_t ver, uint8_t id, uint16_t v) __reentrant
 {
-    return param_in_range(id, v) || (id == P_REMOTE && v == REMOTE_PGN);
+    return param_in_range(id, param_of_version(ver, id, v)) || (id == P_REMOTE && v == REMOTE_PGN);
 }
 
 uint8_t param_put(uint8_t id, uint16_t v)

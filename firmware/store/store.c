@@ -27,10 +27,7 @@ static struct {
     uint32_t next_ms;               /* when the bucket gains its next token */
     uint8_t tokens;                 /* erases allowed now, at most STORE_ERASE_BURST */
 } eb;
-#define newest store_newest         /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT (learnt.c) */
 static uint16_t seq;                /* its sequence number */
-#define NO_SLOT STORE_NO_SLOT
-#define slot_base store_slot_base
 typedef char store_learnt_at[(STORE_AT_LEARNT == HDR_LEARN) ? 1 : -1];
 
 static const char __code *const __code status_texts[] = {
@@ -95,7 +92,8 @@ enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
 #define CK_MORE 0xFFu               /* ck_more: not done yet */
 static struct {
     uint8_t flags;                  /* below */
-    uint8_t n;                      /* the values of the record being checked */
+    uint8_t ver;                    /* the version of the record being checked */
+    uint8_t n;                      /* its values */
     uint8_t gen;                    /* the param_generation the record being written comes from */
     uint8_t end;                    /* where the CRC of the record being checked is */
     uint16_t crc;                   /* of the bytes written or checked so far */
@@ -111,6 +109,13 @@ static __data uint8_t sv_lo;        /* the low byte of the value being checked *
  * CRC and every value in range; 0 otherwise. Known: this version's table, or version 2's, 3's
  * or 4's (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended
  * since: they keep their defaults). */
+/* a record's bytes between its lifetime totals and its CRC, by version from 2: the learnt
+ * figures (STORE_LEARN_V6 in version 6, STORE_LEARN_BYTES from 7), the job totals (from 8) */
+static const __code uint8_t tail_bytes[PARAMS_VERSION - 1u] = {
+    0, 0, 0, 0, STORE_LEARN_V6, STORE_LEARN_BYTES, STORE_LEARN_BYTES + STORE_JOB_BYTES,
+    STORE_LEARN_BYTES + STORE_JOB_BYTES, STORE_LEARN_BYTES + STORE_JOB_BYTES, STORE_LEARN_BYTES + STORE_JOB_BYTES};
+typedef char store_tail_bytes[(PARAMS_VERSION == 11) ? 1 : -1];   /* a new version: its tail here */
+
 static void ck_begin(uint8_t slot)
 {
     sv_slot = slot;
@@ -121,7 +126,7 @@ static void ck_begin(uint8_t slot)
 
 static uint8_t ck_more(uint8_t budget) __reentrant
 {
-    uint16_t base = slot_base(sv_slot);
+    uint16_t base = store_slot_base(sv_slot);
     uint8_t b;
     while (budget--) {
         b = hal_eeprom_read(base + sv_at);
@@ -131,17 +136,12 @@ static uint8_t ck_more(uint8_t budget) __reentrant
         } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
             if (sv_lo < 2u || sv_lo > PARAMS_VERSION || b != params_version_count[sv_lo - 2u])
                 return 0;
+            sv.ver = sv_lo;
             sv.n = b;
-            sv.end = (uint8_t)CRC_N(b);
-            if (sv_lo >= 7u)
-                sv.end += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
-            else if (sv_lo == 6u)
-                sv.end += STORE_LEARN_V6;
-            if (sv_lo >= 8u)
-                sv.end += STORE_JOB_BYTES;      /* the job totals (version 8 on) */
-        } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
-            if (!param_stored_ok((uint8_t)((sv_at - HDR_VALUES) >> 1), param_of_version(hal_eeprom_read(base + 1u),
-                                (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8))))
+            sv.end = (uint8_t)(CRC_N(b) + tail_bytes[sv_lo - 2u]);
+        } else if (!(sv_at & 1u) && sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n)) {
+            /* a value's high byte (HDR_VALUES is odd) */
+            if (!param_stored_ok(sv.ver, (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
                 return 0;
         } else if (sv_at == sv.end) {
             if (b != (uint8_t)(sv.crc >> 8))
@@ -197,7 +197,7 @@ static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
  * magic, still erased (a cut leaves the rest unprogrammed) */
 static uint8_t started_after(uint8_t slot) __reentrant
 {
-    uint16_t base = slot_base((uint8_t)((slot + 1u) % STORE_SLOTS));
+    uint16_t base = store_slot_base((uint8_t)((slot + 1u) % STORE_SLOTS));
     uint16_t next = (uint16_t)(seq + 1u);
     uint8_t i, b;
     for (i = 0; i < HDR_VALUES; i++) {
@@ -210,7 +210,7 @@ static uint8_t started_after(uint8_t slot) __reentrant
 
 uint8_t store_load(void) __reentrant
 {
-    uint8_t s, newest_slot = NO_SLOT, n, ver;
+    uint8_t s, newest_slot = STORE_NO_SLOT, n, ver;
     uint16_t q, newest_q = 0;
     sv_state = SV_IDLE;             /* no save runs from before */
     sv.flags = 0;
@@ -220,16 +220,16 @@ uint8_t store_load(void) __reentrant
     for (s = 0; s < STORE_SLOTS; s++) {
         if (!record_valid(s))
             continue;
-        ee_at = slot_base(s) + HDR_SEQ;
+        ee_at = store_slot_base(s) + HDR_SEQ;
         q = ee_u16();
-        if (newest_slot == NO_SLOT || (int16_t)(q - newest_q) > 0) {
+        if (newest_slot == STORE_NO_SLOT || (int16_t)(q - newest_q) > 0) {
             newest_slot = s;
             newest_q = q;
         }
     }
-    newest = newest_slot;             /* the next save goes after it, above its sequence */
+    store_newest = newest_slot;             /* the next save goes after it, above its sequence */
     seq = newest_q;
-    if (newest_slot == NO_SLOT) {
+    if (newest_slot == STORE_NO_SLOT) {
         params_defaults();
         status = STORE_DEFAULTS;
         saved_gen = param_generation;   /* nothing changed since: no save until something does */
@@ -237,9 +237,8 @@ uint8_t store_load(void) __reentrant
     }
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
     n = record_valid(newest_slot);
-    ee_at = slot_base(newest_slot) + 1u;
-    ver = hal_eeprom_read(ee_at);
-    ee_at = ee_at + (HDR_VALUES - 1u);
+    ver = sv.ver;                   /* (the check's) */
+    ee_at = store_slot_base(newest_slot) + HDR_VALUES;
     params_defaults();
     for (s = 0; s < n; s++) {       /* (before version 9 the aog settings were another loop's) */
         q = ee_u16();
@@ -287,14 +286,14 @@ static uint8_t sv_find(uint8_t slot)
     sv.flags &= (uint8_t)~SV_ERASED;
     sv_slot = slot;
     sv_at = 0;
-    return !(slot % STORE_SLOTS_PER_SECTOR == 0 && newest != NO_SLOT
-             && slot / STORE_SLOTS_PER_SECTOR == newest / STORE_SLOTS_PER_SECTOR);
+    return !(slot % STORE_SLOTS_PER_SECTOR == 0 && store_newest != STORE_NO_SLOT
+             && slot / STORE_SLOTS_PER_SECTOR == store_newest / STORE_SLOTS_PER_SECTOR);
 }
 
 /* The next slot after the newest: never the start of the newest's sector */
 static void sv_start(void)
 {
-    sv_find(newest == NO_SLOT ? 0 : (uint8_t)((newest + 1u) % STORE_SLOTS));
+    sv_find(store_newest == STORE_NO_SLOT ? 0 : (uint8_t)((store_newest + 1u) % STORE_SLOTS));
 }
 
 /* The save has ended (st: STORE_OK or STORE_WRITE_ERR): those who asked are told
@@ -320,7 +319,7 @@ static void sv_end(uint8_t st)
  * erase: a write error. */
 static void sv_find_more(void) __reentrant
 {
-    uint16_t base = slot_base(sv_slot);
+    uint16_t base = store_slot_base(sv_slot);
     uint8_t k;
     for (k = 0; k < STORE_BYTES_PER_POLL; k++, sv_at++) {
         if (sv_at == STORE_SLOT_BYTES) {
@@ -347,7 +346,7 @@ static void sv_find_more(void) __reentrant
  * the record started with. */
 static void sv_write_more(void) __reentrant
 {
-    uint16_t base = slot_base(sv_slot);
+    uint16_t base = store_slot_base(sv_slot);
     uint16_t next = (uint16_t)(seq + 1u);
     uint8_t k, b;
     if (sv_at == CRC_AT) {
@@ -426,7 +425,7 @@ uint8_t store_poll(void) __reentrant
         if (!eb.tokens)
             return 0;               /* the budget: waiting for a token */
         eb.tokens--;
-        hal_eeprom_erase(slot_base(sv_slot));
+        hal_eeprom_erase(store_slot_base(sv_slot));
         sv_state = SV_FIND;
         sv_at = 0;
         sv.flags |= SV_ERASED;
@@ -437,14 +436,14 @@ uint8_t store_poll(void) __reentrant
     default:
         r = ck_more(STORE_BYTES_PER_POLL);
         if (r == P_COUNT) {
-            newest = sv_slot;
+            store_newest = sv_slot;
             seq = (uint16_t)(seq + 1u);
             saved_gen = sv.gen;
             /* a header in the next slot that reads as this save's successor is stale (this
              * save has ended, none started since): its magic cleared, the next load would
              * take it for a cut save */
-            if (started_after(newest))
-                hal_eeprom_write(slot_base((uint8_t)((newest + 1u) % STORE_SLOTS)), 0);
+            if (started_after(store_newest))
+                hal_eeprom_write(store_slot_base((uint8_t)((store_newest + 1u) % STORE_SLOTS)), 0);
             sv_end(STORE_OK);
         } else if (r != CK_MORE) {
             sv_end(STORE_WRITE_ERR);
