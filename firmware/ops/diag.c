@@ -41,11 +41,7 @@ static struct {
 } dg;
 
 static __bit fitted;                /* a fit left the model's constant to diag_after_fit */
-/* diag_step's inputs for its rules this period (its arguments, kept as ctl.c keeps ctl_in):
- * the status block, the boom settled, the pressure to stay under P max; and, judged once,
- * the speed a working one (target_working_speed), the pressure and level sensors' readings good */
-static const __xdata app_status_t *__data dg_in;
-static __bit dg_settled, dg_p_watch, dg_working, dg_psens, dg_lsens;
+static __bit p_watch_now;           /* diag_step's p_watch, for diag_supply */
 
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
  * at the rated flow */
@@ -284,18 +280,18 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
 static void diag_supply(void) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
-    uint16_t tank = dg_in->tank_l;
-    uint16_t p = dg_in->in.pressure_kpa;
-    uint8_t refill = dg_lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
+    uint16_t tank = diag_in->tank_l;
+    uint16_t p = diag_in->in.pressure_kpa;
+    uint8_t refill = diag_lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
-    uint8_t dry = dg_lsens && x <= param_v[P_TANK_L];  /* (the 32-bit compare once) */
-    rule(AL_TANK_LOW, dg_lsens && tank < tmin, refill);
-    uint8_t line = diag_dry_line(dg_in, dg_settled), zero = diag_zero(dg_in, dg_settled);
-    rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !dg_lsens));
-    rule(AL_PSENS, !dg_psens || zero, dg_psens && !zero);
-    rule(AL_LSENS, !dg_lsens, dg_lsens);
+    uint8_t dry = diag_lsens && x <= param_v[P_TANK_L];  /* (the 32-bit compare once) */
+    rule(AL_TANK_LOW, diag_lsens && tank < tmin, refill);
+    uint8_t line = diag_dry_line(), zero = diag_zero();
+    rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !diag_lsens));
+    rule(AL_PSENS, !diag_psens || zero, diag_psens && !zero);
+    rule(AL_LSENS, !diag_lsens, diag_lsens);
     x = UMUL(param_v[P_P_MAX], 19u);
-    rule(AL_OVERPRESSURE, dg_p_watch && dg_psens && p > param_v[P_P_MAX], !dg_psens || UMUL(p, 20u) < x);
+    rule(AL_OVERPRESSURE, p_watch_now && diag_psens && p > param_v[P_P_MAX], !diag_psens || UMUL(p, 20u) < x);
 }
 
 /* The nozzle model against the meter. Flow meter lost: its pulses stopped while the model says
@@ -308,17 +304,17 @@ static void diag_supply(void) __reentrant
  * (a headland's low pressures are where a model is least sure); clean spraying teaches it. */
 static void diag_model(void) __reentrant
 {
-    uint16_t p = dg_in->in.pressure_kpa;
+    uint16_t p = diag_in->in.pressure_kpa;
     int16_t meter = flow_lpm_x100();
     int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
-    int16_t target = dg_in->in.target_lpm_x100;
-    uint8_t judge = dg_settled && dg_psens, g;
+    int16_t target = diag_in->in.target_lpm_x100;
+    uint8_t judge = diag_settled && diag_psens, g;
     uint16_t pexp, x, d;
     uint32_t a, lo, hi;
-    dg.meter_suspect = judge && dg_working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
+    dg.meter_suspect = judge && diag_working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
                        && flow_quiet_periods() >= DIAG_METER_QUIET;
     rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0);
-    judge = judge && dg_working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
+    judge = judge && diag_working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     /* nor while the target moves by more than 1/2^DIAG_MOVE_SHIFT a period: the meter's rotor
      * lags the flow that the pressure follows at once, and through a slow-down the metered flow
      * reads high for the pressure (a false leak) */
@@ -381,15 +377,15 @@ static void diag_model(void) __reentrant
  * rule's too: the rate off target is what the operator must hear, whatever holds it there. */
 static void diag_offrate(void) __reentrant
 {
-    int16_t target = dg_in->in.target_lpm_x100;
-    int16_t qp = dg_in->in.flow_lpm_x100 - target;
-    uint8_t off = dg_settled && target > 0 && (dg_in->manual || dg_working)
+    int16_t target = diag_in->in.target_lpm_x100;
+    int16_t qp = diag_in->in.flow_lpm_x100 - target;
+    uint8_t off = diag_settled && target > 0 && (diag_in->manual || diag_working)
                   && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);
     if (dg.alarms & (1u << AL_OFFRATE))
         rule(AL_OFFRATE, 0, !off);
     else if (!off)
         dg.offrate_cnt = 0;
-    else if (++dg.offrate_cnt >= (dg_in->manual ? DIAG_MANUAL_PERIODS : param_v[P_OFFRATE_S] * 10u)) {
+    else if (++dg.offrate_cnt >= (diag_in->manual ? DIAG_MANUAL_PERIODS : param_v[P_OFFRATE_S] * 10u)) {
         dg.alarms |= 1u << AL_OFFRATE;
         dg.offrate_cnt = 0;
     }
@@ -401,7 +397,7 @@ static void diag_offrate(void) __reentrant
  * (diag_wheel.c). */
 static void diag_speed(void) __reentrant
 {
-    uint8_t g = target_speed_given(), pump = diag_pump(dg_in);
+    uint8_t g = target_speed_given(), pump = diag_pump();
     uint16_t x = speed_quiet_periods();
     uint8_t stopped = x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100());
     /* ... or the frames in use stopped (diag_wheel.h); the GPS's speed in use clears it unless
@@ -409,8 +405,8 @@ static void diag_speed(void) __reentrant
     rule(AL_SPEED_LOST, DIAG_FRAMES(DIAG_FRAMES_LOST) || (!g && (pump || stopped)),
          !DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u
                                             || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !pump && !stopped)));
-    x = dg_in->in.speed_kmh_x100;
-    g = dg_in->spraying && !dg_in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
+    x = diag_in->in.speed_kmh_x100;
+    g = diag_in->spraying && !diag_in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
 }
 
@@ -422,15 +418,11 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
         dg.q3 = param_v[P_NOZZLE_Q3];
         diag_nozzle_relearn();      /* other nozzles told: the model is learnt for them */
     }
-    dg_in = in;
-    dg_settled = settled;
-    dg_p_watch = p_watch;
-    dg_working = target_working_speed(in->in.speed_kmh_x100);
-    dg_psens = analog_pressure_ok();
-    dg_lsens = analog_level_ok();
+    diag_period(in, settled);
+    p_watch_now = p_watch;
     diag_supply();
     diag_model();
-    g = diag_balance(in, settled);
+    g = diag_balance();
     if (g == DIAG_BAL_ANEW)
         dg.alarms &= ~(1u << AL_METER_CAL);
     rule(AL_METER_CAL, g == DIAG_BAL_OFF, g == DIAG_BAL_ON);

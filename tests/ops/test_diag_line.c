@@ -78,13 +78,15 @@ static void measure(void)
 static uint8_t dry(void)
 {
     measure();
-    return diag_dry_line(&sy.st, sy.settled);
+    diag_period(&sy.st, sy.settled);
+    return diag_dry_line();
 }
 
 static uint8_t zero(void)
 {
     measure();
-    return diag_zero(&sy.st, sy.settled);
+    diag_period(&sy.st, sy.settled);
+    return diag_zero();
 }
 
 
@@ -92,7 +94,8 @@ static uint8_t bal(uint16_t l)
 {
     measure();
     sy.st.tank_l = l;
-    return diag_balance(&sy.st, sy.settled);
+    diag_period(&sy.st, sy.settled);
+    return diag_balance();
 }
 
 /* ---- pump dry from the line -------------------------------------------------------------------- */
