@@ -7,17 +7,8 @@
 #include "params.h"
 #include "store.h"
 #include "totals.h"
+#include "store_int.h"
 
-#define STORE_MAGIC 0x5A
-#define HDR_SEQ 3u
-#define HDR_VALUES 5u
-#define HDR_LIFE (HDR_VALUES + 2u * P_COUNT)
-#define HDR_LEARN (HDR_LIFE + 8u)
-#define HDR_JOB (HDR_LEARN + STORE_LEARN_BYTES)
-#define CRC_AT (HDR_JOB + STORE_JOB_BYTES)
-/* the same for a copy of n values (an older version's shorter table) */
-#define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
-#define CRC_N(n) (LIFE_N(n) + 8u)
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_*: the operator's notice (store_status) */
@@ -27,25 +18,12 @@ static struct {
     uint32_t next_ms;               /* when the bucket gains its next token */
     uint8_t tokens;                 /* erases allowed now, at most STORE_ERASE_BURST */
 } eb;
-static uint16_t seq;                /* its sequence number */
+static uint16_t seq;                /* the sequence number of the newest record (store_newest) */
 typedef char store_learnt_at[(STORE_AT_LEARNT == HDR_LEARN) ? 1 : -1];
 
 static const char __code *const __code status_texts[] = {
     "", "EE: older copy", "EE: defaults", "EE: write error", "EE: low supply"
 };
-
-/* CRC-16/CCITT (polynomial 0x1021, MSB first) a nibble at a time from a 16-entry table: the
- * same CRC as bit by bit at a fraction of the cycles (a save computes it over 118 bytes) */
-static const __code uint16_t crc_nibble[16] = {
-    0x0000, 0x1021, 0x2042, 0x3063, 0x4084, 0x50A5, 0x60C6, 0x70E7,
-    0x8108, 0x9129, 0xA14A, 0xB16B, 0xC18C, 0xD1AD, 0xE1CE, 0xF1EF
-};
-
-static uint16_t crc_byte(uint16_t crc, uint8_t b)
-{
-    crc = (uint16_t)(crc << 4) ^ crc_nibble[(uint8_t)(crc >> 12) ^ (b >> 4)];
-    return (uint16_t)(crc << 4) ^ crc_nibble[(uint8_t)(crc >> 12) ^ (b & 0x0F)];
-}
 
 /* The load reads a record front to back: the next byte at ee_at, then ee_at moves on */
 static __data uint16_t ee_at;
@@ -89,85 +67,11 @@ enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
 #define SV_DONE(who) ((uint8_t)((who) >> 2))
 #define SV_NEXT(who) ((uint8_t)((who) << 2))
 #define SV_ENDED (SV_DONE(STORE_BY_ALL))
-#define CK_MORE 0xFFu               /* ck_more: not done yet */
 static struct {
     uint8_t flags;                  /* below */
-    uint8_t ver;                    /* the version of the record being checked */
-    uint8_t n;                      /* its values */
     uint8_t gen;                    /* the param_generation the record being written comes from */
-    uint8_t end;                    /* where the CRC of the record being checked is */
-    uint16_t crc;                   /* of the bytes written or checked so far */
 } sv;
-/* the most used bytes of the save and the check, in the direct RAM */
-static __data uint8_t sv_state;     /* SV_* */
-static __data uint8_t sv_slot;      /* the slot being found, written or checked */
-static __data uint8_t sv_at;        /* its next byte */
-static __data uint8_t sv_lo;        /* the low byte of the value being checked */
-
-/* Check the record in a slot a few bytes at a time: ck_begin, then ck_more until it returns
- * other than CK_MORE: the number of values the record holds when it has a known header, its
- * CRC and every value in range; 0 otherwise. Known: this version's table, or version 2's, 3's
- * or 4's (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended
- * since: they keep their defaults). */
-/* a record's bytes between its lifetime totals and its CRC, by version from 2: the learnt
- * figures (STORE_LEARN_V6 in version 6, STORE_LEARN_BYTES from 7), the job totals (from 8) */
-static const __code uint8_t tail_bytes[PARAMS_VERSION - 1u] = {
-    0, 0, 0, 0, STORE_LEARN_V6, STORE_LEARN_BYTES, STORE_LEARN_BYTES + STORE_JOB_BYTES,
-    STORE_LEARN_BYTES + STORE_JOB_BYTES, STORE_LEARN_BYTES + STORE_JOB_BYTES, STORE_LEARN_BYTES + STORE_JOB_BYTES};
-typedef char store_tail_bytes[(PARAMS_VERSION == 11) ? 1 : -1];   /* a new version: its tail here */
-
-static void ck_begin(uint8_t slot)
-{
-    sv_slot = slot;
-    sv_at = 0;
-    sv.end = 0xFFu;                 /* until the count is read */
-    sv.crc = 0xFFFFu;
-}
-
-static uint8_t ck_more(uint8_t budget) __reentrant
-{
-    uint16_t base = store_slot_base(sv_slot);
-    uint8_t b;
-    while (budget--) {
-        b = hal_eeprom_read(base + sv_at);
-        if (sv_at == 0) {
-            if (b != STORE_MAGIC)
-                return 0;
-        } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (sv_lo < 2u || sv_lo > PARAMS_VERSION || b != params_version_count[sv_lo - 2u])
-                return 0;
-            sv.ver = sv_lo;
-            sv.n = b;
-            sv.end = (uint8_t)(CRC_N(b) + tail_bytes[sv_lo - 2u]);
-        } else if (!(sv_at & 1u) && sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n)) {
-            /* a value's high byte (HDR_VALUES is odd) */
-            if (!param_stored_ok(sv.ver, (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8)))
-                return 0;
-        } else if (sv_at == sv.end) {
-            if (b != (uint8_t)(sv.crc >> 8))
-                return 0;
-            sv_lo = (uint8_t)sv.crc;    /* the CRC's low byte next */
-            sv_at++;
-            continue;
-        } else if (sv_at > sv.end) {
-            return b == sv_lo ? sv.n : 0;
-        }
-        sv_lo = b;
-        sv.crc = crc_byte(sv.crc, b);
-        sv_at++;
-    }
-    return CK_MORE;
-}
-
-/* The check at once (store_load). */
-static uint8_t record_valid(uint8_t slot) __reentrant
-{
-    uint8_t r;
-    ck_begin(slot);
-    while ((r = ck_more(255)) == CK_MORE)
-        ;
-    return r;
-}
+static __data uint8_t sv_state;     /* SV_* (direct RAM: the most used byte of the save) */
 
 /* Byte i of the record of the values and totals now, sequence next (the values and totals
  * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
@@ -218,7 +122,7 @@ uint8_t store_load(void) __reentrant
     eb.tokens = 0;                  /* none at power-up: a power cycle buys no erase */
     eb.next_ms = hal_ms() + STORE_ERASE_MS;
     for (s = 0; s < STORE_SLOTS; s++) {
-        if (!record_valid(s))
+        if (!store_record_valid(s))
             continue;
         ee_at = store_slot_base(s) + HDR_SEQ;
         q = ee_u16();
@@ -236,8 +140,8 @@ uint8_t store_load(void) __reentrant
         return status;
     }
     /* its values and totals (a shorter, older table: the values after it at their defaults) */
-    n = record_valid(newest_slot);
-    ver = sv.ver;                   /* (the check's) */
+    n = store_record_valid(newest_slot);
+    ver = ck_ver;                   /* (the check's) */
     ee_at = store_slot_base(newest_slot) + HDR_VALUES;
     params_defaults();
     for (s = 0; s < n; s++) {       /* (before version 9 the aog settings were another loop's) */
@@ -273,7 +177,7 @@ uint8_t store_load(void) __reentrant
     /* a started write after it that did not end: a cut save, the previous values are loaded
      * and the operator is told */
     s = (uint8_t)((newest_slot + 1u) % STORE_SLOTS);
-    if (started_after(newest_slot) && !record_valid(s))
+    if (started_after(newest_slot) && !store_record_valid(s))
         status = STORE_OLDER;
     return status;
 }
@@ -325,7 +229,7 @@ static void sv_find_more(void) __reentrant
         if (sv_at == STORE_SLOT_BYTES) {
             sv_state = SV_WRITE;    /* erased: the record goes here */
             sv_at = 0;
-            sv.crc = 0xFFFFu;
+            sv_crc = 0xFFFFu;
             sv.gen = param_generation;
             return;
         }
@@ -356,19 +260,19 @@ static void sv_write_more(void) __reentrant
                 sv_end(STORE_WRITE_ERR);
             return;
         }
-        if (!hal_eeprom_write(base + CRC_AT, (uint8_t)(sv.crc >> 8))
-            || !hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)sv.crc)) {
+        if (!hal_eeprom_write(base + CRC_AT, (uint8_t)(sv_crc >> 8))
+            || !hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)sv_crc)) {
             sv_end(STORE_WRITE_ERR);
             return;
         }
         sv_state = SV_CHECK;
-        ck_begin(sv_slot);
+        store_ck_begin(sv_slot);
         return;
     }
     for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && (sv_at == HDR_LIFE || sv_at == HDR_LEARN || sv_at == HDR_JOB));
          k++, sv_at++) {
         b = record_byte(sv_at, next);
-        sv.crc = crc_byte(sv.crc, b);
+        sv_crc = store_crc_byte(sv_crc, b);
         if (!hal_eeprom_write(base + sv_at, b)) {
             sv_end(STORE_WRITE_ERR);
             return;
@@ -434,7 +338,7 @@ uint8_t store_poll(void) __reentrant
         sv_write_more();
         break;
     default:
-        r = ck_more(STORE_BYTES_PER_POLL);
+        r = store_ck_more(STORE_BYTES_PER_POLL);
         if (r == P_COUNT) {
             store_newest = sv_slot;
             seq = (uint16_t)(seq + 1u);
