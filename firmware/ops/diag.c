@@ -313,7 +313,7 @@ static void diag_model(void) __reentrant
     uint32_t a, lo, hi;
     dg.meter_suspect = judge && diag_working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
                        && flow_quiet_periods() >= DIAG_METER_QUIET;
-    rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0);
+    rule(AL_METER_LOST, dg.meter_suspect, diag_metering && meter > 0);
     judge = judge && diag_working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     /* nor while the target moves by more than 1/2^DIAG_MOVE_SHIFT a period: the meter's rotor
      * lags the flow that the pressure follows at once, and through a slow-down the metered flow
@@ -323,7 +323,7 @@ static void diag_model(void) __reentrant
         judge = 0;                  /* (abs(target - dg.t1) > x, one compare) */
     dg.t1 = target;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
-    g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
+    g = judge && diag_metering && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
         && target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;
     x = judge ? x_of(meter) : 0xFFFFu;
     if (g)

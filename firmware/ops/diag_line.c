@@ -33,7 +33,7 @@ static struct {
 } dl;
 
 const __xdata app_status_t *__data diag_in;
-__bit diag_settled, diag_working, diag_psens, diag_lsens;
+__bit diag_settled, diag_working, diag_psens, diag_lsens, diag_metering;
 
 void diag_period(const __xdata app_status_t *in, uint8_t settled) __reentrant
 {
@@ -42,6 +42,7 @@ void diag_period(const __xdata app_status_t *in, uint8_t settled) __reentrant
     diag_working = target_working_speed(in->in.speed_kmh_x100);
     diag_psens = analog_pressure_ok();
     diag_lsens = analog_level_ok();
+    diag_metering = flow_quiet_periods() == 0;
 }
 
 void diag_line_init(void)
@@ -151,7 +152,7 @@ uint8_t diag_balance(void) __reentrant
     dl.bal_l1 = l;
     if (dl.bal_wait)
         dl.bal_wait--;              /* the level's filter settles after a step */
-    run = !dl.bal_wait && diag_settled && diag_lsens && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0
+    run = !dl.bal_wait && diag_settled && diag_lsens && q >= DIAG_BAL_MIN_X100 && diag_metering
           && l + m < dl.bal_t;      /* (at the span's top the level cannot show a fall) */
     f = dl.bal_n >= DIAG_BAL_STRETCH && dl.bal_s0 > l ? dl.bal_s0 - l : 0;   /* the stretch's fall */
     if ((!run || f >= (m << 5)) && dl.bal_n) {     /* closed, or long: into the sums, and anew */

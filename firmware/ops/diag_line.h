@@ -20,9 +20,10 @@ void diag_line_init(void);
  * (diag_step's first act; a test of these rules alone calls it after measuring): the status
  * block and `settled` as diag_step takes them, kept as ctl.c keeps ctl_in; and the facts the
  * rules ask the same way, judged once: the speed a working one (target_working_speed), the
- * pressure and the level sensors good (analog.h). */
+ * pressure and the level sensors good (analog.h), meter pulses this period (flow.h
+ * flow_quiet_periods() == 0). */
 extern const __xdata app_status_t *__data diag_in;
-extern __bit diag_settled, diag_working, diag_psens, diag_lsens;
+extern __bit diag_settled, diag_working, diag_psens, diag_lsens, diag_metering;
 void diag_period(const __xdata app_status_t *in, uint8_t settled) __reentrant;
 /* 1 while the line says the pump ran dry (held as diag_line.c says). */
 uint8_t diag_dry_line(void) __reentrant;
