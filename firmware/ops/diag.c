@@ -215,14 +215,12 @@ void diag_set_nozzles(uint8_t open_nozzles) __reentrant
 
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant
 {
-    uint32_t dp, q;
+    uint32_t q;
     diag_set_nozzles(open_nozzles);
     if (pressure_kpa <= dg.pc_kpa)
         return 0;
-    dp = pressure_kpa - dg.pc_kpa;
-    if (dp > 65535u)
-        dp = 65535u;
-    q = um_mul32x16_shr16(dg.knoz, um_sqrt32(dp << 16));    /* sqrt(dp << 16) = 256 sqrt(dp) */
+    /* dp = P - P_check: sqrt(dp << 16) = 256 sqrt(dp) */
+    q = um_mul32x16_shr16(dg.knoz, um_sqrt32((uint32_t)(uint16_t)(pressure_kpa - dg.pc_kpa) << 16));
     return q > 32767u ? 32767 : (int16_t)q;
 }
 
@@ -385,7 +383,8 @@ static void diag_offrate(void) __reentrant
         rule(AL_OFFRATE, 0, !off);
     else if (!off)
         dg.offrate_cnt = 0;
-    else if (++dg.offrate_cnt >= (diag_in->manual ? DIAG_MANUAL_PERIODS : param_v[P_OFFRATE_S] * 10u)) {
+    else if (++dg.offrate_cnt >= (diag_in->manual ? DIAG_MANUAL_PERIODS
+                                  : (uint16_t)((uint8_t)param_v[P_OFFRATE_S] * (uint8_t)10u))) {  /* (<= 60 s: MUL AB) */
         dg.alarms |= 1u << AL_OFFRATE;
         dg.offrate_cnt = 0;
     }
