@@ -217,6 +217,13 @@ static void sv_end(uint8_t st)
     }
 }
 
+/* The slot after this one, from its start: a write error back at the newest's sector */
+static void sv_find_next(void)
+{
+    if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
+        sv_end(STORE_WRITE_ERR);
+}
+
 /* The free slot: STORE_BYTES_PER_POLL bytes of the one looked at. A written byte passes
  * over the slot, or erases the other sector when the slot starts it (it holds only records
  * older than the current sector's); back at the newest's sector, or a slot written after its
@@ -239,8 +246,8 @@ static void sv_find_more(void) __reentrant
             sv_end(STORE_WRITE_ERR);    /* the erase did not take */
         } else if (sv_slot % STORE_SLOTS_PER_SECTOR == 0) {
             sv_state = SV_ERASE;
-        } else if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS))) {
-            sv_end(STORE_WRITE_ERR);    /* back at the newest's sector */
+        } else {
+            sv_find_next();
         }
         return;
     }
@@ -255,9 +262,7 @@ static void sv_write_more(void) __reentrant
     uint8_t k, b;
     if (sv_at == CRC_AT) {
         if (sv.gen != param_generation) {
-            /* a mixed set: left without its CRC, the values again in the next slot */
-            if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
-                sv_end(STORE_WRITE_ERR);
+            sv_find_next();         /* a mixed set: left without its CRC, the values again */
             return;
         }
         if (!hal_eeprom_write(base + CRC_AT, (uint8_t)(sv_crc >> 8))
@@ -295,9 +300,7 @@ uint8_t store_save_start(uint8_t who)
     if (sv_state == SV_IDLE) {
         sv_start();
     } else if (sv_state == SV_WRITE) {
-        /* the half-written slot is left (it reads as a cut write), the values again after it */
-        if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
-            sv_end(STORE_WRITE_ERR);
+        sv_find_next();             /* the half-written slot is left (a cut write to the load) */
     }                               /* (a slot being found: it goes on from there) */
     return 1;
 }
