@@ -112,42 +112,18 @@ static uint8_t started_after(uint8_t slot) __reentrant
     return 1;
 }
 
-uint8_t store_load(void) __reentrant
+/* The newest record's values and totals (a shorter, older table: the values after it at their
+ * defaults); what the operator is told of it */
+static uint8_t load_newest(void) __reentrant
 {
-    uint8_t s, newest_slot = STORE_NO_SLOT, n, ver;
-    uint16_t q, newest_q = 0;
-    sv_state = SV_IDLE;             /* no save runs from before */
-    sv.flags = 0;
-    result = STORE_OK;
-    eb.tokens = 0;                  /* none at power-up: a power cycle buys no erase */
-    eb.next_ms = hal_ms() + STORE_ERASE_MS;
-    for (s = 0; s < STORE_SLOTS; s++) {
-        if (!store_record_valid(s))
-            continue;
-        ee_at = store_slot_base(s) + HDR_SEQ;
-        q = ee_u16();
-        if (newest_slot == STORE_NO_SLOT || (int16_t)(q - newest_q) > 0) {
-            newest_slot = s;
-            newest_q = q;
-        }
-    }
-    store_newest = newest_slot;             /* the next save goes after it, above its sequence */
-    seq = newest_q;
-    if (newest_slot == STORE_NO_SLOT) {
-        params_defaults();
-        status = STORE_DEFAULTS;
-        saved_gen = param_generation;   /* nothing changed since: no save until something does */
-        return status;
-    }
-    /* its values and totals (a shorter, older table: the values after it at their defaults) */
-    n = store_record_valid(newest_slot);
-    ver = ck_ver;                   /* (the check's) */
-    ee_at = store_slot_base(newest_slot) + HDR_VALUES;
+    uint8_t s, n = store_record_valid(store_newest), ver = ck_ver;     /* (the check's version) */
+    uint16_t v;
+    ee_at = store_slot_base(store_newest) + HDR_VALUES;
     params_defaults();
     for (s = 0; s < n; s++) {       /* (before version 9 the aog settings were another loop's) */
-        q = ee_u16();
+        v = ee_u16();
         if (ver >= 9u || s < P_AOG_KP || s > P_AOG_MAX)
-            param_put(s, param_of_version(ver, s, q));
+            param_put(s, param_of_version(ver, s, v));
     }
     {
         uint32_t life_m2 = ee_u32(), life_ml = ee_u32();
@@ -168,17 +144,41 @@ uint8_t store_load(void) __reentrant
         params_defaults();
         totals_set_life(0, 0);
         totals_job_reset();
-        status = (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
-        saved_gen = param_generation;
-        return status;
+        return (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
     }
-    status = STORE_OK;
-    saved_gen = param_generation;
     /* a started write after it that did not end: a cut save, the previous values are loaded
      * and the operator is told */
-    s = (uint8_t)((newest_slot + 1u) % STORE_SLOTS);
-    if (started_after(newest_slot) && !store_record_valid(s))
-        status = STORE_OLDER;
+    s = (uint8_t)((store_newest + 1u) % STORE_SLOTS);
+    return started_after(store_newest) && !store_record_valid(s) ? STORE_OLDER : STORE_OK;
+}
+
+uint8_t store_load(void) __reentrant
+{
+    uint8_t s, newest_slot = STORE_NO_SLOT;
+    uint16_t q, newest_q = 0;
+    sv_state = SV_IDLE;             /* no save runs from before */
+    sv.flags = 0;
+    result = STORE_OK;
+    eb.tokens = 0;                  /* none at power-up: a power cycle buys no erase */
+    eb.next_ms = hal_ms() + STORE_ERASE_MS;
+    for (s = 0; s < STORE_SLOTS; s++) {
+        if (!store_record_valid(s))
+            continue;
+        ee_at = store_slot_base(s) + HDR_SEQ;
+        q = ee_u16();
+        if (newest_slot == STORE_NO_SLOT || (int16_t)(q - newest_q) > 0) {
+            newest_slot = s;
+            newest_q = q;
+        }
+    }
+    store_newest = newest_slot;     /* the next save goes after it, above its sequence */
+    seq = newest_q;
+    if (newest_slot == STORE_NO_SLOT) {
+        params_defaults();
+        status = STORE_DEFAULTS;
+    } else
+        status = load_newest();
+    saved_gen = param_generation;   /* the values loaded (or the defaults): no save until they change */
     return status;
 }
 
