@@ -75,14 +75,12 @@ static __data uint8_t sv_state;     /* SV_* (direct RAM: the most used byte of t
 
 /* Byte i of the record of the values and totals now, sequence next (the values and totals
  * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
+static const __code uint8_t header[HDR_SEQ] = {STORE_MAGIC, PARAMS_VERSION, P_COUNT};
+
 static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
 {
-    if (i == 0)
-        return STORE_MAGIC;
-    if (i == 1)
-        return PARAMS_VERSION;
-    if (i == 2)
-        return P_COUNT;
+    if (i < HDR_SEQ)                /* the magic, the version, the count */
+        return header[i];
     if (i == HDR_SEQ)
         return (uint8_t)next;
     if (i == HDR_SEQ + 1u)
