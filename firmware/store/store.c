@@ -25,13 +25,16 @@ static const char __code *const __code status_texts[] = {
     "", "EE: older copy", "EE: defaults", "EE: write error", "EE: low supply"
 };
 
-/* The load reads a record front to back: the next byte at ee_at, then ee_at moves on */
-static __data uint16_t ee_at;
+/* The load reads the record in sv_slot front to back: the byte at sv_at, then the next */
+static uint8_t ee_u8(void)
+{
+    return hal_eeprom_read(store_slot_base(sv_slot) + sv_at++);
+}
 
 static uint16_t ee_u16(void)
 {
-    uint8_t lo = hal_eeprom_read(ee_at++);
-    return (uint16_t)(lo | ((uint16_t)hal_eeprom_read(ee_at++) << 8));
+    uint8_t lo = ee_u8();
+    return (uint16_t)(lo | ((uint16_t)ee_u8() << 8));
 }
 
 static uint32_t ee_u32(void)
@@ -116,7 +119,8 @@ static uint8_t load_newest(void) __reentrant
 {
     uint8_t s, n = store_record_valid(store_newest), ver = ck_ver;     /* (the check's version) */
     uint16_t v;
-    ee_at = store_slot_base(store_newest) + HDR_VALUES;
+    sv_slot = store_newest;
+    sv_at = HDR_VALUES;
     params_defaults();
     for (s = 0; s < n; s++) {       /* (before version 9 the aog settings were another loop's) */
         v = ee_u16();
@@ -129,7 +133,7 @@ static uint8_t load_newest(void) __reentrant
     }
     if (ver >= 8u) {                /* the job after the learnt figures */
         uint32_t job_dm2, job_ml;
-        ee_at += STORE_LEARN_BYTES;
+        sv_at += STORE_LEARN_BYTES;
         job_dm2 = ee_u32();
         job_ml = ee_u32();
         totals_set_job(job_dm2, job_ml);
@@ -162,7 +166,8 @@ uint8_t store_load(void) __reentrant
     for (s = 0; s < STORE_SLOTS; s++) {
         if (!store_record_valid(s))
             continue;
-        ee_at = store_slot_base(s) + HDR_SEQ;
+        sv_slot = s;
+        sv_at = HDR_SEQ;
         q = ee_u16();
         if (newest_slot == STORE_NO_SLOT || (int16_t)(q - newest_q) > 0) {
             newest_slot = s;

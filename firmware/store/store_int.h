@@ -18,8 +18,9 @@
 #define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
 #define CRC_N(n) (LIFE_N(n) + 8u)
 
-/* The slot being found, written or checked and its next byte (the most used bytes of the save
- * and the check, in the direct RAM), and the CRC of the bytes written or checked so far. */
+/* The slot being found, written, checked or loaded and its next byte (the most used bytes of
+ * the save and the check, in the direct RAM), and the CRC of the bytes written or checked so
+ * far. */
 extern __data uint8_t sv_slot, sv_at;
 extern uint16_t sv_crc;
 /* The version of the record checked last (its header's). */
