@@ -41,6 +41,7 @@ static struct {
 } dg;
 
 static __bit fitted;                /* a fit left the model's constant to diag_after_fit */
+static __bit p_watch_now;           /* diag_step's p_watch, for diag_supply */
 
 /* the nozzle model before one is learnt: the check valves DIAG_P_CHECK_KPA, 300 kPa (3 bar)
  * at the rated flow */
@@ -214,14 +215,12 @@ void diag_set_nozzles(uint8_t open_nozzles) __reentrant
 
 int16_t diag_nozzle_flow_x100(uint16_t pressure_kpa, uint8_t open_nozzles) __reentrant
 {
-    uint32_t dp, q;
+    uint32_t q;
     diag_set_nozzles(open_nozzles);
     if (pressure_kpa <= dg.pc_kpa)
         return 0;
-    dp = pressure_kpa - dg.pc_kpa;
-    if (dp > 65535u)
-        dp = 65535u;
-    q = um_mul32x16_shr16(dg.knoz, um_sqrt32(dp << 16));    /* sqrt(dp << 16) = 256 sqrt(dp) */
+    /* dp = P - P_check: sqrt(dp << 16) = 256 sqrt(dp) */
+    q = um_mul32x16_shr16(dg.knoz, um_sqrt32((uint32_t)(uint16_t)(pressure_kpa - dg.pc_kpa) << 16));
     return q > 32767u ? 32767 : (int16_t)q;
 }
 
@@ -276,22 +275,21 @@ static void rule(uint8_t bit, uint8_t set, uint8_t clr) __reentrant
  * over-pressure with 5 % hysteresis: while `p_watch` (spraying or the bypass parked open; at
  * power-up the pump may push against a bypass left closed until the parking opens it: the
  * relief valve's job, not a fault). */
-static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t p_watch) __reentrant
+static void diag_supply(void) __reentrant
 {
     uint16_t tmin = param_v[P_TANK_MIN];
-    uint16_t tank = in->tank_l;
-    uint16_t p = in->in.pressure_kpa;
-    uint8_t psens = analog_pressure_ok(), lsens = analog_level_ok();
-    uint8_t refill = lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
+    uint16_t tank = diag_in->tank_l;
+    uint16_t p = diag_in->in.pressure_kpa;
+    uint8_t refill = diag_lsens && tank >= tmin + (param_v[P_TANK_L] >> 6) + 1u;
     uint32_t x = UMUL(tank, 100u);
-    uint8_t dry = lsens && x <= param_v[P_TANK_L];  /* (the 32-bit compare once) */
-    rule(AL_TANK_LOW, lsens && tank < tmin, refill);
-    uint8_t line = diag_dry_line(in, settled), zero = diag_zero(in, settled);
-    rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !lsens));
-    rule(AL_PSENS, !psens || zero, psens && !zero);
-    rule(AL_LSENS, !lsens, lsens);
+    uint8_t dry = diag_lsens && x <= param_v[P_TANK_L];  /* (the 32-bit compare once) */
+    rule(AL_TANK_LOW, diag_lsens && tank < tmin, refill);
+    uint8_t line = diag_dry_line(), zero = diag_zero();
+    rule(AL_PUMP_DRY, dry || line, !line && !dry && (refill || !diag_lsens));
+    rule(AL_PSENS, !diag_psens || zero, diag_psens && !zero);
+    rule(AL_LSENS, !diag_lsens, diag_lsens);
     x = UMUL(param_v[P_P_MAX], 19u);
-    rule(AL_OVERPRESSURE, p_watch && psens && p > param_v[P_P_MAX], !psens || UMUL(p, 20u) < x);
+    rule(AL_OVERPRESSURE, p_watch_now && diag_psens && p > param_v[P_P_MAX], !diag_psens || UMUL(p, 20u) < x);
 }
 
 /* The nozzle model against the meter. Flow meter lost: its pulses stopped while the model says
@@ -302,20 +300,19 @@ static void diag_supply(const __xdata app_status_t *in, uint8_t settled, uint8_t
  * the pressure is a clog (or a wrong nozzle setting), never this. Leak and clog: the pressure
  * against what the model learnt from this sprayer needs for the metered flow, at working speed
  * (a headland's low pressures are where a model is least sure); clean spraying teaches it. */
-static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentrant
+static void diag_model(void) __reentrant
 {
-    uint16_t p = in->in.pressure_kpa;
+    uint16_t p = diag_in->in.pressure_kpa;
     int16_t meter = flow_lpm_x100();
     int16_t qp = diag_nozzle_flow_x100(p, dg.nozzles);
-    int16_t target = in->in.target_lpm_x100;
-    uint8_t working = target_working_speed(in->in.speed_kmh_x100);
-    uint8_t judge = settled && analog_pressure_ok(), g;
+    int16_t target = diag_in->in.target_lpm_x100;
+    uint8_t judge = diag_settled && diag_psens, g;
     uint16_t pexp, x, d;
     uint32_t a, lo, hi;
-    dg.meter_suspect = judge && working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
+    dg.meter_suspect = judge && diag_working && qp >= DIAG_MODEL_MIN_X100 && p >= param_v[P_P_MIN]
                        && flow_quiet_periods() >= DIAG_METER_QUIET;
-    rule(AL_METER_LOST, dg.meter_suspect, flow_quiet_periods() == 0 && meter > 0);
-    judge = judge && working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
+    rule(AL_METER_LOST, dg.meter_suspect, diag_metering && meter > 0);
+    judge = judge && diag_working && !(dg.alarms & (1u << AL_METER_LOST)) && meter >= DIAG_MODEL_MIN_X100 && dg.nq;
     /* nor while the target moves by more than 1/2^DIAG_MOVE_SHIFT a period: the meter's rotor
      * lags the flow that the pressure follows at once, and through a slow-down the metered flow
      * reads high for the pressure (a false leak) */
@@ -324,7 +321,7 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
         judge = 0;                  /* (abs(target - dg.t1) > x, one compare) */
     dg.t1 = target;
     pexp = diag_nozzle_pressure_kpa(meter, dg.nozzles);
-    g = judge && flow_quiet_periods() == 0 && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
+    g = judge && diag_metering && !(dg.alarms & ((1u << AL_LEAK) | (1u << AL_CLOG)))
         && target > 0 && UMUL(meter > target ? meter - target : target - meter, 20u) <= (uint16_t)target;
     x = judge ? x_of(meter) : 0xFFFFu;
     if (g)
@@ -376,17 +373,18 @@ static void diag_model(const __xdata app_status_t *in, uint8_t settled) __reentr
  * warning there (app.c: the flow stays where the operator set it as the speed moves). The valve
  * at an end stop (a pump too small for the rate, a seized valve) is this
  * rule's too: the rate off target is what the operator must hear, whatever holds it there. */
-static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reentrant
+static void diag_offrate(void) __reentrant
 {
-    int16_t target = in->in.target_lpm_x100;
-    int16_t qp = in->in.flow_lpm_x100 - target;
-    uint8_t off = settled && target > 0 && (in->manual || target_working_speed(in->in.speed_kmh_x100))
+    int16_t target = diag_in->in.target_lpm_x100;
+    int16_t qp = diag_in->in.flow_lpm_x100 - target;
+    uint8_t off = diag_settled && target > 0 && (diag_in->manual || diag_working)
                   && UMUL(qp < 0 ? -qp : qp, 100u) > UMUL(param_v[P_OFFRATE], target);
     if (dg.alarms & (1u << AL_OFFRATE))
         rule(AL_OFFRATE, 0, !off);
     else if (!off)
         dg.offrate_cnt = 0;
-    else if (++dg.offrate_cnt >= (in->manual ? DIAG_MANUAL_PERIODS : param_v[P_OFFRATE_S] * 10u)) {
+    else if (++dg.offrate_cnt >= (diag_in->manual ? DIAG_MANUAL_PERIODS
+                                  : (uint16_t)((uint8_t)param_v[P_OFFRATE_S] * (uint8_t)10u))) {  /* (<= 60 s: MUL AB) */
         dg.alarms |= 1u << AL_OFFRATE;
         dg.offrate_cnt = 0;
     }
@@ -396,17 +394,18 @@ static void diag_offrate(const __xdata app_status_t *in, uint8_t settled) __reen
  * keeps making pulses; one that stops dead from working speed inside one pulse distance is the
  * false alarm this rule accepts), or the pump says the wheels turn (diag_wheel.c). Minimum flow
  * (diag_wheel.c). */
-static void diag_speed(const __xdata app_status_t *in) __reentrant
+static void diag_speed(void) __reentrant
 {
-    uint8_t g = target_speed_given(), pump = diag_pump(in);
+    uint8_t g = target_speed_given(), pump = diag_pump();
     uint16_t x = speed_quiet_periods();
+    uint8_t stopped = x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100());
     /* ... or the frames in use stopped (diag_wheel.h); the GPS's speed in use clears it unless
-     * the wheel's verdict holds */
-    rule(AL_SPEED_LOST, DIAG_FRAMES(DIAG_FRAMES_LOST) || (!g && (pump || (x >= DIAG_SPEED_PERIODS && target_working_speed(speed_at_last_pulse_x100())))),
+     * the wheel's verdict (stopped, or the pump's) holds */
+    rule(AL_SPEED_LOST, DIAG_FRAMES(DIAG_FRAMES_LOST) || (!g && (pump || stopped)),
          !DIAG_FRAMES(DIAG_FRAMES_LOST) && (g || x < DIAG_SPEED_PERIODS / 2u
-                                            || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !pump && (x < DIAG_SPEED_PERIODS || !target_working_speed(speed_at_last_pulse_x100())))));
-    x = in->in.speed_kmh_x100;
-    g = in->spraying && !in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
+                                            || (DIAG_FRAMES(DIAG_FRAMES_GPS) && !pump && !stopped)));
+    x = diag_in->in.speed_kmh_x100;
+    g = diag_in->spraying && !diag_in->manual && x && UMUL(x, 11u) < UMUL(param_v[P_MINF_SPEED], 100u);
     rule(AL_MIN_FLOW, g, !g);
 }
 
@@ -418,9 +417,11 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
         dg.q3 = param_v[P_NOZZLE_Q3];
         diag_nozzle_relearn();      /* other nozzles told: the model is learnt for them */
     }
-    diag_supply(in, settled, p_watch);
-    diag_model(in, settled);
-    g = diag_balance(in, settled);
+    diag_period(in, settled);
+    p_watch_now = p_watch;
+    diag_supply();
+    diag_model();
+    g = diag_balance();
     if (g == DIAG_BAL_ANEW)
         dg.alarms &= ~(1u << AL_METER_CAL);
     rule(AL_METER_CAL, g == DIAG_BAL_OFF, g == DIAG_BAL_ON);
@@ -434,8 +435,8 @@ uint16_t diag_step(const __xdata app_status_t *in, uint8_t settled, uint8_t p_wa
         dg.gen = (uint8_t)(param_generation - 1u);
         fitted = 1;                 /* its constant: diag_after_fit */
     }
-    diag_speed(in);
-    diag_offrate(in, settled);
+    diag_speed();
+    diag_offrate();
     /* pulse noise */
     x = flow_glitches();            /* (each count read once: the steps before set them) */
     g = x != dg.meter_glitches;

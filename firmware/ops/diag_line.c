@@ -32,6 +32,19 @@ static struct {
     uint16_t bal_k, bal_t;                      /* Meter K and Tank size the sums were made under */
 } dl;
 
+const __xdata app_status_t *__data diag_in;
+__bit diag_settled, diag_working, diag_psens, diag_lsens, diag_metering;
+
+void diag_period(const __xdata app_status_t *in, uint8_t settled) __reentrant
+{
+    diag_in = in;
+    diag_settled = settled;
+    diag_working = target_working_speed(in->in.speed_kmh_x100);
+    diag_psens = analog_pressure_ok();
+    diag_lsens = analog_level_ok();
+    diag_metering = flow_quiet_periods() == 0;
+}
+
 void diag_line_init(void)
 {
     dl.dry_cnt = dl.dry_line = 0;
@@ -46,21 +59,20 @@ void diag_line_init(void)
  * more with the boom shut), the level rises by Tank size / 64 (a refill), or the operator
  * switches the sections off (to open them again after refilling): the boom is shut meanwhile,
  * so nothing else can tell. */
-uint8_t diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentrant
+uint8_t diag_dry_line(void) __reentrant
 {
-    uint16_t p = in->in.pressure_kpa, pmin = param_v[P_P_MIN];
+    uint16_t p = diag_in->in.pressure_kpa, pmin = param_v[P_P_MIN];
     int16_t meter = flow_lpm_x100();
-    uint8_t psens = analog_pressure_ok();
-    if (settled && psens && p < pmin && target_working_speed(in->in.speed_kmh_x100)
-        && UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)in->in.target_lpm_x100) {
+    if (diag_settled && diag_psens && p < pmin && diag_working
+        && UMUL(meter > 0 ? meter : 0, 4u) < (uint16_t)diag_in->in.target_lpm_x100) {
         if (++dl.dry_cnt >= DIAG_DRY_PERIODS && !dl.dry_line) {
             dl.dry_line = 1;
-            dl.dry_l = in->tank_l;
+            dl.dry_l = diag_in->tank_l;
         }
     } else
         dl.dry_cnt = 0;
-    if (dl.dry_line && (!in->open_nozzles || (!in->spraying && psens && p >= pmin)
-                        || (analog_level_ok() && in->tank_l > dl.dry_l + (param_v[P_TANK_L] >> 6))))
+    if (dl.dry_line && (!diag_in->open_nozzles || (!diag_in->spraying && diag_psens && p >= pmin)
+                        || (diag_lsens && diag_in->tank_l > dl.dry_l + (param_v[P_TANK_L] >> 6))))
         dl.dry_line = 0;
     return dl.dry_line;
 }
@@ -73,15 +85,15 @@ uint8_t diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentra
  * at the spraying pressure or opened further, keeps the line near that pressure or above): the
  * line is at rest, and a reading over DIAG_ZERO_KPA is a sensor off its zero, until it reads 0
  * at rest again. */
-uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
+uint8_t diag_zero(void) __reentrant
 {
-    uint16_t p = in->in.pressure_kpa;
-    if (in->manual || !analog_pressure_ok())
+    uint16_t p = diag_in->in.pressure_kpa;
+    if (diag_in->manual || !diag_psens)
         dl.p_spray = 0;             /* the valve moved by hand: no spraying pressure to go by */
-    else if (settled && target_working_speed(in->in.speed_kmh_x100))
+    else if (diag_settled && diag_working)
         dl.p_spray = dl.p_spray ? dl.p_spray + ((int16_t)(p - dl.p_spray + 32) >> 6) : p;  /* over 6.4 s: not a slow-down's */
     uint16_t pos = valve_position();
-    if (in->spraying || in->in.speed_kmh_x100 || !dl.p_spray
+    if (diag_in->spraying || diag_in->in.speed_kmh_x100 || !dl.p_spray
         || !((valve_limit() & CTL_AT_OPEN) || (pos != VALVE_POS_UNKNOWN && pos >= DIAG_ZERO_OPEN_Q15))) {
         dl.z_n = 0;
         return dl.zero_off;
@@ -117,9 +129,9 @@ uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant
  * new Meter K or Tank size at once (DIAG_BAL_ANEW: the alarm is cleared). Nothing is summed
  * while the level reads within m of Tank size: a tank over the sensor's span (or a Tank size
  * told too small) pins it at the top, where no fall shows. */
-uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant
+uint8_t diag_balance(void) __reentrant
 {
-    uint16_t l = in->tank_l, m = (param_v[P_TANK_L] >> 8) + 1u, v, f;
+    uint16_t l = diag_in->tank_l, m = (param_v[P_TANK_L] >> 8) + 1u, v, f;
     int16_t q = flow_lpm_x100();
     uint32_t a;
     uint8_t r = DIAG_BAL_NONE, run;
@@ -140,7 +152,7 @@ uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentran
     dl.bal_l1 = l;
     if (dl.bal_wait)
         dl.bal_wait--;              /* the level's filter settles after a step */
-    run = !dl.bal_wait && settled && analog_level_ok() && q >= DIAG_BAL_MIN_X100 && flow_quiet_periods() == 0
+    run = !dl.bal_wait && diag_settled && diag_lsens && q >= DIAG_BAL_MIN_X100 && diag_metering
           && l + m < dl.bal_t;      /* (at the span's top the level cannot show a fall) */
     f = dl.bal_n >= DIAG_BAL_STRETCH && dl.bal_s0 > l ? dl.bal_s0 - l : 0;   /* the stretch's fall */
     if ((!run || f >= (m << 5)) && dl.bal_n) {     /* closed, or long: into the sums, and anew */

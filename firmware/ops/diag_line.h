@@ -16,15 +16,24 @@
 #define DIAG_BAL_STRETCH 100u       /* ... over stretches of 10 s or more in range */
 
 void diag_line_init(void);
+/* The period's inputs of every rule (diag.c's and these), set once a period by diag_period
+ * (diag_step's first act; a test of these rules alone calls it after measuring): the status
+ * block and `settled` as diag_step takes them, kept as ctl.c keeps ctl_in; and the facts the
+ * rules ask the same way, judged once: the speed a working one (target_working_speed), the
+ * pressure and the level sensors good (analog.h), meter pulses this period (flow.h
+ * flow_quiet_periods() == 0). */
+extern const __xdata app_status_t *__data diag_in;
+extern __bit diag_settled, diag_working, diag_psens, diag_lsens, diag_metering;
+void diag_period(const __xdata app_status_t *in, uint8_t settled) __reentrant;
 /* 1 while the line says the pump ran dry (held as diag_line.c says). */
-uint8_t diag_dry_line(const __xdata app_status_t *in, uint8_t settled) __reentrant;
+uint8_t diag_dry_line(void) __reentrant;
 /* 1 while the pressure sensor read off its zero at the last rest. */
-uint8_t diag_zero(const __xdata app_status_t *in, uint8_t settled) __reentrant;
+uint8_t diag_zero(void) __reentrant;
 /* The tank balance this period: */
 #define DIAG_BAL_NONE 0u            /* not judged (too little fallen yet) */
 #define DIAG_BAL_ON 1u              /* the meter agrees with the level */
 #define DIAG_BAL_OFF 2u             /* it does not: Meter K is wrong */
 #define DIAG_BAL_ANEW 3u            /* a new Meter K or Tank size: started anew */
-uint8_t diag_balance(const __xdata app_status_t *in, uint8_t settled) __reentrant;
+uint8_t diag_balance(void) __reentrant;
 
 #endif

@@ -5,6 +5,7 @@
 #include "target.h"
 #include "valve.h"
 #include "mul.h"
+#include "diag_line.h"
 #include "diag_wheel.h"
 
 static struct {
@@ -42,12 +43,12 @@ void diag_wheel_init(void)
  * the wheel sensor is lost. (Check valves and a shut bypass trap a line's pressure with the
  * pump standing, until the bypass opens; a fixed PTO's pump runs at a standstill: nothing is
  * learnt.) */
-uint8_t diag_pump(const __xdata app_status_t *in) __reentrant
+uint8_t diag_pump(void) __reentrant
 {
-    uint16_t p = in->in.pressure_kpa;
+    uint16_t p = diag_in->in.pressure_kpa;
     uint8_t run = p >= DIAG_PUMP_RUN_KPA && valve_opened_by(DIAG_PUMP_OPEN_Q15), still = p < DIAG_PUMP_STOP_KPA;
-    if (in->in.speed_kmh_x100 || in->spraying || target_speed_given() || !analog_pressure_ok()
-        || !(still || (run && dw.pump_stops && in->open_nozzles && speed_at_last_pulse_x100()))) {
+    if (diag_in->in.speed_kmh_x100 || diag_in->spraying || target_speed_given() || !diag_psens
+        || !(still || (run && dw.pump_stops && diag_in->open_nozzles && speed_at_last_pulse_x100()))) {
         dw.pump_cnt = 0;
         return 0;
     }

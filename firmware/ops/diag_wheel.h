@@ -27,7 +27,8 @@ uint8_t diag_frames(void);
 #endif
 
 void diag_wheel_init(void);
-/* 1 while the pump says the wheels turn at a standstill the wheel reports (SPEED_LOST). */
-uint8_t diag_pump(const __xdata app_status_t *in) __reentrant;
+/* 1 while the pump says the wheels turn at a standstill the wheel reports (SPEED_LOST); reads
+ * the period's inputs (diag_line.h diag_period). */
+uint8_t diag_pump(void) __reentrant;
 
 #endif

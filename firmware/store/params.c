@@ -40,11 +40,12 @@ uint8_t param_in_range(uint8_t id, uint16_t v)
     return 1;
 }
 
-/* a value a record may hold: in its range, or Remote = AgOpenGPS, which an image without the
- * frames refuses to set (the record loads all the same there, Remote at its default, off) */
-uint8_t param_stored_ok(uint8_t id, uint16_t v) __reentrant
+/* a value a record of version ver may hold: in its range in this version's units, or Remote =
+ * AgOpenGPS, which an image without the frames refuses to set (the record loads all the same
+ * there, Remote at its default, off) */
+uint8_t param_stored_ok(uint8_t ver, uint8_t id, uint16_t v) __reentrant
 {
-    return param_in_range(id, v) || (id == P_REMOTE && v == REMOTE_PGN);
+    return param_in_range(id, param_of_version(ver, id, v)) || (id == P_REMOTE && v == REMOTE_PGN);
 }
 
 uint8_t param_put(uint8_t id, uint16_t v)
@@ -71,12 +72,12 @@ uint8_t params_cross(void)
     if (param_v[P_P_MIN] >= param_v[P_P_MAX])
         return PARAM_X_PRESSURE;
     f3 = um_muldiv(UMUL(param_v[P_METER_K], param_v[P_NOZZLES]), param_v[P_NOZZLE_Q3], 60000UL);
-    if (f3 > PARAM_METER_HZ_MAX
-        || um_mul32x16_shr16(f3 * f3, (uint16_t)(param_v[P_P_MAX] << 5))
+    if (f3 > PARAM_METER_HZ_MAX     /* (then f3 and the flow in eighths below: 16 bits) */
+        || um_mul32x16_shr16(UMUL((uint16_t)f3, (uint16_t)f3), (uint16_t)(param_v[P_P_MAX] << 5))
            > PARAM_METER_HZ_MAX * PARAM_METER_HZ_MAX * 300u / 2048u)
         return PARAM_X_METER;
     f3 = UMUL(param_v[P_NOZZLES], param_v[P_NOZZLE_Q3]) >> 3;
-    if (um_mul32x16_shr16(f3 * f3, (uint16_t)(param_v[P_P_MAX] << 5))
+    if (um_mul32x16_shr16(UMUL((uint16_t)f3, (uint16_t)f3), (uint16_t)(param_v[P_P_MAX] << 5))
         > (PARAM_FLOW_MAX_X100 / 8u) * (PARAM_FLOW_MAX_X100 / 8u) * 300u / 2048u)
         return PARAM_X_FLOW;
     return PARAM_OK;

@@ -148,8 +148,9 @@ uint8_t param_put(uint8_t id, uint16_t v) __reentrant;
 const __code char *param_why_text(uint8_t why) __reentrant;
 /* 1 when v is within the range of parameter id (and, for Valve cal, its dead band digit is 1-9). */
 uint8_t param_in_range(uint8_t id, uint16_t v) __reentrant;
-/* param_in_range, or Remote = AgOpenGPS in an image without the frames (a record from one with them) */
-uint8_t param_stored_ok(uint8_t id, uint16_t v) __reentrant;
+/* Value v of parameter id in a record of version ver: param_in_range of param_of_version's, or
+ * Remote = AgOpenGPS in an image without the frames (a record from one with them) */
+uint8_t param_stored_ok(uint8_t ver, uint8_t id, uint16_t v) __reentrant;
 /* Value v of parameter id in a record of version ver, in this version's units: Rate 1 was whole
  * L/ha before version 9 (0, out of every range, for what it cannot have been). */
 uint16_t param_of_version(uint8_t ver, uint8_t id, uint16_t v) __reentrant;

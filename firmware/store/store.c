@@ -7,17 +7,8 @@
 #include "params.h"
 #include "store.h"
 #include "totals.h"
+#include "store_int.h"
 
-#define STORE_MAGIC 0x5A
-#define HDR_SEQ 3u
-#define HDR_VALUES 5u
-#define HDR_LIFE (HDR_VALUES + 2u * P_COUNT)
-#define HDR_LEARN (HDR_LIFE + 8u)
-#define HDR_JOB (HDR_LEARN + STORE_LEARN_BYTES)
-#define CRC_AT (HDR_JOB + STORE_JOB_BYTES)
-/* the same for a copy of n values (an older version's shorter table) */
-#define LIFE_N(n) (HDR_VALUES + 2u * (uint16_t)(n))
-#define CRC_N(n) (LIFE_N(n) + 8u)
 typedef char store_record_fits_a_slot[(STORE_COPY_BYTES <= STORE_SLOT_BYTES) ? 1 : -1];
 
 static uint8_t status;              /* STORE_*: the operator's notice (store_status) */
@@ -27,37 +18,29 @@ static struct {
     uint32_t next_ms;               /* when the bucket gains its next token */
     uint8_t tokens;                 /* erases allowed now, at most STORE_ERASE_BURST */
 } eb;
-#define newest store_newest         /* slot (0..STORE_SLOTS-1) of the record loaded or saved last, NO_SLOT (learnt.c) */
-static uint16_t seq;                /* its sequence number */
-#define NO_SLOT STORE_NO_SLOT
-#define slot_base store_slot_base
+static uint16_t seq;                /* the sequence number of the newest record (store_newest) */
 typedef char store_learnt_at[(STORE_AT_LEARNT == HDR_LEARN) ? 1 : -1];
 
 static const char __code *const __code status_texts[] = {
     "", "EE: older copy", "EE: defaults", "EE: write error", "EE: low supply"
 };
 
-/* CRC-16/CCITT (polynomial 0x1021, MSB first) a nibble at a time from a 16-entry table: the
- * same CRC as bit by bit at a fraction of the cycles (a save computes it over 118 bytes) */
-static const __code uint16_t crc_nibble[16] = {
-    0x0000, 0x1021, 0x2042, 0x3063, 0x4084, 0x50A5, 0x60C6, 0x70E7,
-    0x8108, 0x9129, 0xA14A, 0xB16B, 0xC18C, 0xD1AD, 0xE1CE, 0xF1EF
-};
-
-static uint16_t crc_byte(uint16_t crc, uint8_t b)
+/* The load reads the record in sv_slot front to back: the byte at sv_at, then the next */
+static uint8_t ee_u8(void)
 {
-    crc = (uint16_t)(crc << 4) ^ crc_nibble[(uint8_t)(crc >> 12) ^ (b >> 4)];
-    return (uint16_t)(crc << 4) ^ crc_nibble[(uint8_t)(crc >> 12) ^ (b & 0x0F)];
+    return hal_eeprom_read(store_slot_base(sv_slot) + sv_at++);
 }
 
-static uint16_t read16(uint16_t a)
+static uint16_t ee_u16(void)
 {
-    return (uint16_t)(hal_eeprom_read(a) | ((uint16_t)hal_eeprom_read(a + 1u) << 8));
+    uint8_t lo = ee_u8();
+    return (uint16_t)(lo | ((uint16_t)ee_u8() << 8));
 }
 
-static uint32_t read32(uint16_t a)
+static uint32_t ee_u32(void)
 {
-    return (uint32_t)read16(a) | ((uint32_t)read16(a + 2u) << 16);
+    uint16_t lo = ee_u16();
+    return (uint32_t)lo | ((uint32_t)ee_u16() << 16);
 }
 
 /*
@@ -87,159 +70,118 @@ enum { SV_IDLE, SV_FIND, SV_ERASE, SV_WRITE, SV_CHECK };
 #define SV_DONE(who) ((uint8_t)((who) >> 2))
 #define SV_NEXT(who) ((uint8_t)((who) << 2))
 #define SV_ENDED (SV_DONE(STORE_BY_ALL))
-#define CK_MORE 0xFFu               /* ck_more: not done yet */
 static struct {
     uint8_t flags;                  /* below */
-    uint8_t n;                      /* the values of the record being checked */
     uint8_t gen;                    /* the param_generation the record being written comes from */
-    uint8_t end;                    /* where the CRC of the record being checked is */
-    uint16_t crc;                   /* of the bytes written or checked so far */
 } sv;
-/* the most used bytes of the save and the check, in the direct RAM */
-static __data uint8_t sv_state;     /* SV_* */
-static __data uint8_t sv_slot;      /* the slot being found, written or checked */
-static __data uint8_t sv_at;        /* its next byte */
-static __data uint8_t sv_lo;        /* the low byte of the value being checked */
+static __data uint8_t sv_state;     /* SV_* (direct RAM: the most used byte of the save) */
 
-/* Check the record in a slot a few bytes at a time: ck_begin, then ck_more until it returns
- * other than CK_MORE: the number of values the record holds when it has a known header, its
- * CRC and every value in range; 0 otherwise. Known: this version's table, or version 2's, 3's
- * or 4's (PARAMS_V2_COUNT, PARAMS_V3_COUNT, PARAMS_V4_COUNT values, the later ones appended
- * since: they keep their defaults). */
-static void ck_begin(uint8_t slot)
+/* Byte i of the record of the values and totals now, sequence next (the values and totals
+ * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
+static const __code uint8_t header[HDR_SEQ] = {STORE_MAGIC, PARAMS_VERSION, P_COUNT};
+
+static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
 {
-    sv_slot = slot;
-    sv_at = 0;
-    sv.end = 0xFFu;                 /* until the count is read */
-    sv.crc = 0xFFFFu;
+    if (i < HDR_SEQ)                /* the magic, the version, the count */
+        return header[i];
+    if (i == HDR_SEQ)
+        return (uint8_t)next;
+    if (i == HDR_SEQ + 1u)
+        return (uint8_t)(next >> 8);
+    if (i >= HDR_JOB)               /* job_dm2, then job_ml (totals_t) */
+        return ((const __xdata uint8_t *)&totals.job_dm2)[i - HDR_JOB];
+    if (i >= HDR_LEARN)
+        return store_learnt_now((uint8_t)(i - HDR_LEARN));
+    if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
+        return ((const __xdata uint8_t *)&totals.life_m2)[i - HDR_LIFE];
+    return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];
 }
 
-static uint8_t ck_more(uint8_t budget) __reentrant
-{
-    uint16_t base = slot_base(sv_slot);
-    uint8_t b;
-    while (budget--) {
-        b = hal_eeprom_read(base + sv_at);
-        if (sv_at == 0) {
-            if (b != STORE_MAGIC)
-                return 0;
-        } else if (sv_at == 2) {       /* the count; sv_lo: the version before it */
-            if (sv_lo < 2u || sv_lo > PARAMS_VERSION || b != params_version_count[sv_lo - 2u])
-                return 0;
-            sv.n = b;
-            sv.end = (uint8_t)CRC_N(b);
-            if (sv_lo >= 7u)
-                sv.end += STORE_LEARN_BYTES;    /* the learnt figures (versions 2-5 have none) */
-            else if (sv_lo == 6u)
-                sv.end += STORE_LEARN_V6;
-            if (sv_lo >= 8u)
-                sv.end += STORE_JOB_BYTES;      /* the job totals (version 8 on) */
-        } else if (sv_at > HDR_VALUES && sv_at < LIFE_N(sv.n) && ((sv_at - HDR_VALUES) & 1u)) {
-            if (!param_stored_ok((uint8_t)((sv_at - HDR_VALUES) >> 1), param_of_version(hal_eeprom_read(base + 1u),
-                                (uint8_t)((sv_at - HDR_VALUES) >> 1), (uint16_t)(sv_lo | (uint16_t)b << 8))))
-                return 0;
-        } else if (sv_at == sv.end) {
-            if (b != (uint8_t)(sv.crc >> 8))
-                return 0;
-            sv_lo = (uint8_t)sv.crc;    /* the CRC's low byte next */
-            sv_at++;
-            continue;
-        } else if (sv_at > sv.end) {
-            return b == sv_lo ? sv.n : 0;
-        }
-        sv_lo = b;
-        sv.crc = crc_byte(sv.crc, b);
-        sv_at++;
-    }
-    return CK_MORE;
-}
-
-/* The check at once (store_load). */
-static uint8_t record_valid(uint8_t slot) __reentrant
-{
-    uint8_t r;
-    ck_begin(slot);
-    while ((r = ck_more(255)) == CK_MORE)
-        ;
-    return r;
-}
-
-/* 1 when the slot after `slot` (the newest) begins as the next save writes a record: the
- * magic, then this version, its count and the sequence after seq, each byte as written or
- * still erased (a cut leaves the rest unprogrammed) */
+/* 1 when the slot after `slot` (the newest) begins as the next save writes a record
+ * (record_byte's header with the sequence after seq), each byte as written or, after the
+ * magic, still erased (a cut leaves the rest unprogrammed) */
 static uint8_t started_after(uint8_t slot) __reentrant
 {
-    uint16_t base = slot_base((uint8_t)((slot + 1u) % STORE_SLOTS));
+    uint16_t base = store_slot_base((uint8_t)((slot + 1u) % STORE_SLOTS));
     uint16_t next = (uint16_t)(seq + 1u);
-    uint8_t i, b, want;
-    if (hal_eeprom_read(base) != STORE_MAGIC)
-        return 0;
-    for (i = 1; i < HDR_VALUES; i++) {
+    uint8_t i, b;
+    for (i = 0; i < HDR_VALUES; i++) {
         b = hal_eeprom_read(base + i);
-        want = i == 1 ? PARAMS_VERSION : i == 2 ? P_COUNT : i == HDR_SEQ ? (uint8_t)next : (uint8_t)(next >> 8);
-        if (b != want && b != 0xFFu)
+        if (b != record_byte(i, next) && (i == 0 || b != 0xFFu))
             return 0;
     }
     return 1;
 }
 
-uint8_t store_load(void) __reentrant
+/* The newest record's values and totals (a shorter, older table: the values after it at their
+ * defaults); what the operator is told of it */
+static uint8_t load_newest(void) __reentrant
 {
-    uint8_t s, newest_slot = NO_SLOT, n, ver;
-    uint16_t q, newest_q = 0, base;
-    sv_state = SV_IDLE;             /* no save runs from before */
-    sv.flags = 0;
-    result = STORE_OK;
-    eb.tokens = 0;                  /* none at power-up: a power cycle buys no erase */
-    eb.next_ms = hal_ms() + STORE_ERASE_MS;
-    for (s = 0; s < STORE_SLOTS; s++) {
-        if (!record_valid(s))
-            continue;
-        q = read16(slot_base(s) + HDR_SEQ);
-        if (newest_slot == NO_SLOT || (int16_t)(q - newest_q) > 0) {
-            newest_slot = s;
-            newest_q = q;
-        }
-    }
-    newest = newest_slot;             /* the next save goes after it, above its sequence */
-    seq = newest_q;
-    if (newest_slot == NO_SLOT) {
-        params_defaults();
-        status = STORE_DEFAULTS;
-        saved_gen = param_generation;   /* nothing changed since: no save until something does */
-        return status;
-    }
-    /* its values and totals (a shorter, older table: the values after it at their defaults) */
-    base = slot_base(newest_slot);
-    n = record_valid(newest_slot);
-    ver = hal_eeprom_read(base + 1u);
+    uint8_t s, n = store_record_valid(store_newest), ver = ck_ver;     /* (the check's version) */
+    uint16_t v;
+    sv_slot = store_newest;
+    sv_at = HDR_VALUES;
     params_defaults();
-    for (s = 0; s < n; s++)         /* (before version 9 the aog settings were another loop's) */
+    for (s = 0; s < n; s++) {       /* (before version 9 the aog settings were another loop's) */
+        v = ee_u16();
         if (ver >= 9u || s < P_AOG_KP || s > P_AOG_MAX)
-            param_put(s, param_of_version(ver, s, read16(base + HDR_VALUES + 2u * s)));
-    totals_set_life(read32(base + LIFE_N(n)), read32(base + LIFE_N(n) + 4u));
-    if (ver >= 8u)                  /* the job after the learnt figures */
-        totals_set_job(read32(base + CRC_N(n) + STORE_LEARN_BYTES), read32(base + CRC_N(n) + STORE_LEARN_BYTES + 4u));
-    else
-        totals_set_job(0, 0);       /* an older copy has none */
+            param_put(s, param_of_version(ver, s, v));
+    }
+    {
+        uint32_t life_m2 = ee_u32(), life_ml = ee_u32();
+        totals_set_life(life_m2, life_ml);
+    }
+    if (ver >= 8u) {                /* the job after the learnt figures */
+        uint32_t job_dm2, job_ml;
+        sv_at += STORE_LEARN_BYTES;
+        job_dm2 = ee_u32();
+        job_ml = ee_u32();
+        totals_set_job(job_dm2, job_ml);
+    } else
+        totals_job_reset();         /* an older copy has none */
     n = params_cross();
     if (n != PARAM_OK) {
         /* written by a firmware without the cross-checks: its set cannot run (a tank minimum
          * above the tank stops the boom for good); the defaults, and the reason shown */
         params_defaults();
         totals_set_life(0, 0);
-        totals_set_job(0, 0);
-        status = (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
-        saved_gen = param_generation;
-        return status;
+        totals_job_reset();
+        return (uint8_t)(STORE_CROSS + n - PARAM_X_TANK);
     }
-    status = STORE_OK;
-    saved_gen = param_generation;
     /* a started write after it that did not end: a cut save, the previous values are loaded
      * and the operator is told */
-    s = (uint8_t)((newest_slot + 1u) % STORE_SLOTS);
-    if (started_after(newest_slot) && !record_valid(s))
-        status = STORE_OLDER;
+    s = (uint8_t)((store_newest + 1u) % STORE_SLOTS);
+    return started_after(store_newest) && !store_record_valid(s) ? STORE_OLDER : STORE_OK;
+}
+
+uint8_t store_load(void) __reentrant
+{
+    uint8_t s, newest_slot = STORE_NO_SLOT;
+    uint16_t q, newest_q = 0;
+    sv_state = SV_IDLE;             /* no save runs from before */
+    sv.flags = 0;
+    result = STORE_OK;
+    eb.tokens = 0;                  /* none at power-up: a power cycle buys no erase */
+    eb.next_ms = hal_ms() + STORE_ERASE_MS;
+    for (s = 0; s < STORE_SLOTS; s++) {
+        if (!store_record_valid(s))
+            continue;
+        sv_slot = s;
+        sv_at = HDR_SEQ;
+        q = ee_u16();
+        if (newest_slot == STORE_NO_SLOT || (int16_t)(q - newest_q) > 0) {
+            newest_slot = s;
+            newest_q = q;
+        }
+    }
+    store_newest = newest_slot;     /* the next save goes after it, above its sequence */
+    seq = newest_q;
+    if (newest_slot == STORE_NO_SLOT) {
+        params_defaults();
+        status = STORE_DEFAULTS;
+    } else
+        status = load_newest();
+    saved_gen = param_generation;   /* the values loaded (or the defaults): no save until they change */
     return status;
 }
 
@@ -251,14 +193,14 @@ static uint8_t sv_find(uint8_t slot)
     sv.flags &= (uint8_t)~SV_ERASED;
     sv_slot = slot;
     sv_at = 0;
-    return !(slot % STORE_SLOTS_PER_SECTOR == 0 && newest != NO_SLOT
-             && slot / STORE_SLOTS_PER_SECTOR == newest / STORE_SLOTS_PER_SECTOR);
+    return !(slot % STORE_SLOTS_PER_SECTOR == 0 && store_newest != STORE_NO_SLOT
+             && slot / STORE_SLOTS_PER_SECTOR == store_newest / STORE_SLOTS_PER_SECTOR);
 }
 
 /* The next slot after the newest: never the start of the newest's sector */
 static void sv_start(void)
 {
-    sv_find(newest == NO_SLOT ? 0 : (uint8_t)((newest + 1u) % STORE_SLOTS));
+    sv_find(store_newest == STORE_NO_SLOT ? 0 : (uint8_t)((store_newest + 1u) % STORE_SLOTS));
 }
 
 /* The save has ended (st: STORE_OK or STORE_WRITE_ERR): those who asked are told
@@ -278,27 +220,11 @@ static void sv_end(uint8_t st)
     }
 }
 
-/* Byte i of the record of the values and totals now, sequence next (the values and totals
- * are little endian in memory as in the record: SDCC's 8051 and the host's x86 or ARM) */
-static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
+/* The slot after this one, from its start: a write error back at the newest's sector */
+static void sv_find_next(void)
 {
-    if (i == 0)
-        return STORE_MAGIC;
-    if (i == 1)
-        return PARAMS_VERSION;
-    if (i == 2)
-        return P_COUNT;
-    if (i == HDR_SEQ)
-        return (uint8_t)next;
-    if (i == HDR_SEQ + 1u)
-        return (uint8_t)(next >> 8);
-    if (i >= HDR_JOB)               /* job_dm2, then job_ml (totals_t) */
-        return ((const __xdata uint8_t *)&totals.job_dm2)[i - HDR_JOB];
-    if (i >= HDR_LEARN)
-        return store_learnt_now((uint8_t)(i - HDR_LEARN));
-    if (i >= HDR_LIFE)              /* life_m2, then life_ml (totals_t) */
-        return ((const __xdata uint8_t *)&totals.life_m2)[i - HDR_LIFE];
-    return ((const __xdata uint8_t *)param_v)[i - HDR_VALUES];
+    if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
+        sv_end(STORE_WRITE_ERR);
 }
 
 /* The free slot: STORE_BYTES_PER_POLL bytes of the one looked at. A written byte passes
@@ -307,13 +233,13 @@ static uint8_t record_byte(uint8_t i, uint16_t next) __reentrant
  * erase: a write error. */
 static void sv_find_more(void) __reentrant
 {
-    uint16_t base = slot_base(sv_slot);
+    uint16_t base = store_slot_base(sv_slot);
     uint8_t k;
     for (k = 0; k < STORE_BYTES_PER_POLL; k++, sv_at++) {
         if (sv_at == STORE_SLOT_BYTES) {
             sv_state = SV_WRITE;    /* erased: the record goes here */
             sv_at = 0;
-            sv.crc = 0xFFFFu;
+            sv_crc = 0xFFFFu;
             sv.gen = param_generation;
             return;
         }
@@ -323,8 +249,8 @@ static void sv_find_more(void) __reentrant
             sv_end(STORE_WRITE_ERR);    /* the erase did not take */
         } else if (sv_slot % STORE_SLOTS_PER_SECTOR == 0) {
             sv_state = SV_ERASE;
-        } else if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS))) {
-            sv_end(STORE_WRITE_ERR);    /* back at the newest's sector */
+        } else {
+            sv_find_next();
         }
         return;
     }
@@ -334,29 +260,27 @@ static void sv_find_more(void) __reentrant
  * the record started with. */
 static void sv_write_more(void) __reentrant
 {
-    uint16_t base = slot_base(sv_slot);
+    uint16_t base = store_slot_base(sv_slot);
     uint16_t next = (uint16_t)(seq + 1u);
     uint8_t k, b;
     if (sv_at == CRC_AT) {
         if (sv.gen != param_generation) {
-            /* a mixed set: left without its CRC, the values again in the next slot */
-            if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
-                sv_end(STORE_WRITE_ERR);
+            sv_find_next();         /* a mixed set: left without its CRC, the values again */
             return;
         }
-        if (!hal_eeprom_write(base + CRC_AT, (uint8_t)(sv.crc >> 8))
-            || !hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)sv.crc)) {
+        if (!hal_eeprom_write(base + CRC_AT, (uint8_t)(sv_crc >> 8))
+            || !hal_eeprom_write(base + CRC_AT + 1u, (uint8_t)sv_crc)) {
             sv_end(STORE_WRITE_ERR);
             return;
         }
         sv_state = SV_CHECK;
-        ck_begin(sv_slot);
+        store_ck_begin(sv_slot);
         return;
     }
     for (k = 0; k < STORE_BYTES_PER_POLL && sv_at < CRC_AT && !(k && (sv_at == HDR_LIFE || sv_at == HDR_LEARN || sv_at == HDR_JOB));
          k++, sv_at++) {
         b = record_byte(sv_at, next);
-        sv.crc = crc_byte(sv.crc, b);
+        sv_crc = store_crc_byte(sv_crc, b);
         if (!hal_eeprom_write(base + sv_at, b)) {
             sv_end(STORE_WRITE_ERR);
             return;
@@ -379,9 +303,7 @@ uint8_t store_save_start(uint8_t who)
     if (sv_state == SV_IDLE) {
         sv_start();
     } else if (sv_state == SV_WRITE) {
-        /* the half-written slot is left (it reads as a cut write), the values again after it */
-        if (!sv_find((uint8_t)((sv_slot + 1u) % STORE_SLOTS)))
-            sv_end(STORE_WRITE_ERR);
+        sv_find_next();             /* the half-written slot is left (a cut write to the load) */
     }                               /* (a slot being found: it goes on from there) */
     return 1;
 }
@@ -413,7 +335,7 @@ uint8_t store_poll(void) __reentrant
         if (!eb.tokens)
             return 0;               /* the budget: waiting for a token */
         eb.tokens--;
-        hal_eeprom_erase(slot_base(sv_slot));
+        hal_eeprom_erase(store_slot_base(sv_slot));
         sv_state = SV_FIND;
         sv_at = 0;
         sv.flags |= SV_ERASED;
@@ -422,16 +344,16 @@ uint8_t store_poll(void) __reentrant
         sv_write_more();
         break;
     default:
-        r = ck_more(STORE_BYTES_PER_POLL);
+        r = store_ck_more(STORE_BYTES_PER_POLL);
         if (r == P_COUNT) {
-            newest = sv_slot;
+            store_newest = sv_slot;
             seq = (uint16_t)(seq + 1u);
             saved_gen = sv.gen;
             /* a header in the next slot that reads as this save's successor is stale (this
              * save has ended, none started since): its magic cleared, the next load would
              * take it for a cut save */
-            if (started_after(newest))
-                hal_eeprom_write(slot_base((uint8_t)((newest + 1u) % STORE_SLOTS)), 0);
+            if (started_after(store_newest))
+                hal_eeprom_write(store_slot_base((uint8_t)((store_newest + 1u) % STORE_SLOTS)), 0);
             sv_end(STORE_OK);
         } else if (r != CK_MORE) {
             sv_end(STORE_WRITE_ERR);

@@ -78,13 +78,15 @@ static void measure(void)
 static uint8_t dry(void)
 {
     measure();
-    return diag_dry_line(&sy.st, sy.settled);
+    diag_period(&sy.st, sy.settled);
+    return diag_dry_line();
 }
 
 static uint8_t zero(void)
 {
     measure();
-    return diag_zero(&sy.st, sy.settled);
+    diag_period(&sy.st, sy.settled);
+    return diag_zero();
 }
 
 
@@ -92,7 +94,8 @@ static uint8_t bal(uint16_t l)
 {
     measure();
     sy.st.tank_l = l;
-    return diag_balance(&sy.st, sy.settled);
+    diag_period(&sy.st, sy.settled);
+    return diag_balance();
 }
 
 /* ---- pump dry from the line -------------------------------------------------------------------- */
@@ -233,6 +236,24 @@ static void test_dry_line_held_until_the_pump_pushes_a_refill_or_the_sections_of
     assert_int_equal(dry(), 0);
 }
 
+/* Not while the boom settles (start-up, a section switched): 30 periods dry on the line say
+ * nothing; settled, the 10th period after does. */
+static void test_dry_line_only_with_the_boom_settled(void **state)
+{
+    (void)state;
+    setup(NULL);
+    sy.settled = 0;
+    sy.st.spraying = 1;
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.target_lpm_x100 = 3000;
+    for (int n = 1; n <= 30; n++)
+        assert_int_equal(dry(), 0);
+    sy.settled = 1;
+    for (int n = 1; n <= 9; n++)
+        assert_int_equal(dry(), 0);
+    assert_int_equal(dry(), 1);
+}
+
 /* ---- the pressure sensor's zero ---------------------------------------------------------------- */
 /* sprayed at 300 kPa at working speed (the spraying pressure taken at once, then filtered),
  * the bypass at its open stop, then shut and standing in auto */
@@ -336,6 +357,27 @@ static void test_zero_spraying_pressure_at_working_speed_in_auto_only(void **sta
         assert_int_equal(zero(), 0);
     adc_counts[0] = 614;
     assert_int_equal(zero_after(30, 120), 121);
+}
+
+/* The spraying pressure is taken with the boom settled only: sprayed at 300 kPa while it
+ * settles, a rest reading 26 kPa is never judged (no spraying pressure to go by). */
+static void test_zero_spraying_pressure_with_the_boom_settled_only(void **state)
+{
+    (void)state;
+    setup(NULL);
+    for (int i = 0; i < 145; i++) {             /* the open stop, as sprayed_then_at_rest */
+        valve_set(-Q15_MAX);
+        valve_set(0);
+    }
+    sy.settled = 0;
+    sy.st.spraying = 1;
+    sy.st.in.speed_kmh_x100 = 800;
+    sy.st.in.pressure_kpa = 300;
+    for (int i = 0; i < 20; i++)
+        assert_int_equal(zero(), 0);
+    sy.st.spraying = 0;
+    sy.st.in.speed_kmh_x100 = 0;
+    assert_int_equal(zero_after(DIAG_ZERO_KPA + 1u, 120), 121);
 }
 
 /* Not at rest while the boom sprays, the wheels turn, or the bypass is not open by a tenth of
@@ -457,6 +499,21 @@ static void test_balance_a_step_is_more_than_m(void **state)
         assert_int_equal(bal(l), DIAG_BAL_NONE);
     }
     assert_int_equal(bal(746), DIAG_BAL_OFF);   /* 778 - 746 = 32 */
+}
+
+/* A stretch runs with the boom settled only: the 32 L fall judged OFF at call 101 above says
+ * nothing while it settles. */
+static void test_balance_stretches_need_the_boom_settled(void **state)
+{
+    (void)state;
+    bal_start(800, 20000000u);
+    sy.settled = 0;
+    uint16_t l = 800;
+    for (int c = 2; c <= 300; c++) {
+        if (c <= 9)
+            l = (uint16_t)(l - 4u);
+        assert_int_equal(bal(l), DIAG_BAL_NONE);
+    }
 }
 
 /* A stretch runs only at 15.00 L/min or more, on a working level sensor, with a pulse in the
@@ -664,13 +721,16 @@ int main(void)
         cmocka_unit_test(test_dry_line_under_p_start_on_the_10th_period),
         cmocka_unit_test(test_dry_line_under_a_quarter_of_the_target_metered),
         cmocka_unit_test(test_dry_line_held_until_the_pump_pushes_a_refill_or_the_sections_off),
+        cmocka_unit_test(test_dry_line_only_with_the_boom_settled),
         cmocka_unit_test(test_zero_off_over_25_kpa_after_50_periods_at_rest),
         cmocka_unit_test(test_zero_needs_a_reading_steady_within_12_kpa),
         cmocka_unit_test(test_zero_at_rest_under_half_the_spraying_pressure),
         cmocka_unit_test(test_zero_spraying_pressure_at_working_speed_in_auto_only),
+        cmocka_unit_test(test_zero_spraying_pressure_with_the_boom_settled_only),
         cmocka_unit_test(test_zero_needs_the_boom_shut_and_the_bypass_known_open),
         cmocka_unit_test(test_balance_from_a_stretch_of_100_periods_and_32_l),
         cmocka_unit_test(test_balance_a_step_is_more_than_m),
+        cmocka_unit_test(test_balance_stretches_need_the_boom_settled),
         cmocka_unit_test(test_balance_stretches_need_flow_pulses_a_level_and_room),
         cmocka_unit_test(test_balance_sums_stretches_of_100_periods_only),
         cmocka_unit_test(test_balance_a_pause_closes_the_stretch),

@@ -11,6 +11,7 @@
 #include "speed.h"
 #include "valve.h"
 #include "analog.h"
+#include "diag_line.h"
 #include "diag_wheel.h"
 
 #define PERIOD_NS 100000000ull
@@ -55,7 +56,8 @@ static uint8_t pump(void)
     }
     speed_step();
     analog_step();
-    return diag_pump(&sy.st);
+    diag_period(&sy.st, 0);
+    return diag_pump();
 }
 
 /* periods until diag_pump says the wheels turn, at most max (max + 1: never) */
