@@ -29,18 +29,19 @@ static uint16_t bp_rand(void)
 
 void bp_init(void)
 {
-    uint8_t i, j;
+    /* the weights in row order, each array walked flat (no index pair kept in the direct RAM) */
+    __xdata int16_t *w = &ctl_st.bp.w[0][0], *v = &ctl_st.bp.v[0][0];
+    __xdata int8_t *dw = &ctl_st.bp.dw[0][0], *dv = &ctl_st.bp.dv[0][0];
+    uint8_t i;
     bp_rng = BP_SEED;
-    for (i = 0; i < BP_HID; i++)
-        for (j = 0; j < BP_IN; j++) {
-            ctl_st.bp.w[i][j] = (int16_t)(bp_rand() & 0x0FFFu) - 2048;
-            ctl_st.bp.dw[i][j] = 0;
-        }
-    for (i = 0; i < BP_OUT; i++)
-        for (j = 0; j < BP_HID; j++) {
-            ctl_st.bp.v[i][j] = (int16_t)(bp_rand() & 0x0FFFu) - 2048;
-            ctl_st.bp.dv[i][j] = 0;
-        }
+    for (i = 0; i < BP_HID * BP_IN; i++) {
+        w[i] = (int16_t)(bp_rand() & 0x0FFFu) - 2048;
+        dw[i] = 0;
+    }
+    for (i = 0; i < BP_OUT * BP_HID; i++) {
+        v[i] = (int16_t)(bp_rand() & 0x0FFFu) - 2048;
+        dv[i] = 0;
+    }
     for (i = 0; i < BP_OUT; i++)
         ctl_st.bp.k[i] = 16384;     /* g(0) = 0.5 until the first forward pass */
 }
