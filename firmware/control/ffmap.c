@@ -13,12 +13,13 @@ static void ffmap_cap_up(void);
 /*
  * The incremental PID of eq. (7) on the common normalisation (ctl.c): what the valve is asked for
  * is a motion, drive = du * T_travel. The output stage makes the valve do it: running friction,
- * break-away (ffmap_stall), reversals worth the backlash, a duty cap for a valve far faster than
- * told (ffmap_cap), a gentle closing near P max; the loop gain is learnt from how the flow
- * answers (ffmap_gain_adapt, ffmap_out) and cut at high pressure (ffmap_gain_at_p); a deadband
- * rests the valve near the target (ffmap_deadband); a feed-forward of the speed is learnt from
- * the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives each rule, its constants
- * and why; tests/control/test_ffmap.c and test_ctl.c pin them.
+ * break-away (ffmap_stall, stepped back at a cycle of its resolution: ffmap_reversal), reversals
+ * worth the backlash and, on a fast valve, their answer awaited (ffmap_out), a duty cap for a
+ * valve far faster than told (ffmap_cap), a gentle closing near P max; the loop gain is learnt
+ * from how the flow answers (ffmap_gain_adapt, ffmap_reversal) and cut at high pressure
+ * (ffmap_gain_at_p); a deadband rests the valve near the target (ffmap_deadband); a feed-forward
+ * of the speed is learnt from the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives
+ * each rule, its constants and why; tests/control/test_ffmap*.c and test_ctl.c pin them.
  */
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
  * FFMAP_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
