@@ -81,6 +81,7 @@ typedef struct {
                                      * the top duty, not a quarter (ffmap.c ffmap_out) */
 #define FFMAP_REV_MIN Q15(0.6)         /* a reversal is sent once the motion owed the other way is this */
 #define FFMAP_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
+#define FFMAP_ANSWER 3                 /* a reversal's answer: periods until the flow shows it (ffmap_out) */
 #define FFMAP_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */
 #define FFMAP_SLOW_N 20                /* this long awake with the error one way: +3/32 */
 #define FFMAP_BIG_SHIFT 4              /* a half cycle whose error reached target >> this swung big */

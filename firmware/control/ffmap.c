@@ -1,6 +1,5 @@
 /* ffmap.c: ffmap, the project's own controller: a damped PID with a deadband and a learnt speed feed-forward, an output stage that knows the valve's motor. */
 #include "ctl_int.h"
-#include "store.h"
 #include "target.h"
 #include "speed.h"
 
@@ -14,47 +13,14 @@ static void ffmap_cap_up(void);
 /*
  * The incremental PID of eq. (7) on the common normalisation (ctl.c): what the valve is asked for
  * is a motion, drive = du * T_travel. The output stage makes the valve do it: running friction,
- * break-away (ffmap_stall), reversals worth the backlash, a duty cap for a valve far faster than
- * told (ffmap_cap), a gentle closing near P max; the loop gain is learnt from how the flow
- * answers (ffmap_gain_adapt, ffmap_out) and cut at high pressure (ffmap_gain_at_p); a deadband
- * rests the valve near the target (ffmap_deadband); a feed-forward of the speed is learnt from
- * the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives each rule, its constants
- * and why; tests/control/test_ffmap.c and test_ctl.c pin them.
+ * break-away (ffmap_stall, stepped back at a cycle of its resolution: ffmap_reversal), reversals
+ * worth the backlash and, on a fast valve, their answer awaited (ffmap_out), a duty cap for a
+ * valve far faster than told (ffmap_cap), a gentle closing near P max; the loop gain is learnt
+ * from how the flow answers (ffmap_gain_adapt, ffmap_reversal) and cut at high pressure
+ * (ffmap_gain_at_p); a deadband rests the valve near the target (ffmap_deadband); a feed-forward
+ * of the speed is learnt from the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives
+ * each rule, its constants and why; tests/control/test_ffmap*.c and test_ctl.c pin them.
  */
-void ffmap_init(void)
-{
-    uint8_t i;
-    M->dir = 0;
-    M->stall_flow = 0;
-    M->brk_age = 0;
-    M->rev_age = 255;
-    M->moved = 0;
-    /* what was learnt of this valve before: the EEPROM's record (CRC-checked, written by this
-     * firmware) or, without one, 0xFF bytes */
-    for (i = 0; i < STORE_LEARN_CTL; i++)
-        ((uint8_t *)&M->gain)[i] = store_learnt(i);
-    if (M->gain <= 0)
-        ffmap_forget();
-    M->slow_n = 0;
-    M->cap = 255;
-    /* (the errors, the deadband, the start's counters: the first step sets them, ctl_first) */
-}
-
-void ffmap_forget(void)
-{
-    M->brk_extra = 0;
-    M->brk_age = 0;
-    M->gain = FFMAP_G_INIT;
-    M->rev_min = FFMAP_REV_MIN;
-    M->ff_gain = 0;
-    M->cap = 255;
-}
-
-uint8_t ffmap_learnt_byte(uint8_t i) __reentrant
-{
-    return ((const uint8_t *)&M->gain)[i];
-}
-
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
  * FFMAP_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
  * 1/8, after the first FFMAP_WARM periods of a (re)start or, in them, over the pressure of
@@ -93,7 +59,8 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
  * ff_gain, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
  * the flow lags a ramp of the target (its change filtered over about 2^FFMAP_FF_RSH periods beyond
  * FFMAP_FF_RAMP) by more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; nothing in
- * the first FFMAP_WARM periods (the start-up's own error), at rest or against a stop. While ff_gain is
+ * the first FFMAP_WARM periods (the start-up's own error), at rest or against a stop, nor in the
+ * FFMAP_ANSWER periods after a reversal (the loop's own swing, its answer awaited: ffmap_out). While ff_gain is
  * under FFMAP_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
  * wheel steps the target by a few percent a pulse, which the flow never follows (read as lag). Only a
  * change of the target that the speed made counts, the speed moving the same way (not the
@@ -126,6 +93,10 @@ static __data union {
     } cap;                          /* ffmap_cap */
     uint16_t top;                   /* ffmap_cap_limit: the top duty, Q15 (the cap, at least the smallest pulse) */
     struct {
+        uint16_t d;                 /* Q15: the reversal's duty */
+        uint16_t k;                 /* Q15: the smallest pulse */
+    } rev;                          /* ffmap_reversal */
+    struct {
         uint16_t root;              /* Q8: floor(sqrt(FFMAP_P_REF / P)), built bit by bit */
         int16_t bit;                /* the bit being tried */
     } gp;                           /* ffmap_gain_at_p */
@@ -146,7 +117,7 @@ static void ffmap_ff(void)
         return;
     ffmap_w.ffl.band = (uint16_t)(ctl_in->target_lpm_x100 >> FFMAP_FF_ESH);
     ffmap_w.ffl.abs_e = ffmap_e < 0 ? -ffmap_e : ffmap_e;
-    if (ffmap_warm && !ctl_in->valve_limit && ffmap_w.ffl.abs_e > ffmap_w.ffl.band
+    if (ffmap_warm && !ctl_in->valve_limit && ffmap_w.ffl.abs_e > ffmap_w.ffl.band && M->rev_age >= FFMAP_ANSWER
         && (uint16_t)(M->ramp < 0 ? -M->ramp : M->ramp)
                > (speed_plain && !speed_learnt ? ffmap_w.ffl.band << FFMAP_FF_OFF_SH : FFMAP_FF_RAMP)) {
         if ((M->ramp ^ ffmap_e) >= 0) {          /* the same sign: the flow lags */
@@ -270,18 +241,60 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
     }
 }
 
+/* A reversal sent (ffmap_w.rev: its duty and the smallest pulse; c: the periods at the top duty
+ * before it; lim: 1 when it was under 1.5 times rev_min): the gain's rules (the file's header) and
+ * the smallest pulse's and reversal's own; the half cycle's counters start anew. One soon after the last at a
+ * steady target whose pulse was near the smallest (the valve's resolution, not the gain) takes
+ * FFMAP_BRK_STEP off what stalls added to the smallest pulse: a stall on a headland left it up to
+ * 0.25 over, and each pulse of a 1.5 s valve then moved the flow ~8 % for minutes. */
+CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
+{
+    __bit fl = 0;                   /* smaller reversals, at a steady target */
+    /* two half cycles in a row that swung big, soon after each other; the last at the top */
+    c = (uint8_t)((c >= FFMAP_TOP_N) << 1) | (M->err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
+    if ((c & 1) && M->big && M->rev_age <= FFMAP_OSC_GAP) {
+        if (M->gain > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
+            M->gain -= !ffmap_warm && c == 3 ? M->gain >> 1 : M->gain >> 2;
+        else
+            fl = ffmap_rlim;
+    } else if (M->rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p) && ffmap_w.rev.d > 2 * ffmap_w.rev.k
+        && (ffmap_e < 0 ? -ffmap_e : ffmap_e) <= ctl_in->target_lpm_x100) {
+        /* (a pulse near the smallest: the valve's resolution, not the gain) */
+        if (M->gain > FFMAP_G_MIN)
+            M->gain -= M->gain >> 3;
+        fl = 1;
+    } else if (M->rev_age <= FFMAP_OSC_GAP && ffmap_warm && !M->moved && M->brk_extra) {
+        M->brk_extra -= FFMAP_BRK_STEP;   /* a cycle of pulses near the smallest: it is too big */
+    }
+    if (fl && !M->moved && M->rev_min > FFMAP_REV_LOW && ffmap_warm)
+        M->rev_min -= M->rev_min >> 3;        /* a cycle at a steady target: smaller reversals */
+    ffmap_rlim = lim;
+    M->big = c & 1;
+    M->err_peak = 0;
+    M->rev_age = 0;
+    M->moved = 0;
+    M->slow_n = 0;
+    ffmap_rl1 = 0;
+}
+
 /* The output stage: the motion owed plus this period's (Q15 share of full speed for a period),
  * limits and stops; below the smallest pulse it stays owed; a pulse is sent at the duty that
  * makes the motion against the running friction. At a reversal, the gain's rules (the file's
  * header). The smallest pulses count two toward a stall (FFMAP_STALL_BIG while the error is big: a
  * valve stiffer than told leaves the flow off its target for seconds), those up to twice the
- * smallest one (a valve stiffer than that, or a gain learnt that low, never sees it) one. */
-CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
+ * smallest one (a valve stiffer than that, or a gain learnt that low, never sees it) one.
+ * A reversal's answer: on a valve learnt under half as fast as a new one starts, nothing added to
+ * its smallest pulse (a stiff valve needs the pulses that follow), the FFMAP_ANSWER - 1 periods
+ * after a reversal at a steady target (no move since, no ramp of the speed) send nothing more
+ * that way, the motion dropped: the flow shows the reversal only then, and the two smallest
+ * pulses sent meanwhile on a 1.65 s valve told 4 s (~8 % of the flow) carried it past the target,
+ * a cycle of +-12 %. */
+CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
 {
     uint16_t d, k;                  /* (duties up to 2 x 0.7 of full: 16 bits unsigned) */
     int8_t s;
     uint8_t c;
-    __bit lim, fl = 0;              /* fl: smaller reversals, at a steady target */
+    __bit lim;
     m += ctl_carry;
     CTL_CLIP(m);
     CTL_STOP(m, ctl_in->valve_limit, CTL_CLOSE_BLOCKED);
@@ -291,6 +304,11 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
         return 0;
     }
     d = (uint16_t)(m > 0 ? m : -m);    /* (clipped to 15 bits) */
+    if (s == M->dir && !M->moved && M->rev_age < FFMAP_ANSWER && M->gain < FFMAP_G_INIT / 2
+        && !M->brk_extra && (uint16_t)(M->ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP) {
+        ctl_carry = 0;              /* the reversal's answer awaited (above) */
+        return 0;
+    }
     if (s != M->dir && M->dir != 0 && d < (uint16_t)M->rev_min) {
         ctl_carry = (q15_t)m;       /* a reversal waits until it is worth more than the slack */
         return 0;
@@ -310,29 +328,9 @@ CTL_STEP q15_t ffmap_out(int32_t m, int16_t e) CTL_SHARED
         M->cap_run_before = 255;
     d = ffmap_cap_limit(d, k);
     if (s != M->dir && M->dir != 0) {
-        /* two half cycles in a row that swung big, soon after each other; the last at the top */
-        c = (uint8_t)((c >= FFMAP_TOP_N) << 1) | (M->err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
-        if ((c & 1) && M->big && M->rev_age <= FFMAP_OSC_GAP) {
-            if (M->gain > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
-                M->gain -= !ffmap_warm && c == 3 ? M->gain >> 1 : M->gain >> 2;
-            else
-                fl = ffmap_rlim;
-        } else if (M->rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p) && d > 2 * k
-            && (e < 0 ? -e : e) <= ctl_in->target_lpm_x100) {
-            /* (a pulse near the smallest: the valve's resolution, not the gain) */
-            if (M->gain > FFMAP_G_MIN)
-                M->gain -= M->gain >> 3;
-            fl = 1;
-        }
-        if (fl && !M->moved && M->rev_min > FFMAP_REV_LOW && ffmap_warm)
-            M->rev_min -= M->rev_min >> 3;        /* a cycle at a steady target: smaller reversals */
-        ffmap_rlim = lim;
-        M->big = c & 1;
-        M->err_peak = 0;
-        M->rev_age = 0;
-        M->moved = 0;
-        M->slow_n = 0;
-        ffmap_rl1 = 0;
+        ffmap_w.rev.d = d;
+        ffmap_w.rev.k = k;
+        ffmap_reversal(c, lim);
     } else {
         ffmap_rlim &= !ffmap_rl1;         /* a second pulse after the reversal: the swing is the loop's */
         ffmap_rl1 = 1;
@@ -470,7 +468,7 @@ q15_t ffmap_step(void) CTL_SHARED
         d32 = 1048575L;
     else if (d32 < -1048575L)
         d32 = -1048575L;
-    d = ffmap_out(((d32 * ffmap_gain_at_p()) >> 8) + M->ff_drive, ffmap_e);
+    d = ffmap_out(((d32 * ffmap_gain_at_p()) >> 8) + M->ff_drive);
     M->e2 = M->e1;
     M->e1 = ffmap_e;
     M->target_last = q;

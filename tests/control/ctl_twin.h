@@ -53,6 +53,7 @@ typedef struct {
     int rlim, rl1;                  /* the last reversal was under 1.5 rmin, with at most one pulse
                                      * after it; a pulse followed it (ffmap.c ffmap_rlim, ffmap_rl1) */
     double brk_extra;               /* duty added to Min duty */
+    double ramp;                    /* L/min: the speed's change of the target, filtered (as loaded) */
     double gain;                    /* loop gain (1 = as told) */
     double gain_start;              /* the loop gain when the loop (re)started */
     double carry;                   /* motion owed, share of full speed for a period */

@@ -95,6 +95,7 @@ void ctltw_ffmap_load(ctltw_ffmap_t *tw, const ffmap_state_t *fm, int first, q15
     tw->err_filt = fm->err_filt / 100.0;
     tw->target_last = fm->target_last / 100.0;
     tw->moved = fm->moved;
+    tw->ramp = fm->ramp / 100.0;
     tw->rev_min = fm->rev_min / 32768.0;
     tw->rest = fm->rest;
     tw->dir = fm->dir;
@@ -290,6 +291,9 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     s = mv > 0 ? 1 : mv < 0 ? -1 : 0;
     if (s == 0) {
         m->carry = 0;
+    } else if (s == m->dir && !m->moved && m->rev_age < FFMAP_ANSWER && m->gain < FFMAP_G_INIT / 2 / 256.0
+               && m->brk_extra == 0 && fabs(m->ramp) <= FFMAP_FF_RAMP / 100.0) {
+        m->carry = 0;               /* a fast valve's reversal: nothing more that way until the flow answers */
     } else if (s != m->dir && m->dir != 0 && fabs(mv) < m->rev_min) {
         o.near |= ctltw_near(fabs(mv), m->rev_min, 0.002);
         m->carry = mv;              /* a reversal waits until it is worth more than the slack */
@@ -336,6 +340,8 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
                     if (m->gain > FFMAP_G_MIN / 256.0)
                         m->gain -= floor(m->gain * 256 / 8) / 256;
                     smaller = 1;
+                } else if (m->rev_age <= FFMAP_OSC_GAP && m->warm >= FFMAP_WARM && !m->moved && m->brk_extra > 0) {
+                    m->brk_extra -= FFMAP_BRK_STEP / 32768.0;   /* cycles near the smallest pulse: it is too big */
                 }
                 if (smaller && !m->moved && m->rev_min > FFMAP_REV_LOW / 32768.0 && m->warm >= FFMAP_WARM)
                     m->rev_min -= floor(m->rev_min * 32768 / 8) / 32768;

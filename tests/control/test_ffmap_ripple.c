@@ -1,0 +1,154 @@
+/* test_ffmap_ripple.c: the project's own controller (ffmap) does not hunt on a held target: a fast valve told 4 s, a smallest pulse a stall left too big stepped back, a reversal's answer awaited. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <cmocka.h>
+#include "ctl.h"
+#include "ctl_int.h"
+#include "sim.h"
+#include "helper_ffmap.h"
+
+/* ripple_p95_pct (sim/metrics.h), the family's bound (issue 51): on this 40 s run 4.0-5.0 % over
+ * seeds 1-6 (6.8-11.5 % with every pulse sent after a reversal) */
+#define RIPPLE_BOUND_PCT 5.0
+
+/* A 1.65 s valve with a 0.12 s motor the firmware believes 4 s, its break-away 0.12 (told 0.2),
+ * a fixed PTO (plant 174 of `make family SEED=1`), held at 6.8 km/h from the start, seeds 1-6.
+ * The start cuts the gain to its floor; each reversal (0.6 of a period at full duty) then moved
+ * the flow by itself, and the two smallest pulses sent before the meter showed it carried the
+ * flow as far past the target: a cycle of +-12 % (ripple 10.5 % on the family's run). After a
+ * reversal nothing more is sent that way until the flow can show it (ffmap.c ffmap_out). */
+static void test_ffmap_ripple_a_fast_valve_told_4_s_does_not_hunt(void **state)
+{
+    double worst = 0;
+    int alarms = 0;
+    (void)state;
+    for (int seed = 1; seed <= 6; seed++) {
+        char text[1024];
+        metrics_result_t r;
+        snprintf(text, sizeof text,
+                 "[run]\nduration_s = 40\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 101\n[plant]\n"
+                 "valve_travel_s = 1.65\nvalve_stiction_duty = 0.122\nvalve_running_duty = 0.072\n"
+                 "valve_backlash = 0.0192\nvalve_motor_tau_s = 0.122\npump_lpm_at_540 = 126.4\n"
+                 "pump_pulsation_pct = 7.62\npto_coupled = 0\npto_rpm = 560\nmeter_k_ppl = 380.17\n"
+                 "meter_blade_jitter_pct = 1.44\nwheel_spacing_jitter_pct = 3.79\nwheel_slip_pct = 1.01\n"
+                 "speed_bounce_pct = 1.54\npressure_noise_lsb = 1.88\nnozzle_wear_pct = 4.0\n"
+                 "check_valve_bar = 0.604\nvalve_cv_open = 231.3\n[drive]\n0 0\n2 0\n2 6.8\n40 6.8\n", seed);
+        ffmap_anew();
+        alarms += ffmap_run(text, &r);
+        print_message("ffmap, a fast valve told 4 s, seed %d: ripple %.2f %%, gain %d\n", seed, r.ripple_p95_pct,
+                      ctl_st.fm.gain);
+        worst = r.ripple_p95_pct > worst ? r.ripple_p95_pct : worst;
+    }
+    assert_true(worst <= RIPPLE_BOUND_PCT);
+    assert_int_equal(alarms, 0);
+}
+
+/* ffmap's step alone (ctl_step), its input: target and flow x100 L/min, a steady 7 km/h, the gain
+ * as learnt (no pressure cut), no end stop */
+static ctl_in_t step_in(int target, int flow)
+{
+    ctl_in_t in;
+    in.target_lpm_x100 = (int16_t)target;
+    in.flow_lpm_x100 = (int16_t)flow;
+    in.speed_kmh_x100 = 700;
+    in.pressure_kpa = FFMAP_P_REF;
+    in.valve_limit = 0;
+    return in;
+}
+
+/* A smallest pulse a stall left FFMAP_BRK_MAX over Min duty, on a valve whose every pulse moves the
+ * flow by 8 % of the 30 L/min target (a toy: the flow steps at once): the loop cycles +-4 % at a
+ * steady target, and each reversal within FFMAP_OSC_GAP periods of the last takes FFMAP_BRK_STEP
+ * off while its pulse is near the smallest (the rule's own words, counted here from the drives:
+ * reversals and the periods between them). With the target moving by 2 % a period (up for 10
+ * periods, down for 10: not a steady target) nothing is taken off. */
+static int brk_after_cycles(int ramp, int *stepped, int *reversals)
+{
+    ctl_in_t in = step_in(3000, 3000);
+    int dir = 0, since = 1000, k;
+    ctl_select(CTL_FFMAP);
+    for (k = 0; k < FFMAP_WARM + 5; k++)    /* the start over, at rest on the target */
+        ctl_step(&in);
+    ctl_st.fm.brk_extra = 5 * FFMAP_BRK_STEP;  /* FFMAP_BRK_MAX's last step */
+    in.flow_lpm_x100 = 2880;                /* 4 % under the target */
+    *stepped = *reversals = 0;
+    for (k = 0; k < 300; k++) {
+        int16_t before = ctl_st.fm.brk_extra;
+        if (ramp)
+            in.target_lpm_x100 = (int16_t)(in.target_lpm_x100 + (k / 10 % 2 ? -60 : 60));
+        q15_t d = ctl_step(&in);
+        since++;
+        if (d != 0) {
+            int s = d > 0 ? 1 : -1;
+            if (dir != 0 && s != dir) {
+                (*reversals)++;
+                *stepped += since <= FFMAP_OSC_GAP && before - ctl_st.fm.brk_extra == FFMAP_BRK_STEP;
+                since = 0;
+            }
+            dir = s;
+            in.flow_lpm_x100 = (int16_t)(in.flow_lpm_x100 + s * 240);   /* 8 % of the target a pulse */
+        }
+    }
+    return ctl_st.fm.brk_extra;
+}
+
+static void test_ffmap_ripple_a_resolution_cycle_steps_the_smallest_pulse_back(void **state)
+{
+    int stepped, reversals, brk;
+    (void)state;
+    brk = brk_after_cycles(0, &stepped, &reversals);
+    print_message("ffmap, a resolution cycle: %d reversals, %d stepped the smallest pulse back: %d of %d\n",
+                  reversals, stepped, brk, 5 * FFMAP_BRK_STEP);
+    assert_true(stepped >= 2);
+    assert_int_equal(brk, 5 * FFMAP_BRK_STEP - stepped * FFMAP_BRK_STEP);
+    brk = brk_after_cycles(1, &stepped, &reversals);
+    print_message("ffmap, a moving target: %d reversals, the smallest pulse %d of %d\n", reversals, brk,
+                  5 * FFMAP_BRK_STEP);
+    assert_int_equal(stepped, 0);
+    assert_true(brk >= 5 * FFMAP_BRK_STEP);
+}
+
+/* A reversal at a steady target, the flow not answering yet (20 % under the target): on a valve
+ * learnt at a quarter of as told (under FFMAP_G_INIT / 2) the FFMAP_ANSWER - 1 periods after it
+ * send nothing; learnt at as told, the integral's next pulses go out at once. */
+static int quiet_after_reversal(int16_t gain)
+{
+    ctl_in_t in = step_in(3000, 3000);
+    int k, quiet = 0;
+    ctl_select(CTL_FFMAP);
+    for (k = 0; k < FFMAP_WARM + 5; k++)
+        ctl_step(&in);
+    ctl_st.fm.gain = gain;
+    in.flow_lpm_x100 = 3600;                /* 20 % over: the valve opens the bypass */
+    for (k = 0; k < 50 && ctl_step(&in) >= 0; k++)
+        ;
+    in.flow_lpm_x100 = 2400;                /* 20 % under: a reversal, then the wait */
+    for (k = 0; k < 50 && ctl_step(&in) <= 0; k++)
+        ;
+    while (quiet < 10 && ctl_step(&in) == 0)
+        quiet++;
+    return quiet;
+}
+
+static void test_ffmap_ripple_a_fast_valve_awaits_its_reversals_answer(void **state)
+{
+    (void)state;
+    int fast = quiet_after_reversal(FFMAP_G_INIT / 4), told = quiet_after_reversal(256);
+    print_message("ffmap, periods without a pulse after a reversal: %d on a fast valve, %d as told\n", fast,
+                  told);
+    assert_int_equal(fast, FFMAP_ANSWER - 1);
+    assert_int_equal(told, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ffmap_ripple_a_fast_valve_told_4_s_does_not_hunt),
+        cmocka_unit_test(test_ffmap_ripple_a_resolution_cycle_steps_the_smallest_pulse_back),
+        cmocka_unit_test(test_ffmap_ripple_a_fast_valve_awaits_its_reversals_answer),
+    };
+    return cmocka_run_group_tests_name("ffmap_ripple", tests, NULL, NULL);
+}
