@@ -15,7 +15,7 @@
 #define RIPPLE_BOUND_PCT 5.0
 
 /* A 1.65 s valve with a 0.12 s motor the firmware believes 4 s, its break-away 0.12 (told 0.2),
- * a fixed PTO (plant 174 of `make family SEED=1`), held at 6.8 km/h from the start, seeds 1-6.
+ * a fixed PTO, held at 6.8 km/h from the start, seeds 1-6.
  * The start cuts the gain to its floor; each reversal (0.6 of a period at full duty) then moved
  * the flow by itself, and the two smallest pulses sent before the meter showed it carried the
  * flow as far past the target: a cycle of +-12 % (ripple 10.5 % on the family's run). After a
