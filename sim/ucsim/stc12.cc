@@ -33,8 +33,28 @@ static const uint8_t clk1t[256]= {
 };
 #define STC12_IRQ_CLOCKS 6      /* the hardware's LCALL to the vector */
 
+/* The operand of each opcode that names a direct byte (1: the byte after the opcode; 3: both,
+ * MOV dir,dir) or a bit (2) (datasheet, "Instruction set summary"). */
+static uint8_t operand[256];
+
+static void
+operand_init(void)
+{
+  static const uint8_t dir[]= { 0x05, 0x15, 0x25, 0x35, 0x42, 0x43, 0x45, 0x52, 0x53, 0x55, 0x62, 0x63,
+                                0x65, 0x75, 0x86, 0x87, 0x95, 0xa6, 0xa7, 0xb5, 0xc0, 0xc5, 0xd0, 0xd5,
+                                0xe5, 0xf5 };
+  static const uint8_t bit[]= { 0x10, 0x20, 0x30, 0x72, 0x82, 0x92, 0xa0, 0xa2, 0xb0, 0xb2, 0xc2, 0xd2 };
+  for (unsigned i= 0; i < sizeof dir; i++)
+    operand[dir[i]]= 1;
+  for (int i= 0; i < 8; i++)
+    operand[0x88 + i]= operand[0xa8 + i]= 1;
+  operand[0x85]= 3;
+  for (unsigned i= 0; i < sizeof bit; i++)
+    operand[bit[i]]= 2;
+}
+
 cl_stc12::cl_stc12(struct cpu_entry *Itype, class cl_sim *asim):
-  cl_uc52(Itype, asim), hw(NULL), in_inst(false)
+  cl_uc52(Itype, asim), hw(NULL), in_inst(false), lag(0), room(0), stale(false), it_dirty(true)
 {
 }
 
@@ -42,6 +62,7 @@ void
 cl_stc12::mk_hw_elements(void)
 {
   class cl_hw *h;
+  operand_init();
   cl_uc::mk_hw_elements();
   acc= sfr->get_cell(ACC);
   psw= sfr->get_cell(PSW);
@@ -70,15 +91,91 @@ cl_stc12::mk_hw_elements(void)
   c_ccapm1= sfr->get_cell(0xdb);
 }
 
+/* an SFR of a peripheral: any but the core's own SP, DPL, DPH, PSW, ACC and B */
+static bool
+periph_sfr(t_mem a)
+{
+  return a >= 0x80 && a != 0x81 && a != 0x82 && a != 0x83 && a != 0xd0 && a != 0xe0 && a != 0xf0;
+}
+
+/* the instruction at instPC reads or writes a peripheral's SFR (or one of its bits) */
+bool
+cl_stc12::touches_hw(uint8_t op)
+{
+  switch (operand[op])
+    {
+    case 0: return false;
+    case 1: return periph_sfr(rom->get(instPC + 1));
+    case 2: { t_mem b= rom->get(instPC + 1); return b >= 0x80 && periph_sfr(b & 0xf8); }
+    default: return periph_sfr(rom->get(instPC + 1)) || periph_sfr(rom->get(instPC + 2));
+    }
+}
+
+/* The peripherals are given the core's clocks only when what they do could show: before an
+ * instruction that reads or writes one of their SFRs (and after it, the time to their next
+ * change taken again), at an interrupt's entry and RETI, and when the clocks reach the next
+ * change they make by themselves (quiet()). Each then gets the clocks as one span, as every
+ * one of them counts spans; between two such points nothing the core reads or the host is sent
+ * depends on them, so a run is the same as with a tick every instruction. */
+void
+cl_stc12::clocks(int n)
+{
+  lag+= (uint64_t)n;
+  if (lag >= room)
+    catch_up();
+}
+
+void
+cl_stc12::catch_up(void)
+{
+  int n= (int)lag;
+  lag= 0;
+  if (n)
+    cl_uc::tick(n);
+  room= quiet();
+  it_dirty= true;
+}
+
+/* clocks until a peripheral changes by itself: the timers' overflows, the host's next input,
+ * the chip's completions. A low level on INT0/INT1 in level mode raises its flag again at every
+ * look: with it cleared (an SFR write), the next instruction looks, as a tick every instruction
+ * would (an interrupt's acceptance looks itself). */
+uint64_t
+cl_stc12::quiet(void)
+{
+  t_mem tcon= c_tcon->get();
+  if ((!interrupt->bit_IT0 && !interrupt->bit_INT0 && !(tcon & bmIE0))
+      || (!interrupt->bit_IT1 && !interrupt->bit_INT1 && !(tcon & bmIE1)))
+    return 0;
+  uint64_t r= hw->quiet(), q;
+  if ((q= ((class cl_stc12_timer *)t0)->room()) < r)
+    r= q;
+  if ((q= ((class cl_stc12_timer *)t1)->room()) < r)
+    r= q;
+  return r;
+}
+
 int
 cl_stc12::tickt(t_mem code)
 {
-  if (hw)
-    hw->inst_begin(instPC, it_levels->count);
+  uint8_t op= (uint8_t)code;
+  hw->inst_begin(instPC, lag);
   in_inst= true;
-  cl_uc::tick(clk1t[code & 0xff]);
-  if ((code & 0xff) == 0x32 && hw)
-    hw->isr_leave();
+  if (op == 0x32 || touches_hw(op))
+    {
+      lag+= clk1t[op];          /* RETI, or a peripheral's SFR: up to date before it runs */
+      catch_up();
+      stale= true;              /* what it writes may change quiet() */
+      if (op == 0x32)
+        hw->isr_leave(lag);
+      return 0;
+    }
+  if (stale)
+    {
+      room= quiet();
+      stale= false;
+    }
+  clocks(clk1t[op]);
   return 0;
 }
 
@@ -86,9 +183,9 @@ cl_stc12::tickt(t_mem code)
 int
 cl_stc12::tick(int cycles)
 {
-  if (in_inst)
-    return 0;
-  return cl_uc::tick(cycles);
+  if (!in_inst)
+    clocks(cycles);
+  return 0;
 }
 
 /* the peripherals that count time, each ticked once with the clocks that passed (each one
@@ -99,39 +196,64 @@ cl_stc12::tick_hw(int cycles)
   t0->tick(cycles);
   t1->tick(cycles);
   interrupt->tick(cycles);
-  if (hw)
-    hw->tick(cycles);
+  hw->tick(cycles);
   do_extra_hw(cycles);
   return 0;
+}
+
+/* in lock step the host holds the console: no breakpoint to look for at each fetch */
+bool
+cl_stc12::fetch(t_mem *code)
+{
+  if (!hw->linked())
+    return cl_uc::fetch(code);
+  *code= cl_uc::fetch();
+  return false;
+}
+
+/* PCON's IDL and PD, the rare case, in uCsim's own code */
+int
+cl_stc12::idle_pd(void)
+{
+  return (c_pcon->get() & (bmIDL | bmPD)) ? cl_51core::idle_pd() : resGO;
 }
 
 int
 cl_stc12::exec_inst(void)
 {
   int r;
-  if (hw && (hw->reset_due || hw->pin_reset))
+  if (hw->reset_due || hw->pin_reset)
     {
+      catch_up();
       reset();
       return resGO;
     }
-  if (hw && hw->hung)
+  in_inst= false;
+  if (hw->hung)
     {
-      in_inst= false;
-      cl_uc::tick(3);           /* an SJMP to itself, interrupts still served */
+      clocks(3);                /* an SJMP to itself, interrupts still served */
       return resGO;
     }
-  if (hw && hw->stall)
+  if (hw->stall)
     {
       int s= hw->stall;         /* IAP holds the CPU; the peripherals run on */
       hw->stall= 0;
-      in_inst= false;
-      cl_uc::tick(s);
+      clocks(s);
       return resGO;
     }
   in_inst= false;
   r= cl_51core::exec_inst();
   in_inst= false;
   return r;
+}
+
+/* In lock step with the host, a step of uCsim's main loop runs up to a thousand instructions
+ * (the batch ends early at an interrupt): the loop's own work (its console, its history) costs
+ * about what an instruction does. */
+int
+cl_stc12::do_inst(int step)
+{
+  return cl_51core::do_inst(step == 1 && hw && hw->linked() ? 1000 : step);
 }
 
 /* four levels from IP and IPH (datasheet, "Interrupt priority"); IP and IPH hold a source's
@@ -152,6 +274,9 @@ cl_stc12::do_interrupt(void)
       interrupt->was_reti= false;
       return resGO;
     }
+  if (!it_dirty)
+    return resGO;               /* no flag, enable or level changed since the last look */
+  it_dirty= false;
   if (!(c_ie->get() & bmEA))
     return resGO;
   /* no enabled source with its flag up: nothing to look for */
@@ -190,13 +315,15 @@ int
 cl_stc12::accept_it(class it_level *il)
 {
   state= stGO;
+  catch_up();                   /* the clocks before at the old level (uCsim's ISR counter) */
   it_levels->push(il);
-  if (hw)
-    hw->isr_enter(il->addr);
+  hw->isr_enter(il->addr, lag);
+  in_inst= false;
+  clocks(STC12_IRQ_CLOCKS);
   in_inst= true;
-  cl_uc::tick(STC12_IRQ_CLOCKS);
   int res= inst_lcall(0, il->addr, true);
   in_inst= false;
+  it_dirty= true;
   return res != resGO ? res : resINTERRUPT;
 }
 
@@ -239,6 +366,21 @@ cl_stc12_timer::tick(int cycles)
   return resGO;
 }
 
+/* clocks until the timer overflows (TF): it may lag that long; 0 in a mode tick() does not
+ * count in spans (0, 2, 3, a counter, a gate) */
+uint64_t
+cl_stc12_timer::room(void)
+{
+  if (!auxr || mode == 3)
+    return 0;
+  if (!TR)
+    return UINT64_MAX;
+  if (mode != 1 || C_T || GATE)
+    return 0;
+  uint64_t left= 0x10000 - (cell_th->get() << 8 | cell_tl->get());
+  return (auxr->get() & (id == 0 ? 0x80 : 0x40)) ? left : left * 12 - (uint64_t)sub;
+}
+
 /* ---- the peripherals -------------------------------------------------------------------- */
 #define AUXR_A 0x8e
 #define P1M1_A 0x91
@@ -264,6 +406,10 @@ cl_stc12_timer::tick(int cycles)
 #define CCAP0L_A 0xea
 #define CCAP0H_A 0xfa
 #define PCA_PWM0_A 0xf2
+
+/* SYSCLK clocks a PCA count by CMOD.CPS (datasheet, "PCA"): /12, /2, timer 0's overflow and
+ * ECI not modelled (0), SYSCLK, /4, /6, /8 */
+static const unsigned pca_div[8]= { 12, 2, 0, 0, 1, 4, 6, 8 };
 
 cl_stc12hw::cl_stc12hw(class cl_uc *auc):
   cl_hw(auc, HW_DUMMY, 1, "stc12")
@@ -565,9 +711,9 @@ cl_stc12hw::keypad(void)
 }
 
 void
-cl_stc12hw::inst_begin(t_addr pc, int depth)
+cl_stc12hw::inst_begin(t_addr pc, uint64_t lag)
 {
-  (void)depth;
+  uint64_t now= this->now + lag;      /* the clock at the instruction's start */
   t_mem sp= c_sp->get();
   if (sp > sp_max && pass_start)
     sp_max= (uint8_t)sp;        /* the stack's high-water mark once the main loop runs */
@@ -648,8 +794,9 @@ cl_stc12hw::prof_write(void)
 }
 
 void
-cl_stc12hw::isr_enter(t_addr vector)
+cl_stc12hw::isr_enter(t_addr vector, uint64_t lag)
 {
+  uint64_t now= this->now + lag;
   if (isr_depth < 8)
     {
       isr_stack[isr_depth].t= now;
@@ -660,8 +807,9 @@ cl_stc12hw::isr_enter(t_addr vector)
 }
 
 void
-cl_stc12hw::isr_leave(void)
+cl_stc12hw::isr_leave(uint64_t lag)
 {
+  uint64_t now= this->now + lag;
   if (isr_depth <= 0)
     return;
   isr_depth--;
@@ -681,6 +829,39 @@ cl_stc12hw::isr_leave(void)
             vec[v].own_max= (uint32_t)own;
         }
     }
+}
+
+/* clocks from now until a peripheral changes by itself: the host's next input or the slot's
+ * end, a completion (a conversion, a frame, a pulse's end, the sweep's edge), the PCA's
+ * overflow (CF), the watchdog's; 0 from a reset to the first pass (the outputs watched at every
+ * instruction) and without the link */
+uint64_t
+cl_stc12hw::quiet(void)
+{
+  if (!fin || !slot_end || !pass_start || reset_due || pin_reset)
+    return 0;
+  uint64_t due= slot_end;
+  if (i_ev < n_ev && ev[i_ev].clock < due)
+    due= ev[i_ev].clock;
+  const uint64_t done[6]= { adc_done, tx_done, rx_at, p1_high_at, p3_high_at, sweep_at };
+  for (int i= 0; i < 6; i++)
+    if (done[i] && done[i] < due)
+      due= done[i];
+  if (c_ccon->get() & 0x40)
+    {
+      unsigned dv= pca_div[(c_cmod->get() >> 1) & 7];
+      uint32_t c= (c_ch->get() << 8) | c_cl->get();
+      if (dv && now + (uint64_t)(0x10000 - c) * dv - (uint64_t)pca_sub < due)
+        due= now + (uint64_t)(0x10000 - c) * dv - (uint64_t)pca_sub;
+    }
+  t_mem w= c_wdt->get();
+  if (w & 0x20)
+    {
+      uint64_t lim= (uint64_t)12 * 32768u * (2u << (w & 7));
+      if (now + (wdt_count < lim ? lim - wdt_count : 0) < due)
+        due= now + (wdt_count < lim ? lim - wdt_count : 0);
+    }
+  return due > now ? due - now : 0;
 }
 
 /* Time to `to`: the PCA counter, the watchdog, and whatever completes meanwhile (a
@@ -703,8 +884,7 @@ cl_stc12hw::advance(uint64_t to)
        * reloads CCAPnL from CCAPnH (and EPCnL from EPCnH) as CL overflows */
       if (c_ccon->get() & 0x40)
         {
-          static const unsigned div[8]= { 12, 2, 0, 0, 1, 4, 6, 8 };
-          unsigned dv= div[(c_cmod->get() >> 1) & 7];
+          unsigned dv= pca_div[(c_cmod->get() >> 1) & 7];
           if (dv)
             {
               pca_sub+= (int)d;
