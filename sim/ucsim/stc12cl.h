@@ -154,6 +154,7 @@ class cl_stc12hw: public cl_hw
   bool prof_hit;                /* the pass running reached prof_at */
   void prof_pass_end(uint32_t d);
   void prof_write(void);
+  unsigned pca_clocks(void);
   uint16_t strong(void);
   unsigned pwm1(void);
   void advance(uint64_t to);
