@@ -51,6 +51,6 @@ say "configure and build s51 (under a minute)"
 # information (uCsim's default -g -ggdb takes a third of the compile)
 (cd $tree && make -C s51.src -j2 CXXFLAGS="-O2 -pipe -Wall -Wno-overloaded-virtual" > ../make.log 2>&1) || {
     echo "ucsim_stc12: build FAILED ($out/make.log)" >&2; tail -20 $out/make.log >&2; exit 1; }
-cp $tree/s51.src/s51 $out/s51
+cp $tree/s51.src/s51 $out/s51.new && mv -f $out/s51.new $out/s51     # a run may hold the old one
 echo "$stamp" > $out/.stamp
 say "$out/s51 ready (-t STC12)"

@@ -56,6 +56,7 @@ operand_init(void)
 cl_stc12::cl_stc12(struct cpu_entry *Itype, class cl_sim *asim):
   cl_uc52(Itype, asim), hw(NULL), in_inst(false), lag(0), room(0), stale(false), it_dirty(true)
 {
+  every= getenv("STC12_EVERY_INSTRUCTION") != NULL;
 }
 
 void
@@ -143,6 +144,8 @@ cl_stc12::catch_up(void)
 uint64_t
 cl_stc12::quiet(void)
 {
+  if (every)
+    return 0;
   t_mem tcon= c_tcon->get();
   if ((!interrupt->bit_IT0 && !interrupt->bit_INT0 && !(tcon & bmIE0))
       || (!interrupt->bit_IT1 && !interrupt->bit_INT1 && !(tcon & bmIE1)))

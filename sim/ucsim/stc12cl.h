@@ -25,6 +25,7 @@ class cl_stc12: public cl_uc52
   uint64_t room;                /* how far they may lag: nothing they do shows before (0: none) */
   bool stale;                   /* an SFR was written: room is to be taken again */
   bool it_dirty;                /* an interrupt's flag, enable or level may have changed */
+  bool every;                   /* STC12_EVERY_INSTRUCTION: the peripherals ticked at each one */
   cl_stc12(struct cpu_entry *Itype, class cl_sim *asim);
   void clocks(int n);
   void catch_up(void);
