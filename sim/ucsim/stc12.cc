@@ -251,12 +251,35 @@ cl_stc12::exec_inst(void)
 }
 
 /* In lock step with the host, a step of uCsim's main loop runs up to a thousand instructions
- * (the batch ends early at an interrupt): the loop's own work (its console, its history) costs
- * about what an instruction does. */
+ * (the batch ends at an interrupt's acceptance), each without what only the console uses (the
+ * disassembler's marks of code cells, a stop on a jump to itself): uCsim's loop around an
+ * instruction costs about what the instruction does. Otherwise uCsim's own loop. */
 int
 cl_stc12::do_inst(int step)
 {
-  return cl_51core::do_inst(step == 1 && hw && hw->linked() ? 1000 : step);
+  if (step != 1 || !hw->linked())
+    return cl_51core::do_inst(step);
+  result= resGO;
+  for (int n= 0; n < 1000 && result == resGO && state != stPD; n++)
+    {
+      if (state == stGO)
+        {
+          interrupt->was_reti= false;
+          pre_inst();
+          result= exec_inst();
+          post_inst();
+        }
+      else
+        tick(1);
+      if (result == resGO)
+        {
+          int res= do_interrupt();
+          result= res != resGO ? res : idle_pd();
+        }
+    }
+  if (result >= resSTOP || (result == resINTERRUPT && stop_at_it))
+    sim->stop(result);
+  return result;
 }
 
 /* four levels from IP and IPH (datasheet, "Interrupt priority"); IP and IPH hold a source's
