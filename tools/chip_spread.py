@@ -9,7 +9,9 @@ the range. One run is one sample: drawn from the host's own distribution, it wou
 the range of N other samples with probability 2/(N+1) for each figure.
 With --chip-seeds the model runs at each of those seeds too (two at a time, about 25 s of CPU a
 run for pil_bench), and each figure's mean over the chip's seeds is set against the host's: the
-difference in standard errors of the difference (Welch), "differs" beyond 3.
+difference in standard errors of the difference (Welch), "differs" beyond 3; then the ratio of
+the two standard deviations, "wider" or "narrower" beyond 2 (the chip's seed-to-seed spread
+against the host's).
 Stdlib only.
 """
 import json
@@ -22,6 +24,7 @@ from concurrent.futures import ThreadPoolExecutor
 FIGURES = ["applied_l_ha", "dose_error_pct", "dose_ctl_pct", "valve_reversals_per_min", "valve_travel_strokes",
            "silent_wrong_s", "pressure_min_bar", "pressure_max_bar", "volume_l"]
 Z_DIFFERS = 3.0
+SD_RATIO = 2.0
 
 
 def last_json(out):
@@ -55,9 +58,9 @@ def one_run(chip, runs, seeds):
 
 
 def many_runs(chips, runs, seeds, cseeds):
-    print("figure                     chip mean (sd) seeds %d-%d     host mean (sd) seeds %d-%d    difference / SE" %
-          (cseeds[0], cseeds[-1], seeds[0], seeds[-1]))
-    same = 0
+    print("figure                     chip mean (sd) seeds %d-%d     host mean (sd) seeds %d-%d    difference / SE"
+          "   sd chip / host" % (cseeds[0], cseeds[-1], seeds[0], seeds[-1]))
+    same, wider = 0, []
     for f in FIGURES:
         c, h = values(chips, f), values(runs, f)
         if len(c) < 2 or len(h) < 2:
@@ -67,10 +70,14 @@ def many_runs(chips, runs, seeds, cseeds):
         z = (mc - mh) / se if se > 0 else (0.0 if mc == mh else math.inf)
         ok = abs(z) <= Z_DIFFERS
         same += ok
-        print("%-26s %10.4g (%8.3g) [%.4g .. %.4g]  %10.4g (%8.3g) [%.4g .. %.4g]  %+6.2f %s" %
-              (f, mc, sc, min(c), max(c), mh, sh, min(h), max(h), z, "same" if ok else "DIFFERS"))
-    print("%d of %d figures: the chip's mean over its seeds within %.0f standard errors of the host's" %
-          (same, len(FIGURES), Z_DIFFERS))
+        ratio = sc / sh if sh > 0 else (1.0 if sc == 0 else math.inf)
+        spread = "wider" if ratio > SD_RATIO else "narrower" if ratio < 1 / SD_RATIO else ""
+        if spread == "wider":
+            wider.append(f)
+        print("%-26s %10.4g (%8.3g) [%.4g .. %.4g]  %10.4g (%8.3g) [%.4g .. %.4g]  %+6.2f %-7s %5.2f %s" %
+              (f, mc, sc, min(c), max(c), mh, sh, min(h), max(h), z, "same" if ok else "DIFFERS", ratio, spread))
+    print("%d of %d figures: the chip's mean over its seeds within %.0f standard errors of the host's; its "
+          "spread over %.0f times the host's: %s" % (same, len(FIGURES), Z_DIFFERS, SD_RATIO, ", ".join(wider) or "none"))
 
 
 def main(argv):
