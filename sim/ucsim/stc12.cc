@@ -229,6 +229,7 @@ cl_stc12::exec_inst(void)
     {
       catch_up();
       reset();
+      room= 0;                  /* to the first pass every instruction: the outputs watched */
       return resGO;
     }
   in_inst= false;
@@ -244,7 +245,6 @@ cl_stc12::exec_inst(void)
       clocks(s);
       return resGO;
     }
-  in_inst= false;
   r= cl_51core::exec_inst();
   in_inst= false;
   return r;
