@@ -337,14 +337,17 @@ pil: $(SIM_BIN) $(PIL_IHX)
 # ==== chip in the loop: the field image in the STC12C5A60S2 model (sim/ucsim/, sim/chip_host.c) =====
 # the model: Debian's uCsim source with sim/ucsim/stc12.patch, built into build/ucsim/ (not /usr/bin)
 UCSIM_STC12 := $(BUILD)/ucsim/s51
-$(UCSIM_STC12): sim/ucsim/stc12.patch sim/ucsim/stc12.cc sim/ucsim/stc12cl.h sim/ucsim/stc12_link.h \
-		sim/ucsim/sources.list.in tools/ucsim_stc12.sh
+$(UCSIM_STC12): sim/ucsim/stc12.patch sim/ucsim/stc12.cc sim/ucsim/stc12_hw.cc sim/ucsim/stc12_link.cc \
+		sim/ucsim/stc12cl.h sim/ucsim/stc12_link.h sim/ucsim/sources.list.in tools/ucsim_stc12.sh
 	$(Q)tools/ucsim_stc12.sh
 
 ucsim: $(UCSIM_STC12)
 
 # make chip SCENARIO=file [CONTROLLER=name] [CSV=out.csv]: as make sim, the field image in the model
-chip: $(SIM_BIN) $(FW_IHX) $(UCSIM_STC12)
+# (the simulator, the image and the model built side by side: from a fresh clone the model's
+# build is as long as the other two together)
+chip:
+	$(Q)$(MAKE) --no-print-directory -j2 $(SIM_BIN) $(FW_IHX) $(UCSIM_STC12)
 	$(Q)$(SIM_BIN) --chip $(FW_IHX) --s51 $(UCSIM_STC12) --scenario $(SCENARIO) $(if $(CONTROLLER),--controller $(CONTROLLER)) $(if $(CSV),--csv $(CSV))
 
 # ==== tests and measurements ==========================================================================

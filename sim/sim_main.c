@@ -39,7 +39,7 @@ static void usage(FILE *f)
           "         the plant; 'chip:' lines give its passes and handlers in 1T clocks.\n"
           "         --chip-reset S: the reset pin pulsed at S; --chip-hang S: the main loop hangs at S\n"
           "         (interrupts still served) until a reset; --chip-wheel-sweep S: from S every wheel\n"
-          "         edge falls 60 + 3k clocks before a PCA overflow (the capture race's window).\n"
+          "         edge falls 3k clocks before the k-th PCA overflow (the capture race's window).\n"
           "  --pty: the link on a new pseudo-terminal (its name on stderr) that tools/monitor.py opens like a\n"
           "    port; the run starts when it is opened (--wait S, default 60), at X times real time (--pace,\n"
           "    default 1; 0 as fast as the reader takes it); commands sent to it reach the firmware, and\n"
@@ -224,7 +224,7 @@ static int start_firmware(opt_t *o, sim_t *sim, const scenario_t *s)
         }
         for (j = 0; j < 3; j++)
             for (i = 0; i < o->chip_ev[j].n; i++)
-                if (chip_at(o->chip, o->chip_ev[j].v[i], chip_ev_kind[j], 60) < 0) {
+                if (chip_at(o->chip, o->chip_ev[j].v[i], chip_ev_kind[j], 0) < 0) {
                     fprintf(stderr, "sim: at most 8 --chip-* inputs\n");
                     return 2;
                 }

@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=build/ucsim
-src_files=(sim/ucsim/stc12.patch sim/ucsim/stc12.cc sim/ucsim/stc12cl.h sim/ucsim/stc12_link.h sim/ucsim/sources.list.in tools/ucsim_stc12.sh)
+model=(sim/ucsim/stc12.cc sim/ucsim/stc12_hw.cc sim/ucsim/stc12_link.cc sim/ucsim/stc12cl.h sim/ucsim/stc12_link.h)
+src_files=(sim/ucsim/stc12.patch "${model[@]}" sim/ucsim/sources.list.in tools/ucsim_stc12.sh)
 stamp=$(cat "${src_files[@]}" | sha1sum | cut -c1-16)
 if [ -x $out/s51 ] && [ "$(cat $out/.stamp 2>/dev/null)" = "$stamp" ]; then
     exit 0
@@ -37,16 +38,19 @@ tree=$out/tree
 rm -rf $tree && mkdir -p $tree
 say "unpacking sim/ucsim of $(basename "$tarball")"
 tar xf "$tarball" -C $tree --strip-components=3 --wildcards '*/sim/ucsim/*'
-cp sim/ucsim/stc12.cc sim/ucsim/stc12cl.h sim/ucsim/stc12_link.h $tree/s51.src/
+cp "${model[@]}" $tree/s51.src/
 patch -s -d $tree -p1 < sim/ucsim/stc12.patch
 ports=""
 for p in ds390 avr z80 z180 gbz80 r2k r3ka tlcs m68hc08 s08 xa stm8 pdk st7 p1516 m6809 m6800 m68hc11 mos6502 rxk pblaze; do
     ports="$ports --disable-$p-port"
 done
-say "configure and build (about a minute)"
+say "configure and build s51 (under a minute)"
 (cd $tree && ./configure $ports --disable-serio > ../configure.log 2>&1) || {
     echo "ucsim_stc12: configure FAILED ($out/configure.log)" >&2; exit 1; }
-(cd $tree && make -j2 > ../make.log 2>&1) || { echo "ucsim_stc12: build FAILED ($out/make.log)" >&2; tail -20 $out/make.log >&2; exit 1; }
-cp $tree/s51.src/s51 $out/s51
+# s51 and the four libraries it links, not uCsim's other programs and libraries; no debugging
+# information (uCsim's default -g -ggdb takes a third of the compile)
+(cd $tree && make -C s51.src -j2 CXXFLAGS="-O2 -pipe -Wall -Wno-overloaded-virtual" > ../make.log 2>&1) || {
+    echo "ucsim_stc12: build FAILED ($out/make.log)" >&2; tail -20 $out/make.log >&2; exit 1; }
+cp $tree/s51.src/s51 $out/s51.new && mv -f $out/s51.new $out/s51     # a run may hold the old one
 echo "$stamp" > $out/.stamp
 say "$out/s51 ready (-t STC12)"

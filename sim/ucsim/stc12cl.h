@@ -21,13 +21,25 @@ class cl_stc12: public cl_uc52
   class cl_memory_cell *c_ie, *c_tcon, *c_scon, *c_adc, *c_pcon, *c_ccon,
     *c_cmod, *c_ccapm0, *c_ccapm1;
   bool in_inst;                 /* the opcode's clocks are charged: the handlers' ticks are not */
+  uint64_t lag;                 /* clocks the core ran that the peripherals have not been given */
+  uint64_t room;                /* how far they may lag: nothing they do shows before (0: none) */
+  bool stale;                   /* an SFR was written: room is to be taken again */
+  bool it_dirty;                /* an interrupt's flag, enable or level may have changed */
+  bool every;                   /* STC12_EVERY_INSTRUCTION: the peripherals ticked at each one */
   cl_stc12(struct cpu_entry *Itype, class cl_sim *asim);
+  void clocks(int n);
+  void catch_up(void);
+  uint64_t quiet(void);
+  bool touches_hw(uint8_t op);
   virtual void mk_hw_elements(void);
   virtual int clock_per_cycle(void) { return 1; }
   virtual int tickt(t_mem code);
   virtual int tick(int cycles);
   virtual int tick_hw(int cycles);
   virtual int exec_inst(void);
+  virtual int do_inst(int step);
+  virtual bool fetch(t_mem *code);
+  virtual int idle_pd(void);
   virtual int priority_of(uchar nuof_it);
   virtual int do_interrupt(void);
   virtual int accept_it(class it_level *il);
@@ -43,6 +55,7 @@ class cl_stc12_timer: public cl_timer0
   cl_stc12_timer(class cl_uc *auc, int aid, const char *aid_string):
     cl_timer0(auc, aid, aid_string), sub(0), auxr(NULL) {}
   virtual int tick(int cycles);
+  uint64_t room(void);
 };
 
 /* an interrupt source whose enable is its own register's bit (the PCA's ECF, ECCFn) */
@@ -73,10 +86,12 @@ class cl_stc12hw: public cl_hw
   virtual void write(class cl_memory_cell *cell, t_mem *val);
   virtual void reset(void) {}
   void chip_reset(t_mem pcon_before);  /* the datasheet's reset values, after the core's */
+  bool linked(void) { return fin != NULL; }   /* in lock step with the host's plant */
   bool powered;                 /* a reset after the power-on's keeps PCON's POF and LVDF */
-  void inst_begin(t_addr pc, int isr_depth);
-  void isr_enter(t_addr vector);
-  void isr_leave(void);
+  void inst_begin(t_addr pc, uint64_t lag);
+  void isr_enter(t_addr vector, uint64_t lag);
+  void isr_leave(uint64_t lag);
+  uint64_t quiet(void);
   int stall;                    /* clocks the CPU is held (IAP) before the next instruction */
   bool reset_due;               /* the watchdog overflowed: reset before the next instruction */
   bool pin_reset;               /* the reset pin: the same */
@@ -140,6 +155,7 @@ class cl_stc12hw: public cl_hw
   bool prof_hit;                /* the pass running reached prof_at */
   void prof_pass_end(uint32_t d);
   void prof_write(void);
+  unsigned pca_clocks(void);
   uint16_t strong(void);
   unsigned pwm1(void);
   void advance(uint64_t to);
