@@ -18,9 +18,10 @@ if ! make -s --no-print-directory "$SIM" BUILD="$B" > /dev/null 2>&1; then
 fi
 python3 tools/seed_spread.py "$SIM" --check tests/sim/seed_spread_ref.json
 # the step scenario's overshoot and settling move with the tick (the latency it adds to a loop
-# driving its valve at full duty; docs/PIL.md): printed only. So does the worst zone of the
-# fixed PTO's 100 L/ha run, a single zone's extreme: ffmap's valve rests through most of that run,
-# the plant then steps at the idle tick, and the worst zone lands lower on most seeds
-# (docs/PIL.md, the simulator's speed); the 1 ms check above holds it
+# driving its valve at full duty; docs/PIL.md): printed only. So do two worst zones, a single
+# zone's extreme: the fixed PTO's 100 L/ha run's (ffmap's valve rests through most of that run,
+# the plant then steps at the idle tick, and the worst zone lands lower on most seeds) and the
+# paper's 150 L/ha run's (ffmap waits two periods for a reversal's answer, which the 5 ms tick
+# shows later: 1.8 % against 1.4 %); the 1 ms check above holds both (docs/PIL.md)
 python3 tools/seed_spread.py "$SIM" --check tests/sim/seed_spread_ref.json --args --fast --rel 0.03 \
-    --skip target_step_125:overshoot_mean_pct,target_step_125:settle_mean_s,paper_dynamic_100_fixed_pto:zone_error_min_pct
+    --skip target_step_125:overshoot_mean_pct,target_step_125:settle_mean_s,paper_dynamic_100_fixed_pto:zone_error_min_pct,paper_dynamic_150:zone_error_max_pct
