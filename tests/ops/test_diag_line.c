@@ -256,8 +256,8 @@ static void test_dry_line_only_with_the_boom_settled(void **state)
 
 /* ---- the pressure sensor's zero ---------------------------------------------------------------- */
 /* sprayed at 300 kPa at working speed (the spraying pressure taken at once, then filtered),
- * the bypass at its open stop, then shut and standing in auto */
-static void sprayed_then_at_rest(void)
+ * the bypass at its open stop, then shut and standing in auto; settled: sy.settled from then on */
+static void sprayed_then_at_rest(uint8_t settled)
 {
     setup(NULL);
     for (int i = 0; i < 145; i++) {             /* 3.6 strokes open: the open stop */
@@ -265,6 +265,7 @@ static void sprayed_then_at_rest(void)
         valve_set(0);
     }
     assert_int_equal(valve_limit(), CTL_AT_OPEN);
+    sy.settled = settled;                       /* diag_settled: the start-up over (1) or not */
     sy.st.spraying = 1;
     sy.st.in.speed_kmh_x100 = 800;
     sy.st.in.pressure_kpa = 300;
@@ -289,9 +290,9 @@ static int zero_after(uint16_t kpa, int max)
 static void test_zero_off_over_25_kpa_after_50_periods_at_rest(void **state)
 {
     (void)state;
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     assert_int_equal(zero_after(DIAG_ZERO_KPA, 120), 121);
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     assert_int_equal(zero_after(DIAG_ZERO_KPA + 1u, 120), 50);
     sy.st.in.pressure_kpa = 0;
     for (int n = 1; n <= 49; n++)
@@ -305,7 +306,7 @@ static void test_zero_needs_a_reading_steady_within_12_kpa(void **state)
 {
     (void)state;
     for (int k = 0; k < 2; k++) {
-        sprayed_then_at_rest();
+        sprayed_then_at_rest(1);
         int n;
         for (n = 1; n <= 120; n++) {
             sy.st.in.pressure_kpa = (uint16_t)(n % 2 ? 20 : 32 + k);
@@ -314,7 +315,7 @@ static void test_zero_needs_a_reading_steady_within_12_kpa(void **state)
         }
         assert_int_equal(n, k ? 121 : 50);
     }
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     sy.st.in.pressure_kpa = 20;
     assert_int_equal(zero(), 0);
     assert_int_equal(zero_after(26, 60), 49);
@@ -324,9 +325,9 @@ static void test_zero_needs_a_reading_steady_within_12_kpa(void **state)
 static void test_zero_at_rest_under_half_the_spraying_pressure(void **state)
 {
     (void)state;
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     assert_int_equal(zero_after(150, 120), 121);
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     assert_int_equal(zero_after(149, 120), 50);
 }
 
@@ -336,7 +337,7 @@ static void test_zero_at_rest_under_half_the_spraying_pressure(void **state)
 static void test_zero_spraying_pressure_at_working_speed_in_auto_only(void **state)
 {
     (void)state;
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     sy.st.spraying = 1;
     sy.st.in.speed_kmh_x100 = 200;
     sy.st.in.pressure_kpa = 40;
@@ -346,11 +347,11 @@ static void test_zero_spraying_pressure_at_working_speed_in_auto_only(void **sta
     sy.st.in.speed_kmh_x100 = 0;
     assert_int_equal(zero_after(30, 60), 50);
     /* manual at rest */
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     sy.st.manual = 1;
     assert_int_equal(zero_after(30, 120), 121);
     /* the sensor failed for a while, then good again, at rest */
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     adc_counts[0] = 179;
     sy.st.in.pressure_kpa = 30;
     for (int i = 0; i < 5; i++)
@@ -364,19 +365,7 @@ static void test_zero_spraying_pressure_at_working_speed_in_auto_only(void **sta
 static void test_zero_spraying_pressure_with_the_boom_settled_only(void **state)
 {
     (void)state;
-    setup(NULL);
-    for (int i = 0; i < 145; i++) {             /* the open stop, as sprayed_then_at_rest */
-        valve_set(-Q15_MAX);
-        valve_set(0);
-    }
-    sy.settled = 0;
-    sy.st.spraying = 1;
-    sy.st.in.speed_kmh_x100 = 800;
-    sy.st.in.pressure_kpa = 300;
-    for (int i = 0; i < 20; i++)
-        assert_int_equal(zero(), 0);
-    sy.st.spraying = 0;
-    sy.st.in.speed_kmh_x100 = 0;
+    sprayed_then_at_rest(0);
     assert_int_equal(zero_after(DIAG_ZERO_KPA + 1u, 120), 121);
 }
 
@@ -385,10 +374,10 @@ static void test_zero_spraying_pressure_with_the_boom_settled_only(void **state)
 static void test_zero_needs_the_boom_shut_and_the_bypass_known_open(void **state)
 {
     (void)state;
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     sy.st.spraying = 1;
     assert_int_equal(zero_after(30, 120), 121);
-    sprayed_then_at_rest();
+    sprayed_then_at_rest(1);
     sy.st.in.speed_kmh_x100 = 1;
     assert_int_equal(zero_after(30, 120), 121);
     /* the position unknown: no stop found since power-up */
@@ -405,7 +394,7 @@ static void test_zero_needs_the_boom_shut_and_the_bypass_known_open(void **state
     /* from the closed stop, 3276 open (4 x 819: valve.c's full period at the defaults) is not a
      * tenth; 3277 (819 x 3 + 797 + 23) is */
     for (int k = 0; k < 2; k++) {
-        sprayed_then_at_rest();
+        sprayed_then_at_rest(1);
         for (int i = 0; i < 145; i++) {
             valve_set(Q15_MAX);
             valve_set(0);
