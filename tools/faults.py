@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """faults.py: every fault of issue 51's first table at two sizes, told or not (`make faults`).
 
-Usage: tools/faults.py SIM [--out build/faults] [--controller ffmap] [--jobs N] [--only NAME,..]
+Usage: tools/faults.py SIM [--out build/faults] [--controller ffmap] [--jobs N] [--only NAME,..] [--tank-l L]
 
 For each fault (FAULTS below: the issue's size and about half of it) it writes a scenario into
 OUT (150 L/ha, 36 nozzles at 50 cm, 8 km/h unless the fault says otherwise; the fault starts at
@@ -97,9 +97,12 @@ def clog_growing(size):
     return dict(text=scenario("clogging", ev), start=T0, clogs=[(T0 + 20 * k, k + 1) for k in range(size)])
 
 
-def meter_k(k):
-    plant = "pto_coupled = 1\ntank_l = %d\ntank_start_l = %d\n" % (TANK_L, TANK_L)
-    return dict(text=scenario("meter K %g" % k, ["0 meter_k_ppl %g" % k], plant=plant), start=0.0, tank_l=TANK_L)
+def meter_k(k, tank_l=TANK_L):
+    """The meter's true K off the calibration; the tank (full at the start) and the firmware's
+    Tank size both tank_l."""
+    plant = "pto_coupled = 1\ntank_l = %d\ntank_start_l = %d\n" % (tank_l, tank_l)
+    return dict(text=scenario("meter K %g" % k, ["0 meter_k_ppl %g" % k], plant=plant,
+                              config={"tank_size_l": tank_l}), start=0.0, tank_l=tank_l)
 
 
 def creep(kmh):
@@ -341,6 +344,7 @@ def main():
     ap.add_argument("--controller", default="ffmap")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--only", default="", help="these faults only (names, comma-separated)")
+    ap.add_argument("--tank-l", type=int, default=TANK_L, help="the meter rows' tank and Tank size, L")
     a = ap.parse_args()
     if not os.access(a.sim, os.X_OK):
         sys.exit("faults: %s: not an executable simulator (make sim-progs)" % a.sim)
@@ -349,7 +353,7 @@ def main():
     if unknown:
         sys.exit("faults: unknown fault %s (one of: %s)" % (", ".join(unknown), ", ".join(f[0] for f in FAULTS)))
     os.makedirs(a.out, exist_ok=True)
-    jobs = [(a.sim, a.controller, a.out, name, label, build(arg))
+    jobs = [(a.sim, a.controller, a.out, name, label, build(arg, a.tank_l) if build is meter_k else build(arg))
             for name, _, build, sizes in FAULTS if not only or name in only for label, arg in sizes]
     with Pool(max(1, a.jobs)) as pool:
         rows = progress.pool_map(pool, run_one, jobs, "faults")

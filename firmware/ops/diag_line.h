@@ -11,7 +11,7 @@
 #define DIAG_ZERO_KPA 25u           /* ... and the line at rest: a reading above this is off its zero */
 #define DIAG_ZERO_OPEN_Q15 3277u    /* ... with the bypass open by a tenth of its stroke or more */
 #define DIAG_BAL_MIN_X100 1500      /* tank balance: metered flow in the turbine's full range only */
-#define DIAG_BAL_PCT 6u             /* ... a meter off the level's fall by more than this % ... */
+#define DIAG_BAL_PCT 5u             /* ... a meter off the level's fall by more than this % (ISO 16122-2) */
 #define DIAG_BAL_WAIT 30u           /* ... not for 3 s after a step of the level (its 0.4 s filter) */
 #define DIAG_BAL_STRETCH 100u       /* ... over stretches of 10 s or more in range */
 

@@ -58,6 +58,19 @@ PYEOF
 then ok "a meter reading low: the tank's share before METER_CAL is the nozzles' volume to the alarm"
 else nok "a meter reading low: the tank's share before METER_CAL is the nozzles' volume to the alarm" "$(tail -3 "$tmp/m.out")"; fi
 
+# a smaller sprayer's tank: 400 L (the level's resolution m = 400 / 256 + 1 = 2 L, half a 1000 L
+# tank's 4 L, over a tank 2.5 times smaller): a meter 10 or 20 % off is still told before 15 %
+if $PY tools/faults.py "$SIM" --only meter_low,meter_high --tank-l 400 --out "$tmp/s" > "$tmp/s.out" 2>&1 && $PY - "$tmp/s/summary.json" <<'PYEOF'
+import json, sys
+rows = json.load(open(sys.argv[1]))["rows"]
+assert len(rows) == 4
+for r in rows:
+    assert "tank_l = 400" in open(r["scenario"]).read() and "tank_size_l = 400" in open(r["scenario"]).read(), r
+    assert r["tank_share_pct"] is not None and r["tank_share_pct"] < 15.0, (r["size"], r["tank_share_pct"])
+PYEOF
+then ok "a 400 L tank: a meter 10 or 20 % off told by METER_CAL before 15 % of the tank is sprayed"
+else nok "a 400 L tank: a meter 10 or 20 % off told by METER_CAL before 15 % of the tank is sprayed" "$(tail -3 "$tmp/s.out")"; fi
+
 if $PY tools/faults.py "$SIM" --only leak_growing,set_then_cut --out "$tmp/f" > "$tmp/f.out" 2>&1; then
     ok "two faults at two sizes run"
 else
