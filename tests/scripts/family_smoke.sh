@@ -109,6 +109,35 @@ assert st and all(family.draw(1, int(n.split("/")[1]), "both")["plant"]["valve_s
 assert "36/28/told" in redraw.select("fast-stiff", 36, 36)    # breaks away at 0.281 and crept
 PYEOF
 then ok "redraw --select picks the fast valves near P max, and the fast stiff ones"; else nok "redraw --select picks the fast valves near P max, and the fast stiff ones"; fi
+# an alarm's cause, by hand: a drive 0 -> 8 km/h over 0-10 s, held to 100 s, stopping by 110 s
+# (under 4 km/h from 105 s); nozzles worn 10.5 % or 9.9 %
+if $PY - <<'PYEOF'
+import sys
+sys.path.insert(0, "tools")
+import family
+d = {"drive": [(0, 0), (10, 8), (100, 8), (110, 0)], "plant": {"nozzle_wear_pct": 10.5}}
+assert family.drive_kmh(d["drive"], 5) == 4 and family.drive_kmh(d["drive"], 105) == 4
+def a(*cs):
+    return [{"code": c, "t_s": t} for c, t in cs]
+assert family.uncaused(d, a(("NOZZLE_WEAR", 50), ("MIN_FLOW", 8.9), ("MIN_FLOW", 106)), False) == []
+assert family.uncaused(d, a(("MIN_FLOW", 9.1)), False) == ["MIN_FLOW"]     # 4 km/h at 5 s: 4.1 s before
+assert family.uncaused(d, a(("MIN_FLOW", 50), ("OFF_RATE", 60)), False) == ["MIN_FLOW", "OFF_RATE"]
+assert family.uncaused(d, a(("OFF_RATE", 60)), True) == []                 # an operator's change
+d["plant"]["nozzle_wear_pct"] = 9.9
+assert family.uncaused(d, a(("NOZZLE_WEAR", 50), ("LEAK", 70)), True) == ["LEAK", "NOZZLE_WEAR"]
+PYEOF
+then ok "an alarm's cause: worn nozzles over 10 %, the drive under 4 km/h within 4 s; any other without"
+else nok "an alarm's cause: worn nozzles over 10 %, the drive under 4 km/h within 4 s; any other without"; fi
+if $PY - "$tmp/a/summary.json" "$tmp/a/runs.csv" <<'PYEOF'
+import csv, json, sys
+s = json.load(open(sys.argv[1]))
+rows = list(csv.DictReader(open(sys.argv[2])))
+for c in ("ffmap", "pid"):
+    assert s["controllers"][c]["uncaused_runs"] == sum(1 for r in rows if r["controller"] == c and r["uncaused"])
+    assert all(set(r["uncaused"].split()) <= set(r["alarms"].split()) for r in rows)
+PYEOF
+then ok "summary.json counts the runs with an alarm without cause, runs.csv's"
+else nok "summary.json counts the runs with an alarm without cause, runs.csv's"; fi
 # the peers tuned for each plant's valve: a second scenario per plant with their settings, scored apart
 if $PY tools/family.py "$SIM" --n 2 --controllers raven,raven_tuned,aog_tuned --out "$tmp/t" > "$tmp/t.out" 2>&1 \
    && grep -q "^raven_valve_cal = [1-9][0-9][0-9][1-9]$" "$tmp/t/scn/plant_000_told_tuned.scn" \
