@@ -65,7 +65,6 @@ typedef struct {
     } rate_snap[CON_RATE_N];
 } console_t;
 extern console_t con;
-#define con_io (con.u.io)
 
 /* text helpers and number entry (console_view.c, console.c); all __reentrant: both files keep
  * their locals on the stack */

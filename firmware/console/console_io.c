@@ -44,9 +44,9 @@ void con_iotest_start(void)
 {
     ops_io_test(OPS_IO_ON);
     con.cal_pulses = ops_wheel_pulses();
-    con_io.meter0 = (uint16_t)ops_flow_pulses();
+    con.u.io.meter0 = (uint16_t)ops_flow_pulses();
     con.cal_value = (uint16_t)hal_ms();
-    con_io.wheel_hz = con_io.meter_hz = 0;
+    con.u.io.wheel_hz = con.u.io.meter_hz = 0;
     con_say("1R 3B 2/8V C:end");
 }
 
@@ -54,10 +54,10 @@ void con_draw_iotest(void)
 {
     uint16_t now = (uint16_t)hal_ms(), dt = (uint16_t)(now - con.cal_value);
     if (dt >= 1000u) {
-        con_io.wheel_hz = (uint16_t)um_muldiv(ops_wheel_pulses() - con.cal_pulses, 1000u, dt);
-        con_io.meter_hz = (uint16_t)um_muldiv((uint16_t)((uint16_t)ops_flow_pulses() - con_io.meter0), 1000u, dt);
+        con.u.io.wheel_hz = (uint16_t)um_muldiv(ops_wheel_pulses() - con.cal_pulses, 1000u, dt);
+        con.u.io.meter_hz = (uint16_t)um_muldiv((uint16_t)((uint16_t)ops_flow_pulses() - con.u.io.meter0), 1000u, dt);
         con.cal_pulses = ops_wheel_pulses();
-        con_io.meter0 = (uint16_t)ops_flow_pulses();
+        con.u.io.meter0 = (uint16_t)ops_flow_pulses();
         con.cal_value = now;
     }
     con_start("P");
@@ -68,12 +68,12 @@ void con_draw_iotest(void)
     cat_ma(HAL_ADC_LEVEL);
     con_cat((ops_io & OPS_IO_BUZZER) ? "B1" : "B0");
     con_show(1);
-    cat_pulses('W', ops_wheel_pulses(), con_io.wheel_hz);
+    cat_pulses('W', ops_wheel_pulses(), con.u.io.wheel_hz);
     con_cat(app_status.drive > 0 ? "V+" : app_status.drive < 0 ? "V-" : "V0");
     con_show(2);
     if (con_msg_on())
         return;                     /* con_draw puts the message on the bottom line */
-    cat_pulses('M', ops_flow_pulses(), con_io.meter_hz);
+    cat_pulses('M', ops_flow_pulses(), con.u.io.meter_hz);
     con_show(3);
 }
 #endif
