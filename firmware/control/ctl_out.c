@@ -15,11 +15,6 @@
  * which ffmap uses too, are ctl_drive.c's: an image with ffmap alone links none of this module.
  */
 
-int16_t ctl_of_target(int16_t frac)
-{
-    return (int16_t)(MUL(ctl_in->target_lpm_x100, frac) >> 15);
-}
-
 int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi)
 {
     return x < lo ? lo : x > hi ? hi : x;
