@@ -76,7 +76,9 @@ CTL_STEP void bp_forward(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_
         /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined): (32769 + t) >> 1 in 16 bits */
         t = fx_tanh(fx_sat16(ACC_SHR15()));
         b->k[i] = t == 32767 ? 32767 : (int16_t)((uint16_t)((uint16_t)t + 32769u) >> 1);
+#if FW_PROBES                        /* the gains in Q12 for ctl_gain: nothing reads them on the chip */
         ctl_k[i] = (b->k[i] + 4) >> 3;
+#endif
     }
 }
 
