@@ -106,7 +106,7 @@ STC_DIR := $(BUILD)/stc12$(if $(filter 1,$(FW_PEERS)),-peers)$(if $(filter 1,$(H
 STC_MAIN_REL := $(STC_DIR)/firmware/app/main.rel $(patsubst %.c,$(STC_DIR)/%.rel,$(wildcard hal/stc12/*.c))
 # the controllers only the research image carries (FW_PEERS): not compiled into the field set,
 # whose controllers' state union then holds ffmap's alone (ctl_int.h)
-FW_PEER_SRC := $(addprefix firmware/control/,pid.c bp.c aog.c raven.c)
+FW_PEER_SRC := $(addprefix firmware/control/,pid.c bp.c aog.c raven.c ctl_peer.c)
 STC_LIB_REL := $(patsubst %.c,$(STC_DIR)/%.rel,$(if $(filter 1,$(FW_PEERS)),$(FW_LIB_SRC),$(filter-out $(FW_PEER_SRC),$(FW_LIB_SRC))) $(PORT_SRC))
 STC_LIB := $(STC_DIR)/fw.lib
 FW_IHX := $(STC_DIR)/sprayer.ihx

@@ -76,7 +76,9 @@ CTL_STEP void bp_forward(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_
         /* (1 + tanh)/2 rounded, saturated (fx_sigmoid, inlined): (32769 + t) >> 1 in 16 bits */
         t = fx_tanh(fx_sat16(ACC_SHR15()));
         b->k[i] = t == 32767 ? 32767 : (int16_t)((uint16_t)((uint16_t)t + 32769u) >> 1);
+#if FW_PROBES                        /* the gains in Q12 for ctl_gain: nothing reads them on the chip */
         ctl_k[i] = (b->k[i] + 4) >> 3;
+#endif
     }
 }
 
@@ -89,7 +91,7 @@ CTL_STEP q15_t bp_law(int16_t e) CTL_SHARED
     uint8_t i;
     de[0] = (int16_t)(e - b->e1);
     de[1] = e;
-    de[2] = fx_sat16((int32_t)e - 2 * (int32_t)b->e1 + b->e2);
+    de[2] = ctl_d2(e, b->e1, b->e2);
     du = 0;
     for (i = 0; i < BP_OUT; i++)
         du += (MUL(b->k[i], de[i]) + 4) >> 3;       /* Q15 * x100 -> Q12 x100 */
@@ -110,7 +112,7 @@ CTL_STEP void bp_learn(int16_t n, __idata int16_t *x, __idata int16_t *o) CTL_SH
     uint8_t i, l;
     dn[0] = n - b->n1;
     dn[1] = n;
-    dn[2] = fx_sat16((int32_t)n - 2 * (int32_t)b->n1 + b->n2);
+    dn[2] = ctl_d2(n, b->n1, b->n2);
     for (l = 0; l < BP_OUT; l++) {
         int16_t gp = (int16_t)((MUL(b->k[l], (int16_t)(32767 - b->k[l])) + 8192) >> 14);   /* Q15 */
         eg = fx_sat16(MUL_R12(n, dn[l]));                                                   /* Q12 */

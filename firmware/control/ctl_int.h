@@ -238,8 +238,11 @@ extern int16_t ctl_k[3];            /* Q12: kp, ki, kd of the last step */
 /* The output stage (ctl_out.c). */
 int16_t ctl_clamp_e(int16_t e);
 int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi) CTL_SHARED;
-/* frac (Q15) of this step's target, x100 L/min, floored (the peers' dead bands and brake points) */
+/* frac (Q15) of this step's target, x100 L/min, floored (the peers' dead bands and brake
+ * points; ctl_peer.c) */
 int16_t ctl_of_target(int16_t frac) CTL_SHARED;
+/* The second difference x - 2 x1 + x2 of the incremental law's D term, saturated to int16. */
+int16_t ctl_d2(int16_t x, int16_t x1, int16_t x2) CTL_SHARED;
 /* du (Q12, x100 L/min of flow-equivalent) -> Q15 drive, 32 bit, not yet limited. */
 int32_t ctl_du_to_drive(int32_t du);
 /* pid, fuzzy_pid and bp_pid: pulse accumulation below stiction, drive limit and end stops. */

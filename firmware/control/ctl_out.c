@@ -1,4 +1,4 @@
-/* ctl_out.c: the output stage pid, fuzzy_pid, bp_pid and the peers share: pulse accumulation, limits, their clamps. */
+/* ctl_out.c: the output stage pid, fuzzy_pid, bp_pid and the peers share: pulse accumulation, limits, clamps, D term. */
 #if defined(__SDCC)
 #pragma stackauto           /* locals on the stack, not each its own XRAM (docs/MEMORY.md) */
 #endif
@@ -15,14 +15,14 @@
  * which ffmap uses too, are ctl_drive.c's: an image with ffmap alone links none of this module.
  */
 
-int16_t ctl_of_target(int16_t frac)
-{
-    return (int16_t)(MUL(ctl_in->target_lpm_x100, frac) >> 15);
-}
-
 int16_t ctl_clamp16(int16_t x, int16_t lo, int16_t hi)
 {
     return x < lo ? lo : x > hi ? hi : x;
+}
+
+int16_t ctl_d2(int16_t x, int16_t x1, int16_t x2)
+{
+    return fx_sat16((int32_t)x - 2 * (int32_t)x1 + x2);
 }
 
 q15_t ctl_out(int32_t d, uint8_t limit)

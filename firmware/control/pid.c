@@ -6,7 +6,7 @@
  * layout); e, e1, e2 in x100 L/min. Shifts the history. */
 static int32_t pid_law(int16_t e) CTL_SHARED
 {
-    int16_t d2e = fx_sat16((int32_t)e - 2 * (int32_t)ctl_st.pid.e1 + ctl_st.pid.e2);
+    int16_t d2e = ctl_d2(e, ctl_st.pid.e1, ctl_st.pid.e2);
     int16_t de = (int16_t)(e - ctl_st.pid.e1);      /* |e| <= CTL_E_MAX: no overflow */
     int32_t du = MUL(ctl_k[0], de);
     du += MUL(ctl_k[1], e);
