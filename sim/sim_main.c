@@ -8,6 +8,7 @@
 #include "args.h"
 #include "sim.h"
 #include "hal_host.h"
+#include "st7920_emu.h"
 #include "pil_host.h"
 #include "chip_host.h"
 #include "ucsim/stc12_link.h"
@@ -19,7 +20,7 @@
 static void usage(FILE *f)
 {
     fputs("usage: sim --scenario FILE [--controller NAME] [--csv OUT.csv] [--seed N] [--trace-period S]\n"
-          "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt]\n"
+          "           [--zones OUT.csv] [--samples OUT.csv] [--serial OUT.txt] [--drive-log OUT.txt] [--lcd OUT.txt]\n"
           "           [--pil IMAGE.ihx | --chip IMAGE.ihx [--s51 PATH]] [--input KEYS_AND_LINES.txt] [--pty [--pace X] [--wait S]]\n"
           "           [--fast | --tick-ms N [--idle-tick-ms M]] [--duration S]\n"
           "  runs the firmware application against the sprayer model of FILE (scenarios/*.scn);\n"
@@ -32,6 +33,7 @@ static void usage(FILE *f)
           "  --serial: what the controller sends on its RS232 link (tools/serial_log.py --replay reads it).\n"
           "  --input: operator input at given times ('t_s key K', 't_s serial TEXT', 't_s frame HEX' lines; sim/sim.h).\n"
           "  --drive-log: a line 'tick dir duty spray' whenever the valve drive or the boom valve changes.\n"
+          "  --lcd: the LCD's four text lines at the run's end (the emulated ST7920, host or --pil firmware).\n"
           "  --pil: the firmware runs inside s51 from IMAGE (make pil-image: build/pil/sprayer_pil.ihx),\n"
           "         in lock step with the plant; 'pil:' lines give its pass timing and stack.\n"
           "  --chip: the field image (build/stc12/sprayer.ihx, its .map beside it) runs in the\n"
@@ -122,7 +124,7 @@ static int run_pty(sim_t *sim, const scenario_t *s, double pace, double wait_s)
 /* The program's options, what it opened and the firmware it runs. */
 typedef struct {
     const char *scn_path, *controller, *csv_path, *zones_path, *samples_path;
-    const char *serial_path, *drive_path, *pil_path, *input_path, *chip_path, *s51_path;
+    const char *serial_path, *drive_path, *pil_path, *input_path, *chip_path, *s51_path, *lcd_path;
     arg_nums_t chip_ev[3];          /* the times of --chip-reset, --chip-hang, --chip-wheel-sweep */
     unsigned long long seed;
     int have_seed, tick_ms, idle_ms, fast, use_pty;
@@ -145,6 +147,7 @@ static int options(int argc, char **argv, opt_t *o)
         {"--samples", ARG_TEXT, &o->samples_path, 0, 0, NULL},
         {"--serial", ARG_TEXT, &o->serial_path, 0, 0, NULL},
         {"--drive-log", ARG_TEXT, &o->drive_path, 0, 0, NULL},
+        {"--lcd", ARG_TEXT, &o->lcd_path, 0, 0, NULL},
         {"--pil", ARG_TEXT, &o->pil_path, 0, 0, NULL},
         {"--chip", ARG_TEXT, &o->chip_path, 0, 0, NULL},
         {"--s51", ARG_TEXT, &o->s51_path, 0, 0, NULL},
@@ -281,6 +284,27 @@ static int run(opt_t *o, sim_t *sim, const scenario_t *s)
     return 0;
 }
 
+/* --lcd: the four text lines as the LCD shows them now, one a line; 0, or -1 (said why). */
+static int write_lcd(const char *path)
+{
+    char line[17];
+    uint8_t k;
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "sim: --lcd: %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    for (k = 0; k < 4; k++) {
+        st7920_emu_line(k, line);
+        fprintf(f, "%s\n", line);
+    }
+    if (fclose(f) != 0) {
+        fprintf(stderr, "sim: error writing %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
 /* The firmware stopped, the files closed, the summary, the timing lines and the JSON printed;
  * 0, or the exit status. */
 static int finish(opt_t *o, sim_t *sim, const scenario_t *s)
@@ -296,6 +320,8 @@ static int finish(opt_t *o, sim_t *sim, const scenario_t *s)
         return 1;
     }
     sim_finish(sim, &r);
+    if (o->lcd_path && write_lcd(o->lcd_path) < 0)
+        return 1;
     if (o->drive_log && fclose(o->drive_log) != 0) {
         fprintf(stderr, "sim: error writing %s: %s\n", o->drive_path, strerror(errno));
         return 1;
@@ -371,6 +397,10 @@ int main(int argc, char **argv)
     if (o.input_path && sim_input_load(sim, o.input_path, err, sizeof err) < 0) {
         fprintf(stderr, "sim: --input: %s\n", err);
         return 1;
+    }
+    if (o.lcd_path) {
+        st7920_emu_reset();
+        hal_host_lcd_sink(st7920_emu_write);
     }
     if ((rc = start_firmware(&o, sim, s)) != 0)
         return rc;

@@ -214,13 +214,16 @@ static void key_edit(void)
     }
 }
 
+/* A and B step through the setting's range, wrapping: only the values this image takes (the
+ * field image's Control: the controllers it carries, params.h P_CTL_MIN / MAX) */
 static void key_choice(void)
 {
-    uint8_t n = con_item == P_CONTROLLER ? CTL_COUNT : (uint8_t)(param_info(con_item)->max + 1u);
+    const __code param_info_t *pi = param_info(con_item);
+    uint8_t lo = (uint8_t)pi->min, hi = (uint8_t)pi->max;
     if (con.k == 'A')
-        con_step = con_step + 1 < n ? con_step + 1 : 0;
+        con_step = con_step < hi ? con_step + 1 : lo;
     else if (con.k == 'B')
-        con_step = con_step ? con_step - 1 : n - 1;
+        con_step = con_step > lo ? con_step - 1 : hi;
     else if (con.k == 'C')
         go(S_MENU);
     else if (con.k == 'D') {
