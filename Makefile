@@ -172,7 +172,7 @@ help:
 	@echo "make chip SCENARIO=f [CONTROLLER=n] [CSV=out.csv]  the field image in the STC12C5A60S2 model (build/ucsim/s51) + 1T timing"
 	@echo "make ucsim     that model: Debian's uCsim source + sim/ucsim/stc12.patch, built into build/ucsim/s51"
 	@echo "make compare   the six controllers on the same plant and seeds, beside the paper; ffmap against bp_pid, aog and raven over seeds 1-16"
-	@echo "make family [N=200] [CONTROLLERS=..] [SEED=s] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1]"
+	@echo "make family [N=200] [CONTROLLERS=..] [SEED=s] [TOLD=both|drawn] [KIND=both|dynamic|field] [EVENTS=1] [CORNERS=1]"
 	@echo "               the controllers over N sprayers of the plant family: median and 95th percentile"
 	@echo "make faults [FAULTS_CONTROLLER=ffmap] [ONLY=leak_growing,..]   every fault of issue 51 at two sizes: told or not (build/faults/table.md)"
 	@echo "make help-research  the research harnesses' targets (tools/research/research.mk)"
@@ -397,11 +397,13 @@ N ?= 200
 CONTROLLERS ?= ffmap,bp_pid,fuzzy_pid,pid,aog,raven
 SEED ?= 1
 TOLD ?= both
-# KIND=dynamic|field|both: the family's drives; EVENTS=1: an operator's events on every run
+# KIND=dynamic|field|both: the family's drives; EVENTS=1: an operator's events on every run;
+# CORNERS=1: the family's corners (the valve's ends, every noise at its top; N=64 covers them)
 KIND ?= both
 EVENTS ?=
+CORNERS ?=
 family: $(SIM_BIN) $(VENV)
-	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --kind $(KIND) $(if $(EVENTS),--events) --out $(BUILD)/family
+	$(Q)$(PYTHON) tools/family.py $(SIM_BIN) --n $(N) --controllers $(CONTROLLERS) --seed $(SEED) --told $(TOLD) --kind $(KIND) $(if $(EVENTS),--events) $(if $(CORNERS),--corners) --out $(BUILD)/family
 
 # every fault of issue 51's first table at two sizes: the alarm or warning, its delay, the dose
 # while untold and silent_wrong_s (tools/faults.py); the table in build/faults/table.md

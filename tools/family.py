@@ -3,7 +3,7 @@
 
 Usage: tools/family.py SIM [--n 200] [--controllers ffmap,bp_pid,fuzzy_pid,pid,aog,raven] [--seed 1]
                        [--out build/family] [--jobs N] [--kind dynamic|field|both] [--told both|drawn]
-                       [--events]
+                       [--events] [--corners]
 
 The peers aog and raven run with their default settings; `aog_tuned` and `raven_tuned` run them
 with settings tuned for each plant's valve (tuned_config below: what a careful user reaches by
@@ -22,6 +22,9 @@ controller.
 --events adds an operator's doings to every run (operator_events: sections switching down to 6
 of the 36 nozzles, a rate change, a PTO step, a refill, the bypass parked anywhere at the start):
 conditions the family's drives leave out, and where the meter runs below its range.
+--corners replaces the draws by the family's corners (corner(): the valve's stroke time, break-away,
+running friction, backlash and motor lag each at either end of its range, 64 plants in a cycle,
+dynamic and field drives, and every noise at its top at once); --kind does not apply.
 Also per controller, for silent_wrong_s (the longest untold wrong dose) and ripple_p95_pct (how
 the flow hunts on a held target): median, 95th percentile, maximum with its plant, and the runs
 over 10 s and over 5 %.
@@ -152,6 +155,29 @@ def draw(seed, i, kind):
         if nozzle_bar(rate, vmax, p["nozzle_wear_pct"], p["check_valve_bar"]) <= P_LIMIT:
             return {"plant": p, "told": told, "rate": rate, "kind": k, "drive": rows,
                     "seed": rnd.randint(1, 10 ** 6)}
+
+
+# the family's corners (--corners): the valve's dimensions at either end of their ranges, picked
+# by the bits of the plant's number, and every noise at its top (issue 51: the fastest valve
+# untold, the strongest pulsation, bounce and pressure noise at once)
+CORNER_BITS = [("valve_travel_s", 1.5, 12.0), ("valve_stiction_duty", 0.10, 0.35),
+               ("running_ratio", 0.5, 0.8), ("valve_backlash", 0.005, 0.04),
+               ("valve_motor_tau_s", 0.02, 0.15), ("kind", "dynamic", "field")]
+CORNER_NOISE = {"pump_pulsation_pct": 10.0, "speed_bounce_pct": 3.0, "pressure_noise_lsb": 3.0,
+                "meter_blade_jitter_pct": 3.0, "wheel_spacing_jitter_pct": 4.0, "wheel_slip_pct": 3.0}
+
+
+def corner(seed, i):
+    """Plant i of the corners: the bits of i mod 64 pick each CORNER_BITS end; the rest (pump,
+    PTO, meter, nozzles, rate, the drive) drawn as plant i of the family with that kind."""
+    ends = {name: (hi if (i >> b) & 1 else lo) for b, (name, lo, hi) in enumerate(CORNER_BITS)}
+    d = draw(seed, i, ends["kind"])
+    p = d["plant"]
+    for name in ("valve_travel_s", "valve_stiction_duty", "valve_backlash", "valve_motor_tau_s"):
+        p[name] = ends[name]
+    p["valve_running_duty"] = round(ends["valve_stiction_duty"] * ends["running_ratio"], 3)
+    p.update(CORNER_NOISE)
+    return d
 
 
 def operator_events(seed, i, d):
@@ -342,6 +368,8 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--kind", choices=("dynamic", "field", "both"), default="both")
     ap.add_argument("--told", choices=("both", "drawn"), default="both")
+    ap.add_argument("--corners", action="store_true",
+                    help="the family's corners (corner()): 64 valve corners, every noise at its top")
     ap.add_argument("--events", action="store_true",
                     help="an operator's events on every run (operator_events): sections, rate, PTO, refill")
     a = ap.parse_args()
@@ -352,7 +380,7 @@ def main():
     os.makedirs(scn_dir, exist_ok=True)
     jobs = []
     for i in range(a.n):
-        d0 = draw(a.seed, i, a.kind)
+        d0 = corner(a.seed, i) if a.corners else draw(a.seed, i, a.kind)
         if a.events:
             d0["events"] = operator_events(a.seed, i, d0)
         for told in ((1, 0) if a.told == "both" else (d0["told"],)):

@@ -138,6 +138,25 @@ for c in ("ffmap", "pid"):
 PYEOF
 then ok "summary.json counts the runs with an alarm without cause, runs.csv's"
 else nok "summary.json counts the runs with an alarm without cause, runs.csv's"; fi
+# the corners: plant i's valve at the ends its bits pick, every noise at its top, the rest drawn
+if $PY tools/family.py "$SIM" --n 2 --corners --controllers ffmap --out "$tmp/c" > "$tmp/c.out" 2>&1 \
+   && grep -q "^valve_travel_s = 1.5$" "$tmp/c/scn/plant_000_untold.scn" && grep -q "^valve_travel_s = 12.0$" "$tmp/c/scn/plant_001_untold.scn" \
+   && grep -q "^pump_pulsation_pct = 10.0$" "$tmp/c/scn/plant_001_told.scn" && grep -q "^speed_bounce_pct = 3.0$" "$tmp/c/scn/plant_000_told.scn" \
+   && [ "$(($(wc -l < "$tmp/c/runs.csv") - 1))" -eq 4 ] && $PY - <<'PYEOF'
+import sys
+sys.path.insert(0, "tools")
+import family
+for i in range(64):
+    d = family.corner(1, i)
+    p = d["plant"]
+    assert p["valve_travel_s"] == (12.0 if i & 1 else 1.5) and p["valve_stiction_duty"] == (0.35 if i & 2 else 0.10)
+    assert abs(p["valve_running_duty"] / p["valve_stiction_duty"] - (0.8 if i & 4 else 0.5)) < 0.01
+    assert p["valve_backlash"] == (0.04 if i & 8 else 0.005) and p["valve_motor_tau_s"] == (0.15 if i & 16 else 0.02)
+    assert d["kind"] == ("field" if i & 32 else "dynamic") and p["pressure_noise_lsb"] == 3.0
+    assert family.corner(1, i + 64)["plant"]["valve_travel_s"] == p["valve_travel_s"]
+PYEOF
+then ok "--corners: the valve's ends by the plant's bits, every noise at its top"
+else nok "--corners: the valve's ends by the plant's bits, every noise at its top" "$(tail -3 "$tmp/c.out")"; fi
 # the peers tuned for each plant's valve: a second scenario per plant with their settings, scored apart
 if $PY tools/family.py "$SIM" --n 2 --controllers raven,raven_tuned,aog_tuned --out "$tmp/t" > "$tmp/t.out" 2>&1 \
    && grep -q "^raven_valve_cal = [1-9][0-9][0-9][1-9]$" "$tmp/t/scn/plant_000_told_tuned.scn" \
