@@ -90,6 +90,7 @@ typedef struct {
 #define FFMAP_FF_RAMP 40               /* ... filtered over about 2^FFMAP_FF_RSH periods beyond this (x100) */
 #define FFMAP_FF_ESH 7                 /* ... the error beyond target >> this: ff_gain lags or leads */
 #define FFMAP_FF_MAX 2000              /* the largest ff_gain */
+#define FFMAP_FF_RUN_SH 3              /* ff_gain's step: 2, and 2 more every 2^this periods taught one way in a row */
 #define FFMAP_FF_LEAD 32               /* ff_gain under this: the flow follows the speed by itself (a pump
                                      * on the wheels learns at most 20, one on a fixed PTO 56-404
                                      * after its first ramps): the speed without its lead (speed.h) */
@@ -144,6 +145,7 @@ typedef struct {
     int16_t flow_last;              /* x100 L/min the last period's flow */
     int16_t gain_start;             /* Q8: the loop gain when the loop (re)started */
     uint8_t hold;                   /* periods left without P and D after the sections changed */
+    uint8_t ff_run;                 /* periods in a row ff_gain was taught the same way (ffmap_ff_lag), to 120 */
 } ffmap_state_t;
 
 /* ---- aog: SK21's RateControl module's valve PID (aog.c), the user's settings P_AOG_* --------- */

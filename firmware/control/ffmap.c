@@ -58,7 +58,10 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
  * is, and how far its valve moves the flow, is learnt from the error a speed change leaves:
  * ff_gain, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
  * the flow lags a ramp of the target (its change filtered over about 2^FFMAP_FF_RSH periods beyond
- * FFMAP_FF_RAMP) by more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; nothing in
+ * FFMAP_FF_RAMP) by more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; from
+ * FFMAP_FF_LEAD on, by 2 more every 2^FFMAP_FF_RUN_SH periods taught the same way in a row (ff_run:
+ * a slow valve on a fixed PTO needs hundreds, and by 2 each speed change left it lagging while it
+ * climbed; near its value the lags and leads alternate and the step stays 2); nothing in
  * the first FFMAP_WARM periods (the start-up's own error), at rest or against a stop, nor in the
  * FFMAP_ANSWER periods after a reversal (the loop's own swing, its answer awaited: ffmap_out). While ff_gain is
  * under FFMAP_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
@@ -75,6 +78,7 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 static __data int16_t ffmap_e;
 static __bit ffmap_hi_p;                   /* the pressure over 360 kPa this period (FFMAP_P_HI_F) */
 static __bit ffmap_hi_t;                   /* the target's pressure over 400 kPa (FFMAP_P_T_F) */
+static __bit ffmap_ff_lag;                 /* ff_gain was last taught up (the flow lagged) */
 /* The step's scratch in the direct RAM: 4 bytes that each phase of the step names for what it
  * holds there (the phases run one after the other and keep nothing in them across the step). */
 static __data union {
@@ -120,11 +124,16 @@ static void ffmap_ff(void)
     if (ffmap_warm && !ctl_in->valve_limit && ffmap_w.ffl.abs_e > ffmap_w.ffl.band && M->rev_age >= FFMAP_ANSWER
         && (uint16_t)(M->ramp < 0 ? -M->ramp : M->ramp)
                > (speed_plain && !speed_learnt ? ffmap_w.ffl.band << FFMAP_FF_OFF_SH : FFMAP_FF_RAMP)) {
-        if ((M->ramp ^ ffmap_e) >= 0) {          /* the same sign: the flow lags */
+        if (((M->ramp ^ ffmap_e) >= 0) != ffmap_ff_lag) {
+            ffmap_ff_lag = !ffmap_ff_lag;   /* the same sign: the flow lags */
+            M->ff_run = 0;          /* the run starts anew: taught the other way */
+        }
+        M->ff_run += M->ff_run < 120;
+        if (ffmap_ff_lag) {         /* (never under 0: 2 under FFMAP_FF_LEAD, at most 32 over) */
             if (M->ff_gain < FFMAP_FF_MAX)
-                M->ff_gain += 2;
+                M->ff_gain += M->ff_gain < FFMAP_FF_LEAD ? 2 : 2 + ((M->ff_run >> FFMAP_FF_RUN_SH) << 1);
         } else if (M->ff_gain) {
-            M->ff_gain -= 2;
+            M->ff_gain -= M->ff_gain < FFMAP_FF_LEAD ? 2 : 2 + ((M->ff_run >> FFMAP_FF_RUN_SH) << 1);
         }
     }
     /* nothing while the flow is past the target the way it would push, by a big error (ff_gain is

@@ -20,6 +20,7 @@ void ffmap_init(void)
     if (M->gain <= 0)
         ffmap_forget();
     M->slow_n = 0;
+    M->ff_run = 0;
     M->cap = 255;
     /* (the errors, the deadband, the start's counters: the first step sets them, ctl_first) */
 }
