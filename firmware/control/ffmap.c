@@ -3,8 +3,6 @@
 #include "target.h"
 #include "speed.h"
 
-/* the state: at a fixed address (no pointer to load) */
-#define M (&ctl_st.fm)
 /* warm reached FFMAP_WARM: the (re)start is over (a bit: the step asks it six times) */
 static __bit ffmap_warm;
 __bit ffmap_rlim, ffmap_rl1;                  /* the last reversal near the smallest (ctl_int.h) */
@@ -37,19 +35,20 @@ static void ffmap_cap_up(void);
  * step's error is big one way while the valve answers. */
 CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 {
-    if (!ffmap_warm && ++M->warm >= FFMAP_WARM)
+    if (!ffmap_warm && ++ctl_st.fm.warm >= FFMAP_WARM)
         ffmap_warm = 1;
-    if (M->rest || (e > 0) != (M->e1 > 0) || (!ffmap_warm && (M->gain >= M->gain_start || M->cap != 255))
+    if (ctl_st.fm.rest || (e > 0) != (ctl_st.fm.e1 > 0)
+        || (!ffmap_warm && (ctl_st.fm.gain >= ctl_st.fm.gain_start || ctl_st.fm.cap != 255))
         || (ctl_in->valve_limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN))) {
-        M->slow_n = 0;
-    } else if ((M->slow_n += M->err_big ? 4 : 1) >= FFMAP_SLOW_N) {
-        M->slow_n = 0;
-        if (M->gain < FFMAP_G_MAX)
-            M->gain += (M->gain >> 4) + (M->gain >> 5);
+        ctl_st.fm.slow_n = 0;
+    } else if ((ctl_st.fm.slow_n += ctl_st.fm.err_big ? 4 : 1) >= FFMAP_SLOW_N) {
+        ctl_st.fm.slow_n = 0;
+        if (ctl_st.fm.gain < FFMAP_G_MAX)
+            ctl_st.fm.gain += (ctl_st.fm.gain >> 4) + (ctl_st.fm.gain >> 5);
         ffmap_cap_up();
     }
-    if (M->rev_age < 255)
-        M->rev_age++;
+    if (ctl_st.fm.rev_age < 255)
+        ctl_st.fm.rev_age++;
 }
 
 /* The speed's feed-forward. With the pump at a fixed PTO speed the bypass must move as the
@@ -108,32 +107,35 @@ static __data union {
 
 static void ffmap_ff(void)
 {
-    speed_set_plain(M->ff_gain < FFMAP_FF_LEAD);
+    speed_set_plain(ctl_st.fm.ff_gain < FFMAP_FF_LEAD);
     ffmap_w.ff.speed = ctl_in->speed_kmh_x100;
-    ffmap_w.ff.dq = ctl_in->target_lpm_x100 - M->target_last;
-    if (!M->speed_last || (ffmap_w.ff.speed > M->speed_last ? ffmap_w.ff.dq <= 0
-                   : ffmap_w.ff.speed == M->speed_last || ffmap_w.ff.dq >= 0))
+    ffmap_w.ff.dq = ctl_in->target_lpm_x100 - ctl_st.fm.target_last;
+    if (!ctl_st.fm.speed_last || (ffmap_w.ff.speed > ctl_st.fm.speed_last ? ffmap_w.ff.dq <= 0
+                   : ffmap_w.ff.speed == ctl_st.fm.speed_last || ffmap_w.ff.dq >= 0))
         ffmap_w.ff.dq = 0;
-    M->speed_last = ffmap_w.ff.speed;
-    M->ramp += ffmap_w.ff.dq - (M->ramp >> FFMAP_FF_RSH);
-    M->ff_drive = 0;
-    if (M->rest)
+    ctl_st.fm.speed_last = ffmap_w.ff.speed;
+    ctl_st.fm.ramp += ffmap_w.ff.dq - (ctl_st.fm.ramp >> FFMAP_FF_RSH);
+    ctl_st.fm.ff_drive = 0;
+    if (ctl_st.fm.rest)
         return;
     ffmap_w.ffl.band = (uint16_t)(ctl_in->target_lpm_x100 >> FFMAP_FF_ESH);
     ffmap_w.ffl.abs_e = ffmap_e < 0 ? -ffmap_e : ffmap_e;
-    if (ffmap_warm && !ctl_in->valve_limit && ffmap_w.ffl.abs_e > ffmap_w.ffl.band && M->rev_age >= FFMAP_ANSWER
-        && (uint16_t)(M->ramp < 0 ? -M->ramp : M->ramp)
+    if (ffmap_warm && !ctl_in->valve_limit && ffmap_w.ffl.abs_e > ffmap_w.ffl.band
+        && ctl_st.fm.rev_age >= FFMAP_ANSWER
+        && (uint16_t)(ctl_st.fm.ramp < 0 ? -ctl_st.fm.ramp : ctl_st.fm.ramp)
                > (speed_plain && !speed_learnt ? ffmap_w.ffl.band << FFMAP_FF_OFF_SH : FFMAP_FF_RAMP)) {
-        if (((M->ramp ^ ffmap_e) >= 0) != ffmap_ff_lag) {
+        if (((ctl_st.fm.ramp ^ ffmap_e) >= 0) != ffmap_ff_lag) {
             ffmap_ff_lag = !ffmap_ff_lag;   /* the same sign: the flow lags */
-            M->ff_run = 0;          /* the run starts anew: taught the other way */
+            ctl_st.fm.ff_run = 0;          /* the run starts anew: taught the other way */
         }
-        M->ff_run += M->ff_run < 120;
+        ctl_st.fm.ff_run += ctl_st.fm.ff_run < 120;
         if (ffmap_ff_lag) {         /* (never under 0: 2 under FFMAP_FF_LEAD, at most 32 over) */
-            if (M->ff_gain < FFMAP_FF_MAX)
-                M->ff_gain += M->ff_gain < FFMAP_FF_LEAD ? 2 : 2 + ((M->ff_run >> FFMAP_FF_RUN_SH) << 1);
-        } else if (M->ff_gain) {
-            M->ff_gain -= M->ff_gain < FFMAP_FF_LEAD ? 2 : 2 + ((M->ff_run >> FFMAP_FF_RUN_SH) << 1);
+            if (ctl_st.fm.ff_gain < FFMAP_FF_MAX)
+                ctl_st.fm.ff_gain += ctl_st.fm.ff_gain < FFMAP_FF_LEAD
+                                     ? 2 : 2 + ((ctl_st.fm.ff_run >> FFMAP_FF_RUN_SH) << 1);
+        } else if (ctl_st.fm.ff_gain) {
+            ctl_st.fm.ff_gain -= ctl_st.fm.ff_gain < FFMAP_FF_LEAD
+                                 ? 2 : 2 + ((ctl_st.fm.ff_run >> FFMAP_FF_RUN_SH) << 1);
         }
     }
     /* nothing while the flow is past the target the way it would push, by a big error (ff_gain is
@@ -143,9 +145,10 @@ static void ffmap_ff(void)
      * held back the loop's opening, a reversal owed until FFMAP_REV_MIN, and the line went over P
      * max. Filtered: the wheel's jitter moves the
      * target by about a percent a period. */
-    if ((M->err_big || (ffmap_hi_p && M->err_filt < -(int16_t)ffmap_w.ffl.band)) && (M->ramp ^ ffmap_e) < 0)
+    if ((ctl_st.fm.err_big || (ffmap_hi_p && ctl_st.fm.err_filt < -(int16_t)ffmap_w.ffl.band))
+        && (ctl_st.fm.ramp ^ ffmap_e) < 0)
         return;
-    M->ff_drive = MUL(M->ramp >> FFMAP_FF_RSH, M->ff_gain);
+    ctl_st.fm.ff_drive = MUL(ctl_st.fm.ramp >> FFMAP_FF_RSH, ctl_st.fm.ff_gain);
 }
 
 /* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve
@@ -160,30 +163,30 @@ static void ffmap_ff(void)
  * in its first swing). */
 static void ffmap_cap_up(void)
 {
-    ffmap_w.cap_next = M->cap + (M->cap >> 3) + 1;
-    M->cap = ffmap_w.cap_next > 255 ? 255 : (uint8_t)ffmap_w.cap_next;
+    ffmap_w.cap_next = ctl_st.fm.cap + (ctl_st.fm.cap >> 3) + 1;
+    ctl_st.fm.cap = ffmap_w.cap_next > 255 ? 255 : (uint8_t)ffmap_w.cap_next;
 }
 
 /* each period before the output stage: the flow's change, judged after FFMAP_CAP_N at the cap */
 static void ffmap_cap(void)
 {
-    ffmap_w.cap.dq = ctl_in->flow_lpm_x100 - M->flow_last;
-    M->flow_last = ctl_in->flow_lpm_x100;
-    M->cap_run_before = M->cap_run;
-    M->cap_run = 0;
-    if (M->cap_run_before < FFMAP_CAP_N)
+    ffmap_w.cap.dq = ctl_in->flow_lpm_x100 - ctl_st.fm.flow_last;
+    ctl_st.fm.flow_last = ctl_in->flow_lpm_x100;
+    ctl_st.fm.cap_run_before = ctl_st.fm.cap_run;
+    ctl_st.fm.cap_run = 0;
+    if (ctl_st.fm.cap_run_before < FFMAP_CAP_N)
         return;
-    if (M->dir < 0)
+    if (ctl_st.fm.dir < 0)
         ffmap_w.cap.dq = -ffmap_w.cap.dq;
     ffmap_w.cap.lim = ctl_in->target_lpm_x100 >> FFMAP_CAP_SH;
     if (ffmap_w.cap.dq > (int16_t)ffmap_w.cap.lim) {
-        if (M->cap > FFMAP_CAP_MIN)
-            M->cap -= M->cap >> 2;
+        if (ctl_st.fm.cap > FFMAP_CAP_MIN)
+            ctl_st.fm.cap -= ctl_st.fm.cap >> 2;
     } else if (ffmap_w.cap.dq < (int16_t)(ffmap_w.cap.lim >> 1)) {
         ffmap_cap_up();
     }
-    if (M->cap_run_before == 255)
-        M->cap_run_before--;
+    if (ctl_st.fm.cap_run_before == 255)
+        ctl_st.fm.cap_run_before--;
 }
 
 /* The duty d at most the cap, which is at least the smallest pulse; a duty within 1/256 of full
@@ -191,12 +194,12 @@ static void ffmap_cap(void)
 static uint16_t ffmap_cap_limit(uint16_t d, uint16_t smallest) CTL_SHARED
 {
     ffmap_w.top = smallest;
-    if ((uint8_t)(ffmap_w.top >> 7) < M->cap)
-        ffmap_w.top = ((uint16_t)M->cap << 7) | 0x7F;
+    if ((uint8_t)(ffmap_w.top >> 7) < ctl_st.fm.cap)
+        ffmap_w.top = ((uint16_t)ctl_st.fm.cap << 7) | 0x7F;
     if (d >= (ffmap_w.top & 0xFF80u)) {
         if (d > ffmap_w.top)
             d = ffmap_w.top;
-        M->cap_run = M->cap_run_before + 1;
+        ctl_st.fm.cap_run = ctl_st.fm.cap_run_before + 1;
     }
     return d;
 }
@@ -207,22 +210,23 @@ static uint16_t ffmap_cap_limit(uint16_t d, uint16_t smallest) CTL_SHARED
 __bit ffmap_up;
 CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 {
-    int16_t c, dq = (int16_t)(q - M->target_last);
+    int16_t c, dq = (int16_t)(q - ctl_st.fm.target_last);
     uint8_t c2;
-    M->err_filt = (int16_t)(M->err_filt + ((e - M->err_filt + 2) >> 2));
-    c = M->err_filt < 0 ? (int16_t)-M->err_filt : M->err_filt;
+    ctl_st.fm.err_filt = (int16_t)(ctl_st.fm.err_filt + ((e - ctl_st.fm.err_filt + 2) >> 2));
+    c = ctl_st.fm.err_filt < 0 ? (int16_t)-ctl_st.fm.err_filt : ctl_st.fm.err_filt;
     c2 = (uint16_t)(dq < 0 ? -dq : dq) > (uint16_t)(q >> FFMAP_MOVE_SHIFT);  /* |dq| 2^6 > q (q >= 0) */
-    M->moved |= c2;
+    ctl_st.fm.moved |= c2;
     if (c2)
         ffmap_up = dq > 0;
-    if (c2 || (M->rest && c > (q >> FFMAP_DB_OUT))) {
-        if (M->rest && (ctl_carry > 0) != (e > 0))
+    if (c2 || (ctl_st.fm.rest && c > (q >> FFMAP_DB_OUT))) {
+        if (ctl_st.fm.rest && (ctl_carry > 0) != (e > 0))
             ctl_carry = 0;          /* waking: what the slow integral owed the other way is stale */
-        M->rest = 0;
-    } else if (!M->rest && c <= (q >> ((M->err_filt < 0) == ffmap_up ? FFMAP_DB_PAST : FFMAP_DB_IN)) && q > 0) {
-        M->rest = 1;
+        ctl_st.fm.rest = 0;
+    } else if (!ctl_st.fm.rest
+               && c <= (q >> ((ctl_st.fm.err_filt < 0) == ffmap_up ? FFMAP_DB_PAST : FFMAP_DB_IN)) && q > 0) {
+        ctl_st.fm.rest = 1;
         ctl_carry = 0;              /* entering the band: nothing owed */
-        M->stall_n = 0;
+        ctl_st.fm.stall_n = 0;
     }
 }
 
@@ -233,20 +237,20 @@ CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
 {
     int32_t k;
-    if (M->stall_n >= 2 * FFMAP_STALL_N) {
-        k = (int32_t)ctl_in->flow_lpm_x100 - M->stall_flow;
-        if (M->dir <= 0)
+    if (ctl_st.fm.stall_n >= 2 * FFMAP_STALL_N) {
+        k = (int32_t)ctl_in->flow_lpm_x100 - ctl_st.fm.stall_flow;
+        if (ctl_st.fm.dir <= 0)
             k = -k;
-        if (k <= (q >> FFMAP_STALL_MOVE) && (M->dir > 0 ? e > 0 : e < 0)) {
-            if (M->brk_extra <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
-                M->brk_extra += FFMAP_BRK_STEP;
-            M->brk_age = 0;
+        if (k <= (q >> FFMAP_STALL_MOVE) && (ctl_st.fm.dir > 0 ? e > 0 : e < 0)) {
+            if (ctl_st.fm.brk_extra <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
+                ctl_st.fm.brk_extra += FFMAP_BRK_STEP;
+            ctl_st.fm.brk_age = 0;
         }
-        M->stall_n = 0;
+        ctl_st.fm.stall_n = 0;
     }
-    if (M->brk_extra > 0 && ++M->brk_age >= FFMAP_BRK_AGE) {
-        M->brk_extra -= FFMAP_BRK_STEP;
-        M->brk_age = 0;
+    if (ctl_st.fm.brk_extra > 0 && ++ctl_st.fm.brk_age >= FFMAP_BRK_AGE) {
+        ctl_st.fm.brk_extra -= FFMAP_BRK_STEP;
+        ctl_st.fm.brk_age = 0;
     }
 }
 
@@ -260,29 +264,30 @@ CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
 {
     __bit fl = 0;                   /* smaller reversals, at a steady target */
     /* two half cycles in a row that swung big, soon after each other; the last at the top */
-    c = (uint8_t)((c >= FFMAP_TOP_N) << 1) | (M->err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
-    if ((c & 1) && M->big && M->rev_age <= FFMAP_OSC_GAP) {
-        if (M->gain > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
-            M->gain -= !ffmap_warm && c == 3 ? M->gain >> 1 : M->gain >> 2;
+    c = (uint8_t)((c >= FFMAP_TOP_N) << 1)
+        | (ctl_st.fm.err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
+    if ((c & 1) && ctl_st.fm.big && ctl_st.fm.rev_age <= FFMAP_OSC_GAP) {
+        if (ctl_st.fm.gain > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
+            ctl_st.fm.gain -= !ffmap_warm && c == 3 ? ctl_st.fm.gain >> 1 : ctl_st.fm.gain >> 2;
         else
             fl = ffmap_rlim;
-    } else if (M->rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p) && ffmap_w.rev.d > 2 * ffmap_w.rev.k
-        && (ffmap_e < 0 ? -ffmap_e : ffmap_e) <= ctl_in->target_lpm_x100) {
+    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p)
+        && ffmap_w.rev.d > 2 * ffmap_w.rev.k && (ffmap_e < 0 ? -ffmap_e : ffmap_e) <= ctl_in->target_lpm_x100) {
         /* (a pulse near the smallest: the valve's resolution, not the gain) */
-        if (M->gain > FFMAP_G_MIN)
-            M->gain -= M->gain >> 3;
+        if (ctl_st.fm.gain > FFMAP_G_MIN)
+            ctl_st.fm.gain -= ctl_st.fm.gain >> 3;
         fl = 1;
-    } else if (M->rev_age <= FFMAP_OSC_GAP && ffmap_warm && !M->moved && M->brk_extra) {
-        M->brk_extra -= FFMAP_BRK_STEP;   /* a cycle of pulses near the smallest: it is too big */
+    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && ffmap_warm && !ctl_st.fm.moved && ctl_st.fm.brk_extra) {
+        ctl_st.fm.brk_extra -= FFMAP_BRK_STEP;   /* a cycle of pulses near the smallest: it is too big */
     }
-    if (fl && !M->moved && M->rev_min > FFMAP_REV_LOW && ffmap_warm)
-        M->rev_min -= M->rev_min >> 3;        /* a cycle at a steady target: smaller reversals */
+    if (fl && !ctl_st.fm.moved && ctl_st.fm.rev_min > FFMAP_REV_LOW && ffmap_warm)
+        ctl_st.fm.rev_min -= ctl_st.fm.rev_min >> 3;    /* a cycle at a steady target: smaller reversals */
     ffmap_rlim = lim;
-    M->big = c & 1;
-    M->err_peak = 0;
-    M->rev_age = 0;
-    M->moved = 0;
-    M->slow_n = 0;
+    ctl_st.fm.big = c & 1;
+    ctl_st.fm.err_peak = 0;
+    ctl_st.fm.rev_age = 0;
+    ctl_st.fm.moved = 0;
+    ctl_st.fm.slow_n = 0;
     ffmap_rl1 = 0;
 }
 
@@ -313,18 +318,18 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
         return 0;
     }
     d = (uint16_t)(m > 0 ? m : -m);    /* (clipped to 15 bits) */
-    if (s == M->dir && !M->moved && M->rev_age < FFMAP_ANSWER && M->gain < FFMAP_G_INIT / 2
-        && !M->brk_extra && (uint16_t)(M->ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP) {
+    if (s == ctl_st.fm.dir && !ctl_st.fm.moved && ctl_st.fm.rev_age < FFMAP_ANSWER
+        && ctl_st.fm.gain < FFMAP_G_INIT / 2 && !ctl_st.fm.brk_extra && (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP) {
         ctl_carry = 0;              /* the reversal's answer awaited (above) */
         return 0;
     }
-    if (s != M->dir && M->dir != 0 && d < (uint16_t)M->rev_min) {
+    if (s != ctl_st.fm.dir && ctl_st.fm.dir != 0 && d < (uint16_t)ctl_st.fm.rev_min) {
         ctl_carry = (q15_t)m;       /* a reversal waits until it is worth more than the slack */
         return 0;
     }
-    lim = d - (uint16_t)M->rev_min < ((uint16_t)M->rev_min >> 1);    /* (a reversal: d >= rev_min) */
+    lim = d - (uint16_t)ctl_st.fm.rev_min < ((uint16_t)ctl_st.fm.rev_min >> 1);    /* (a reversal: d >= rev_min) */
     d = (uint16_t)ctl_drun + (uint16_t)MUL_R15((int16_t)d, ctl_run_span);
-    k = (uint16_t)CTL_STICTION + (uint16_t)M->brk_extra;
+    k = (uint16_t)CTL_STICTION + (uint16_t)ctl_st.fm.brk_extra;
     if (d < k) {
         ctl_carry = (q15_t)m;       /* owed until it is worth a pulse */
         return 0;
@@ -332,11 +337,11 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
     ctl_carry = 0;
     if (d > 32767)
         d = 32767;
-    c = M->cap_run_before;                    /* periods in a row at the top duty before this one */
-    if (s != M->dir)
-        M->cap_run_before = 255;
+    c = ctl_st.fm.cap_run_before;                    /* periods in a row at the top duty before this one */
+    if (s != ctl_st.fm.dir)
+        ctl_st.fm.cap_run_before = 255;
     d = ffmap_cap_limit(d, k);
-    if (s != M->dir && M->dir != 0) {
+    if (s != ctl_st.fm.dir && ctl_st.fm.dir != 0) {
         ffmap_w.rev.d = d;
         ffmap_w.rev.k = k;
         ffmap_reversal(c, lim);
@@ -344,15 +349,15 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
         ffmap_rlim &= !ffmap_rl1;         /* a second pulse after the reversal: the swing is the loop's */
         ffmap_rl1 = 1;
     }
-    if (d <= 2 * k && s == M->dir) {    /* toward a stall */
-        if (M->stall_n == 0)
-            M->stall_flow = ctl_in->flow_lpm_x100;
-        if (M->stall_n < 250)
-            M->stall_n += d <= k + (k >> 3) ? (M->err_big ? FFMAP_STALL_BIG : 2) : 1;
+    if (d <= 2 * k && s == ctl_st.fm.dir) {    /* toward a stall */
+        if (ctl_st.fm.stall_n == 0)
+            ctl_st.fm.stall_flow = ctl_in->flow_lpm_x100;
+        if (ctl_st.fm.stall_n < 250)
+            ctl_st.fm.stall_n += d <= k + (k >> 3) ? (ctl_st.fm.err_big ? FFMAP_STALL_BIG : 2) : 1;
     } else {
-        M->stall_n = 0;
+        ctl_st.fm.stall_n = 0;
     }
-    M->dir = s;
+    ctl_st.fm.dir = s;
     if (s < 0)
         return -(q15_t)d;
     /* a slower closing coasts less (ffmap_gain_at_p); the rules above judged the loop's demand */
@@ -400,12 +405,13 @@ static int16_t ffmap_gain_at_p(void) CTL_SHARED
          * (120/124, 28/35, 72/107): closing at full duty from a fifth under the target, where the
          * line is at 3 bar, the motor's coast took it over. The target's pressure P (q / f)^2 over
          * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FFMAP_P_REF) / f_root. */
-        if (M->gain < FFMAP_G_INIT && UMUL(M->flow_last, ffmap_w.gp.root) < UMUL(ctl_in->target_lpm_x100, FFMAP_P_T_F))
+        if (ctl_st.fm.gain < FFMAP_G_INIT
+            && UMUL(ctl_st.fm.flow_last, ffmap_w.gp.root) < UMUL(ctl_in->target_lpm_x100, FFMAP_P_T_F))
             ffmap_hi_t = 1;                    /* (flow_last: ffmap_cap took this period's flow) */
     }
     /* (the product first: on the 8051 MUL and UMUL share their operands' bytes, and a product
      * in MUL's second operand would overwrite its first) */
-    return (int16_t)(MUL((uint16_t)UMUL(ffmap_w.gp.root, target_noz_q) >> 2, M->gain) >> 8);
+    return (int16_t)(MUL((uint16_t)UMUL(ffmap_w.gp.root, target_noz_q) >> 2, ctl_st.fm.gain) >> 8);
 }
 
 /* The hold. When the number of nozzles open changes (target.c target_noz_take), the target steps
@@ -424,47 +430,47 @@ q15_t ffmap_step(void) CTL_SHARED
 
     ffmap_e = ctl_clamp_e(q - ctl_in->flow_lpm_x100);
     if (ctl_first) {
-        M->e1 = M->e2 = M->err_filt = ffmap_e;
-        M->target_last = q;
-        M->rest = 0;
-        M->stall_n = 0;
-        M->warm = 0;
+        ctl_st.fm.e1 = ctl_st.fm.e2 = ctl_st.fm.err_filt = ffmap_e;
+        ctl_st.fm.target_last = q;
+        ctl_st.fm.rest = 0;
+        ctl_st.fm.stall_n = 0;
+        ctl_st.fm.warm = 0;
         ffmap_warm = 0;
-        M->err_peak = 0;
-        M->big = 0;
-        M->speed_last = ctl_in->speed_kmh_x100;
-        M->ramp = 0;
-        M->lead = ffmap_e <= q - (q >> 2);
-        M->cap_run = 0;
-        M->gain_start = M->gain;
-        M->hold = 0;
+        ctl_st.fm.err_peak = 0;
+        ctl_st.fm.big = 0;
+        ctl_st.fm.speed_last = ctl_in->speed_kmh_x100;
+        ctl_st.fm.ramp = 0;
+        ctl_st.fm.lead = ffmap_e <= q - (q >> 2);
+        ctl_st.fm.cap_run = 0;
+        ctl_st.fm.gain_start = ctl_st.fm.gain;
+        ctl_st.fm.hold = 0;
         (void)target_noz_take();        /* a change before the start needs no hold */
         ctl_first = 0;
     }
     if (target_noz_take())              /* the hold (above) */
-        M->hold = FFMAP_P_WAIT;
-    if (M->hold) {
-        M->hold--;
-        M->e1 = M->e2 = ffmap_e;
+        ctl_st.fm.hold = FFMAP_P_WAIT;
+    if (ctl_st.fm.hold) {
+        ctl_st.fm.hold--;
+        ctl_st.fm.e1 = ctl_st.fm.e2 = ffmap_e;
     }
     ffmap_deadband(ffmap_e, q);
     ffmap_stall(ffmap_e, q);
     d2e = ffmap_e < 0 ? -ffmap_e : ffmap_e;
-    if (d2e > M->err_peak)
-        M->err_peak = d2e;
-    M->err_big = d2e > (q >> FFMAP_BIG_SHIFT);    /* a big error this period */
+    if (d2e > ctl_st.fm.err_peak)
+        ctl_st.fm.err_peak = d2e;
+    ctl_st.fm.err_big = d2e > (q >> FFMAP_BIG_SHIFT);    /* a big error this period */
     ffmap_ff();
-    if (M->rest) {
-        du = MUL(FFMAP_REST_KI, M->err_filt);   /* a slow integral on the filtered error: no steady bias */
+    if (ctl_st.fm.rest) {
+        du = MUL(FFMAP_REST_KI, ctl_st.fm.err_filt);   /* a slow integral on the filtered error: no steady bias */
     } else {
-        d2e = fx_sat16((int32_t)ffmap_e - 2 * (int32_t)M->e1 + M->e2);
+        d2e = fx_sat16((int32_t)ffmap_e - 2 * (int32_t)ctl_st.fm.e1 + ctl_st.fm.e2);
         /* (not while the line fills after the boom opens: the flow's rise is not the valve's) */
-        du = M->warm < FFMAP_P_WAIT ? 0 : MUL(FFMAP_KP, fx_sat16((int32_t)ffmap_e - M->e1));
+        du = ctl_st.fm.warm < FFMAP_P_WAIT ? 0 : MUL(FFMAP_KP, fx_sat16((int32_t)ffmap_e - ctl_st.fm.e1));
         du += MUL(FFMAP_KI, ffmap_e);
         du += MUL(FFMAP_KD, d2e);
-        if (M->lead && !ffmap_warm && (ctl_last > FFMAP_LEAD_DRIVE || ctl_last < -FFMAP_LEAD_DRIVE)) {
+        if (ctl_st.fm.lead && !ffmap_warm && (ctl_last > FFMAP_LEAD_DRIVE || ctl_last < -FFMAP_LEAD_DRIVE)) {
             /* the flow's change this period (the error is clamped far beyond any target) */
-            d2e = fx_sat16((int32_t)(q - ffmap_e) - (M->target_last - M->e1));
+            d2e = fx_sat16((int32_t)(q - ffmap_e) - (ctl_st.fm.target_last - ctl_st.fm.e1));
             if ((d2e > 0) == (ffmap_e > 0))
                 du -= MUL(FFMAP_KI, fx_sat16((int32_t)FFMAP_LEAD * d2e));
         }
@@ -477,10 +483,10 @@ q15_t ffmap_step(void) CTL_SHARED
         d32 = 1048575L;
     else if (d32 < -1048575L)
         d32 = -1048575L;
-    d = ffmap_out(((d32 * ffmap_gain_at_p()) >> 8) + M->ff_drive);
-    M->e2 = M->e1;
-    M->e1 = ffmap_e;
-    M->target_last = q;
+    d = ffmap_out(((d32 * ffmap_gain_at_p()) >> 8) + ctl_st.fm.ff_drive);
+    ctl_st.fm.e2 = ctl_st.fm.e1;
+    ctl_st.fm.e1 = ffmap_e;
+    ctl_st.fm.target_last = q;
 #if FW_PROBES
     /* the gains for the probes (ctl_gain: the simulator, PIL, the s51 tests); the field image
      * reads ctl_k only in pid's and bp_pid's own steps */
