@@ -282,7 +282,7 @@ static void test_diag_pressure_zero_judged_only_at_rest(void **state)
 }
 
 /* The tank balance. The meter reads 36 L/min while the level falls by `true_lpm`: m = 1000 / 256
- * + 1 = 4 L, judged from a fall of 8 m = 32 L; a meter off by more than 6 % of the fall and 4 L
+ * + 1 = 4 L, judged from a fall of 8 m = 32 L; a meter off by more than 5 % of the fall and 4 L
  * raises METER_CAL within DIAG_BAL_PERIODS. Returns the litres the level fell by then (the
  * truth), -1 when not raised in 400 L. */
 static double balance_run(double true_lpm)
@@ -303,16 +303,16 @@ static double balance_run(double true_lpm)
 static void test_diag_tank_balance_tells_a_wrong_meter(void **state)
 {
     (void)state;
-    /* 20 % high: |36 - 30| / 30 = 0.2 of the fall; 0.2 f > 0.06 f + 4 from f = 28.6 L: at 32 L */
+    /* 20 % high: |36 - 30| / 30 = 0.2 of the fall; 0.2 f > 0.05 f + 4 from f = 26.7 L: at 32 L */
     double f = balance_run(30.0);
     printf("# meter 20 %% high: METER_CAL after the level fell %.1f L\n", f);
     assert_true(f >= 32 - 2 && f <= 32 + 4);
-    /* 10 % low (the truth 40 L/min): 0.1 f > 0.06 f + 4 from f = 100 L */
+    /* 10 % low (the truth 40 L/min): 0.1 f > 0.05 f + 4 from f = 80 L */
     setup(NULL);
     f = balance_run(40.0);
     printf("# meter 10 %% low: METER_CAL after the level fell %.1f L\n", f);
-    assert_true(f >= 100 - 6 && f <= 100 + 8);
-    /* 3 % high: never (0.03 f < 0.06 f + 4) */
+    assert_true(f >= 80 - 6 && f <= 80 + 8);
+    /* 3 % high: never (0.03 f < 0.05 f + 4) */
     setup(NULL);
     assert_true(balance_run(36.0 / 1.03) < 0);
 }
