@@ -383,6 +383,10 @@ int main(int argc, char **argv)
         fprintf(stderr, "sim: --fast/--tick-ms and --pil or --chip do not go together (s51 runs a millisecond a step)\n");
         return 2;
     }
+    if (o.lcd_path && o.chip_path) {
+        fprintf(stderr, "sim: --lcd and --chip: the chip model does not decode the LCD's pins (--pil does)\n");
+        return 2;
+    }
     if (o.pil_path && o.chip_path) {
         fprintf(stderr, "sim: --pil and --chip: one firmware at a time\n");
         return 2;

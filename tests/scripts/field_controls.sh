@@ -40,3 +40,8 @@ else
     grep -q "^sim: --lcd: /nonexistent/x.lcd: " "$tmp/err" && ok "--lcd refuses a file it cannot write, in one line" \
         || nok "--lcd refuses a file it cannot write, in one line" "$(cat "$tmp/err")"
 fi
+"$SIM" --scenario $SCN --chip "$B/stc12/sprayer.ihx" --lcd "$tmp/c.lcd" > /dev/null 2> "$tmp/err"
+rc=$?
+[ $rc -eq 2 ] && grep -q "^sim: --lcd and --chip: " "$tmp/err" && [ ! -e "$tmp/c.lcd" ] \
+    && ok "--lcd with --chip is refused in one line, before any run (the model does not decode the LCD)" \
+    || nok "--lcd with --chip is refused in one line, before any run" "rc $rc: $(cat "$tmp/err")"
