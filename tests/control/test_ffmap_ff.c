@@ -15,11 +15,10 @@
  * FFMAP_FF_LEAD (the feed-forward off, the speed without its lead). A wheel whose spacing errors
  * (3.6 %) are not learnt yet, with 1 % bounce, steps the measured speed by a few percent at a
  * pulse; the flow never follows those steps, and each one read as the flow lagging a ramp. A
- * 1.54 s valve the firmware believes 4 s, its bypass twice the default (plant 42 of `make family
- * SEED=89`, its first 60 s), seeds 1-8: kff climbed to 68-164 in 60 s when any change over
- * target / 32 taught it, and on the plant's own seed its closings on that noise took the line
- * to 5.0 bar (OVERPRESSURE). While it is off and the wheel's spacing unlearnt (speed_learnt), only
- * a ramp beyond target / 16 does. */
+ * 1.54 s valve the firmware believes 4 s, its bypass twice the default, its first 60 s, noise
+ * draws 1-8: were any change over target / 32 to teach kff, it would climb to 68-164 in 60 s, and
+ * its closings on that noise would take the line to 5.0 bar (OVERPRESSURE). While it is off and
+ * the wheel's spacing unlearnt (speed_learnt), only a ramp beyond target / 16 does. */
 static void test_ffmap_ff_the_wheels_noise_does_not_teach_the_feed_forward(void **state)
 {
     int16_t worst = 0;
@@ -55,10 +54,10 @@ static void test_ffmap_ff_the_wheels_noise_does_not_teach_the_feed_forward(void 
 }
 
 /* A 11.8 s valve the firmware believes 4 s on a fixed PTO at 507 rpm, a field run at 140 L/ha
- * (plant 142 of `make family SEED=1`, untold: passes at 6.1-9.9 km/h, headland stops), seeds 1-6.
- * Its feed-forward needs kff in the hundreds; by 2 a period of lag each speed change left the flow
- * lagging while kff climbed (CV 1.60-1.72 %, mean 1.66). From FFMAP_FF_LEAD on, kff moves by 2 more
- * every 2^FFMAP_FF_RUN_SH periods it is taught the same way in a row: mean CV under 1.5 %. */
+ * (passes at 6.1-9.9 km/h, headland stops), noise draws 1-6. Its feed-forward needs kff in the
+ * hundreds; at 2 a period each speed change would leave the flow lagging while kff climbs (mean CV
+ * 1.66 %). From FFMAP_FF_LEAD on, kff moves by 2 more every 2^FFMAP_FF_RUN_SH periods it is taught
+ * the same way in a row: mean CV under 1.5 %. */
 static void test_ffmap_ff_a_slow_valve_learns_its_feed_forward_in_time(void **state)
 {
     double sum = 0, silent = 0;

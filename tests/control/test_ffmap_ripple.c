@@ -11,15 +11,15 @@
 #include "helper_ffmap.h"
 
 /* ripple_p95_pct (sim/metrics.h), the family's bound (issue 51): on this 40 s run 4.0-5.0 % over
- * seeds 1-6 (6.8-11.5 % with every pulse sent after a reversal) */
+ * noise draws 1-6 (6.8-11.5 % were every pulse sent after a reversal) */
 #define RIPPLE_BOUND_PCT 5.0
 
 /* A 1.65 s valve with a 0.12 s motor the firmware believes 4 s, its break-away 0.12 (told 0.2),
- * a fixed PTO, held at 6.8 km/h from the start, seeds 1-6.
- * The start cuts the gain to its floor; each reversal (0.6 of a period at full duty) then moved
- * the flow by itself, and the two smallest pulses sent before the meter showed it carried the
- * flow as far past the target: a cycle of +-12 % (ripple 10.5 % on the family's run). After a
- * reversal nothing more is sent that way until the flow can show it (ffmap.c ffmap_out). */
+ * a fixed PTO, held at 6.8 km/h from the start, noise draws 1-6.
+ * The start cuts the gain to its floor; each reversal (0.6 of a period at full duty) then moves
+ * the flow by itself, and two smallest pulses sent before the meter shows it would carry the flow
+ * as far past the target: a cycle of +-12 %. After a reversal nothing more is sent that way until
+ * the flow can show it (ffmap.c ffmap_out). */
 static void test_ffmap_ripple_a_fast_valve_told_4_s_does_not_hunt(void **state)
 {
     double worst = 0;
