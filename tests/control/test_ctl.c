@@ -694,6 +694,30 @@ static void test_ctl_ffmap_valve_parameters_reset_what_was_learned(void **state)
     assert_int_equal(CTL_STICTION, CTL_STICTION_DEF);
 }
 
+/* ffmap: a reversal waits for a motion worth 3/4 of the told backlash. The backlash b (a share
+ * of the stroke) is b x Valve time / 0.1 s periods at full duty: the defaults' 2 % of 4 s is 0.8,
+ * 3/4 of it FFMAP_REV_MIN; 2 % of 1.7 s 0.34, 3/4 of it 0.255; no backlash gives the floor, a slow
+ * valve's 4 % of 10 s (3.0) the ceiling. */
+static void test_ctl_ffmap_a_reversal_waits_for_the_told_backlash(void **state)
+{
+    static const struct { int travel, slack; double want; } told[] = {
+        {40, 20, 0.6}, {17, 20, 0.255}, {17, 0, FFMAP_REV_LOW / 32768.0}, {100, 40, FFMAP_REV_MIN / 32768.0},
+    };
+    (void)state;
+    for (unsigned i = 0; i < sizeof told / sizeof told[0]; i++) {
+        ctl_select(CTL_FFMAP);
+        assert_int_equal(param_set(P_VALVE_TRAVEL, told[i].travel), 1);
+        assert_int_equal(param_set(P_VALVE_SLACK, told[i].slack), 1);
+        ctl_in_t in = mk(3000, 3000, 0);
+        ctl_step(&in);
+        print_message("ffmap: Valve time %.1f s, Backlash %.1f %%: a reversal after %.4f of a period\n",
+                      told[i].travel / 10.0, told[i].slack / 10.0, ctl_st.fm.rev_min / 32768.0);
+        assert_true(fabs(ctl_st.fm.rev_min / 32768.0 - told[i].want) < 0.0005);
+        params_defaults();
+    }
+    ctl_reset(0);                   /* the defaults derived again for the tests after this one */
+}
+
 /* ---- ffmap against its double-precision twin ----------------------------------------------- */
 /* A toy plant: the valve moves by the running-friction law of a valve stiffer or faster than
  * told, the flow follows the closure with a lag, the meter is noisy, the target steps and ramps;
@@ -996,6 +1020,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_starts_a_new_valve_under_the_full_gain, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_a_reversal_waits_for_the_told_backlash, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_matches_twin, setup),
         cmocka_unit_test_setup(test_ctl_aog_hand_worked_dead_band_brake_point_and_limits, setup),
         cmocka_unit_test_setup(test_ctl_aog_hand_worked_integral, setup),
