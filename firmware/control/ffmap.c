@@ -233,7 +233,9 @@ CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 /* A stall: FFMAP_STALL_N smallest pulses one way (or twice as many up to twice the smallest) and
  * the flow has not moved that way by target >> FFMAP_STALL_MOVE (whatever the target did
  * meanwhile; the meter's lag after a motion is less), the error still asking for that way: the
- * smallest pulse grows. brk_extra steps back after FFMAP_BRK_AGE periods without one. */
+ * smallest pulse grows, or, within 2 FFMAP_STALL_N periods of a reversal, rev_min by 1/8 up to
+ * FFMAP_REV_MIN (the pulses went into a slack bigger than told). brk_extra steps back after
+ * FFMAP_BRK_AGE periods without one. */
 CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
 {
     int32_t k;
@@ -242,7 +244,9 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
         if (ctl_st.fm.dir <= 0)
             k = -k;
         if (k <= (q >> FFMAP_STALL_MOVE) && (ctl_st.fm.dir > 0 ? e > 0 : e < 0)) {
-            if (ctl_st.fm.brk_extra <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
+            if (ctl_st.fm.rev_age < 2 * FFMAP_STALL_N && ctl_st.fm.rev_min < FFMAP_REV_MIN)
+                ctl_st.fm.rev_min += ctl_st.fm.rev_min >> 3;    /* the reversal's slack not taken up */
+            else if (ctl_st.fm.brk_extra <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
                 ctl_st.fm.brk_extra += FFMAP_BRK_STEP;
             ctl_st.fm.brk_age = 0;
         }
@@ -259,10 +263,13 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
  * the smallest pulse's and reversal's own; the half cycle's counters start anew. One soon after the last at a
  * steady target whose pulse was near the smallest (the valve's resolution, not the gain) takes
  * FFMAP_BRK_STEP off what stalls added to the smallest pulse: a stall on a headland left it up to
- * 0.25 over, and each pulse of a 1.5 s valve then moved the flow ~8 % for minutes. */
+ * 0.25 over, and each pulse of a 1.5 s valve then moved the flow ~8 % for minutes. Big swings
+ * with the gain at its floor and the reversal near rev_min lower rev_min in a start and with the
+ * target moving too (the wheel's jitter): a fast valve told slow swung +-10-20 % meanwhile. */
 CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
 {
     __bit fl = 0;                   /* smaller reversals, at a steady target */
+    __bit fb = 0;                   /* ... or after big swings, the gain at its floor */
     /* two half cycles in a row that swung big, soon after each other; the last at the top */
     c = (uint8_t)((c >= FFMAP_TOP_N) << 1)
         | (ctl_st.fm.err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
@@ -270,7 +277,7 @@ CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
         if (ctl_st.fm.gain > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
             ctl_st.fm.gain -= !ffmap_warm && c == 3 ? ctl_st.fm.gain >> 1 : ctl_st.fm.gain >> 2;
         else
-            fl = ffmap_rlim;
+            fl = fb = ffmap_rlim;
     } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p)
         && ffmap_w.rev.d > 2 * ffmap_w.rev.k && (ffmap_e < 0 ? -ffmap_e : ffmap_e) <= ctl_in->target_lpm_x100) {
         /* (a pulse near the smallest: the valve's resolution, not the gain) */
@@ -280,7 +287,7 @@ CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
     } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && ffmap_warm && !ctl_st.fm.moved && ctl_st.fm.brk_extra) {
         ctl_st.fm.brk_extra -= FFMAP_BRK_STEP;   /* a cycle of pulses near the smallest: it is too big */
     }
-    if (fl && !ctl_st.fm.moved && ctl_st.fm.rev_min > FFMAP_REV_LOW && ffmap_warm)
+    if (fl && (fb || (!ctl_st.fm.moved && ffmap_warm)) && ctl_st.fm.rev_min > FFMAP_REV_LOW)
         ctl_st.fm.rev_min -= ctl_st.fm.rev_min >> 3;    /* a cycle at a steady target: smaller reversals */
     ffmap_rlim = lim;
     ctl_st.fm.big = c & 1;

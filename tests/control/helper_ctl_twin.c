@@ -213,8 +213,13 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     if (m->stall_n >= 2 * FFMAP_STALL_N) {
         k = m->dir > 0 ? in->flow - m->stall_flow : m->stall_flow - in->flow;
         o.near |= ctltw_near(k, q / (1 << FFMAP_STALL_MOVE), 0.02);
-        if (k <= q / (1 << FFMAP_STALL_MOVE) && (m->dir > 0 ? e > 0 : e < 0) && m->brk_extra <= (FFMAP_BRK_MAX - FFMAP_BRK_STEP) / 32768.0)
-            m->brk_extra += FFMAP_BRK_STEP / 32768.0;
+        if (k <= q / (1 << FFMAP_STALL_MOVE) && (m->dir > 0 ? e > 0 : e < 0)) {
+            /* a stall begun at a reversal: its slack not taken up, the reversal grows */
+            if (m->rev_age < 2 * FFMAP_STALL_N && m->rev_min < FFMAP_REV_MIN / 32768.0)
+                m->rev_min += floor(m->rev_min * 32768 / 8) / 32768;
+            else if (m->brk_extra <= (FFMAP_BRK_MAX - FFMAP_BRK_STEP) / 32768.0)
+                m->brk_extra += FFMAP_BRK_STEP / 32768.0;
+        }
         m->stall_n = 0;
     }
     if (m->brk_extra > 0 && ++m->brk_age >= (int)FFMAP_BRK_AGE) {
@@ -326,13 +331,14 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
                 o.near |= ctltw_near(d, 2 * k, 0.002);
                 o.near |= ctltw_near(m->err_peak, q / (1 << FFMAP_BIG_SHIFT), 0.02);
                 int smaller = 0;        /* smaller reversals (at a steady target) */
+                int floor_big = 0;      /* ... or big swings with the gain at its floor */
                 if (big && m->big && m->rev_age <= FFMAP_OSC_GAP) {
                     /* after a reversal near the smallest, the gain is cut only down to half of
                      * where a new valve starts; below that the reversals are made smaller */
                     if (m->gain > (m->rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN) / 256.0)
                         m->gain -= floor(m->gain * 256 / (m->warm < FFMAP_WARM && top ? 2 : 4)) / 256;
                     else
-                        smaller = m->rlim;
+                        smaller = floor_big = m->rlim;
                 } else if (m->rev_age <= FFMAP_OSC_GAP && (m->warm >= FFMAP_WARM || root < FFMAP_P_HI_F)
                            && d > 2 * k && fabs(e) <= q) {
                     /* (cycles cut the gain in a start too over FFMAP_P_HI_F's pressure; smaller
@@ -343,7 +349,8 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
                 } else if (m->rev_age <= FFMAP_OSC_GAP && m->warm >= FFMAP_WARM && !m->moved && m->brk_extra > 0) {
                     m->brk_extra -= FFMAP_BRK_STEP / 32768.0;   /* cycles near the smallest pulse: it is too big */
                 }
-                if (smaller && !m->moved && m->rev_min > FFMAP_REV_LOW / 32768.0 && m->warm >= FFMAP_WARM)
+                if (smaller && (floor_big || (!m->moved && m->warm >= FFMAP_WARM))
+                    && m->rev_min > FFMAP_REV_LOW / 32768.0)
                     m->rev_min -= floor(m->rev_min * 32768 / 8) / 32768;
                 m->rlim = lim;
                 m->big = big;
