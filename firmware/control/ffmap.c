@@ -23,7 +23,9 @@ static void ffmap_cap_up(void);
  * FFMAP_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
  * 1/8, after the first FFMAP_WARM periods of a (re)start or, in them, over the pressure of
  * FFMAP_P_HI_F (ffmap_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
- * in a start reached P max); FFMAP_SLOW_N periods awake with the error one way (slower than told;
+ * in a start reached P max) or at a steady target (the target not moved since the last reversal:
+ * a stiff valve's stick-slip cycle at the starting gain grew there, and the rules after the start
+ * cut it only as fast as the slow rule gave back); FFMAP_SLOW_N periods awake with the error one way (slower than told;
  * a quarter as many while the error is beyond target >> FFMAP_BIG_SHIFT) raise it by 3/32. Nothing
  * is raised against a stop or a refusal the error pushes toward (saturated: the rule against
  * closing toward P max does not hold a loop that must open), nor in the first FFMAP_WARM periods
@@ -278,7 +280,7 @@ CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
             ctl_st.fm.gain -= !ffmap_warm && c == 3 ? ctl_st.fm.gain >> 1 : ctl_st.fm.gain >> 2;
         else
             fl = fb = ffmap_rlim;
-    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p)
+    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p || !ctl_st.fm.moved)
         && ffmap_w.rev.d > 2 * ffmap_w.rev.k && (ffmap_e < 0 ? -ffmap_e : ffmap_e) <= ctl_in->target_lpm_x100) {
         /* (a pulse near the smallest: the valve's resolution, not the gain) */
         if (ctl_st.fm.gain > FFMAP_G_MIN)

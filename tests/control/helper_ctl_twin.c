@@ -339,10 +339,10 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
                         m->gain -= floor(m->gain * 256 / (m->warm < FFMAP_WARM && top ? 2 : 4)) / 256;
                     else
                         smaller = floor_big = m->rlim;
-                } else if (m->rev_age <= FFMAP_OSC_GAP && (m->warm >= FFMAP_WARM || root < FFMAP_P_HI_F)
+                } else if (m->rev_age <= FFMAP_OSC_GAP && (m->warm >= FFMAP_WARM || root < FFMAP_P_HI_F || !m->moved)
                            && d > 2 * k && fabs(e) <= q) {
-                    /* (cycles cut the gain in a start too over FFMAP_P_HI_F's pressure; smaller
-                     * reversals are learnt only after it) */
+                    /* (cycles cut the gain in a start too over FFMAP_P_HI_F's pressure or at a
+                     * steady target; smaller reversals are learnt only after it) */
                     if (m->gain > FFMAP_G_MIN / 256.0)
                         m->gain -= floor(m->gain * 256 / 8) / 256;
                     smaller = 1;

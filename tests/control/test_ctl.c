@@ -470,23 +470,37 @@ static void test_ctl_ffmap_learns_a_stiffer_break_away(void **state)
 }
 
 /* ffmap: a valve faster than told hunts: reversals in quick succession near the target lower the
- * loop gain (to where the pulses are near the smallest: the valve's resolution); nothing in the first FFMAP_WARM periods. */
+ * loop gain (to where the pulses are near the smallest: the valve's resolution); in the first
+ * FFMAP_WARM periods only at a steady target (not while the speed moves the target). Mode 0: the
+ * flow holds the target through the start and swings after it; 1: it swings from the start, the
+ * target steady; 2: likewise, the target moving 2 % a period in the start. */
 static void test_ctl_ffmap_learns_the_loop_gain(void **state)
 {
     (void)state;
-    ctl_select(CTL_FFMAP);
-    ctl_st.fm.gain = 256;                      /* the full gain (a new valve starts at 3/4 of it: */
-    ctl_in_t in = mk(3000, 3000, 0);        /* there this swing of the flow sends no reversals) */
-    int g_warm = 0;
-    for (int k = 0; k < 2000; k++) {        /* the flow swings +-5 % every 3 periods */
-        in.flow_lpm_x100 = (int16_t)((k / 3) % 2 ? 3150 : 2850);
-        ctl_step(&in);
-        if (k == FFMAP_WARM - 2)
-            g_warm = ctl_st.fm.gain;
+    for (int mode = 0; mode < 3; mode++) {
+        ctl_select(CTL_FFMAP);
+        ctl_st.fm.gain = 256;                  /* the full gain (a new valve starts at 3/4 of it: */
+        ctl_in_t in = mk(3000, 3000, 0);    /* there this swing of the flow sends no reversals) */
+        int g_warm = 0;
+        for (int k = 0; k < 2000; k++) {    /* the flow swings +-5 % every 3 periods */
+            in.target_lpm_x100 = (int16_t)(mode == 2 && k < FFMAP_WARM && k % 2 ? 3060 : 3000);
+            in.flow_lpm_x100 = (int16_t)(mode == 0 && k < FFMAP_WARM ? 3000 : (k / 3) % 2 ? 3150 : 2850);
+            ctl_step(&in);
+            if (k == FFMAP_WARM - 2)
+                g_warm = ctl_st.fm.gain;
+        }
+        print_message("ffmap: gain after 10 s %.3f, 200 s %.3f (mode %d)\n",
+                      g_warm / 256.0, ctl_st.fm.gain / 256.0, mode);
+        if (mode == 1) {
+            assert_true(g_warm < 256);
+        } else {
+            assert_int_equal(g_warm, 256);
+        }
+        if (mode == 0)
+            assert_true(ctl_st.fm.gain < 128);
+        else
+            assert_true(ctl_st.fm.gain <= g_warm);
     }
-    assert_int_equal(g_warm, 256);
-    print_message("ffmap: gain after 200 s of hunting %.3f\n", ctl_st.fm.gain / 256.0);
-    assert_true(ctl_st.fm.gain < 128);
 }
 
 /* ffmap: swings of the flow beyond target >> FFMAP_BIG_SHIFT, two in a row, cut the loop gain. In
