@@ -71,11 +71,9 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
  * minimum-flow rule, not a section, not the rate). The drive is ff_gain times that change filtered
  * over about 2^FFMAP_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
  * the target up and back by about a percent, which on a stiff valve would be two reversals
- * each. The working values the code uses most are in the direct RAM (the cheapest addressing;
- * the step never runs inside itself), the others in the controllers' union (XRAM, ffmap's
- * state alone in the field image). */
-/* this period's error, the step's most used value: in the direct RAM (the cheapest addressing;
- * the step never runs inside itself; ffmap_ff reads it too) */
+ * each. */
+/* the most used values in the direct RAM (the cheapest addressing; the step never runs inside
+ * itself), the others in the controllers' union (XRAM). This period's error: */
 static __data int16_t ffmap_e;
 static __bit ffmap_hi_p;                   /* the pressure over 360 kPa this period (FFMAP_P_HI_F) */
 static __bit ffmap_hi_t;                   /* the target's pressure over 400 kPa (FFMAP_P_T_F) */
@@ -87,24 +85,16 @@ static __data union {
         uint16_t speed;             /* x100 km/h: this period's speed */
         int16_t dq;                 /* x100 L/min: the target's change the speed made */
     } ff;                           /* ffmap_ff, the feed-forward's input */
-    struct {
-        uint16_t band;              /* x100 L/min: target >> FFMAP_FF_ESH */
-        uint16_t abs_e;             /* x100 L/min: |error| */
-    } ffl;                          /* ffmap_ff, its learning */
+    struct { uint16_t band, abs_e; } ffl;  /* ffmap_ff's learning, x100 L/min: target >> FFMAP_FF_ESH, |error| */
     uint16_t cap_next;              /* ffmap_cap_up: the cap raised by an eighth, before its limit */
     struct {
         uint16_t lim;               /* x100 L/min: target >> FFMAP_CAP_SH */
         int16_t dq;                 /* x100 L/min: the flow's change the way the valve ran */
     } cap;                          /* ffmap_cap */
     uint16_t top;                   /* ffmap_cap_limit: the top duty, Q15 (the cap, at least the smallest pulse) */
-    struct {
-        uint16_t d;                 /* Q15: the reversal's duty */
-        uint16_t k;                 /* Q15: the smallest pulse */
-    } rev;                          /* ffmap_reversal */
-    struct {
-        uint16_t root;              /* Q8: floor(sqrt(FFMAP_P_REF / P)), built bit by bit */
-        int16_t bit;                /* the bit being tried */
-    } gp;                           /* ffmap_gain_at_p */
+    struct { uint16_t d, k; } rev;  /* ffmap_reversal: Q15 the reversal's duty, the smallest pulse */
+    struct { uint16_t root; int16_t bit; } gp;  /* ffmap_gain_at_p: Q8 floor(sqrt(FFMAP_P_REF / P))
+                                                 * built bit by bit, the bit being tried */
 } ffmap_w;
 
 static void ffmap_ff(void)
