@@ -23,18 +23,20 @@ static void ffmap_cap_up(void);
  * FFMAP_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
  * 1/8, after the first FFMAP_WARM periods of a (re)start or, in them, over the pressure of
  * FFMAP_P_HI_F (ffmap_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
- * in a start reached P max) or at a steady target (the target not moved since the last reversal:
- * a stiff valve's stick-slip cycle at the starting gain grew there, and the rules after the start
- * cut it only as fast as the slow rule gave back); FFMAP_SLOW_N periods awake with the error one way (slower than told;
- * a quarter as many while the error is beyond target >> FFMAP_BIG_SHIFT) raise it by 3/32. Nothing
- * is raised against a stop or a refusal the error pushes toward (saturated: the rule against
- * closing toward P max does not hold a loop that must open), nor in the first FFMAP_WARM periods
- * of a (re)start while the gain is where the start found it (the line's filling is not the
- * valve's slowness). A start's swings may cut it there (a stiff valve's stick-slip looks like a
- * fast one's overshoot): it comes back at once, or a fast stiff valve told the truth creeps at
- * drives near its break-away until OFF_RATE; unless the duty cap holds a valve that swung the
- * flow (ffmap_cap): there the cut is the cure. The raise stays 3/32 for a big error too: a target
- * step's error is big one way while the valve answers. */
+ * in a start reached P max) or at a steady target (the target not moved since the last reversal: a
+ * stiff valve's stick-slip cycle at the starting gain grew there, and the rules after the start cut
+ * it only as fast as the slow rule gave back); FFMAP_SLOW_N periods awake with the error one way
+ * (slower than told; a quarter as many while the error is beyond target >> FFMAP_BIG_SHIFT) raise
+ * it by 3/32; not while the drive is at its top with the gain at or over FFMAP_G_INIT: no gain
+ * moves the valve faster there (a 12 s valve's slack, taken up at full duty, had raised it past
+ * twice that, a cycle at full duty both ways). Nothing is raised against a stop or a refusal the
+ * error pushes toward (saturated: the rule against closing toward P max does not hold a loop that
+ * must open), nor in the first FFMAP_WARM periods of a (re)start while the gain is where the start
+ * found it (the line's filling is not the valve's slowness). A start's swings may cut it there (a
+ * stiff valve's stick-slip looks like a fast one's overshoot): it comes back at once, or a fast
+ * stiff valve told the truth creeps at drives near its break-away until OFF_RATE; unless the duty
+ * cap holds a valve that swung the flow (ffmap_cap): there the cut is the cure. The raise stays
+ * 3/32 for a big error too: a target step's error is big one way while the valve answers. */
 CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 {
     if (!ffmap_warm && ++ctl_st.fm.warm >= FFMAP_WARM)
@@ -43,7 +45,8 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
         || (!ffmap_warm && (ctl_st.fm.gain >= ctl_st.fm.gain_start || ctl_st.fm.cap != 255))
         || (ctl_in->valve_limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN))) {
         ctl_st.fm.slow_n = 0;
-    } else if ((ctl_st.fm.slow_n += ctl_st.fm.err_big ? 4 : 1) >= FFMAP_SLOW_N) {
+    } else if ((!ctl_st.fm.cap_run || ctl_st.fm.gain < FFMAP_G_INIT)
+               && (ctl_st.fm.slow_n += ctl_st.fm.err_big ? 4 : 1) >= FFMAP_SLOW_N) {
         ctl_st.fm.slow_n = 0;
         if (ctl_st.fm.gain < FFMAP_G_MAX)
             ctl_st.fm.gain += (ctl_st.fm.gain >> 4) + (ctl_st.fm.gain >> 5);
@@ -53,25 +56,24 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
         ctl_st.fm.rev_age++;
 }
 
-/* The speed's feed-forward. With the pump at a fixed PTO speed the bypass must move as the
- * ground speed does, and a loop on the error alone lags through every change of speed; with the
- * pump on the wheels the boom's flow follows the speed by itself. Which of the two this sprayer
- * is, and how far its valve moves the flow, is learnt from the error a speed change leaves:
- * ff_gain, the drive per x100 L/min the speed moves the target a period, rises by 2 each period
- * the flow lags a ramp of the target (its change filtered over about 2^FFMAP_FF_RSH periods beyond
- * FFMAP_FF_RAMP) by more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; from
- * FFMAP_FF_LEAD on, by 2 more every 2^FFMAP_FF_RUN_SH periods taught the same way in a row (ff_run:
- * a slow valve on a fixed PTO needs hundreds, and by 2 each speed change left it lagging while it
- * climbed; near its value the lags and leads alternate and the step stays 2); nothing in
- * the first FFMAP_WARM periods (the start-up's own error), at rest or against a stop, nor in the
- * FFMAP_ANSWER periods after a reversal (the loop's own swing, its answer awaited: ffmap_out). While ff_gain is
- * under FFMAP_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
- * wheel steps the target by a few percent a pulse, which the flow never follows (read as lag). Only a
- * change of the target that the speed made counts, the speed moving the same way (not the
+/* The speed's feed-forward. With the pump at a fixed PTO speed the bypass must move as the ground
+ * speed does, and a loop on the error alone lags through every change of speed; with the pump on
+ * the wheels the boom's flow follows the speed by itself. Which of the two this sprayer is, and how
+ * far its valve moves the flow, is learnt from the error a speed change leaves: ff_gain, the drive
+ * per x100 L/min the speed moves the target a period, rises by 2 each period the flow lags a ramp
+ * of the target (its change filtered over about 2^FFMAP_FF_RSH periods beyond FFMAP_FF_RAMP) by
+ * more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; from FFMAP_FF_LEAD on, by
+ * 2 more every 2^FFMAP_FF_RUN_SH periods taught the same way in a row (ff_run: a slow valve on a
+ * fixed PTO needs hundreds, and by 2 each speed change left it lagging while it climbed; near its
+ * value the lags and leads alternate and the step stays 2); nothing in the first FFMAP_WARM periods
+ * (the start-up's own error), at rest or against a stop, nor in the FFMAP_ANSWER periods after a
+ * reversal (the loop's own swing, its answer awaited: ffmap_out). While ff_gain is under
+ * FFMAP_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
+ * wheel steps the target by a few percent a pulse, which the flow never follows (read as lag). Only
+ * a change of the target that the speed made counts, the speed moving the same way (not the
  * minimum-flow rule, not a section, not the rate). The drive is ff_gain times that change filtered
  * over about 2^FFMAP_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
- * the target up and back by about a percent, which on a stiff valve would be two reversals
- * each. */
+ * the target up and back by about a percent, which on a stiff valve would be two reversals each. */
 /* the most used values in the direct RAM (the cheapest addressing; the step never runs inside
  * itself), the others in the controllers' union (XRAM). This period's error: */
 static __data int16_t ffmap_e;
@@ -143,16 +145,16 @@ static void ffmap_ff(void)
     ctl_st.fm.ff_drive = MUL(ctl_st.fm.ramp >> FFMAP_FF_RSH, ctl_st.fm.ff_gain);
 }
 
-/* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve
- * much faster than told, on a pump and bypass far bigger than the boom needs, moves the flow by
- * more in one period at full duty than the loop sees in time (the meter's lag, the motor's coast
- * and the backlash carry it past the target), and it swings at full duty from nothing to twice
- * the target (a 1.64 s valve told 4 s, a 144 L/min pump, 14.7 L/min at the boom); at full duty a smaller gain changes nothing, a lower top speed does. After
- * FFMAP_CAP_N periods in a row at the cap one way, a period whose flow moved that way by more than
- * target >> FFMAP_CAP_SH takes a quarter off the cap (down to FFMAP_CAP_MIN), one that moved by less
- * than half of that gives an eighth back, as does the gain's raise (the valve is slower than the
- * cap lets it be). Never under the smallest pulse; in RAM only (a valve this fast shows itself
- * in its first swing). */
+/* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve much
+ * faster than told, on a pump and bypass far bigger than the boom needs, moves the flow by more in
+ * one period at full duty than the loop sees in time (the meter's lag, the motor's coast and the
+ * backlash carry it past the target), and it swings at full duty from nothing to twice the target
+ * (a 1.64 s valve told 4 s, a 144 L/min pump, 14.7 L/min at the boom); at full duty a smaller gain
+ * changes nothing, a lower top speed does. After FFMAP_CAP_N periods in a row at the cap one way, a
+ * period whose flow moved that way by more than target >> FFMAP_CAP_SH takes a quarter off the cap
+ * (down to FFMAP_CAP_MIN), one that moved by less than half of that gives an eighth back, as does
+ * the gain's raise (the valve is slower than the cap lets it be). Never under the smallest pulse;
+ * in RAM only (a valve this fast shows itself in its first swing). */
 static void ffmap_cap_up(void)
 {
     ffmap_w.cap_next = ctl_st.fm.cap + (ctl_st.fm.cap >> 3) + 1;

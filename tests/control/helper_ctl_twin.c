@@ -246,14 +246,15 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     du = ctltw_clamp(du, -32767 / 1600.0, 32767 / 1600.0);
     /* the gain's learning: a long run of error one way (four times as fast beyond target >>
      * FFMAP_BIG_SHIFT); in the start's first periods only back to where the start found it; not
-     * against a stop or refusal the error pushes toward */
+     * against a stop or refusal the error pushes toward, nor at the top duty from FFMAP_G_INIT on */
     o.near |= ctltw_near(fabs(e), q / (1 << FFMAP_BIG_SHIFT), 0.02);
     if (m->warm < FFMAP_WARM)
         m->warm++;
     if (m->rest || (e > 0) != (m->e1 > 0) || (m->warm < FFMAP_WARM && (m->gain >= m->gain_start || m->cap != 255))
         || (in->limit & (e > 0 ? CTL_CLOSE_BLOCKED : CTL_AT_OPEN)))
         m->slow_n = 0;
-    else if ((m->slow_n += fabs(e) > q / (1 << FFMAP_BIG_SHIFT) ? 4 : 1) >= FFMAP_SLOW_N) {
+    else if ((!m->cap_run || m->gain < FFMAP_G_INIT / 256.0)    /* (not at the top with the gain at its start or over) */
+             && (m->slow_n += fabs(e) > q / (1 << FFMAP_BIG_SHIFT) ? 4 : 1) >= FFMAP_SLOW_N) {
         m->slow_n = 0;
         if (m->gain < FFMAP_G_MAX / 256.0)
             m->gain += (floor(m->gain * 256 / 16) + floor(m->gain * 256 / 32)) / 256;

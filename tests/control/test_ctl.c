@@ -570,6 +570,39 @@ static void test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once(void **state)
     assert_int_equal(ctl_st.fm.gain, 89);
 }
 
+/* ffmap: the slow rule raises no gain at or over FFMAP_G_INIT while the drive is at its top (no
+ * gain moves the valve faster there: a 12 s valve with twice the told slack, taken up at full
+ * duty each way, had its gain raised past 2 and cycled at full duty); under FFMAP_G_INIT, or off the
+ * top, a long error one way raises it as before. */
+static void test_ctl_ffmap_raises_no_gain_at_full_duty(void **state)
+{
+    static const struct { int flow, gain, top; } c[] = {
+        {2500, FFMAP_G_INIT, 1}, {2500, FFMAP_G_INIT - 1, 1}, {2940, FFMAP_G_INIT, 0},
+    };
+    (void)state;
+    for (unsigned i = 0; i < sizeof c / sizeof c[0]; i++) {
+        ctl_in_t in = mk(3000, 3000, 0);
+        int top = 0, k;
+        ctl_select(CTL_FFMAP);
+        do                                  /* the start over, at the target */
+            ctl_step(&in);
+        while (ctl_st.fm.warm < FFMAP_WARM);
+        ctl_st.fm.gain = (int16_t)c[i].gain;
+        in.flow_lpm_x100 = (int16_t)c[i].flow;
+        for (k = 0; k < 40; k++) {          /* 4 s of the error one way */
+            q15_t d = ctl_step(&in);
+            top += d >= 32700;
+        }
+        print_message("ffmap: 4 s %.1f %% under the target from a gain of %d, %d periods at full duty: gain %d\n",
+                      (3000 - c[i].flow) / 30.0, c[i].gain, top, ctl_st.fm.gain);
+        assert_true(c[i].top ? top >= 35 : top == 0);
+        if (c[i].top && c[i].gain >= FFMAP_G_INIT)
+            assert_int_equal(ctl_st.fm.gain, c[i].gain);
+        else
+            assert_true(ctl_st.fm.gain > c[i].gain);
+    }
+}
+
 /* A toy valve and line for the duty cap: the motor runs at (duty - 0.12) / 0.88 of full speed
  * over a stroke of `travel` periods, the flow follows `lpm_per_stroke` times the closure beyond
  * 0.5 of it with a lag, and the meter reads it two periods late. Returns the largest duty and
@@ -1031,6 +1064,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_learns_the_loop_gain, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_halves_a_start_gain_on_full_duty_swings, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_raises_no_gain_at_full_duty, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_starts_a_new_valve_under_the_full_gain, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),
