@@ -14,6 +14,27 @@
  * noise draws 1-6 (6.8-11.5 % were every pulse sent after a reversal) */
 #define RIPPLE_BOUND_PCT 5.0
 
+/* A held-target run (`fmt`: its scenario, whose one %d is the noise draw) for draws 1-6: the
+ * worst ripple_p95_pct and reversals a minute, and the alarms raised. */
+static double ripple_of_draws(const char *what, const char *fmt, double *rev, int *alarms)
+{
+    double worst = 0;
+    *rev = 0;
+    *alarms = 0;
+    for (int seed = 1; seed <= 6; seed++) {
+        char text[1024];
+        metrics_result_t r;
+        snprintf(text, sizeof text, fmt, seed);
+        ffmap_anew();
+        *alarms += ffmap_run(text, &r);
+        print_message("ffmap, %s, seed %d: ripple %.2f %%, %.1f reversals/min, gain %d\n", what, seed,
+                      r.ripple_p95_pct, r.valve_reversals_per_min, ctl_st.fm.gain);
+        worst = r.ripple_p95_pct > worst ? r.ripple_p95_pct : worst;
+        *rev = r.valve_reversals_per_min > *rev ? r.valve_reversals_per_min : *rev;
+    }
+    return worst;
+}
+
 /* A 1.65 s valve with a 0.12 s motor the firmware believes 4 s, its break-away 0.12 (told 0.2),
  * a fixed PTO, held at 6.8 km/h from the start, noise draws 1-6.
  * The start cuts the gain to its floor; each reversal (0.6 of a period at full duty) then moves
@@ -22,27 +43,18 @@
  * the flow can show it (ffmap.c ffmap_out). */
 static void test_ffmap_ripple_a_fast_valve_told_4_s_does_not_hunt(void **state)
 {
-    double worst = 0;
-    int alarms = 0;
+    double rev;
+    int alarms;
     (void)state;
-    for (int seed = 1; seed <= 6; seed++) {
-        char text[1024];
-        metrics_result_t r;
-        snprintf(text, sizeof text,
-                 "[run]\nduration_s = 40\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 101\n[plant]\n"
-                 "valve_travel_s = 1.65\nvalve_stiction_duty = 0.122\nvalve_running_duty = 0.072\n"
-                 "valve_backlash = 0.0192\nvalve_motor_tau_s = 0.122\npump_lpm_at_540 = 126.4\n"
-                 "pump_pulsation_pct = 7.62\npto_coupled = 0\npto_rpm = 560\nmeter_k_ppl = 380.17\n"
-                 "meter_blade_jitter_pct = 1.44\nwheel_spacing_jitter_pct = 3.79\nwheel_slip_pct = 1.01\n"
-                 "speed_bounce_pct = 1.54\npressure_noise_lsb = 1.88\nnozzle_wear_pct = 4.0\n"
-                 "check_valve_bar = 0.604\nvalve_cv_open = 231.3\n[drive]\n0 0\n2 0\n2 6.8\n40 6.8\n", seed);
-        ffmap_anew();
-        alarms += ffmap_run(text, &r);
-        print_message("ffmap, a fast valve told 4 s, seed %d: ripple %.2f %%, gain %d\n", seed, r.ripple_p95_pct,
-                      ctl_st.fm.gain);
-        worst = r.ripple_p95_pct > worst ? r.ripple_p95_pct : worst;
-    }
-    assert_true(worst <= RIPPLE_BOUND_PCT);
+    assert_true(ripple_of_draws("a fast valve told 4 s",
+        "[run]\nduration_s = 40\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 101\n[plant]\n"
+        "valve_travel_s = 1.65\nvalve_stiction_duty = 0.122\nvalve_running_duty = 0.072\n"
+        "valve_backlash = 0.0192\nvalve_motor_tau_s = 0.122\npump_lpm_at_540 = 126.4\n"
+        "pump_pulsation_pct = 7.62\npto_coupled = 0\npto_rpm = 560\nmeter_k_ppl = 380.17\n"
+        "meter_blade_jitter_pct = 1.44\nwheel_spacing_jitter_pct = 3.79\nwheel_slip_pct = 1.01\n"
+        "speed_bounce_pct = 1.54\npressure_noise_lsb = 1.88\nnozzle_wear_pct = 4.0\n"
+        "check_valve_bar = 0.604\nvalve_cv_open = 231.3\n[drive]\n0 0\n2 0\n2 6.8\n40 6.8\n",
+        &rev, &alarms) <= RIPPLE_BOUND_PCT);
     assert_int_equal(alarms, 0);
 }
 
@@ -53,27 +65,16 @@ static void test_ffmap_ripple_a_fast_valve_told_4_s_does_not_hunt(void **state)
  * (ripple 3.9-5.6 %). One worth 3/4 of the told backlash (ffmap_learnt.c): 0.5-1.6 %. */
 static void test_ffmap_ripple_a_fast_valve_told_its_time_does_not_hunt(void **state)
 {
-    double worst = 0, rev = 0;
-    int alarms = 0;
+    double rev;
+    int alarms;
     (void)state;
-    for (int seed = 1; seed <= 6; seed++) {
-        char text[1024];
-        metrics_result_t r;
-        snprintf(text, sizeof text,
-                 "[run]\nduration_s = 60\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 125\n"
-                 "valve_travel_s = 1.7\n[plant]\nvalve_travel_s = 1.69\nvalve_stiction_duty = 0.256\n"
-                 "valve_running_duty = 0.195\nvalve_backlash = 0.0106\nvalve_motor_tau_s = 0.088\n"
-                 "pump_lpm_at_540 = 111.1\npump_pulsation_pct = 9.03\npto_coupled = 0\npto_rpm = 493\n"
-                 "meter_blade_jitter_pct = 0.24\nwheel_spacing_jitter_pct = 3.82\nspeed_bounce_pct = 2.49\n"
-                 "pressure_noise_lsb = 1.42\n[drive]\n0 0\n2 0\n2 4.5\n60 4.5\n", seed);
-        ffmap_anew();
-        alarms += ffmap_run(text, &r);
-        print_message("ffmap, a fast valve told 1.7 s, seed %d: ripple %.2f %%, %.1f reversals/min\n", seed,
-                      r.ripple_p95_pct, r.valve_reversals_per_min);
-        worst = r.ripple_p95_pct > worst ? r.ripple_p95_pct : worst;
-        rev = r.valve_reversals_per_min > rev ? r.valve_reversals_per_min : rev;
-    }
-    assert_true(worst <= 2.5);
+    assert_true(ripple_of_draws("a fast valve told 1.7 s",
+        "[run]\nduration_s = 60\nseed = %d\n[config]\ncontroller = ffmap\nrate_l_ha = 125\n"
+        "valve_travel_s = 1.7\n[plant]\nvalve_travel_s = 1.69\nvalve_stiction_duty = 0.256\n"
+        "valve_running_duty = 0.195\nvalve_backlash = 0.0106\nvalve_motor_tau_s = 0.088\n"
+        "pump_lpm_at_540 = 111.1\npump_pulsation_pct = 9.03\npto_coupled = 0\npto_rpm = 493\n"
+        "meter_blade_jitter_pct = 0.24\nwheel_spacing_jitter_pct = 3.82\nspeed_bounce_pct = 2.49\n"
+        "pressure_noise_lsb = 1.42\n[drive]\n0 0\n2 0\n2 4.5\n60 4.5\n", &rev, &alarms) <= 2.5);
     assert_true(rev <= 20);
     assert_int_equal(alarms, 0);
 }
