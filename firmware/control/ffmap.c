@@ -28,8 +28,8 @@ static void ffmap_cap_up(void);
  * it only as fast as the slow rule gave back); FFMAP_SLOW_N periods awake with the error one way
  * (slower than told; a quarter as many while the error is beyond target >> FFMAP_BIG_SHIFT) raise
  * it by 3/32; not while the drive is at its top with the gain at or over FFMAP_G_INIT: no gain
- * moves the valve faster there (a 12 s valve's slack, taken up at full duty, had raised it past
- * twice that, a cycle at full duty both ways). Nothing is raised against a stop or a refusal the
+ * moves the valve faster there (a slow valve's slack, taken up at full duty after each reversal,
+ * would raise it until the valve cycles at full duty both ways). Nothing is raised against a stop or a refusal the
  * error pushes toward (saturated: the rule against closing toward P max does not hold a loop that
  * must open), nor in the first FFMAP_WARM periods of a (re)start while the gain is where the start
  * found it (the line's filling is not the valve's slowness). A start's swings may cut it there (a

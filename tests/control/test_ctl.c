@@ -571,8 +571,8 @@ static void test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once(void **state)
 }
 
 /* ffmap: the slow rule raises no gain at or over FFMAP_G_INIT while the drive is at its top (no
- * gain moves the valve faster there: a 12 s valve with twice the told slack, taken up at full
- * duty each way, had its gain raised past 2 and cycled at full duty); under FFMAP_G_INIT, or off the
+ * gain moves the valve faster there: on a slow valve whose slack is taken up at full duty each
+ * way those raises end in a cycle at full duty); under FFMAP_G_INIT, or off the
  * top, a long error one way raises it as before. */
 static void test_ctl_ffmap_raises_no_gain_at_full_duty(void **state)
 {
