@@ -73,6 +73,10 @@ typedef struct {
 #define FFMAP_BRK_STEP Q15(0.05)       /* the smallest pulse grows by this at each stall ... */
 #define FFMAP_BRK_MAX Q15(0.25)        /* ... up to Min duty + this */
 #define FFMAP_BRK_AGE 3000u            /* ... and steps back after 5 min without a stall */
+#define FFMAP_LONE_N 5                 /* a lone smallest pulse: this many periods quiet before it and
+                                     * after it, when the flow's step is judged ... */
+#define FFMAP_LONE_SH 6                /* ... a step beyond target >> this takes the smallest pulse ... */
+#define FFMAP_BRK_DN Q15(0.025)        /* ... down by this, to half Min duty (ffmap.c ffmap_stall) */
 #define FFMAP_G_MIN 32                 /* the learnt loop gain, Q8: 1/8 .. 2 of what Valve time gives */
 #define FFMAP_G_INIT 192               /* ... where a valve nothing was learnt of starts: 3/4, as the
                                      * valve may be faster than told (docs/CONTROLLERS.md) */
@@ -124,7 +128,7 @@ typedef struct {
     int16_t stall_flow;             /* x100 L/min: the flow when the first of them was sent */
     /* what is learnt of the valve, together (the EEPROM keeps these STORE_LEARN_CTL bytes): */
     int16_t gain;                   /* Q8: the loop gain learnt for this valve (256 = as told) */
-    int16_t brk_extra;              /* Q15 added to Min duty after stalls */
+    int16_t brk_extra;              /* Q15 added to Min duty after stalls (under 0: lone pulses' steps) */
     int16_t rev_min;                /* Q15: the motion owed the other way that makes a reversal */
     int16_t ff_gain;                /* Q15 drive per x100 L/min the speed moves the target (ffmap_ff, even) */
     uint16_t brk_age;               /* periods since the last stall */
@@ -146,6 +150,9 @@ typedef struct {
     int16_t gain_start;             /* Q8: the loop gain when the loop (re)started */
     uint8_t hold;                   /* periods left without P and D after the sections changed */
     uint8_t ff_run;                 /* periods in a row ff_gain was taught the same way (ffmap_ff_lag), to 120 */
+    uint8_t quiet;                  /* periods in a row without a pulse, to 255 */
+    uint8_t lone_n;                 /* periods until a lone smallest pulse's step is judged (0: none) */
+    int16_t lone_flow;              /* x100 L/min: the flow when it was sent */
 } ffmap_state_t;
 
 /* ---- aog: SK21's RateControl module's valve PID (aog.c), the user's settings P_AOG_* --------- */

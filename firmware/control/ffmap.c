@@ -8,8 +8,7 @@ static __bit ffmap_warm;
 __bit ffmap_rlim, ffmap_rl1;                  /* the last reversal near the smallest (ctl_int.h) */
 static void ffmap_cap_up(void);
 
-/*
- * The incremental PID of eq. (7) on the common normalisation (ctl.c): what the valve is asked for
+/* The incremental PID of eq. (7) on the common normalisation (ctl.c): what the valve is asked for
  * is a motion, drive = du * T_travel. The output stage makes the valve do it: running friction,
  * break-away (ffmap_stall, stepped back at a cycle of its resolution: ffmap_reversal), reversals
  * worth the backlash and, on a fast valve, their answer awaited (ffmap_out), a duty cap for a
@@ -17,26 +16,22 @@ static void ffmap_cap_up(void);
  * from how the flow answers (ffmap_gain_adapt, ffmap_reversal) and cut at high pressure
  * (ffmap_gain_at_p); a deadband rests the valve near the target (ffmap_deadband); a feed-forward
  * of the speed is learnt from the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives
- * each rule, its constants and why; tests/control/test_ffmap*.c and test_ctl.c pin them.
- */
+ * each rule, its constants and why; tests/control/test_ffmap*.c and test_ctl.c pin them. */
 /* The loop gain learnt from how the flow answers: reversals that follow each other within
  * FFMAP_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
  * 1/8, after the first FFMAP_WARM periods of a (re)start or, in them, over the pressure of
- * FFMAP_P_HI_F (ffmap_gain_at_p: there the bypass holds the flow hardest, and a fast valve's cycles
- * in a start reached P max) or at a steady target (the target not moved since the last reversal: a
- * stiff valve's stick-slip cycle at the starting gain grew there, and the rules after the start cut
- * it only as fast as the slow rule gave back); FFMAP_SLOW_N periods awake with the error one way
- * (slower than told; a quarter as many while the error is beyond target >> FFMAP_BIG_SHIFT) raise
- * it by 3/32; not while the drive is at its top with the gain at or over FFMAP_G_INIT: no gain
- * moves the valve faster there (a slow valve's slack, taken up at full duty after each reversal,
- * would raise it until the valve cycles at full duty both ways). Nothing is raised against a stop or a refusal the
- * error pushes toward (saturated: the rule against closing toward P max does not hold a loop that
- * must open), nor in the first FFMAP_WARM periods of a (re)start while the gain is where the start
- * found it (the line's filling is not the valve's slowness). A start's swings may cut it there (a
- * stiff valve's stick-slip looks like a fast one's overshoot): it comes back at once, or a fast
- * stiff valve told the truth creeps at drives near its break-away until OFF_RATE; unless the duty
- * cap holds a valve that swung the flow (ffmap_cap): there the cut is the cure. The raise stays
- * 3/32 for a big error too: a target step's error is big one way while the valve answers. */
+ * FFMAP_P_HI_F (ffmap_gain_at_p: there the bypass holds the flow hardest) or at a steady target
+ * (the target not moved since the last reversal: a stiff valve's stick-slip cycle at the starting
+ * gain); FFMAP_SLOW_N periods awake with the error one way (slower than told; a quarter as many
+ * while the error is beyond target >> FFMAP_BIG_SHIFT) raise it by 3/32; not while the drive is at
+ * its top with the gain at or over FFMAP_G_INIT: no gain moves the valve faster there (a slow
+ * valve's slack, taken up at full duty after each reversal, would raise it until the valve cycles
+ * at full duty both ways). Nothing is raised against a stop or a refusal the error pushes toward,
+ * nor in the first FFMAP_WARM periods of a (re)start while the gain is where the start found it
+ * (the line's filling is not the valve's slowness); a start's swings may cut it there, and it
+ * comes back at once, unless the duty cap holds a valve that swung the flow (ffmap_cap): there
+ * the cut is the cure. The raise stays 3/32 for a big error too: a target step's error is big one
+ * way while the valve answers. */
 CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 {
     if (!ffmap_warm && ++ctl_st.fm.warm >= FFMAP_WARM)
@@ -64,16 +59,14 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
  * of the target (its change filtered over about 2^FFMAP_FF_RSH periods beyond FFMAP_FF_RAMP) by
  * more than target >> FFMAP_FF_ESH, and falls by 2 each period it leads; from FFMAP_FF_LEAD on, by
  * 2 more every 2^FFMAP_FF_RUN_SH periods taught the same way in a row (ff_run: a slow valve on a
- * fixed PTO needs hundreds, and by 2 each speed change left it lagging while it climbed; near its
- * value the lags and leads alternate and the step stays 2); nothing in the first FFMAP_WARM periods
- * (the start-up's own error), at rest or against a stop, nor in the FFMAP_ANSWER periods after a
- * reversal (the loop's own swing, its answer awaited: ffmap_out). While ff_gain is under
- * FFMAP_FF_LEAD and the wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the
- * wheel steps the target by a few percent a pulse, which the flow never follows (read as lag). Only
- * a change of the target that the speed made counts, the speed moving the same way (not the
- * minimum-flow rule, not a section, not the rate). The drive is ff_gain times that change filtered
- * over about 2^FFMAP_FF_RSH periods, not this period's: at a steady speed the wheel's pulses move
- * the target up and back by about a percent, which on a stiff valve would be two reversals each. */
+ * fixed PTO needs hundreds; near its value the lags and leads alternate and the step stays 2);
+ * nothing in the first FFMAP_WARM periods, at rest or against a stop, nor in the FFMAP_ANSWER
+ * periods after a reversal (the loop's own swing). While ff_gain is under FFMAP_FF_LEAD and the
+ * wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the wheel steps the target
+ * by a few percent a pulse, which the flow never follows. Only a change of the target that the
+ * speed made counts, the speed moving the same way (not the minimum-flow rule, not a section, not
+ * the rate). The drive is ff_gain times that change filtered over about 2^FFMAP_FF_RSH periods:
+ * at a steady speed the wheel's pulses move the target up and back by about a percent. */
 /* the most used values in the direct RAM (the cheapest addressing; the step never runs inside
  * itself), the others in the controllers' union (XRAM). This period's error: */
 static __data int16_t ffmap_e;
@@ -133,12 +126,9 @@ static void ffmap_ff(void)
         }
     }
     /* nothing while the flow is past the target the way it would push, by a big error (ff_gain is
-     * learnt slowly, and a gain learnt low would not outweigh it); and no closing while the line
-     * is over 360 kPa (ffmap_hi_p, the last period's) and the error filtered over 4 periods says the
-     * flow is over the target by more than target >> FFMAP_FF_ESH (the band): near P max the closing
-     * held back the loop's opening, a reversal owed until FFMAP_REV_MIN, and the line went over P
-     * max. Filtered: the wheel's jitter moves the
-     * target by about a percent a period. */
+     * learnt slowly); no closing while the line is over 360 kPa (ffmap_hi_p, the last period's)
+     * and the error filtered over 4 periods (the wheel's jitter) is over the band the other way:
+     * near P max the closing would hold back the loop's opening. */
     if ((ctl_st.fm.err_big || (ffmap_hi_p && ctl_st.fm.err_filt < -(int16_t)ffmap_w.ffl.band))
         && (ctl_st.fm.ramp ^ ffmap_e) < 0)
         return;
@@ -148,9 +138,8 @@ static void ffmap_ff(void)
 /* The duty cap: how fast the valve may run, learnt from how fast the flow answers it. A valve much
  * faster than told, on a pump and bypass far bigger than the boom needs, moves the flow by more in
  * one period at full duty than the loop sees in time (the meter's lag, the motor's coast and the
- * backlash carry it past the target), and it swings at full duty from nothing to twice the target
- * (a 1.64 s valve told 4 s, a 144 L/min pump, 14.7 L/min at the boom); at full duty a smaller gain
- * changes nothing, a lower top speed does. After FFMAP_CAP_N periods in a row at the cap one way, a
+ * backlash carry it past the target): at full duty a smaller gain changes nothing, a lower top
+ * speed does. After FFMAP_CAP_N periods in a row at the cap one way, a
  * period whose flow moved that way by more than target >> FFMAP_CAP_SH takes a quarter off the cap
  * (down to FFMAP_CAP_MIN), one that moved by less than half of that gives an eighth back, as does
  * the gain's raise (the valve is slower than the cap lets it be). Never under the smallest pulse;
@@ -227,9 +216,12 @@ CTL_STEP void ffmap_deadband(int16_t e, int16_t q) CTL_SHARED
 /* A stall: FFMAP_STALL_N smallest pulses one way (or twice as many up to twice the smallest) and
  * the flow has not moved that way by target >> FFMAP_STALL_MOVE (whatever the target did
  * meanwhile; the meter's lag after a motion is less), the error still asking for that way: the
- * smallest pulse grows, or, within 2 FFMAP_STALL_N periods of a reversal, rev_min by 1/8 up to
- * FFMAP_REV_MIN (the pulses went into a slack bigger than told). brk_extra steps back after
- * FFMAP_BRK_AGE periods without one. */
+ * smallest pulse grows (from under Min duty, back to it), or, within 2 FFMAP_STALL_N periods of a
+ * reversal, rev_min by 1/8 up to FFMAP_REV_MIN (the pulses went into a slack bigger than told).
+ * brk_extra steps back after FFMAP_BRK_AGE periods without one. A lone smallest pulse (ffmap_out)
+ * that stepped the flow its way by more than target >> FFMAP_LONE_SH, the speed steady: the valve
+ * moves on less (a fast valve's break-away under Min duty, each pulse a swing past the band); the
+ * smallest pulse and the running friction step down by FFMAP_BRK_DN, to half Min duty. */
 CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
 {
     int32_t k;
@@ -240,11 +232,20 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
         if (k <= (q >> FFMAP_STALL_MOVE) && (ctl_st.fm.dir > 0 ? e > 0 : e < 0)) {
             if (ctl_st.fm.rev_age < 2 * FFMAP_STALL_N && ctl_st.fm.rev_min < FFMAP_REV_MIN)
                 ctl_st.fm.rev_min += ctl_st.fm.rev_min >> 3;    /* the reversal's slack not taken up */
+            else if (ctl_st.fm.brk_extra < 0)
+                ctl_st.fm.brk_extra = 0;
             else if (ctl_st.fm.brk_extra <= FFMAP_BRK_MAX - FFMAP_BRK_STEP)
                 ctl_st.fm.brk_extra += FFMAP_BRK_STEP;
             ctl_st.fm.brk_age = 0;
         }
         ctl_st.fm.stall_n = 0;
+    }
+    if (ctl_st.fm.lone_n && !--ctl_st.fm.lone_n) {
+        k = ((int32_t)ctl_in->flow_lpm_x100 - ctl_st.fm.lone_flow) * ctl_st.fm.dir;
+        if (k > (q >> FFMAP_LONE_SH) && ctl_st.fm.brk_extra <= 0 && ffmap_warm
+            && (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP
+            && ctl_st.fm.brk_extra - FFMAP_BRK_DN >= -(CTL_STICTION >> 1))
+            ctl_st.fm.brk_extra -= FFMAP_BRK_DN;
     }
     if (ctl_st.fm.brk_extra > 0 && ++ctl_st.fm.brk_age >= FFMAP_BRK_AGE) {
         ctl_st.fm.brk_extra -= FFMAP_BRK_STEP;
@@ -254,12 +255,11 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
 
 /* A reversal sent (ffmap_w.rev: its duty and the smallest pulse; c: the periods at the top duty
  * before it; lim: 1 when it was under 1.5 times rev_min): the gain's rules (the file's header) and
- * the smallest pulse's and reversal's own; the half cycle's counters start anew. One soon after the last at a
- * steady target whose pulse was near the smallest (the valve's resolution, not the gain) takes
- * FFMAP_BRK_STEP off what stalls added to the smallest pulse: a stall on a headland left it up to
- * 0.25 over, and each pulse of a 1.5 s valve then moved the flow ~8 % for minutes. Big swings
- * with the gain at its floor and the reversal near rev_min lower rev_min in a start and with the
- * target moving too (the wheel's jitter): a fast valve told slow swung +-10-20 % meanwhile. */
+ * the smallest pulse's and reversal's own; the half cycle's counters start anew. One soon after the
+ * last at a steady target whose pulse was near the smallest (the valve's resolution, not the gain)
+ * takes FFMAP_BRK_STEP off what stalls added to the smallest pulse (a stall on a headland is no
+ * break-away). Big swings with the gain at its floor and the reversal near rev_min lower rev_min
+ * in a start and with the target moving too (the wheel's jitter): a fast valve told slow. */
 CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
 {
     __bit fl = 0;                   /* smaller reversals, at a steady target */
@@ -278,7 +278,7 @@ CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
         if (ctl_st.fm.gain > FFMAP_G_MIN)
             ctl_st.fm.gain -= ctl_st.fm.gain >> 3;
         fl = 1;
-    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && ffmap_warm && !ctl_st.fm.moved && ctl_st.fm.brk_extra) {
+    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && ffmap_warm && !ctl_st.fm.moved && ctl_st.fm.brk_extra > 0) {
         ctl_st.fm.brk_extra -= FFMAP_BRK_STEP;   /* a cycle of pulses near the smallest: it is too big */
     }
     if (fl && (fb || (!ctl_st.fm.moved && ffmap_warm)) && ctl_st.fm.rev_min > FFMAP_REV_LOW)
@@ -296,14 +296,12 @@ CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
  * limits and stops; below the smallest pulse it stays owed; a pulse is sent at the duty that
  * makes the motion against the running friction. At a reversal, the gain's rules (the file's
  * header). The smallest pulses count two toward a stall (FFMAP_STALL_BIG while the error is big: a
- * valve stiffer than told leaves the flow off its target for seconds), those up to twice the
- * smallest one (a valve stiffer than that, or a gain learnt that low, never sees it) one.
- * A reversal's answer: on a valve learnt under half as fast as a new one starts, nothing added to
- * its smallest pulse (a stiff valve needs the pulses that follow), the FFMAP_ANSWER - 1 periods
- * after a reversal at a steady target (no move since, no ramp of the speed) send nothing more
- * that way, the motion dropped: the flow shows the reversal only then, and the two smallest
- * pulses sent meanwhile on a 1.65 s valve told 4 s (~8 % of the flow) carried it past the target,
- * a cycle of +-12 %. */
+ * valve stiffer than told), those up to twice the smallest one (a gain learnt that low) one.
+ * A reversal's answer: on a valve learnt under half as fast as a new one starts, its smallest
+ * pulse not raised by stalls (a stiff valve needs the pulses that follow), the FFMAP_ANSWER - 1
+ * periods after a reversal at a steady target (no move since, no ramp of the speed) send nothing
+ * more that way, the motion dropped: the flow shows the reversal only then, and on a fast valve
+ * the pulses sent meanwhile carry it past the target. */
 CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
 {
     uint16_t d, k;                  /* (duties up to 2 x 0.7 of full: 16 bits unsigned) */
@@ -320,7 +318,7 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
     }
     d = (uint16_t)(m > 0 ? m : -m);    /* (clipped to 15 bits) */
     if (s == ctl_st.fm.dir && !ctl_st.fm.moved && ctl_st.fm.rev_age < FFMAP_ANSWER
-        && ctl_st.fm.gain < FFMAP_G_INIT / 2 && !ctl_st.fm.brk_extra && (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP) {
+        && ctl_st.fm.gain < FFMAP_G_INIT / 2 && ctl_st.fm.brk_extra <= 0 && (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP) {
         ctl_carry = 0;              /* the reversal's answer awaited (above) */
         return 0;
     }
@@ -330,6 +328,8 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
     }
     lim = d - (uint16_t)ctl_st.fm.rev_min < ((uint16_t)ctl_st.fm.rev_min >> 1);    /* (a reversal: d >= rev_min) */
     d = (uint16_t)ctl_drun + (uint16_t)MUL_R15((int16_t)d, ctl_run_span);
+    if (ctl_st.fm.brk_extra < 0)        /* under Min duty: the running friction 10/16 of it down */
+        d = (uint16_t)((int16_t)d + (ctl_st.fm.brk_extra >> 1) + (ctl_st.fm.brk_extra >> 3));
     k = (uint16_t)CTL_STICTION + (uint16_t)ctl_st.fm.brk_extra;
     if (d < k) {
         ctl_carry = (q15_t)m;       /* owed until it is worth a pulse */
@@ -349,6 +349,11 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
     } else {
         ffmap_rlim &= !ffmap_rl1;         /* a second pulse after the reversal: the swing is the loop's */
         ffmap_rl1 = 1;
+    }
+    ctl_st.fm.lone_n = 0;                            /* a lone smallest pulse (ffmap_stall) */
+    if (s == ctl_st.fm.dir && d <= k + (k >> 3) && ctl_st.fm.quiet >= FFMAP_LONE_N && !ctl_st.fm.hold) {
+        ctl_st.fm.lone_n = FFMAP_LONE_N;
+        ctl_st.fm.lone_flow = ctl_in->flow_lpm_x100;
     }
     if (d <= 2 * k && s == ctl_st.fm.dir) {    /* toward a stall */
         if (ctl_st.fm.stall_n == 0)
@@ -378,10 +383,8 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
  * 4 (target.c target_noz_q, in quarters). At a given pressure the boom's flow q is o / n of the
  * whole boom's, and through the bypass's equal-percentage opening dq/dx goes as q (Q - q) / Q:
  * with the pump at two to three times the whole boom's flow that is (n / o + 1) / 2 times less
- * within about a fifth (6 of 36 nozzles: 3.3-4.2 against 3.5). A loop set in flow units on the
- * whole boom was that much slower with sections shut: with six of 36 nozzles open a halt's
- * restart took OFF_RATE. What is learnt stays the
- * whole boom's. */
+ * within about a fifth (6 of 36 nozzles: 3.3-4.2 against 3.5). What is learnt stays the whole
+ * boom's. */
 static int16_t ffmap_gain_at_p(void) CTL_SHARED
 {
     ffmap_hi_p = 0;
@@ -399,12 +402,9 @@ static int16_t ffmap_gain_at_p(void) CTL_SHARED
         }
         ffmap_hi_p = (uint8_t)ffmap_w.gp.root < FFMAP_P_HI_F;
         /* Closing toward a target that needs over 400 kPa, on a valve learnt faster than a new one
-         * starts, ffmap_out gives at most the smallest pulse + FFMAP_P_T_DUTY. A motor that runs on after
-         * its drive stops (its time constant) carries the flow past the target by what its speed
-         * was, and near P max a sixth over the target is over P max: the family's last OVERPRESSURE
-         * runs were 1.8-2 s valves told 4 s with 0.10-0.15 s motors, their targets at 4.3-4.5 bar
-         * (120/124, 28/35, 72/107): closing at full duty from a fifth under the target, where the
-         * line is at 3 bar, the motor's coast took it over. The target's pressure P (q / f)^2 over
+         * starts, ffmap_out gives at most the smallest pulse + FFMAP_P_T_DUTY: a motor that runs on
+         * after its drive stops carries the flow past the target by what its speed was, and near
+         * P max a sixth over the target is over P max. The target's pressure P (q / f)^2 over
          * 400 kPa: q sqrt(P) > f sqrt(400), with sqrt(P) = 256 sqrt(FFMAP_P_REF) / f_root. */
         if (ctl_st.fm.gain < FFMAP_G_INIT
             && UMUL(ctl_st.fm.flow_last, ffmap_w.gp.root) < UMUL(ctl_in->target_lpm_x100, FFMAP_P_T_F))
@@ -418,10 +418,9 @@ static int16_t ffmap_gain_at_p(void) CTL_SHARED
 /* The hold. When the number of nozzles open changes (target.c target_noz_take), the target steps
  * at once and the boom's flow steps by itself a period or two later, as the nozzles open or shut
  * and the meter follows. The proportional and derivative terms would read the flow's own step
- * as the valve's answer and turn the valve with the error still a fifth of the target; the
- * reversal rules then took that turn for a swing and cut the learnt gain by a quarter, twice, at
- * every switch (a 10.6 s valve: 192 -> 25 in a field run, then OFF_RATE). For FFMAP_P_WAIT periods
- * the step sees no change of the error (the integral alone acts), as after a start. */
+ * as the valve's answer, and the reversal rules would take that turn for a swing and cut the
+ * learnt gain at every switch. For FFMAP_P_WAIT periods the step sees no change of the error (the
+ * integral alone acts), as after a start. */
 q15_t ffmap_step(void) CTL_SHARED
 {
     int16_t q = ctl_in->target_lpm_x100;
@@ -454,6 +453,7 @@ q15_t ffmap_step(void) CTL_SHARED
         ctl_st.fm.hold--;
         ctl_st.fm.e1 = ctl_st.fm.e2 = ffmap_e;
     }
+    ctl_st.fm.quiet = ctl_last ? 0 : ctl_st.fm.quiet + (ctl_st.fm.quiet < 255);
     ffmap_deadband(ffmap_e, q);
     ffmap_stall(ffmap_e, q);
     d2e = ffmap_e < 0 ? -ffmap_e : ffmap_e;

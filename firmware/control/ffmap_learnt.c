@@ -12,6 +12,7 @@ void ffmap_init(void)
     ctl_st.fm.brk_age = 0;
     ctl_st.fm.rev_age = 255;
     ctl_st.fm.moved = 0;
+    ctl_st.fm.lone_n = 0;
     /* what was learnt of this valve before: the EEPROM's record (CRC-checked, written by this
      * firmware) or, without one, 0xFF bytes */
     for (i = 0; i < STORE_LEARN_CTL; i++)

@@ -62,6 +62,9 @@ typedef struct {
     int cap, cap_run;               /* the duty cap (/256 of full duty, 255 none), periods at it */
     double flow_last;               /* L/min: the last period's flow */
     int hold;                       /* periods left without P and D after the nozzles changed */
+    int quiet;                      /* periods in a row without a pulse (to 255) */
+    int lone_n;                     /* periods until a lone smallest pulse's step is judged */
+    double lone_flow;               /* L/min: the flow when it was sent */
     int first;
 } ctltw_ffmap_t;
 typedef struct {

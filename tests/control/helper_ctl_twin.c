@@ -120,6 +120,9 @@ void ctltw_ffmap_load(ctltw_ffmap_t *tw, const ffmap_state_t *fm, int first, q15
     tw->cap_run = fm->cap_run;
     tw->flow_last = fm->flow_last / 100.0;
     tw->hold = fm->hold;
+    tw->quiet = fm->quiet;
+    tw->lone_n = fm->lone_n;
+    tw->lone_flow = fm->lone_flow / 100.0;
     tw->first = first;
 }
 
@@ -188,6 +191,7 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
         m->hold--;
         m->e1 = m->e2 = e;
     }
+    m->quiet = m->last != 0 ? 0 : m->quiet < 255 ? m->quiet + 1 : 255;
     /* deadband on the error filtered over 4 periods */
     dq = q - m->target_last;
     /* the filtered error in the firmware's own integer steps (x100 L/min, the rest integral's
@@ -217,10 +221,23 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
             /* a stall begun at a reversal: its slack not taken up, the reversal grows */
             if (m->rev_age < 2 * FFMAP_STALL_N && m->rev_min < FFMAP_REV_MIN / 32768.0)
                 m->rev_min += floor(m->rev_min * 32768 / 8) / 32768;
+            else if (m->brk_extra < 0)
+                m->brk_extra = 0;       /* lone pulses took it under Min duty: back to it */
             else if (m->brk_extra <= (FFMAP_BRK_MAX - FFMAP_BRK_STEP) / 32768.0)
                 m->brk_extra += FFMAP_BRK_STEP / 32768.0;
         }
         m->stall_n = 0;
+    }
+    /* a lone smallest pulse judged FFMAP_LONE_N periods on: a step of the flow its way beyond
+     * target >> FFMAP_LONE_SH, after the start, the speed steady, takes the smallest pulse down by
+     * FFMAP_BRK_DN, from Min duty or under it, to half Min duty */
+    if (m->lone_n && !--m->lone_n) {
+        k = m->dir * (in->flow - m->lone_flow);
+        o.near |= ctltw_near(k, q / (1 << FFMAP_LONE_SH), 0.02);
+        if (k > q / (1 << FFMAP_LONE_SH) && m->brk_extra <= 0 && m->warm >= FFMAP_WARM
+            && fabs(m->ramp) <= FFMAP_FF_RAMP / 100.0
+            && m->brk_extra - FFMAP_BRK_DN / 32768.0 >= -floor(lround(CTLTW_STICTION * 32768) / 2) / 32768)
+            m->brk_extra -= FFMAP_BRK_DN / 32768.0;
     }
     if (m->brk_extra > 0 && ++m->brk_age >= (int)FFMAP_BRK_AGE) {
         m->brk_extra -= FFMAP_BRK_STEP / 32768.0;
@@ -298,7 +315,7 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
     if (s == 0) {
         m->carry = 0;
     } else if (s == m->dir && !m->moved && m->rev_age < FFMAP_ANSWER && m->gain < FFMAP_G_INIT / 2 / 256.0
-               && m->brk_extra == 0 && fabs(m->ramp) <= FFMAP_FF_RAMP / 100.0) {
+               && m->brk_extra <= 0 && fabs(m->ramp) <= FFMAP_FF_RAMP / 100.0) {
         m->carry = 0;               /* a fast valve's reversal: nothing more that way until the flow answers */
     } else if (s != m->dir && m->dir != 0 && fabs(mv) < m->rev_min) {
         o.near |= ctltw_near(fabs(mv), m->rev_min, 0.002);
@@ -309,6 +326,8 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
         int lim = floor(fabs(mv) * 32768) - m->rev_min * 32768 < floor(m->rev_min * 32768 / 2);
         o.near |= s != m->dir && m->dir != 0 && ctltw_near(fabs(mv), 1.5 * m->rev_min, 0.002);
         d = run + fabs(mv) * (1 - run);
+        if (m->brk_extra < 0)   /* under Min duty: the running friction 10/16 of it down */
+            d += (floor(m->brk_extra * 32768 / 2) + floor(m->brk_extra * 32768 / 8)) / 32768;
         k = CTLTW_STICTION + m->brk_extra;
         o.near |= ctltw_near(d, k, 0.002);
         if (d < k) {
@@ -366,6 +385,11 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
                 m->rl1 = 1;
             }
             o.near |= ctltw_near(d, 2 * k, 0.002) || ctltw_near(d, k * 9 / 8, 0.002);
+            m->lone_n = 0;
+            if (s == m->dir && d <= k * 9 / 8 && m->quiet >= FFMAP_LONE_N && !m->hold) {
+                m->lone_n = FFMAP_LONE_N;
+                m->lone_flow = in->flow;
+            }
             if (d <= 2 * k && s == m->dir) {
                 if (m->stall_n == 0)
                     m->stall_flow = in->flow;

@@ -656,6 +656,69 @@ static void test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow(void **
     assert_true(duty > 0.99);
 }
 
+/* A toy fast valve (a stroke in 15 periods) that breaks away at `brk` and runs from 0.6 of it,
+ * its motor keeping a third of its speed into the next period; the flow goes as 70 L/min a stroke
+ * around a 20 L/min target with a lag, read two periods late, with +-0.05 L/min of noise, and
+ * a line whose flow sinks by LT_SINK L/min a period, which the valve keeps up with by closing. `start` puts it at the target; runs `periods` periods and returns the
+ * flow's largest minus smallest (x100 L/min) over them. */
+#define LT_SINK 0.01
+static struct { double pos, v, flow, sink, seen[3]; } lt;
+static int lone_toy(int start, int periods, double brk)
+{
+    int lo = 32767, hi = 0;
+    if (start) {
+        lt.pos = 0.5;
+        lt.v = lt.sink = 0;
+        lt.flow = lt.seen[0] = lt.seen[1] = lt.seen[2] = 20;
+    }
+    for (int k = 0; k < periods; k++) {
+        ctl_in_t in = mk(2000, (int)(lt.seen[0] * 100) + rnd(-5, 5), 0);
+        double d = ctl_step(&in) / 32768.0, a = fabs(d), run = 0.6 * brk;
+        lo = in.flow_lpm_x100 < lo ? in.flow_lpm_x100 : lo;
+        hi = in.flow_lpm_x100 > hi ? in.flow_lpm_x100 : hi;
+        lt.v = a >= brk ? (d > 0 ? 1 : -1) * (a - run) / (1 - run) : lt.v / 3;
+        lt.pos += lt.v / 15;
+        lt.pos = lt.pos < 0 ? 0 : lt.pos > 1 ? 1 : lt.pos;
+        lt.sink += LT_SINK;
+        lt.flow += (20 + (lt.pos - 0.5) * 70 - lt.sink - lt.flow) * 0.5;
+        lt.seen[0] = lt.seen[1];
+        lt.seen[1] = lt.seen[2];
+        lt.seen[2] = lt.flow;
+    }
+    return hi - lo;
+}
+
+/* ffmap: on a fast valve that breaks away at half its Min duty (told 0.2), each smallest pulse
+ * steps the flow by ~5 % of the target (0.15 of full speed for a tenth of a 1.5 s stroke, and the
+ * motor's run-on, at 70 L/min a stroke), three times the band: lone pulses take the smallest
+ * pulse down to half Min duty, and the flow's saw-tooth shrinks. A valve that breaks away at its
+ * Min duty is taken at most one step under it (there a stall sends it back); one told 15 s keeps
+ * it (each pulse a tenth as far, under 1/64 of the target). */
+static void test_ctl_ffmap_lone_pulses_take_the_smallest_pulse_down(void **state)
+{
+    (void)state;
+    int early, late;
+    assert_int_equal(param_set(P_VALVE_TRAVEL, 15), 1);     /* 1.5 s, as the toy */
+    ctl_select(CTL_FFMAP);
+    (void)lone_toy(1, FFMAP_WARM, 0.1);                     /* the start */
+    early = lone_toy(0, 600, 0.1);
+    (void)lone_toy(0, 1200, 0.1);
+    late = lone_toy(0, 600, 0.1);
+    print_message("ffmap: a valve breaking away at 0.1, told 0.2: the smallest pulse %+d (Q15), "
+                  "the flow's swing %.2f then %.2f L/min\n", ctl_st.fm.brk_extra, early / 100.0, late / 100.0);
+    assert_true(ctl_st.fm.brk_extra < -FFMAP_BRK_DN && ctl_st.fm.brk_extra >= -(ctl_stiction >> 1));
+    assert_true(late < early / 3);
+    ctl_select(CTL_FFMAP);
+    (void)lone_toy(1, 3000, 0.2);
+    print_message("ffmap: one breaking away at 0.2: the smallest pulse %+d\n", ctl_st.fm.brk_extra);
+    assert_true(ctl_st.fm.brk_extra >= -FFMAP_BRK_DN);
+    assert_int_equal(param_set(P_VALVE_TRAVEL, 150), 1);
+    ctl_select(CTL_FFMAP);
+    (void)lone_toy(1, 3000, 0.1);
+    print_message("ffmap: told 15 s: the smallest pulse %+d\n", ctl_st.fm.brk_extra);
+    assert_true(ctl_st.fm.brk_extra >= 0);
+}
+
 /* A toy valve twice as fast as told (a stroke in 20 periods, told 4 s): the motor runs at
  * (duty - 0.12) / 0.88 of full speed, the flow follows 60 L/min a stroke of closure beyond 0.3
  * with a lag, the meter reads it two periods late. From a flow settled on 30 L/min (the start's
@@ -777,19 +840,22 @@ static void test_ctl_ffmap_matches_twin(void **state)
 {
     (void)state;
     /* (the fourth: a valve three times as fast as told moving the flow by 250 L/min a stroke,
-     * read two periods late: its duty is capped) */
-    static const int travels[4] = {40, 15, 100, 40}, brks[4] = {20, 30, 12, 20};
-    static const double gains[4] = {50, 50, 50, 250};
-    static const uint8_t noz_qs[4] = {4, 6, 8, 4};
+     * read two periods late: its duty is capped; the fifth: a valve that breaks away at half its
+     * Min duty, moving the flow by 120 L/min a stroke: its smallest pulse is taken down) */
+    static const int travels[5] = {40, 15, 100, 40, 15}, brks[5] = {20, 30, 12, 20, 20};
+    static const double gains[5] = {50, 50, 50, 250, 120};
+    static const uint8_t noz_qs[5] = {4, 6, 8, 4, 4};
     double worst = 0;
     int checked = 0, near = 0, pulses = 0, rests = 0, g_moved = 0, brk_moved = 0, capped = 0, switches = 0, held = 0;
-    for (int c = 0; c < 4; c++) {
+    int brk_under = 0;
+    for (int c = 0; c < 5; c++) {
         assert_int_equal(param_set(P_VALVE_TRAVEL, (uint16_t)travels[c]), 1);
         assert_int_equal(param_set(P_VALVE_BRK, (uint16_t)brks[c]), 1);
         ctl_select(CTL_FFMAP);
         target_noz_q = noz_qs[c];       /* some sections shut: the gain's factor (target.c) */
         double pos = 0.5, flow = 30, target = 30, t_true = travels[c] * (c % 2 ? 0.5 : 1.5);
-        double brk_true = (brks[c] + 8) / 100.0, run_true = brk_true * 0.6, v = 0, seen[3] = {30, 30, 30};
+        double brk_true = c == 4 ? brks[c] / 200.0 : (brks[c] + 8) / 100.0, run_true = brk_true * 0.6, v = 0;
+        double seen[3] = {30, 30, 30};
         int first = 1;
         if (c == 3)
             t_true = travels[c] / 3.0;
@@ -826,6 +892,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
                 assert_true(fabs(tw.gain - ctl_st.fm.gain / 256.0) < 1e-9);     /* the gain's rules */
                 assert_int_equal(ffmap_rlim, tw.rlim);     /* the last reversal near the smallest */
                 assert_int_equal(ffmap_rl1, tw.rl1);
+                assert_true(fabs(tw.brk_extra - ctl_st.fm.brk_extra / 32768.0) < 1e-9);  /* the smallest pulse's */
                 checked++;
             }
             pulses += d != 0;
@@ -833,6 +900,7 @@ static void test_ctl_ffmap_matches_twin(void **state)
             rests += ctl_st.fm.rest;
             g_moved |= ctl_st.fm.gain != FFMAP_G_INIT;
             brk_moved |= ctl_st.fm.brk_extra != 0;
+            brk_under += ctl_st.fm.brk_extra < 0;
             capped += ctl_st.fm.cap != 255;
             /* the toy valve and line */
             double a = fabs(d / 32768.0);
@@ -848,10 +916,10 @@ static void test_ctl_ffmap_matches_twin(void **state)
     target_noz_q = 4;
     params_defaults();
     ctl_reset(0);
-    print_message("ffmap vs twin: %d steps checked, worst %.1f LSB beyond 0.2 %%; %d near a threshold; %d pulses, %d resting, %d capped; %d section switches, %d steps held\n",
-                  checked, worst * 32768, near, pulses, rests, capped, switches, held);
+    print_message("ffmap vs twin: %d steps checked, worst %.1f LSB beyond 0.2 %%; %d near a threshold; %d pulses, %d resting, %d capped, %d under Min duty; %d section switches, %d steps held\n",
+                  checked, worst * 32768, near, pulses, rests, capped, brk_under, switches, held);
     assert_true(checked > 30000 && near < checked / 8);
-    assert_true(pulses > 1000 && rests > 3000 && g_moved && brk_moved && capped > 100);
+    assert_true(pulses > 1000 && rests > 3000 && g_moved && brk_moved && capped > 100 && brk_under > 1000);
     assert_true(switches >= 200 && held >= 4 * switches);
 }
 
@@ -1065,6 +1133,7 @@ int main(void)
         cmocka_unit_test_setup(test_ctl_ffmap_halves_a_start_gain_on_full_duty_swings, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_raises_a_gain_cut_in_the_start_at_once, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_raises_no_gain_at_full_duty, setup),
+        cmocka_unit_test_setup(test_ctl_ffmap_lone_pulses_take_the_smallest_pulse_down, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_starts_a_new_valve_under_the_full_gain, setup),
         cmocka_unit_test_setup(test_ctl_ffmap_valve_parameters_reset_what_was_learned, setup),

@@ -5,16 +5,17 @@
 #include "tt.h"
 
 /* A deterministic integer plant: closure p (Q15) moved by the drive at 1/40 stroke a period
- * above 20 % duty, boom flow = the pump's share through the closure, a one-period lag, meter
- * noise of +-0.3 L/min, end stops reported as valve_limit. */
+ * above its break-away (20 % duty, or pl_brk), boom flow = the pump's share through the closure,
+ * a one-period lag, meter noise of +-0.3 L/min, end stops reported as valve_limit. */
 static int16_t pl_p, pl_q;
 static uint16_t pl_pump;            /* x100 L/min through a closed bypass */
+static q15_t pl_brk = Q15(0.2);
 
 static void plant(q15_t drive, ctl_in_t *in)
 {
     int32_t p = pl_p;
     int16_t qss, noise;
-    if (drive >= Q15(0.2) || drive <= -Q15(0.2))
+    if (drive >= pl_brk || drive <= -pl_brk)
         p += ((int32_t)drive * 819 + 16384) >> 15;
     if (p > 32767)
         p = 32767;
@@ -98,6 +99,36 @@ static const __code char *const bench_names[CTL_COUNT] = {
     "ctl_step_pid_max", "ctl_step_fuzzy_pid_max", "ctl_step_bp_pid_max", "ctl_step_ffmap_max",
     "ctl_step_aog_max", "ctl_step_raven_max"};
 
+/* n periods closed loop on the toy plant, a new target every 5 s, the pump at `pump_late` from
+ * the middle on; a line every 100 periods. */
+static void long_run(uint8_t id, uint16_t n, uint16_t pump_late)
+{
+    __xdata ctl_in_t *in = &step_in;
+    uint16_t k, r;
+    q15_t d;
+    for (k = 0; k < n; k++) {
+        if (k % 50 == 0) {
+            r = tt_rand16();
+            in->target_lpm_x100 = (int16_t)(1800 + (r & 2047u));
+        }
+        if (k == n / 2)
+            pl_pump = pump_late;    /* the plant changes under the controller */
+        d = timed_step(in);
+        plant(d, in);
+        if (k % 100 == 99) {
+            tt_hex16((uint16_t)k);
+            tt_putc(' ');
+            tt_hex16((uint16_t)pl_p);
+            tt_putc(' ');
+            tt_hex16((uint16_t)in->flow_lpm_x100);
+            tt_putc(' ');
+            tt_hex16(state_sum(id));
+            tt_putc(' ');
+            out_line(d);
+        }
+    }
+}
+
 /* One controller: a recorded open-loop input sequence, then a long closed loop on the toy plant. */
 static void run_ctl(uint8_t id, const char *bench)
 {
@@ -139,26 +170,16 @@ static void run_ctl(uint8_t id, const char *bench)
     cyc_max = 0;
     cyc_sum = 0;
     n_long = id == CTL_BP_PID ? 3000 : 1000;
-    for (k = 0; k < n_long; k++) {
-        if (k % 50 == 0) {
-            r = tt_rand16();
-            in->target_lpm_x100 = (int16_t)(1800 + (r & 2047u));
-        }
-        if (k == n_long / 2)
-            pl_pump = 5000;     /* the plant changes under the controller */
-        d = timed_step(in);
-        plant(d, in);
-        if (k % 100 == 99) {
-            tt_hex16((uint16_t)k);
-            tt_putc(' ');
-            tt_hex16((uint16_t)pl_p);
-            tt_putc(' ');
-            tt_hex16((uint16_t)in->flow_lpm_x100);
-            tt_putc(' ');
-            tt_hex16(state_sum(id));
-            tt_putc(' ');
-            out_line(d);
-        }
+    long_run(id, n_long, 5000);
+    if (id == CTL_FFMAP) {
+        /* a valve that breaks away at half its Min duty on a pump whose flow each smallest pulse
+         * steps by ~3 %: ffmap takes the smallest pulse down (ffmap_stall) */
+        pl_brk = Q15(0.1);
+        pl_pump = 20000;
+        long_run(id, 2000, 20000);
+        pl_brk = Q15(0.2);
+        tt_hex16((uint16_t)ctl_st.fm.brk_extra);
+        tt_putc('\n');
     }
     if (bench)
         tt_bench(bench, cyc_max);
