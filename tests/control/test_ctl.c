@@ -658,10 +658,10 @@ static void test_ctl_ffmap_caps_the_duty_of_a_valve_that_swings_the_flow(void **
 
 /* A toy fast valve (a stroke in 15 periods) that breaks away at `brk` and runs from 0.6 of it,
  * its motor keeping a third of its speed into the next period; the flow goes as 70 L/min a stroke
- * around a 20 L/min target with a lag, read two periods late, with +-0.05 L/min of noise, and
- * a line whose flow sinks by LT_SINK L/min a period, which the valve keeps up with by closing. `start` puts it at the target; runs `periods` periods and returns the
- * flow's largest minus smallest (x100 L/min) over them. */
-#define LT_SINK 0.01
+ * around a 20 L/min target with a lag, read two periods late, with +-0.05 L/min of noise, on
+ * a line whose flow sinks by 0.01 L/min a period, which the valve keeps up with by closing.
+ * `start` puts it at the target; runs `periods` periods and returns the flow's largest minus
+ * smallest (x100 L/min) over them. */
 static struct { double pos, v, flow, sink, seen[3]; } lt;
 static int lone_toy(int start, int periods, double brk)
 {
@@ -679,7 +679,7 @@ static int lone_toy(int start, int periods, double brk)
         lt.v = a >= brk ? (d > 0 ? 1 : -1) * (a - run) / (1 - run) : lt.v / 3;
         lt.pos += lt.v / 15;
         lt.pos = lt.pos < 0 ? 0 : lt.pos > 1 ? 1 : lt.pos;
-        lt.sink += LT_SINK;
+        lt.sink += 0.01;
         lt.flow += (20 + (lt.pos - 0.5) * 70 - lt.sink - lt.flow) * 0.5;
         lt.seen[0] = lt.seen[1];
         lt.seen[1] = lt.seen[2];
