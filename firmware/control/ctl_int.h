@@ -87,6 +87,9 @@ typedef struct {
 #define FFMAP_REV_LOW Q15(0.1)         /* ... learnt down to this by cycles at a steady target (-1/8 each) */
 #define FFMAP_ANSWER 3                 /* a reversal's answer: periods until the flow shows it (ffmap_out) */
 #define FFMAP_OSC_GAP 16               /* a reversal this soon after the last, |e| <= target: g -1/8 */
+#define FFMAP_OSC_GAP_SLOW 32          /* ... this soon on a valve whose stroke takes FFMAP_SLOW_T periods
+                                     * or more at its learnt gain, the speed steady */
+#define FFMAP_SLOW_T 20
 #define FFMAP_SLOW_N 20                /* this long awake with the error one way: +3/32 */
 #define FFMAP_BIG_SHIFT 4              /* a half cycle whose error reached target >> this swung big */
 #define FFMAP_P_WAIT 5                 /* periods after a (re)start without the proportional term */

@@ -3,35 +3,34 @@
 #include "target.h"
 #include "speed.h"
 
-/* warm reached FFMAP_WARM: the (re)start is over (a bit: the step asks it six times) */
-static __bit ffmap_warm;
+static __bit ffmap_warm;             /* warm reached FFMAP_WARM: the (re)start is over (the step asks it six times) */
 __bit ffmap_rlim, ffmap_rl1;                  /* the last reversal near the smallest (ctl_int.h) */
 static void ffmap_cap_up(void);
 
-/* The incremental PID of eq. (7) on the common normalisation (ctl.c): what the valve is asked for
- * is a motion, drive = du * T_travel. The output stage makes the valve do it: running friction,
- * break-away (ffmap_stall, stepped back at a cycle of its resolution: ffmap_reversal), reversals
- * worth the backlash and, on a fast valve, their answer awaited (ffmap_out), a duty cap for a
- * valve far faster than told (ffmap_cap), a gentle closing near P max; the loop gain is learnt
- * from how the flow answers (ffmap_gain_adapt, ffmap_reversal) and cut at high pressure
- * (ffmap_gain_at_p); a deadband rests the valve near the target (ffmap_deadband); a feed-forward
- * of the speed is learnt from the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives
- * each rule, its constants and why; tests/control/test_ffmap*.c and test_ctl.c pin them. */
-/* The loop gain learnt from how the flow answers: reversals that follow each other within
- * FFMAP_OSC_GAP periods (an overshoot, a limit cycle: the valve is faster than told) lower it by
- * 1/8, after the first FFMAP_WARM periods of a (re)start or, in them, over the pressure of
- * FFMAP_P_HI_F (ffmap_gain_at_p: there the bypass holds the flow hardest) or at a steady target
- * (the target not moved since the last reversal: a stiff valve's stick-slip cycle at the starting
- * gain); FFMAP_SLOW_N periods awake with the error one way (slower than told; a quarter as many
- * while the error is beyond target >> FFMAP_BIG_SHIFT) raise it by 3/32; not while the drive is at
- * its top with the gain at or over FFMAP_G_INIT: no gain moves the valve faster there (a slow
- * valve's slack, taken up at full duty after each reversal, would raise it until the valve cycles
- * at full duty both ways). Nothing is raised against a stop or a refusal the error pushes toward,
- * nor in the first FFMAP_WARM periods of a (re)start while the gain is where the start found it
- * (the line's filling is not the valve's slowness); a start's swings may cut it there, and it
- * comes back at once, unless the duty cap holds a valve that swung the flow (ffmap_cap): there
- * the cut is the cure. The raise stays 3/32 for a big error too: a target step's error is big one
- * way while the valve answers. */
+/* The incremental PID of eq. (7) on the common normalisation (ctl.c): the valve is asked for a
+ * motion, drive = du * T_travel. The output stage makes the valve do it: running friction, break-
+ * away (ffmap_stall, stepped back at a cycle of its resolution: ffmap_reversal), reversals worth
+ * the backlash and, on a fast valve, their answer awaited (ffmap_out), a duty cap for a valve far
+ * faster than told (ffmap_cap), a gentle closing near P max; the loop gain is learnt from how the
+ * flow answers (ffmap_gain_adapt, ffmap_reversal) and cut at high pressure (ffmap_gain_at_p); a
+ * deadband rests the valve near the target (ffmap_deadband); a feed-forward of the speed is learnt
+ * from the lag a speed change leaves (ffmap_ff). docs/CONTROLLERS.md gives each rule, its constants
+ * and why; tests/control/test_ffmap*.c and test_ctl.c pin them. */
+/* The loop gain learnt from how the flow answers: reversals within FFMAP_OSC_GAP periods of each
+ * other (an overshoot, a limit cycle: the valve is faster than told; FFMAP_OSC_GAP_SLOW at a steady
+ * speed on a valve whose stroke takes FFMAP_SLOW_T periods at the learnt gain: its cycle through
+ * the slack is longer) lower it by 1/8 after the first FFMAP_WARM periods of a (re)start, or in
+ * them over FFMAP_P_HI_F's pressure (ffmap_gain_at_p: the bypass holds the flow hardest) or at a
+ * steady target (not moved since the last reversal: a stiff valve's stick-slip cycle at the
+ * starting gain); FFMAP_SLOW_N periods awake with the error one way (slower than told; a quarter as
+ * many with the error beyond target >> FFMAP_BIG_SHIFT) raise it by 3/32; not with the drive at its
+ * top and the gain at or over FFMAP_G_INIT: no gain moves the valve faster there (a slow valve's
+ * slack, taken up at full duty after each reversal, would raise it until it cycles at full duty
+ * both ways). Nothing is raised against a stop or a refusal the error pushes toward, nor in the
+ * first FFMAP_WARM periods of a (re)start while the gain is where the start found it (the line's
+ * filling is not the valve's slowness); a start's swings may cut it there and it comes back at
+ * once, unless the duty cap holds a valve that swung the flow (ffmap_cap): there the cut is the
+ * cure. */
 CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
 {
     if (!ffmap_warm && ++ctl_st.fm.warm >= FFMAP_WARM)
@@ -62,11 +61,11 @@ CTL_STEP void ffmap_gain_adapt(int16_t e) CTL_SHARED
  * fixed PTO needs hundreds; near its value the lags and leads alternate and the step stays 2);
  * nothing in the first FFMAP_WARM periods, at rest or against a stop, nor in the FFMAP_ANSWER
  * periods after a reversal (the loop's own swing). While ff_gain is under FFMAP_FF_LEAD and the
- * wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the wheel steps the target
- * by a few percent a pulse, which the flow never follows. Only a change of the target that the
- * speed made counts, the speed moving the same way (not the minimum-flow rule, not a section, not
- * the rate). The drive is ff_gain times that change filtered over about 2^FFMAP_FF_RSH periods:
- * at a steady speed the wheel's pulses move the target up and back by about a percent. */
+ * wheel unlearnt (speed_learnt), only a ramp over target >> 4 counts: the wheel steps the target by
+ * a few percent a pulse, which the flow never follows. Only a change of the target that the speed
+ * made counts, the speed moving the same way (not the minimum-flow rule, not a section, not the
+ * rate). The drive is ff_gain times that change filtered over about 2^FFMAP_FF_RSH periods: at a
+ * steady speed the wheel's pulses move the target up and back by about a percent. */
 /* the most used values in the direct RAM (the cheapest addressing; the step never runs inside
  * itself), the others in the controllers' union (XRAM). This period's error: */
 static __data int16_t ffmap_e;
@@ -253,32 +252,34 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
     }
 }
 
-/* A reversal sent (ffmap_w.rev: its duty and the smallest pulse; c: the periods at the top duty
- * before it; lim: 1 when it was under 1.5 times rev_min): the gain's rules (the file's header) and
- * the smallest pulse's and reversal's own; the half cycle's counters start anew. One soon after the
- * last at a steady target whose pulse was near the smallest (the valve's resolution, not the gain)
+/* A reversal sent (ffmap_w.rev: its duty and the smallest pulse; c: periods at the top duty before
+ * it; lim: 1 under 1.5 rev_min): the gain's rules (the file's header; gap: a half cycle's bound)
+ * and the smallest pulse's and reversal's own; the half cycle's counters start anew. One soon after
+ * the last at a steady target, its pulse near the smallest (the valve's resolution, not the gain),
  * takes FFMAP_BRK_STEP off what stalls added to the smallest pulse (a stall on a headland is no
- * break-away). Big swings with the gain at its floor and the reversal near rev_min lower rev_min
- * in a start and with the target moving too (the wheel's jitter): a fast valve told slow. */
+ * break-away). Big swings with the gain at its floor and the reversal near rev_min lower rev_min in
+ * a start and with the target moving too (the wheel's jitter): a fast valve told slow. */
 CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
 {
+    uint8_t gap = (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP && UMUL(ctl_travel,
+                  ctl_st.fm.gain) >= ((uint32_t)FFMAP_SLOW_T << 8) ? FFMAP_OSC_GAP_SLOW : FFMAP_OSC_GAP;
     __bit fl = 0;                   /* smaller reversals, at a steady target */
     __bit fb = 0;                   /* ... or after big swings, the gain at its floor */
     /* two half cycles in a row that swung big, soon after each other; the last at the top */
     c = (uint8_t)((c >= FFMAP_TOP_N) << 1)
         | (ctl_st.fm.err_peak > (ctl_in->target_lpm_x100 >> FFMAP_BIG_SHIFT));
-    if ((c & 1) && ctl_st.fm.big && ctl_st.fm.rev_age <= FFMAP_OSC_GAP) {
+    if ((c & 1) && ctl_st.fm.big && ctl_st.fm.rev_age <= gap) {
         if (ctl_st.fm.gain > (ffmap_rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN))
             ctl_st.fm.gain -= !ffmap_warm && c == 3 ? ctl_st.fm.gain >> 1 : ctl_st.fm.gain >> 2;
         else
             fl = fb = ffmap_rlim;
-    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && (ffmap_warm || ffmap_hi_p || !ctl_st.fm.moved)
+    } else if (ctl_st.fm.rev_age <= gap && (ffmap_warm || ffmap_hi_p || !ctl_st.fm.moved)
         && ffmap_w.rev.d > 2 * ffmap_w.rev.k && (ffmap_e < 0 ? -ffmap_e : ffmap_e) <= ctl_in->target_lpm_x100) {
         /* (a pulse near the smallest: the valve's resolution, not the gain) */
         if (ctl_st.fm.gain > FFMAP_G_MIN)
             ctl_st.fm.gain -= ctl_st.fm.gain >> 3;
         fl = 1;
-    } else if (ctl_st.fm.rev_age <= FFMAP_OSC_GAP && ffmap_warm && !ctl_st.fm.moved && ctl_st.fm.brk_extra > 0) {
+    } else if (ctl_st.fm.rev_age <= gap && ffmap_warm && !ctl_st.fm.moved && ctl_st.fm.brk_extra > 0) {
         ctl_st.fm.brk_extra -= FFMAP_BRK_STEP;   /* a cycle of pulses near the smallest: it is too big */
     }
     if (fl && (fb || (!ctl_st.fm.moved && ffmap_warm)) && ctl_st.fm.rev_min > FFMAP_REV_LOW)
@@ -293,15 +294,15 @@ CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
 }
 
 /* The output stage: the motion owed plus this period's (Q15 share of full speed for a period),
- * limits and stops; below the smallest pulse it stays owed; a pulse is sent at the duty that
- * makes the motion against the running friction. At a reversal, the gain's rules (the file's
- * header). The smallest pulses count two toward a stall (FFMAP_STALL_BIG while the error is big: a
- * valve stiffer than told), those up to twice the smallest one (a gain learnt that low) one.
- * A reversal's answer: on a valve learnt under half as fast as a new one starts, its smallest
- * pulse not raised by stalls (a stiff valve needs the pulses that follow), the FFMAP_ANSWER - 1
- * periods after a reversal at a steady target (no move since, no ramp of the speed) send nothing
- * more that way, the motion dropped: the flow shows the reversal only then, and on a fast valve
- * the pulses sent meanwhile carry it past the target. */
+ * limits and stops; below the smallest pulse it stays owed; a pulse is sent at the duty that makes
+ * the motion against the running friction. At a reversal, the gain's rules (the file's header). The
+ * smallest pulses count two toward a stall (FFMAP_STALL_BIG while the error is big: a valve stiffer
+ * than told), those up to twice the smallest one (a gain learnt that low) one. A reversal's answer:
+ * on a valve learnt under half as fast as a new one starts, its smallest pulse not raised by stalls
+ * (a stiff valve needs the pulses that follow), the FFMAP_ANSWER - 1 periods after a reversal at a
+ * steady target (no move since, no ramp of the speed) send nothing more that way, the motion
+ * dropped: the flow shows the reversal only then, and on a fast valve the pulses sent meanwhile
+ * carry it past the target. */
 CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
 {
     uint16_t d, k;                  /* (duties up to 2 x 0.7 of full: 16 bits unsigned) */
@@ -372,19 +373,18 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
     return (q15_t)d;
 }
 
-/* The loop gain at this pressure. The bypass's hold on the boom's flow grows with the boom's
- * share of the pump's flow: with q the boom's flow and Q the pump's, dq/dx goes as q^2 / Q, and
- * q^2 as the pressure P at the nozzles. With the pump at a fixed PTO speed that is P itself; with
- * the pump on the wheels (Q with the speed, as q) sqrt(P). Above FFMAP_P_REF the learnt gain is cut
- * by sqrt(FFMAP_P_REF / P), the lesser of the two: near P max a gain learnt lower down swings the
- * flow and takes the line over P max. (A failed sensor holds its last reading: the cut it had,
- * a slower loop, never a faster one.)
- * With o of the boom's n nozzles open the gain is (n / o + 1) / 2 times the whole boom's, at most
- * 4 (target.c target_noz_q, in quarters). At a given pressure the boom's flow q is o / n of the
- * whole boom's, and through the bypass's equal-percentage opening dq/dx goes as q (Q - q) / Q:
- * with the pump at two to three times the whole boom's flow that is (n / o + 1) / 2 times less
- * within about a fifth (6 of 36 nozzles: 3.3-4.2 against 3.5). What is learnt stays the whole
- * boom's. */
+/* The loop gain at this pressure. The bypass's hold on the boom's flow grows with the boom's share
+ * of the pump's flow: with q the boom's flow and Q the pump's, dq/dx goes as q^2 / Q, and q^2 as
+ * the pressure P at the nozzles. With the pump at a fixed PTO speed that is P itself; with the pump
+ * on the wheels (Q with the speed, as q) sqrt(P). Above FFMAP_P_REF the learnt gain is cut by
+ * sqrt(FFMAP_P_REF / P), the lesser of the two: near P max a gain learnt lower down swings the flow
+ * and takes the line over P max. (A failed sensor holds its last reading: the cut it had, a slower
+ * loop, never a faster one.) With o of the boom's n nozzles open the gain is (n / o + 1) / 2 times
+ * the whole boom's, at most 4 (target.c target_noz_q, in quarters). At a given pressure the boom's
+ * flow q is o / n of the whole boom's, and through the bypass's equal-percentage opening dq/dx goes
+ * as q (Q - q) / Q: with the pump at two to three times the whole boom's flow that is (n / o + 1) /
+ * 2 times less within about a fifth (6 of 36 nozzles: 3.3-4.2 against 3.5). What is learnt stays
+ * the whole boom's. */
 static int16_t ffmap_gain_at_p(void) CTL_SHARED
 {
     ffmap_hi_p = 0;

@@ -350,23 +350,27 @@ ctltw_ffmap_out_t ctltw_ffmap_step(ctltw_ffmap_t *m, const ctltw_ffmap_in_t *in)
                 int big = m->err_peak > q / (1 << FFMAP_BIG_SHIFT);
                 o.near |= ctltw_near(d, 2 * k, 0.002);
                 o.near |= ctltw_near(m->err_peak, q / (1 << FFMAP_BIG_SHIFT), 0.02);
+                /* a half cycle's bound: longer on a valve whose stroke takes FFMAP_SLOW_T periods
+                 * at the learnt gain, at a steady speed */
+                int gap = fabs(m->ramp) <= FFMAP_FF_RAMP / 100.0 && in->travel * m->gain >= FFMAP_SLOW_T
+                          ? FFMAP_OSC_GAP_SLOW : FFMAP_OSC_GAP;
                 int smaller = 0;        /* smaller reversals (at a steady target) */
                 int floor_big = 0;      /* ... or big swings with the gain at its floor */
-                if (big && m->big && m->rev_age <= FFMAP_OSC_GAP) {
+                if (big && m->big && m->rev_age <= gap) {
                     /* after a reversal near the smallest, the gain is cut only down to half of
                      * where a new valve starts; below that the reversals are made smaller */
                     if (m->gain > (m->rlim ? FFMAP_G_INIT / 2 : FFMAP_G_MIN) / 256.0)
                         m->gain -= floor(m->gain * 256 / (m->warm < FFMAP_WARM && top ? 2 : 4)) / 256;
                     else
                         smaller = floor_big = m->rlim;
-                } else if (m->rev_age <= FFMAP_OSC_GAP && (m->warm >= FFMAP_WARM || root < FFMAP_P_HI_F || !m->moved)
+                } else if (m->rev_age <= gap && (m->warm >= FFMAP_WARM || root < FFMAP_P_HI_F || !m->moved)
                            && d > 2 * k && fabs(e) <= q) {
                     /* (cycles cut the gain in a start too over FFMAP_P_HI_F's pressure or at a
                      * steady target; smaller reversals are learnt only after it) */
                     if (m->gain > FFMAP_G_MIN / 256.0)
                         m->gain -= floor(m->gain * 256 / 8) / 256;
                     smaller = 1;
-                } else if (m->rev_age <= FFMAP_OSC_GAP && m->warm >= FFMAP_WARM && !m->moved && m->brk_extra > 0) {
+                } else if (m->rev_age <= gap && m->warm >= FFMAP_WARM && !m->moved && m->brk_extra > 0) {
                     m->brk_extra -= FFMAP_BRK_STEP / 32768.0;   /* cycles near the smallest pulse: it is too big */
                 }
                 if (smaller && (floor_big || (!m->moved && m->warm >= FFMAP_WARM))
