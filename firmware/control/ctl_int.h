@@ -95,6 +95,7 @@ typedef struct {
 #define FFMAP_P_WAIT 5                 /* periods after a (re)start without the proportional term */
 #define FFMAP_FF_RSH 2                 /* the speed's feed-forward: a ramp is its change of the target ... */
 #define FFMAP_FF_RAMP 40               /* ... filtered over about 2^FFMAP_FF_RSH periods beyond this (x100) */
+#define FFMAP_STEADY() ((uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP)  /* the speed steady */
 #define FFMAP_FF_ESH 7                 /* ... the error beyond target >> this: ff_gain lags or leads */
 #define FFMAP_FF_MAX 2000              /* the largest ff_gain */
 #define FFMAP_FF_RUN_SH 3              /* ff_gain's step: 2, and 2 more every 2^this periods taught one way in a row */

@@ -241,8 +241,7 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
     }
     if (ctl_st.fm.lone_n && !--ctl_st.fm.lone_n) {
         k = ((int32_t)ctl_in->flow_lpm_x100 - ctl_st.fm.lone_flow) * ctl_st.fm.dir;
-        if (k > (q >> FFMAP_LONE_SH) && ctl_st.fm.brk_extra <= 0 && ffmap_warm
-            && (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP
+        if (k > (q >> FFMAP_LONE_SH) && ctl_st.fm.brk_extra <= 0 && ffmap_warm && FFMAP_STEADY()
             && ctl_st.fm.brk_extra - FFMAP_BRK_DN >= -(CTL_STICTION >> 1))
             ctl_st.fm.brk_extra -= FFMAP_BRK_DN;
     }
@@ -261,8 +260,8 @@ CTL_STEP void ffmap_stall(int16_t e, int16_t q) CTL_SHARED
  * a start and with the target moving too (the wheel's jitter): a fast valve told slow. */
 CTL_STEP void ffmap_reversal(uint8_t c, uint8_t lim) CTL_SHARED
 {
-    uint8_t gap = (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP && UMUL(ctl_travel,
-                  ctl_st.fm.gain) >= ((uint32_t)FFMAP_SLOW_T << 8) ? FFMAP_OSC_GAP_SLOW : FFMAP_OSC_GAP;
+    uint8_t gap = FFMAP_STEADY() && UMUL(ctl_travel, ctl_st.fm.gain) >= ((uint32_t)FFMAP_SLOW_T << 8)
+                  ? FFMAP_OSC_GAP_SLOW : FFMAP_OSC_GAP;
     __bit fl = 0;                   /* smaller reversals, at a steady target */
     __bit fb = 0;                   /* ... or after big swings, the gain at its floor */
     /* two half cycles in a row that swung big, soon after each other; the last at the top */
@@ -319,7 +318,7 @@ CTL_STEP q15_t ffmap_out(int32_t m) CTL_SHARED
     }
     d = (uint16_t)(m > 0 ? m : -m);    /* (clipped to 15 bits) */
     if (s == ctl_st.fm.dir && !ctl_st.fm.moved && ctl_st.fm.rev_age < FFMAP_ANSWER
-        && ctl_st.fm.gain < FFMAP_G_INIT / 2 && ctl_st.fm.brk_extra <= 0 && (uint16_t)(ctl_st.fm.ramp + FFMAP_FF_RAMP) <= 2 * FFMAP_FF_RAMP) {
+        && ctl_st.fm.gain < FFMAP_G_INIT / 2 && ctl_st.fm.brk_extra <= 0 && FFMAP_STEADY()) {
         ctl_carry = 0;              /* the reversal's answer awaited (above) */
         return 0;
     }
