@@ -8,7 +8,7 @@ drive, the pump (PTO coupled to the wheels or fixed), the valve (over or under 6
 and the sign of their share in the start (power-up until 5 s after the boom first opened:
 short, the boom sprayed less than the target; over, more). Then the share of those runs whose
 start carries over half of their whole share, and the 95th percentiles of the whole share and
-of the share past the start. docs/CONTROLLERS.md (the twenty-eighth round) quotes it.
+of the share past the start.
 """
 import argparse
 import collections

@@ -8,7 +8,6 @@ share of the overshoot that peaks within 1 s, 1-3 s, 3-6 s and 6 s or more after
 peaks, the mean of sign(D) (y - ref) / abs(D) (the flow against the target of the true speed)
 and of sign(D) (ref - r) / abs(D) (the firmware's target behind that reference); and the mean
 overshoot the same flows would score against the reference instead of the firmware's target.
-docs/CONTROLLERS.md (the nineteenth round) quotes it.
 """
 import argparse
 import csv

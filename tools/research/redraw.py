@@ -1,22 +1,22 @@
 #!/usr/bin/env python3
-"""redraw.py: plants of the family run again with more noise draws (docs/CONTROLLERS.md, the twelfth round).
+"""redraw.py: plants of the family run again with more noise draws.
 
 Usage: tools/research/redraw.py SIM [SEED/PLANT/told|untold ...] [--select fast-high|fast-stiff [--seeds 1-140]]
                        [--draws 12] [--controller ffmap] [--jobs N] [--out build/redraw]
 
 A family run is one noise draw of its plant: the pump's pulsation, the meter's blades, the
-wheel's pulses and the pressure's noise come from the scenario's seed. The alarm runs left on
-the family are plants where a few draws in a dozen raise an alarm, so one family run says little
-about a change that aims at them. This runs each named plant (plant 35 of SEED=28, told 4 s:
+wheel's pulses and the pressure's noise come from the scenario's seed. An alarm run on the
+family can be a plant where a few draws in a dozen raise an alarm, so one family run says little
+about a change that aims at it. This runs each named plant (plant 35 of SEED=28, told 4 s:
 28/35/untold) with its own seed and with --seed 1 .. DRAWS-1, and counts the runs with an alarm.
 The scenario is the one `make family SEED=28` writes (tools/family.py's draw), written to
-OUT/scn. Without plants, the alarm plants of docs/CONTROLLERS.md's eleventh and twelfth rounds.
+OUT/scn. Without plants, a default set (ALARM_PLANTS in this file): fast valves where a few
+draws in a dozen raised OVERPRESSURE or OFF_RATE.
 --select picks every plant of the seeds (each told and untold) of a class where the family's
 alarm runs come from: fast-high, a valve under 3 s whose nozzles need 4 bar or more somewhere in
 the drive (P max is 4.8: OVERPRESSURE); fast-stiff, a valve under 3 s that breaks away at 0.25
-or more (Min duty says 0.2: a gain cut too deep creeps, OFF_RATE; from 0.25, not 0.30, since
-plant 28 of SEED=36 crept at 0.281: docs/CONTROLLERS.md, the thirteenth round). A change aimed
-at one class is judged on both.
+or more (Min duty says 0.2: a gain cut too deep creeps, OFF_RATE; from 0.25, not 0.30: valves
+that break away at 0.28 crept too). A change aimed at one class is judged on both.
 Prints per plant the alarm runs (the first alarm's code and time of each) and the median CV, then
 the total; a bad plant name is refused in one line.
 """
@@ -30,7 +30,8 @@ import family  # noqa: E402  (tools/family.py: the family's draw and scenario fi
 import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
 
 FAMILY_N = 200  # plants a seed (make family N=200)
-# the OVERPRESSURE / OFF_RATE plants of the eleventh round's firmware (seeds 1-140 and 221-240)
+# fast valves where a few noise draws in a dozen raised OVERPRESSURE or OFF_RATE (family seeds 1-140
+# and 221-240), the classes --select picks
 ALARM_PLANTS = ["236/192/untold", "28/35/untold", "29/34/untold", "50/155/untold",
                 "69/171/untold", "89/42/untold", "120/124/told", "57/9/untold"]
 
