@@ -30,8 +30,8 @@ import family  # noqa: E402  (tools/family.py: the family's draw and scenario fi
 import progress  # noqa: E402  (tools/progress.py: the progress line on a terminal)
 
 FAMILY_N = 200  # plants a seed (make family N=200)
-# fast valves where a few noise draws in a dozen raised OVERPRESSURE or OFF_RATE (family seeds 1-140
-# and 221-240), the classes --select picks
+# fast valves where a few noise draws in a dozen raised OVERPRESSURE or OFF_RATE: the classes
+# --select picks
 ALARM_PLANTS = ["236/192/untold", "28/35/untold", "29/34/untold", "50/155/untold",
                 "69/171/untold", "89/42/untold", "120/124/told", "57/9/untold"]
 
